@@ -1,0 +1,57 @@
+#pragma once
+// Structure-of-arrays kinematic state of a set of 3-DOF nodes: the gridpoints of the blocks
+// or the nodes of the reinforcement bars. Everything that moves in tessera moves through a
+// node_set, so contacts, bonds, boundary conditions, recorders and the integrator work on one
+// representation.
+//
+// Layout: each soa3 is an N x 3 column-major Eigen matrix, so column c holds component c of
+// every node contiguously (x of all nodes, then y, then z).
+//
+// Precision: the current position is reference + displacement; the displacement is kept on its
+// own so relative displacements across a contact (where the reference positions coincide) are
+// computed without cancellation against the absolute coordinates.
+
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "types.hpp"
+
+namespace tessera {
+
+using soa3 = Eigen::Matrix<real, Eigen::Dynamic, 3, Eigen::ColMajor>;
+
+/// Per-component boundary-condition flags of a node.
+enum class dof_constraint : std::uint8_t {
+  free = 0,        ///< integrated from its force
+  prescribed = 1,  ///< velocity prescribed (0 = fixed); its reaction is recorded in `reaction`
+};
+
+struct node_set {
+  soa3 reference;     ///< reference position X (m)
+  soa3 displacement;  ///< total displacement u (m); current position = X + u
+  soa3 velocity;      ///< velocity at the half step t - dt/2 (m/s)
+  soa3 force;         ///< unbalanced force accumulated during the current step (N)
+  soa3 reaction;      ///< force needed to enforce prescribed components, last step (N)
+  Eigen::VectorXd mass;            ///< lumped (possibly scaled) mass (kg)
+  Eigen::VectorXd stiffness;       ///< nodal stiffness bound for the time step (N/m), see integrator/timestep.hpp
+  Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3> constraint;  ///< dof_constraint per component
+  soa3 prescribed_velocity;        ///< used where constraint == prescribed (m/s)
+
+  [[nodiscard]] index size() const { return static_cast<index>(reference.rows()); }
+  [[nodiscard]] vec3 position(index i) const { return (reference.row(i) + displacement.row(i)).transpose(); }
+
+  /// Allocates every array for n nodes, zero-initialised and unconstrained.
+  void resize(index n) {
+    reference.setZero(n, 3);
+    displacement.setZero(n, 3);
+    velocity.setZero(n, 3);
+    force.setZero(n, 3);
+    reaction.setZero(n, 3);
+    mass.setZero(n);
+    stiffness.setZero(n);
+    constraint.setZero(n, 3);
+    prescribed_velocity.setZero(n, 3);
+  }
+};
+
+}  // namespace tessera

@@ -1,0 +1,64 @@
+#pragma once
+// Deterministic parallel loops. Every parallel loop in tessera writes only to the entries
+// of the index it owns (gather, never racing scatter), so results are bit-identical for any
+// thread count. Reductions go through fixed-order per-chunk partial sums.
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+#if defined(_OPENMP)
+#include <omp.h>
+#endif
+
+namespace tessera {
+
+/// Number of threads parallel loops use (1 without OpenMP).
+inline int max_threads() {
+#if defined(_OPENMP)
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+/// Sets the number of threads used by subsequent parallel loops (no-op without OpenMP).
+inline void set_threads(int n) {
+#if defined(_OPENMP)
+  if (n > 0) omp_set_num_threads(n);
+#else
+  (void)n;
+#endif
+}
+
+/// Calls f(i) for i in [0, n), in parallel when n is large enough. f must only write to
+/// state owned by index i.
+template <class F>
+void parallel_for(std::int64_t n, F&& f, std::int64_t grain = 256) {
+#if defined(_OPENMP)
+  if (n >= 2 * grain && omp_get_max_threads() > 1) {
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) f(i);
+    return;
+  }
+#endif
+  (void)grain;
+  for (std::int64_t i = 0; i < n; ++i) f(i);
+}
+
+/// Sum of f(i) over [0, n) with a result independent of the thread count: partial sums
+/// over fixed chunks of `chunk` indices, added in chunk order.
+template <class F>
+double deterministic_sum(std::int64_t n, F&& f, std::int64_t chunk = 1024) {
+  const std::int64_t chunks = (n + chunk - 1) / chunk;
+  std::vector<double> partial(static_cast<std::size_t>(std::max<std::int64_t>(chunks, 0)), 0.0);
+  parallel_for(chunks, [&](std::int64_t c) {
+    double s = 0.0;
+    const std::int64_t end = std::min(n, (c + 1) * chunk);
+    for (std::int64_t i = c * chunk; i < end; ++i) s += f(i);
+    partial[static_cast<std::size_t>(c)] = s;
+  }, 1);
+  double total = 0.0;
+  for (double p : partial) total += p;
+  return total;
+}
+
+}  // namespace tessera

@@ -1,0 +1,37 @@
+#pragma once
+// Basic types shared by every tessera module.
+//
+// Units: SI throughout (m, kg, s, N, Pa, J). Sign convention: normal stress and normal
+// opening are positive in tension; a contact normal points from block A to block B.
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <limits>
+
+namespace tessera {
+
+/// Floating-point type of all physical quantities.
+using real = double;
+/// Index handle of an entity (vertex, face, block, gridpoint, zone, sub-contact, bar node).
+/// Entities refer to each other by index, never by pointer, so arrays can be reordered,
+/// copied and moved to another memory space without fix-ups.
+using index = std::int32_t;
+inline constexpr index invalid_index = -1;
+
+using vec3 = Eigen::Matrix<real, 3, 1>;
+using mat3 = Eigen::Matrix<real, 3, 3>;
+
+/// Axis-aligned box [lo, hi] (m).
+struct aabb {
+  vec3 lo = vec3::Constant(std::numeric_limits<real>::infinity());
+  vec3 hi = vec3::Constant(-std::numeric_limits<real>::infinity());
+  void expand(const vec3& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
+  [[nodiscard]] vec3 size() const { return hi - lo; }
+  [[nodiscard]] real volume() const { const vec3 s = size(); return s.x() * s.y() * s.z(); }
+  [[nodiscard]] bool contains(const vec3& p, real tol = 0) const {
+    return (p.array() >= lo.array() - tol).all() && (p.array() <= hi.array() + tol).all();
+  }
+};
+
+}  // namespace tessera

@@ -1,0 +1,63 @@
+#pragma once
+// A conforming tessellation of a box into convex polyhedral cells (the blocks of a scene).
+//
+// Produced by geometry::voronoi / geometry::laguerre (geometry/voronoi.hpp) or
+// io::read_neper_tess (io/neper.hpp); consumed by the zoning (geometry/zoning.hpp), the
+// rigid-block model and the sub-contact builder.
+//
+// Storage: flat arrays behind index handles (CSR for variable-length lists).
+//  - vertices are global and welded: two cells that touch at a point use the same vertex id,
+//    so a shared face is the same vertex set seen from both sides (loops reversed).
+//  - every cell owns a contiguous run of faces; a face is a loop of global vertex ids,
+//    counter-clockwise seen from outside its cell (outward normal by the right-hand rule).
+//  - an interior face has a twin: the same face stored by the neighbouring cell.
+//  - each interior face pair is also listed once in `shared_faces` (cell_a < cell_b).
+
+#include <span>
+#include <vector>
+
+#include "../core/types.hpp"
+
+namespace tessera::geometry {
+
+/// Boundary tag of a face on the side of the domain box: side 0..5 = x-, x+, y-, y+, z-, z+.
+/// Stored in face_neighbor as a negative value.
+[[nodiscard]] constexpr index boundary_tag(int side) { return -1 - side; }
+/// Inverse of boundary_tag: the box side of a boundary face's neighbor value (0..5), or -1.
+[[nodiscard]] constexpr int boundary_side(index neighbor) { return neighbor < 0 ? -1 - neighbor : -1; }
+
+struct tessellation {
+  aabb domain;                       ///< the tessellated box (m)
+  std::vector<vec3> seeds;           ///< generator of each cell (m); empty when read from a file without them
+  std::vector<real> weights;         ///< Laguerre weights (m^2), empty for a plain Voronoi tessellation
+
+  std::vector<vec3> vertices;        ///< welded global vertex positions (m)
+
+  std::vector<index> face_offsets{0};  ///< CSR: face f's loop is face_vertices[face_offsets[f] .. face_offsets[f+1])
+  std::vector<index> face_vertices;    ///< global vertex ids, CCW seen from outside face_cell[f]
+  std::vector<index> face_cell;        ///< owning cell of each face
+  std::vector<index> face_neighbor;    ///< neighbouring cell id (>= 0) or boundary_tag(side) (< 0)
+  std::vector<index> face_twin;        ///< the twin face stored by the neighbour, invalid_index on the boundary
+
+  std::vector<index> cell_face_offsets{0};  ///< CSR: faces of cell c are [cell_face_offsets[c], cell_face_offsets[c+1])
+
+  struct shared_face {
+    index cell_a, face_a;  ///< lower cell id and its face
+    index cell_b, face_b;  ///< higher cell id and its (reversed) twin face
+  };
+  std::vector<shared_face> shared_faces;
+
+  [[nodiscard]] index cell_count() const { return static_cast<index>(cell_face_offsets.size()) - 1; }
+  [[nodiscard]] index face_count() const { return static_cast<index>(face_offsets.size()) - 1; }
+  [[nodiscard]] index vertex_count() const { return static_cast<index>(vertices.size()); }
+  /// Global vertex ids of face f, CCW seen from outside its cell.
+  [[nodiscard]] std::span<const index> face(index f) const {
+    return {face_vertices.data() + face_offsets[f],
+            static_cast<std::size_t>(face_offsets[f + 1] - face_offsets[f])};
+  }
+  [[nodiscard]] index first_face(index c) const { return cell_face_offsets[c]; }
+  [[nodiscard]] index end_face(index c) const { return cell_face_offsets[c + 1]; }
+  [[nodiscard]] bool is_boundary_face(index f) const { return face_neighbor[f] < 0; }
+};
+
+}  // namespace tessera::geometry

@@ -1,0 +1,64 @@
+#pragma once
+// The ContactLaw concept: a pure evaluator of one sub-contact (HOOMD-style evaluator). The
+// solver owns the loops and the storage (one `state` per sub-contact) and calls `update` once
+// per sub-contact per step.
+//
+// | expression                         | meaning                                                        |
+// |------------------------------------|----------------------------------------------------------------|
+// | L::params                          | plain struct of parameters, SI units (k_n, k_s in Pa/m, ...)   |
+// | L::state                           | per-sub-contact history; value-initialised = virgin contact    |
+// | L::validate(p)                     | throws tessera::invalid_input naming a bad parameter and value |
+// | L::normal_stiffness(p)             | k_n (Pa/m), used for the stable time step                      |
+// | L::shear_stiffness(p)              | k_s (Pa/m)                                                     |
+// | L::update(p, s, du_n, du_s, n)     | advances s by one step: du_n = increment of normal opening (m, |
+// |                                    | + opens), du_s = increment of tangential relative displacement |
+// |                                    | (m, 3-vector in the plane of the current unit normal n, A->B). |
+// |                                    | The stored shear stress is first rotated into the plane of n.  |
+// | s.sigma_n                          | normal stress (Pa, + tension)                                  |
+// | s.tau                              | shear stress vector (Pa, global frame, in the contact plane)   |
+// | s.u_n                              | total normal opening (m, + opens)                              |
+// | L::status(s)                       | contact_status flags (softening, broken in tension, slipped)   |
+// | L::tensile_damage(p, s)            | 0 (intact) .. 1 (broken in tension)                            |
+// | L::dissipated_energy(s)            | energy dissipated so far per unit area (J/m^2), all mechanisms |
+// | L::stored_energy(p, s)             | recoverable elastic energy per unit area (J/m^2)               |
+
+#include <concepts>
+#include <cstdint>
+
+#include "../core/types.hpp"
+
+namespace tessera::law {
+
+/// Damage state of a sub-contact as bit flags (a contact can be both broken and slipped).
+enum class contact_status : std::uint8_t {
+  intact = 0,
+  softening = 1,       ///< past the tensile strength, on the softening branch
+  broken_tension = 2,  ///< tensile strength exhausted for good
+  slipped = 4,         ///< failed in shear, on the residual Coulomb limit
+};
+[[nodiscard]] constexpr contact_status operator|(contact_status a, contact_status b) {
+  return static_cast<contact_status>(static_cast<std::uint8_t>(a) | static_cast<std::uint8_t>(b));
+}
+[[nodiscard]] constexpr bool has(contact_status s, contact_status flag) {
+  return (static_cast<std::uint8_t>(s) & static_cast<std::uint8_t>(flag)) != 0;
+}
+
+template <class L>
+concept ContactLaw = requires(const typename L::params& p, typename L::state& s,
+                              const typename L::state& cs, real du_n, const vec3& du_s, const vec3& n) {
+  typename L::params;
+  typename L::state;
+  { L::validate(p) } -> std::same_as<void>;
+  { L::normal_stiffness(p) } -> std::convertible_to<real>;
+  { L::shear_stiffness(p) } -> std::convertible_to<real>;
+  { L::update(p, s, du_n, du_s, n) } noexcept -> std::same_as<void>;
+  { cs.sigma_n } -> std::convertible_to<real>;
+  { cs.tau } -> std::convertible_to<vec3>;
+  { cs.u_n } -> std::convertible_to<real>;
+  { L::status(cs) } -> std::same_as<contact_status>;
+  { L::tensile_damage(p, cs) } -> std::convertible_to<real>;
+  { L::dissipated_energy(cs) } -> std::convertible_to<real>;
+  { L::stored_energy(p, cs) } -> std::convertible_to<real>;
+};
+
+}  // namespace tessera::law

@@ -1,0 +1,2 @@
+// Tests for the laws area (see tests/CMakeLists.txt).
+#include <catch2/catch.hpp>
