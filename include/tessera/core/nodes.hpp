@@ -20,6 +20,10 @@ namespace tessera {
 
 using soa3 = Eigen::Matrix<real, Eigen::Dynamic, 3, Eigen::ColMajor>;
 
+/// Cauchy stress of every zone of a block_mesh, one row per zone, Voigt order
+/// (xx, yy, zz, yz, zx, xy), Pa, tension positive. Empty for rigid blocks (no zone stress).
+using zone_stress_matrix = Eigen::Matrix<real, Eigen::Dynamic, 6>;
+
 /// Per-component boundary-condition flags of a node.
 enum class dof_constraint : std::uint8_t {
   free = 0,        ///< integrated from its force

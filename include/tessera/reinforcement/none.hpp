@@ -1,0 +1,34 @@
+#pragma once
+// reinforcement::none — the policy of a scene without bars (plain concrete). `enabled` is false,
+// so a solver guards every reinforcement call with `if constexpr (R::enabled)` and none of this
+// is compiled into the time step; the members exist only so generic code type-checks. Its node
+// set is empty.
+
+#include "../core/nodes.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "concepts.hpp"
+
+namespace tessera::reinforcement {
+
+class none {
+ public:
+  /// No parameters.
+  struct params {};
+  static constexpr bool enabled = false;
+
+  void build(const params&, const geometry::block_mesh&, const node_set&) {}
+  [[nodiscard]] node_set& nodes() { return nodes_; }
+  [[nodiscard]] const node_set& nodes() const { return nodes_; }
+  void add_stiffness_bounds(node_set&) {}
+  void accumulate_forces(node_set&, const zone_stress_matrix&) noexcept {}
+  [[nodiscard]] real stored_energy() const { return 0.0; }
+  [[nodiscard]] real dissipated_energy() const { return 0.0; }
+
+ private:
+  node_set nodes_;  ///< always empty
+};
+
+static_assert(Reinforcement<none>, "reinforcement::none must satisfy the Reinforcement concept");
+
+}  // namespace tessera::reinforcement
