@@ -1,0 +1,60 @@
+#pragma once
+// zones::linear_elastic_tet — isotropic linear elasticity of a constant-strain tetrahedral zone,
+// evaluated in the co-rotated frame of its block (blocks/deformable.hpp), where strains are
+// small. Hooke's law with the Lame constants
+//     lambda = E nu / ((1 + nu)(1 - 2 nu)),   mu = G = E / (2 (1 + nu)),
+//     sigma = lambda tr(eps) 1 + 2 mu eps.
+// Voigt order (xx, yy, zz, yz, zx, xy); strain shears are engineering shears gamma_ij = 2 eps_ij.
+// Stress positive in tension. Pure functions, thread-safe.
+
+#include "../core/errors.hpp"
+#include "../core/types.hpp"
+#include "concepts.hpp"
+
+namespace tessera::zones {
+
+struct linear_elastic_tet {
+  struct params {
+    real young = 0;      ///< Young's modulus E (Pa), > 0
+    real poisson = 0;    ///< Poisson's ratio nu, -1 < nu < 0.5
+    real density = 0;    ///< mass density rho (kg/m^3), > 0
+  };
+
+  static void validate(const params& p) {
+    require_positive(p.young, "linear_elastic_tet: Young's modulus E (Pa)");
+    require(p.poisson > -1.0 && p.poisson < 0.5, "linear_elastic_tet: Poisson's ratio nu = ", p.poisson,
+            " must lie in (-1, 0.5)");
+    require_positive(p.density, "linear_elastic_tet: density rho (kg/m^3)");
+  }
+  [[nodiscard]] static real density(const params& p) { return p.density; }
+  [[nodiscard]] static real lame_lambda(const params& p) {
+    return p.young * p.poisson / ((1 + p.poisson) * (1 - 2 * p.poisson));
+  }
+  [[nodiscard]] static real shear_modulus(const params& p) { return p.young / (2 * (1 + p.poisson)); }
+
+  /// sigma = lambda tr(eps) 1 + 2 mu eps (Pa), eps in Voigt with engineering shears.
+  [[nodiscard]] static voigt6 stress(const params& p, const voigt6& eps) noexcept {
+    const real lambda = lame_lambda(p), mu = shear_modulus(p);
+    const real volumetric = lambda * (eps[0] + eps[1] + eps[2]);
+    voigt6 s;
+    s << volumetric + 2 * mu * eps[0], volumetric + 2 * mu * eps[1], volumetric + 2 * mu * eps[2],
+        mu * eps[3], mu * eps[4], mu * eps[5];
+    return s;
+  }
+  [[nodiscard]] static Eigen::Matrix<real, 6, 6> elasticity_matrix(const params& p) {
+    const real lambda = lame_lambda(p), mu = shear_modulus(p);
+    Eigen::Matrix<real, 6, 6> c = Eigen::Matrix<real, 6, 6>::Zero();
+    c.topLeftCorner<3, 3>().setConstant(lambda);
+    for (int i = 0; i < 3; ++i) c(i, i) += 2 * mu;
+    for (int i = 3; i < 6; ++i) c(i, i) = mu;
+    return c;
+  }
+  /// W = 1/2 sigma : eps (J/m^3).
+  [[nodiscard]] static real strain_energy_density(const params& p, const voigt6& eps) {
+    return 0.5 * stress(p, eps).dot(eps);
+  }
+};
+
+static_assert(ZoneModel<linear_elastic_tet>, "linear_elastic_tet must satisfy ZoneModel");
+
+}  // namespace tessera::zones
