@@ -1,0 +1,271 @@
+#pragma once
+// Cleanup of degenerate geometry: turns independently computed convex cells into one conforming
+// tessellation (geometry/tessellation.hpp).
+//
+// Policy (all lengths relative to the mean cell size L = (V_box / N)^(1/3); the relative
+// threshold is tessellation_options::cleanup_tolerance, default 1e-9, so tol = 1e-9 L):
+//  1. Weld. Every cell vertex is a point; two points closer than tol in the max-norm are the
+//     same vertex, and welding is transitive (connected components of the "closer than tol"
+//     graph, built with a uniform bin grid and union-find). The welded vertex takes the
+//     position of the member that comes first in cell order, so the result does not depend on
+//     the thread count. Vertices within tol of a domain side are then snapped exactly onto it.
+//  2. Edges shorter than tol have now become repeated consecutive ids in a face loop: the
+//     repeats are removed (edge collapse). Spikes a-b-a left by a collapsed sliver are removed
+//     too.
+//  3. Faces left with fewer than 3 distinct vertices (area of order tol^2 or a sliver thinner
+//     than tol) are removed; a cell left with fewer than 4 faces (an empty Laguerre cell or a
+//     cell thinner than tol) is removed and the cells are renumbered.
+//  4. Faces are paired with their twins: face f of cell c tagged with neighbour n pairs with the
+//     face of n tagged c; the two loops must be the same vertex ids in reverse order. A face
+//     without such a twin is an error (geometry_error), never silently dropped.
+// Why it is safe: the clipping kernel decides plane sides with a tolerance 1e-12 of the cell
+// extent (predicates.hpp), so every feature created by a tolerance decision is three orders of
+// magnitude shorter than tol and disappears in steps 1-3; features longer than tol are computed
+// the same way from both sides and survive in both cells.
+//
+// Cost: O(total number of cell vertices) time and memory. Thread safety: pure functions.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/types.hpp"
+#include "convex_polyhedron.hpp"
+#include "tessellation.hpp"
+
+namespace tessera::geometry {
+
+/// Result of weld_vertices: `vertices[global_id[k]]` is the welded position of point k.
+struct welded_points {
+  std::vector<vec3> vertices;
+  std::vector<index> global_id;
+};
+
+/// Welds `points` (m) closer than `tol` (m, max-norm) into shared vertices (transitively), in
+/// the deterministic order described in the policy above; then snaps coordinates within tol of
+/// a side of `domain` onto that side.
+[[nodiscard]] inline welded_points weld_vertices(std::span<const vec3> points, real tol, const aabb& domain) {
+  welded_points out;
+  const std::size_t n = points.size();
+  out.global_id.assign(n, invalid_index);
+  if (n == 0) return out;
+  // Bin grid over the points' bounding box with about 2 points per bin and bins >= 4 tol wide.
+  aabb bb;
+  for (const vec3& p : points) bb.expand(p);
+  const vec3 size = bb.size().cwiseMax(vec3::Constant(4 * tol));
+  const real target_bins = std::max<real>(1, static_cast<real>(n) / 2);
+  real h = std::cbrt(size.prod() / target_bins);
+  h = std::max(h, 4 * tol);
+  std::array<std::int64_t, 3> nb{};
+  for (int a = 0; a < 3; ++a) nb[static_cast<std::size_t>(a)] = std::clamp<std::int64_t>(
+      static_cast<std::int64_t>(std::ceil(size[a] / h)), 1, 1 << 20);
+  while (nb[0] * nb[1] * nb[2] > 8 * static_cast<std::int64_t>(n) + 64)
+    for (auto& x : nb) x = std::max<std::int64_t>(1, x / 2);
+  vec3 inv_h;
+  for (int a = 0; a < 3; ++a) inv_h[a] = static_cast<real>(nb[static_cast<std::size_t>(a)]) / size[a];
+  auto bin_coord = [&](real x, int a) {
+    return std::clamp<std::int64_t>(static_cast<std::int64_t>(std::floor((x - bb.lo[a]) * inv_h[a])), 0,
+                                    nb[static_cast<std::size_t>(a)] - 1);
+  };
+  auto bin_of = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nb[0] * (j + nb[1] * k); };
+  const std::int64_t bins = nb[0] * nb[1] * nb[2];
+  std::vector<index> offsets(static_cast<std::size_t>(bins) + 1, 0);
+  std::vector<std::int64_t> point_bin(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const vec3& p = points[k];
+    point_bin[k] = bin_of(bin_coord(p.x(), 0), bin_coord(p.y(), 1), bin_coord(p.z(), 2));
+    ++offsets[static_cast<std::size_t>(point_bin[k]) + 1];
+  }
+  for (std::size_t b = 0; b < static_cast<std::size_t>(bins); ++b) offsets[b + 1] += offsets[b];
+  std::vector<index> members(n);
+  {
+    std::vector<index> fill(offsets.begin(), offsets.end() - 1);
+    for (std::size_t k = 0; k < n; ++k)
+      members[static_cast<std::size_t>(fill[static_cast<std::size_t>(point_bin[k])]++)] = static_cast<index>(k);
+  }
+  // Union-find; the root of a component is its smallest point index.
+  std::vector<index> parent(n);
+  for (std::size_t k = 0; k < n; ++k) parent[k] = static_cast<index>(k);
+  auto find = [&](index x) {
+    while (parent[static_cast<std::size_t>(x)] != x) {
+      parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
+      x = parent[static_cast<std::size_t>(x)];
+    }
+    return x;
+  };
+  for (std::size_t k = 0; k < n; ++k) {
+    const vec3& p = points[k];
+    std::array<std::int64_t, 3> b0{}, b1{};
+    for (int a = 0; a < 3; ++a) {
+      b0[static_cast<std::size_t>(a)] = bin_coord(p[a] - tol, a);
+      b1[static_cast<std::size_t>(a)] = bin_coord(p[a] + tol, a);
+    }
+    for (std::int64_t bk = b0[2]; bk <= b1[2]; ++bk)
+      for (std::int64_t bj = b0[1]; bj <= b1[1]; ++bj)
+        for (std::int64_t bi = b0[0]; bi <= b1[0]; ++bi) {
+          const std::int64_t b = bin_of(bi, bj, bk);
+          for (index q = offsets[static_cast<std::size_t>(b)]; q < offsets[static_cast<std::size_t>(b) + 1]; ++q) {
+            const index m = members[static_cast<std::size_t>(q)];
+            if (m >= static_cast<index>(k)) break;  // members are in increasing order
+            if ((points[static_cast<std::size_t>(m)] - p).cwiseAbs().maxCoeff() > tol) continue;
+            const index ra = find(m), rb = find(static_cast<index>(k));
+            if (ra != rb) parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+          }
+        }
+  }
+  for (std::size_t k = 0; k < n; ++k) {
+    const index r = find(static_cast<index>(k));
+    if (r == static_cast<index>(k)) {
+      out.global_id[k] = static_cast<index>(out.vertices.size());
+      out.vertices.push_back(points[k]);
+    } else {
+      out.global_id[k] = out.global_id[static_cast<std::size_t>(r)];
+    }
+  }
+  for (vec3& v : out.vertices)
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(v[a] - domain.lo[a]) <= tol) v[a] = domain.lo[a];
+      if (std::abs(v[a] - domain.hi[a]) <= tol) v[a] = domain.hi[a];
+    }
+  return out;
+}
+
+/// Removes repeated consecutive ids (cyclically) and spikes a-b-a from a face loop, in place.
+inline void clean_loop(std::vector<index>& loop) {
+  bool changed = true;
+  while (changed && !loop.empty()) {
+    changed = false;
+    std::size_t w = 0;
+    for (std::size_t r = 0; r < loop.size(); ++r) {
+      const index v = loop[r];
+      if (w > 0 && loop[w - 1] == v) { changed = true; continue; }
+      if (w > 1 && loop[w - 2] == v) { --w; changed = true; continue; }
+      loop[w++] = v;
+    }
+    loop.resize(w);
+    // wrap-around: last == first, or spike across the seam
+    if (loop.size() > 1 && loop.back() == loop.front()) { loop.pop_back(); changed = true; }
+    else if (loop.size() > 2 && loop[loop.size() - 2] == loop.front()) { loop.pop_back(); changed = true; }
+    else if (loop.size() > 2 && loop.back() == loop[1]) { loop.erase(loop.begin()); changed = true; }
+    if (loop.size() < 3) { loop.clear(); return; }
+  }
+}
+
+/// Assembles a conforming tessellation from independently computed cells (cells[c] is the cell
+/// of generator c, faces tagged with the neighbouring generator or boundary_tag), following the
+/// cleanup policy above with absolute weld tolerance `tol` (m). `seeds` and `weights` (may be
+/// empty) are stored per surviving cell. Throws geometry_error for a face without a twin.
+[[nodiscard]] inline tessellation assemble_tessellation(const aabb& domain, std::span<const convex_polyhedron> cells,
+                                                        std::span<const vec3> seeds, std::span<const real> weights,
+                                                        real tol) {
+  const std::size_t ncells = cells.size();
+  std::vector<std::size_t> point_offset(ncells + 1, 0);
+  for (std::size_t c = 0; c < ncells; ++c)
+    point_offset[c + 1] = point_offset[c] + static_cast<std::size_t>(cells[c].vertex_count());
+  std::vector<vec3> points(point_offset[ncells]);
+  for (std::size_t c = 0; c < ncells; ++c)
+    std::copy(cells[c].vertices().begin(), cells[c].vertices().end(), points.begin() + static_cast<std::ptrdiff_t>(point_offset[c]));
+  welded_points welded = weld_vertices(points, tol, domain);
+
+  // Global loops per cell, cleaned; cells with < 4 faces are dropped.
+  struct raw_face { index neighbor; std::size_t begin, end; };
+  std::vector<index> loops;
+  std::vector<raw_face> faces;
+  std::vector<std::size_t> cell_faces(ncells + 1, 0);
+  std::vector<index> new_id(ncells, invalid_index);
+  std::vector<index> loop;
+  index kept = 0;
+  for (std::size_t c = 0; c < ncells; ++c) {
+    const std::size_t faces_before = faces.size(), loops_before = loops.size();
+    const convex_polyhedron& p = cells[c];
+    for (index f = 0; f < p.face_count(); ++f) {
+      loop.clear();
+      for (index v : p.face(f)) loop.push_back(welded.global_id[point_offset[c] + static_cast<std::size_t>(v)]);
+      clean_loop(loop);
+      if (loop.empty()) continue;
+      faces.push_back({p.face_tag(f), loops.size(), loops.size() + loop.size()});
+      loops.insert(loops.end(), loop.begin(), loop.end());
+    }
+    if (faces.size() - faces_before < 4) {
+      faces.resize(faces_before);
+      loops.resize(loops_before);
+    } else {
+      new_id[c] = kept++;
+    }
+    cell_faces[c + 1] = faces.size();
+  }
+
+  tessellation t;
+  t.domain = domain;
+  // Only vertices used by a surviving face are kept, renumbered in order of first use.
+  std::vector<index> vertex_id(welded.vertices.size(), invalid_index);
+  for (index& v : loops) {
+    index& g = vertex_id[static_cast<std::size_t>(v)];
+    if (g == invalid_index) {
+      g = static_cast<index>(t.vertices.size());
+      t.vertices.push_back(welded.vertices[static_cast<std::size_t>(v)]);
+    }
+    v = g;
+  }
+  for (std::size_t c = 0; c < ncells; ++c) {
+    if (new_id[c] == invalid_index) continue;
+    if (!seeds.empty()) t.seeds.push_back(seeds[c]);
+    if (!weights.empty()) t.weights.push_back(weights[c]);
+    for (std::size_t f = cell_faces[c]; f < cell_faces[c + 1]; ++f) {
+      const raw_face& rf = faces[f];
+      t.face_vertices.insert(t.face_vertices.end(), loops.begin() + static_cast<std::ptrdiff_t>(rf.begin),
+                             loops.begin() + static_cast<std::ptrdiff_t>(rf.end));
+      t.face_offsets.push_back(static_cast<index>(t.face_vertices.size()));
+      t.face_cell.push_back(new_id[c]);
+      index nb = rf.neighbor;
+      if (nb >= 0) {
+        nb = new_id[static_cast<std::size_t>(nb)];
+        require<geometry_error>(nb != invalid_index, "tessellation cleanup: cell ", c, " keeps a face of ",
+                                rf.end - rf.begin, " vertices toward cell ", rf.neighbor,
+                                ", which degenerated below the weld tolerance ", tol, " m");
+      }
+      t.face_neighbor.push_back(nb);
+    }
+    t.cell_face_offsets.push_back(static_cast<index>(t.face_cell.size()));
+  }
+
+  // Twins: the face of the neighbour tagged with this cell, with the reversed loop.
+  t.face_twin.assign(t.face_cell.size(), invalid_index);
+  for (index f = 0; f < t.face_count(); ++f) {
+    const index c = t.face_cell[static_cast<std::size_t>(f)], n = t.face_neighbor[static_cast<std::size_t>(f)];
+    if (n < 0 || c > n) continue;
+    index g = invalid_index;
+    for (index h = t.first_face(n); h < t.end_face(n); ++h)
+      if (t.face_neighbor[static_cast<std::size_t>(h)] == c) { g = h; break; }
+    require<geometry_error>(g != invalid_index, "tessellation cleanup: face ", f, " of cell ", c,
+                            " has no twin in neighbour cell ", n, " (area ",
+                            polygon_area_vector(t.vertices, t.face(f)).norm(), " m^2); increase cleanup_tolerance");
+    const auto a = t.face(f), b = t.face(g);
+    bool reversed = a.size() == b.size();
+    if (reversed) {
+      const std::size_t m = a.size();
+      const auto start = std::find(b.begin(), b.end(), a[0]);
+      reversed = start != b.end();
+      if (reversed) {
+        const std::size_t s = static_cast<std::size_t>(start - b.begin());
+        for (std::size_t k = 0; k < m && reversed; ++k) reversed = a[k] == b[(s + m - k) % m];
+      }
+    }
+    require<geometry_error>(reversed, "tessellation cleanup: face ", f, " of cell ", c, " (", a.size(),
+                            " vertices) and its twin ", g, " of cell ", n, " (", b.size(),
+                            " vertices) are not the same loop reversed; increase cleanup_tolerance");
+    t.face_twin[static_cast<std::size_t>(f)] = g;
+    t.face_twin[static_cast<std::size_t>(g)] = f;
+    t.shared_faces.push_back({c, f, n, g});
+  }
+  for (index f = 0; f < t.face_count(); ++f)
+    require<geometry_error>(t.face_neighbor[static_cast<std::size_t>(f)] < 0 || t.face_twin[static_cast<std::size_t>(f)] >= 0,
+                            "tessellation cleanup: face ", f, " of cell ", t.face_cell[static_cast<std::size_t>(f)],
+                            " toward cell ", t.face_neighbor[static_cast<std::size_t>(f)], " has no twin");
+  return t;
+}
+
+}  // namespace tessera::geometry

@@ -1,0 +1,340 @@
+#pragma once
+// A convex polyhedron in boundary representation, with plane clipping: the kernel of the
+// Voronoi/Laguerre tessellation and the shape of a rigid block.
+//
+// Representation:
+//   vertices   positions (m), no two equal
+//   faces      CSR loops of vertex ids, counter-clockwise seen from outside (outward normal by
+//              the right-hand rule), each face a convex polygon with >= 3 vertices
+//   face tags  one `index` per face: the id of the neighbouring cell whose bisector created the
+//              face (>= 0), or boundary_tag(side) (< 0) for a side of the initial box
+//
+// clip(h, tag) keeps the part {x : h.normal . x <= h.offset}. Vertex sides are decided once,
+// by the three-valued predicate of predicates.hpp with tolerance plane_tolerance_rel times the
+// polyhedron's largest extent: vertices within the tolerance of the plane are kept where they
+// are (they become vertices of the new face), so a cut through a vertex or an edge creates no
+// duplicate vertex, and a cut that would remove less than the tolerance removes nothing. The
+// new face is assembled from the open boundary of the kept faces, which makes the topology
+// closed (Euler characteristic 2) by construction.
+//
+// Cost: clip is O(V + sum of loop lengths) and allocation-free once the per-thread scratch
+// buffers have grown. Thread safety: distinct objects may be used from distinct threads;
+// const member functions may be called concurrently.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <span>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/types.hpp"
+#include "mass_properties.hpp"
+#include "predicates.hpp"
+#include "tessellation.hpp"
+
+namespace tessera::geometry {
+
+class convex_polyhedron {
+ public:
+  convex_polyhedron() = default;
+
+  /// The box [lo, hi] (m) with faces tagged boundary_tag(0..5) = x-, x+, y-, y+, z-, z+.
+  [[nodiscard]] static convex_polyhedron box(const vec3& lo, const vec3& hi) {
+    require((hi.array() > lo.array()).all() && lo.allFinite() && hi.allFinite(),
+            "convex_polyhedron::box: lo = (", lo.x(), ", ", lo.y(), ", ", lo.z(), "), hi = (", hi.x(), ", ",
+            hi.y(), ", ", hi.z(), ") must be finite with hi > lo in every direction");
+    convex_polyhedron p;
+    p.assign_box(lo, hi);
+    return p;
+  }
+
+  /// Resets *this to the box [lo, hi], reusing the storage (no allocation once grown).
+  void assign_box(const vec3& lo, const vec3& hi) {
+    vertices_.clear();
+    // vertex k has x = hi if bit 0, y = hi if bit 1, z = hi if bit 2
+    for (int k = 0; k < 8; ++k)
+      vertices_.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+    static constexpr std::array<std::array<index, 4>, 6> loops{{
+        {0, 4, 6, 2},  // x-  (normal -x)
+        {1, 3, 7, 5},  // x+
+        {0, 1, 5, 4},  // y-
+        {2, 6, 7, 3},  // y+
+        {0, 2, 3, 1},  // z-
+        {4, 5, 7, 6},  // z+
+    }};
+    face_offsets_.assign(1, 0);
+    face_vertices_.clear();
+    face_tags_.clear();
+    for (int s = 0; s < 6; ++s) {
+      face_vertices_.insert(face_vertices_.end(), loops[static_cast<std::size_t>(s)].begin(),
+                            loops[static_cast<std::size_t>(s)].end());
+      face_offsets_.push_back(static_cast<index>(face_vertices_.size()));
+      face_tags_.push_back(boundary_tag(s));
+    }
+  }
+
+  /// Builds a polyhedron from vertices and outward CCW face loops (CSR), e.g. a block read from
+  /// a file. Checks sizes and ids; convexity and closedness are the caller's promise (see
+  /// euler_characteristic and tessellation check()).
+  [[nodiscard]] static convex_polyhedron from_faces(std::vector<vec3> vertices, std::vector<index> face_offsets,
+                                                    std::vector<index> face_vertices, std::vector<index> face_tags) {
+    require<geometry_error>(face_offsets.size() >= 2 && face_offsets.front() == 0 &&
+                                face_offsets.back() == static_cast<index>(face_vertices.size()),
+                            "convex_polyhedron::from_faces: face_offsets must start at 0 and end at the loop length ",
+                            face_vertices.size());
+    require<geometry_error>(face_tags.size() + 1 == face_offsets.size(), "convex_polyhedron::from_faces: ",
+                            face_tags.size(), " face tags for ", face_offsets.size() - 1, " faces");
+    for (index v : face_vertices)
+      require<geometry_error>(v >= 0 && v < static_cast<index>(vertices.size()),
+                              "convex_polyhedron::from_faces: vertex id ", v, " out of range [0, ", vertices.size(), ")");
+    convex_polyhedron p;
+    p.vertices_ = std::move(vertices);
+    p.face_offsets_ = std::move(face_offsets);
+    p.face_vertices_ = std::move(face_vertices);
+    p.face_tags_ = std::move(face_tags);
+    return p;
+  }
+
+  // ---- topology and geometry access ------------------------------------------------------
+  [[nodiscard]] bool empty() const { return face_tags_.empty(); }
+  [[nodiscard]] index vertex_count() const { return static_cast<index>(vertices_.size()); }
+  [[nodiscard]] index face_count() const { return static_cast<index>(face_tags_.size()); }
+  [[nodiscard]] const std::vector<vec3>& vertices() const { return vertices_; }
+  [[nodiscard]] const vec3& vertex(index v) const { return vertices_[static_cast<std::size_t>(v)]; }
+  [[nodiscard]] const std::vector<index>& face_offsets() const { return face_offsets_; }
+  [[nodiscard]] const std::vector<index>& face_vertices() const { return face_vertices_; }
+  [[nodiscard]] const std::vector<index>& face_tags() const { return face_tags_; }
+  /// Vertex ids of face f, CCW seen from outside.
+  [[nodiscard]] std::span<const index> face(index f) const {
+    return {face_vertices_.data() + face_offsets_[static_cast<std::size_t>(f)],
+            static_cast<std::size_t>(face_offsets_[static_cast<std::size_t>(f) + 1] -
+                                     face_offsets_[static_cast<std::size_t>(f)])};
+  }
+  /// Neighbour cell id (>= 0) or boundary_tag(side) (< 0) of face f.
+  [[nodiscard]] index face_tag(index f) const { return face_tags_[static_cast<std::size_t>(f)]; }
+
+  /// Area (m^2) of face f.
+  [[nodiscard]] real face_area(index f) const { return polygon_area_vector(vertices_, face(f)).norm(); }
+  /// Unit outward normal of face f (from its area vector).
+  [[nodiscard]] vec3 face_normal(index f) const { return polygon_area_vector(vertices_, face(f)).normalized(); }
+  /// Area-weighted centroid (m) of face f.
+  [[nodiscard]] vec3 face_centroid(index f) const { return polygon_centroid(vertices_, face(f)); }
+  /// Supporting plane of face f: outward unit normal, offset = n . (face centroid).
+  [[nodiscard]] plane face_plane(index f) const { return plane::through(face_normal(f), face_centroid(f)); }
+
+  /// Volume (m^3).
+  [[nodiscard]] real volume() const { return polyhedron_volume(vertices_, face_offsets_, face_vertices_); }
+  /// Centroid (m).
+  [[nodiscard]] vec3 centroid() const { return mass().centroid; }
+  /// Volume, centroid and second moment about the centroid (unit density).
+  [[nodiscard]] mass_properties mass() const {
+    return polyhedron_mass_properties(vertices_, face_offsets_, face_vertices_);
+  }
+  /// Inertia tensor about the centroid (kg m^2) for a density in kg/m^3; exact for polyhedra.
+  [[nodiscard]] mat3 inertia(real density) const { return inertia_tensor(mass().second_moment, density); }
+
+  /// Axis-aligned bounding box (m).
+  [[nodiscard]] aabb bounds() const {
+    aabb b;
+    for (const vec3& v : vertices_) b.expand(v);
+    return b;
+  }
+  /// Largest bounding-box extent (m): the length scale of the plane-side tolerance.
+  [[nodiscard]] real extent() const { return empty() ? real(0) : bounds().size().maxCoeff(); }
+
+  /// True when p is inside or within tol (m) of every face plane.
+  [[nodiscard]] bool contains(const vec3& p, real tol = 0) const {
+    if (empty()) return false;
+    for (index f = 0; f < face_count(); ++f)
+      if (face_plane(f).signed_distance(p) > tol) return false;
+    return true;
+  }
+
+  /// V - E + F with E = (sum of loop lengths) / 2; 2 for a closed polyhedron of genus 0.
+  [[nodiscard]] index euler_characteristic() const {
+    return vertex_count() - static_cast<index>(face_vertices_.size()) / 2 + face_count();
+  }
+
+  /// Keeps the part {x : h.normal . x <= h.offset}; the new face gets `tag`. Returns whether
+  /// anything was cut off. Vertices within `tol` (m) of the plane count as on it; tol < 0 selects
+  /// plane_tolerance_rel * extent(). When every vertex is outside or on the plane, the result is
+  /// empty. Throws geometry_error when no consistent cut is found even at a 1e-6 relative
+  /// tolerance (only possible for a corrupt, non-convex input).
+  bool clip(const plane& h, index tag, real tol = -1) {
+    if (empty()) return false;
+    if (tol < 0) tol = plane_tolerance_rel * extent();
+    for (int attempt = 0; attempt < 6; ++attempt) {
+      const clip_result r = try_clip(h, tag, tol);
+      if (r != clip_result::inconsistent) return r == clip_result::cut;
+      tol *= 100;  // rounding broke the bitonic side pattern of a face: widen the "on" band
+    }
+    throw geometry_error(detail::concat("convex_polyhedron::clip: no consistent cut by plane n = (", h.normal.x(),
+                                        ", ", h.normal.y(), ", ", h.normal.z(), "), offset = ", h.offset,
+                                        " m (tag ", tag, ") on a polyhedron of ", vertex_count(), " vertices"));
+  }
+
+  /// Squared distance (m^2) from p to the farthest vertex.
+  [[nodiscard]] real max_squared_distance(const vec3& p) const {
+    real r2 = 0;
+    for (const vec3& v : vertices_) r2 = std::max(r2, (v - p).squaredNorm());
+    return r2;
+  }
+
+ private:
+  enum class clip_result { unchanged, cut, inconsistent };
+
+  struct scratch {
+    std::vector<real> distance;
+    std::vector<side> vertex_side;
+    std::vector<index> remap;             // old vertex -> new vertex id (or invalid)
+    std::vector<std::array<index, 3>> edge_points;  // (kept vertex, removed vertex, new vertex)
+    std::vector<vec3> vertices;
+    std::vector<index> face_offsets, face_vertices, face_tags;
+    std::vector<char> on_plane;           // per new vertex
+    std::vector<std::array<index, 2>> plane_edges;  // directed edges of kept faces lying on the plane
+    std::vector<index> cap_next;          // per new vertex: successor on the new face, or invalid
+    std::vector<index> used;
+  };
+  static scratch& workspace() {
+    thread_local scratch s;
+    return s;
+  }
+
+  clip_result try_clip(const plane& h, index tag, real tol) {
+    scratch& s = workspace();
+    const std::size_t nv = vertices_.size();
+    s.distance.resize(nv);
+    s.vertex_side.resize(nv);
+    bool any_outside = false, any_inside = false;
+    for (std::size_t v = 0; v < nv; ++v) {
+      s.distance[v] = h.signed_distance(vertices_[v]);
+      s.vertex_side[v] = classify_distance(s.distance[v], tol);
+      any_outside |= s.vertex_side[v] == side::outside;
+      any_inside |= s.vertex_side[v] == side::inside;
+    }
+    if (!any_outside) return clip_result::unchanged;
+    if (!any_inside) {  // everything outside or on the plane: nothing of positive volume is left
+      vertices_.clear();
+      face_offsets_.assign(1, 0);
+      face_vertices_.clear();
+      face_tags_.clear();
+      return clip_result::cut;
+    }
+
+    // Kept vertices keep their relative order; intersection points are appended.
+    s.remap.assign(nv, invalid_index);
+    s.vertices.clear();
+    s.on_plane.clear();
+    for (std::size_t v = 0; v < nv; ++v)
+      if (s.vertex_side[v] != side::outside) {
+        s.remap[v] = static_cast<index>(s.vertices.size());
+        s.vertices.push_back(vertices_[v]);
+        s.on_plane.push_back(s.vertex_side[v] == side::on);
+      }
+    s.edge_points.clear();
+    // Intersection of edge (a kept strictly inside, b outside) with the plane, shared by the two
+    // faces of the edge: p = x_a + t (x_b - x_a), t = d_a / (d_a - d_b) in (0, 1).
+    auto edge_point = [&](index a, index b) {
+      for (const auto& e : s.edge_points)
+        if (e[0] == a && e[1] == b) return e[2];
+      const real da = s.distance[static_cast<std::size_t>(a)], db = s.distance[static_cast<std::size_t>(b)];
+      const real t = da / (da - db);
+      const vec3& xa = vertices_[static_cast<std::size_t>(a)];
+      const vec3& xb = vertices_[static_cast<std::size_t>(b)];
+      const index id = static_cast<index>(s.vertices.size());
+      s.vertices.push_back(xa + t * (xb - xa));
+      s.on_plane.push_back(1);
+      s.edge_points.push_back({a, b, id});
+      return id;
+    };
+
+    s.face_offsets.assign(1, 0);
+    s.face_vertices.clear();
+    s.face_tags.clear();
+    s.plane_edges.clear();
+    for (std::size_t f = 0; f + 1 < face_offsets_.size(); ++f) {
+      const index begin = face_offsets_[f], end = face_offsets_[f + 1];
+      const index n = end - begin;
+      bool has_inside = false;
+      for (index k = begin; k < end; ++k)
+        has_inside |= s.vertex_side[static_cast<std::size_t>(face_vertices_[static_cast<std::size_t>(k)])] == side::inside;
+      if (!has_inside) continue;  // face outside or on the plane: replaced by the new face
+      const std::size_t start = s.face_vertices.size();
+      for (index k = 0; k < n; ++k) {
+        const index a = face_vertices_[static_cast<std::size_t>(begin + k)];
+        const index b = face_vertices_[static_cast<std::size_t>(begin + (k + 1) % n)];
+        const side sa = s.vertex_side[static_cast<std::size_t>(a)];
+        const side sb = s.vertex_side[static_cast<std::size_t>(b)];
+        if (sa != side::outside) s.face_vertices.push_back(s.remap[static_cast<std::size_t>(a)]);
+        if (sa == side::inside && sb == side::outside) s.face_vertices.push_back(edge_point(a, b));
+        else if (sa == side::outside && sb == side::inside) s.face_vertices.push_back(edge_point(b, a));
+      }
+      const std::size_t m = s.face_vertices.size() - start;
+      if (m < 3) {  // cannot happen with a face that has an inside vertex, kept as a guard
+        s.face_vertices.resize(start);
+        continue;
+      }
+      for (std::size_t k = 0; k < m; ++k) {
+        const index a = s.face_vertices[start + k], b = s.face_vertices[start + (k + 1) % m];
+        if (s.on_plane[static_cast<std::size_t>(a)] && s.on_plane[static_cast<std::size_t>(b)])
+          s.plane_edges.push_back({a, b});
+      }
+      s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
+      s.face_tags.push_back(face_tags_[f]);
+    }
+
+    // The new face closes the hole: it runs along every on-plane edge that only one kept face
+    // uses, in the opposite direction (a closed oriented surface uses each edge once each way).
+    const std::size_t nnew = s.vertices.size();
+    s.cap_next.assign(nnew, invalid_index);
+    std::size_t cap_edges = 0;
+    index cap_start = invalid_index;
+    for (const auto& e : s.plane_edges) {
+      bool paired = false;
+      for (const auto& g : s.plane_edges)
+        if (g[0] == e[1] && g[1] == e[0]) { paired = true; break; }
+      if (paired) continue;
+      if (s.cap_next[static_cast<std::size_t>(e[1])] != invalid_index) return clip_result::inconsistent;
+      s.cap_next[static_cast<std::size_t>(e[1])] = e[0];
+      ++cap_edges;
+      if (cap_start == invalid_index || e[1] < cap_start) cap_start = e[1];
+    }
+    if (cap_edges < 3) return clip_result::inconsistent;
+    {
+      index v = cap_start;
+      std::size_t walked = 0;
+      do {
+        s.face_vertices.push_back(v);
+        v = s.cap_next[static_cast<std::size_t>(v)];
+        ++walked;
+      } while (v != invalid_index && v != cap_start && walked <= cap_edges);
+      if (v != cap_start || walked != cap_edges) return clip_result::inconsistent;
+      s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
+      s.face_tags.push_back(tag);
+    }
+
+    // Drop vertices no face uses any more (an on-plane vertex whose faces were all removed).
+    s.used.assign(nnew, invalid_index);
+    for (index v : s.face_vertices) s.used[static_cast<std::size_t>(v)] = 0;
+    index next = 0;
+    vertices_.clear();
+    for (std::size_t v = 0; v < nnew; ++v)
+      if (s.used[v] == 0) {
+        s.used[v] = next++;
+        vertices_.push_back(s.vertices[v]);
+      }
+    for (index& v : s.face_vertices) v = s.used[static_cast<std::size_t>(v)];
+    face_offsets_.swap(s.face_offsets);
+    face_vertices_.swap(s.face_vertices);
+    face_tags_.swap(s.face_tags);
+    return clip_result::cut;
+  }
+
+  std::vector<vec3> vertices_;
+  std::vector<index> face_offsets_{0};
+  std::vector<index> face_vertices_;
+  std::vector<index> face_tags_;
+};
+
+}  // namespace tessera::geometry

@@ -1,0 +1,331 @@
+#pragma once
+// Random Voronoi and Laguerre (power) tessellations of a box into convex polyhedral cells: the
+// blocks of a scene (the reference study used Neper for the same purpose).
+//
+// Cell i of a Laguerre tessellation with generators s_j and weights w_j (m^2) is
+//     C_i = { x in box : |x - s_i|^2 - w_i <= |x - s_j|^2 - w_j  for all j },
+// and a Voronoi tessellation is the case w = 0. Each cell is computed independently, Voro++
+// style: start from the box, clip with the power plane of each nearby generator (geometry::
+// power_plane) in order of increasing distance, found through a uniform bin grid searched in
+// shells, and stop once no farther generator can cut: with R the largest distance from s_i to
+// a vertex of the current cell, a generator at distance d cuts only if
+//     d < R + sqrt(R^2 - w_i + w_max)      (= 2 R for Voronoi),
+// the "security radius". The cells are then welded into a conforming tessellation by
+// geometry::assemble_tessellation (cleanup.hpp, which documents the degenerate-geometry policy).
+//
+// Determinism: cells are computed with parallel_for, each writing only its own output; welding
+// and numbering are serial in cell order. The result is bit-identical for any thread count and,
+// with random_seeds, for a fixed rng seed on any platform (std::mt19937_64 is fully specified;
+// the uniform mapping is our own, not std::uniform_real_distribution).
+//
+// Cost: O(N) expected for uniformly spread generators (about 30 clips per cell); 100 000 cells
+// take about a second on two cores (see benchmarks/bench_tessellation.cpp).
+// Thread safety: the free functions may be called concurrently.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <random>
+#include <span>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "cleanup.hpp"
+#include "convex_polyhedron.hpp"
+#include "predicates.hpp"
+#include "tessellation.hpp"
+
+namespace tessera::geometry {
+
+struct tessellation_options {
+  /// Lloyd relaxation steps: each moves every generator to the centroid of its cell, which
+  /// makes cell sizes more uniform (0 = plain random tessellation).
+  int lloyd_iterations = 0;
+  /// Minimum distance between random generators (m); 0 = none (Poisson process).
+  real min_spacing = 0;
+  /// Weld tolerance relative to the mean cell size (V_box / N)^(1/3); see cleanup.hpp.
+  real cleanup_tolerance = 1e-9;
+};
+
+namespace detail {
+
+/// Uniform real in [0, 1) from the 53 high bits of one mt19937_64 draw (platform independent).
+[[nodiscard]] inline real uniform01(std::mt19937_64& rng) {
+  return static_cast<real>(rng() >> 11) * 0x1.0p-53;
+}
+
+inline void require_valid_box(const aabb& box, const char* who) {
+  const vec3 s = box.size();
+  require(box.lo.allFinite() && box.hi.allFinite() && (s.array() > 0).all(), who, ": domain box size (", s.x(), ", ",
+          s.y(), ", ", s.z(), ") m must be finite and > 0 in every direction");
+}
+
+/// Uniform bin grid over the box holding generator ids, about `per_bin` generators per bin.
+struct seed_grid {
+  vec3 lo, bin_size, inv_bin_size;
+  std::array<int, 3> n{1, 1, 1};
+  std::vector<index> offsets;  // CSR over bins, bin = i + n0 (j + n1 k)
+  std::vector<index> members;
+
+  seed_grid(const aabb& box, std::span<const vec3> seeds, real per_bin) {
+    lo = box.lo;
+    const vec3 size = box.size();
+    const real h = std::cbrt(box.volume() * per_bin / static_cast<real>(seeds.size()));
+    std::int64_t total = 1;
+    for (int a = 0; a < 3; ++a) {
+      n[static_cast<std::size_t>(a)] = static_cast<int>(std::clamp<real>(std::round(size[a] / h), 1, 1024));
+      total *= n[static_cast<std::size_t>(a)];
+    }
+    for (int a = 0; a < 3; ++a) {
+      bin_size[a] = size[a] / n[static_cast<std::size_t>(a)];
+      inv_bin_size[a] = n[static_cast<std::size_t>(a)] / size[a];
+    }
+    offsets.assign(static_cast<std::size_t>(total) + 1, 0);
+    std::vector<index> bin_of_seed(seeds.size());
+    for (std::size_t s = 0; s < seeds.size(); ++s) {
+      const auto b = coords(seeds[s]);
+      bin_of_seed[s] = bin(b[0], b[1], b[2]);
+      ++offsets[static_cast<std::size_t>(bin_of_seed[s]) + 1];
+    }
+    for (std::size_t b = 0; b + 1 < offsets.size(); ++b) offsets[b + 1] += offsets[b];
+    members.resize(seeds.size());
+    std::vector<index> fill(offsets.begin(), offsets.end() - 1);
+    for (std::size_t s = 0; s < seeds.size(); ++s)
+      members[static_cast<std::size_t>(fill[static_cast<std::size_t>(bin_of_seed[s])]++)] = static_cast<index>(s);
+  }
+  [[nodiscard]] std::array<int, 3> coords(const vec3& p) const {
+    std::array<int, 3> b{};
+    for (int a = 0; a < 3; ++a)
+      b[static_cast<std::size_t>(a)] = std::clamp(static_cast<int>(std::floor((p[a] - lo[a]) * inv_bin_size[a])), 0,
+                                                  n[static_cast<std::size_t>(a)] - 1);
+    return b;
+  }
+  [[nodiscard]] index bin(int i, int j, int k) const { return i + n[0] * (j + n[1] * k); }
+  [[nodiscard]] std::span<const index> seeds_in(index b) const {
+    return {members.data() + offsets[static_cast<std::size_t>(b)],
+            static_cast<std::size_t>(offsets[static_cast<std::size_t>(b) + 1] - offsets[static_cast<std::size_t>(b)])};
+  }
+};
+
+/// Checks generators: inside the box, pairwise farther apart than 1e-12 of the mean spacing.
+inline void validate_seeds(const aabb& box, std::span<const vec3> seeds, const seed_grid& grid, const char* who) {
+  require(!seeds.empty(), who, ": no seeds (N = 0); at least one cell is required");
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    const vec3& p = seeds[s];
+    require(p.allFinite() && box.contains(p), who, ": seed ", s, " at (", p.x(), ", ", p.y(), ", ", p.z(),
+            ") m lies outside the domain box [(", box.lo.x(), ", ", box.lo.y(), ", ", box.lo.z(), "), (", box.hi.x(),
+            ", ", box.hi.y(), ", ", box.hi.z(), ")]");
+  }
+  const real coincidence = plane_tolerance_rel * std::cbrt(box.volume() / static_cast<real>(seeds.size()));
+  for (std::size_t s = 0; s < seeds.size(); ++s) {
+    const auto b = grid.coords(seeds[s]);
+    for (int k = std::max(0, b[2] - 1); k <= std::min(grid.n[2] - 1, b[2] + 1); ++k)
+      for (int j = std::max(0, b[1] - 1); j <= std::min(grid.n[1] - 1, b[1] + 1); ++j)
+        for (int i = std::max(0, b[0] - 1); i <= std::min(grid.n[0] - 1, b[0] + 1); ++i)
+          for (index o : grid.seeds_in(grid.bin(i, j, k))) {
+            if (o >= static_cast<index>(s)) continue;
+            const real d = (seeds[static_cast<std::size_t>(o)] - seeds[s]).norm();
+            require(d > coincidence, who, ": seeds ", o, " and ", s, " coincide at (", seeds[s].x(), ", ",
+                    seeds[s].y(), ", ", seeds[s].z(), ") m (distance ", d, " m <= ", coincidence,
+                    " m); their bisector plane is undefined");
+          }
+  }
+}
+
+/// Per-thread scratch of the cell computation.
+struct cell_workspace {
+  convex_polyhedron cell;
+  std::vector<std::pair<real, index>> candidates;  // (squared distance, generator id)
+};
+
+/// Computes the Laguerre cell of generator i into ws.cell (weights empty = Voronoi).
+inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span<const real> weights, real w_max,
+                         const seed_grid& grid, index i, cell_workspace& ws) {
+  convex_polyhedron& cell = ws.cell;
+  cell.assign_box(box.lo, box.hi);
+  const vec3& s = seeds[static_cast<std::size_t>(i)];
+  const real w_i = weights.empty() ? real(0) : weights[static_cast<std::size_t>(i)];
+  const real w_excess = weights.empty() ? real(0) : w_max - w_i;  // >= 0
+  real r = std::sqrt(cell.max_squared_distance(s));
+  auto security_radius = [&] { return r + std::sqrt(std::max<real>(0, r * r + w_excess)); };
+  real stop = security_radius();
+  const auto b = grid.coords(s);
+  // distance from s to the lower/upper wall of its own bin, per axis
+  std::array<real, 3> wall{};
+  for (int a = 0; a < 3; ++a) {
+    const real rel = (s[a] - grid.lo[a]) - b[static_cast<std::size_t>(a)] * grid.bin_size[a];
+    wall[static_cast<std::size_t>(a)] = std::max<real>(0, std::min(rel, grid.bin_size[a] - rel));
+  }
+  const int max_shell = std::max({grid.n[0], grid.n[1], grid.n[2]});
+  for (int k = 0; k <= max_shell; ++k) {
+    // Lower bound of the distance to any generator in shell k (bins at Chebyshev distance k):
+    // along an axis where the shell exists it is at least (k - 1) bins plus the wall gap.
+    if (k > 0) {
+      real lower = std::numeric_limits<real>::infinity();
+      for (int a = 0; a < 3; ++a) {
+        const std::size_t ua = static_cast<std::size_t>(a);
+        if (b[ua] - k >= 0 || b[ua] + k < grid.n[ua])
+          lower = std::min(lower, (k - 1) * grid.bin_size[a] + wall[ua]);
+      }
+      if (lower >= stop) break;  // also ends the search once no shell is left in the grid
+    }
+    ws.candidates.clear();
+    for (int bk = std::max(0, b[2] - k); bk <= std::min(grid.n[2] - 1, b[2] + k); ++bk)
+      for (int bj = std::max(0, b[1] - k); bj <= std::min(grid.n[1] - 1, b[1] + k); ++bj)
+        for (int bi = std::max(0, b[0] - k); bi <= std::min(grid.n[0] - 1, b[0] + k); ++bi) {
+          if (std::max({std::abs(bi - b[0]), std::abs(bj - b[1]), std::abs(bk - b[2])}) != k) continue;
+          for (index j : grid.seeds_in(grid.bin(bi, bj, bk)))
+            if (j != i) ws.candidates.emplace_back((seeds[static_cast<std::size_t>(j)] - s).squaredNorm(), j);
+        }
+    std::sort(ws.candidates.begin(), ws.candidates.end());
+    for (const auto& [d2, j] : ws.candidates) {
+      if (d2 >= stop * stop) break;
+      const real w_j = weights.empty() ? real(0) : weights[static_cast<std::size_t>(j)];
+      const plane h = power_plane(s, w_i, seeds[static_cast<std::size_t>(j)], w_j);
+      if (-h.signed_distance(s) >= r) continue;  // the plane lies beyond every vertex
+      if (cell.clip(h, j)) {
+        if (cell.empty()) return;  // Laguerre cell swallowed by its neighbours
+        r = std::sqrt(cell.max_squared_distance(s));
+        stop = security_radius();
+      }
+    }
+  }
+}
+
+/// Computes every cell in parallel; rethrows the exception of the lowest failing cell.
+inline std::vector<convex_polyhedron> compute_cells(const aabb& box, std::span<const vec3> seeds,
+                                                    std::span<const real> weights, const seed_grid& grid) {
+  const real w_max = weights.empty() ? real(0) : *std::max_element(weights.begin(), weights.end());
+  std::vector<convex_polyhedron> cells(seeds.size());
+  std::vector<std::exception_ptr> failure(seeds.size());
+  parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
+    thread_local cell_workspace ws;
+    try {
+      compute_cell(box, seeds, weights, w_max, grid, static_cast<index>(c), ws);
+      cells[static_cast<std::size_t>(c)] = ws.cell;
+    } catch (...) {
+      failure[static_cast<std::size_t>(c)] = std::current_exception();
+    }
+  }, 16);
+  for (const auto& e : failure)
+    if (e) std::rethrow_exception(e);
+  return cells;
+}
+
+inline tessellation power_tessellation(const aabb& box, std::span<const vec3> seeds_in, std::span<const real> weights,
+                                       const tessellation_options& options, const char* who) {
+  require_valid_box(box, who);
+  require(!seeds_in.empty(), who, ": no seeds (N = 0); at least one cell is required");
+  require(options.lloyd_iterations >= 0, who, ": lloyd_iterations = ", options.lloyd_iterations, " must be >= 0");
+  require(std::isfinite(options.cleanup_tolerance) && options.cleanup_tolerance > 0 && options.cleanup_tolerance < 1e-2,
+          who, ": cleanup_tolerance = ", options.cleanup_tolerance, " must be in (0, 1e-2)");
+  std::vector<vec3> seeds(seeds_in.begin(), seeds_in.end());
+  const real mean_size = std::cbrt(box.volume() / static_cast<real>(seeds.size()));
+  for (int it = 0;; ++it) {
+    const seed_grid grid(box, seeds, 2.0);
+    validate_seeds(box, seeds, grid, who);
+    std::vector<convex_polyhedron> cells = compute_cells(box, seeds, weights, grid);
+    if (it == options.lloyd_iterations)
+      return assemble_tessellation(box, cells, seeds, weights, options.cleanup_tolerance * mean_size);
+    // Lloyd step: x_i <- centroid of C_i (an empty Laguerre cell keeps its generator).
+    parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
+      const convex_polyhedron& p = cells[static_cast<std::size_t>(c)];
+      if (!p.empty()) seeds[static_cast<std::size_t>(c)] = p.centroid().cwiseMax(box.lo).cwiseMin(box.hi);
+    }, 64);
+  }
+}
+
+}  // namespace detail
+
+/// n generators uniformly distributed in `box` from std::mt19937_64(rng_seed), reproducible bit
+/// for bit on every platform. With min_spacing > 0 (m), candidates closer than min_spacing to an
+/// accepted generator are rejected (random sequential addition); throws invalid_input when the
+/// box cannot take n generators at that spacing.
+[[nodiscard]] inline std::vector<vec3> random_seeds(const aabb& box, index n, std::uint64_t rng_seed,
+                                                    real min_spacing = 0) {
+  detail::require_valid_box(box, "random_seeds");
+  require(n > 0, "random_seeds: number of seeds N = ", n, " must be > 0");
+  require_non_negative(min_spacing, "random_seeds: min_spacing (m)");
+  std::mt19937_64 rng(rng_seed);
+  const vec3 size = box.size();
+  auto draw = [&] {
+    vec3 p;
+    for (int a = 0; a < 3; ++a) p[a] = std::min(box.lo[a] + detail::uniform01(rng) * size[a], box.hi[a]);
+    return p;
+  };
+  std::vector<vec3> seeds;
+  seeds.reserve(static_cast<std::size_t>(n));
+  if (min_spacing == 0) {
+    for (index i = 0; i < n; ++i) seeds.push_back(draw());
+    return seeds;
+  }
+  // Bins no smaller than min_spacing: a conflicting generator is in the 27 surrounding bins.
+  std::array<int, 3> nb{};
+  for (int a = 0; a < 3; ++a)
+    nb[static_cast<std::size_t>(a)] = static_cast<int>(std::clamp<real>(std::floor(size[a] / min_spacing), 1, 512));
+  std::vector<std::vector<index>> bins(static_cast<std::size_t>(nb[0]) * static_cast<std::size_t>(nb[1]) *
+                                       static_cast<std::size_t>(nb[2]));
+  auto coord = [&](const vec3& p, int a) {
+    return std::clamp(static_cast<int>((p[a] - box.lo[a]) / size[a] * nb[static_cast<std::size_t>(a)]), 0,
+                      nb[static_cast<std::size_t>(a)] - 1);
+  };
+  const std::int64_t max_attempts = 1000 * static_cast<std::int64_t>(n) + 100000;
+  std::int64_t attempts = 0;
+  while (static_cast<index>(seeds.size()) < n) {
+    require(++attempts <= max_attempts, "random_seeds: placed only ", seeds.size(), " of ", n,
+            " seeds with min_spacing = ", min_spacing, " m in a box of (", size.x(), ", ", size.y(), ", ", size.z(),
+            ") m after ", max_attempts, " attempts; lower min_spacing or N");
+    const vec3 p = draw();
+    const int ci = coord(p, 0), cj = coord(p, 1), ck = coord(p, 2);
+    bool free = true;
+    for (int k = std::max(0, ck - 1); free && k <= std::min(nb[2] - 1, ck + 1); ++k)
+      for (int j = std::max(0, cj - 1); free && j <= std::min(nb[1] - 1, cj + 1); ++j)
+        for (int i = std::max(0, ci - 1); free && i <= std::min(nb[0] - 1, ci + 1); ++i)
+          for (index o : bins[static_cast<std::size_t>(i + nb[0] * (j + nb[1] * k))])
+            if ((seeds[static_cast<std::size_t>(o)] - p).squaredNorm() < min_spacing * min_spacing) {
+              free = false;
+              break;
+            }
+    if (!free) continue;
+    bins[static_cast<std::size_t>(ci + nb[0] * (cj + nb[1] * ck))].push_back(static_cast<index>(seeds.size()));
+    seeds.push_back(p);
+  }
+  return seeds;
+}
+
+/// Voronoi tessellation of `box` by the generators `seeds` (m), after options.lloyd_iterations
+/// Lloyd steps (the returned tessellation stores the relaxed generators). Throws invalid_input
+/// for an empty or non-finite box, no seeds, a seed outside the box or coincident seeds.
+[[nodiscard]] inline tessellation voronoi(const aabb& box, std::span<const vec3> seeds,
+                                          const tessellation_options& options = {}) {
+  return detail::power_tessellation(box, seeds, {}, options, "voronoi");
+}
+
+/// Laguerre (power) tessellation: generator i has weight weights[i] (m^2); a larger weight
+/// grows the cell (the bisector with j moves by (w_i - w_j)/(2 d) toward j). Generators whose
+/// cell is empty are dropped (the tessellation then has fewer cells than seeds; `seeds` and
+/// `weights` of the result list the surviving generators). Throws invalid_input as voronoi(),
+/// and for a weight count different from the seed count or a non-finite weight.
+[[nodiscard]] inline tessellation laguerre(const aabb& box, std::span<const vec3> seeds, std::span<const real> weights,
+                                           const tessellation_options& options = {}) {
+  require(weights.size() == seeds.size(), "laguerre: ", weights.size(), " weights for ", seeds.size(),
+          " seeds; one weight (m^2) per seed is required");
+  for (std::size_t i = 0; i < weights.size(); ++i)
+    require(std::isfinite(weights[i]), "laguerre: weight ", i, " = ", weights[i], " m^2 must be finite");
+  return detail::power_tessellation(box, seeds, weights, options, "laguerre");
+}
+
+/// Voronoi tessellation of n random generators (random_seeds with options.min_spacing) followed
+/// by options.lloyd_iterations Lloyd steps. The same (box, n, rng_seed, options) always gives
+/// the same tessellation, bit for bit, for any thread count.
+[[nodiscard]] inline tessellation random_voronoi(const aabb& box, index n, std::uint64_t rng_seed,
+                                                 const tessellation_options& options = {}) {
+  require(n > 0, "random_voronoi: number of cells N = ", n, " must be > 0");
+  const std::vector<vec3> seeds = random_seeds(box, n, rng_seed, options.min_spacing);
+  return detail::power_tessellation(box, seeds, {}, options, "random_voronoi");
+}
+
+}  // namespace tessera::geometry
