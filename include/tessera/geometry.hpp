@@ -9,3 +9,4 @@
 #include "geometry/cleanup.hpp"
 #include "geometry/voronoi.hpp"
 #include "geometry/tessellation_queries.hpp"
+#include "geometry/zoning.hpp"

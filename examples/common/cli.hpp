@@ -1,0 +1,324 @@
+#pragma once
+// Command-line handling shared by every example driver: a small typed option parser, the
+// standard options of DESIGN.md §5 (--out, --quick, --seed, --threads, --help), a progress
+// line on stderr and a wall-clock timer. Header-only, no dependencies beyond the standard
+// library.
+//
+//     tessera::cli::parser cli("tessellate", "Random Voronoi tessellation of a box, zoned into tets.");
+//     tessera::cli::standard_options std_opts;
+//     cli.add_standard(std_opts);                       // --out results/tessellate, --quick, --seed, --threads
+//     int blocks = 100;
+//     std::array<double, 3> size{0.068, 0.068, 0.6};
+//     cli.option("--blocks", blocks, "number of blocks", "N");
+//     cli.option("--size", size, "box edge lengths (m)", {"LX", "LY", "LZ"});
+//     cli.parse_or_exit(argc, argv);                   // --help: usage, exit 0; bad input: message, exit 2
+//
+// Options take their default from the bound variable's value at registration time; the usage
+// block prints it. Both "--name value" and "--name=value" are accepted.
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+namespace tessera::cli {
+
+/// Bad command line: unknown option, missing or malformed value. what() names the option and value.
+class usage_error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+namespace detail {
+template <class T>
+[[nodiscard]] std::string type_hint() {
+  if constexpr (std::is_same_v<T, std::string>) return "text";
+  else if constexpr (std::is_floating_point_v<T>) return "real";
+  else if constexpr (std::is_unsigned_v<T>) return "non-negative integer";
+  else return "integer";
+}
+
+/// Parses the whole of `text` as a T; throws usage_error naming `option` otherwise.
+template <class T>
+[[nodiscard]] T parse_value(std::string_view option, const std::string& text) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    return text;
+  } else {
+    const auto bad = [&]() {
+      return usage_error(std::string(option) + ": invalid value '" + text + "' (expected " + type_hint<T>() + ")");
+    };
+    if (text.empty()) throw bad();
+    std::size_t used = 0;
+    try {
+      if constexpr (std::is_floating_point_v<T>) {
+        const double v = std::stod(text, &used);
+        if (used != text.size()) throw bad();
+        return static_cast<T>(v);
+      } else if constexpr (std::is_unsigned_v<T>) {
+        if (text.front() == '-') throw bad();
+        const unsigned long long v = std::stoull(text, &used, 10);
+        if (used != text.size() || v > std::numeric_limits<T>::max()) throw bad();
+        return static_cast<T>(v);
+      } else {
+        const long long v = std::stoll(text, &used, 10);
+        if (used != text.size() || v < std::numeric_limits<T>::min() || v > std::numeric_limits<T>::max()) throw bad();
+        return static_cast<T>(v);
+      }
+    } catch (const usage_error&) {
+      throw;
+    } catch (const std::exception&) {
+      throw bad();
+    }
+  }
+}
+
+template <class T>
+[[nodiscard]] std::string to_text(const T& v) {
+  if constexpr (std::is_same_v<T, std::string>) {
+    return v.empty() ? std::string("\"\"") : v;
+  } else {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  }
+}
+}  // namespace detail
+
+/// Options every example driver has (DESIGN.md §5).
+struct standard_options {
+  std::string out;          ///< output directory (default results/<program>)
+  bool quick = false;       ///< reduced run for tests
+  std::uint64_t seed = 1;   ///< random seed (tessellation, perturbations)
+  int threads = 0;          ///< OpenMP threads, 0 = library default
+};
+
+class parser {
+ public:
+  parser(std::string program, std::string description)
+      : program_(std::move(program)), description_(std::move(description)) {}
+
+  /// A boolean switch: present = true.
+  parser& flag(std::string name, bool& target, std::string help) {
+    check_name(name);
+    options_.push_back({std::move(name), {}, std::move(help), "", 0,
+                        [&target](const std::vector<std::string>&) { target = true; }});
+    return *this;
+  }
+
+  /// A single-valued option of type T (integer, floating point or std::string).
+  template <class T>
+  parser& option(std::string name, T& target, std::string help, std::string metavar = "") {
+    check_name(name);
+    if (metavar.empty()) metavar = default_metavar<T>();
+    const std::string n = name;
+    options_.push_back({std::move(name), {std::move(metavar)}, std::move(help), detail::to_text(target), 1,
+                        [&target, n](const std::vector<std::string>& v) { target = detail::parse_value<T>(n, v[0]); }});
+    return *this;
+  }
+
+  /// A fixed-count multi-value option, e.g. --size LX LY LZ.
+  template <class T, std::size_t N>
+  parser& option(std::string name, std::array<T, N>& target, std::string help, std::vector<std::string> metavars) {
+    check_name(name);
+    if (metavars.size() != N) throw std::logic_error("cli: option " + name + " needs " + std::to_string(N) + " metavars");
+    std::string def;
+    for (std::size_t i = 0; i < N; ++i) {
+      if (i) def += " ";
+      def += detail::to_text(target[i]);
+    }
+    const std::string n = name;
+    options_.push_back({std::move(name), std::move(metavars), std::move(help), def, static_cast<int>(N),
+                        [&target, n](const std::vector<std::string>& v) {
+                          for (std::size_t i = 0; i < N; ++i) target[i] = detail::parse_value<T>(n, v[i]);
+                        }});
+    return *this;
+  }
+
+  /// Registers --out (default results/<program>), --quick, --seed and --threads.
+  parser& add_standard(standard_options& s) {
+    if (s.out.empty()) s.out = std::string("results/").append(program_);
+    option("--out", s.out, "output directory", "DIR");
+    flag("--quick", s.quick, "reduced run (used by the tests)");
+    option("--seed", s.seed, "random seed", "N");
+    option("--threads", s.threads, "worker threads (0 = OpenMP default)", "N");
+    return *this;
+  }
+
+  /// The usage block: one line per option with its metavariables, help text and default.
+  [[nodiscard]] std::string usage() const {
+    std::ostringstream os;
+    os << "usage: " << program_ << " [options]\n";
+    if (!description_.empty()) os << "\n" << description_ << "\n";
+    os << "\noptions:\n";
+    std::vector<std::string> left;
+    std::size_t width = 0;
+    for (const auto& o : options_) {
+      std::string l = "  " + o.name;
+      for (const auto& m : o.metavars) l += " " + m;
+      width = std::max(width, l.size());
+      left.push_back(std::move(l));
+    }
+    left.push_back("  --help");
+    width = std::max(width, left.back().size());
+    for (std::size_t i = 0; i < options_.size(); ++i) {
+      os << std::left << std::setw(static_cast<int>(width) + 2) << left[i] << options_[i].help;
+      if (options_[i].arity > 0) os << " [default: " << options_[i].default_text << "]";
+      os << '\n';
+    }
+    os << std::left << std::setw(static_cast<int>(width) + 2) << left.back() << "print this help and exit\n";
+    return os.str();
+  }
+
+  /// Parses argv[1..argc). Returns false if --help was given (nothing else is applied after
+  /// it); throws usage_error for an unknown option or a missing/invalid value.
+  bool parse(int argc, const char* const* argv) {
+    for (int i = 1; i < argc; ++i) {
+      std::string arg = argv[i];
+      if (arg == "--help" || arg == "-h") return false;
+      std::string inline_value;
+      bool has_inline = false;
+      if (const auto eq = arg.find('='); arg.rfind("--", 0) == 0 && eq != std::string::npos) {
+        inline_value = arg.substr(eq + 1);
+        arg.resize(eq);
+        has_inline = true;
+      }
+      const option_entry* o = find(arg);
+      if (o == nullptr) throw usage_error("unknown option '" + arg + "' (see " + program_ + " --help)");
+      std::vector<std::string> values;
+      if (o->arity == 0) {
+        if (has_inline) throw usage_error(arg + " takes no value, got '" + inline_value + "'");
+      } else if (has_inline) {
+        if (o->arity != 1) throw usage_error(arg + " takes " + std::to_string(o->arity) + " values, use '" + arg + " " +
+                                             join(o->metavars) + "'");
+        values.push_back(inline_value);
+      } else {
+        for (int k = 0; k < o->arity; ++k) {
+          if (i + 1 >= argc) throw usage_error(arg + ": missing value (expected " + arg + " " + join(o->metavars) + ")");
+          values.emplace_back(argv[++i]);
+        }
+      }
+      o->apply(values);
+    }
+    return true;
+  }
+
+  /// parse(); on --help prints usage() to stdout and exits 0; on a usage_error prints
+  /// "<program>: <message>" to stderr and exits 2.
+  void parse_or_exit(int argc, const char* const* argv) {
+    bool proceed = true;
+    try {
+      proceed = parse(argc, argv);
+    } catch (const usage_error& e) {
+      std::cerr << program_ << ": " << e.what() << '\n';
+      std::exit(2);
+    }
+    if (!proceed) {
+      std::cout << usage();
+      std::exit(0);
+    }
+  }
+  void parse_or_exit(int argc, char** argv) { parse_or_exit(argc, const_cast<const char* const*>(argv)); }
+
+  [[nodiscard]] const std::string& program() const { return program_; }
+
+ private:
+  struct option_entry {
+    std::string name;
+    std::vector<std::string> metavars;
+    std::string help;
+    std::string default_text;
+    int arity;
+    std::function<void(const std::vector<std::string>&)> apply;
+  };
+  template <class T>
+  static std::string default_metavar() {
+    if constexpr (std::is_same_v<T, std::string>) return "TEXT";
+    else if constexpr (std::is_floating_point_v<T>) return "X";
+    else return "N";
+  }
+  static std::string join(const std::vector<std::string>& v) {
+    std::string s;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      if (i) s += " ";
+      s += v[i];
+    }
+    return s;
+  }
+  void check_name(const std::string& name) const {
+    if (name.rfind("--", 0) != 0 || name.size() < 3) throw std::logic_error("cli: option name '" + name + "' must start with --");
+    if (find(name) != nullptr || name == "--help") throw std::logic_error("cli: option " + name + " registered twice");
+  }
+  [[nodiscard]] const option_entry* find(const std::string& name) const {
+    for (const auto& o : options_)
+      if (o.name == name) return &o;
+    return nullptr;
+  }
+
+  std::string program_;
+  std::string description_;
+  std::vector<option_entry> options_;
+};
+
+/// Wall-clock stopwatch (steady clock), started at construction.
+class wall_timer {
+ public:
+  wall_timer() : start_(clock::now()) {}
+  void restart() { start_ = clock::now(); }
+  [[nodiscard]] double seconds() const { return std::chrono::duration<double>(clock::now() - start_).count(); }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  clock::time_point start_;
+};
+
+/// One self-overwriting status line on stderr ("\r<label> <message>"), refreshed at most every
+/// `interval_s` seconds so a fast loop is not slowed by terminal output. finish() ends the line.
+class progress_line {
+ public:
+  explicit progress_line(std::string label, double interval_s = 0.5) : label_(std::move(label)), interval_(interval_s) {}
+  ~progress_line() { finish(); }
+  progress_line(const progress_line&) = delete;
+  progress_line& operator=(const progress_line&) = delete;
+
+  /// Shows `fraction` (0..1) done plus a free-form message, if the refresh interval has passed.
+  void update(double fraction, const std::string& message = "") {
+    const double now = timer_.seconds();
+    if (shown_ && now - last_ < interval_) return;
+    last_ = now;
+    shown_ = true;
+    std::ostringstream os;
+    os << '\r' << label_ << ' ' << std::fixed << std::setprecision(1) << 100.0 * fraction << "% " << message
+       << "  [" << std::setprecision(1) << now << " s]";
+    std::string line = os.str();
+    if (line.size() < last_width_) line.append(last_width_ - line.size(), ' ');
+    last_width_ = line.size();
+    std::cerr << line << std::flush;
+  }
+  void finish() {
+    if (shown_ && !finished_) std::cerr << '\n';
+    finished_ = true;
+  }
+
+ private:
+  std::string label_;
+  double interval_;
+  wall_timer timer_;
+  double last_ = 0.0;
+  bool shown_ = false;
+  bool finished_ = false;
+  std::size_t last_width_ = 0;
+};
+
+}  // namespace tessera::cli

@@ -1,0 +1,136 @@
+#pragma once
+// Atomic file output: every tessera writer writes to a temporary file in the target's own
+// directory and renames it over the target only when the content is complete, so a crash or an
+// exception never leaves a half-written file behind (rename within one file system is atomic
+// on POSIX). Failures throw tessera::io_error naming the path and the operating system's reason.
+//
+// Not thread-safe per object; distinct objects writing distinct paths may be used concurrently.
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <ios>
+#include <string>
+#include <system_error>
+#include <utility>
+
+#if defined(_WIN32)
+#include <process.h>
+#else
+#include <unistd.h>
+#endif
+
+#include "../core/errors.hpp"
+
+namespace tessera::io {
+
+namespace detail {
+[[nodiscard]] inline long process_id() {
+#if defined(_WIN32)
+  return static_cast<long>(_getpid());
+#else
+  return static_cast<long>(::getpid());
+#endif
+}
+/// The OS reason for the last failed C/C++ library call, e.g. "No such file or directory".
+[[nodiscard]] inline std::string last_os_error() {
+  return errno != 0 ? std::string(std::strerror(errno)) : std::string("unknown error");
+}
+}  // namespace detail
+
+/// Creates `dir` (and its parents) if needed and checks that it is a writable directory.
+/// Throws io_error "cannot create output directory '<dir>': <reason>" otherwise.
+inline void ensure_directory(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  if (dir.empty()) return;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw io_error(tessera::detail::concat("cannot create output directory '", dir.string(), "': ", ec.message()));
+  if (!fs::is_directory(dir, ec))
+    throw io_error(tessera::detail::concat("output path '", dir.string(), "' exists and is not a directory"));
+  // Probe writability with a real file: permission bits alone do not tell (root, ACLs, read-only mounts).
+  const fs::path probe = dir / (".tessera_probe." + std::to_string(detail::process_id()));
+  errno = 0;
+  {
+    std::ofstream out(probe, std::ios::binary | std::ios::trunc);
+    if (!out) throw io_error(tessera::detail::concat("output directory '", dir.string(), "' is not writable: ", detail::last_os_error()));
+  }
+  fs::remove(probe, ec);
+}
+
+/// An output file stream that becomes visible at `target` only on commit().
+///
+///     io::atomic_ofstream out("results/run/curve.csv");
+///     out.stream() << "u,F\n" << ...;
+///     out.commit();                    // rename path.tmp.<pid> -> path; throws io_error on failure
+///
+/// Destroying it without commit() (e.g. during stack unwinding) removes the temporary file and
+/// leaves any previous file at `target` untouched.
+class atomic_ofstream {
+ public:
+  explicit atomic_ofstream(std::filesystem::path target, std::ios::openmode mode = std::ios::out | std::ios::trunc)
+      : target_(std::move(target)) {
+    temp_ = target_;
+    temp_ += ".tmp." + std::to_string(detail::process_id());
+    errno = 0;
+    out_.open(temp_, mode | std::ios::out);
+    if (!out_) throw io_error(tessera::detail::concat("cannot open '", target_.string(), "' for writing (temporary '",
+                                                      temp_.string(), "'): ", detail::last_os_error()));
+  }
+  atomic_ofstream(const atomic_ofstream&) = delete;
+  atomic_ofstream& operator=(const atomic_ofstream&) = delete;
+  ~atomic_ofstream() {
+    if (!committed_) {
+      out_.close();
+      std::error_code ec;
+      std::filesystem::remove(temp_, ec);
+    }
+  }
+
+  [[nodiscard]] std::ostream& stream() { return out_; }
+  template <class T>
+  atomic_ofstream& operator<<(const T& value) {
+    out_ << value;
+    return *this;
+  }
+  [[nodiscard]] const std::filesystem::path& target() const { return target_; }
+  [[nodiscard]] const std::filesystem::path& temporary() const { return temp_; }
+
+  /// Flushes, closes and renames the temporary file onto the target.
+  void commit() {
+    if (committed_) return;
+    errno = 0;
+    out_.flush();
+    const bool write_ok = static_cast<bool>(out_);
+    const std::string write_reason = detail::last_os_error();
+    out_.close();
+    std::error_code ec;
+    if (!write_ok || out_.fail()) {
+      std::filesystem::remove(temp_, ec);
+      throw io_error(tessera::detail::concat("writing '", target_.string(), "' failed: ", write_reason));
+    }
+    std::filesystem::rename(temp_, target_, ec);
+    if (ec) {
+      std::error_code ignore;
+      std::filesystem::remove(temp_, ignore);
+      throw io_error(tessera::detail::concat("cannot move '", temp_.string(), "' to '", target_.string(), "': ", ec.message()));
+    }
+    committed_ = true;
+  }
+
+ private:
+  std::filesystem::path target_;
+  std::filesystem::path temp_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
+
+/// Writes `content` to `path` atomically.
+inline void write_file_atomically(const std::filesystem::path& path, const std::string& content) {
+  atomic_ofstream out(path, std::ios::out | std::ios::trunc | std::ios::binary);
+  out.stream() << content;
+  out.commit();
+}
+
+}  // namespace tessera::io
