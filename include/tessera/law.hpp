@@ -2,3 +2,8 @@
 // Module header for law/. Owners add their headers here as they land.
 #include "core.hpp"
 #include "law/concepts.hpp"
+#include "law/tension.hpp"
+#include "law/compression.hpp"
+#include "law/shear.hpp"
+#include "law/cohesive_frictional.hpp"
+#include "law/aliases.hpp"

@@ -1,0 +1,61 @@
+#pragma once
+// Named contact laws: the combinations the reference study uses, and only those (the full cross
+// product of policies is never instantiated). Parameters are law::cohesive_frictional::params.
+//
+// | alias           | tension          | compression         | shear            | used for                    |
+// |-----------------|------------------|---------------------|------------------|-----------------------------|
+// | study_tie_law   | power_softening  | elastic_compression | coulomb_residual | plain prism, RC tie (Sec. 3)|
+// | linear_tie_law  | linear_softening | elastic_compression | coulomb_residual | tie, LS sensitivity (Sec. 3.2)|
+// | study_beam_law  | linear_softening | plastic_cap         | coulomb_residual | RC beam (Sec. 4)            |
+
+#include "../core/errors.hpp"
+#include "cohesive_frictional.hpp"
+#include "compression.hpp"
+#include "concepts.hpp"
+#include "shear.hpp"
+#include "tension.hpp"
+
+namespace tessera::law {
+
+using study_tie_law = cohesive_frictional<power_softening, elastic_compression, coulomb_residual>;
+using linear_tie_law = cohesive_frictional<linear_softening, elastic_compression, coulomb_residual>;
+using study_beam_law = cohesive_frictional<linear_softening, plastic_cap, coulomb_residual>;
+
+static_assert(ContactLaw<study_tie_law>);
+static_assert(ContactLaw<linear_tie_law>);
+static_assert(ContactLaw<study_beam_law>);
+
+/// Contact parameters of the study's plain concrete prism (Table 1, DESIGN.md §4) for a
+/// tessellation of `blocks` blocks (100, 250, 500 or 750): k_n = 1160/1570/1980/2260 GPa/m,
+/// k_s = 482/654/824/943 GPa/m, f_T = 2.15 MPa, G_f = 60 N/m, power softening alpha = 3
+/// (residual_ratio 1e-3), c_0 = 2 f_T, c_res = 0.01 c_0, phi_0 = 35 deg, phi_res = 30 deg, no
+/// compression limit. For linear softening copy k_n, k_s, shear and f_T, G_f into linear_tie_law::params.
+/// Throws invalid_input for any other block count.
+[[nodiscard]] inline study_tie_law::params study_prism_params(int blocks) {
+  struct table_row {
+    int blocks;
+    real k_n;  // Pa/m
+    real k_s;  // Pa/m
+  };
+  constexpr table_row table1[] = {
+      {100, 1160e9, 482e9}, {250, 1570e9, 654e9}, {500, 1980e9, 824e9}, {750, 2260e9, 943e9}};
+  for (const table_row& row : table1) {
+    if (row.blocks != blocks) continue;
+    study_tie_law::params p;
+    p.k_n = row.k_n;
+    p.k_s = row.k_s;
+    p.tension.f_T = 2.15e6;
+    p.tension.G_f = 60;
+    p.tension.alpha = 3;
+    p.tension.residual_ratio = 1e-3;
+    p.shear.c_0 = 2 * p.tension.f_T;
+    p.shear.c_res = 0.01 * p.shear.c_0;
+    p.shear.phi_0 = friction_angle::from_degrees(35);
+    p.shear.phi_res = friction_angle::from_degrees(30);
+    return p;
+  }
+  throw invalid_input(tessera::detail::concat("study_prism_params: blocks = ", blocks,
+                                              " is not a block count of the study's Table 1 (100, 250, 500, 750)"));
+}
+
+}  // namespace tessera::law

@@ -1,0 +1,225 @@
+#pragma once
+// law::cohesive_frictional<Tension, Compression, Shear>: the contact constitutive law of the
+// reference study (eqs. 4-6, DESIGN.md §3 "Contact law"), composed from three policies in the
+// manner of MercuryDPM's Species<Normal, Friction, ...>:
+//     Tension      TensionSoftening  (tension.hpp):     linear_softening, power_softening, no_tension
+//     Compression  CompressionLimit  (compression.hpp): elastic_compression, plastic_cap
+//     Shear        ShearLimit        (shear.hpp):       coulomb_residual
+// The named combinations of the study are in aliases.hpp. The law is a pure evaluator of one
+// sub-contact: stresses per unit area, the caller (contact::subcontact_set) multiplies by the
+// tributary area and owns loops and storage. It satisfies law::ContactLaw (concepts.hpp).
+//
+// Conventions: SI units; sigma_n and u_n positive in tension/opening; the contact normal n points
+// from block A to block B; du_s and tau are 3-vectors in the global frame lying in the contact plane
+// (tau is the shear traction on block B's face, along B's displacement relative to A).
+//
+// One step, update(p, s, du_n, du_s, n):
+//  1. Rotation. The stored tau is turned into the plane of the current unit normal n: its
+//     n-component is removed and the remainder rescaled to the old magnitude, so a rigid rotation
+//     of the contact neither creates nor destroys shear stress. (A tau exactly parallel to the new
+//     n, i.e. a 90-degree turn within one step, has no direction left and is dropped.)
+//  2. Normal. u_n += du_n; trial sigma = k_n (u_n - u_p): elastic loading, unloading and reloading
+//     with k_n, parallel to the elastic branch, from the irreversible opening u_p.
+//     Tension: the trial is capped by the current strength f_t(w) of the envelope (tension.hpp),
+//     w = state::u_soft being the opening travelled along the softening branch. When the cap is
+//     active the return onto the envelope is closed-form for any envelope shape:
+//         w_new = w + (sigma_trial - f_t(w))/k_n,   sigma = f_t(w_new),   u_p = u_n - sigma/k_n.
+//     For a contact without compressive plastic closure this is exactly f_t evaluated at the total
+//     opening u_n = eta + w (study eq. 5). After a compressive plastic closure (plastic_cap) the
+//     envelope is carried along with it, i.e. measured from the crushed position, so crushing
+//     neither heals a softened contact nor creates a tensile plateau. (Decision recorded here;
+//     DESIGN.md is silent on the interaction.)
+//     Broken in tension (Tension::exhausted), for good: no tensile stress, sigma = k_n min(0, u_n - u_p)
+//     with u_p reset to the compressive plastic closure (0 unless plastic_cap yielded), i.e.
+//     sigma = k_n min(0, u_n): compression only once the faces overlap geometrically again.
+//     Compression (plastic_cap): sigma >= -f_c, perfectly plastic; the irreversible closure goes into u_p.
+//  3. Shear. tau_trial = tau + k_s du_s, limited by tau_max = Shear::strength(sigma_n, flags) with the
+//     new sigma_n. At the first exceedance the contact is marked `slipped` for good (brittle: the
+//     coulomb_residual policy then returns the residual limit) and tau is scaled back onto the limit
+//     along its own direction; afterwards perfectly plastic slip on that limit. Broken in tension
+//     also drops the cohesion to c_res (policy). Tension and shear are otherwise decoupled.
+//
+// Energy (J/m^2). Per step and mechanism the dissipated increment is the trapezoidal work minus the
+// change of elastic energy,
+//     d = 0.5 (stress_old + stress_new) . increment - (stored_new - stored_old),
+//     stored = sigma_n^2/(2 k_n) + |tau|^2/(2 k_s),
+// which factorises as d = 0.5 (sigma_old + sigma_new)(du_n - (sigma_new - sigma_old)/k_n) for the normal
+// part (and likewise for shear with the rotated old tau, rotation keeping |tau|). So the trapezoidal
+// work a solver integrates equals stored + dissipated to rounding and the energy balance of a run
+// closes. The normal part goes to dissipated_compression when sigma_old + sigma_new < 0 and to
+// dissipated_tension otherwise; the shear part to dissipated_shear. Where a kink of the response
+// (peak, yield, gap closure) falls inside a step, the O(k_n du^2) quadrature error of the
+// trapezoidal rule is booked as dissipation (it can be slightly negative at a gap reopening);
+// with steps that land on the kinks the bookkeeping is exact: a contact pulled to separation
+// dissipates Tension::separation_energy (G_f for linear softening).
+//
+// Cost and threading: update is noexcept, allocation-free and branch-light (the softening
+// envelope is evaluated only for contacts past the peak); all functions are static and pure, so
+// updating distinct states from several threads is safe.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <type_traits>
+
+#include "../core/types.hpp"
+#include "compression.hpp"
+#include "concepts.hpp"
+#include "detail/validation.hpp"
+#include "shear.hpp"
+#include "tension.hpp"
+
+namespace tessera::law {
+
+namespace detail {
+[[nodiscard]] constexpr contact_status without(contact_status s, contact_status flag) noexcept {
+  return static_cast<contact_status>(static_cast<std::uint8_t>(s) & ~static_cast<std::uint8_t>(flag));
+}
+}  // namespace detail
+
+template <TensionSoftening Tension, CompressionLimit Compression, ShearLimit Shear>
+struct cohesive_frictional {
+  using tension_policy = Tension;
+  using compression_policy = Compression;
+  using shear_policy = Shear;
+
+  struct params {
+    real k_n = 0;  ///< normal stiffness (Pa/m), k_n = E/t
+    real k_s = 0;  ///< shear stiffness (Pa/m), k_s = G/t
+    typename Tension::params tension{};
+    typename Compression::params compression{};
+    typename Shear::params shear{};
+  };
+
+  /// History of one sub-contact; value-initialised (`state{}`) = virgin, unloaded contact.
+  /// 88 bytes. Plain data (not formally std::is_trivially_copyable only because Eigen's vec3
+  /// declares its copy constructor; copying it is a plain memberwise copy).
+  struct state {
+    real sigma_n = 0;                  ///< normal stress (Pa, + tension)
+    vec3 tau = vec3::Zero();           ///< shear stress vector (Pa, global frame, in the contact plane)
+    real u_n = 0;                      ///< total normal opening accumulated from du_n (m, + opens)
+    real u_p = 0;                      ///< irreversible opening: sigma_n = k_n (u_n - u_p) below the limits (m)
+    real u_soft = 0;                   ///< opening travelled along the softening branch, w = u_n - eta (m)
+    real dissipated_tension = 0;       ///< energy dissipated on the tensile side (J/m^2)
+    real dissipated_shear = 0;         ///< energy dissipated by shear failure and slip (J/m^2)
+    real dissipated_compression = 0;   ///< energy dissipated on the compressive side (J/m^2)
+    contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
+  };
+  static_assert(std::is_trivially_destructible_v<state>);
+
+  /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0, then the
+  /// tension, compression and shear policies' checks (tension.hpp, compression.hpp, shear.hpp).
+  static void validate(const params& p) {
+    detail::require_positive(p.k_n, "normal stiffness k_n", "Pa/m");
+    detail::require_positive(p.k_s, "shear stiffness k_s", "Pa/m");
+    Tension::validate(p.tension, p.k_n);
+    Compression::validate(p.compression);
+    Shear::validate(p.shear);
+  }
+
+  [[nodiscard]] static real normal_stiffness(const params& p) noexcept { return p.k_n; }
+  [[nodiscard]] static real shear_stiffness(const params& p) noexcept { return p.k_s; }
+
+  /// Advances `s` by one step (see the file comment). du_n: opening increment (m, + opens);
+  /// du_s: tangential relative displacement increment of B w.r.t. A (m, in the plane of n);
+  /// n: current unit contact normal, A -> B.
+  static void update(const params& p, state& s, real du_n, const vec3& du_s, const vec3& n) noexcept {
+    const real k_n = p.k_n;
+
+    // 1. Rotate the stored shear stress into the current contact plane, keeping its magnitude.
+    const real tau_sq = s.tau.squaredNorm();
+    vec3 tau_old = s.tau - n * n.dot(s.tau);
+    const real in_plane_sq = tau_old.squaredNorm();
+    tau_old *= in_plane_sq > 0 ? std::sqrt(tau_sq / in_plane_sq) : real(0);
+
+    // 2. Normal stress: elastic trial from the irreversible opening, then the limits.
+    const real sigma_old = s.sigma_n;
+    s.u_n += du_n;
+    real sigma = k_n * (s.u_n - s.u_p);
+    if (!has(s.flags, contact_status::broken_tension)) [[likely]] {
+      const real f_peak = Tension::peak_strength(p.tension);
+      if (sigma > 0 && (sigma > f_peak || s.u_soft > 0)) sigma = tension_return(p, s, sigma, f_peak);
+    } else {
+      sigma = std::min(real(0), sigma);  // open gap: u_n > u_p
+    }
+    if constexpr (Compression::bounded) {
+      const real f_c = Compression::strength(p.compression);
+      if (sigma < -f_c) {
+        sigma = -f_c;
+        s.u_p = s.u_n + f_c / k_n;
+      }
+    }
+    s.sigma_n = sigma;
+    const real sigma_sum = sigma_old + sigma;
+    const real normal_dissipation = real(0.5) * sigma_sum * (du_n - (sigma - sigma_old) / k_n);
+    if (sigma_sum < 0)
+      s.dissipated_compression += normal_dissipation;
+    else
+      s.dissipated_tension += normal_dissipation;
+
+    // 3. Shear: elastic trial, Coulomb limit at the new normal stress, brittle first failure.
+    vec3 tau = tau_old + p.k_s * du_s;
+    real tau_max = Shear::strength(p.shear, sigma, s.flags);
+    const real trial_sq = tau.squaredNorm();
+    if (trial_sq > tau_max * tau_max) {
+      if (!has(s.flags, contact_status::slipped)) {
+        s.flags = s.flags | contact_status::slipped;
+        tau_max = Shear::strength(p.shear, sigma, s.flags);
+      }
+      tau *= tau_max / std::sqrt(trial_sq);
+    }
+    s.dissipated_shear += real(0.5) * (tau_old + tau).dot(du_s - (tau - tau_old) / p.k_s);
+    s.tau = tau;
+  }
+
+  [[nodiscard]] static contact_status status(const state& s) noexcept { return s.flags; }
+
+  /// Current tensile strength f_t (Pa): f_T for a virgin contact, f_t(u_soft) while softening, 0 once broken.
+  [[nodiscard]] static real tensile_strength(const params& p, const state& s) noexcept {
+    if (has(s.flags, contact_status::broken_tension)) return 0;
+    return s.u_soft > 0 ? Tension::strength(p.tension, p.k_n, s.u_soft) : Tension::peak_strength(p.tension);
+  }
+  /// 1 - f_t/f_T in [0, 1]: 0 intact, 1 broken in tension (a no_tension contact: 0 until broken).
+  [[nodiscard]] static real tensile_damage(const params& p, const state& s) noexcept {
+    if (has(s.flags, contact_status::broken_tension)) return 1;
+    const real f_peak = Tension::peak_strength(p.tension);
+    return f_peak > 0 ? std::clamp(1 - tensile_strength(p, s) / f_peak, real(0), real(1)) : real(0);
+  }
+  /// Current Coulomb limit tau_max (Pa) at the stored normal stress.
+  [[nodiscard]] static real shear_strength(const params& p, const state& s) noexcept {
+    return Shear::strength(p.shear, s.sigma_n, s.flags);
+  }
+  /// Energy dissipated so far by all mechanisms (J/m^2).
+  [[nodiscard]] static real dissipated_energy(const state& s) noexcept {
+    return s.dissipated_tension + s.dissipated_shear + s.dissipated_compression;
+  }
+  /// Recoverable elastic energy sigma_n^2/(2 k_n) + |tau|^2/(2 k_s) (J/m^2).
+  [[nodiscard]] static real stored_energy(const params& p, const state& s) noexcept {
+    return s.sigma_n * s.sigma_n / (2 * p.k_n) + s.tau.squaredNorm() / (2 * p.k_s);
+  }
+
+ private:
+  /// Tension cap for an intact contact whose trial stress is positive and may exceed the current
+  /// strength: returns the normal stress and updates u_soft, u_p and the flags.
+  static real tension_return(const params& p, state& s, real sigma_trial, real f_peak) noexcept {
+    const real k_n = p.k_n;
+    const real f_old = s.u_soft > 0 ? Tension::strength(p.tension, k_n, s.u_soft) : f_peak;
+    if (!(sigma_trial > f_old)) return sigma_trial;  // elastic below the envelope
+    s.u_soft += (sigma_trial - f_old) / k_n;
+    const real f_new = Tension::strength(p.tension, k_n, s.u_soft);
+    if (Tension::exhausted(p.tension, f_new)) [[unlikely]] {
+      // Broken: the faces separate from the position they had before any tension, shifted by the
+      // compressive plastic closure (u_n = eta + u_soft + closure on the envelope).
+      real closure = 0;
+      if constexpr (Compression::bounded) closure = s.u_n - s.u_soft - f_peak / k_n;
+      s.u_p = closure;
+      s.flags = detail::without(s.flags, contact_status::softening) | contact_status::broken_tension;
+      return std::min(real(0), k_n * (s.u_n - s.u_p));
+    }
+    s.u_p = s.u_n - f_new / k_n;
+    s.flags = s.flags | contact_status::softening;
+    return f_new;
+  }
+};
+
+}  // namespace tessera::law

@@ -1,0 +1,98 @@
+#pragma once
+// Shear policies of law::cohesive_frictional: the Coulomb limit on the magnitude of the shear
+// stress vector (DESIGN.md §3 "Contact law", study eq. 6).
+//
+//     tau_max = max(0, c - sigma_n tan(phi))      sigma_n in Pa, + tension
+//
+// so compression raises the limit and tension lowers it, never below zero. The policy returns
+// tau_max for the contact's current damage state; the law applies it: while |tau_trial| <= tau_max
+// the shear response is elastic, and at the first exceedance the law marks the contact `slipped`,
+// asks the policy again (now with the slipped flag) and scales tau back onto that limit.
+//
+// Concept ShearLimit, one requirement per line:
+// | expression                     | meaning                                                          |
+// |--------------------------------|------------------------------------------------------------------|
+// | S::params                      | plain struct, SI units, angles as friction_angle                 |
+// | S::validate(p)                 | throws invalid_input naming a bad parameter                      |
+// | S::strength(p, sigma_n, flags) | tau_max >= 0 (Pa) at normal stress sigma_n (Pa, + tension) for a  |
+// |                                | contact in damage state `flags` (contact_status); noexcept       |
+
+#include <cmath>
+#include <concepts>
+#include <numbers>
+
+#include "../core/types.hpp"
+#include "concepts.hpp"
+#include "detail/validation.hpp"
+
+namespace tessera::law {
+
+template <class S>
+concept ShearLimit = requires(const typename S::params& p, real sigma_n, contact_status flags) {
+  typename S::params;
+  { S::validate(p) } -> std::same_as<void>;
+  { S::strength(p, sigma_n, flags) } noexcept -> std::convertible_to<real>;
+};
+
+/// A friction angle held in radians together with its tangent, so the Coulomb limit costs no
+/// std::tan per update (a tan call would cost about as much as the whole law update). Build it with
+/// friction_angle::from_degrees(35) or friction_angle::from_radians(0.61); the default is 0.
+class friction_angle {
+ public:
+  constexpr friction_angle() = default;
+  [[nodiscard]] static friction_angle from_radians(real phi) { return friction_angle(phi); }
+  [[nodiscard]] static friction_angle from_degrees(real phi_deg) {
+    return friction_angle(phi_deg * (std::numbers::pi_v<real> / 180));
+  }
+  [[nodiscard]] constexpr real radians() const noexcept { return radians_; }
+  [[nodiscard]] constexpr real degrees() const noexcept { return radians_ * (180 / std::numbers::pi_v<real>); }
+  /// tan(phi), the friction coefficient (-).
+  [[nodiscard]] constexpr real tan() const noexcept { return tan_; }
+
+ private:
+  explicit friction_angle(real phi) : radians_(phi), tan_(std::tan(phi)) {}
+  real radians_ = 0;
+  real tan_ = 0;
+};
+
+namespace detail {
+inline void require_friction_angle(const friction_angle& phi, const char* name) {
+  if (!(phi.radians() >= 0 && phi.radians() < std::numbers::pi_v<real> / 2))
+    throw invalid_input(tessera::detail::concat("contact law: friction angle ", name, " = ", phi.degrees(),
+                                                " deg must be in [0, 90) deg"));
+}
+}  // namespace detail
+
+/// Coulomb limit with brittle shear failure and residual strength (study eq. 6, DESIGN.md §3):
+/// intact: c = c_0, phi = phi_0; broken in tension: c = c_res (friction unchanged); slipped (failed in
+/// shear, for good): c = c_res and phi = phi_res. Setting c_res = c_0 and phi_res = phi_0 gives a
+/// perfectly plastic Coulomb contact.
+struct coulomb_residual {
+  struct params {
+    real c_0 = 0;              ///< initial cohesion (Pa, >= 0)
+    friction_angle phi_0{};    ///< initial friction angle, [0, 90) deg
+    real c_res = 0;            ///< residual cohesion (Pa, in [0, c_0])
+    friction_angle phi_res{};  ///< residual friction angle, [0, 90) deg
+  };
+  static void validate(const params& p) {
+    if (!(p.c_0 >= 0) || !std::isfinite(p.c_0))
+      throw invalid_input(tessera::detail::concat("contact law: cohesion c_0 = ", p.c_0, " Pa must be finite and >= 0"));
+    detail::require_in_closed_range(p.c_res, 0, p.c_0, "residual cohesion c_res", "Pa",
+                                    tessera::detail::concat("[0, c_0 = ", p.c_0, " Pa]").c_str());
+    detail::require_friction_angle(p.phi_0, "phi_0");
+    detail::require_friction_angle(p.phi_res, "phi_res");
+  }
+  /// tau_max = max(0, c - sigma_n tan(phi)) (Pa) with (c, phi) chosen by the damage state.
+  [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags) noexcept {
+    const bool slipped = has(flags, contact_status::slipped);
+    const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
+    const real c = cohesion_lost ? p.c_res : p.c_0;
+    const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
+    const real limit = c - sigma_n * tan_phi;
+    return limit > 0 ? limit : real(0);
+  }
+};
+
+static_assert(ShearLimit<coulomb_residual>);
+
+}  // namespace tessera::law
