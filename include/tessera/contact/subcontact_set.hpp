@@ -1,0 +1,511 @@
+#pragma once
+// contact::subcontact_set<Law>: the sub-contacts of a conforming tessellation of blocks, their
+// kinematics and the per-step contact force kernel (DESIGN.md §3 "Contact", docs/architecture.md).
+//
+// Creation. Blocks of a conforming tessellation share faces exactly. For every shared face
+// s = (cell_a < cell_b, face_a, face_b) of the tessellation the block_mesh lists the face
+// gridpoints of the two sides in the same order (node k of face_a coincides with node k of
+// face_b); each such pair is one sub-contact i with
+//     node_a(i) = face_nodes(face_a)[k],   node_b(i) = face_nodes(face_b)[k],
+//     area(i)   = face_node_area(face_a)[k]   (tributary area, m^2; equal to face_b's),
+// so the sub-contact areas of a face sum to the face area. Block A is the lower cell id.
+// Sub-contacts of a face are contiguous, faces in tessellation::shared_faces order, and
+// "face s" below always means shared face s (not a tessellation face id).
+//
+// Contact frame. One unit normal per shared face per step, from block A to block B:
+//     n = (S_a - S_b) / |S_a - S_b|,   S = sum over the face's triangles of (x1 - x0) x (x2 - x0)
+// with S_a, S_b the (twice) area vectors of the two sides' triangulations at their current
+// positions x = X + u. Each points out of its own block (S_a: A->B, S_b: B->A), so their
+// difference is the normal of the common plane of the two nearly coincident faces: exact for
+// a planar face moving rigidly, the mean plane when the two sides deform differently (the
+// common-plane approximation for conforming faces). Faces are 4 to 8 times fewer than
+// sub-contacts, so the frame is computed once per face per step and shared.
+//
+// Kinematics. The solver calls update() in step 3 of the step, when displacements are at time
+// t and velocities at t - dt/2 (docs/architecture.md). The relative displacement increment is
+//     du = (v_b - v_a) dt  -  (n_prev x n) x (u_b - u_a)
+// The first term is the increment of the last step, t - dt -> t: exactly u(t) - u(t - dt)
+// when dt is the (constant) step that produced the current positions. The second removes, to
+// first order, the part of that increment due to the rigid tilt of the contact plane from
+// the previous frame n_prev to n acting on the current gap g = u_b - u_a (the reference
+// positions of a pair coincide to 1e-9 of the model size, so X_b - X_a is dropped): without it
+// an open contact (g = u_n n) turned rigidly by dtheta would register a spurious slip
+// u_n dtheta, and a slipped one a spurious opening. The law rotates the stored shear stress
+// into the new plane (tilt) but not about n, so the twist about n is deliberately left in du:
+// for an elastic contact it turns tau with the blocks. Together, a rigid rotation of both blocks
+// by any axis and angle leaves sigma_n and |tau| unchanged up to O(dtheta) relative drift over
+// the whole rotation (test "rigid rotation").
+//     du_n = du . n   (m, + opens),      du_s = du - du_n n   (m, in the contact plane)
+// Law::update(params, state, du_n, du_s, n) advances the sub-contact state; the force on node B
+// is then (N = Pa m^2)
+//     f_b = -area (sigma_n n + tau),     f_a = -f_b,
+// so tension (sigma_n > 0, B pulled away from A along n) pulls B back toward A, and tau, which
+// has the direction of the slip of B relative to A, resists that slip.
+//
+// Storage (structure of arrays behind index handles): per sub-contact node_a, node_b, face,
+// area, the law state and a 3-array force buffer; per face its sub-contact range, blocks,
+// triangles of both sides and the current and previous normals. Law::state is a small POD read
+// and written as a whole by each update, so an array of states (not one array per state field)
+// is the cache-friendly layout: one contiguous line or two per sub-contact. The gather uses a
+// gridpoint -> (sub-contact, side) CSR incidence built once, over the gridpoints that carry
+// sub-contacts only, in increasing gridpoint and sub-contact order.
+//
+// Threading and determinism. update() runs three parallel loops (core/parallel.hpp): faces ->
+// normals, sub-contacts -> law update + force buffer, contact gridpoints -> gather. Each loop
+// writes only what its index owns and the gather sums in a fixed order, so results are
+// bit-identical for any thread count. update() allocates nothing. Concurrent const access is
+// safe; update() and add_stiffness_bounds() must not run concurrently with anything else on
+// the same object.
+//
+// Cost: memory ~ (40 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts +
+// face triangles); construction O(sub-contacts + gridpoints).
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../geometry/tessellation.hpp"
+#include "../law/concepts.hpp"
+
+namespace tessera::contact {
+
+/// Energies held by a subcontact_set (J): sums over sub-contacts of area x the law's per-area
+/// energies, accumulated in sub-contact order (deterministic).
+struct contact_energies {
+  real stored = 0;                  ///< recoverable elastic energy, area x Law::stored_energy
+  real dissipated_tension = 0;      ///< by tensile softening (state field dissipated_tension)
+  real dissipated_shear = 0;        ///< by Coulomb slip and shear failure (dissipated_shear)
+  real dissipated_compression = 0;  ///< by compressive plasticity (dissipated_compression)
+  real dissipated = 0;              ///< all mechanisms, area x Law::dissipated_energy
+};
+
+namespace detail {
+/// A law state that reports its dissipated energy (J/m^2) per mechanism.
+template <class S>
+concept has_dissipation_split = requires(const S& s) {
+  { s.dissipated_tension } -> std::convertible_to<real>;
+  { s.dissipated_shear } -> std::convertible_to<real>;
+  { s.dissipated_compression } -> std::convertible_to<real>;
+};
+
+/// Twice the area vector of triangles tris (gridpoint ids) at positions X + u, computed from
+/// edge vectors (X_j - X_0) + (u_j - u_0) so the displacement is not swamped by the coordinates.
+inline vec3 area_vector2(const std::array<index, 3>* tris, index count, const real* const X[3],
+                         const real* const u[3]) noexcept {
+  vec3 s = vec3::Zero();
+  for (index t = 0; t < count; ++t) {
+    const auto& tri = tris[t];
+    vec3 e1, e2;
+    for (int c = 0; c < 3; ++c) {
+      e1[c] = (X[c][tri[1]] - X[c][tri[0]]) + (u[c][tri[1]] - u[c][tri[0]]);
+      e2[c] = (X[c][tri[2]] - X[c][tri[0]]) + (u[c][tri[2]] - u[c][tri[0]]);
+    }
+    s += e1.cross(e2);
+  }
+  return s;
+}
+}  // namespace detail
+
+template <law::ContactLaw Law>
+class subcontact_set {
+ public:
+  using law_type = Law;
+  using params_type = typename Law::params;
+  using state_type = typename Law::state;
+
+  /// max over unit normals n of the absolute row sum of (k_s I + (k_n - k_s) n n^T), per unit
+  /// area (Pa/m). Row i: |k_s + (k_n - k_s) n_i^2| + sum_{j != i} |k_n - k_s| |n_i n_j|
+  /// <= k_s + |k_n - k_s| |n_i| ||n||_1, and max over unit n of |n_i| ||n||_1 = (1 + sqrt 3) / 2
+  /// (n_i = cos a, the other two sin a / sqrt 2: cos^2 a + sqrt 2 sin a cos a peaks at
+  /// 1/2 + sqrt(3)/2). The bound is attained, and holds for every orientation the contact may
+  /// rotate to, so a rotation never invalidates the time step computed from it.
+  [[nodiscard]] static real stiffness_row_bound_per_area(const params_type& p) {
+    const real k_n = Law::normal_stiffness(p);
+    const real k_s = Law::shear_stiffness(p);
+    return k_s + std::abs(k_n - k_s) * (1.0 + std::numbers::sqrt3) / 2.0;
+  }
+
+  subcontact_set() = default;
+
+  /// Builds one sub-contact per face-node pair of every shared face of `tess` (see the file
+  /// comment). Validates `p` with Law::validate (invalid_input). Throws geometry_error, naming
+  /// the shared face, its cells and tessellation faces, when the mesh does not match the
+  /// tessellation, when the two sides of a face have different node or triangle counts, when
+  /// paired gridpoints do not coincide (beyond 1e-9 of the model's bounding-box diagonal) or
+  /// belong to the wrong block, or when their tributary areas differ (beyond 1e-9 relative) or
+  /// are not > 0. Cost O(sub-contacts + gridpoints).
+  subcontact_set(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params_type& p)
+      : params_(p) {
+    Law::validate(p);
+    const index n_faces = tess.face_count();
+    const index n_gridpoints = mesh.gridpoint_count();
+    require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1 &&
+                                static_cast<index>(mesh.face_triangle_offsets.size()) == n_faces + 1,
+                            "subcontact_set: block_mesh has face data for ", mesh.face_node_offsets.size() - 1,
+                            " faces (nodes) and ", mesh.face_triangle_offsets.size() - 1,
+                            " faces (triangles), expected one per tessellation face (", n_faces, ")");
+    require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "subcontact_set: block_mesh has ",
+                            mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(),
+                            " face nodes");
+    gridpoint_count_ = n_gridpoints;
+
+    aabb box;
+    for (const vec3& x : mesh.gridpoints) box.expand(x);
+    const real tolerance = 1e-9 * (mesh.gridpoints.empty() ? 1.0 : box.size().norm());
+
+    const auto face_count = static_cast<index>(tess.shared_faces.size());
+    first_subcontact_.assign(1, 0);
+    first_triangle_.assign(1, 0);
+    first_subcontact_.reserve(static_cast<std::size_t>(face_count) + 1);
+    first_triangle_.reserve(static_cast<std::size_t>(face_count) + 1);
+    shared_faces_ = tess.shared_faces;
+    face_area_.reserve(static_cast<std::size_t>(face_count));
+    for (index s = 0; s < face_count; ++s) {
+      const auto& sf = tess.shared_faces[static_cast<std::size_t>(s)];
+      const auto where = [&] {
+        return tessera::detail::concat("subcontact_set: shared face ", s, " (cells ", sf.cell_a, " and ", sf.cell_b,
+                              ", tessellation faces ", sf.face_a, " and ", sf.face_b, "): ");
+      };
+      require<geometry_error>(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces &&
+                                  sf.cell_a >= 0 && sf.cell_a < sf.cell_b && sf.cell_b < tess.cell_count(),
+                              where(), "face or cell id out of range or cells not in increasing order (",
+                              tess.cell_count(), " cells, ", n_faces, " faces)");
+      if (static_cast<index>(tess.face_cell.size()) == n_faces)
+        require<geometry_error>(tess.face_cell[static_cast<std::size_t>(sf.face_a)] == sf.cell_a &&
+                                    tess.face_cell[static_cast<std::size_t>(sf.face_b)] == sf.cell_b,
+                                where(), "faces belong to cells ", tess.face_cell[static_cast<std::size_t>(sf.face_a)],
+                                " and ", tess.face_cell[static_cast<std::size_t>(sf.face_b)]);
+      const index na0 = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a)];
+      const index nb0 = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)];
+      const index n_nodes = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a) + 1] - na0;
+      const index n_nodes_b = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b) + 1] - nb0;
+      require<geometry_error>(n_nodes == n_nodes_b && n_nodes >= 3, where(), "the sides have ", n_nodes, " and ",
+                              n_nodes_b, " face nodes, expected the same number (>= 3)");
+      real face_area = 0;
+      for (index k = 0; k < n_nodes; ++k) {
+        const index a = mesh.face_nodes[static_cast<std::size_t>(na0 + k)];
+        const index b = mesh.face_nodes[static_cast<std::size_t>(nb0 + k)];
+        require<geometry_error>(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, where(), "face node ", k,
+                                " refers to gridpoints ", a, " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
+        if (static_cast<index>(mesh.gridpoint_block.size()) == n_gridpoints)
+          require<geometry_error>(mesh.gridpoint_block[static_cast<std::size_t>(a)] == sf.cell_a &&
+                                      mesh.gridpoint_block[static_cast<std::size_t>(b)] == sf.cell_b,
+                                  where(), "face node ", k, ": gridpoints ", a, " and ", b, " belong to blocks ",
+                                  mesh.gridpoint_block[static_cast<std::size_t>(a)], " and ",
+                                  mesh.gridpoint_block[static_cast<std::size_t>(b)]);
+        const vec3& xa = mesh.gridpoints[static_cast<std::size_t>(a)];
+        const vec3& xb = mesh.gridpoints[static_cast<std::size_t>(b)];
+        const real gap = (xb - xa).norm();
+        require<geometry_error>(gap <= tolerance, where(), "face node ", k, ": gridpoint ", a, " at (", xa.x(), ", ",
+                                xa.y(), ", ", xa.z(), ") and gridpoint ", b, " at (", xb.x(), ", ", xb.y(), ", ",
+                                xb.z(), ") are ", gap, " m apart, expected coincident (tolerance ", tolerance,
+                                " m); the twin faces list their nodes in different orders");
+        const real area_a = mesh.face_node_area[static_cast<std::size_t>(na0 + k)];
+        const real area_b = mesh.face_node_area[static_cast<std::size_t>(nb0 + k)];
+        require<geometry_error>(area_a > 0 && std::isfinite(area_a) &&
+                                    std::abs(area_a - area_b) <= 1e-9 * std::max(area_a, area_b),
+                                where(), "face node ", k, ": tributary areas ", area_a, " and ", area_b,
+                                " m^2, expected equal and > 0");
+        node_a_.push_back(a);
+        node_b_.push_back(b);
+        face_.push_back(s);
+        area_.push_back(area_a);
+        face_area += area_a;
+      }
+      first_subcontact_.push_back(static_cast<index>(node_a_.size()));
+      face_area_.push_back(face_area);
+
+      const index ta0 = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_a)];
+      const index tb0 = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_b)];
+      const index n_tris = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_a) + 1] - ta0;
+      const index n_tris_b = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_b) + 1] - tb0;
+      require<geometry_error>(n_tris == n_tris_b && n_tris >= 1, where(), "the sides have ", n_tris, " and ",
+                              n_tris_b, " surface triangles, expected the same number (>= 1)");
+      for (index t = 0; t < n_tris; ++t) {
+        const auto& ta = mesh.face_triangles[static_cast<std::size_t>(ta0 + t)];
+        const auto& tb = mesh.face_triangles[static_cast<std::size_t>(tb0 + t)];
+        for (int j = 0; j < 3; ++j)
+          require<geometry_error>(ta[static_cast<std::size_t>(j)] >= 0 && ta[static_cast<std::size_t>(j)] < n_gridpoints &&
+                                      tb[static_cast<std::size_t>(j)] >= 0 && tb[static_cast<std::size_t>(j)] < n_gridpoints,
+                                  where(), "surface triangle ", t, " refers to a gridpoint outside [0, ", n_gridpoints, ")");
+        triangle_a_.push_back(ta);
+        triangle_b_.push_back(tb);
+      }
+      first_triangle_.push_back(static_cast<index>(triangle_a_.size()));
+    }
+
+    const std::size_t n = node_a_.size();
+    state_.assign(n, state_type{});
+    force_x_.assign(n, 0.0);
+    force_y_.assign(n, 0.0);
+    force_z_.assign(n, 0.0);
+
+    // Reference frames; a face whose two sides cancel has no plane.
+    normal_.setZero(face_count, 3);
+    {
+      soa3 X(n_gridpoints, 3), u = soa3::Zero(n_gridpoints, 3);
+      for (index g = 0; g < n_gridpoints; ++g) X.row(g) = mesh.gridpoints[static_cast<std::size_t>(g)].transpose();
+      const real* Xp[3] = {X.col(0).data(), X.col(1).data(), X.col(2).data()};
+      const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
+      for (index s = 0; s < face_count; ++s) {
+        const vec3 d = face_area_vector_difference(s, Xp, up);
+        require<geometry_error>(d.norm() > 0, "subcontact_set: shared face ", s, " (cells ",
+                                shared_faces_[static_cast<std::size_t>(s)].cell_a, " and ",
+                                shared_faces_[static_cast<std::size_t>(s)].cell_b,
+                                "): zero area vector, the face has no plane (degenerate or inconsistently oriented triangles)");
+        normal_.row(s) = d.normalized().transpose();
+      }
+    }
+    previous_normal_ = normal_;
+
+    // Gather incidence: for each gridpoint carrying sub-contacts, the entries 2 i (node B of
+    // sub-contact i, force +f_i) and 2 i + 1 (node A, force -f_i), in increasing i.
+    std::vector<index> count(static_cast<std::size_t>(n_gridpoints), 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      ++count[static_cast<std::size_t>(node_a_[i])];
+      ++count[static_cast<std::size_t>(node_b_[i])];
+    }
+    std::vector<index> slot(static_cast<std::size_t>(n_gridpoints), invalid_index);
+    incidence_offsets_.assign(1, 0);
+    for (index g = 0; g < n_gridpoints; ++g) {
+      if (count[static_cast<std::size_t>(g)] == 0) continue;
+      slot[static_cast<std::size_t>(g)] = static_cast<index>(contact_gridpoints_.size());
+      contact_gridpoints_.push_back(g);
+      incidence_offsets_.push_back(incidence_offsets_.back() + count[static_cast<std::size_t>(g)]);
+    }
+    incidence_.assign(2 * n, 0);
+    std::vector<index> fill(incidence_offsets_.begin(), incidence_offsets_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto ii = static_cast<index>(i);
+      incidence_[static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[static_cast<std::size_t>(node_b_[i])])]++)] = 2 * ii;
+      incidence_[static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[static_cast<std::size_t>(node_a_[i])])]++)] = 2 * ii + 1;
+    }
+  }
+
+  /// Recomputes the contact frames from the current positions of `gridpoints` and makes them
+  /// the previous frames as well. Construction uses the reference positions; call this before
+  /// the first update() when the run starts from non-zero displacements (e.g. a restart).
+  void initialize_frames(const node_set& gridpoints) {
+    require(gridpoints.size() == gridpoint_count_, "subcontact_set::initialize_frames: node_set has ",
+            gridpoints.size(), " gridpoints, expected ", gridpoint_count_);
+    const real* X[3] = {gridpoints.reference.col(0).data(), gridpoints.reference.col(1).data(),
+                        gridpoints.reference.col(2).data()};
+    const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
+                        gridpoints.displacement.col(2).data()};
+    for (index s = 0; s < face_count(); ++s) {
+      const vec3 d = face_area_vector_difference(s, X, u);
+      if (d.squaredNorm() > 0) normal_.row(s) = d.normalized().transpose();
+    }
+    previous_normal_ = normal_;
+  }
+
+  /// Step 3 of the time step (docs/architecture.md): updates the contact frames from the
+  /// current positions, advances every sub-contact's law state by the relative displacement
+  /// increment of the last step, and ADDS the contact forces to gridpoints.force (N). Expects
+  /// displacements at t, velocities at t - dt/2 and dt (s) the step that produced the current
+  /// positions. `gridpoints` must be the node_set of the block_mesh the set was built from.
+  void update(node_set& gridpoints, real dt) noexcept {
+    assert(gridpoints.size() == gridpoint_count_);
+    const real* X[3] = {gridpoints.reference.col(0).data(), gridpoints.reference.col(1).data(),
+                        gridpoints.reference.col(2).data()};
+    const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
+                        gridpoints.displacement.col(2).data()};
+    const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
+                        gridpoints.velocity.col(2).data()};
+
+    // 1. Contact frames (per face); a degenerate face keeps its previous frame.
+    normal_.swap(previous_normal_);
+    parallel_for(face_count(), [&](std::int64_t s) {
+      const vec3 d = face_area_vector_difference(static_cast<index>(s), X, u);
+      const real length2 = d.squaredNorm();
+      if (length2 > 0) {
+        const real inv = 1.0 / std::sqrt(length2);
+        for (int c = 0; c < 3; ++c) normal_(s, c) = d[c] * inv;
+      } else {
+        for (int c = 0; c < 3; ++c) normal_(s, c) = previous_normal_(s, c);
+      }
+    }, 32);
+
+    // 2. Law update and force on node B (per sub-contact).
+    const params_type& p = params_;
+    const real* n_now[3] = {normal_.col(0).data(), normal_.col(1).data(), normal_.col(2).data()};
+    const real* n_prev[3] = {previous_normal_.col(0).data(), previous_normal_.col(1).data(),
+                             previous_normal_.col(2).data()};
+    parallel_for(size(), [&](std::int64_t ii) {
+      const auto i = static_cast<std::size_t>(ii);
+      const index a = node_a_[i], b = node_b_[i], s = face_[i];
+      const vec3 n(n_now[0][s], n_now[1][s], n_now[2][s]);
+      const vec3 tilt = vec3(n_prev[0][s], n_prev[1][s], n_prev[2][s]).cross(n);  // rotation vector n_prev -> n
+      vec3 du, gap;
+      for (int c = 0; c < 3; ++c) {
+        du[c] = (v[c][b] - v[c][a]) * dt;
+        gap[c] = u[c][b] - u[c][a];
+      }
+      du -= tilt.cross(gap);
+      const real du_n = du.dot(n);
+      const vec3 du_s = du - du_n * n;
+      state_type& st = state_[i];
+      Law::update(p, st, du_n, du_s, n);
+      const vec3 traction = st.sigma_n * n + vec3(st.tau);
+      const real area = area_[i];
+      force_x_[i] = -area * traction[0];
+      force_y_[i] = -area * traction[1];
+      force_z_[i] = -area * traction[2];
+    });
+
+    // 3. Gather onto gridpoints in fixed order: node B gets +f_i, node A gets -f_i.
+    real* F[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(), gridpoints.force.col(2).data()};
+    parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()), [&](std::int64_t jj) {
+      const auto j = static_cast<std::size_t>(jj);
+      real fx = 0, fy = 0, fz = 0;
+      for (index e = incidence_offsets_[j]; e < incidence_offsets_[j + 1]; ++e) {
+        const index entry = incidence_[static_cast<std::size_t>(e)];
+        const auto i = static_cast<std::size_t>(entry >> 1);
+        const real sign = (entry & 1) ? -1.0 : 1.0;
+        fx += sign * force_x_[i];
+        fy += sign * force_y_[i];
+        fz += sign * force_z_[i];
+      }
+      const index g = contact_gridpoints_[j];
+      F[0][g] += fx;
+      F[1][g] += fy;
+      F[2][g] += fz;
+    });
+  }
+
+  /// Adds to gridpoints.stiffness (N/m) the Gershgorin row bound of every sub-contact spring:
+  /// the pair (node_a, node_b) is coupled by [K -K; -K K] with K = area (k_s I + (k_n - k_s) n n^T),
+  /// whose absolute row sum is 2 x that of K, bounded for any orientation of n by
+  /// 2 area stiffness_row_bound_per_area(params). Throws invalid_input if the node_set does not
+  /// have the set's gridpoint count.
+  void add_stiffness_bounds(node_set& gridpoints) const {
+    require(gridpoints.size() == gridpoint_count_ && gridpoints.stiffness.size() == gridpoint_count_,
+            "subcontact_set::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints and ",
+            gridpoints.stiffness.size(), " stiffness entries, expected ", gridpoint_count_);
+    const real per_area = 2.0 * stiffness_row_bound_per_area(params_);
+    for (std::size_t i = 0; i < node_a_.size(); ++i) {
+      gridpoints.stiffness[node_a_[i]] += per_area * area_[i];
+      gridpoints.stiffness[node_b_[i]] += per_area * area_[i];
+    }
+  }
+
+  // ---- sub-contacts ----
+  [[nodiscard]] index size() const { return static_cast<index>(node_a_.size()); }
+  /// Gridpoint of block A (lower cell id) / block B of sub-contact i.
+  [[nodiscard]] index node_a(index i) const { return node_a_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] index node_b(index i) const { return node_b_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] index block_a(index i) const { return shared_faces_[static_cast<std::size_t>(face(i))].cell_a; }
+  [[nodiscard]] index block_b(index i) const { return shared_faces_[static_cast<std::size_t>(face(i))].cell_b; }
+  /// Shared face (index into tessellation::shared_faces) of sub-contact i.
+  [[nodiscard]] index face(index i) const { return face_[static_cast<std::size_t>(i)]; }
+  /// Tributary area (m^2).
+  [[nodiscard]] real area(index i) const { return area_[static_cast<std::size_t>(i)]; }
+  /// Current unit normal, from block A to block B (that of its face).
+  [[nodiscard]] vec3 normal(index i) const { return face_normal(face(i)); }
+  /// Current position (m): midpoint of the two gridpoints.
+  [[nodiscard]] vec3 position(index i, const node_set& gridpoints) const {
+    return 0.5 * (gridpoints.position(node_a(i)) + gridpoints.position(node_b(i)));
+  }
+  [[nodiscard]] const state_type& state(index i) const { return state_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] const params_type& params() const { return params_; }
+  /// Contact force on node_b in the last update (N); node_a received its opposite.
+  [[nodiscard]] vec3 force(index i) const {
+    const auto k = static_cast<std::size_t>(i);
+    return {force_x_[k], force_y_[k], force_z_[k]};
+  }
+
+  // ---- shared faces ----
+  [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }
+  /// The tessellation's record of shared face s (cells and tessellation face ids).
+  [[nodiscard]] const geometry::tessellation::shared_face& shared_face(index s) const {
+    return shared_faces_[static_cast<std::size_t>(s)];
+  }
+  /// Sub-contacts of face s are [first_subcontact(s), first_subcontact(s + 1)).
+  [[nodiscard]] index first_subcontact(index s) const { return first_subcontact_[static_cast<std::size_t>(s)]; }
+  /// Sum of the sub-contact areas of face s (m^2).
+  [[nodiscard]] real face_area(index s) const { return face_area_[static_cast<std::size_t>(s)]; }
+  /// Current unit normal of face s, from block A to block B.
+  [[nodiscard]] vec3 face_normal(index s) const { return normal_.row(s).transpose(); }
+  /// True when every sub-contact of face s is broken in tension: the two blocks are separated
+  /// along the whole face (a crack crosses it).
+  [[nodiscard]] bool face_fully_broken(index s) const {
+    for (index i = first_subcontact(s); i < first_subcontact(s + 1); ++i)
+      if (!law::has(Law::status(state(i)), law::contact_status::broken_tension)) return false;
+    return true;
+  }
+  /// Number of fully broken faces.
+  [[nodiscard]] index broken_face_count() const {
+    index count = 0;
+    for (index s = 0; s < face_count(); ++s) count += face_fully_broken(s) ? 1 : 0;
+    return count;
+  }
+
+  // ---- totals (fixed summation order, serial: cheap next to update()) ----
+  /// All energies in one pass (J). The per-mechanism split reads the law state's
+  /// dissipated_tension / dissipated_shear / dissipated_compression fields (J/m^2) and is zero
+  /// for a law whose state has no such fields; `dissipated` is always the law's total.
+  [[nodiscard]] contact_energies energies() const {
+    contact_energies e;
+    for (std::size_t i = 0; i < node_a_.size(); ++i) {
+      const state_type& st = state_[i];
+      const real a = area_[i];
+      e.stored += a * Law::stored_energy(params_, st);
+      e.dissipated += a * Law::dissipated_energy(st);
+      if constexpr (detail::has_dissipation_split<state_type>) {
+        e.dissipated_tension += a * st.dissipated_tension;
+        e.dissipated_shear += a * st.dissipated_shear;
+        e.dissipated_compression += a * st.dissipated_compression;
+      }
+    }
+    return e;
+  }
+  [[nodiscard]] real stored_energy() const { return energies().stored; }
+  [[nodiscard]] real dissipated_energy() const { return energies().dissipated; }
+  [[nodiscard]] real dissipated_tension() const { return energies().dissipated_tension; }
+  [[nodiscard]] real dissipated_shear() const { return energies().dissipated_shear; }
+  [[nodiscard]] real dissipated_compression() const { return energies().dissipated_compression; }
+  /// Total area of the sub-contacts broken in tension (m^2).
+  [[nodiscard]] real broken_area() const {
+    real total = 0;
+    for (index i = 0; i < size(); ++i)
+      if (law::has(Law::status(state(i)), law::contact_status::broken_tension)) total += area(i);
+    return total;
+  }
+
+ private:
+  /// S_a - S_b of face s (twice the area vectors, see the file comment).
+  [[nodiscard]] vec3 face_area_vector_difference(index s, const real* const X[3], const real* const u[3]) const noexcept {
+    const auto t0 = first_triangle_[static_cast<std::size_t>(s)];
+    const auto count = first_triangle_[static_cast<std::size_t>(s) + 1] - t0;
+    return detail::area_vector2(triangle_a_.data() + t0, count, X, u) -
+           detail::area_vector2(triangle_b_.data() + t0, count, X, u);
+  }
+
+  params_type params_{};
+  index gridpoint_count_ = 0;
+  // per sub-contact
+  std::vector<index> node_a_, node_b_, face_;
+  std::vector<real> area_;
+  std::vector<state_type> state_;
+  std::vector<real> force_x_, force_y_, force_z_;  ///< force on node B, last update (N)
+  // per shared face
+  std::vector<geometry::tessellation::shared_face> shared_faces_;
+  std::vector<index> first_subcontact_{0}, first_triangle_{0};
+  std::vector<real> face_area_;
+  std::vector<std::array<index, 3>> triangle_a_, triangle_b_;  ///< surface triangles of each side
+  soa3 normal_, previous_normal_;                                ///< unit normals A->B, now and last step
+  // gather incidence (CSR over the gridpoints that carry sub-contacts)
+  std::vector<index> contact_gridpoints_, incidence_offsets_{0}, incidence_;
+};
+
+}  // namespace tessera::contact

@@ -1,0 +1,683 @@
+// Tests for contact/: sub-contact creation from a conforming tessellation, contact kinematics and
+// the per-step force kernel of contact::subcontact_set (include/tessera/contact/subcontact_set.hpp).
+//
+// Scenes are built by hand so the tests depend only on the tessellation/block_mesh data layout:
+// brick_tessellation() makes an nx x ny x nz grid of hexahedral cells with welded vertices
+// (optionally jittered, which keeps faces conforming but makes them non-planar), and
+// face_mesh() gives each cell its own copies of its vertices plus a centroid gridpoint, face
+// nodes sorted by global vertex id (so twins pair coincident gridpoints in the same order),
+// fan triangles and one-third tributary areas, exactly as block_mesh.hpp specifies.
+#include <catch2/catch.hpp>
+
+#include <tessera/contact/subcontact_set.hpp>
+#include <tessera/law/aliases.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <new>
+#include <numbers>
+#include <string>
+#include <random>
+#include <vector>
+
+// ---- allocation counter: replaces the global operator new of this test executable ----
+namespace {
+std::atomic<long> allocation_count{0};
+std::atomic<bool> count_allocations{false};
+}  // namespace
+// GCC flags free() on memory from the (replaced) operator new once both are inlined into a
+// new/delete pair; malloc/free are matched here by construction.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+void* operator new(std::size_t size) {
+  if (count_allocations.load(std::memory_order_relaxed)) allocation_count.fetch_add(1);
+  if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
+
+// Everything below lives in a namespace nested in tessera, so `index` means tessera::index and
+// not POSIX ::index from <strings.h>.
+namespace tessera::test_contacts {
+namespace {
+
+using Catch::Matchers::Contains;
+
+/// Linear elastic contact that breaks for good (no tension, no shear) once sigma_n exceeds f_t:
+/// a closed-form reference law independent of law/. The stored shear stress is turned into the
+/// new contact plane keeping its magnitude, as law::ContactLaw requires.
+struct elastic_brittle_law {
+  struct params {
+    real k_n = 0;  ///< Pa/m
+    real k_s = 0;  ///< Pa/m
+    real f_t = std::numeric_limits<real>::infinity();  ///< Pa
+  };
+  struct state {
+    real sigma_n = 0;
+    vec3 tau = vec3::Zero();
+    real u_n = 0;
+    bool broken = false;
+    real dissipated_tension = 0, dissipated_shear = 0, dissipated_compression = 0;
+  };
+  static void validate(const params& p) {
+    require_positive(p.k_n, "elastic_brittle_law: k_n (Pa/m)");
+    require_positive(p.k_s, "elastic_brittle_law: k_s (Pa/m)");
+  }
+  static real normal_stiffness(const params& p) { return p.k_n; }
+  static real shear_stiffness(const params& p) { return p.k_s; }
+  static void update(const params& p, state& s, real du_n, const vec3& du_s, const vec3& n) noexcept {
+    const real magnitude = s.tau.norm();
+    s.tau -= s.tau.dot(n) * n;
+    if (s.tau.norm() > 0) s.tau *= magnitude / s.tau.norm();
+    s.u_n += du_n;
+    s.sigma_n += p.k_n * du_n;
+    s.tau += p.k_s * du_s;
+    if (!s.broken && s.sigma_n > p.f_t) {
+      s.broken = true;
+      s.dissipated_tension += stored_energy(p, s);
+    }
+    if (s.broken) {
+      s.sigma_n = std::min(0.0, p.k_n * s.u_n);
+      s.tau.setZero();
+    }
+  }
+  static law::contact_status status(const state& s) {
+    return s.broken ? law::contact_status::broken_tension : law::contact_status::intact;
+  }
+  static real tensile_damage(const params&, const state& s) { return s.broken ? 1.0 : 0.0; }
+  static real dissipated_energy(const state& s) { return s.dissipated_tension; }
+  static real stored_energy(const params& p, const state& s) {
+    return 0.5 * s.sigma_n * s.sigma_n / p.k_n + 0.5 * s.tau.squaredNorm() / p.k_s;
+  }
+};
+static_assert(law::ContactLaw<elastic_brittle_law>);
+
+/// nx x ny x nz hexahedral cells filling [0, size]; interior vertices moved by up to `jitter`
+/// times the cell size in each direction (faces stay conforming, no longer planar).
+geometry::tessellation brick_tessellation(int nx, int ny, int nz, const vec3& size, real jitter = 0,
+                                          unsigned seed = 1) {
+  geometry::tessellation t;
+  t.domain.expand(vec3::Zero());
+  t.domain.expand(size);
+  const vec3 h(size.x() / nx, size.y() / ny, size.z() / nz);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<real> uni(-1.0, 1.0);
+  const auto vid = [&](int i, int j, int k) { return static_cast<index>((i * (ny + 1) + j) * (nz + 1) + k); };
+  for (int i = 0; i <= nx; ++i)
+    for (int j = 0; j <= ny; ++j)
+      for (int k = 0; k <= nz; ++k) {
+        vec3 x(i * h.x(), j * h.y(), k * h.z());
+        const bool interior = i > 0 && i < nx && j > 0 && j < ny && k > 0 && k < nz;
+        if (interior && jitter > 0)
+          for (int c = 0; c < 3; ++c) x[c] += jitter * h[c] * uni(rng);
+        t.vertices.push_back(x);
+      }
+  const auto cid = [&](int i, int j, int k) { return static_cast<index>((i * ny + j) * nz + k); };
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j)
+      for (int k = 0; k < nz; ++k) {
+        const index c = cid(i, j, k);
+        const auto v = [&](int dx, int dy, int dz) { return vid(i + dx, j + dy, k + dz); };
+        // CCW seen from outside, sides x-, x+, y-, y+, z-, z+.
+        const std::array<std::array<index, 4>, 6> loops{{{v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0)},
+                                                         {v(1, 0, 0), v(1, 1, 0), v(1, 1, 1), v(1, 0, 1)},
+                                                         {v(0, 0, 0), v(1, 0, 0), v(1, 0, 1), v(0, 0, 1)},
+                                                         {v(0, 1, 0), v(0, 1, 1), v(1, 1, 1), v(1, 1, 0)},
+                                                         {v(0, 0, 0), v(0, 1, 0), v(1, 1, 0), v(1, 0, 0)},
+                                                         {v(0, 0, 1), v(1, 0, 1), v(1, 1, 1), v(0, 1, 1)}}};
+        const std::array<index, 6> neighbor{i > 0 ? cid(i - 1, j, k) : geometry::boundary_tag(0),
+                                            i + 1 < nx ? cid(i + 1, j, k) : geometry::boundary_tag(1),
+                                            j > 0 ? cid(i, j - 1, k) : geometry::boundary_tag(2),
+                                            j + 1 < ny ? cid(i, j + 1, k) : geometry::boundary_tag(3),
+                                            k > 0 ? cid(i, j, k - 1) : geometry::boundary_tag(4),
+                                            k + 1 < nz ? cid(i, j, k + 1) : geometry::boundary_tag(5)};
+        for (int side = 0; side < 6; ++side) {
+          const index f = t.face_count();
+          t.face_vertices.insert(t.face_vertices.end(), loops[side].begin(), loops[side].end());
+          t.face_offsets.push_back(static_cast<index>(t.face_vertices.size()));
+          t.face_cell.push_back(c);
+          t.face_neighbor.push_back(neighbor[side]);
+          const index twin = neighbor[side] >= 0 ? neighbor[side] * 6 + (side ^ 1) : invalid_index;
+          t.face_twin.push_back(twin);
+          if (neighbor[side] > c) t.shared_faces.push_back({c, f, neighbor[side], twin});
+        }
+        t.cell_face_offsets.push_back(t.face_count());
+      }
+  return t;
+}
+
+/// Gridpoints and face data (no zones) per block_mesh.hpp: vertex copies sorted by global id plus
+/// the vertex centroid, face nodes sorted by global vertex id, fan triangles from the face's
+/// smallest vertex id, tributary area = 1/3 of each touching triangle.
+geometry::block_mesh face_mesh(const geometry::tessellation& t) {
+  geometry::block_mesh m;
+  for (index c = 0; c < t.cell_count(); ++c) {
+    std::vector<index> ids;
+    for (index f = t.first_face(c); f < t.end_face(c); ++f)
+      for (index v : t.face(f)) ids.push_back(v);
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    const auto base = static_cast<index>(m.gridpoints.size());
+    const auto local = [&](index v) {
+      return base + static_cast<index>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin());
+    };
+    vec3 centroid = vec3::Zero();
+    for (index v : ids) {
+      m.gridpoints.push_back(t.vertices[static_cast<std::size_t>(v)]);
+      m.gridpoint_block.push_back(c);
+      m.gridpoint_vertex.push_back(v);
+      centroid += t.vertices[static_cast<std::size_t>(v)] / static_cast<real>(ids.size());
+    }
+    m.gridpoints.push_back(centroid);
+    m.gridpoint_block.push_back(c);
+    m.gridpoint_vertex.push_back(invalid_index);
+    m.block_gridpoint_offsets.push_back(static_cast<index>(m.gridpoints.size()));
+    m.block_zone_offsets.push_back(0);
+    for (index f = t.first_face(c); f < t.end_face(c); ++f) {
+      const auto loop = t.face(f);
+      const auto n = static_cast<index>(loop.size());
+      std::vector<index> sorted(loop.begin(), loop.end());
+      std::sort(sorted.begin(), sorted.end());
+      const index start = static_cast<index>(std::min_element(loop.begin(), loop.end()) - loop.begin());
+      std::vector<real> area(static_cast<std::size_t>(n), 0.0);
+      for (index i = 1; i + 1 < n; ++i) {
+        const std::array<index, 3> tri{loop[static_cast<std::size_t>(start)],
+                                       loop[static_cast<std::size_t>((start + i) % n)],
+                                       loop[static_cast<std::size_t>((start + i + 1) % n)]};
+        const auto& x = t.vertices;
+        const real a = 0.5 * (x[static_cast<std::size_t>(tri[1])] - x[static_cast<std::size_t>(tri[0])])
+                                 .cross(x[static_cast<std::size_t>(tri[2])] - x[static_cast<std::size_t>(tri[0])])
+                                 .norm();
+        for (index v : tri)
+          area[static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), v) - sorted.begin())] += a / 3;
+        m.face_triangles.push_back({local(tri[0]), local(tri[1]), local(tri[2])});
+      }
+      for (std::size_t k = 0; k < sorted.size(); ++k) {
+        m.face_nodes.push_back(local(sorted[k]));
+        m.face_node_area.push_back(area[k]);
+      }
+      m.face_node_offsets.push_back(static_cast<index>(m.face_nodes.size()));
+      m.face_triangle_offsets.push_back(static_cast<index>(m.face_triangles.size()));
+    }
+  }
+  return m;
+}
+
+/// what() of the E thrown by f, or a marker when f throws nothing (other exceptions propagate).
+template <class E, class F>
+std::string thrown_message(F&& f) {
+  try {
+    f();
+  } catch (const E& e) {
+    return e.what();
+  }
+  return "<nothing thrown>";
+}
+
+node_set gridpoints_of(const geometry::block_mesh& m) {
+  node_set g;
+  g.resize(m.gridpoint_count());
+  for (index i = 0; i < m.gridpoint_count(); ++i) g.reference.row(i) = m.gridpoints[static_cast<std::size_t>(i)].transpose();
+  return g;
+}
+
+/// One explicit step as the solver does it around contacts: u += v dt (velocities at the half
+/// step just set), zero the forces, contact update.
+template <class Set>
+void step(Set& contacts, node_set& g, real dt) {
+  g.displacement += g.velocity * dt;
+  g.force.setZero();
+  contacts.update(g, dt);
+}
+
+/// Sum of the contact forces on the gridpoints of block b (N).
+vec3 block_force(const node_set& g, const geometry::block_mesh& m, index b) {
+  vec3 f = vec3::Zero();
+  for (index i = m.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+       i < m.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1]; ++i)
+    f += g.force.row(i).transpose();
+  return f;
+}
+
+void set_block_velocity(node_set& g, const geometry::block_mesh& m, index b, const vec3& v) {
+  for (index i = m.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+       i < m.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1]; ++i)
+    g.velocity.row(i) = v.transpose();
+}
+
+/// Two unit cubes sharing the face x = 1: cell 0 = [0,1]^3 (block A), cell 1 = [1,2]x[0,1]^2 (block B).
+struct two_cubes {
+  geometry::tessellation tess = brick_tessellation(2, 1, 1, vec3(2, 1, 1));
+  geometry::block_mesh mesh = face_mesh(tess);
+  node_set gridpoints = gridpoints_of(mesh);
+};
+
+}  // namespace
+
+TEST_CASE("two cubes: one sub-contact per face node pair, areas sum to the face area, normal +x", "[contacts]") {
+  two_cubes scene;
+  REQUIRE(scene.tess.shared_faces.size() == 1);
+  const contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
+  REQUIRE(set.size() == 4);
+  REQUIRE(set.face_count() == 1);
+  real total = 0;
+  for (index i = 0; i < set.size(); ++i) {
+    CHECK(set.block_a(i) == 0);
+    CHECK(set.block_b(i) == 1);
+    CHECK(scene.mesh.gridpoint_block[static_cast<std::size_t>(set.node_a(i))] == 0);
+    CHECK(scene.mesh.gridpoint_block[static_cast<std::size_t>(set.node_b(i))] == 1);
+    const vec3 xa = scene.mesh.gridpoints[static_cast<std::size_t>(set.node_a(i))];
+    CHECK(xa.x() == 1.0);
+    CHECK((scene.mesh.gridpoints[static_cast<std::size_t>(set.node_b(i))] - xa).norm() == 0.0);
+    CHECK((set.position(i, scene.gridpoints) - xa).norm() == 0.0);
+    // Two triangles of area 1/2: the two diagonal nodes touch both (area 1/3), the others one (1/6).
+    const bool on_diagonal = std::abs(set.area(i) - 1.0 / 3) < 1e-15;
+    CHECK((on_diagonal || std::abs(set.area(i) - 1.0 / 6) < 1e-15));
+    CHECK((set.normal(i) - vec3(1, 0, 0)).norm() < 1e-15);
+    total += set.area(i);
+  }
+  CHECK(total == Approx(1.0).epsilon(1e-15));
+  CHECK(set.face_area(0) == Approx(1.0).epsilon(1e-15));
+  CHECK(set.first_subcontact(0) == 0);
+  CHECK(set.first_subcontact(1) == 4);
+}
+
+TEST_CASE("areas sum to the face area and normals are unit A->B on a jittered brick grid", "[contacts]") {
+  const auto tess = brick_tessellation(3, 3, 2, vec3(0.3, 0.3, 0.2), 0.2, 7);
+  const auto mesh = face_mesh(tess);
+  const contact::subcontact_set<elastic_brittle_law> set(tess, mesh, {1e12, 4e11});
+  REQUIRE(set.face_count() == static_cast<index>(tess.shared_faces.size()));
+  REQUIRE(set.size() == 4 * set.face_count());
+  for (index s = 0; s < set.face_count(); ++s) {
+    // Face area = sum of its two fan triangles' areas.
+    const auto loop = tess.face(tess.shared_faces[static_cast<std::size_t>(s)].face_a);
+    const index start = static_cast<index>(std::min_element(loop.begin(), loop.end()) - loop.begin());
+    real area = 0;
+    vec3 area_vector = vec3::Zero();
+    for (int i = 1; i < 3; ++i) {
+      const vec3& x0 = tess.vertices[static_cast<std::size_t>(loop[static_cast<std::size_t>(start)])];
+      const vec3& x1 = tess.vertices[static_cast<std::size_t>(loop[static_cast<std::size_t>((start + i) % 4)])];
+      const vec3& x2 = tess.vertices[static_cast<std::size_t>(loop[static_cast<std::size_t>((start + i + 1) % 4)])];
+      area += 0.5 * (x1 - x0).cross(x2 - x0).norm();
+      area_vector += (x1 - x0).cross(x2 - x0);
+    }
+    real sum = 0;
+    for (index i = set.first_subcontact(s); i < set.first_subcontact(s + 1); ++i) sum += set.area(i);
+    CHECK(sum == Approx(area).epsilon(1e-13));
+    const vec3 n = set.face_normal(s);
+    CHECK(n.norm() == Approx(1.0).epsilon(1e-14));
+    CHECK((n - area_vector.normalized()).norm() < 1e-14);  // outward of block A, pointing to B
+    // A -> B: the centroid of block B lies on the positive side.
+    const auto& sf = tess.shared_faces[static_cast<std::size_t>(s)];
+    const vec3 ca = mesh.gridpoints[static_cast<std::size_t>(mesh.block_gridpoint_offsets[static_cast<std::size_t>(sf.cell_a) + 1] - 1)];
+    const vec3 cb = mesh.gridpoints[static_cast<std::size_t>(mesh.block_gridpoint_offsets[static_cast<std::size_t>(sf.cell_b) + 1] - 1)];
+    CHECK((cb - ca).dot(n) > 0);
+  }
+}
+
+TEST_CASE("opening: restoring force k_n u_n area while elastic, on both nodes, with the stored energy", "[contacts]") {
+  two_cubes scene;
+  const real k_n = 1e12, k_s = 4e11;
+  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
+  const real dt = 1e-6, speed = 1e-3;  // opening 1e-9 m per step
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(speed, 0, 0));
+  for (int k = 1; k <= 20; ++k) {
+    step(set, scene.gridpoints, dt);
+    const real opening = k * speed * dt;
+    const vec3 on_b = block_force(scene.gridpoints, scene.mesh, 1);
+    const vec3 on_a = block_force(scene.gridpoints, scene.mesh, 0);
+    // Pulling B away from A (+x) is resisted: B is pulled back (-x), A is pulled toward B (+x).
+    CHECK(on_b.x() == Approx(-k_n * opening * 1.0).epsilon(1e-10));
+    CHECK(std::abs(on_b.y()) + std::abs(on_b.z()) < 1e-12 * k_n * opening);
+    CHECK((on_a + on_b).norm() < 1e-12 * k_n * opening);
+    for (index i = 0; i < set.size(); ++i) {
+      CHECK(set.state(i).u_n == Approx(opening).epsilon(1e-10));
+      CHECK(set.force(i).x() == Approx(-k_n * opening * set.area(i)).epsilon(1e-10));
+      CHECK(scene.gridpoints.force(set.node_b(i), 0) == set.force(i).x());
+      CHECK(scene.gridpoints.force(set.node_a(i), 0) == -set.force(i).x());
+    }
+    CHECK(set.stored_energy() == Approx(0.5 * k_n * opening * opening * 1.0).epsilon(1e-10));
+  }
+  // Closing past the initial position: compression pushes B away from A (+x).
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(-speed, 0, 0));
+  for (int k = 0; k < 30; ++k) step(set, scene.gridpoints, dt);
+  const vec3 on_b = block_force(scene.gridpoints, scene.mesh, 1);
+  CHECK(on_b.x() == Approx(k_n * 10 * speed * dt).epsilon(1e-9));
+  CHECK(set.state(0).sigma_n == Approx(-k_n * 10 * speed * dt).epsilon(1e-9));
+}
+
+TEST_CASE("shear slide: force k_s slip area against the slip, no normal force", "[contacts]") {
+  two_cubes scene;
+  const real k_n = 1e12, k_s = 4e11;
+  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
+  const real dt = 1e-6;
+  const vec3 v(0, 2e-3, -1e-3);
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, v);
+  for (int k = 1; k <= 10; ++k) {
+    step(set, scene.gridpoints, dt);
+    const vec3 slip = k * dt * v;
+    const vec3 on_b = block_force(scene.gridpoints, scene.mesh, 1);
+    CHECK((on_b + k_s * slip * 1.0).norm() < 1e-10 * k_s * slip.norm());
+    CHECK(std::abs(set.state(0).sigma_n) < 1e-6);
+  }
+}
+
+TEST_CASE("linear softening: force-opening curve = law x face area, separation dissipates G_f x area", "[contacts]") {
+  two_cubes scene;
+  law::linear_tie_law::params p;
+  p.k_n = 1e12;
+  p.k_s = 4e11;
+  p.tension.f_T = 2e6;   // eta = f_T/k_n = 2e-6 m
+  p.tension.G_f = 60;    // zeta = 2 G_f/f_T = 6e-5 m = 30 eta
+  p.shear.c_0 = 4e6;
+  p.shear.c_res = 4e4;
+  p.shear.phi_0 = law::friction_angle::from_degrees(35);
+  p.shear.phi_res = law::friction_angle::from_degrees(30);
+  contact::subcontact_set<law::linear_tie_law> set(scene.tess, scene.mesh, p);
+  const real dt = 1e-6;
+  const real du = 2e-7;  // eta / 10: steps land on the peak and on zeta (exact trapezoidal bookkeeping)
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(du / dt, 0, 0));
+  const real eta = 2e-6, zeta = 6e-5;
+  int broken_step = -1;
+  for (int k = 1; k <= 320; ++k) {
+    step(set, scene.gridpoints, dt);
+    const real u = k * du;
+    const real envelope = u <= eta ? p.k_n * u : (u < zeta ? p.tension.f_T * (zeta - u) / (zeta - eta) : 0.0);
+    const vec3 on_b = block_force(scene.gridpoints, scene.mesh, 1);
+    CHECK(-on_b.x() == Approx(envelope * 1.0).margin(1e-6 * p.tension.f_T));
+    if (broken_step < 0 && set.broken_area() > 0) broken_step = k;
+  }
+  // zeta is reached at step 300 up to the rounding of the accumulated opening.
+  CHECK((broken_step == 300 || broken_step == 301));
+  CHECK(set.broken_area() == Approx(1.0).epsilon(1e-14));
+  CHECK(set.face_fully_broken(0));
+  CHECK(set.broken_face_count() == 1);
+  const auto e = set.energies();
+  CHECK(e.dissipated_tension == Approx(p.tension.G_f * 1.0).epsilon(1e-6));
+  CHECK(e.dissipated == Approx(p.tension.G_f * 1.0).epsilon(1e-6));
+  CHECK(std::abs(e.dissipated_shear) < 1e-12);
+  CHECK(e.dissipated_compression == 0);
+  CHECK(e.stored == 0);
+}
+
+TEST_CASE("Coulomb shear: k_s slip area up to c_0 - sigma_n tan phi_0, then the residual limit", "[contacts]") {
+  two_cubes scene;
+  law::linear_tie_law::params p;
+  p.k_n = 1e12;
+  p.k_s = 4e11;
+  p.tension.f_T = 2e6;
+  p.tension.G_f = 60;
+  p.shear.c_0 = 4e6;
+  p.shear.c_res = 4e4;
+  p.shear.phi_0 = law::friction_angle::from_degrees(35);
+  p.shear.phi_res = law::friction_angle::from_degrees(30);
+  contact::subcontact_set<law::linear_tie_law> set(scene.tess, scene.mesh, p);
+  const real dt = 1e-6;
+  // Precompress by 1e-6 m (sigma_n = -1 MPa) in one step, then slide B along +y.
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(-1.0, 0, 0));
+  step(set, scene.gridpoints, dt);
+  const real sigma_n = -1e6;
+  REQUIRE(set.state(0).sigma_n == Approx(sigma_n).epsilon(1e-9));
+  const real tau_peak = p.shear.c_0 - sigma_n * p.shear.phi_0.tan();
+  const real tau_residual = p.shear.c_res - sigma_n * p.shear.phi_res.tan();
+  const real ds = 1e-7;  // slip per step
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(0, ds / dt, 0));
+  bool slipped = false;
+  for (int k = 1; k <= 200; ++k) {
+    step(set, scene.gridpoints, dt);
+    const vec3 on_b = block_force(scene.gridpoints, scene.mesh, 1);
+    const real elastic = p.k_s * k * ds;
+    if (!slipped && elastic <= tau_peak) {
+      CHECK(-on_b.y() == Approx(elastic * 1.0).epsilon(1e-9));
+    } else {
+      slipped = true;
+      CHECK(-on_b.y() == Approx(tau_residual * 1.0).epsilon(1e-9));
+      CHECK(law::has(law::linear_tie_law::status(set.state(0)), law::contact_status::slipped));
+    }
+    CHECK(on_b.x() == Approx(-sigma_n * 1.0).epsilon(1e-9));  // compression keeps pushing B away
+  }
+  CHECK(slipped);
+  CHECK(set.dissipated_shear() > 0);
+  CHECK(set.broken_area() == 0);
+}
+
+TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with the blocks", "[contacts]") {
+  const real k_n = 1e12, k_s = 4e11, dt = 1e-6;
+  const vec3 axis = vec3(0.3, -0.5, 0.8).normalized();
+  const vec3 pivot(0.7, 0.2, -0.4);
+  const real angle = 1.2;  // rad
+  const int steps = 4000;
+  const auto rotation = [&](real a) { return Eigen::AngleAxis<real>(a, axis).toRotationMatrix(); };
+
+  for (const bool preload : {false, true}) {
+    DYNAMIC_SECTION((preload ? "open and sheared contact" : "unloaded contact")) {
+      two_cubes scene;
+      contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
+      const vec3 opening(2e-7, 0, 0), slip(0, 1e-7, -0.5e-7);
+      if (preload) {
+        set_block_velocity(scene.gridpoints, scene.mesh, 1, (opening + slip) / dt);
+        step(set, scene.gridpoints, dt);
+      }
+      const soa3 x0 = scene.gridpoints.reference + scene.gridpoints.displacement;
+      const auto rotated = [&](real a) {
+        soa3 x = x0;
+        const mat3 r = rotation(a);
+        for (index i = 0; i < x.rows(); ++i) x.row(i) = (pivot + r * (x0.row(i).transpose() - pivot)).transpose();
+        return x;
+      };
+      soa3 previous = x0;
+      for (int k = 1; k <= steps; ++k) {
+        const soa3 next = rotated(angle * k / steps);
+        scene.gridpoints.velocity = (next - previous) / dt;
+        previous = next;
+        step(set, scene.gridpoints, dt);
+      }
+      const mat3 r = rotation(angle);
+      const vec3 sigma0_n = preload ? vec3(k_n * opening) : vec3::Zero();
+      const vec3 tau0 = preload ? vec3(k_s * slip) : vec3::Zero();
+      for (index i = 0; i < set.size(); ++i) {
+        CHECK((set.normal(i) - r * vec3(1, 0, 0)).norm() < 1e-12);
+        if (!preload) {
+          CHECK(set.state(i).sigma_n == 0);
+          CHECK(set.state(i).tau.norm() == 0);
+          continue;
+        }
+        // First-order frame correction: relative drift O(angle x angle/steps) = O(4e-4).
+        CHECK(set.state(i).sigma_n == Approx(sigma0_n.x()).epsilon(1e-3));
+        CHECK((set.state(i).tau - r * tau0).norm() < 1e-3 * tau0.norm());
+        CHECK((set.force(i) + set.area(i) * r * (sigma0_n + tau0)).norm() < 2e-3 * set.area(i) * (sigma0_n + tau0).norm());
+      }
+    }
+  }
+}
+
+TEST_CASE("stiffness bound: Gershgorin row sum for any normal, attained, accumulated on both nodes", "[contacts]") {
+  const real k_n = 1e12, k_s = 4e11;
+  using set_type = contact::subcontact_set<elastic_brittle_law>;
+  const real bound = set_type::stiffness_row_bound_per_area({k_n, k_s});
+  CHECK(bound == Approx(k_s + (k_n - k_s) * (1 + std::sqrt(3.0)) / 2).epsilon(1e-15));
+  const auto row_max = [&](const vec3& n) {
+    const mat3 k = k_s * mat3::Identity() + (k_n - k_s) * n * n.transpose();
+    return k.cwiseAbs().rowwise().sum().maxCoeff();
+  };
+  std::mt19937 rng(3);
+  std::normal_distribution<real> normal;
+  for (int trial = 0; trial < 2000; ++trial) {
+    const vec3 n = vec3(normal(rng), normal(rng), normal(rng)).normalized();
+    CHECK(row_max(n) <= bound * (1 + 1e-14));
+  }
+  const real a = 0.5 * std::atan(std::sqrt(2.0));  // maximiser of cos^2 a + sqrt 2 sin a cos a
+  CHECK(row_max(vec3(std::cos(a), std::sin(a) / std::sqrt(2.0), std::sin(a) / std::sqrt(2.0))) ==
+        Approx(bound).epsilon(1e-14));
+  CHECK(row_max(vec3(1, 0, 0)) == Approx(k_n).epsilon(1e-15));
+
+  two_cubes scene;
+  const set_type set(scene.tess, scene.mesh, {k_n, k_s});
+  set.add_stiffness_bounds(scene.gridpoints);
+  for (index i = 0; i < set.size(); ++i) {
+    CHECK(scene.gridpoints.stiffness[set.node_a(i)] == Approx(2 * bound * set.area(i)).epsilon(1e-15));
+    CHECK(scene.gridpoints.stiffness[set.node_b(i)] == Approx(2 * bound * set.area(i)).epsilon(1e-15));
+  }
+  node_set wrong;
+  wrong.resize(3);
+  CHECK_THROWS_AS(set.add_stiffness_bounds(wrong), invalid_input);
+}
+
+TEST_CASE("brittle break: broken area, fully broken faces and dissipated energy per sub-contact", "[contacts]") {
+  two_cubes scene;
+  const real k_n = 1e12, k_s = 4e11, f_t = 1e6;
+  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s, f_t});
+  const real dt = 1e-6;
+  // B opens along x, tilting about the z axis: v_x = w (y + 0.5), so nodes at y = 1 open 3x faster.
+  const real w = 2e-3;
+  for (index i = scene.mesh.block_gridpoint_offsets[1]; i < scene.mesh.block_gridpoint_offsets[2]; ++i)
+    scene.gridpoints.velocity(i, 0) = w * (scene.mesh.gridpoints[static_cast<std::size_t>(i)].y() + 0.5);
+  bool saw_partial = false;
+  for (int k = 0; k < 2000 && !set.face_fully_broken(0); ++k) {
+    step(set, scene.gridpoints, dt);
+    real broken = 0;
+    for (index i = 0; i < set.size(); ++i)
+      if (set.state(i).broken) broken += set.area(i);
+    CHECK(set.broken_area() == broken);
+    if (broken > 0 && broken < 1) {
+      saw_partial = true;
+      CHECK_FALSE(set.face_fully_broken(0));
+      CHECK(set.broken_face_count() == 0);
+    }
+  }
+  CHECK(saw_partial);
+  REQUIRE(set.face_fully_broken(0));
+  CHECK(set.broken_face_count() == 1);
+  CHECK(set.broken_area() == Approx(1.0).epsilon(1e-15));
+  real expected = 0;
+  for (index i = 0; i < set.size(); ++i) expected += set.area(i) * set.state(i).dissipated_tension;
+  CHECK(set.dissipated_tension() == Approx(expected).epsilon(1e-15));
+  CHECK(set.dissipated_tension() >= 0.5 * f_t * f_t / k_n * 1.0);
+  CHECK(set.stored_energy() == 0);
+}
+
+TEST_CASE("bad pairing and bad input throw with the shared face, its cells and the value", "[contacts]") {
+  using set_type = contact::subcontact_set<elastic_brittle_law>;
+  const elastic_brittle_law::params p{1e12, 4e11};
+  const auto tess = brick_tessellation(2, 2, 1, vec3(2, 2, 1));
+  const auto good = face_mesh(tess);
+  REQUIRE_NOTHROW(set_type(tess, good, p));
+  // Shared face 2 is cell 1 (x+1,y) against cell 3; its twin is face_b.
+  const auto& sf = tess.shared_faces[2];
+
+  SECTION("twin nodes in a different order") {
+    auto mesh = good;
+    const index o = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)];
+    std::swap(mesh.face_nodes[static_cast<std::size_t>(o)], mesh.face_nodes[static_cast<std::size_t>(o) + 2]);
+    CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
+               Contains("shared face 2 (cells 1 and 3") &&
+                                                  Contains("coincident"));
+  }
+  SECTION("different node counts on the two sides") {
+    auto mesh = good;
+    const auto o = static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)]);
+    mesh.face_nodes.erase(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(o));
+    mesh.face_node_area.erase(mesh.face_node_area.begin() + static_cast<std::ptrdiff_t>(o));
+    for (std::size_t f = static_cast<std::size_t>(sf.face_b) + 1; f < mesh.face_node_offsets.size(); ++f)
+      --mesh.face_node_offsets[f];
+    CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
+               Contains("shared face 2") &&
+                                                  Contains("4 and 3 face nodes"));
+  }
+  SECTION("tributary areas that differ") {
+    auto mesh = good;
+    mesh.face_node_area[static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)]) + 1] *= 1.01;
+    CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
+               Contains("shared face 2") &&
+                                                  Contains("tributary areas"));
+  }
+  SECTION("a gridpoint of the wrong block") {
+    auto mesh = good;
+    const auto oa = static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a)]);
+    const auto ob = static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)]);
+    mesh.face_nodes[ob] = mesh.face_nodes[oa];
+    CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
+               Contains("shared face 2") &&
+                                                  Contains("belong to blocks 1 and 1"));
+  }
+  SECTION("mesh of another tessellation") {
+    const auto other = face_mesh(brick_tessellation(3, 1, 1, vec3(3, 1, 1)));
+    CHECK_THROWS_AS(set_type(tess, other, p), geometry_error);
+  }
+  SECTION("non-positive stiffness") {
+    CHECK_THAT(thrown_message<invalid_input>([&] { (void)set_type(tess, good, {-1.0, 4e11}); }),
+               Contains("k_n") && Contains("-1"));
+  }
+}
+
+namespace {
+/// Runs `steps` random steps on a jittered brick grid with `threads` threads; returns the final
+/// gridpoint forces and the sub-contact stresses.
+std::pair<soa3, std::vector<real>> random_run(int threads) {
+  const int previous_threads = max_threads();
+  set_threads(threads);
+  const auto tess = brick_tessellation(6, 5, 4, vec3(0.6, 0.5, 0.4), 0.2, 11);
+  const auto mesh = face_mesh(tess);
+  auto g = gridpoints_of(mesh);
+  law::study_tie_law::params p = law::study_prism_params(100);
+  contact::subcontact_set<law::study_tie_law> set(tess, mesh, p);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<real> uni(-1.0, 1.0);
+  const real dt = 1e-7;
+  for (int k = 0; k < 40; ++k) {
+    for (index i = 0; i < g.size(); ++i)
+      for (int c = 0; c < 3; ++c) g.velocity(i, c) = 5.0 * uni(rng);
+    step(set, g, dt);
+  }
+  std::vector<real> stresses;
+  for (index i = 0; i < set.size(); ++i) {
+    stresses.push_back(set.state(i).sigma_n);
+    for (int c = 0; c < 3; ++c) stresses.push_back(set.state(i).tau[c]);
+  }
+  stresses.push_back(set.stored_energy());
+  stresses.push_back(set.dissipated_energy());
+  stresses.push_back(set.broken_area());
+  set_threads(previous_threads);
+  return {g.force, stresses};
+}
+}  // namespace
+
+TEST_CASE("determinism: same bits with 1 and 2 threads; forces balance", "[contacts]") {
+  const auto [force1, state1] = random_run(1);
+  const auto [force2, state2] = random_run(2);
+  REQUIRE(force1.rows() == force2.rows());
+  CHECK(std::memcmp(force1.data(), force2.data(), sizeof(real) * static_cast<std::size_t>(force1.size())) == 0);
+  REQUIRE(state1.size() == state2.size());
+  CHECK(std::memcmp(state1.data(), state2.data(), sizeof(real) * state1.size()) == 0);
+  // The run must exercise the nonlinear law (softening, slip: dissipation), and forces cancel pairwise.
+  CHECK(state1[state1.size() - 2] > 0);
+  const vec3 total = force1.colwise().sum().transpose();
+  CHECK(total.norm() < 1e-9 * force1.cwiseAbs().sum());
+}
+
+TEST_CASE("update allocates nothing", "[contacts]") {
+  const auto tess = brick_tessellation(6, 5, 4, vec3(0.6, 0.5, 0.4), 0.2, 13);
+  const auto mesh = face_mesh(tess);
+  auto g = gridpoints_of(mesh);
+  contact::subcontact_set<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
+  g.velocity.setConstant(1e-3);
+  step(set, g, 1e-7);  // warm up (thread pool)
+  allocation_count = 0;
+  count_allocations = true;
+  for (int k = 0; k < 50; ++k) step(set, g, 1e-7);
+  count_allocations = false;
+  CHECK(allocation_count.load() == 0);
+}
+
+}  // namespace tessera::test_contacts
