@@ -234,3 +234,183 @@ TEST_CASE("tessellations of 1, 2, 100 and 2000 cells are conforming", "[geometry
     }
   }
 }
+
+TEST_CASE("tessellation of the study's prism with 100 blocks", "[geometry][voronoi]") {
+  // Default scene: 68 x 68 x 600 mm prism, 100 Voronoi blocks (Pulatsu et al. 2020, Sec. 3)
+  const aabb prism{vec3(0, 0, 0), vec3(0.068, 0.068, 0.6)};
+  const tessellation t = random_voronoi(prism, 100, 2020);
+  CHECK(t.cell_count() == 100);
+  require_valid(t);
+  real total = 0;
+  for (tessera::index c = 0; c < t.cell_count(); ++c) {
+    total += cell_volume(t, c);
+    CHECK(prism.contains(cell_centroid(t, c), 1e-12));
+  }
+  CHECK(total == Approx(0.068 * 0.068 * 0.6).epsilon(1e-12));
+  // every side of the prism is covered by boundary faces: their areas add up to the side area
+  std::array<real, 6> side_area{};
+  for (tessera::index f = 0; f < t.face_count(); ++f)
+    if (const int s = boundary_side(t.face_neighbor[static_cast<std::size_t>(f)]); s >= 0)
+      side_area[static_cast<std::size_t>(s)] += face_area(t, f);
+  CHECK(side_area[0] == Approx(0.068 * 0.6).epsilon(1e-12));
+  CHECK(side_area[3] == Approx(0.068 * 0.6).epsilon(1e-12));
+  CHECK(side_area[4] == Approx(0.068 * 0.068).epsilon(1e-12));
+  CHECK(side_area[5] == Approx(0.068 * 0.068).epsilon(1e-12));
+}
+
+TEST_CASE("tessellations are reproducible bit for bit for any thread count", "[geometry][voronoi]") {
+  const aabb box{vec3(-1, 0, 2), vec3(1, 0.5, 3)};
+  const int threads = tessera::max_threads();
+  tessera::set_threads(1);
+  const tessellation a = random_voronoi(box, 1500, 7);
+  tessera::set_threads(std::max(2, threads));
+  const tessellation b = random_voronoi(box, 1500, 7);
+  tessera::set_threads(threads);
+  REQUIRE(a.vertices.size() == b.vertices.size());
+  CHECK(std::equal(a.vertices.begin(), a.vertices.end(), b.vertices.begin()));  // exact ==
+  CHECK(a.face_vertices == b.face_vertices);
+  CHECK(a.face_neighbor == b.face_neighbor);
+  CHECK(a.face_twin == b.face_twin);
+  CHECK(std::equal(a.seeds.begin(), a.seeds.end(), b.seeds.begin()));
+  const tessellation c = random_voronoi(box, 1500, 8);
+  CHECK_FALSE(std::equal(a.seeds.begin(), a.seeds.end(), c.seeds.begin()));
+  // random_seeds: fixed values for a fixed seed, independent of the standard library
+  const auto s = random_seeds(aabb{vec3(0, 0, 0), vec3(1, 1, 1)}, 2, 1);
+  std::mt19937_64 rng(1);
+  const real x0 = static_cast<real>(rng() >> 11) * 0x1.0p-53;
+  CHECK(s[0].x() == x0);
+  CHECK(s[0].x() >= 0);
+  CHECK(s[1].z() < 1);
+}
+
+TEST_CASE("Laguerre cells of larger weight grow", "[geometry][voronoi]") {
+  const aabb box{vec3(0, 0, 0), vec3(1, 1, 1)};
+  SECTION("two generators: the bisector moves by (w_0 - w_1) / (2 d) toward the lighter one") {
+    const std::vector<vec3> seeds{vec3(0.25, 0.5, 0.5), vec3(0.75, 0.5, 0.5)};
+    const std::vector<real> weights{0.1, 0.0};
+    const tessellation t = laguerre(box, seeds, weights);
+    REQUIRE(t.cell_count() == 2);
+    // plane x = 0.5 + 0.1 / (2 * 0.5) = 0.6
+    CHECK(cell_volume(t, 0) == Approx(0.6).epsilon(1e-13));
+    CHECK(cell_volume(t, 1) == Approx(0.4).epsilon(1e-13));
+    require_valid(t);
+  }
+  SECTION("random generators: heavier half has larger cells") {
+    const auto seeds = random_seeds(box, 400, 3);
+    std::vector<real> weights(seeds.size());
+    // odd generators get w = 0.004 m^2, i.e. (0.46 x mean spacing 0.136 m)^2
+    for (std::size_t i = 0; i < seeds.size(); ++i) weights[i] = (i % 2) ? 0.004 : 0.0;
+    const tessellation t = laguerre(box, seeds, weights);
+    CHECK(t.cell_count() > 380);  // a few light cells squeezed between heavy ones may vanish
+    require_valid(t);
+    real heavy = 0, light = 0;
+    for (tessera::index c = 0; c < t.cell_count(); ++c)
+      (t.weights[static_cast<std::size_t>(c)] > 0 ? heavy : light) += cell_volume(t, c);
+    CHECK(heavy > 1.5 * light);
+    CHECK(heavy + light == Approx(1.0).epsilon(1e-12));
+    // the Voronoi tessellation of the same generators splits the volume about evenly
+    const tessellation v = voronoi(box, seeds);
+    real heavy_v = 0;
+    for (tessera::index c = 1; c < v.cell_count(); c += 2) heavy_v += cell_volume(v, c);
+    CHECK(heavy_v == Approx(0.5).margin(0.1));
+    CHECK(heavy > heavy_v + 0.05);
+  }
+  SECTION("a generator dominated by its neighbours loses its cell") {
+    const std::vector<vec3> seeds{vec3(0.2, 0.5, 0.5), vec3(0.5, 0.5, 0.5), vec3(0.8, 0.5, 0.5)};
+    const std::vector<real> weights{0.5, 0.0, 0.5};
+    const tessellation t = laguerre(box, seeds, weights);
+    CHECK(t.cell_count() == 2);
+    CHECK(t.seeds.size() == 2);
+    CHECK(t.weights == std::vector<real>{0.5, 0.5});
+    require_valid(t);
+  }
+}
+
+TEST_CASE("Lloyd iterations make cell volumes more uniform", "[geometry][voronoi]") {
+  const aabb box{vec3(0, 0, 0), vec3(1, 1, 2)};
+  auto volume_spread = [](const tessellation& t) {
+    real mean = 0, var = 0;
+    for (tessera::index c = 0; c < t.cell_count(); ++c) mean += cell_volume(t, c);
+    mean /= t.cell_count();
+    for (tessera::index c = 0; c < t.cell_count(); ++c) var += std::pow(cell_volume(t, c) - mean, 2);
+    return std::sqrt(var / t.cell_count()) / mean;  // coefficient of variation
+  };
+  tessellation_options options;
+  const tessellation t0 = random_voronoi(box, 300, 5, options);
+  options.lloyd_iterations = 1;
+  const tessellation t1 = random_voronoi(box, 300, 5, options);
+  options.lloyd_iterations = 5;
+  const tessellation t5 = random_voronoi(box, 300, 5, options);
+  require_valid(t5);
+  const real cv0 = volume_spread(t0), cv1 = volume_spread(t1), cv5 = volume_spread(t5);
+  // Poisson-Voronoi cells have a volume CV of about 0.42; Lloyd relaxation reduces it steadily
+  CHECK(cv0 > 0.3);
+  CHECK(cv1 < 0.8 * cv0);
+  CHECK(cv5 < cv1);
+  CHECK(cv5 < 0.5 * cv0);
+  // min_spacing: no two generators closer than requested
+  options = {};
+  options.min_spacing = 0.1;
+  const tessellation ts = random_voronoi(box, 300, 5, options);
+  real dmin = 1e9;
+  for (std::size_t i = 0; i < ts.seeds.size(); ++i)
+    for (std::size_t j = i + 1; j < ts.seeds.size(); ++j) dmin = std::min(dmin, (ts.seeds[i] - ts.seeds[j]).norm());
+  CHECK(dmin >= 0.1);
+  CHECK(volume_spread(ts) < 0.8 * cv0);
+}
+
+TEST_CASE("degenerate generator sets still give valid closed cells", "[geometry][voronoi]") {
+  const aabb box{vec3(0, 0, 0), vec3(1, 1, 1)};
+  SECTION("nearly coincident seeds, 1e-9 apart") {
+    auto seeds = random_seeds(box, 200, 9);
+    seeds[1] = seeds[0] + vec3(1e-9, 0, 0);
+    seeds[3] = seeds[2] + vec3(0, 0, -1e-9);
+    seeds[5] = seeds[4] + vec3(1e-9, -1e-9, 1e-9) / std::sqrt(3.0);
+    const tessellation t = voronoi(box, seeds);
+    REQUIRE(t.cell_count() == 200);
+    require_valid(t);
+    // the two twins split their common region by the bisector: both cells have a real volume
+    CHECK(cell_volume(t, 0) > 1e-5);
+    CHECK(cell_volume(t, 1) > 1e-5);
+  }
+  SECTION("regular grid of generators: every vertex shared by 8 cubes, every edge by 4") {
+    std::vector<vec3> seeds;
+    for (int k = 0; k < 5; ++k)
+      for (int j = 0; j < 5; ++j)
+        for (int i = 0; i < 5; ++i) seeds.emplace_back((i + 0.5) / 5, (j + 0.5) / 5, (k + 0.5) / 5);
+    const tessellation t = voronoi(box, seeds);
+    REQUIRE(t.cell_count() == 125);
+    require_valid(t);
+    CHECK(t.vertex_count() == 216);         // the 6^3 grid points
+    CHECK(t.face_count() == 125 * 6);       // every cell a cube
+    for (tessera::index c = 0; c < t.cell_count(); ++c) CHECK(cell_volume(t, c) == Approx(0.008).epsilon(1e-12));
+  }
+  SECTION("generators on the box surface and corners") {
+    const std::vector<vec3> seeds{vec3(0, 0, 0), vec3(1, 1, 1), vec3(1, 0, 0.5), vec3(0.5, 0.5, 0.5), vec3(0, 1, 1)};
+    const tessellation t = voronoi(box, seeds);
+    CHECK(t.cell_count() == 5);
+    require_valid(t);
+  }
+}
+
+TEST_CASE("bad tessellation input throws invalid_input naming the problem", "[geometry][voronoi]") {
+  const aabb box{vec3(0, 0, 0), vec3(1, 1, 1)};
+  const std::vector<vec3> none;
+  REQUIRE_THROWS_AS(voronoi(box, none), tessera::invalid_input);
+  REQUIRE_THROWS_WITH(voronoi(box, none), Contains("N = 0"));
+  REQUIRE_THROWS_WITH(random_voronoi(box, 0, 1), Contains("N = 0"));
+  REQUIRE_THROWS_WITH(random_voronoi(aabb{vec3(0, 0, 0), vec3(1, 0, 1)}, 10, 1), Contains("must be finite and > 0"));
+  REQUIRE_THROWS_WITH(random_voronoi(aabb{vec3(0, 0, 0), vec3(1, std::nan(""), 1)}, 10, 1), Contains("domain box size"));
+  const std::vector<vec3> outside{vec3(0.5, 0.5, 0.5), vec3(0.2, 1.5, 0.3)};
+  REQUIRE_THROWS_AS(voronoi(box, outside), tessera::invalid_input);
+  REQUIRE_THROWS_WITH(voronoi(box, outside), Contains("seed 1 at (0.2, 1.5, 0.3)") && Contains("outside"));
+  const std::vector<vec3> twins{vec3(0.5, 0.5, 0.5), vec3(0.1, 0.2, 0.3), vec3(0.5, 0.5, 0.5)};
+  REQUIRE_THROWS_WITH(voronoi(box, twins), Contains("seeds 0 and 2 coincide"));
+  const std::vector<vec3> two{vec3(0.25, 0.5, 0.5), vec3(0.75, 0.5, 0.5)};
+  const std::vector<real> one_weight{0.1};
+  REQUIRE_THROWS_WITH(laguerre(box, two, one_weight), Contains("1 weights for 2 seeds"));
+  const std::vector<real> nan_weight{0.1, std::numeric_limits<real>::infinity()};
+  REQUIRE_THROWS_WITH(laguerre(box, two, nan_weight), Contains("weight 1 = inf"));
+  REQUIRE_THROWS_WITH(random_seeds(box, 1000, 1, 0.5), Contains("min_spacing = 0.5"));
+  REQUIRE_THROWS_WITH(convex_polyhedron::box({0, 0, 0}, {1, -1, 1}), Contains("hi > lo"));
+}

@@ -5,10 +5,14 @@
 // Policy (all lengths relative to the mean cell size L = (V_box / N)^(1/3); the relative
 // threshold is tessellation_options::cleanup_tolerance, default 1e-9, so tol = 1e-9 L):
 //  1. Weld. Every cell vertex is a point; two points closer than tol in the max-norm are the
-//     same vertex, and welding is transitive (connected components of the "closer than tol"
-//     graph, built with a uniform bin grid and union-find). The welded vertex takes the
-//     position of the member that comes first in cell order, so the result does not depend on
-//     the thread count. Vertices within tol of a domain side are then snapped exactly onto it.
+//     same vertex, and so are two points defined by the same four generators (vertex_key: the
+//     cell and its three incident face tags) even if rounding put them farther apart (up to
+//     1e4 tol: nearly coincident generators make ill-conditioned intersections in their
+//     neighbours). Welding is transitive (connected components, built with a uniform bin grid,
+//     a sort of the keys and union-find). The welded vertex takes the position of its
+//     best-conditioned member (largest |det| of the three incident unit face normals), ties
+//     broken by cell order, so the result does not depend on the thread count. Vertices within
+//     tol of a domain side are then snapped exactly onto it.
 //  2. Edges shorter than tol have now become repeated consecutive ids in a face loop: the
 //     repeats are removed (edge collapse). Spikes a-b-a left by a collapsed sliver are removed
 //     too.
@@ -32,6 +36,7 @@
 #include <vector>
 
 #include "../core/errors.hpp"
+#include "../core/parallel.hpp"
 #include "../core/types.hpp"
 #include "convex_polyhedron.hpp"
 #include "tessellation.hpp"
@@ -44,10 +49,23 @@ struct welded_points {
   std::vector<index> global_id;
 };
 
-/// Welds `points` (m) closer than `tol` (m, max-norm) into shared vertices (transitively), in
-/// the deterministic order described in the policy above; then snaps coordinates within tol of
-/// a side of `domain` onto that side.
-[[nodiscard]] inline welded_points weld_vertices(std::span<const vec3> points, real tol, const aabb& domain) {
+/// Topological identity of a cell vertex where exactly three faces meet: the sorted ids of the
+/// four generators whose planes define it (the cell and its three face tags, boundary tags
+/// included). Two cells see the same vertex under the same key however ill-conditioned its
+/// position is (e.g. two generators 1e-9 apart make nearly parallel bisectors in their
+/// neighbours). no_vertex_key marks vertices with more than three faces.
+using vertex_key = std::array<index, 4>;
+inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_index, invalid_index};
+
+/// Welds `points` (m) into shared vertices: points closer than `tol` (m, max-norm), and points
+/// with the same vertex key (when `keys` is not empty) that are closer than 1e4 tol, are the
+/// same vertex (transitively). The welded position is that of the member with the largest
+/// `conditioning` (when given; |det| of its three unit face normals, i.e. the best-conditioned
+/// computation), ties and no conditioning resolved by the lowest point index. Coordinates within
+/// tol of a side of `domain` are then snapped onto that side. Deterministic for fixed input.
+[[nodiscard]] inline welded_points weld_vertices(std::span<const vec3> points, real tol, const aabb& domain,
+                                                 std::span<const vertex_key> keys = {},
+                                                 std::span<const real> conditioning = {}) {
   welded_points out;
   const std::size_t n = points.size();
   out.global_id.assign(n, invalid_index);
@@ -116,11 +134,34 @@ struct welded_points {
           }
         }
   }
+  if (!keys.empty()) {
+    std::vector<std::pair<vertex_key, index>> by_key;
+    by_key.reserve(n);
+    for (std::size_t k = 0; k < n; ++k)
+      if (keys[k] != no_vertex_key) by_key.emplace_back(keys[k], static_cast<index>(k));
+    std::sort(by_key.begin(), by_key.end());
+    const real loose = 1e4 * tol;
+    for (std::size_t q = 1; q < by_key.size(); ++q) {
+      if (by_key[q].first != by_key[q - 1].first) continue;
+      const index a = by_key[q - 1].second, b = by_key[q].second;
+      if ((points[static_cast<std::size_t>(a)] - points[static_cast<std::size_t>(b)]).cwiseAbs().maxCoeff() > loose) continue;
+      const index ra = find(a), rb = find(b);
+      if (ra != rb) parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
+    }
+  }
+  // Representative position: best-conditioned member (first in index order among equals).
+  std::vector<index> best(n, invalid_index);
+  for (std::size_t k = 0; k < n; ++k) {
+    const index r = find(static_cast<index>(k));
+    index& b = best[static_cast<std::size_t>(r)];
+    if (b == invalid_index || (!conditioning.empty() && conditioning[k] > conditioning[static_cast<std::size_t>(b)]))
+      b = static_cast<index>(k);
+  }
   for (std::size_t k = 0; k < n; ++k) {
     const index r = find(static_cast<index>(k));
     if (r == static_cast<index>(k)) {
       out.global_id[k] = static_cast<index>(out.vertices.size());
-      out.vertices.push_back(points[k]);
+      out.vertices.push_back(points[static_cast<std::size_t>(best[k])]);
     } else {
       out.global_id[k] = out.global_id[static_cast<std::size_t>(r)];
     }
@@ -166,9 +207,32 @@ inline void clean_loop(std::vector<index>& loop) {
   for (std::size_t c = 0; c < ncells; ++c)
     point_offset[c + 1] = point_offset[c] + static_cast<std::size_t>(cells[c].vertex_count());
   std::vector<vec3> points(point_offset[ncells]);
-  for (std::size_t c = 0; c < ncells; ++c)
-    std::copy(cells[c].vertices().begin(), cells[c].vertices().end(), points.begin() + static_cast<std::ptrdiff_t>(point_offset[c]));
-  welded_points welded = weld_vertices(points, tol, domain);
+  std::vector<vertex_key> keys(point_offset[ncells], no_vertex_key);
+  std::vector<real> conditioning(point_offset[ncells], 0);
+  parallel_for(static_cast<std::int64_t>(ncells), [&](std::int64_t ci) {
+    const auto c = static_cast<std::size_t>(ci);
+    const convex_polyhedron& p = cells[c];
+    const std::size_t base = point_offset[c];
+    std::copy(p.vertices().begin(), p.vertices().end(), points.begin() + static_cast<std::ptrdiff_t>(base));
+    // incident faces of each vertex: count and the first three (keys[] used as scratch)
+    std::vector<int> degree(static_cast<std::size_t>(p.vertex_count()), 0);
+    for (index f = 0; f < p.face_count(); ++f)
+      for (index v : p.face(f)) {
+        int& d = degree[static_cast<std::size_t>(v)];
+        if (d < 3) keys[base + static_cast<std::size_t>(v)][static_cast<std::size_t>(d)] = f;
+        ++d;
+      }
+    for (index v = 0; v < p.vertex_count(); ++v) {
+      vertex_key& key = keys[base + static_cast<std::size_t>(v)];
+      if (degree[static_cast<std::size_t>(v)] < 3) { key = no_vertex_key; continue; }
+      const vec3 n0 = p.face_normal(key[0]), n1 = p.face_normal(key[1]), n2 = p.face_normal(key[2]);
+      conditioning[base + static_cast<std::size_t>(v)] = std::abs(n0.dot(n1.cross(n2)));
+      if (degree[static_cast<std::size_t>(v)] != 3) { key = no_vertex_key; continue; }
+      key = {p.face_tag(key[0]), p.face_tag(key[1]), p.face_tag(key[2]), static_cast<index>(c)};
+      std::sort(key.begin(), key.end());
+    }
+  }, 64);
+  welded_points welded = weld_vertices(points, tol, domain, keys, conditioning);
 
   // Global loops per cell, cleaned; cells with < 4 faces are dropped.
   struct raw_face { index neighbor; std::size_t begin, end; };

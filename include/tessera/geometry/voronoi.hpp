@@ -135,6 +135,37 @@ inline void validate_seeds(const aabb& box, std::span<const vec3> seeds, const s
   }
 }
 
+/// Interleaves the low 21 bits of x with two zero bits between consecutive bits.
+[[nodiscard]] inline std::uint64_t spread_bits(std::uint64_t x) {
+  x &= 0x1fffff;
+  x = (x | x << 32) & 0x1f00000000ffffULL;
+  x = (x | x << 16) & 0x1f0000ff0000ffULL;
+  x = (x | x << 8) & 0x100f00f00f00f00fULL;
+  x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+  x = (x | x << 2) & 0x1249249249249249ULL;
+  return x;
+}
+
+/// Reorders points along a Morton (Z-order) curve of the box, ties kept in input order, so that
+/// cells close in space are close in memory (cache locality of the tessellation and of every
+/// later loop over blocks and contacts).
+inline void sort_along_morton_curve(const aabb& box, std::vector<vec3>& points) {
+  std::vector<std::pair<std::uint64_t, index>> key(points.size());
+  const vec3 size = box.size();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    std::uint64_t code = 0;
+    for (int a = 0; a < 3; ++a) {
+      const real u = std::clamp<real>((points[k][a] - box.lo[a]) / size[a], 0, 1);
+      code |= spread_bits(static_cast<std::uint64_t>(u * real(0x1fffff))) << a;
+    }
+    key[k] = {code, static_cast<index>(k)};
+  }
+  std::sort(key.begin(), key.end());
+  std::vector<vec3> sorted(points.size());
+  for (std::size_t k = 0; k < points.size(); ++k) sorted[k] = points[static_cast<std::size_t>(key[k].second)];
+  points.swap(sorted);
+}
+
 /// Per-thread scratch of the cell computation.
 struct cell_workspace {
   convex_polyhedron cell;
@@ -144,6 +175,9 @@ struct cell_workspace {
 /// Computes the Laguerre cell of generator i into ws.cell (weights empty = Voronoi).
 inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span<const real> weights, real w_max,
                          const seed_grid& grid, index i, cell_workspace& ws) {
+  // Plane-side tolerance: plane_tolerance_rel of four mean cell sizes, fixed for the whole
+  // tessellation (a cell is rarely larger than that; see predicates.hpp and cleanup.hpp).
+  const real clip_tolerance = 4 * plane_tolerance_rel * std::cbrt(box.volume() / static_cast<real>(seeds.size()));
   convex_polyhedron& cell = ws.cell;
   cell.assign_box(box.lo, box.hi);
   const vec3& s = seeds[static_cast<std::size_t>(i)];
@@ -173,20 +207,27 @@ inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span
       if (lower >= stop) break;  // also ends the search once no shell is left in the grid
     }
     ws.candidates.clear();
+    const real stop2 = stop * stop;
     for (int bk = std::max(0, b[2] - k); bk <= std::min(grid.n[2] - 1, b[2] + k); ++bk)
-      for (int bj = std::max(0, b[1] - k); bj <= std::min(grid.n[1] - 1, b[1] + k); ++bj)
-        for (int bi = std::max(0, b[0] - k); bi <= std::min(grid.n[0] - 1, b[0] + k); ++bi) {
-          if (std::max({std::abs(bi - b[0]), std::abs(bj - b[1]), std::abs(bk - b[2])}) != k) continue;
-          for (index j : grid.seeds_in(grid.bin(bi, bj, bk)))
-            if (j != i) ws.candidates.emplace_back((seeds[static_cast<std::size_t>(j)] - s).squaredNorm(), j);
+      for (int bj = std::max(0, b[1] - k); bj <= std::min(grid.n[1] - 1, b[1] + k); ++bj) {
+        // inner rows of the shell only contribute their two end bins
+        const bool full_row = std::abs(bk - b[2]) == k || std::abs(bj - b[1]) == k;
+        const int step = full_row ? 1 : 2 * k;
+        for (int bi = b[0] - k; bi <= b[0] + k; bi += std::max(step, 1)) {
+          if (bi < 0 || bi >= grid.n[0]) continue;
+          for (index j : grid.seeds_in(grid.bin(bi, bj, bk))) {
+            const real d2 = (seeds[static_cast<std::size_t>(j)] - s).squaredNorm();
+            if (j != i && d2 < stop2) ws.candidates.emplace_back(d2, j);
+          }
         }
+      }
     std::sort(ws.candidates.begin(), ws.candidates.end());
     for (const auto& [d2, j] : ws.candidates) {
       if (d2 >= stop * stop) break;
       const real w_j = weights.empty() ? real(0) : weights[static_cast<std::size_t>(j)];
       const plane h = power_plane(s, w_i, seeds[static_cast<std::size_t>(j)], w_j);
       if (-h.signed_distance(s) >= r) continue;  // the plane lies beyond every vertex
-      if (cell.clip(h, j)) {
+      if (cell.clip(h, j, clip_tolerance)) {
         if (cell.empty()) return;  // Laguerre cell swallowed by its neighbours
         r = std::sqrt(cell.max_squared_distance(s));
         stop = security_radius();
@@ -319,12 +360,14 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
 }
 
 /// Voronoi tessellation of n random generators (random_seeds with options.min_spacing) followed
-/// by options.lloyd_iterations Lloyd steps. The same (box, n, rng_seed, options) always gives
+/// by options.lloyd_iterations Lloyd steps. The generators are numbered along a Morton curve of
+/// the box (cell i has generator tessellation::seeds[i]), so neighbouring cells have nearby ids. The same (box, n, rng_seed, options) always gives
 /// the same tessellation, bit for bit, for any thread count.
 [[nodiscard]] inline tessellation random_voronoi(const aabb& box, index n, std::uint64_t rng_seed,
                                                  const tessellation_options& options = {}) {
   require(n > 0, "random_voronoi: number of cells N = ", n, " must be > 0");
-  const std::vector<vec3> seeds = random_seeds(box, n, rng_seed, options.min_spacing);
+  std::vector<vec3> seeds = random_seeds(box, n, rng_seed, options.min_spacing);
+  detail::sort_along_morton_curve(box, seeds);
   return detail::power_tessellation(box, seeds, {}, options, "random_voronoi");
 }
 
