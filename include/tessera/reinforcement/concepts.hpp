@@ -30,6 +30,36 @@
 
 namespace tessera::reinforcement {
 
+/// A bond law: a pure evaluator of the bond spring of one bar node along the bar axis (the
+/// embedded_truss owns the loop, the per-node state and the transverse tie).
+///
+/// | expression                        | meaning                                                     |
+/// |-----------------------------------|-------------------------------------------------------------|
+/// | B::params, B::state               | parameters (SI); per-node history, value-init = virgin      |
+/// | B::validate(p)                    | throws invalid_input naming a bad parameter and its value   |
+/// | B::stiffness_ratio(p)             | xi = K_bond / K_axial (-), study eq. 9                      |
+/// | B::strength(p, sigma_conf, per, L)| F_max (N) for confinement sigma_conf (Pa, compression +),   |
+/// |                                   | bar perimeter per (m) and tributary length L (m)            |
+/// | B::update(p, s, slip, K, F_max)   | return mapping for total slip (m) with stiffness K (N/m)    |
+/// | s.slip, s.force                   | slip (m) and bond force F_a (N, force on the node is -F_a a)|
+/// | s.slipping                        | at the strength limit at the last update                    |
+/// | B::stored_energy(s, K)            | recoverable energy of the axial spring (J)                  |
+/// | B::dissipated_energy(s)           | work of plastic slip so far (J)                             |
+template <class B>
+concept BondLaw = requires(const typename B::params& p, typename B::state& s, const typename B::state& cs, real x) {
+  typename B::params;
+  typename B::state;
+  { B::validate(p) } -> std::same_as<void>;
+  { B::stiffness_ratio(p) } -> std::convertible_to<real>;
+  { B::strength(p, x, x, x) } -> std::convertible_to<real>;
+  { B::update(p, s, x, x, x) } noexcept -> std::same_as<void>;
+  { cs.slip } -> std::convertible_to<real>;
+  { cs.force } -> std::convertible_to<real>;
+  { cs.slipping } -> std::convertible_to<bool>;
+  { B::stored_energy(cs, x) } -> std::convertible_to<real>;
+  { B::dissipated_energy(cs) } -> std::convertible_to<real>;
+};
+
 template <class R>
 concept Reinforcement = requires(R& r, const R& cr, const typename R::params& p, const geometry::block_mesh& mesh,
                                  const node_set& reference_gridpoints, node_set& gridpoints,

@@ -1,0 +1,86 @@
+#pragma once
+// coulomb_bond: the steel-concrete bond law of the study (eq. 7, 9), a Coulomb-slip spring along
+// the bar axis, elastic-perfectly plastic:
+//
+//   K_bond = xi K_axial                                         (eq. 9, per node, see below)
+//   F_a = K_bond (s - s_p),  |F_a| <= F_max                     (eq. 7)
+//   F_max = (c_bond + sigma_conf tan(phi_bond) * perimeter) * L_trib
+//
+// s = slip of the bar node relative to its host point along the bar axis (m), s_p its plastic part,
+// F_a the bond force (N; the force on the bar node is -F_a a, on the host +F_a a). c_bond is a
+// cohesion per unit bar length (N/m), sigma_conf the confining stress of the host zone normal to the
+// bar (Pa, compression positive, never negative), phi_bond the bond friction angle (rad) and L_trib
+// the tributary bar length of the node (m). A limit that drops below the current force (confinement
+// lost) produces plastic slip as well. The dissipated increment of a step is
+// 0.5 (F_old + F_new) Delta s_p, the trapezoidal work minus the change of the spring's energy, as in
+// the contact laws and truss.hpp: exact on the plateau, energy-consistent with a trapezoidal work
+// integral always (a limit that drops at fixed slip dissipates exactly the released spring energy).
+//
+// The per-node stiffness is given to the law by embedded_truss (K_bond = xi/2 sum of the adjacent
+// elements' K_axial, i.e. xi K_axial on interior nodes; see embedded_truss.hpp).
+
+#include <cmath>
+#include <numbers>
+
+#include "../core/errors.hpp"
+#include "../core/types.hpp"
+
+namespace tessera::reinforcement {
+
+struct coulomb_bond {
+  struct params {
+    real stiffness_ratio = 4.0;  ///< xi = K_bond / K_axial (-), eq. 9; the study uses 4
+    real cohesion = 1e9;         ///< c_bond (N/m of bar length); 1e9 = the study's "perfect bond"
+    real friction_angle = 0.0;   ///< phi_bond (rad), in [0, pi/2); multiplies the confining stress
+  };
+  /// History of one bar node; value-initialised = virgin bond.
+  struct state {
+    real slip = 0.0;          ///< s (m), bar node relative to its host point along the bar axis
+    real plastic_slip = 0.0;  ///< s_p (m)
+    real force = 0.0;         ///< F_a (N); the force on the bar node along the axis is -F_a
+    real dissipated = 0.0;    ///< work of plastic slip so far (J)
+    bool slipping = false;    ///< at the Coulomb limit at the last update
+    bool has_slipped = false; ///< reached the Coulomb limit at least once
+  };
+
+  static void validate(const params& p) {
+    require_positive(p.stiffness_ratio, "coulomb_bond: bond stiffness ratio xi = K_bond / K_axial (-)");
+    require_non_negative(p.cohesion, "coulomb_bond: bond cohesion c_bond (N/m)");
+    require(p.friction_angle >= 0.0 && p.friction_angle < std::numbers::pi / 2.0,
+            "coulomb_bond: bond friction angle phi_bond = ", p.friction_angle, " rad must be in [0, pi/2)");
+  }
+  [[nodiscard]] static real stiffness_ratio(const params& p) noexcept { return p.stiffness_ratio; }
+
+  /// F_max (N) of a node with tributary length L_trib (m) on a bar of perimeter pi d (m) under a
+  /// confining stress sigma_conf (Pa, compression positive, >= 0).
+  [[nodiscard]] static real strength(const params& p, real confining_stress, real perimeter,
+                                     real tributary_length) noexcept {
+    return (p.cohesion + confining_stress * std::tan(p.friction_angle) * perimeter) * tributary_length;
+  }
+
+  /// Return mapping for the total slip s (m) with stiffness K_bond (N/m) and limit F_max (N).
+  static void update(const params&, state& st, real slip, real stiffness, real strength) noexcept {
+    st.slip = slip;
+    const real trial = stiffness * (slip - st.plastic_slip);
+    if (std::abs(trial) <= strength) {
+      st.force = trial;
+      st.slipping = false;
+      return;
+    }
+    const real old_force = st.force;
+    st.force = std::copysign(strength, trial);
+    const real plastic_increment = slip - st.force / stiffness - st.plastic_slip;
+    st.plastic_slip += plastic_increment;
+    st.dissipated += 0.5 * (old_force + st.force) * plastic_increment;
+    st.slipping = true;
+    st.has_slipped = true;
+  }
+
+  /// Recoverable energy of the axial bond spring F_a^2 / (2 K_bond) (J).
+  [[nodiscard]] static real stored_energy(const state& st, real stiffness) noexcept {
+    return 0.5 * st.force * st.force / stiffness;
+  }
+  [[nodiscard]] static real dissipated_energy(const state& st) noexcept { return st.dissipated; }
+};
+
+}  // namespace tessera::reinforcement

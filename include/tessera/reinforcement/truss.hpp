@@ -1,0 +1,62 @@
+#pragma once
+// Axial law of one 2-node truss element (study eq. 7-8): elastic-perfectly plastic, same yield
+// force in tension and compression, no rupture.
+//
+//   K_axial = E_s A / L_el                                  (eq. 8)
+//   N = K_axial (e - e_p),  |N| <= N_y = f_y A              (N > 0 in tension)
+//
+// e is the total elongation (current chord length - reference length), e_p the plastic elongation.
+// The law is written in total form with a return mapping: a trial force beyond N_y is brought back
+// to +-N_y and e_p absorbs the excess. Plastic flow happens only at |N| = N_y, so the energy
+// dissipated in a step, N Delta e_p, is exact (not an approximation of the path). The element
+// axis is the current chord direction, so the law holds for large rotations of the element.
+
+#include <cmath>
+
+#include "../core/types.hpp"
+
+namespace tessera::reinforcement {
+
+struct truss_element {
+  /// History of one element; value-initialised = virgin element.
+  struct state {
+    real axial_force = 0.0;         ///< N (N), tension positive
+    real plastic_elongation = 0.0;  ///< e_p (m), tension positive
+    real dissipated = 0.0;          ///< plastic work so far (J)
+    bool yielding = false;          ///< on the yield plateau at the last update
+    bool has_yielded = false;       ///< reached the yield force at least once
+  };
+
+  /// Cancellation-free elongation e = |d0 + du| - |d0| (m) of a chord with reference vector d0
+  /// and relative end displacement du = u_b - u_a: e = (2 d0.du + du.du) / (|d0 + du| + |d0|).
+  [[nodiscard]] static real elongation(const vec3& reference_chord, real reference_length, const vec3& relative_displacement,
+                                       real current_length) noexcept {
+    return (2.0 * reference_chord.dot(relative_displacement) + relative_displacement.squaredNorm()) /
+           (current_length + reference_length);
+  }
+
+  /// Return mapping for total elongation e (m): sets N, e_p, the yielding flag and adds the
+  /// dissipated increment 0.5 (N_old + N_new) Delta e_p (J).
+  static void update(state& s, real elongation, real axial_stiffness, real yield_force) noexcept {
+    const real trial = axial_stiffness * (elongation - s.plastic_elongation);
+    if (std::abs(trial) <= yield_force) {
+      s.axial_force = trial;
+      s.yielding = false;
+      return;
+    }
+    const real old_force = s.axial_force;
+    s.axial_force = std::copysign(yield_force, trial);
+    const real plastic_increment = elongation - s.axial_force / axial_stiffness - s.plastic_elongation;
+    s.plastic_elongation += plastic_increment;
+    s.dissipated += 0.5 * (old_force + s.axial_force) * plastic_increment;
+    s.yielding = true;
+    s.has_yielded = true;
+  }
+
+  /// Recoverable elastic energy N^2 / (2 K_axial) (J).
+  [[nodiscard]] static real stored_energy(const state& s, real axial_stiffness) noexcept {
+    return 0.5 * s.axial_force * s.axial_force / axial_stiffness;
+  }
+};
+
+}  // namespace tessera::reinforcement
