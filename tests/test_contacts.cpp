@@ -10,6 +10,8 @@
 #include <catch2/catch.hpp>
 
 #include <tessera/contact/subcontact_set.hpp>
+#include <tessera/geometry/voronoi.hpp>
+#include <tessera/geometry/zoning.hpp>
 #include <tessera/law/aliases.hpp>
 
 #include <Eigen/Geometry>
@@ -622,22 +624,21 @@ TEST_CASE("bad pairing and bad input throw with the shared face, its cells and t
 }
 
 namespace {
-/// Runs `steps` random steps on a jittered brick grid with `threads` threads; returns the final
-/// gridpoint forces and the sub-contact stresses.
-std::pair<soa3, std::vector<real>> random_run(int threads) {
+/// Runs 40 steps with random gridpoint velocities (seeded) on `tess`/`mesh` with `threads`
+/// threads and the study's tie law; returns the final gridpoint forces and, per sub-contact,
+/// sigma_n and tau, followed by the stored and dissipated energies and the broken area.
+std::pair<soa3, std::vector<real>> random_run(int threads, const geometry::tessellation& tess,
+                                              const geometry::block_mesh& mesh, real speed) {
   const int previous_threads = max_threads();
   set_threads(threads);
-  const auto tess = brick_tessellation(6, 5, 4, vec3(0.6, 0.5, 0.4), 0.2, 11);
-  const auto mesh = face_mesh(tess);
   auto g = gridpoints_of(mesh);
-  law::study_tie_law::params p = law::study_prism_params(100);
-  contact::subcontact_set<law::study_tie_law> set(tess, mesh, p);
+  contact::subcontact_set<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
   std::mt19937 rng(5);
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
   const real dt = 1e-7;
   for (int k = 0; k < 40; ++k) {
     for (index i = 0; i < g.size(); ++i)
-      for (int c = 0; c < 3; ++c) g.velocity(i, c) = 5.0 * uni(rng);
+      for (int c = 0; c < 3; ++c) g.velocity(i, c) = speed * uni(rng);
     step(set, g, dt);
   }
   std::vector<real> stresses;
@@ -651,11 +652,10 @@ std::pair<soa3, std::vector<real>> random_run(int threads) {
   set_threads(previous_threads);
   return {g.force, stresses};
 }
-}  // namespace
 
-TEST_CASE("determinism: same bits with 1 and 2 threads; forces balance", "[contacts]") {
-  const auto [force1, state1] = random_run(1);
-  const auto [force2, state2] = random_run(2);
+void check_thread_independence(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real speed) {
+  const auto [force1, state1] = random_run(1, tess, mesh, speed);
+  const auto [force2, state2] = random_run(2, tess, mesh, speed);
   REQUIRE(force1.rows() == force2.rows());
   CHECK(std::memcmp(force1.data(), force2.data(), sizeof(real) * static_cast<std::size_t>(force1.size())) == 0);
   REQUIRE(state1.size() == state2.size());
@@ -664,6 +664,58 @@ TEST_CASE("determinism: same bits with 1 and 2 threads; forces balance", "[conta
   CHECK(state1[state1.size() - 2] > 0);
   const vec3 total = force1.colwise().sum().transpose();
   CHECK(total.norm() < 1e-9 * force1.cwiseAbs().sum());
+}
+
+/// Area vector (m^2) of polygon `loop` of the tessellation, Newell's formula.
+vec3 polygon_area_vector(const geometry::tessellation& t, std::span<const index> loop) {
+  vec3 s = vec3::Zero();
+  const vec3& x0 = t.vertices[static_cast<std::size_t>(loop[0])];
+  for (std::size_t k = 1; k + 1 < loop.size(); ++k)
+    s += (t.vertices[static_cast<std::size_t>(loop[k])] - x0).cross(t.vertices[static_cast<std::size_t>(loop[k + 1])] - x0);
+  return 0.5 * s;
+}
+}  // namespace
+
+TEST_CASE("determinism: same bits with 1 and 2 threads; forces balance", "[contacts]") {
+  SECTION("jittered brick grid, 120 blocks") {
+    const auto tess = brick_tessellation(6, 5, 4, vec3(0.6, 0.5, 0.4), 0.2, 11);
+    check_thread_independence(tess, face_mesh(tess), 5.0);
+  }
+  SECTION("random Voronoi prism, 50 blocks, zone_blocks") {
+    aabb box;
+    box.expand(vec3::Zero());
+    box.expand(vec3(0.068, 0.068, 0.3));
+    const auto tess = geometry::random_voronoi(box, 50, 42);
+    check_thread_independence(tess, geometry::zone_blocks(tess), 5.0);
+  }
+}
+
+TEST_CASE("random Voronoi + zone_blocks: face areas and normals of every shared face", "[contacts]") {
+  aabb box;
+  box.expand(vec3::Zero());
+  box.expand(vec3(0.068, 0.068, 0.3));
+  const auto tess = geometry::random_voronoi(box, 50, 7);
+  for (const real h : {0.0, 0.01}) {
+    DYNAMIC_SECTION("zoning target edge length " << h << " m") {
+      const auto mesh = geometry::zone_blocks(tess, {h});
+      const contact::subcontact_set<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
+      REQUIRE(set.face_count() == static_cast<index>(tess.shared_faces.size()));
+      index expected_size = 0, polygon_vertices = 0;
+      for (index s = 0; s < set.face_count(); ++s) {
+        const auto& sf = tess.shared_faces[static_cast<std::size_t>(s)];
+        const vec3 a = polygon_area_vector(tess, tess.face(sf.face_a));
+        CHECK(set.face_area(s) == Approx(a.norm()).epsilon(1e-9));
+        CHECK((set.face_normal(s) - a.normalized()).norm() < 1e-9);
+        expected_size += mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a) + 1] -
+                         mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a)];
+        polygon_vertices += static_cast<index>(tess.face(sf.face_a).size());
+      }
+      CHECK(set.size() == expected_size);
+      // Unrefined: one sub-contact per polygon vertex; refined: edge midpoints add more.
+      if (h == 0) CHECK(set.size() == polygon_vertices);
+      if (h > 0) CHECK(set.size() > polygon_vertices);
+    }
+  }
 }
 
 TEST_CASE("update allocates nothing", "[contacts]") {
