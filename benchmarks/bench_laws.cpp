@@ -1,0 +1,124 @@
+// Cost of one contact-law update per sub-contact, for each named law (law/aliases.hpp).
+//
+// Workload: 4096 sub-contact states (a few solver faces' worth, 352 KiB of state, so the loop runs
+// from L2 as it would in a solver sweep) with precomputed random unit normals and increments. Each
+// benchmark iteration is one sweep over all of them; successive sweeps alternate the sign of the
+// increments, so the states cycle about a fixed mix instead of drifting to failure.
+//   elastic: every contact intact, normal stress within +-0.9 f_T, shear well below the limit.
+//   mixed:   about 55 % elastic, 25 % on the softening branch (envelope evaluated every sweep),
+//            10 % broken in tension, 10 % slipped on the residual Coulomb limit.
+// Reported: time_per_update = CPU time of a sweep / 4096 (single thread), e.g. "15.2n" = 15.2 ns.
+//
+//   cmake -S . -B build/laws -DCMAKE_BUILD_TYPE=Release -DTESSERA_BUILD_BENCHMARKS=ON
+//   cmake --build build/laws --target bench_laws && build/laws/benchmarks/bench_laws --benchmark_repetitions=5
+#include <benchmark/benchmark.h>
+
+#include <Eigen/Geometry>
+
+#include <random>
+#include <tessera/law.hpp>
+#include <vector>
+
+namespace {
+
+using namespace tessera;
+using namespace tessera::law;
+
+constexpr int subcontact_count = 4096;
+
+enum class mix { elastic = 0, mixed = 1 };
+
+linear_tie_law::params linear_tie_params() {
+  const study_tie_law::params s = study_prism_params(100);
+  linear_tie_law::params p;
+  p.k_n = s.k_n;
+  p.k_s = s.k_s;
+  p.tension.f_T = s.tension.f_T;
+  p.tension.G_f = s.tension.G_f;
+  p.shear = s.shear;
+  return p;
+}
+
+study_beam_law::params beam_params() {
+  study_beam_law::params p;
+  p.k_n = 500e9;
+  p.k_s = p.k_n / 2.4;
+  p.tension.f_T = 2.5e6;
+  p.tension.G_f = 60;
+  p.compression.f_c = 35e6;
+  p.shear.c_0 = 2 * p.tension.f_T;
+  p.shear.c_res = 0.01 * p.shear.c_0;
+  p.shear.phi_0 = friction_angle::from_degrees(35);
+  p.shear.phi_res = friction_angle::from_degrees(30);
+  return p;
+}
+
+template <class Law>
+typename Law::params params_for() {
+  if constexpr (std::is_same_v<Law, study_tie_law>) return study_prism_params(100);
+  else if constexpr (std::is_same_v<Law, linear_tie_law>) return linear_tie_params();
+  else return beam_params();
+}
+
+template <class Law>
+struct workload {
+  typename Law::params p = params_for<Law>();
+  std::vector<typename Law::state> states;
+  std::vector<real> du_n;
+  std::vector<vec3> du_s;
+  std::vector<vec3> normal;
+
+  explicit workload(mix kind) : states(subcontact_count), du_n(subcontact_count), du_s(subcontact_count),
+                                normal(subcontact_count) {
+    Law::validate(p);
+    std::mt19937_64 rng(2020);
+    std::uniform_real_distribution<real> unit(0, 1);
+    std::normal_distribution<real> gauss(0, 1);
+    const real f_T = p.tension.f_T;
+    const real eta = f_T / p.k_n;
+    const real cutoff = Law::tension_policy::cutoff_opening(p.tension, p.k_n);
+    const real tau_slip = p.shear.c_0 / p.k_s;  // shear displacement at the intact limit, sigma_n = 0
+    for (int i = 0; i < subcontact_count; ++i) {
+      vec3 n(gauss(rng), gauss(rng), gauss(rng));
+      n.normalize();
+      const vec3 t = n.unitOrthogonal();
+      const real pick = kind == mix::elastic ? 0 : unit(rng);
+      real opening = (1.8 * unit(rng) - 0.9) * eta;  // elastic, |sigma_n| <= 0.9 f_T
+      real slip = 0.3 * unit(rng) * tau_slip;
+      if (pick > 0.9) slip = 1.5 * tau_slip;                                        // slipped
+      else if (pick > 0.8) opening = 1.2 * cutoff;                                  // broken in tension
+      else if (pick > 0.55) opening = eta + (0.05 + 0.4 * unit(rng)) * (cutoff - eta);  // softening
+      // Bring the contact there in 20 steps, then fix its per-sweep increments.
+      for (int k = 0; k < 20; ++k) Law::update(p, states[i], opening / 20, t * (slip / 20), n);
+      normal[i] = n;
+      du_n[i] = 1e-3 * eta * gauss(rng);
+      du_s[i] = 1e-3 * eta * (gauss(rng) * t + gauss(rng) * n.cross(t));
+    }
+  }
+};
+
+template <class Law>
+void bench_update(benchmark::State& bench) {
+  workload<Law> w(static_cast<mix>(bench.range(0)));
+  real sign = 1;
+  for (auto _ : bench) {
+    for (int i = 0; i < subcontact_count; ++i)
+      Law::update(w.p, w.states[i], sign * w.du_n[i], sign * w.du_s[i], w.normal[i]);
+    sign = -sign;
+    benchmark::DoNotOptimize(w.states.data());
+    benchmark::ClobberMemory();
+  }
+  bench.SetItemsProcessed(bench.iterations() * subcontact_count);
+  // Seconds of CPU time per sub-contact update, printed with an SI prefix (e.g. 15.2n = 15.2 ns).
+  bench.counters["time_per_update"] = benchmark::Counter(
+      subcontact_count, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  bench.SetLabel(bench.range(0) == 0 ? "elastic" : "mixed");
+}
+
+}  // namespace
+
+BENCHMARK_TEMPLATE(bench_update, tessera::law::study_tie_law)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(bench_update, tessera::law::linear_tie_law)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(bench_update, tessera::law::study_beam_law)->Arg(0)->Arg(1);
+
+BENCHMARK_MAIN();
