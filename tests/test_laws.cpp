@@ -15,6 +15,10 @@ using namespace tessera::law;
 static_assert(ContactLaw<study_tie_law>);
 static_assert(ContactLaw<linear_tie_law>);
 static_assert(ContactLaw<study_beam_law>);
+static_assert(TensionSoftening<linear_softening> && TensionSoftening<power_softening> && TensionSoftening<no_tension>);
+static_assert(CompressionLimit<elastic_compression> && CompressionLimit<plastic_cap>);
+static_assert(ShearLimit<coulomb_residual>);
+static_assert(!ContactLaw<linear_softening>, "a policy alone is not a contact law");
 
 namespace {
 

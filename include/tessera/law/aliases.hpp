@@ -2,11 +2,11 @@
 // Named contact laws: the combinations the reference study uses, and only those (the full cross
 // product of policies is never instantiated). Parameters are law::cohesive_frictional::params.
 //
-// | alias           | tension          | compression         | shear            | used for                    |
-// |-----------------|------------------|---------------------|------------------|-----------------------------|
-// | study_tie_law   | power_softening  | elastic_compression | coulomb_residual | plain prism, RC tie (Sec. 3)|
-// | linear_tie_law  | linear_softening | elastic_compression | coulomb_residual | tie, LS sensitivity (Sec. 3.2)|
-// | study_beam_law  | linear_softening | plastic_cap         | coulomb_residual | RC beam (Sec. 4)            |
+// | alias          | tension          | compression         | shear            | study use                    |
+// |----------------|------------------|---------------------|------------------|------------------------------|
+// | study_tie_law  | power_softening  | elastic_compression | coulomb_residual | plain prism, RC tie (Sec. 3) |
+// | linear_tie_law | linear_softening | elastic_compression | coulomb_residual | tie, LS vs PS (Sec. 3.2)     |
+// | study_beam_law | linear_softening | plastic_cap         | coulomb_residual | RC beam (Sec. 4)             |
 
 #include "../core/errors.hpp"
 #include "cohesive_frictional.hpp"

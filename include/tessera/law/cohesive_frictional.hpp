@@ -10,8 +10,9 @@
 // tributary area and owns loops and storage. It satisfies law::ContactLaw (concepts.hpp).
 //
 // Conventions: SI units; sigma_n and u_n positive in tension/opening; the contact normal n points
-// from block A to block B; du_s and tau are 3-vectors in the global frame lying in the contact plane
-// (tau is the shear traction on block B's face, along B's displacement relative to A).
+// from block A to block B; du_s and tau are 3-vectors in the global frame lying in the contact plane,
+// tau = k_s u_s growing along the slip u_s of B relative to A. The traction on block B is
+// -(sigma_n n + tau) (it resists opening and slip), the one on block A its opposite.
 //
 // One step, update(p, s, du_n, du_s, n):
 //  1. Rotation. The stored tau is turned into the plane of the current unit normal n: its

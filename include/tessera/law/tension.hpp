@@ -27,10 +27,12 @@
 //                       out is f_T zeta r^((alpha-1)/alpha) / (alpha - 1): 1 % of G_f for alpha = 3;
 //     no_tension        at the first tensile trial stress (zero tensile strength).
 //
-// Energy. The area under the post-peak branch is G_f for linear softening (the triangle of base
-// zeta and height f_T, elastic part included, is G_f), and f_T zeta/(alpha - 1) = 2 G_f/(alpha - 1)
-// for power softening, i.e. exactly G_f for the study's alpha = 3; a contact pulled to separation
-// then dissipates G_f + f_T^2/(2 k_n) minus the cut-off tail (see `separation_energy`).
+// Energy per unit area of a contact pulled monotonically to separation (`separation_energy`):
+//     linear_softening  f_T zeta / 2 = G_f, the whole triangle under the curve (elastic part included);
+//     power_softening   f_T^2/(2 k_n) + f_T zeta/(alpha - 1) - tail: the post-peak area alone is
+//                       2 G_f/(alpha - 1), exactly G_f for the study's alpha = 3, so the total is
+//                       G_f + f_T^2/(2 k_n) - 0.01 G_f with r = 1e-3. (For alpha != 3 the parameter G_f
+//                       is therefore not the post-peak area; we keep eq. 5 as the study writes it.)
 //
 // Concept TensionSoftening, one requirement per line:
 // | expression                 | meaning                                                              |
