@@ -15,6 +15,8 @@
 #include <vector>
 
 #include "../examples/common/cli.hpp"
+#include "tessera/geometry/tessellation_queries.hpp"
+#include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/csv.hpp"
@@ -123,7 +125,7 @@ tessellation slanted_split() {
 }
 
 /// Volume of cell c by the divergence theorem on its (planar) faces.
-double cell_volume(const tessellation& t, idx c) {
+double exact_cell_volume(const tessellation& t, idx c) {
   double v6 = 0;
   for (idx f = t.first_face(c); f < t.end_face(c); ++f) {
     const auto loop = t.face(f);
@@ -133,7 +135,7 @@ double cell_volume(const tessellation& t, idx c) {
   }
   return v6 / 6;
 }
-double face_area(const tessellation& t, idx f) {
+double exact_face_area(const tessellation& t, idx f) {
   const auto loop = t.face(f);
   vec3 s = vec3::Zero();
   for (std::size_t i = 0; i < loop.size(); ++i)
@@ -159,7 +161,7 @@ void check_mesh_invariants(const tessellation& t, const block_mesh& m) {
       for (const idx g : m.zones[static_cast<std::size_t>(z)]) REQUIRE(m.gridpoint_block[static_cast<std::size_t>(g)] == b);
       v += vz;
     }
-    const double exact = cell_volume(t, b);
+    const double exact = exact_cell_volume(t, b);
     CHECK(v == Approx(exact).epsilon(1e-12));
     total += v;
     for (idx g = m.block_gridpoint_offsets[b]; g < m.block_gridpoint_offsets[b + 1]; ++g) {
@@ -177,7 +179,7 @@ void check_mesh_invariants(const tessellation& t, const block_mesh& m) {
       REQUIRE(m.gridpoint_block[static_cast<std::size_t>(m.face_nodes[static_cast<std::size_t>(k)])] == b);
       area += m.face_node_area[static_cast<std::size_t>(k)];
     }
-    CHECK(area == Approx(face_area(t, f)).epsilon(1e-12));
+    CHECK(area == Approx(exact_face_area(t, f)).epsilon(1e-12));
     // Triangles are CCW seen from outside: their normals agree with the face's outward normal.
     const auto loop = t.face(f);
     const vec3 x0 = t.vertices[static_cast<std::size_t>(loop[0])];
@@ -190,7 +192,7 @@ void check_mesh_invariants(const tessellation& t, const block_mesh& m) {
       CHECK(n.dot(n_face) > 0);
       tri_area += 0.5 * n.norm();
     }
-    CHECK(tri_area == Approx(face_area(t, f)).epsilon(1e-12));
+    CHECK(tri_area == Approx(exact_face_area(t, f)).epsilon(1e-12));
 
     const idx g = t.face_twin[static_cast<std::size_t>(f)];
     if (g == invalid_index) continue;
@@ -225,9 +227,20 @@ std::string read_text(const fs::path& p) {
   return ss.str();
 }
 
-/// A scratch directory unique to this test binary run.
+/// The scratch root of this test binary run, removed when the binary exits.
+struct scratch_root {
+  fs::path path = fs::temp_directory_path() / ("tessera_test_zoning_io_" + std::to_string(io::detail::process_id()));
+  ~scratch_root() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+};
+const scratch_root& scratch_base() {
+  static const scratch_root root;
+  return root;
+}
 fs::path scratch(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("tessera_test_zoning_io_" + std::to_string(io::detail::process_id())) / name;
+  const fs::path dir = scratch_base().path / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -305,7 +318,7 @@ TEST_CASE("zoning: quality metrics of a regular tetrahedron", "[zoning]") {
 TEST_CASE("zoning: two blocks split by a slanted plane share a face exactly", "[zoning]") {
   const tessellation t = slanted_split();
   REQUIRE(t.shared_faces.size() == 1);
-  CHECK(cell_volume(t, 0) + cell_volume(t, 1) == Approx(2.0).epsilon(1e-14));
+  CHECK(exact_cell_volume(t, 0) + exact_cell_volume(t, 1) == Approx(2.0).epsilon(1e-14));
   const block_mesh m = geometry::zone_blocks(t);
   check_mesh_invariants(t, m);
   CHECK(m.gridpoint_count() == 2 * 9);
@@ -360,6 +373,37 @@ TEST_CASE("zoning: refinement keeps volumes, twins and pairing", "[zoning]") {
       }
     }
   }
+}
+
+TEST_CASE("zoning: random Voronoi tessellation of the study's prism", "[zoning][voronoi]") {
+  aabb prism;
+  prism.lo = vec3::Zero();
+  prism.hi = vec3(0.068, 0.068, 0.6);
+  const tessellation t = geometry::random_voronoi(prism, 40, 7, {});
+  REQUIRE(geometry::check(t).unmatched_faces == 0);
+  const block_mesh m = geometry::zone_blocks(t);
+  check_mesh_invariants(t, m);
+  // Zones of a block = sum over faces of (n_f - 2); gridpoints = distinct vertices + 1.
+  for (idx b = 0; b < t.cell_count(); ++b) {
+    idx zones = 0;
+    std::set<idx> vertices;
+    for (idx f = t.first_face(b); f < t.end_face(b); ++f) {
+      zones += static_cast<idx>(t.face(f).size()) - 2;
+      vertices.insert(t.face(f).begin(), t.face(f).end());
+    }
+    CHECK(m.block_zone_offsets[b + 1] - m.block_zone_offsets[b] == zones);
+    CHECK(m.block_gridpoint_offsets[b + 1] - m.block_gridpoint_offsets[b] == static_cast<idx>(vertices.size()) + 1);
+    CHECK(zones == 2 * static_cast<idx>(vertices.size()) - 4);  // Euler, simple vertices
+  }
+  const auto q = geometry::quality(m);
+  CHECK(q.min_zone_volume > 0);
+  CHECK(q.min_dihedral_deg > 0);
+
+  geometry::zoning_options opt;
+  opt.target_edge_length = 0.02;
+  const block_mesh r = geometry::zone_blocks(t, opt);
+  check_mesh_invariants(t, r);
+  CHECK(geometry::quality(r).max_edge_length <= 2 * 0.02 * (1 + 1e-12));
 }
 
 TEST_CASE("zoning: a block turned inside out is rejected naming the block", "[zoning]") {
@@ -469,7 +513,7 @@ TEST_CASE("io: vtu of blocks and zones parses back", "[io][vtk]") {
   CHECK(types == std::vector<double>{42, 42});
   const auto volume = vtk_array(blocks, "volume");
   REQUIRE(volume.size() == 2);
-  CHECK(volume[0] == Approx(cell_volume(t, 0)).epsilon(1e-15));
+  CHECK(volume[0] == Approx(exact_cell_volume(t, 0)).epsilon(1e-15));
   CHECK(volume[0] + volume[1] == Approx(2.0).epsilon(1e-15));
   // faces stream: per cell [n_faces, (n, ids...) x n_faces] = 1 + 6 * 5 entries; faceoffsets end there.
   CHECK(vtk_array(blocks, "faces").size() == 2u * 31u);

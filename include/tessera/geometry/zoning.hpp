@@ -79,6 +79,9 @@ struct zone_quality {
   /// lengths: 1 for the regular tetrahedron, -> 0 for slivers and needles.
   real min_volume_ratio = 0.0;
   real mean_volume_ratio = 0.0;
+  /// Fraction of zones with volume ratio below 0.1 (slivers, e.g. cones over the thin face
+  /// triangles that short Voronoi edges produce).
+  real fraction_below_ratio_0_1 = 0.0;
   real max_edge_length = 0.0;      ///< longest zone edge (m)
 };
 
@@ -394,6 +397,7 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
   q.min_dihedral_deg = 180.0;
   q.min_volume_ratio = std::numeric_limits<real>::infinity();
   double ratio_sum = 0.0;
+  index below = 0;
   // Face k of a tet is the face opposite node k; edge (i, j) is shared by the faces opposite the
   // two other nodes.
   constexpr std::array<std::array<int, 3>, 4> opposite{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
@@ -430,8 +434,10 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
     const real ratio = 6.0 * std::numbers::sqrt2 * v / (l_rms * l_rms * l_rms);
     q.min_volume_ratio = std::min(q.min_volume_ratio, ratio);
     ratio_sum += ratio;
+    below += ratio < 0.1;
   }
   q.mean_volume_ratio = ratio_sum / q.zones;
+  q.fraction_below_ratio_0_1 = static_cast<real>(below) / q.zones;
   return q;
 }
 
