@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -11,6 +13,7 @@
 #include <tessera/geometry/convex_polyhedron.hpp>
 #include <tessera/geometry/tessellation_queries.hpp>
 #include <tessera/geometry/voronoi.hpp>
+#include <tessera/io/neper.hpp>
 
 using namespace tessera::geometry;
 using tessera::aabb;
@@ -413,4 +416,85 @@ TEST_CASE("bad tessellation input throws invalid_input naming the problem", "[ge
   REQUIRE_THROWS_WITH(laguerre(box, two, nan_weight), Contains("weight 1 = inf"));
   REQUIRE_THROWS_WITH(random_seeds(box, 1000, 1, 0.5), Contains("min_spacing = 0.5"));
   REQUIRE_THROWS_WITH(convex_polyhedron::box({0, 0, 0}, {1, -1, 1}), Contains("hi > lo"));
+}
+
+namespace {
+std::string shipped_tess() {
+  std::ifstream in(std::string(TESSERA_TEST_DATA_DIR) + "/two_cells.tess");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+tessellation read_string(const std::string& text) {
+  std::istringstream in(text);
+  return tessera::io::read_neper_tess(in, "variant.tess");
+}
+std::string replace_once(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  return s.replace(at, from.size(), to);
+}
+}  // namespace
+
+TEST_CASE("Neper reader: two cells in a unit cube", "[geometry][io]") {
+  const tessellation t = tessera::io::read_neper_tess(std::filesystem::path(TESSERA_TEST_DATA_DIR) / "two_cells.tess");
+  REQUIRE(t.cell_count() == 2);
+  CHECK(t.vertex_count() == 12);
+  CHECK(t.face_count() == 12);  // 11 file faces, the shared one stored by both cells
+  CHECK(t.shared_faces.size() == 1);
+  CHECK(cell_volume(t, 0) == Approx(0.5).epsilon(1e-14));
+  CHECK(cell_volume(t, 1) == Approx(0.5).epsilon(1e-14));
+  CHECK((cell_centroid(t, 0) - vec3(0.25, 0.5, 0.5)).norm() < 1e-14);
+  // I_xx of the 0.5 x 1 x 1 half cube of density 2400: m (1 + 1) / 12
+  CHECK(cell_inertia(t, 0, 2400)(0, 0) == Approx(1200 * 2.0 / 12).epsilon(1e-13));
+  CHECK((t.domain.hi - vec3(1, 1, 1)).norm() == 0);
+  REQUIRE(t.seeds.size() == 2);
+  CHECK(t.seeds[1].x() == 0.75);
+  CHECK(t.weights.empty());
+  const auto& s = t.shared_faces[0];
+  CHECK(s.cell_a == 0);
+  CHECK(s.cell_b == 1);
+  CHECK((face_normal(t, s.face_a) - vec3::UnitX()).norm() < 1e-15);
+  CHECK((face_normal(t, s.face_b) + vec3::UnitX()).norm() < 1e-15);
+  CHECK(face_area(t, s.face_a) == Approx(1.0).epsilon(1e-15));
+  std::array<int, 6> sides{};
+  for (tessera::index f = 0; f < t.face_count(); ++f)
+    if (const int b = boundary_side(t.face_neighbor[static_cast<std::size_t>(f)]); b >= 0) ++sides[static_cast<std::size_t>(b)];
+  CHECK(sides == std::array<int, 6>{1, 1, 2, 2, 2, 2});
+  require_valid(t);
+  const convex_polyhedron p = cell_polyhedron(t, 1);
+  CHECK(p.volume() == Approx(0.5).epsilon(1e-14));
+  CHECK(p.euler_characteristic() == 2);
+}
+
+TEST_CASE("Neper reader: malformed files throw io_error naming line and value", "[geometry][io]") {
+  const std::string good = shipped_tess();
+  REQUIRE_NOTHROW(read_string(good));
+  using tessera::io_error;
+  REQUIRE_THROWS_AS(tessera::io::read_neper_tess(std::filesystem::path("/nonexistent/x.tess")), io_error);
+  REQUIRE_THROWS_WITH(read_string("**format\n 3.4\n"), Contains("variant.tess:1") && Contains("must start with ***tess"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "   3.4", "   1.9")), Contains("format version '1.9'"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "3 standard", "2 standard")), Contains("dimension 2"));
+  // non-numeric coordinate of vertex 5 (line 23)
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "   5 0.500000000000 1.000000000000", "   5 0.5x 1.000000000000")),
+                      Contains(":23 (section **vertex)") && Contains("'0.5x'"));
+  // face 1 refers to vertex 13 (only 12 exist)
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "   1 4 1 7 10 4", "   1 4 1 7 13 4")),
+                      Contains("section **face") && Contains("face vertex id = 13"));
+  // polyhedron 2 refers to face 12 (only 11 exist)
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "2 6 -2 7 8 9 10 11", "2 6 -2 7 8 9 10 12")),
+                      Contains("polyhedron 2: face id 12 out of range"));
+  // a boundary face that is not on the box: polyhedron 2 drops the shared face and reuses face 1
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "2 6 -2 7 8 9 10 11", "2 6 -1 7 8 9 10 11")),
+                      Contains("face 1 is used 2 times") || Contains("does not lie on a side"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "2 6 -2 7 8 9 10 11", "2 6 -3 7 8 9 10 11")),
+                      Contains("face 2 belongs to one polyhedron only but does not lie on a side"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, " **cell\n   2", " **cell\n   3")),
+                      Contains(":13 (section **cell *seed)") && Contains("got '*ori'"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(replace_once(good, " **polyhedron\n   2", " **polyhedron\n   1"),
+                                               "   2 6 -2 7 8 9 10 11\n", "")),
+                      Contains("declares 2 cells but **polyhedron lists 1"));
+  REQUIRE_THROWS_WITH(read_string(good.substr(0, good.find(" **polyhedron"))), Contains("missing ***end"));
+  REQUIRE_THROWS_WITH(read_string(good.substr(0, good.find("   2 6 -2"))), Contains("unexpected end of file"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "   cube", "   cylinder")), Contains("domain type 'cylinder'"));
 }

@@ -6,3 +6,4 @@
 #include "io/json.hpp"
 #include "io/plot.hpp"
 #include "io/vtk.hpp"
+#include "io/neper.hpp"
