@@ -8,6 +8,8 @@
 #include <Eigen/Dense>
 
 #include "tessera/blocks.hpp"
+#include "tessera/integrator.hpp"
+#include "tessera/solver.hpp"
 #include "tessera/geometry/zoning.hpp"
 
 using namespace tessera;
@@ -32,6 +34,37 @@ geometry::tessellation box_tessellation(const vec3& lo, const vec3& hi) {
     t.face_twin.push_back(invalid_index);
   }
   t.cell_face_offsets.push_back(6);
+  return t;
+}
+
+/// Column [0,a]x[0,a]x[0,2a] split at z = a into two cells (cell 0 below, cell 1 above) sharing one face.
+geometry::tessellation two_cell_column(real a) {
+  geometry::tessellation t;
+  t.domain.expand(vec3::Zero());
+  t.domain.expand(vec3(a, a, 2 * a));
+  for (int l = 0; l < 3; ++l)
+    for (int k = 0; k < 4; ++k) t.vertices.emplace_back(a * (k & 1), a * ((k >> 1) & 1), a * l);
+  // Vertex v(l, k) = 4 l + k, k = x bit + 2 y bit.
+  const auto add_face = [&](std::initializer_list<int> loop, idx cell, idx neighbor) {
+    for (int v : loop) t.face_vertices.push_back(v);
+    t.face_offsets.push_back(static_cast<idx>(t.face_vertices.size()));
+    t.face_cell.push_back(cell);
+    t.face_neighbor.push_back(neighbor);
+    t.face_twin.push_back(invalid_index);
+  };
+  for (int c = 0; c < 2; ++c) {
+    const int lo = 4 * c, hi = 4 * (c + 1);
+    add_face({lo + 0, hi + 0, hi + 2, lo + 2}, c, geometry::boundary_tag(0));
+    add_face({lo + 1, lo + 3, hi + 3, hi + 1}, c, geometry::boundary_tag(1));
+    add_face({lo + 0, lo + 1, hi + 1, hi + 0}, c, geometry::boundary_tag(2));
+    add_face({lo + 2, hi + 2, hi + 3, lo + 3}, c, geometry::boundary_tag(3));
+    add_face({lo + 0, lo + 2, lo + 3, lo + 1}, c, c == 0 ? geometry::boundary_tag(4) : 0);
+    add_face({hi + 0, hi + 1, hi + 3, hi + 2}, c, c == 0 ? 1 : geometry::boundary_tag(5));
+    t.cell_face_offsets.push_back(static_cast<idx>(t.face_cell.size()));
+  }
+  t.face_twin[5] = 10;
+  t.face_twin[10] = 5;
+  t.shared_faces.push_back({0, 5, 1, 10});
   return t;
 }
 
@@ -190,4 +223,239 @@ TEST_CASE("deformable blocks reject inverted zones", "[mechanics][zones]") {
   node_set gp;
   CHECK_THROWS_AS(b.build(geometry::tessellation{}, mesh, concrete_block, gp), geometry_error);
   CHECK_THROWS_WITH(b.build(geometry::tessellation{}, mesh, concrete_block, gp), Catch::Contains("zone 2"));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Integrator, time step, boundary conditions, solver
+// ---------------------------------------------------------------------------------------------
+
+namespace {
+
+using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
+using undamped_solver = solver<deformable_blocks, law::study_tie_law, reinforcement::none,
+                               integrator::central_difference<integrator::no_damping>, checks::no_step_checker>;
+
+/// Elastic contact for mechanics tests: the study's law with strengths far above any stress here.
+law::study_tie_law::params stiff_elastic_contact(real k_n, real k_s) {
+  auto p = law::study_prism_params(100);
+  p.k_n = k_n;
+  p.k_s = k_s;
+  p.tension.f_T = 1e12;
+  p.tension.G_f = 1e13;  // zeta = 2 G_f / f_T must exceed eta = f_T / k_n
+  p.shear.c_0 = 2e12;
+  p.shear.c_res = 2e10;
+  return p;
+}
+
+}  // namespace
+
+static_assert(integrator::Integrator<integrator::central_difference<integrator::local_damping>>);
+static_assert(integrator::Damping<integrator::no_damping>);
+
+TEST_CASE("local damping opposes the previous velocity with gamma |F|", "[mechanics][integrator]") {
+  const integrator::local_damping d{0.8};
+  CHECK(d.force(10.0, 2.0) == Approx(8.0));
+  CHECK(d.force(-10.0, 2.0) == Approx(8.0));
+  CHECK(d.force(10.0, -1.0) == Approx(-8.0));
+  CHECK(d.force(-10.0, 0.0) == Approx(8.0));  // sgn(0) = +1 (study eq. 1)
+  CHECK_THROWS_AS((integrator::central_difference<integrator::local_damping>(integrator::local_damping{1.2})),
+                  invalid_input);
+}
+
+TEST_CASE("central differences: free, damped and prescribed components", "[mechanics][integrator]") {
+  node_set n;
+  n.resize(2);
+  n.mass << 2.0, 3.0;
+  n.force.row(0) << 4.0, -4.0, 0.0;
+  n.velocity.row(0) << 1.0, 1.0, 0.0;
+  n.constraint(1, 2) = static_cast<std::uint8_t>(dof_constraint::prescribed);
+  n.prescribed_velocity(1, 2) = 0.5;
+  n.force(1, 2) = -6.0;
+  integrator::step_work w;
+  const real dt = 0.1;
+  integrator::central_difference<integrator::local_damping> cd(integrator::local_damping{0.5});
+  cd.advance(n, dt, w);
+  // v+ = v- + (F - 0.5 |F| sgn(v-)) dt / m
+  CHECK(n.velocity(0, 0) == Approx(1.0 + (4.0 - 2.0) * dt / 2.0));
+  CHECK(n.velocity(0, 1) == Approx(1.0 + (-4.0 - 2.0) * dt / 2.0));
+  CHECK(n.displacement(0, 0) == Approx(n.velocity(0, 0) * dt));
+  // Prescribed: v = 0.5, reaction R = m (v_p - v-) / dt - F.
+  CHECK(n.velocity(1, 2) == 0.5);
+  CHECK(n.reaction(1, 2) == Approx(3.0 * 0.5 / dt + 6.0));
+  CHECK(w.boundary == Approx(n.reaction(1, 2) * 0.25 * dt));
+  CHECK(w.damping == Approx(2.0 * 0.5 * (1.0 + n.velocity(0, 0)) * dt + 2.0 * 0.5 * (1.0 + n.velocity(0, 1)) * dt));
+}
+
+TEST_CASE("boundary conditions: groups, conflicts, reactions", "[mechanics][boundary]") {
+  const auto tess = box_tessellation(vec3(0, 0, 0), vec3(0.1, 0.1, 0.2));
+  const auto mesh = geometry::zone_blocks(tess);
+  deformable_blocks b;
+  node_set gp;
+  b.build(tess, mesh, concrete_block, gp);
+  const auto top = bc::nodes_on_plane(gp, 2, 0.2, 1e-9);
+  CHECK(top.size() == 4);
+  CHECK_THROWS_AS(bc::nodes_on_plane(gp, 2, 0.5, 1e-9), invalid_input);
+  CHECK_THROWS_WITH(bc::nodes_on_plane(gp, 2, 0.5, 1e-9), Catch::Contains("z = 0.5"));
+  bc::prescribe_velocity(gp, top, vec3(0, 0, 1e-3), bc::components::z);
+  CHECK_NOTHROW(bc::prescribe_velocity(gp, top, vec3(0, 0, 1e-3), bc::components::z));  // same value: no conflict
+  CHECK_THROWS_AS(bc::fix(gp, top, bc::components::z), invalid_input);
+  CHECK_THROWS_WITH(bc::fix(gp, top, bc::components::z),
+                    Catch::Contains("node " + std::to_string(top.nodes[0])) && Catch::Contains("0.001") &&
+                        Catch::Contains("component z"));
+  CHECK_NOTHROW(bc::fix(gp, top, bc::transverse_to(2)));  // rollers: x, y fixed
+  bc::release(gp, top, bc::components::z);
+  CHECK_NOTHROW(bc::fix(gp, top, bc::components::z));
+}
+
+TEST_CASE("undamped elastic vibration of a zoned block conserves energy", "[mechanics][integrator]") {
+  // Leapfrog conserves, for a linear system, the time-centred energy
+  //     E_n = V(u_n) + 1/2 v_{n-1/2}^T M v_{n+1/2}
+  // exactly; the co-rotational zones are nonlinear only through the block rotation, so E_n must
+  // stay constant to well below 1e-3 over 1e5 steps at 0.9 of the Gershgorin step.
+  const auto tess = box_tessellation(vec3(0, 0, 0), vec3(0.068, 0.068, 0.1));
+  const auto mesh = geometry::zone_blocks(tess);
+  undamped_solver s(tess, mesh, concrete_block, stiff_elastic_contact(1e12, 4e11));
+  // Initial velocity: a twisting + stretching field plus a slow spin (no loads, no supports).
+  for (idx i = 0; i < s.gridpoints().size(); ++i) {
+    const vec3 x = s.gridpoints().reference.row(i).transpose() - vec3(0.034, 0.034, 0.05);
+    s.gridpoints().velocity.row(i) << -x.y() * x.z() * 2.0 - 0.1 * x.y(), x.x() * x.z() * 2.0 + 0.1 * x.x(), 0.05 * x.z();
+  }
+  // After step k the solver holds u_k and v_{k-1/2}: E_{k-1} needs V(u_{k-1}) and v_{k-3/2}
+  // from the previous step.
+  soa3 v_before;
+  real potential_before = 0;
+  const auto remember = [&](const auto& sv) {
+    v_before = sv.gridpoints().velocity;
+    potential_before = sv.blocks().stored_energy(sv.gridpoints());
+  };
+  const auto centred_energy = [&](const auto& sv) {
+    const node_set& gp = sv.gridpoints();
+    real kinetic = 0;
+    for (idx i = 0; i < gp.size(); ++i) kinetic += 0.5 * gp.mass[i] * gp.velocity.row(i).dot(v_before.row(i));
+    return kinetic + potential_before;
+  };
+  remember(s);
+  s.step();
+  const real e0 = centred_energy(s);
+  REQUIRE(e0 > 0);
+  real worst = 0;
+  s.run(100000, [&](const auto& sv) {
+    if (sv.step_count() % 97 == 96) remember(sv);
+    if (sv.step_count() % 97 == 0) worst = std::max(worst, std::abs(centred_energy(sv) - e0) / e0);
+  });
+  INFO("largest relative drift of the centred energy: " << worst);
+  CHECK(worst < 1e-3);
+}
+
+TEST_CASE("a block on a contact spring oscillates with period 2 pi sqrt(m/k)", "[mechanics][solver]") {
+  const real a = 0.05;
+  const auto tess = two_cell_column(a);
+  const auto mesh = geometry::zone_blocks(tess);
+  const real k_n = 1e12;  // Pa/m
+  // Blocks far stiffer than the contact, so block 1 moves as a rigid mass on the spring k_n A.
+  const zones::linear_elastic_tet::params stiff{1e5 * k_n * a, 0.2, 2400};
+  undamped_solver s(tess, mesh, stiff, stiff_elastic_contact(k_n, 0.4 * k_n));
+  bc::fix(s.gridpoints(), bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return x.z() < a - 1e-9; }, "block 0"));
+  bc::node_group upper = bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return x.z() > a + 1e-9; }, "upper");
+  for (idx i = 0; i < mesh.gridpoint_count(); ++i)
+    if (mesh.gridpoint_block[static_cast<std::size_t>(i)] == 1) s.gridpoints().velocity(i, 2) = 1e-4;
+  real mass = 0;
+  for (idx i = 0; i < mesh.gridpoint_count(); ++i)
+    if (mesh.gridpoint_block[static_cast<std::size_t>(i)] == 1) mass += s.gridpoints().mass[i];
+  const real expected_period = 2 * std::numbers::pi * std::sqrt(mass / (k_n * a * a));
+  // Upward zero crossings of the mean displacement of the upper nodes.
+  std::vector<real> crossings;
+  real previous = 0;
+  const auto n_steps = static_cast<std::int64_t>(5.2 * expected_period / s.dt());
+  s.run(n_steps, [&](const auto& sv) {
+    const real u = recorders::mean_displacement(sv.gridpoints(), upper).z();
+    if (previous < 0 && u >= 0) crossings.push_back(sv.time() - sv.dt() * u / (u - previous));
+    previous = u;
+  });
+  REQUIRE(crossings.size() >= 4);
+  const real period = (crossings.back() - crossings.front()) / static_cast<real>(crossings.size() - 1);
+  CHECK(period == Approx(expected_period).epsilon(1e-3));
+}
+
+TEST_CASE("Gershgorin time step is below the true critical step", "[mechanics][timestep]") {
+  const real a = 0.05;
+  const auto tess = two_cell_column(a);
+  const auto mesh = geometry::zone_blocks(tess);
+  undamped_solver s(tess, mesh, concrete_block, stiff_elastic_contact(1.16e12, 0.482e12));
+  // Dense K by central finite differences of the (linear near the reference) internal forces.
+  const idx n = s.gridpoints().size();
+  Eigen::MatrixXd k(3 * n, 3 * n);
+  const real h = 1e-9;
+  for (idx j = 0; j < 3 * n; ++j) {
+    Eigen::VectorXd f[2];
+    for (int side = 0; side < 2; ++side) {
+      undamped_solver probe = s;
+      node_set& gp = probe.gridpoints();
+      const real dx = side == 0 ? h : -h;
+      gp.displacement(j / 3, j % 3) = dx;
+      gp.velocity(j / 3, j % 3) = dx / probe.dt();  // the contact increment of this "step"
+      gp.force.setZero();
+      deformable_blocks blocks = probe.blocks();
+      blocks.accumulate_forces(gp);
+      auto contacts = probe.contacts();
+      contacts.update(gp, probe.dt());
+      f[side].resize(3 * n);
+      for (idx i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) f[side][3 * i + c] = gp.force(i, c);
+    }
+    k.col(j) = -(f[0] - f[1]) / (2 * h);
+  }
+  const Eigen::MatrixXd ks = 0.5 * (k + k.transpose());
+  CHECK((k - ks).cwiseAbs().maxCoeff() <= 1e-5 * k.cwiseAbs().maxCoeff());
+  Eigen::VectorXd inv_sqrt_m(3 * n);
+  for (idx i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c) inv_sqrt_m[3 * i + c] = 1 / std::sqrt(s.gridpoints().mass[i]);
+  const Eigen::MatrixXd a_mat = inv_sqrt_m.asDiagonal() * ks * inv_sqrt_m.asDiagonal();
+  const real lambda_max = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a_mat).eigenvalues().maxCoeff();
+  const real true_critical = 2 / std::sqrt(lambda_max);
+  INFO("Gershgorin " << s.critical_step().dt << " s, eigen " << true_critical << " s");
+  CHECK(s.critical_step().dt <= true_critical);
+  CHECK(s.critical_step().dt >= 0.2 * true_critical);  // a bound, but not a uselessly loose one
+  CHECK(s.dt() == Approx(0.9 * s.critical_step().dt));
+}
+
+TEST_CASE("solver: time step options and mass scaling", "[mechanics][timestep]") {
+  const real a = 0.05;
+  const auto tess = two_cell_column(a);
+  const auto mesh = geometry::zone_blocks(tess);
+  const auto law_params = stiff_elastic_contact(1.16e12, 0.482e12);
+  const prism_solver automatic(tess, mesh, concrete_block, law_params);
+  solver_options too_large;
+  too_large.dt = 2 * automatic.dt();
+  CHECK_THROWS_AS(prism_solver(tess, mesh, concrete_block, law_params, {}, too_large), invalid_input);
+  CHECK_THROWS_WITH(prism_solver(tess, mesh, concrete_block, law_params, {}, too_large),
+                    Catch::Contains("gridpoint") && Catch::Contains("of block") && Catch::Contains("stable limit"));
+  solver_options scaled;
+  scaled.mass_scaling_dt = 10 * automatic.dt();
+  const prism_solver s(tess, mesh, concrete_block, law_params, {}, scaled);
+  CHECK(s.dt() == Approx(scaled.mass_scaling_dt));
+  CHECK(s.options().safety * s.critical_step().dt >= s.dt() * (1 - 1e-12));
+  CHECK(s.mass_scaling().added_mass > 0);
+  CHECK(s.gridpoints().mass.sum() == Approx(s.mass_scaling().original_mass + s.mass_scaling().added_mass));
+}
+
+TEST_CASE("step checker stops a run whose masses are too small", "[mechanics][checker]") {
+  const real a = 0.05;
+  const auto tess = two_cell_column(a);
+  const auto mesh = geometry::zone_blocks(tess);
+  prism_solver s(tess, mesh, concrete_block, stiff_elastic_contact(1.16e12, 0.482e12));
+  s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+  s.prescribe_velocity(s.gridpoints_on_plane(2, 2 * a, 1e-9), vec3(0, 0, 1e-3), bc::components::z);
+  s.gridpoints().mass *= 1e-3;  // dt now ~30 x above the stable limit
+  CHECK_THROWS_AS(s.run(5000), numerical_instability);
+  prism_solver s2(tess, mesh, concrete_block, stiff_elastic_contact(1.16e12, 0.482e12));
+  s2.gridpoints().mass *= 1e-3;
+  s2.gridpoints().velocity.setConstant(1e-6);
+  try {
+    s2.run(5000);
+    FAIL("no numerical_instability");
+  } catch (const numerical_instability& e) {
+    const std::string what = e.what();
+    CHECK_THAT(what, Catch::Contains("of block") && Catch::Contains("time step above the stable limit"));
+  }
 }

@@ -1,3 +1,8 @@
 #pragma once
 // Module header for solver/. Owners add their headers here as they land.
 #include "core.hpp"
+#include "solver/boundary.hpp"
+#include "solver/energy.hpp"
+#include "solver/recorders.hpp"
+#include "solver/step_checker.hpp"
+#include "solver/solver.hpp"

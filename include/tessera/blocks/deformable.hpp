@@ -200,13 +200,19 @@ class deformable {
   /// Global Cauchy stress of every zone at the last accumulate_forces (Pa, Voigt, tension +).
   [[nodiscard]] const zone_stress_matrix& zone_stress() const { return zone_stress_; }
 
-  /// Elastic energy stored in the zones, sum_z V_z W(eps_z) (J), with the rotations of the last
-  /// accumulate_forces.
+  /// Elastic energy stored in the zones, sum_z V_z W(eps_z) (J), with block rotations of the
+  /// CURRENT displacements (the cached ones lag one step behind after the integrator has moved
+  /// the gridpoints). Allocates; not for the time step.
   [[nodiscard]] real stored_energy(const node_set& gridpoints) const {
+    std::vector<mat3> rotations = rotation_;
+    for (index b = 0; b < block_count(); ++b)
+      rotations[static_cast<std::size_t>(b)] = block_rotation(gridpoints, b, rotation_[static_cast<std::size_t>(b)]);
     return deterministic_sum(zone_count(), [&](std::int64_t z) {
       const index zi = static_cast<index>(z);
-      return zone_geometry_[static_cast<std::size_t>(zi)].volume *
-             Zone::strain_energy_density(params_, zone_strain(gridpoints, zi));
+      const mat3 m = rotated_gradient(gridpoints, zi, rotations[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(zi)])]);
+      voigt6 e;
+      e << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
+      return zone_geometry_[static_cast<std::size_t>(zi)].volume * Zone::strain_energy_density(params_, e);
     });
   }
   /// Kinetic energy sum_i 1/2 m_i |v_i|^2 (J), v at the half step.
@@ -216,9 +222,10 @@ class deformable {
     });
   }
 
-  /// Small strain of zone z in the rotated frame of its block (Voigt, engineering shears).
+  /// Small strain of zone z in the rotated frame of its block at the last accumulate_forces
+  /// (Voigt, engineering shears).
   [[nodiscard]] voigt6 zone_strain(const node_set& gridpoints, index z) const {
-    const mat3 m = rotated_gradient(gridpoints, z);
+    const mat3 m = rotated_gradient(gridpoints, z, rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])]);
     voigt6 e;
     e << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
     return e;
@@ -240,19 +247,26 @@ class deformable {
     real volume = 0;
   };
 
+  /// R_b = polar(F_b), F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b, warm-started
+  /// from `previous`.
+  [[nodiscard]] mat3 block_rotation(const node_set& gp, index b, const mat3& previous) const noexcept {
+    mat3 f = mat3::Identity();
+    const auto bs = static_cast<std::size_t>(b);
+    for (index i = block_gridpoint_offsets_[bs]; i < block_gridpoint_offsets_[bs + 1]; ++i)
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) f(r, c) += gp.displacement(i, r) * block_gradient_(i, c);
+    return detail::polar_rotation(f, previous);
+  }
+
   void update_rotations(const node_set& gp) noexcept {
     parallel_for(block_count(), [&](std::int64_t bb) {
-      const std::size_t b = static_cast<std::size_t>(bb);
-      mat3 f = mat3::Identity();
-      for (index i = block_gridpoint_offsets_[b]; i < block_gridpoint_offsets_[b + 1]; ++i)
-        for (int r = 0; r < 3; ++r)
-          for (int c = 0; c < 3; ++c) f(r, c) += gp.displacement(i, r) * block_gradient_(i, c);
-      rotation_[b] = detail::polar_rotation(f, rotation_[b]);
+      const auto b = static_cast<std::size_t>(bb);
+      rotation_[b] = block_rotation(gp, static_cast<index>(bb), rotation_[b]);
     }, 16);
   }
 
   /// R_b^T (1 + H_z) - 1 of zone z (its symmetric part is the co-rotated small strain).
-  [[nodiscard]] mat3 rotated_gradient(const node_set& gp, index z) const noexcept {
+  [[nodiscard]] mat3 rotated_gradient(const node_set& gp, index z, const mat3& r) const noexcept {
     const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
     const auto& c = corners_[static_cast<std::size_t>(z)];
     mat3 h = mat3::Zero();  // displacement gradient H = sum_a u_a (x) grad N_a
@@ -266,7 +280,6 @@ class deformable {
         h(2, k) += u2 * gr[k];
       }
     }
-    const mat3& r = rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
     // R^T (1 + H) - 1 = (R^T - 1) + R^T H, grouped so a small strain is not cancelled against 1.
     mat3 m = r.transpose() * h;
     m += r.transpose();
@@ -275,14 +288,14 @@ class deformable {
   }
 
   void zone_kernel(const node_set& gp, index z) noexcept {
-    const mat3 m = rotated_gradient(gp, z);
+    const mat3& r = rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
+    const mat3 m = rotated_gradient(gp, z, r);
     voigt6 eps;
     eps << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
     const voigt6 s = Zone::stress(params_, eps);
     mat3 sigma;
     sigma << s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2];
     const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
-    const mat3& r = rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
     const mat3 p = r * sigma;                     // R sigma'
     const mat3 pv = -g.volume * p;                // f_a = -V R sigma' grad N_a
     real* out = corner_force_.data() + 12 * static_cast<std::ptrdiff_t>(z);

@@ -1,0 +1,42 @@
+#pragma once
+// Energy bookkeeping of a run (J). The work supplied by the supports must equal the energy
+// held and dissipated in the model:
+//     initial + W_boundary = E_kinetic + E_blocks + E_contacts,stored + D_contacts + D_damping
+//                            + E_bars,stored + D_bars
+// W_boundary (reaction x velocity at prescribed components, trapezoidal) and D_damping (local
+// damping force x velocity) are accumulated every step inside the integrator loop; the other
+// terms are state functions evaluated on demand. The residual measures the time-discretisation
+// error and any missing physics, so it is the run's first sanity check.
+
+#include <algorithm>
+#include <cmath>
+
+#include "../core/types.hpp"
+
+namespace tessera {
+
+struct energy_balance {
+  real initial = 0;                   ///< kinetic + stored energy when the run started
+  real boundary_work = 0;             ///< work of the support reactions (J)
+  real kinetic = 0;                   ///< 1/2 m v^2 of gridpoints, bar nodes (and rigid bodies)
+  real block_elastic = 0;             ///< elastic energy in the zones (1/2 V sigma : eps)
+  real contact_stored = 0;            ///< elastic energy in the contact springs
+  real contact_dissipated = 0;        ///< dissipated by contact softening, slip and crushing
+  real contact_dissipated_tension = 0;  ///< the tensile part of contact_dissipated
+  real damping_dissipated = 0;        ///< removed by the local damping
+  real reinforcement_stored = 0;      ///< elastic energy of bars and bond springs
+  real reinforcement_dissipated = 0;  ///< bar yielding and bond slip
+
+  /// Energy accounted for in the model (J).
+  [[nodiscard]] real accounted() const {
+    return kinetic + block_elastic + contact_stored + contact_dissipated + damping_dissipated + reinforcement_stored +
+           reinforcement_dissipated;
+  }
+  /// |initial + W - accounted| / max(|initial + W|, tiny): relative energy balance error.
+  [[nodiscard]] real error_rel() const {
+    const real supplied = initial + boundary_work;
+    return std::abs(supplied - accounted()) / std::max(std::abs(supplied), 1e-300);
+  }
+};
+
+}  // namespace tessera

@@ -1,0 +1,270 @@
+#pragma once
+// tessera::solver<Blocks, Law, Reinforcement, Integrator, Checker> — the composed model of a
+// scene: blocks (deformable zones or rigid bodies) on one node_set of gridpoints, a sub-contact
+// set with the contact law on every shared face, optional embedded reinforcement, boundary
+// conditions, the stable time step, energy bookkeeping and a step checker. Each policy is
+// checked by its concept, and what a scene does not use is not compiled in (reinforcement::none
+// removes every bar call, no_step_checker the checks).
+//
+// One step (docs/architecture.md, study eq. 1):
+//   1. zero gridpoint and bar-node forces
+//   2. blocks: zone forces from the current displacements            -> gridpoints.force
+//   3. contacts: law update from du = (v_b - v_a) dt, forces           -> gridpoints.force
+//   4. reinforcement: axial + bond forces (zone stress = confinement)  -> bar nodes, gridpoints
+//   5-6. blocks.advance: (rigid: reduce to block force/moment) central differences with damping,
+//      prescribed components and reactions; then bar nodes
+//   7. energy increments, time, step checker every `interval` steps
+// Velocities live at half steps; displacements at full steps.
+//
+// Time step (integrator/timestep.hpp): nodal stiffness bounds from blocks, contacts and bonds,
+// then optional mass scaling to options.mass_scaling_dt, then dt = options.dt if given (it must
+// not exceed safety x the critical step, else invalid_input naming the limiting node and block),
+// else the mass-scaling target, else safety x critical step.
+//
+// Thread safety: one solver is driven by one thread; its loops are parallel and deterministic
+// (bit-identical for any thread count). step() allocates nothing.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <utility>
+
+#include "../blocks/concepts.hpp"
+#include "../blocks/deformable.hpp"
+#include "../blocks/linear_elastic_tet.hpp"
+#include "../contact/subcontact_set.hpp"
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../geometry/tessellation.hpp"
+#include "../integrator/central_difference.hpp"
+#include "../integrator/concepts.hpp"
+#include "../integrator/damping.hpp"
+#include "../integrator/timestep.hpp"
+#include "../law/aliases.hpp"
+#include "../law/concepts.hpp"
+#include "../reinforcement/concepts.hpp"
+#include "../reinforcement/none.hpp"
+#include "boundary.hpp"
+#include "energy.hpp"
+#include "step_checker.hpp"
+
+namespace tessera {
+
+/// Run-time options of a solver (SI).
+struct solver_options {
+  real safety = integrator::default_safety;  ///< dt = safety x min_i 2 sqrt(m_i / k_i), in (0, 1]
+  real dt = 0;                 ///< user time step (s); 0 = automatic. Above the stable limit -> invalid_input
+  real mass_scaling_dt = 0;    ///< > 0: raise nodal masses so this step (s) is stable, and use it
+  real damping_gamma = 0.8;    ///< local damping constant (ignored by no_damping)
+  int threads = 0;             ///< OpenMP threads; 0 = leave the current setting
+  index check_interval = 100;  ///< steps between step-checker passes
+};
+
+template <blocks::BlockModel Blocks, law::ContactLaw Law, reinforcement::Reinforcement Reinforcement = reinforcement::none,
+          integrator::Integrator Integrator = integrator::central_difference<integrator::local_damping>,
+          class Checker = checks::default_step_checker>
+class solver {
+ public:
+  using blocks_type = Blocks;
+  using law_type = Law;
+  using reinforcement_type = Reinforcement;
+  using integrator_type = Integrator;
+  using checker_type = Checker;
+  using contact_set_type = contact::subcontact_set<Law>;
+
+  /// Builds the model: blocks (validating their material), sub-contacts (validating the law),
+  /// reinforcement, nodal stiffness bounds, mass scaling and the time step. Throws
+  /// invalid_input / geometry_error naming the offending entity.
+  solver(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const typename Blocks::params& block_params,
+         const typename Law::params& law_params, const typename Reinforcement::params& reinforcement_params = {},
+         const solver_options& options = {})
+      : options_(options) {
+    require(options.safety > 0 && options.safety <= 1, "solver: safety factor = ", options.safety,
+            " must lie in (0, 1]");
+    require_non_negative(options.dt, "solver: user time step dt (s)");
+    require_non_negative(options.mass_scaling_dt, "solver: mass-scaling target time step (s)");
+    require(options.check_interval >= 1, "solver: check_interval = ", options.check_interval, " must be >= 1");
+    if (options.threads > 0) set_threads(options.threads);
+    if constexpr (requires(typename Integrator::damping_type d) { d.gamma; }) {
+      typename Integrator::damping_type d;
+      d.gamma = options.damping_gamma;
+      d.validate();
+      integrator_ = Integrator(d);
+    }
+    checker_.interval = options.check_interval;
+
+    blocks_.build(tess, mesh, block_params, gridpoints_);
+    gridpoint_block_ = mesh.gridpoint_block;
+    contacts_ = contact_set_type(tess, mesh, law_params);
+    if constexpr (Reinforcement::enabled) reinforcement_.build(reinforcement_params, mesh, gridpoints_);
+    compute_time_step();
+  }
+
+  // ---- boundary conditions on the gridpoints (bar nodes: use bc:: on bar_nodes()) ----
+  /// Gridpoints on the plane X[axis] = value (reference configuration, tolerance tol m).
+  [[nodiscard]] bc::node_group gridpoints_on_plane(int axis, real value, real tol) const {
+    return bc::nodes_on_plane(gridpoints_, axis, value, tol);
+  }
+  void fix(const bc::node_group& g, bc::components c = bc::components::xyz) { bc::fix(gridpoints_, g, c); }
+  void prescribe_velocity(const bc::node_group& g, const vec3& v, bc::components c = bc::components::xyz) {
+    bc::prescribe_velocity(gridpoints_, g, v, c);
+  }
+
+  /// Advances the model by one time step (see the file comment).
+  void step() {
+    if (step_ == 0) initial_energy_ = stored_and_kinetic();
+    gridpoints_.force.setZero();
+    if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
+    blocks_.accumulate_forces(gridpoints_);
+    contacts_.update(gridpoints_, dt_);
+    if constexpr (Reinforcement::enabled) reinforcement_.accumulate_forces(gridpoints_, blocks_.zone_stress());
+    integrator::step_work work;
+    blocks_.advance(integrator_, gridpoints_, dt_, work);
+    if constexpr (Reinforcement::enabled) integrator_.advance(reinforcement_.nodes(), dt_, work);
+    boundary_work_ += work.boundary;
+    damping_dissipated_ += work.damping;
+    ++step_;
+    time_ += dt_;
+    if constexpr (Checker::enabled)
+      if (step_ % checker_.interval == 0) checker_.check(*this);
+  }
+
+  /// Runs n_steps steps, calling observer(*this) after each (wrap with recorders::every).
+  template <class... Observers>
+  void run(std::int64_t n_steps, Observers&&... observers) {
+    for (std::int64_t k = 0; k < n_steps; ++k) {
+      step();
+      (observers(std::as_const(*this)), ...);
+    }
+  }
+  /// Steps until stop(*this) is true or max_steps were taken; returns the steps taken.
+  template <class Predicate, class... Observers>
+  std::int64_t run_until(Predicate&& stop, std::int64_t max_steps, Observers&&... observers) {
+    std::int64_t k = 0;
+    while (k < max_steps && !stop(std::as_const(*this))) {
+      step();
+      ++k;
+      (observers(std::as_const(*this)), ...);
+    }
+    return k;
+  }
+
+  // ---- accessors ----
+  [[nodiscard]] node_set& gridpoints() { return gridpoints_; }
+  [[nodiscard]] const node_set& gridpoints() const { return gridpoints_; }
+  [[nodiscard]] node_set& bar_nodes() { return reinforcement_.nodes(); }
+  [[nodiscard]] const node_set& bar_nodes() const { return reinforcement_.nodes(); }
+  [[nodiscard]] const contact_set_type& contacts() const { return contacts_; }
+  [[nodiscard]] const Blocks& blocks() const { return blocks_; }
+  [[nodiscard]] const Reinforcement& reinforcement() const { return reinforcement_; }
+  [[nodiscard]] Reinforcement& reinforcement() { return reinforcement_; }
+  [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] real time() const { return time_; }
+  [[nodiscard]] real dt() const { return dt_; }
+  [[nodiscard]] std::int64_t step_count() const { return step_; }
+  /// Critical step min 2 sqrt(m/k) (after mass scaling) and its limiting node.
+  [[nodiscard]] const integrator::critical_step& critical_step() const { return critical_; }
+  [[nodiscard]] const integrator::mass_scaling_report& mass_scaling() const { return scaling_; }
+  [[nodiscard]] const solver_options& options() const { return options_; }
+
+  /// All energy terms now (J); O(zones + sub-contacts + nodes).
+  [[nodiscard]] energy_balance energies() const {
+    energy_balance e;
+    e.initial = step_ == 0 ? stored_and_kinetic() : initial_energy_;
+    e.boundary_work = boundary_work_;
+    e.damping_dissipated = damping_dissipated_;
+    e.kinetic = blocks_.kinetic_energy(gridpoints_);
+    e.block_elastic = blocks_.stored_energy(gridpoints_);
+    const auto c = contacts_.energies();
+    e.contact_stored = c.stored;
+    e.contact_dissipated = c.dissipated;
+    e.contact_dissipated_tension = c.dissipated_tension;
+    if constexpr (Reinforcement::enabled) {
+      const node_set& bars = reinforcement_.nodes();
+      e.kinetic += deterministic_sum(bars.size(), [&](std::int64_t i) {
+        return 0.5 * bars.mass[i] * bars.velocity.row(i).squaredNorm();
+      });
+      e.reinforcement_stored = reinforcement_.stored_energy();
+      e.reinforcement_dissipated = reinforcement_.dissipated_energy();
+    }
+    return e;
+  }
+
+  /// Recomputes nodal stiffness bounds, mass scaling and dt (after changing options or masses).
+  void compute_time_step() {
+    gridpoints_.stiffness.setZero();
+    blocks_.add_stiffness_bounds(gridpoints_);
+    contacts_.add_stiffness_bounds(gridpoints_);
+    if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
+    if (options_.mass_scaling_dt > 0) {
+      scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety);
+      if constexpr (Reinforcement::enabled) {
+        const auto bars = integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety);
+        scaling_.added_mass += bars.added_mass;
+        scaling_.original_mass += bars.original_mass;
+        scaling_.scaled_nodes += bars.scaled_nodes;
+      }
+    }
+    critical_ = integrator::critical_time_step(gridpoints_);
+    bool limited_by_bar = false;
+    if constexpr (Reinforcement::enabled) {
+      const auto bars = integrator::critical_time_step(reinforcement_.nodes());
+      if (bars.dt < critical_.dt) {
+        critical_ = bars;
+        limited_by_bar = true;
+      }
+    }
+    require(std::isfinite(critical_.dt), "solver: no node has a positive stiffness bound; cannot choose a time step");
+    const real stable = options_.safety * critical_.dt;
+    if (options_.dt > 0) {
+      require(options_.dt <= stable * (1 + 1e-12), "solver: time step dt = ", options_.dt,
+              " s exceeds the stable limit ", stable, " s (safety ", options_.safety, " x 2 sqrt(m/k)) set by ",
+              limited_by_bar ? detail::concat("bar node ", critical_.node)
+                             : detail::concat("gridpoint ", critical_.node, " of block ", gridpoint_block(critical_.node)),
+              " (m = ", critical_.mass, " kg, k = ", critical_.stiffness, " N/m); lower dt or use mass scaling");
+      dt_ = options_.dt;
+    } else if (options_.mass_scaling_dt > 0) {
+      dt_ = std::min(options_.mass_scaling_dt, stable);
+    } else {
+      dt_ = stable;
+    }
+  }
+
+ private:
+  [[nodiscard]] real stored_and_kinetic() const {
+    real e = blocks_.kinetic_energy(gridpoints_) + blocks_.stored_energy(gridpoints_) + contacts_.energies().stored;
+    if constexpr (Reinforcement::enabled) {
+      const node_set& bars = reinforcement_.nodes();
+      for (index i = 0; i < bars.size(); ++i) e += 0.5 * bars.mass[i] * bars.velocity.row(i).squaredNorm();
+      e += reinforcement_.stored_energy();
+    }
+    return e;
+  }
+
+  solver_options options_;
+  Blocks blocks_;
+  node_set gridpoints_;
+  std::vector<index> gridpoint_block_;
+  contact_set_type contacts_;
+  Reinforcement reinforcement_;
+  Integrator integrator_{};
+  Checker checker_{};
+  real dt_ = 0;
+  real time_ = 0;
+  std::int64_t step_ = 0;
+  real boundary_work_ = 0;
+  real damping_dissipated_ = 0;
+  real initial_energy_ = 0;
+  integrator::critical_step critical_;
+  integrator::mass_scaling_report scaling_;
+};
+
+/// The study's plain-concrete prism / tie concrete: deformable semi-rigid blocks, power softening.
+using prism_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::study_tie_law>;
+/// Linear-softening variant (sensitivity study, Sec. 3.2).
+using prism_linear_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::linear_tie_law>;
+
+}  // namespace tessera
