@@ -215,7 +215,11 @@ inline void clean_loop(std::vector<index>& loop) {
     const std::size_t base = point_offset[c];
     std::copy(p.vertices().begin(), p.vertices().end(), points.begin() + static_cast<std::ptrdiff_t>(base));
     // incident faces of each vertex: count and the first three (keys[] used as scratch)
-    std::vector<int> degree(static_cast<std::size_t>(p.vertex_count()), 0);
+    thread_local std::vector<int> degree;
+    thread_local std::vector<vec3> normal;
+    degree.assign(static_cast<std::size_t>(p.vertex_count()), 0);
+    normal.resize(static_cast<std::size_t>(p.face_count()));
+    for (index f = 0; f < p.face_count(); ++f) normal[static_cast<std::size_t>(f)] = p.face_normal(f);
     for (index f = 0; f < p.face_count(); ++f)
       for (index v : p.face(f)) {
         int& d = degree[static_cast<std::size_t>(v)];
@@ -225,7 +229,9 @@ inline void clean_loop(std::vector<index>& loop) {
     for (index v = 0; v < p.vertex_count(); ++v) {
       vertex_key& key = keys[base + static_cast<std::size_t>(v)];
       if (degree[static_cast<std::size_t>(v)] < 3) { key = no_vertex_key; continue; }
-      const vec3 n0 = p.face_normal(key[0]), n1 = p.face_normal(key[1]), n2 = p.face_normal(key[2]);
+      const vec3& n0 = normal[static_cast<std::size_t>(key[0])];
+      const vec3& n1 = normal[static_cast<std::size_t>(key[1])];
+      const vec3& n2 = normal[static_cast<std::size_t>(key[2])];
       conditioning[base + static_cast<std::size_t>(v)] = std::abs(n0.dot(n1.cross(n2)));
       if (degree[static_cast<std::size_t>(v)] != 3) { key = no_vertex_key; continue; }
       key = {p.face_tag(key[0]), p.face_tag(key[1]), p.face_tag(key[2]), static_cast<index>(c)};

@@ -18,8 +18,9 @@
 // with random_seeds, for a fixed rng seed on any platform (std::mt19937_64 is fully specified;
 // the uniform mapping is our own, not std::uniform_real_distribution).
 //
-// Cost: O(N) expected for uniformly spread generators (about 30 clips per cell); 100 000 cells
-// take about a second on two cores (see benchmarks/bench_tessellation.cpp).
+// Cost: O(N) expected for uniformly spread generators (a few tens of clips per cell); 100 000
+// cells of a unit cube take 2.6-3.7 s of single-thread CPU time, about 75 % of it in the
+// parallel cell computation (benchmarks/bench_tessellation.cpp).
 // Thread safety: the free functions may be called concurrently.
 
 #include <algorithm>
