@@ -8,7 +8,6 @@
 #include <fstream>
 #include <map>
 #include <numeric>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -257,10 +256,11 @@ std::vector<double> vtk_array(const std::string& xml, const std::string& name) {
   for (double x; in >> x;) v.push_back(x);
   return v;
 }
+/// Integer value of the first attribute `attribute="N"` in the file, -1 if absent.
 long xml_attribute(const std::string& xml, const std::string& attribute) {
-  std::smatch m;
-  const std::regex re(attribute + "=\"([0-9]+)\"");
-  return std::regex_search(xml, m, re) ? std::stol(m[1]) : -1;
+  const std::string key = attribute + "=\"";
+  const auto at = xml.find(key);
+  return at == std::string::npos ? -1 : std::stol(xml.substr(at + key.size()));
 }
 
 }  // namespace
