@@ -7,24 +7,21 @@
 // face_mesh() gives each cell its own copies of its vertices plus a centroid gridpoint, face
 // nodes sorted by global vertex id (so twins pair coincident gridpoints in the same order),
 // fan triangles and one-third tributary areas, exactly as block_mesh.hpp specifies.
-#include <catch2/catch.hpp>
-
-#include <tessera/contact/subcontact_set.hpp>
-#include <tessera/geometry/voronoi.hpp>
-#include <tessera/geometry/zoning.hpp>
-#include <tessera/law/aliases.hpp>
-
 #include <Eigen/Geometry>
-
 #include <algorithm>
 #include <atomic>
+#include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <new>
 #include <numbers>
-#include <string>
 #include <random>
+#include <string>
+#include <tessera/contact/subcontact_set.hpp>
+#include <tessera/geometry/voronoi.hpp>
+#include <tessera/geometry/zoning.hpp>
+#include <tessera/law/aliases.hpp>
 #include <vector>
 
 // ---- allocation counter: replaces the global operator new of this test executable ----
@@ -61,8 +58,8 @@ using Catch::Matchers::Contains;
 /// new contact plane keeping its magnitude, as law::ContactLaw requires.
 struct elastic_brittle_law {
   struct params {
-    real k_n = 0;  ///< Pa/m
-    real k_s = 0;  ///< Pa/m
+    real k_n = 0;                                      ///< Pa/m
+    real k_s = 0;                                      ///< Pa/m
     real f_t = std::numeric_limits<real>::infinity();  ///< Pa
   };
   struct state {
@@ -230,7 +227,8 @@ std::string thrown_message(F&& f) {
 node_set gridpoints_of(const geometry::block_mesh& m) {
   node_set g;
   g.resize(m.gridpoint_count());
-  for (index i = 0; i < m.gridpoint_count(); ++i) g.reference.row(i) = m.gridpoints[static_cast<std::size_t>(i)].transpose();
+  for (index i = 0; i < m.gridpoint_count(); ++i)
+    g.reference.row(i) = m.gridpoints[static_cast<std::size_t>(i)].transpose();
   return g;
 }
 
@@ -322,8 +320,10 @@ TEST_CASE("areas sum to the face area and normals are unit A->B on a jittered br
     CHECK((n - area_vector.normalized()).norm() < 1e-14);  // outward of block A, pointing to B
     // A -> B: the centroid of block B lies on the positive side.
     const auto& sf = tess.shared_faces[static_cast<std::size_t>(s)];
-    const vec3 ca = mesh.gridpoints[static_cast<std::size_t>(mesh.block_gridpoint_offsets[static_cast<std::size_t>(sf.cell_a) + 1] - 1)];
-    const vec3 cb = mesh.gridpoints[static_cast<std::size_t>(mesh.block_gridpoint_offsets[static_cast<std::size_t>(sf.cell_b) + 1] - 1)];
+    const vec3 ca = mesh.gridpoints[static_cast<std::size_t>(
+        mesh.block_gridpoint_offsets[static_cast<std::size_t>(sf.cell_a) + 1] - 1)];
+    const vec3 cb = mesh.gridpoints[static_cast<std::size_t>(
+        mesh.block_gridpoint_offsets[static_cast<std::size_t>(sf.cell_b) + 1] - 1)];
     CHECK((cb - ca).dot(n) > 0);
   }
 }
@@ -380,8 +380,8 @@ TEST_CASE("linear softening: force-opening curve = law x face area, separation d
   law::linear_tie_law::params p;
   p.k_n = 1e12;
   p.k_s = 4e11;
-  p.tension.f_T = 2e6;   // eta = f_T/k_n = 2e-6 m
-  p.tension.G_f = 60;    // zeta = 2 G_f/f_T = 6e-5 m = 30 eta
+  p.tension.f_T = 2e6;  // eta = f_T/k_n = 2e-6 m
+  p.tension.G_f = 60;   // zeta = 2 G_f/f_T = 6e-5 m = 30 eta
   p.shear.c_0 = 4e6;
   p.shear.c_res = 4e4;
   p.shear.phi_0 = law::friction_angle::from_degrees(35);
@@ -498,7 +498,8 @@ TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with 
         // First-order frame correction: relative drift O(angle x angle/steps) = O(4e-4).
         CHECK(set.state(i).sigma_n == Approx(sigma0_n.x()).epsilon(1e-3));
         CHECK((set.state(i).tau - r * tau0).norm() < 1e-3 * tau0.norm());
-        CHECK((set.force(i) + set.area(i) * r * (sigma0_n + tau0)).norm() < 2e-3 * set.area(i) * (sigma0_n + tau0).norm());
+        CHECK((set.force(i) + set.area(i) * r * (sigma0_n + tau0)).norm() <
+              2e-3 * set.area(i) * (sigma0_n + tau0).norm());
       }
     }
   }
@@ -583,8 +584,7 @@ TEST_CASE("bad pairing and bad input throw with the shared face, its cells and t
     const index o = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)];
     std::swap(mesh.face_nodes[static_cast<std::size_t>(o)], mesh.face_nodes[static_cast<std::size_t>(o) + 2]);
     CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
-               Contains("shared face 2 (cells 1 and 3") &&
-                                                  Contains("coincident"));
+               Contains("shared face 2 (cells 1 and 3") && Contains("coincident"));
   }
   SECTION("different node counts on the two sides") {
     auto mesh = good;
@@ -594,15 +594,14 @@ TEST_CASE("bad pairing and bad input throw with the shared face, its cells and t
     for (std::size_t f = static_cast<std::size_t>(sf.face_b) + 1; f < mesh.face_node_offsets.size(); ++f)
       --mesh.face_node_offsets[f];
     CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
-               Contains("shared face 2") &&
-                                                  Contains("4 and 3 face nodes"));
+               Contains("shared face 2") && Contains("4 and 3 face nodes"));
   }
   SECTION("tributary areas that differ") {
     auto mesh = good;
-    mesh.face_node_area[static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)]) + 1] *= 1.01;
+    mesh.face_node_area[static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)]) + 1] *=
+        1.01;
     CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
-               Contains("shared face 2") &&
-                                                  Contains("tributary areas"));
+               Contains("shared face 2") && Contains("tributary areas"));
   }
   SECTION("a gridpoint of the wrong block") {
     auto mesh = good;
@@ -610,15 +609,16 @@ TEST_CASE("bad pairing and bad input throw with the shared face, its cells and t
     const auto ob = static_cast<std::size_t>(mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)]);
     mesh.face_nodes[ob] = mesh.face_nodes[oa];
     CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
-               Contains("shared face 2") &&
-                                                  Contains("belong to blocks 1 and 1"));
+               Contains("shared face 2") && Contains("belong to blocks 1 and 1"));
   }
   SECTION("mesh of another tessellation") {
     const auto other = face_mesh(brick_tessellation(3, 1, 1, vec3(3, 1, 1)));
     CHECK_THROWS_AS(set_type(tess, other, p), geometry_error);
   }
   SECTION("non-positive stiffness") {
-    CHECK_THAT(thrown_message<invalid_input>([&] { (void)set_type(tess, good, {-1.0, 4e11}); }),
+    CHECK_THAT(thrown_message<invalid_input>([&] {
+                 (void)set_type(tess, good, {-1.0, 4e11});
+               }),
                Contains("k_n") && Contains("-1"));
   }
 }
@@ -671,7 +671,8 @@ vec3 polygon_area_vector(const geometry::tessellation& t, std::span<const index>
   vec3 s = vec3::Zero();
   const vec3& x0 = t.vertices[static_cast<std::size_t>(loop[0])];
   for (std::size_t k = 1; k + 1 < loop.size(); ++k)
-    s += (t.vertices[static_cast<std::size_t>(loop[k])] - x0).cross(t.vertices[static_cast<std::size_t>(loop[k + 1])] - x0);
+    s += (t.vertices[static_cast<std::size_t>(loop[k])] - x0)
+             .cross(t.vertices[static_cast<std::size_t>(loop[k + 1])] - x0);
   return 0.5 * s;
 }
 }  // namespace

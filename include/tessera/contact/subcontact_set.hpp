@@ -12,14 +12,17 @@
 // Sub-contacts of a face are contiguous, faces in tessellation::shared_faces order, and
 // "face s" below always means shared face s (not a tessellation face id).
 //
-// Contact frame. One unit normal per shared face per step, from block A to block B:
-//     n = (S_a - S_b) / |S_a - S_b|,   S = sum over the face's triangles of (x1 - x0) x (x2 - x0)
-// with S_a, S_b the (twice) area vectors of the two sides' triangulations at their current
-// positions x = X + u. Each points out of its own block (S_a: A->B, S_b: B->A), so their
-// difference is the normal of the common plane of the two nearly coincident faces: exact for
-// a planar face moving rigidly, the mean plane when the two sides deform differently (the
-// common-plane approximation for conforming faces). Faces are 4 to 8 times fewer than
-// sub-contacts, so the frame is computed once per face per step and shared.
+// Contact frame. One unit normal per shared face per step, from block A to block B, the
+// normalised vector area of the face's polygon drawn through the midpoints of its corner pairs:
+//     m_k = (x_a,k + x_b,k) / 2,   S = sum_{k=1}^{K-2} (m_k - m_0) x (m_{k+1} - m_0),   n = S / |S|
+// where k runs over the K polygon vertices of the tessellation face (tessellation::face(face_a),
+// counter-clockwise seen from A, so S points from A to B) and x = X + u are current positions.
+// This is the common plane of the two nearly coincident sides: (S_a - S_b)/2, the difference of
+// the Newell vectors of side A and side B, up to terms quadratic in the relative displacement of
+// the sides (microns against the face size). The vector area of a closed loop does not depend on
+// the surface spanned, so S is exact for a planar face and the mean plane of a warped one; edge
+// midpoints and interior face gridpoints of a refined zoning do not enter it. Faces are 4 to 8
+// times fewer than sub-contacts, so the frame is computed once per face per step and shared.
 //
 // Kinematics. The solver calls update() in step 3 of the step, when displacements are at time
 // t and velocities at t - dt/2 (docs/architecture.md). The relative displacement increment is
@@ -44,21 +47,21 @@
 //
 // Storage (structure of arrays behind index handles): per sub-contact node_a, node_b, face,
 // area, the law state and a 3-array force buffer; per face its sub-contact range, blocks,
-// triangles of both sides and the current and previous normals. Law::state is a small POD read
+// polygon corners (as sub-contact ids) and the current and previous normals. Law::state is a small POD read
 // and written as a whole by each update, so an array of states (not one array per state field)
 // is the cache-friendly layout: one contiguous line or two per sub-contact. The gather uses a
 // gridpoint -> (sub-contact, side) CSR incidence built once, over the gridpoints that carry
 // sub-contacts only, in increasing gridpoint and sub-contact order.
 //
-// Threading and determinism. update() runs three parallel loops (core/parallel.hpp): faces ->
-// normals, sub-contacts -> law update + force buffer, contact gridpoints -> gather. Each loop
+// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): faces ->
+// frame, then law update + force buffer of the face's sub-contacts; contact gridpoints -> gather. Each loop
 // writes only what its index owns and the gather sums in a fixed order, so results are
 // bit-identical for any thread count. update() allocates nothing. Concurrent const access is
 // safe; update() and add_stiffness_bounds() must not run concurrently with anything else on
 // the same object.
 //
-// Cost: memory ~ (40 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts +
-// face triangles); construction O(sub-contacts + gridpoints).
+// Cost: memory ~ (40 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
+// construction O(sub-contacts + gridpoints).
 
 #include <algorithm>
 #include <array>
@@ -98,26 +101,16 @@ concept has_dissipation_split = requires(const S& s) {
   { s.dissipated_compression } -> std::convertible_to<real>;
 };
 
-/// Twice the area vector of triangles tris (gridpoint ids) at positions X + u, computed from
-/// edge vectors (X_j - X_0) + (u_j - u_0) so the displacement is not swamped by the coordinates.
-inline vec3 area_vector2(const std::array<index, 3>* tris, index count, const real* const X[3],
-                         const real* const u[3]) noexcept {
-  vec3 s = vec3::Zero();
-  for (index t = 0; t < count; ++t) {
-    const auto& tri = tris[t];
-    vec3 e1, e2;
-    for (int c = 0; c < 3; ++c) {
-      e1[c] = (X[c][tri[1]] - X[c][tri[0]]) + (u[c][tri[1]] - u[c][tri[0]]);
-      e2[c] = (X[c][tri[2]] - X[c][tri[0]]) + (u[c][tri[2]] - u[c][tri[0]]);
-    }
-    s += e1.cross(e2);
-  }
-  return s;
-}
 }  // namespace detail
 
 template <law::ContactLaw Law>
 class subcontact_set {
+  /// Array subscript of an index handle.
+  template <std::integral I>
+  [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
+    return static_cast<std::size_t>(i);
+  }
+
  public:
   using law_type = Law;
   using params_type = typename Law::params;
@@ -140,7 +133,8 @@ class subcontact_set {
   /// Builds one sub-contact per face-node pair of every shared face of `tess` (see the file
   /// comment). Validates `p` with Law::validate (invalid_input). Throws geometry_error, naming
   /// the shared face, its cells and tessellation faces, when the mesh does not match the
-  /// tessellation, when the two sides of a face have different node or triangle counts, when
+  /// tessellation, when the two sides of a face have different node counts or a polygon vertex
+  /// of the face has no face node (block_mesh::gridpoint_vertex), when
   /// paired gridpoints do not coincide (beyond 1e-9 of the model's bounding-box diagonal) or
   /// belong to the wrong block, or when their tributary areas differ (beyond 1e-9 relative) or
   /// are not > 0. Cost O(sub-contacts + gridpoints).
@@ -149,14 +143,14 @@ class subcontact_set {
     Law::validate(p);
     const index n_faces = tess.face_count();
     const index n_gridpoints = mesh.gridpoint_count();
-    require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1 &&
-                                static_cast<index>(mesh.face_triangle_offsets.size()) == n_faces + 1,
-                            "subcontact_set: block_mesh has face data for ", mesh.face_node_offsets.size() - 1,
-                            " faces (nodes) and ", mesh.face_triangle_offsets.size() - 1,
-                            " faces (triangles), expected one per tessellation face (", n_faces, ")");
+    require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1,
+                            "subcontact_set: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
+                            " faces, expected one entry per tessellation face (", n_faces, ")");
+    require<geometry_error>(static_cast<index>(mesh.gridpoint_vertex.size()) == n_gridpoints,
+                            "subcontact_set: block_mesh has ", mesh.gridpoint_vertex.size(),
+                            " gridpoint_vertex entries, expected one per gridpoint (", n_gridpoints, ")");
     require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "subcontact_set: block_mesh has ",
-                            mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(),
-                            " face nodes");
+                            mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(), " face nodes");
     gridpoint_count_ = n_gridpoints;
 
     aabb box;
@@ -165,57 +159,54 @@ class subcontact_set {
 
     const auto face_count = static_cast<index>(tess.shared_faces.size());
     first_subcontact_.assign(1, 0);
-    first_triangle_.assign(1, 0);
-    first_subcontact_.reserve(static_cast<std::size_t>(face_count) + 1);
-    first_triangle_.reserve(static_cast<std::size_t>(face_count) + 1);
+    first_corner_.assign(1, 0);
+    first_subcontact_.reserve(at(face_count) + 1);
+    first_corner_.reserve(at(face_count) + 1);
     shared_faces_ = tess.shared_faces;
-    face_area_.reserve(static_cast<std::size_t>(face_count));
+    face_area_.reserve(at(face_count));
     for (index s = 0; s < face_count; ++s) {
-      const auto& sf = tess.shared_faces[static_cast<std::size_t>(s)];
-      const auto where = [&] {
-        return tessera::detail::concat("subcontact_set: shared face ", s, " (cells ", sf.cell_a, " and ", sf.cell_b,
-                              ", tessellation faces ", sf.face_a, " and ", sf.face_b, "): ");
+      const auto& sf = tess.shared_faces[at(s)];
+      // Throws geometry_error naming the face; the message is only built on failure.
+      const auto check = [&](bool ok, const auto&... message) {
+        if (!ok)
+          throw geometry_error(tessera::detail::concat("subcontact_set: shared face ", s, " (cells ", sf.cell_a,
+                                                       " and ", sf.cell_b, ", tessellation faces ", sf.face_a, " and ",
+                                                       sf.face_b, "): ", message...));
       };
-      require<geometry_error>(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces &&
-                                  sf.cell_a >= 0 && sf.cell_a < sf.cell_b && sf.cell_b < tess.cell_count(),
-                              where(), "face or cell id out of range or cells not in increasing order (",
-                              tess.cell_count(), " cells, ", n_faces, " faces)");
+      check(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces && sf.cell_a >= 0 &&
+                sf.cell_a < sf.cell_b && sf.cell_b < tess.cell_count(),
+            "face or cell id out of range or cells not in increasing order (", tess.cell_count(), " cells, ", n_faces,
+            " faces)");
       if (static_cast<index>(tess.face_cell.size()) == n_faces)
-        require<geometry_error>(tess.face_cell[static_cast<std::size_t>(sf.face_a)] == sf.cell_a &&
-                                    tess.face_cell[static_cast<std::size_t>(sf.face_b)] == sf.cell_b,
-                                where(), "faces belong to cells ", tess.face_cell[static_cast<std::size_t>(sf.face_a)],
-                                " and ", tess.face_cell[static_cast<std::size_t>(sf.face_b)]);
-      const index na0 = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a)];
-      const index nb0 = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)];
-      const index n_nodes = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a) + 1] - na0;
-      const index n_nodes_b = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b) + 1] - nb0;
-      require<geometry_error>(n_nodes == n_nodes_b && n_nodes >= 3, where(), "the sides have ", n_nodes, " and ",
-                              n_nodes_b, " face nodes, expected the same number (>= 3)");
+        check(tess.face_cell[at(sf.face_a)] == sf.cell_a && tess.face_cell[at(sf.face_b)] == sf.cell_b,
+              "faces belong to cells ", tess.face_cell[at(sf.face_a)], " and ", tess.face_cell[at(sf.face_b)]);
+      const index na0 = mesh.face_node_offsets[at(sf.face_a)];
+      const index nb0 = mesh.face_node_offsets[at(sf.face_b)];
+      const index n_nodes = mesh.face_node_offsets[at(sf.face_a) + 1] - na0;
+      const index n_nodes_b = mesh.face_node_offsets[at(sf.face_b) + 1] - nb0;
+      check(n_nodes == n_nodes_b && n_nodes >= 3, "the sides have ", n_nodes, " and ", n_nodes_b,
+            " face nodes, expected the same number (>= 3)");
       real face_area = 0;
       for (index k = 0; k < n_nodes; ++k) {
-        const index a = mesh.face_nodes[static_cast<std::size_t>(na0 + k)];
-        const index b = mesh.face_nodes[static_cast<std::size_t>(nb0 + k)];
-        require<geometry_error>(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, where(), "face node ", k,
-                                " refers to gridpoints ", a, " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
+        const index a = mesh.face_nodes[at(na0 + k)];
+        const index b = mesh.face_nodes[at(nb0 + k)];
+        check(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, "face node ", k, " refers to gridpoints ", a,
+              " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
         if (static_cast<index>(mesh.gridpoint_block.size()) == n_gridpoints)
-          require<geometry_error>(mesh.gridpoint_block[static_cast<std::size_t>(a)] == sf.cell_a &&
-                                      mesh.gridpoint_block[static_cast<std::size_t>(b)] == sf.cell_b,
-                                  where(), "face node ", k, ": gridpoints ", a, " and ", b, " belong to blocks ",
-                                  mesh.gridpoint_block[static_cast<std::size_t>(a)], " and ",
-                                  mesh.gridpoint_block[static_cast<std::size_t>(b)]);
-        const vec3& xa = mesh.gridpoints[static_cast<std::size_t>(a)];
-        const vec3& xb = mesh.gridpoints[static_cast<std::size_t>(b)];
+          check(mesh.gridpoint_block[at(a)] == sf.cell_a && mesh.gridpoint_block[at(b)] == sf.cell_b, "face node ", k,
+                ": gridpoints ", a, " and ", b, " belong to blocks ", mesh.gridpoint_block[at(a)], " and ",
+                mesh.gridpoint_block[at(b)]);
+        const vec3& xa = mesh.gridpoints[at(a)];
+        const vec3& xb = mesh.gridpoints[at(b)];
         const real gap = (xb - xa).norm();
-        require<geometry_error>(gap <= tolerance, where(), "face node ", k, ": gridpoint ", a, " at (", xa.x(), ", ",
-                                xa.y(), ", ", xa.z(), ") and gridpoint ", b, " at (", xb.x(), ", ", xb.y(), ", ",
-                                xb.z(), ") are ", gap, " m apart, expected coincident (tolerance ", tolerance,
-                                " m); the twin faces list their nodes in different orders");
-        const real area_a = mesh.face_node_area[static_cast<std::size_t>(na0 + k)];
-        const real area_b = mesh.face_node_area[static_cast<std::size_t>(nb0 + k)];
-        require<geometry_error>(area_a > 0 && std::isfinite(area_a) &&
-                                    std::abs(area_a - area_b) <= 1e-9 * std::max(area_a, area_b),
-                                where(), "face node ", k, ": tributary areas ", area_a, " and ", area_b,
-                                " m^2, expected equal and > 0");
+        check(gap <= tolerance, "face node ", k, ": gridpoint ", a, " at (", xa.x(), ", ", xa.y(), ", ", xa.z(),
+              ") and gridpoint ", b, " at (", xb.x(), ", ", xb.y(), ", ", xb.z(), ") are ", gap,
+              " m apart, expected coincident (tolerance ", tolerance,
+              " m); the twin faces list their nodes in different orders");
+        const real area_a = mesh.face_node_area[at(na0 + k)];
+        const real area_b = mesh.face_node_area[at(nb0 + k)];
+        check(area_a > 0 && std::isfinite(area_a) && std::abs(area_a - area_b) <= 1e-9 * std::max(area_a, area_b),
+              "face node ", k, ": tributary areas ", area_a, " and ", area_b, " m^2, expected equal and > 0");
         node_a_.push_back(a);
         node_b_.push_back(b);
         face_.push_back(s);
@@ -225,23 +216,20 @@ class subcontact_set {
       first_subcontact_.push_back(static_cast<index>(node_a_.size()));
       face_area_.push_back(face_area);
 
-      const index ta0 = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_a)];
-      const index tb0 = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_b)];
-      const index n_tris = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_a) + 1] - ta0;
-      const index n_tris_b = mesh.face_triangle_offsets[static_cast<std::size_t>(sf.face_b) + 1] - tb0;
-      require<geometry_error>(n_tris == n_tris_b && n_tris >= 1, where(), "the sides have ", n_tris, " and ",
-                              n_tris_b, " surface triangles, expected the same number (>= 1)");
-      for (index t = 0; t < n_tris; ++t) {
-        const auto& ta = mesh.face_triangles[static_cast<std::size_t>(ta0 + t)];
-        const auto& tb = mesh.face_triangles[static_cast<std::size_t>(tb0 + t)];
-        for (int j = 0; j < 3; ++j)
-          require<geometry_error>(ta[static_cast<std::size_t>(j)] >= 0 && ta[static_cast<std::size_t>(j)] < n_gridpoints &&
-                                      tb[static_cast<std::size_t>(j)] >= 0 && tb[static_cast<std::size_t>(j)] < n_gridpoints,
-                                  where(), "surface triangle ", t, " refers to a gridpoint outside [0, ", n_gridpoints, ")");
-        triangle_a_.push_back(ta);
-        triangle_b_.push_back(tb);
+      // Polygon corners: the face node of each tessellation vertex of face_a, in loop order.
+      const auto loop = tess.face(sf.face_a);
+      check(loop.size() >= 3, "the polygon has ", loop.size(), " vertices, expected >= 3");
+      for (const index vertex : loop) {
+        index corner = invalid_index;
+        for (index k = 0; k < n_nodes && corner == invalid_index; ++k)
+          if (mesh.gridpoint_vertex[at(mesh.face_nodes[at(na0 + k)])] == vertex &&
+              mesh.gridpoint_vertex[at(mesh.face_nodes[at(nb0 + k)])] == vertex)
+            corner = first_subcontact_[at(s)] + k;
+        check(corner != invalid_index, "tessellation vertex ", vertex,
+              " has no face node copying it on both sides (block_mesh::gridpoint_vertex)");
+        corner_.push_back(corner);
       }
-      first_triangle_.push_back(static_cast<index>(triangle_a_.size()));
+      first_corner_.push_back(static_cast<index>(corner_.size()));
     }
 
     const std::size_t n = node_a_.size();
@@ -254,15 +242,14 @@ class subcontact_set {
     normal_.setZero(face_count, 3);
     {
       soa3 X(n_gridpoints, 3), u = soa3::Zero(n_gridpoints, 3);
-      for (index g = 0; g < n_gridpoints; ++g) X.row(g) = mesh.gridpoints[static_cast<std::size_t>(g)].transpose();
+      for (index g = 0; g < n_gridpoints; ++g) X.row(g) = mesh.gridpoints[at(g)].transpose();
       const real* Xp[3] = {X.col(0).data(), X.col(1).data(), X.col(2).data()};
       const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
       for (index s = 0; s < face_count; ++s) {
-        const vec3 d = face_area_vector_difference(s, Xp, up);
+        const vec3 d = face_area_vector(s, Xp, up);
         require<geometry_error>(d.norm() > 0, "subcontact_set: shared face ", s, " (cells ",
-                                shared_faces_[static_cast<std::size_t>(s)].cell_a, " and ",
-                                shared_faces_[static_cast<std::size_t>(s)].cell_b,
-                                "): zero area vector, the face has no plane (degenerate or inconsistently oriented triangles)");
+                                shared_faces_[at(s)].cell_a, " and ", shared_faces_[at(s)].cell_b,
+                                "): zero vector area, the face polygon has no plane (degenerate face)");
         normal_.row(s) = d.normalized().transpose();
       }
     }
@@ -270,25 +257,25 @@ class subcontact_set {
 
     // Gather incidence: for each gridpoint carrying sub-contacts, the entries 2 i (node B of
     // sub-contact i, force +f_i) and 2 i + 1 (node A, force -f_i), in increasing i.
-    std::vector<index> count(static_cast<std::size_t>(n_gridpoints), 0);
+    std::vector<index> count(at(n_gridpoints), 0);
     for (std::size_t i = 0; i < n; ++i) {
-      ++count[static_cast<std::size_t>(node_a_[i])];
-      ++count[static_cast<std::size_t>(node_b_[i])];
+      ++count[at(node_a_[i])];
+      ++count[at(node_b_[i])];
     }
-    std::vector<index> slot(static_cast<std::size_t>(n_gridpoints), invalid_index);
+    std::vector<index> slot(at(n_gridpoints), invalid_index);
     incidence_offsets_.assign(1, 0);
     for (index g = 0; g < n_gridpoints; ++g) {
-      if (count[static_cast<std::size_t>(g)] == 0) continue;
-      slot[static_cast<std::size_t>(g)] = static_cast<index>(contact_gridpoints_.size());
+      if (count[at(g)] == 0) continue;
+      slot[at(g)] = static_cast<index>(contact_gridpoints_.size());
       contact_gridpoints_.push_back(g);
-      incidence_offsets_.push_back(incidence_offsets_.back() + count[static_cast<std::size_t>(g)]);
+      incidence_offsets_.push_back(incidence_offsets_.back() + count[at(g)]);
     }
     incidence_.assign(2 * n, 0);
     std::vector<index> fill(incidence_offsets_.begin(), incidence_offsets_.end() - 1);
+    const auto append = [&](index gridpoint, index entry) { incidence_[at(fill[at(slot[at(gridpoint)])]++)] = entry; };
     for (std::size_t i = 0; i < n; ++i) {
-      const auto ii = static_cast<index>(i);
-      incidence_[static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[static_cast<std::size_t>(node_b_[i])])]++)] = 2 * ii;
-      incidence_[static_cast<std::size_t>(fill[static_cast<std::size_t>(slot[static_cast<std::size_t>(node_a_[i])])]++)] = 2 * ii + 1;
+      append(node_b_[i], 2 * static_cast<index>(i));
+      append(node_a_[i], 2 * static_cast<index>(i) + 1);
     }
   }
 
@@ -303,7 +290,7 @@ class subcontact_set {
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     for (index s = 0; s < face_count(); ++s) {
-      const vec3 d = face_area_vector_difference(s, X, u);
+      const vec3 d = face_area_vector(s, X, u);
       if (d.squaredNorm() > 0) normal_.row(s) = d.normalized().transpose();
     }
     previous_normal_ = normal_;
@@ -323,54 +310,51 @@ class subcontact_set {
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
 
-    // 1. Contact frames (per face); a degenerate face keeps its previous frame.
+    // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
+    // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
+    // A degenerate face keeps its previous frame.
     normal_.swap(previous_normal_);
-    parallel_for(face_count(), [&](std::int64_t s) {
-      const vec3 d = face_area_vector_difference(static_cast<index>(s), X, u);
-      const real length2 = d.squaredNorm();
-      if (length2 > 0) {
-        const real inv = 1.0 / std::sqrt(length2);
-        for (int c = 0; c < 3; ++c) normal_(s, c) = d[c] * inv;
-      } else {
-        for (int c = 0; c < 3; ++c) normal_(s, c) = previous_normal_(s, c);
-      }
-    }, 32);
-
-    // 2. Law update and force on node B (per sub-contact).
     const params_type& p = params_;
-    const real* n_now[3] = {normal_.col(0).data(), normal_.col(1).data(), normal_.col(2).data()};
-    const real* n_prev[3] = {previous_normal_.col(0).data(), previous_normal_.col(1).data(),
-                             previous_normal_.col(2).data()};
-    parallel_for(size(), [&](std::int64_t ii) {
-      const auto i = static_cast<std::size_t>(ii);
-      const index a = node_a_[i], b = node_b_[i], s = face_[i];
-      const vec3 n(n_now[0][s], n_now[1][s], n_now[2][s]);
-      const vec3 tilt = vec3(n_prev[0][s], n_prev[1][s], n_prev[2][s]).cross(n);  // rotation vector n_prev -> n
-      vec3 du, gap;
-      for (int c = 0; c < 3; ++c) {
-        du[c] = (v[c][b] - v[c][a]) * dt;
-        gap[c] = u[c][b] - u[c][a];
-      }
-      du -= tilt.cross(gap);
-      const real du_n = du.dot(n);
-      const vec3 du_s = du - du_n * n;
-      state_type& st = state_[i];
-      Law::update(p, st, du_n, du_s, n);
-      const vec3 traction = st.sigma_n * n + vec3(st.tau);
-      const real area = area_[i];
-      force_x_[i] = -area * traction[0];
-      force_y_[i] = -area * traction[1];
-      force_z_[i] = -area * traction[2];
-    });
+    parallel_for(
+        face_count(),
+        [&](std::int64_t s) {
+          const vec3 d = face_area_vector(static_cast<index>(s), X, u);
+          const vec3 n_prev(previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2));
+          const real length2 = d.squaredNorm();
+          const vec3 n = length2 > 0 ? vec3(d / std::sqrt(length2)) : n_prev;
+          for (int c = 0; c < 3; ++c) normal_(s, c) = n[c];
+          const vec3 tilt = n_prev.cross(n);  // rotation vector n_prev -> n (first order)
+          const auto first = at(first_subcontact_[at(s)]);
+          const auto last = at(first_subcontact_[at(s) + 1]);
+          for (std::size_t i = first; i < last; ++i) {
+            const index a = node_a_[i], b = node_b_[i];
+            vec3 du, gap;
+            for (int c = 0; c < 3; ++c) {
+              du[c] = (v[c][b] - v[c][a]) * dt;
+              gap[c] = u[c][b] - u[c][a];
+            }
+            du -= tilt.cross(gap);
+            const real du_n = du.dot(n);
+            const vec3 du_s = du - du_n * n;
+            state_type& st = state_[i];
+            Law::update(p, st, du_n, du_s, n);
+            const vec3 traction = st.sigma_n * n + vec3(st.tau);
+            const real area = area_[i];
+            force_x_[i] = -area * traction[0];
+            force_y_[i] = -area * traction[1];
+            force_z_[i] = -area * traction[2];
+          }
+        },
+        16);
 
     // 3. Gather onto gridpoints in fixed order: node B gets +f_i, node A gets -f_i.
     real* F[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(), gridpoints.force.col(2).data()};
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()), [&](std::int64_t jj) {
-      const auto j = static_cast<std::size_t>(jj);
+      const auto j = at(jj);
       real fx = 0, fy = 0, fz = 0;
       for (index e = incidence_offsets_[j]; e < incidence_offsets_[j + 1]; ++e) {
-        const index entry = incidence_[static_cast<std::size_t>(e)];
-        const auto i = static_cast<std::size_t>(entry >> 1);
+        const index entry = incidence_[at(e)];
+        const auto i = at(entry >> 1);
         const real sign = (entry & 1) ? -1.0 : 1.0;
         fx += sign * force_x_[i];
         fy += sign * force_y_[i];
@@ -402,38 +386,36 @@ class subcontact_set {
   // ---- sub-contacts ----
   [[nodiscard]] index size() const { return static_cast<index>(node_a_.size()); }
   /// Gridpoint of block A (lower cell id) / block B of sub-contact i.
-  [[nodiscard]] index node_a(index i) const { return node_a_[static_cast<std::size_t>(i)]; }
-  [[nodiscard]] index node_b(index i) const { return node_b_[static_cast<std::size_t>(i)]; }
-  [[nodiscard]] index block_a(index i) const { return shared_faces_[static_cast<std::size_t>(face(i))].cell_a; }
-  [[nodiscard]] index block_b(index i) const { return shared_faces_[static_cast<std::size_t>(face(i))].cell_b; }
+  [[nodiscard]] index node_a(index i) const { return node_a_[at(i)]; }
+  [[nodiscard]] index node_b(index i) const { return node_b_[at(i)]; }
+  [[nodiscard]] index block_a(index i) const { return shared_faces_[at(face(i))].cell_a; }
+  [[nodiscard]] index block_b(index i) const { return shared_faces_[at(face(i))].cell_b; }
   /// Shared face (index into tessellation::shared_faces) of sub-contact i.
-  [[nodiscard]] index face(index i) const { return face_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] index face(index i) const { return face_[at(i)]; }
   /// Tributary area (m^2).
-  [[nodiscard]] real area(index i) const { return area_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] real area(index i) const { return area_[at(i)]; }
   /// Current unit normal, from block A to block B (that of its face).
   [[nodiscard]] vec3 normal(index i) const { return face_normal(face(i)); }
   /// Current position (m): midpoint of the two gridpoints.
   [[nodiscard]] vec3 position(index i, const node_set& gridpoints) const {
     return 0.5 * (gridpoints.position(node_a(i)) + gridpoints.position(node_b(i)));
   }
-  [[nodiscard]] const state_type& state(index i) const { return state_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] const state_type& state(index i) const { return state_[at(i)]; }
   [[nodiscard]] const params_type& params() const { return params_; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
   [[nodiscard]] vec3 force(index i) const {
-    const auto k = static_cast<std::size_t>(i);
+    const auto k = at(i);
     return {force_x_[k], force_y_[k], force_z_[k]};
   }
 
   // ---- shared faces ----
   [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }
   /// The tessellation's record of shared face s (cells and tessellation face ids).
-  [[nodiscard]] const geometry::tessellation::shared_face& shared_face(index s) const {
-    return shared_faces_[static_cast<std::size_t>(s)];
-  }
+  [[nodiscard]] const geometry::tessellation::shared_face& shared_face(index s) const { return shared_faces_[at(s)]; }
   /// Sub-contacts of face s are [first_subcontact(s), first_subcontact(s + 1)).
-  [[nodiscard]] index first_subcontact(index s) const { return first_subcontact_[static_cast<std::size_t>(s)]; }
+  [[nodiscard]] index first_subcontact(index s) const { return first_subcontact_[at(s)]; }
   /// Sum of the sub-contact areas of face s (m^2).
-  [[nodiscard]] real face_area(index s) const { return face_area_[static_cast<std::size_t>(s)]; }
+  [[nodiscard]] real face_area(index s) const { return face_area_[at(s)]; }
   /// Current unit normal of face s, from block A to block B.
   [[nodiscard]] vec3 face_normal(index s) const { return normal_.row(s).transpose(); }
   /// True when every sub-contact of face s is broken in tension: the two blocks are separated
@@ -483,12 +465,37 @@ class subcontact_set {
   }
 
  private:
-  /// S_a - S_b of face s (twice the area vectors, see the file comment).
-  [[nodiscard]] vec3 face_area_vector_difference(index s, const real* const X[3], const real* const u[3]) const noexcept {
-    const auto t0 = first_triangle_[static_cast<std::size_t>(s)];
-    const auto count = first_triangle_[static_cast<std::size_t>(s) + 1] - t0;
-    return detail::area_vector2(triangle_a_.data() + t0, count, X, u) -
-           detail::area_vector2(triangle_b_.data() + t0, count, X, u);
+  /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
+  /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see the file comment), from differences
+  /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
+  /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size).
+  [[nodiscard]] vec3 face_area_vector(index s, const real* const X[3], const real* const u[3]) const noexcept {
+    const index* corner = corner_.data() + first_corner_[at(s)];
+    const index count = first_corner_[at(s) + 1] - first_corner_[at(s)];
+    const auto midpoint_offset = [&](index k, const vec3& origin_X, const vec3& origin_u) {
+      const auto i = at(corner[k]);
+      const index a = node_a_[i], b = node_b_[i];
+      vec3 d;
+      for (int c = 0; c < 3; ++c) d[c] = (X[c][a] - origin_X[c]) + (0.5 * (u[c][a] + u[c][b]) - origin_u[c]);
+      return d;
+    };
+    vec3 origin_X, origin_u;
+    {
+      const auto i0 = at(corner[0]);
+      const index a = node_a_[i0], b = node_b_[i0];
+      for (int c = 0; c < 3; ++c) {
+        origin_X[c] = X[c][a];
+        origin_u[c] = 0.5 * (u[c][a] + u[c][b]);
+      }
+    }
+    vec3 s_area = vec3::Zero();
+    vec3 previous = midpoint_offset(1, origin_X, origin_u);
+    for (index k = 2; k < count; ++k) {
+      const vec3 next = midpoint_offset(k, origin_X, origin_u);
+      s_area += previous.cross(next);
+      previous = next;
+    }
+    return s_area;
   }
 
   params_type params_{};
@@ -500,10 +507,10 @@ class subcontact_set {
   std::vector<real> force_x_, force_y_, force_z_;  ///< force on node B, last update (N)
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
-  std::vector<index> first_subcontact_{0}, first_triangle_{0};
+  std::vector<index> first_subcontact_{0};
+  std::vector<index> first_corner_{0}, corner_;  ///< CSR: polygon corners of face s as sub-contact ids, CCW seen from A
   std::vector<real> face_area_;
-  std::vector<std::array<index, 3>> triangle_a_, triangle_b_;  ///< surface triangles of each side
-  soa3 normal_, previous_normal_;                                ///< unit normals A->B, now and last step
+  soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
   std::vector<index> contact_gridpoints_, incidence_offsets_{0}, incidence_;
 };
