@@ -46,22 +46,25 @@
 // has the direction of the slip of B relative to A, resists that slip.
 //
 // Storage (structure of arrays behind index handles): per sub-contact node_a, node_b, face,
-// area, the law state and a 3-array force buffer; per face its sub-contact range, blocks,
-// polygon corners (as sub-contact ids) and the current and previous normals. Law::state is a small POD read
-// and written as a whole by each update, so an array of states (not one array per state field)
-// is the cache-friendly layout: one contiguous line or two per sub-contact. The gather uses a
-// gridpoint -> (sub-contact, side) CSR incidence built once, over the gridpoints that carry
-// sub-contacts only, in increasing gridpoint and sub-contact order.
+// area and the law state; per face its sub-contact range, polygon corners (as sub-contact ids)
+// and the current and previous normals. Law::state is a small POD read and written as a whole
+// by each update, so an array of states (not one array per state field) is the cache-friendly
+// layout: one or two contiguous cache lines per sub-contact. Forces go through a gridpoint-major
+// buffer (3 component arrays, two rows per sub-contact): the CSR incidence gridpoint ->
+// (sub-contact, side) is built once as the row numbers slot_a(i), slot_b(i), so the kernel
+// writes +f_b and -f_b to rows no other sub-contact owns and the gather is a contiguous sum per
+// gridpoint (over the gridpoints that carry sub-contacts, in increasing sub-contact order).
 //
-// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): faces ->
-// frame, then law update + force buffer of the face's sub-contacts; contact gridpoints -> gather. Each loop
-// writes only what its index owns and the gather sums in a fixed order, so results are
-// bit-identical for any thread count. update() allocates nothing. Concurrent const access is
-// safe; update() and add_stiffness_bounds() must not run concurrently with anything else on
-// the same object.
+// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over faces
+// (frame, then law update and force rows of the face's sub-contacts, while the face's gridpoint
+// data are in L1) and over contact gridpoints (gather). Each loop writes only what its index
+// owns and the gather sums in a fixed order, so results are bit-identical for any thread count.
+// update() allocates nothing. Concurrent const access is safe; update() and
+// add_stiffness_bounds() must not run concurrently with anything else on the same object.
 //
-// Cost: memory ~ (40 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints).
+// Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
+// construction O(sub-contacts + gridpoints). About 390 instructions per sub-contact-step with
+// law::study_tie_law, of which the law update is about 150 (benchmarks/bench_contacts.cpp).
 
 #include <algorithm>
 #include <array>
@@ -234,9 +237,6 @@ class subcontact_set {
 
     const std::size_t n = node_a_.size();
     state_.assign(n, state_type{});
-    force_x_.assign(n, 0.0);
-    force_y_.assign(n, 0.0);
-    force_z_.assign(n, 0.0);
 
     // Reference frames; a face whose two sides cancel has no plane.
     normal_.setZero(face_count, 3);
@@ -255,28 +255,29 @@ class subcontact_set {
     }
     previous_normal_ = normal_;
 
-    // Gather incidence: for each gridpoint carrying sub-contacts, the entries 2 i (node B of
-    // sub-contact i, force +f_i) and 2 i + 1 (node A, force -f_i), in increasing i.
+    // Gather incidence: the force buffer holds, for each gridpoint carrying sub-contacts in
+    // increasing id, one slot per incident sub-contact in increasing sub-contact order;
+    // sub-contact i writes +f_i to slot_b_[i] and -f_i to slot_a_[i].
     std::vector<index> count(at(n_gridpoints), 0);
     for (std::size_t i = 0; i < n; ++i) {
       ++count[at(node_a_[i])];
       ++count[at(node_b_[i])];
     }
-    std::vector<index> slot(at(n_gridpoints), invalid_index);
-    incidence_offsets_.assign(1, 0);
+    std::vector<index> next_slot(at(n_gridpoints), invalid_index);
+    gather_offsets_.assign(1, 0);
     for (index g = 0; g < n_gridpoints; ++g) {
       if (count[at(g)] == 0) continue;
-      slot[at(g)] = static_cast<index>(contact_gridpoints_.size());
+      next_slot[at(g)] = gather_offsets_.back();
       contact_gridpoints_.push_back(g);
-      incidence_offsets_.push_back(incidence_offsets_.back() + count[at(g)]);
+      gather_offsets_.push_back(gather_offsets_.back() + count[at(g)]);
     }
-    incidence_.assign(2 * n, 0);
-    std::vector<index> fill(incidence_offsets_.begin(), incidence_offsets_.end() - 1);
-    const auto append = [&](index gridpoint, index entry) { incidence_[at(fill[at(slot[at(gridpoint)])]++)] = entry; };
+    slot_a_.resize(n);
+    slot_b_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      append(node_b_[i], 2 * static_cast<index>(i));
-      append(node_a_[i], 2 * static_cast<index>(i) + 1);
+      slot_b_[i] = next_slot[at(node_b_[i])]++;
+      slot_a_[i] = next_slot[at(node_a_[i])]++;
     }
+    force_buffer_.setZero(2 * static_cast<Eigen::Index>(n), 3);
   }
 
   /// Recomputes the contact frames from the current positions of `gridpoints` and makes them
@@ -315,6 +316,7 @@ class subcontact_set {
     // A degenerate face keeps its previous frame.
     normal_.swap(previous_normal_);
     const params_type& p = params_;
+    real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
     parallel_for(
         face_count(),
         [&](std::int64_t s) {
@@ -340,27 +342,26 @@ class subcontact_set {
             Law::update(p, st, du_n, du_s, n);
             const vec3 traction = st.sigma_n * n + vec3(st.tau);
             const real area = area_[i];
-            force_x_[i] = -area * traction[0];
-            force_y_[i] = -area * traction[1];
-            force_z_[i] = -area * traction[2];
+            const index sa = slot_a_[i], sb = slot_b_[i];
+            for (int c = 0; c < 3; ++c) {
+              buffer[c][sb] = -area * traction[c];
+              buffer[c][sa] = area * traction[c];
+            }
           }
         },
         16);
 
-    // 3. Gather onto gridpoints in fixed order: node B gets +f_i, node A gets -f_i.
+    // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
     real* F[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(), gridpoints.force.col(2).data()};
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()), [&](std::int64_t jj) {
       const auto j = at(jj);
-      real fx = 0, fy = 0, fz = 0;
-      for (index e = incidence_offsets_[j]; e < incidence_offsets_[j + 1]; ++e) {
-        const index entry = incidence_[at(e)];
-        const auto i = at(entry >> 1);
-        const real sign = (entry & 1) ? -1.0 : 1.0;
-        fx += sign * force_x_[i];
-        fy += sign * force_y_[i];
-        fz += sign * force_z_[i];
-      }
       const index g = contact_gridpoints_[j];
+      real fx = 0, fy = 0, fz = 0;
+      for (index e = gather_offsets_[j]; e < gather_offsets_[j + 1]; ++e) {
+        fx += buffer[0][e];
+        fy += buffer[1][e];
+        fz += buffer[2][e];
+      }
       F[0][g] += fx;
       F[1][g] += fy;
       F[2][g] += fz;
@@ -403,10 +404,7 @@ class subcontact_set {
   [[nodiscard]] const state_type& state(index i) const { return state_[at(i)]; }
   [[nodiscard]] const params_type& params() const { return params_; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
-  [[nodiscard]] vec3 force(index i) const {
-    const auto k = at(i);
-    return {force_x_[k], force_y_[k], force_z_[k]};
-  }
+  [[nodiscard]] vec3 force(index i) const { return force_buffer_.row(slot_b_[at(i)]).transpose(); }
 
   // ---- shared faces ----
   [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }
@@ -504,7 +502,7 @@ class subcontact_set {
   std::vector<index> node_a_, node_b_, face_;
   std::vector<real> area_;
   std::vector<state_type> state_;
-  std::vector<real> force_x_, force_y_, force_z_;  ///< force on node B, last update (N)
+  std::vector<index> slot_a_, slot_b_;  ///< rows of force_buffer_ receiving -f_i (node A) and +f_i (node B)
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
   std::vector<index> first_subcontact_{0};
@@ -512,7 +510,10 @@ class subcontact_set {
   std::vector<real> face_area_;
   soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
-  std::vector<index> contact_gridpoints_, incidence_offsets_{0}, incidence_;
+  /// Contact forces of the last update (N), 2 rows per sub-contact grouped by gridpoint: rows
+  /// [gather_offsets_[j], gather_offsets_[j + 1]) belong to gridpoint contact_gridpoints_[j].
+  soa3 force_buffer_;
+  std::vector<index> contact_gridpoints_, gather_offsets_{0};
 };
 
 }  // namespace tessera::contact
