@@ -505,6 +505,27 @@ TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with 
   }
 }
 
+TEST_CASE("initialize_frames: frames from displaced positions, no spurious increment on the next step", "[contacts]") {
+  two_cubes scene;
+  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
+  const mat3 r = Eigen::AngleAxis<real>(std::numbers::pi / 2, vec3(0, 0, 1)).toRotationMatrix();
+  for (index i = 0; i < scene.gridpoints.size(); ++i) {
+    const vec3 x = scene.gridpoints.reference.row(i).transpose();
+    scene.gridpoints.displacement.row(i) = (r * x - x).transpose();
+  }
+  set.initialize_frames(scene.gridpoints);
+  CHECK((set.face_normal(0) - vec3(0, 1, 0)).norm() < 1e-15);
+  set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(0, 1e-3, 0));  // opens along the rotated normal
+  step(set, scene.gridpoints, 1e-6);
+  for (index i = 0; i < set.size(); ++i) {
+    CHECK(set.state(i).sigma_n == Approx(1e12 * 1e-9).epsilon(1e-9));
+    CHECK(set.state(i).tau.norm() < 1e-9 * 1e3);
+  }
+  node_set wrong;
+  wrong.resize(2);
+  CHECK_THROWS_AS(set.initialize_frames(wrong), invalid_input);
+}
+
 TEST_CASE("stiffness bound: Gershgorin row sum for any normal, attained, accumulated on both nodes", "[contacts]") {
   const real k_n = 1e12, k_s = 4e11;
   using set_type = contact::subcontact_set<elastic_brittle_law>;
