@@ -36,8 +36,9 @@
 // u_n dtheta, and a slipped one a spurious opening. The law rotates the stored shear stress
 // into the new plane (tilt) but not about n, so the twist about n is deliberately left in du:
 // for an elastic contact it turns tau with the blocks. Together, a rigid rotation of both blocks
-// by any axis and angle leaves sigma_n and |tau| unchanged up to O(dtheta) relative drift over
-// the whole rotation (test "rigid rotation").
+// by any axis and total angle theta in steps dtheta leaves sigma_n and tau (turned with the blocks)
+// unchanged up to a relative drift of order theta dtheta (test "rigid rotation": 2e-4 for
+// theta = 1.2 rad in 4000 steps; without the correction sigma_n drifts by 33 %).
 //     du_n = du . n   (m, + opens),      du_s = du - du_n n   (m, in the contact plane)
 // Law::update(params, state, du_n, du_s, n) advances the sub-contact state; the force on node B
 // is then (N = Pa m^2)
