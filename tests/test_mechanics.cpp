@@ -470,7 +470,7 @@ TEST_CASE("two blocks pulled apart follow the contact law times the face area", 
   prism_solver s(tess, mesh, concrete_block, law_params, {}, opt);
   s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
   const auto top = s.gridpoints_on_plane(2, 2 * a, 1e-9);
-  const real rate = 0.002;  // m/s
+  const real rate = 0.001;  // m/s
   s.fix(top, bc::transverse_to(2));
   s.prescribe_velocity(top, vec3(0, 0, rate), bc::components::z);
   real peak = 0;

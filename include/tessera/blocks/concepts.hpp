@@ -10,8 +10,9 @@
 // | Z::params                      | plain struct of material parameters, SI units                        |
 // | Z::validate(p)                 | throws tessera::invalid_input naming the bad parameter and its value |
 // | Z::density(p)                  | mass density rho (kg/m^3), for the lumped mass rho V / 4 per corner  |
-// | Z::stress(p, eps)              | Cauchy stress (Pa, tension +, Voigt xx yy zz yz zx xy) from the      |
-// |                                | small strain eps (Voigt, engineering shears 2 eps_ij)                |
+// | Z::constants, Z::prepare(p)    | derived constants computed once per zone loop (e.g. Lame constants)  |
+// | Z::stress(c, eps)              | Cauchy stress (Pa, tension +, Voigt xx yy zz yz zx xy) from the      |
+// |                                | small strain eps (Voigt, engineering shears 2 eps_ij), c = prepare(p)|
 // | Z::elasticity_matrix(p)        | 6x6 tangent C (Pa) in the same Voigt convention, for the time step   |
 // | Z::strain_energy_density(p,e)  | stored elastic energy per unit volume (J/m^3) at strain e            |
 //
@@ -51,11 +52,13 @@ using voigt6 = Eigen::Matrix<real, 6, 1>;
 namespace zones {
 
 template <class Z>
-concept ZoneModel = requires(const typename Z::params& p, const voigt6& eps) {
+concept ZoneModel = requires(const typename Z::params& p, const typename Z::constants& c, const voigt6& eps) {
   typename Z::params;
+  typename Z::constants;
   { Z::validate(p) } -> std::same_as<void>;
   { Z::density(p) } -> std::convertible_to<real>;
-  { Z::stress(p, eps) } noexcept -> std::convertible_to<voigt6>;
+  { Z::prepare(p) } -> std::convertible_to<typename Z::constants>;
+  { Z::stress(c, eps) } noexcept -> std::convertible_to<voigt6>;
   { Z::elasticity_matrix(p) } -> std::convertible_to<Eigen::Matrix<real, 6, 6>>;
   { Z::strain_energy_density(p, eps) } -> std::convertible_to<real>;
 };

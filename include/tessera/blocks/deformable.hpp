@@ -136,11 +136,10 @@ class deformable {
   /// and adds the zone forces (N) to gridpoints.force.
   void accumulate_forces(node_set& gridpoints) noexcept {
     update_rotations(gridpoints);
-    const index n_z = zone_count();
-    parallel_for(n_z, [&](std::int64_t zz) {
-      const index z = static_cast<index>(zz);
-      zone_kernel(gridpoints, z);
-    });
+    const typename Zone::constants p = Zone::prepare(params_);
+    const real* const u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
+                              gridpoints.displacement.col(2).data()};
+    parallel_for(zone_count(), [&](std::int64_t z) { zone_kernel(p, u, static_cast<index>(z)); });
     const index n_gp = gridpoints.size();
     parallel_for(n_gp, [&](std::int64_t ii) {
       const index i = static_cast<index>(ii);
@@ -287,30 +286,59 @@ class deformable {
     return m;
   }
 
-  void zone_kernel(const node_set& gp, index z) noexcept {
-    const mat3& r = rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
-    const mat3 m = rotated_gradient(gp, z, r);
-    voigt6 eps;
-    eps << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
-    const voigt6 s = Zone::stress(params_, eps);
-    mat3 sigma;
-    sigma << s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2];
+  /// Zone forces and stress of zone z (scalar code: the 3x3 products are written out so the
+  /// compiler keeps everything in registers; `p` is a local copy of the material prepared once per
+  /// loop).
+  [[gnu::always_inline]] inline void zone_kernel(const typename Zone::constants& p, const real* const u[3], index z) noexcept {
     const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
-    const mat3 p = r * sigma;                     // R sigma'
-    const mat3 pv = -g.volume * p;                // f_a = -V R sigma' grad N_a
+    const auto& c = corners_[static_cast<std::size_t>(z)];
+    const mat3& r = rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
+    // Displacement gradient H (row i, column k) = sum_a u_a[i] grad N_a[k].
+    real h[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    for (int a = 0; a < 4; ++a) {
+      const index id = c[static_cast<std::size_t>(a)];
+      const real* gr = g.grad.data() + 3 * a;
+      for (int i = 0; i < 3; ++i) {
+        const real ui = u[i][id];
+        h[3 * i + 0] += ui * gr[0];
+        h[3 * i + 1] += ui * gr[1];
+        h[3 * i + 2] += ui * gr[2];
+      }
+    }
+    // M = R^T (1 + H) - 1 = (R^T - 1) + R^T H.
+    real m[9];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k)
+        m[3 * i + k] = (r(k, i) - (i == k ? 1.0 : 0.0)) + r(0, i) * h[k] + r(1, i) * h[3 + k] + r(2, i) * h[6 + k];
+    voigt6 eps;
+    eps[0] = m[0];
+    eps[1] = m[4];
+    eps[2] = m[8];
+    eps[3] = m[5] + m[7];
+    eps[4] = m[6] + m[2];
+    eps[5] = m[1] + m[3];
+    const voigt6 s = Zone::stress(p, eps);
+    const real sig[9] = {s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2]};
+    // P = R sigma' (global first index, local second).
+    real pr[9];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) pr[3 * i + k] = r(i, 0) * sig[k] + r(i, 1) * sig[3 + k] + r(i, 2) * sig[6 + k];
+    // f_a = -V P grad N_a.
+    const real minus_v = -g.volume;
     real* out = corner_force_.data() + 12 * static_cast<std::ptrdiff_t>(z);
     for (int a = 0; a < 4; ++a) {
       const real* gr = g.grad.data() + 3 * a;
-      for (int k = 0; k < 3; ++k) out[3 * a + k] = pv(k, 0) * gr[0] + pv(k, 1) * gr[1] + pv(k, 2) * gr[2];
+      for (int i = 0; i < 3; ++i)
+        out[3 * a + i] = minus_v * (pr[3 * i] * gr[0] + pr[3 * i + 1] * gr[1] + pr[3 * i + 2] * gr[2]);
     }
-    // Global Cauchy stress R sigma' R^T (symmetric: six entries).
-    const auto row = [&](int i, int j) { return p(i, 0) * r(j, 0) + p(i, 1) * r(j, 1) + p(i, 2) * r(j, 2); };
-    zone_stress_(z, 0) = row(0, 0);
-    zone_stress_(z, 1) = row(1, 1);
-    zone_stress_(z, 2) = row(2, 2);
-    zone_stress_(z, 3) = row(1, 2);
-    zone_stress_(z, 4) = row(2, 0);
-    zone_stress_(z, 5) = row(0, 1);
+    // Global Cauchy stress R sigma' R^T (six entries).
+    const auto entry = [&](int i, int j) { return pr[3 * i] * r(j, 0) + pr[3 * i + 1] * r(j, 1) + pr[3 * i + 2] * r(j, 2); };
+    zone_stress_(z, 0) = entry(0, 0);
+    zone_stress_(z, 1) = entry(1, 1);
+    zone_stress_(z, 2) = entry(2, 2);
+    zone_stress_(z, 3) = entry(1, 2);
+    zone_stress_(z, 4) = entry(2, 0);
+    zone_stress_(z, 5) = entry(0, 1);
   }
 
   params params_{};

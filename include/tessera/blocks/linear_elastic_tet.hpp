@@ -32,15 +32,26 @@ struct linear_elastic_tet {
   }
   [[nodiscard]] static real shear_modulus(const params& p) { return p.young / (2 * (1 + p.poisson)); }
 
+  /// Lame constants, computed once per zone loop (no divisions in the zone kernel).
+  struct constants {
+    real lambda = 0;  ///< Pa
+    real mu = 0;      ///< Pa
+  };
+  [[nodiscard]] static constants prepare(const params& p) { return {lame_lambda(p), shear_modulus(p)}; }
+
   /// sigma = lambda tr(eps) 1 + 2 mu eps (Pa), eps in Voigt with engineering shears.
-  [[nodiscard]] static voigt6 stress(const params& p, const voigt6& eps) noexcept {
-    const real lambda = lame_lambda(p), mu = shear_modulus(p);
-    const real volumetric = lambda * (eps[0] + eps[1] + eps[2]);
+  [[nodiscard]] static voigt6 stress(const constants& c, const voigt6& eps) noexcept {
+    const real volumetric = c.lambda * (eps[0] + eps[1] + eps[2]);
     voigt6 s;
-    s << volumetric + 2 * mu * eps[0], volumetric + 2 * mu * eps[1], volumetric + 2 * mu * eps[2],
-        mu * eps[3], mu * eps[4], mu * eps[5];
+    s[0] = volumetric + 2 * c.mu * eps[0];
+    s[1] = volumetric + 2 * c.mu * eps[1];
+    s[2] = volumetric + 2 * c.mu * eps[2];
+    s[3] = c.mu * eps[3];
+    s[4] = c.mu * eps[4];
+    s[5] = c.mu * eps[5];
     return s;
   }
+  [[nodiscard]] static voigt6 stress(const params& p, const voigt6& eps) noexcept { return stress(prepare(p), eps); }
   [[nodiscard]] static Eigen::Matrix<real, 6, 6> elasticity_matrix(const params& p) {
     const real lambda = lame_lambda(p), mu = shear_modulus(p);
     Eigen::Matrix<real, 6, 6> c = Eigen::Matrix<real, 6, 6>::Zero();

@@ -36,6 +36,8 @@ class central_difference {
   central_difference() = default;
   explicit central_difference(const D& d) : damping(d) { damping.validate(); }
 
+  [[nodiscard]] real stiffness_amplification() const noexcept { return damping.stiffness_amplification(); }
+
   /// Updates one scalar degree of freedom; returns v(t + dt/2). `constraint` is a
   /// dof_constraint value, `reaction` receives R for prescribed components.
   [[nodiscard]] real advance_dof(real force, real mass, real v_old, std::uint8_t constraint, real v_prescribed,

@@ -8,6 +8,8 @@
 // | D::enabled              | constexpr bool; false removes the damping term at compile time       |
 // | d.force(f, v)           | damping force (N or N m) opposing motion for unbalanced force f and  |
 // |                         | velocity v at the previous half step (study eq. 1)                   |
+// | d.stiffness_amplification() | factor a >= 1 on the stiffness seen by the update in its worst   |
+// |                         | phase; the stable step is 2 sqrt(m / (a k)) (integrator/timestep.hpp)|
 //
 // Integrator — advances a node_set (gridpoints or bar nodes) or a set of 6-DOF bodies by one
 // explicit step. Prescribed components are set to their velocity and their reaction recorded.
@@ -19,6 +21,7 @@
 // |                                  | boundary work and damping dissipation of the step to work   |
 // | i.advance_dof(f, m, v, c, vp,    | the same update of one scalar degree of freedom (used by    |
 // |   dt, reaction, work)            | rigid bodies for their 6 DOF); returns v(t+dt/2)            |
+// | i.stiffness_amplification()      | the damping's factor a on the stiffness (1 when undamped)   |
 
 #include <concepts>
 #include <cstdint>
@@ -39,6 +42,7 @@ template <class D>
 concept Damping = requires(const D& d, real f, real v) {
   typename std::bool_constant<D::enabled>;  // must be a compile-time constant
   { d.force(f, v) } noexcept -> std::convertible_to<real>;
+  { d.stiffness_amplification() } noexcept -> std::convertible_to<real>;
 };
 
 template <class I>
@@ -48,6 +52,7 @@ concept Integrator = requires(const I& i, node_set& nodes, real dt, step_work& w
   requires Damping<typename I::damping_type>;
   { i.advance(nodes, dt, work) } noexcept -> std::same_as<void>;
   { i.advance_dof(f, m, v, c, v, dt, reaction, work) } noexcept -> std::convertible_to<real>;
+  { i.stiffness_amplification() } noexcept -> std::convertible_to<real>;
 };
 
 }  // namespace tessera::integrator

@@ -9,12 +9,15 @@
 // by add_stiffness_bounds of zones, contacts and bonds as sums of element row sums, which bound
 // the row sums of the assembled |K|). Hence
 //     dt_cr = min_i 2 sqrt(m_i / k_i) <= 2 / omega_max,
-// is provably stable, and dt = safety dt_cr with safety = 0.9 leaves margin for the stiffness
-// changes during a step (contacts re-closing, rotations of contact frames). Local damping does
-// not raise the limit.
+// is provably stable for the undamped linear scheme, and dt = safety dt_cr with safety = 0.9
+// leaves margin for the stiffness changes during a step (contacts re-closing, rotations of
+// contact frames). Local damping LOWERS the limit: in the phase where the force opposes the
+// velocity the update sees (1 + gamma) K (integrator/damping.hpp), so every function here takes
+// the damping's stiffness amplification a and uses k_i -> a k_i:
+//     dt_cr = min_i 2 sqrt(m_i / (a k_i)).
 //
 // Mass scaling (quasi-static runs, the study scales masses too): for a target step dt*, every
-// node with 2 safety sqrt(m_i / k_i) < dt* gets m_i = k_i (dt* / (2 safety))^2, so the target
+// node with 2 safety sqrt(m_i / (a k_i)) < dt* gets m_i = a k_i (dt* / (2 safety))^2, so the target
 // step is exactly the scaled stable step of those nodes. The added mass is reported; inertia
 // effects stay small when the loading is slow compared with the scaled wave speed.
 
@@ -32,22 +35,24 @@ inline constexpr real default_safety = 0.9;
 
 /// The critical step of a node set and the node that limits it.
 struct critical_step {
-  real dt = std::numeric_limits<real>::infinity();  ///< min_i 2 sqrt(m_i / k_i) (s), unscaled by safety
+  real dt = std::numeric_limits<real>::infinity();  ///< min_i 2 sqrt(m_i / (a k_i)) (s), unscaled by safety
   index node = invalid_index;                       ///< limiting node
   real mass = 0;                                    ///< its mass (kg)
   real stiffness = 0;                               ///< its stiffness bound (N/m)
 };
 
-/// min_i 2 sqrt(m_i / k_i) over the nodes with k_i > 0 (s). Throws invalid_input for a node with
-/// positive stiffness and non-positive mass, naming it.
-[[nodiscard]] inline critical_step critical_time_step(const node_set& nodes) {
+/// min_i 2 sqrt(m_i / (a k_i)) over the nodes with k_i > 0 (s), a = stiffness amplification of the
+/// damping (1 undamped). Throws invalid_input for a node with positive stiffness and non-positive
+/// mass, naming it.
+[[nodiscard]] inline critical_step critical_time_step(const node_set& nodes, real amplification = 1) {
+  require(amplification >= 1, "time step: stiffness amplification a = ", amplification, " must be >= 1");
   critical_step out;
   for (index i = 0; i < nodes.size(); ++i) {
     const real k = nodes.stiffness[i];
     if (!(k > 0)) continue;
     const real m = nodes.mass[i];
     require(m > 0, "time step: node ", i, " has stiffness ", k, " N/m but mass ", m, " kg; expected mass > 0");
-    const real dt = 2 * std::sqrt(m / k);
+    const real dt = 2 * std::sqrt(m / (amplification * k));
     if (dt < out.dt) out = {dt, i, m, k};
   }
   return out;
@@ -60,13 +65,15 @@ struct mass_scaling_report {
   index scaled_nodes = 0;  ///< number of nodes whose mass was raised
 };
 
-/// Raises m_i to k_i (target_dt / (2 safety))^2 where that is larger, so that
-/// safety * 2 sqrt(m_i / k_i) >= target_dt for every node (see the file comment).
-inline mass_scaling_report scale_masses(node_set& nodes, real target_dt, real safety = default_safety) {
+/// Raises m_i to a k_i (target_dt / (2 safety))^2 where that is larger, so that
+/// safety * 2 sqrt(m_i / (a k_i)) >= target_dt for every node (see the file comment).
+inline mass_scaling_report scale_masses(node_set& nodes, real target_dt, real safety = default_safety,
+                                        real amplification = 1) {
   require_positive(target_dt, "mass scaling: target time step (s)");
   require(safety > 0 && safety <= 1, "mass scaling: safety factor = ", safety, " must lie in (0, 1]");
   mass_scaling_report rep;
-  const real c = (target_dt / (2 * safety)) * (target_dt / (2 * safety));
+  require(amplification >= 1, "mass scaling: stiffness amplification a = ", amplification, " must be >= 1");
+  const real c = amplification * (target_dt / (2 * safety)) * (target_dt / (2 * safety));
   for (index i = 0; i < nodes.size(); ++i) {
     rep.original_mass += nodes.mass[i];
     const real needed = nodes.stiffness[i] * c;

@@ -165,9 +165,12 @@ class solver {
   [[nodiscard]] real time() const { return time_; }
   [[nodiscard]] real dt() const { return dt_; }
   [[nodiscard]] std::int64_t step_count() const { return step_; }
-  /// Critical step min 2 sqrt(m/k) (after mass scaling) and its limiting node.
+  /// Critical step min 2 sqrt(m/(a k)) (after mass scaling; a = damping's stiffness amplification)
+  /// and its limiting node.
   [[nodiscard]] const integrator::critical_step& critical_step() const { return critical_; }
   [[nodiscard]] const integrator::mass_scaling_report& mass_scaling() const { return scaling_; }
+  /// Factor a on the nodal stiffness in the stable step (1 + gamma with local damping, else 1).
+  [[nodiscard]] real stiffness_amplification() const { return integrator_.stiffness_amplification(); }
   [[nodiscard]] const solver_options& options() const { return options_; }
 
   /// All energy terms now (J); O(zones + sub-contacts + nodes).
@@ -199,19 +202,21 @@ class solver {
     blocks_.add_stiffness_bounds(gridpoints_);
     contacts_.add_stiffness_bounds(gridpoints_);
     if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
+    const real amplification = integrator_.stiffness_amplification();
     if (options_.mass_scaling_dt > 0) {
-      scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety);
+      scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
       if constexpr (Reinforcement::enabled) {
-        const auto bars = integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety);
+        const auto bars =
+            integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety, amplification);
         scaling_.added_mass += bars.added_mass;
         scaling_.original_mass += bars.original_mass;
         scaling_.scaled_nodes += bars.scaled_nodes;
       }
     }
-    critical_ = integrator::critical_time_step(gridpoints_);
+    critical_ = integrator::critical_time_step(gridpoints_, amplification);
     bool limited_by_bar = false;
     if constexpr (Reinforcement::enabled) {
-      const auto bars = integrator::critical_time_step(reinforcement_.nodes());
+      const auto bars = integrator::critical_time_step(reinforcement_.nodes(), amplification);
       if (bars.dt < critical_.dt) {
         critical_ = bars;
         limited_by_bar = true;
@@ -221,7 +226,8 @@ class solver {
     const real stable = options_.safety * critical_.dt;
     if (options_.dt > 0) {
       require(options_.dt <= stable * (1 + 1e-12), "solver: time step dt = ", options_.dt,
-              " s exceeds the stable limit ", stable, " s (safety ", options_.safety, " x 2 sqrt(m/k)) set by ",
+              " s exceeds the stable limit ", stable, " s (safety ", options_.safety, " x 2 sqrt(m/(a k)), a = ",
+              amplification, ") set by ",
               limited_by_bar ? detail::concat("bar node ", critical_.node)
                              : detail::concat("gridpoint ", critical_.node, " of block ", gridpoint_block(critical_.node)),
               " (m = ", critical_.mass, " kg, k = ", critical_.stiffness, " N/m); lower dt or use mass scaling");

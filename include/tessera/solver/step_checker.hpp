@@ -8,7 +8,8 @@
 //  - the kinetic energy exceeds growth_factor x (initial energy + boundary work) + floor: an
 //    explicit scheme run stably can never hold more kinetic energy than it was given.
 // The message names the worst node (first non-finite, else fastest), its block, its own stable
-// step 2 sqrt(m/k) against the step in use, and the likely cause.
+// step 2 sqrt(m/(a k)) against the step in use (a = damping's stiffness amplification), and the
+// likely cause.
 //
 // | expression          | meaning                                                    |
 // |---------------------|------------------------------------------------------------|
@@ -65,7 +66,8 @@ struct default_step_checker {
     const node_set& nodes = is_gridpoint ? s.gridpoints() : s.bar_nodes();
     const index i = worst.node;
     const real m = i >= 0 ? nodes.mass[i] : 0, k = i >= 0 ? nodes.stiffness[i] : 0;
-    const real own_dt = k > 0 ? 2 * std::sqrt(m / k) : std::numeric_limits<real>::infinity();
+    const real a = s.stiffness_amplification();
+    const real own_dt = k > 0 ? 2 * std::sqrt(m / (a * k)) : std::numeric_limits<real>::infinity();
     const char* cause = s.dt() > own_dt ? "time step above the stable limit of this node (raise its mass or lower dt)"
                         : m <= 0        ? "mass too small (zero or negative)"
                                         : "stiffness too high for the time step (a law or bond stiffer than the "
@@ -76,7 +78,7 @@ struct default_step_checker {
         worst.non_finite ? "" : " J exceeds the energy supplied ", worst.non_finite ? "" : std::to_string(supplied),
         worst.non_finite ? "" : " J; fastest node is ", worst.set, " ", i,
         is_gridpoint && i >= 0 ? detail::concat(" of block ", s.gridpoint_block(i)) : std::string(),
-        " (m = ", m, " kg, k = ", k, " N/m, its stable step 2 sqrt(m/k) = ", own_dt, " s, dt = ", s.dt(),
+        " (m = ", m, " kg, k = ", k, " N/m, its stable step 2 sqrt(m/(a k)) = ", own_dt, " s, dt = ", s.dt(),
         " s); likely cause: ", cause));
   }
 };
