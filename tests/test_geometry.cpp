@@ -498,3 +498,25 @@ TEST_CASE("Neper reader: malformed files throw io_error naming line and value", 
   REQUIRE_THROWS_WITH(read_string(good.substr(0, good.find("   2 6 -2"))), Contains("unexpected end of file"));
   REQUIRE_THROWS_WITH(read_string(replace_once(good, "   cube", "   cylinder")), Contains("domain type 'cylinder'"));
 }
+
+// Found by fuzz_tess_reader: a second **cell section with its own *seed made the reader return
+// 4 seeds for 2 cells (every consumer indexes seeds by cell); a repeated section is now an error.
+TEST_CASE("Neper reader: a repeated section or subsection is rejected", "[geometry][io][fuzz]") {
+  const std::string good = shipped_tess();
+  const std::string recell = replace_once(good, " **vertex", " **cell\n   2\n  *seed\n   1 0 0 0 0\n   2 1 1 1 0\n **vertex");
+  REQUIRE_THROWS_AS(read_string(recell), tessera::io_error);
+  REQUIRE_THROWS_WITH(read_string(recell), Contains("section **cell appears twice") && Contains("variant.tess:17"));
+  const std::string reseed = replace_once(good, "  *ori", "  *seed\n   1 0 0 0 0\n   2 1 1 1 0\n  *ori");
+  REQUIRE_THROWS_WITH(read_string(reseed), Contains("*seed appears twice"));
+}
+
+// Found by fuzz_tess_reader: the id -9223372036854775808 (LLONG_MIN) passed the range check
+// through std::llabs, whose result overflows; as a polyhedron face id it then indexed the face
+// table out of bounds. Both ids are now compared against [-n, n] without taking |id|.
+TEST_CASE("Neper reader: the most negative 64-bit id is out of range", "[geometry][io][fuzz]") {
+  const std::string good = shipped_tess();
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "      4 5 6 -7 -8", "      4 5 6 -7 -9223372036854775808")),
+                      Contains("face edge id -9223372036854775808 out of range [1, 20]"));
+  REQUIRE_THROWS_WITH(read_string(replace_once(good, "2 6 -2 7 8 9 10 11", "2 6 -9223372036854775808 7 8 9 10 11")),
+                      Contains("polyhedron 2: face id -9223372036854775808 out of range [1, 11]"));
+}

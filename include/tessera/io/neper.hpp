@@ -28,6 +28,8 @@
 //  - The domain box is the bounding box of the vertices. A face used by one polyhedron must lie
 //    on a side of that box (within 1e-9 of its extent; vertices are snapped onto the side) and
 //    gets boundary_tag(side); a face used by three or more polyhedra is an error.
+//  - Each **section (and *seed) may appear once: a repeated one would make the counts of cells,
+//    seeds and polyhedra disagree.
 //  - Malformed input throws io_error naming the file, line, section and offending value.
 //
 // Cost: O(file size). Thread safety: pure function of its input.
@@ -145,11 +147,17 @@ class tess_tokens {
   std::vector<int> face_line;
   std::vector<std::vector<index>> polyhedra;  // unsigned 0-based face ids
   bool have_vertex = false, have_face = false, have_polyhedron = false, ended = false;
+  std::vector<std::string> sections_read;  // each **section at most once, so counts stay consistent
 
   while (!tok.done() && !ended) {
     const int marker_line = tok.line();
     const std::string marker = tok.next("a section");
     tok.set_section(marker);
+    if (marker.rfind("**", 0) == 0) {
+      if (std::find(sections_read.begin(), sections_read.end(), marker) != sections_read.end())
+        tok.fail_at(marker_line, "section " + marker + " appears twice");
+      sections_read.push_back(marker);
+    }
     if (marker == "***end") {
       ended = true;
     } else if (marker == "**format") {
@@ -165,6 +173,7 @@ class tess_tokens {
         const std::string sub = tok.next("a subsection");
         tok.set_section("**cell " + sub);
         if (sub == "*seed") {
+          if (!seeds.empty()) tok.fail("subsection *seed appears twice");
           for (index c = 0; c < cell_count; ++c) {
             const int l = tok.line();
             if (tok.integer("seed id") != c + 1) tok.fail_at(l, tessera::detail::concat("seed id must be ", c + 1));
@@ -211,7 +220,8 @@ class tess_tokens {
         for (index k = 0; k < nedge; ++k) {
           const int le = tok.line();
           const long long e = tok.integer("face edge id");
-          if (e == 0 || std::llabs(e) > static_cast<long long>(edges.size()))
+          const auto ne = static_cast<long long>(edges.size());
+          if (e == 0 || e < -ne || e > ne)  // not llabs: llabs(LLONG_MIN) overflows
             tok.fail_at(le, tessera::detail::concat("face edge id ", e, " out of range [1, ", edges.size(), "]"));
         }
         for (int k = 0; k < 4; ++k) (void)tok.number("face equation coefficient");
@@ -231,9 +241,10 @@ class tess_tokens {
         for (index k = 0; k < nface; ++k) {
           const int lf = tok.line();
           const long long f = tok.integer("polyhedron face id");
-          if (f == 0 || std::llabs(f) > static_cast<long long>(faces.size()))
+          const auto nf = static_cast<long long>(faces.size());
+          if (f == 0 || f < -nf || f > nf)  // not llabs: llabs(LLONG_MIN) overflows
             tok.fail_at(lf, tessera::detail::concat("polyhedron ", p + 1, ": face id ", f, " out of range [1, ", faces.size(), "]"));
-          list.push_back(static_cast<index>(std::llabs(f) - 1));
+          list.push_back(static_cast<index>((f < 0 ? -f : f) - 1));
         }
         polyhedra.push_back(std::move(list));
       }
