@@ -510,7 +510,8 @@ TEST_CASE("Neper reader: a repeated section or subsection is rejected", "[geomet
   REQUIRE_THROWS_WITH(read_string(reseed), Contains("*seed appears twice"));
 }
 
-// Found by fuzz_tess_reader: the id -9223372036854775808 (LLONG_MIN) passed the range check
+// Found while writing the fuzz corpus (tests/fuzz/corpus/tess/signs.tess): the id
+// -9223372036854775808 (LLONG_MIN) passed the range check
 // through std::llabs, whose result overflows; as a polyhedron face id it then indexed the face
 // table out of bounds. Both ids are now compared against [-n, n] without taking |id|.
 TEST_CASE("Neper reader: the most negative 64-bit id is out of range", "[geometry][io][fuzz]") {
