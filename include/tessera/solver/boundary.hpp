@@ -96,6 +96,20 @@ inline void prescribe_velocity(node_set& nodes, const node_group& group, const v
     }
 }
 
+/// Changes the velocity of components that are already prescribed (a loading history, e.g. a
+/// ramp): no conflict check, but every selected component must be prescribed already.
+inline void update_velocity(node_set& nodes, const node_group& group, const vec3& v,
+                            components which = components::xyz) {
+  constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
+  for (index i : group.nodes)
+    for (int c = 0; c < 3; ++c) {
+      if (!has(which, c)) continue;
+      require(nodes.constraint(i, c) == prescribed, "update_velocity on node group '", group.name, "': node ", i,
+              " component ", "xyz"[c], " is not prescribed; use prescribe_velocity first");
+      nodes.prescribed_velocity(i, c) = v[c];
+    }
+}
+
 /// Fixes (zero velocity) the selected components of the group.
 inline void fix(node_set& nodes, const node_group& group, components which = components::xyz) {
   prescribe_velocity(nodes, group, vec3::Zero(), which);
