@@ -521,3 +521,31 @@ TEST_CASE("Neper reader: the most negative 64-bit id is out of range", "[geometr
   REQUIRE_THROWS_WITH(read_string(replace_once(good, "2 6 -2 7 8 9 10 11", "2 6 -9223372036854775808 7 8 9 10 11")),
                       Contains("polyhedron 2: face id -9223372036854775808 out of range [1, 11]"));
 }
+
+// Found by fuzz_clip: a polyhedron much smaller than its distance from the origin (size 1e-4 m at
+// 1000 m) had a plane tolerance (1e-12 of its size, 1e-16 m) below the rounding of the signed
+// distance (~1e-13 m), so a plane through a vertex classified it by noise and created vertices
+// 1e-13 m apart (and, cut after cut, exact duplicates). clip now raises the tolerance to
+// plane_rounding_tolerance of the coordinates.
+TEST_CASE("clip: a small polyhedron far from the origin gets no rounding-noise vertices", "[geometry][polyhedron][fuzz]") {
+  const vec3 lo(1000, 1000, 1000);
+  const real size = 1e-4;
+  int near_duplicates = 0, cuts = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    auto p = convex_polyhedron::box(lo, lo + vec3::Constant(size));
+    // planes through a vertex, given by another point of the plane (x_v + a tangent) so that the
+    // vertex's signed distance is pure rounding (~1e-13 m)
+    const tessera::index v = trial % 8;
+    const vec3 n = vec3(std::cos(0.37 * trial), std::sin(0.37 * trial), 0.3 + 0.01 * trial).normalized();
+    const vec3 x_v = p.vertex(v);
+    p.clip(plane::through(n, x_v + size * n.cross(vec3::UnitZ()).normalized()), 100);
+    if (p.empty()) continue;
+    ++cuts;
+    CHECK(p.euler_characteristic() == 2);
+    for (tessera::index a = 0; a < p.vertex_count(); ++a)
+      for (tessera::index b = a + 1; b < p.vertex_count(); ++b)
+        if ((p.vertex(a) - p.vertex(b)).norm() < 1e-6 * size) ++near_duplicates;
+  }
+  CHECK(cuts > 100);
+  CHECK(near_duplicates == 0);
+}

@@ -158,12 +158,16 @@ class convex_polyhedron {
 
   /// Keeps the part {x : h.normal . x <= h.offset}; the new face gets `tag`. Returns whether
   /// anything was cut off. Vertices within `tol` (m) of the plane count as on it; tol < 0 selects
-  /// plane_tolerance_rel * extent(). When every vertex is outside or on the plane, the result is
+  /// plane_tolerance_rel * extent(). Either is raised to plane_rounding_tolerance of the largest
+  /// coordinate, so a small polyhedron far from the origin is not cut by rounding noise. When every vertex is outside or on the plane, the result is
   /// empty. Throws geometry_error when no consistent cut is found even at a 1e-6 relative
   /// tolerance (only possible for a corrupt, non-convex input).
   bool clip(const plane& h, index tag, real tol = -1) {
     if (empty()) return false;
     if (tol < 0) tol = plane_tolerance_rel * extent();
+    real coordinate_max = std::abs(h.offset);
+    for (const vec3& v : vertices_) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
+    tol = std::max(tol, plane_rounding_tolerance(coordinate_max));
     for (int attempt = 0; attempt < 6; ++attempt) {
       const clip_result r = try_clip(h, tag, tol);
       if (r != clip_result::inconsistent) return r == clip_result::cut;

@@ -8,7 +8,8 @@
 //   length (m). Callers derive it from the size of the object they work on:
 //       tol = plane_tolerance_rel * L,   L = characteristic length (bounding-box extent)
 //   plane_tolerance_rel = 1e-12 sits three orders of magnitude above the rounding error of the
-//   signed distance of double-precision coordinates (|error| <~ 4 eps L ~ 1e-15 L) and three
+//   signed distance of double-precision coordinates of magnitude L (|error| <~ 4 eps L ~ 1e-15 L;
+//   for coordinates much larger than the object, plane_rounding_tolerance is the floor) and three
 //   orders below the vertex-welding tolerance of the tessellation cleanup (1e-9 of the cell
 //   size, see cleanup.hpp). Everything a tolerance-level decision can create (sliver edges,
 //   near-duplicate vertices, zero-area faces) is therefore much shorter than the welding
@@ -19,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <Eigen/Geometry>
 
@@ -42,6 +44,15 @@ struct plane {
 
 /// Relative tolerance of the plane-side predicate; multiply by a characteristic length (m).
 inline constexpr real plane_tolerance_rel = 1e-12;
+
+/// Floor (m) of any plane-side tolerance for points with coordinates up to `coordinate_max` (m)
+/// in absolute value. The rounding error of n.p - offset is about 4 eps |p|, not 4 eps L: an
+/// object of size L far from the origin (|p| >~ 1e3 L, where plane_tolerance_rel L drops below
+/// it) would otherwise have its vertex sides decided by rounding, which creates duplicate and
+/// sub-tolerance vertices. 16 eps |p| keeps the "on" band above the error.
+[[nodiscard]] inline real plane_rounding_tolerance(real coordinate_max) {
+  return 16 * std::numeric_limits<real>::epsilon() * coordinate_max;
+}
 
 /// Result of a three-valued side test.
 enum class side : std::int8_t {
