@@ -545,3 +545,73 @@ TEST_CASE("embedded_truss rejects bad input with a message naming it", "[reinfor
   p.bars[0] = bar{vec3(0, 0, 0), vec3(1, 1, 1), 5, true};
   CHECK_NOTHROW(build(p));
 }
+
+// ---- through the solver (tessera::solver composes blocks, contacts and this reinforcement) ----
+#if __has_include("tessera/solver/solver.hpp") && __has_include("tessera/geometry/zoning.hpp")
+#include "tessera/geometry/zoning.hpp"
+#include "tessera/solver.hpp"
+
+namespace {
+/// One box [lo, hi] as a single-cell tessellation (faces CCW seen from outside).
+geometry::tessellation box_cell(const vec3& lo, const vec3& hi) {
+  geometry::tessellation t;
+  t.domain.expand(lo);
+  t.domain.expand(hi);
+  for (int k = 0; k < 8; ++k)
+    t.vertices.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+  for (int f = 0; f < 6; ++f) {
+    for (int k = 0; k < 4; ++k) t.face_vertices.push_back(faces[f][k]);
+    t.face_offsets.push_back(static_cast<idx>(t.face_vertices.size()));
+    t.face_cell.push_back(0);
+    t.face_neighbor.push_back(geometry::boundary_tag(f));
+    t.face_twin.push_back(invalid_index);
+  }
+  t.cell_face_offsets.push_back(6);
+  return t;
+}
+}  // namespace
+
+TEST_CASE("solver with embedded_truss: Coulomb pull-out from a fixed zoned block, energy balance", "[reinforcement][solver]") {
+  using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::study_tie_law, truss>;
+  const real a = 0.068, length = 0.3, c_bond = 1e4;
+  const auto tess = box_cell(vec3(0, 0, 0), vec3(a, a, length));
+  const auto mesh = geometry::zone_blocks(tess);  // one zone per face triangle: hosts are large tets
+  truss::params bars{pulatsu2020::tie_steel(), coulomb_bond::params{4.0, c_bond, 0.0},
+                     {bar{vec3(a / 2, a / 2, 0), vec3(a / 2, a / 2, length), 48, true}}};
+  // Mass scaling to about the bar's own critical step (~7e-7 s): the block is fixed anyway, and
+  // the pull becomes quasi-static in few steps.
+  solver_options options;
+  options.mass_scaling_dt = 5e-7;
+  tie_solver s(tess, mesh, zones::linear_elastic_tet::params{280e9, 0.2, 2400}, law::study_prism_params(100), bars,
+               options);
+  CHECK(s.dt() == Approx(5e-7).epsilon(1e-12));
+  s.fix(bc::all_nodes(s.gridpoints()));
+  node_set& nodes = s.bar_nodes();
+  const idx last = nodes.size() - 1;
+  bc::fix(nodes, bc::node_group{{last}, "pulled bar end"}, bc::components::z);
+  REQUIRE(s.dt() > 0);
+  real pulled_old = 0.0;
+  std::vector<real> force;
+  for (real pulled : {2e-5, 2e-4}) {
+    const int steps = 8000;
+    for (int i = 0; i < steps; ++i) {
+      const real phase = 2.0 * std::numbers::pi * (i + 0.5) / steps;
+      nodes.prescribed_velocity(last, 2) = (pulled - pulled_old) / (steps * s.dt()) * (1.0 - std::cos(phase));
+      s.step();
+    }
+    nodes.prescribed_velocity(last, 2) = 0.0;
+    s.run(8000);
+    pulled_old = pulled;
+    force.push_back(nodes.reaction(last, 2));
+  }
+  CHECK(nodes.displacement(last, 2) == Approx(2e-4).epsilon(1e-9));
+  CHECK(force[0] < 0.9 * c_bond * length);
+  CHECK(force[1] == Approx(c_bond * length).epsilon(1e-6));
+  const energy_balance e = s.energies();
+  INFO("boundary work " << e.boundary_work << " J, bars stored " << e.reinforcement_stored << " J, dissipated "
+                        << e.reinforcement_dissipated << " J, damping " << e.damping_dissipated << " J");
+  CHECK(e.reinforcement_dissipated > 0.5 * e.boundary_work);
+  CHECK(e.error_rel() < 1e-6);
+}
+#endif
