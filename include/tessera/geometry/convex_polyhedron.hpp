@@ -173,7 +173,7 @@ class convex_polyhedron {
       if (r != clip_result::inconsistent) return r == clip_result::cut;
       tol *= 100;  // rounding broke the bitonic side pattern of a face: widen the "on" band
     }
-    throw geometry_error(detail::concat("convex_polyhedron::clip: no consistent cut by plane n = (", h.normal.x(),
+    throw geometry_error(tessera::detail::concat("convex_polyhedron::clip: no consistent cut by plane n = (", h.normal.x(),
                                         ", ", h.normal.y(), ", ", h.normal.z(), "), offset = ", h.offset,
                                         " m (tag ", tag, ") on a polyhedron of ", vertex_count(), " vertices"));
   }
