@@ -4,3 +4,4 @@
 #include "blocks/concepts.hpp"
 #include "blocks/linear_elastic_tet.hpp"
 #include "blocks/deformable.hpp"
+#include "blocks/rigid.hpp"

@@ -31,6 +31,7 @@
 
 #include "../blocks/concepts.hpp"
 #include "../blocks/deformable.hpp"
+#include "../blocks/rigid.hpp"
 #include "../blocks/linear_elastic_tet.hpp"
 #include "../contact/subcontact_set.hpp"
 #include "../core/errors.hpp"
@@ -159,6 +160,8 @@ class solver {
   [[nodiscard]] const node_set& bar_nodes() const { return reinforcement_.nodes(); }
   [[nodiscard]] const contact_set_type& contacts() const { return contacts_; }
   [[nodiscard]] const Blocks& blocks() const { return blocks_; }
+  /// The block model, e.g. for initial conditions (blocks::rigid::set_velocity).
+  [[nodiscard]] Blocks& blocks() { return blocks_; }
   [[nodiscard]] const Reinforcement& reinforcement() const { return reinforcement_; }
   [[nodiscard]] Reinforcement& reinforcement() { return reinforcement_; }
   [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
@@ -204,7 +207,11 @@ class solver {
     if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
     const real amplification = integrator_.stiffness_amplification();
     if (options_.mass_scaling_dt > 0) {
-      scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
+      // Rigid blocks scale their bodies' mass and inertia (blocks/rigid.hpp), not the gridpoints.
+      if constexpr (Blocks::is_rigid)
+        scaling_ = blocks_.scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
+      else
+        scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
       if constexpr (Reinforcement::enabled) {
         const auto bars =
             integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety, amplification);
@@ -213,7 +220,10 @@ class solver {
         scaling_.scaled_nodes += bars.scaled_nodes;
       }
     }
-    critical_ = integrator::critical_time_step(gridpoints_, amplification);
+    if constexpr (Blocks::is_rigid)
+      critical_ = blocks_.critical_time_step(gridpoints_, amplification);  // 6-DOF bound per block
+    else
+      critical_ = integrator::critical_time_step(gridpoints_, amplification);
     bool limited_by_bar = false;
     if constexpr (Reinforcement::enabled) {
       const auto bars = integrator::critical_time_step(reinforcement_.nodes(), amplification);
@@ -272,5 +282,7 @@ class solver {
 using prism_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::study_tie_law>;
 /// Linear-softening variant (sensitivity study, Sec. 3.2).
 using prism_linear_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::linear_tie_law>;
+/// The prism with rigid 6-DOF blocks (blocks::rigid, density only) and the study's tie law.
+using rigid_prism_solver = solver<blocks::rigid, law::study_tie_law>;
 
 }  // namespace tessera

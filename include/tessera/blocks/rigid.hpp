@@ -1,0 +1,466 @@
+#pragma once
+// blocks::rigid — rigid polyhedral blocks with six degrees of freedom each (3DEC's rigid blocks,
+// PFC's clumps) behind the BlockModel interface, so a solver composes them with the same
+// contacts, reinforcement and boundary conditions as deformable blocks.
+//
+// Body. Block b is tessellation cell b with density rho: mass m = rho V, centroid c and inertia
+// tensor about c, I = rho (tr(S) 1 - S), from the exact polyhedron moments S
+// (geometry/mass_properties.hpp); principal axes E = [e1 e2 e3] (det E = +1) and principal
+// moments I1 <= I2 <= I3. A gridpoint i of the block has body coordinates r_i = E^T (X_i - c) and
+// current position x_i = c + u_c + R r_i, R = R(q).
+//
+// State (SI), per block:
+//   u_c  centroid displacement (m), full step            v  centroid velocity (m/s), half step, world
+//   q    orientation, unit quaternion body -> world, R(q) = E in the reference configuration, full step
+//   w    angular velocity (rad/s), half step, in the BODY principal frame (Euler's equations are
+//        diagonal there; angular_velocity(b) returns the world vector R w)
+//   F, M force (N) and moment about the current centroid (N m, world) of the step
+//
+// One step (advance; steps 5-6 of docs/architecture.md):
+//  1. Reduction, fixed order over the block's gridpoints (deterministic, parallel over blocks):
+//         F = sum_i f_i,   M = sum_i (x_i - c) x f_i = sum_i (R r_i) x f_i.
+//  2. Translation, per WORLD component with the integrator's damping law (study eq. 1):
+//         v+ = v- + (F - F_d) dt / m,   u_c += v+ dt.
+//  3. Rotation, Euler's equations per PRINCIPAL component k (as 3DEC and PFC apply local
+//     damping to each component of the unbalanced moment):
+//         I_k (w+_k - w-_k) / dt = T_k - T_d,k,   T = R^T M - wm x (I wm),   wm = (w- + w+) / 2.
+//     Decision: the gyroscopic term is evaluated at the time-centred wm (a few fixed-point
+//     iterations per block, contraction ~|w| dt), not at w-: then wm . (wm x I wm) = 0 and
+//     (I wm) . (wm x I wm) = 0, so a torque-free body keeps its kinetic energy 1/2 w.Iw and
+//     |I w| exactly, while the forward-evaluated term w- x I w- adds energy of order
+//     (|w| dt)^2 per step (secular drift). Forces stay explicit.
+//  4. Orientation by the exact exponential map of the step's rotation, renormalised:
+//         q+ = q ⊗ exp(w+ dt / 2)      (R+ = R exp([w+ dt]x), body-frame increment).
+//  5. Slaved gridpoints: u_i = u_c + (R+ - E) r_i, and the SECANT velocity
+//         v_i = (x_i(t+dt) - x_i(t)) / dt = v+ + R (exp([w+ dt]x) - 1) r_i / dt
+//             = v+ + (2 sin(θ/2) / θ) w+ x (R_mid r_i),   θ = |w+| dt,
+//     i.e. the rigid velocity w x (R r) at the mid-rotation up to a factor 1 - θ^2/24. Decision:
+//     the secant rather than w x (R r), so that the contacts' increment du = (v_b - v_a) dt is
+//     exactly the displacement increment of the step and two blocks moving as one rigid body
+//     (any rotation) give their contacts zero relative displacement to round-off.
+//
+// Boundary conditions (prescriptions on gridpoints, solver/boundary.hpp): a block is CONSTRAINED
+// when any of its gridpoints has a prescribed component. Then each prescribed world component
+// c of the translation gets that velocity and ALL rotations are held (w = 0). Two gridpoints of
+// one block prescribing different velocities for the same component throw invalid_input naming
+// the block, the component, both gridpoints and both values. Reactions (integrator convention,
+// R = m (v_p - v-)/dt - F): the block's reaction force component c is split equally among the
+// n_c gridpoints of the block that prescribe c (the others get 0), so recorders::reaction_sum over
+// a group holding all of them returns the block's total; the reaction moment (N m, world, about
+// the centroid) is recorded on the block only (reaction_moment(b)).
+//
+// Stable time step (provably stable for the undamped linearised scheme; the solver calls
+// critical_time_step instead of the nodal bound). With k_i the gridpoints' Gershgorin stiffness
+// bounds (contacts, bonds), any block motion u_i = v + θ x ρ_i (ρ_i = R r_i) gives
+//     u^T K u <= sum_i k_i |u_i|^2 <= 2 (k_t |v|^2 + k_r |θ|^2),  k_t = sum_i k_i,  k_r = sum_i k_i |ρ_i|^2,
+// while u^T M u >= m |v|^2 + I1 |θ|^2, so omega_max^2 <= 2 max_b max(k_t/m, k_r/I1) and
+//     dt_cr = min_b min( 2 sqrt(m / (2 a k_t)), 2 sqrt(I1 / (2 a k_r)) ),
+// a = the damping's stiffness amplification (1 + gamma for local damping, as for deformable
+// blocks, integrator/timestep.hpp). The solver's safety factor multiplies dt_cr. The report names
+// the block's first gridpoint, m, and the equivalent stiffness k_eq (N/m) with 2 sqrt(m/(a k_eq)) = dt
+// (k_eq = 2 k_t, or 2 k_r m / I1 when rotation limits).
+// Mass scaling: a block whose bound is below the target gets m and I multiplied by ONE factor
+// lambda >= 1 (radius of gyration kept), the smallest that makes both bounds reach the target.
+//
+// Energies: kinetic 1/2 m |v|^2 + 1/2 w.I w at the half step; no elastic energy is stored in
+// rigid blocks; zone_stress() is empty (reinforcement sees no confinement).
+//
+// Storage: one `body` record per block (its 6-DOF state is always read together) and the
+// gridpoint body coordinates as an N x 3 column-major array. advance allocates nothing.
+// Thread safety: const members are safe to call concurrently; advance is not.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../geometry/mass_properties.hpp"
+#include "../geometry/tessellation.hpp"
+#include "../geometry/tessellation_queries.hpp"
+#include "../integrator/concepts.hpp"
+#include "../integrator/timestep.hpp"
+#include "concepts.hpp"
+#include "detail/rigid_rotation.hpp"
+
+namespace tessera::blocks {
+
+class rigid {
+ public:
+  /// Block material of rigid blocks.
+  struct params {
+    real density = 2400;  ///< mass density rho (kg/m^3)
+  };
+  static constexpr bool is_rigid = true;
+
+  rigid() = default;
+
+  /// Throws invalid_input unless the density is finite and > 0.
+  static void validate(const params& p) { require_positive(p.density, "rigid blocks: density rho (kg/m^3)"); }
+
+  /// Validates p, computes every block's mass, centroid, principal moments and axes from the
+  /// tessellation cell with the same id, and sizes `gridpoints` (reference positions from the mesh,
+  /// zero state). Each gridpoint gets the mass m_b / n_b (its block's mass shared equally; used only by
+  /// diagnostics, the dynamics uses the block's m and I). Throws geometry_error when the mesh and
+  /// the tessellation disagree on the block count or a cell has non-positive volume.
+  void build(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params& p,
+             node_set& gridpoints) {
+    validate(p);
+    params_ = p;
+    const index n_b = mesh.block_count();
+    const index n_gp = mesh.gridpoint_count();
+    require<geometry_error>(n_b > 0 && n_gp > 0, "rigid blocks: block_mesh has ", n_b, " blocks and ", n_gp,
+                            " gridpoints; build it with geometry::zone_blocks");
+    require<geometry_error>(tess.cell_count() == n_b, "rigid blocks: the tessellation has ", tess.cell_count(),
+                            " cells but the block_mesh ", n_b, " blocks; block b must be cell b");
+    gridpoints.resize(n_gp);
+    for (index i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
+    gridpoint_block_ = mesh.gridpoint_block;
+    bodies_.assign(static_cast<std::size_t>(n_b), body{});
+    body_position_.setZero(n_gp, 3);
+    for (index b = 0; b < n_b; ++b) {
+      body& bd = bodies_[static_cast<std::size_t>(b)];
+      bd.first = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+      bd.end = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1];
+      require<geometry_error>(bd.end > bd.first, "rigid blocks: block ", b, " has no gridpoint");
+      const geometry::mass_properties mp = geometry::cell_mass_properties(tess, b);
+      require<geometry_error>(mp.volume > 0, "rigid blocks: cell ", b, " has volume ", mp.volume,
+                              " m^3; expected > 0 (faces CCW seen from outside)");
+      const mat3 inertia = geometry::inertia_tensor(mp.second_moment, p.density);
+      const Eigen::SelfAdjointEigenSolver<mat3> eig(inertia);  // eigenvalues ascending
+      mat3 axes = eig.eigenvectors();
+      if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+      bd.mass = p.density * mp.volume;
+      bd.inertia = eig.eigenvalues();
+      require<geometry_error>(bd.inertia.minCoeff() > 0, "rigid blocks: cell ", b, " has principal moments (",
+                              bd.inertia.transpose(), ") kg m^2; expected all > 0");
+      bd.centroid = mp.centroid;
+      bd.axes = axes;
+      bd.orientation = Eigen::Quaterniond(axes);
+      bd.orientation.normalize();
+      bd.half_orientation = bd.orientation;
+      bd.rotation = bd.orientation.toRotationMatrix();
+      for (index i = bd.first; i < bd.end; ++i) {
+        require<geometry_error>(gridpoint_block_[static_cast<std::size_t>(i)] == b, "rigid blocks: gridpoint ", i,
+                                " lies in the range of block ", b, " but belongs to block ",
+                                gridpoint_block_[static_cast<std::size_t>(i)]);
+        body_position_.row(i) = (bd.rotation.transpose() * (mesh.gridpoints[static_cast<std::size_t>(i)] - bd.centroid)).transpose();
+      }
+    }
+    share_masses(gridpoints);
+    constraints_.assign(static_cast<std::size_t>(n_b), block_constraints{});
+    work_.assign(static_cast<std::size_t>(n_b), integrator::step_work{});
+    zone_stress_.resize(0, 6);
+  }
+
+  /// Step 2: rigid blocks have no internal forces.
+  void accumulate_forces(node_set& /*gridpoints*/) noexcept {}
+
+  /// Rigid blocks add no internal stiffness; their stable step comes from critical_time_step.
+  void add_stiffness_bounds(node_set& /*gridpoints*/) const {}
+
+  /// Steps 5-6 (see the file comment): reduces the gridpoint forces to block forces and moments,
+  /// integrates the 6 DOF of every block with `integ`, slaves the gridpoints and adds the boundary
+  /// work and damping dissipation of the step to `work`. Throws invalid_input for conflicting
+  /// prescriptions within one block (before any state changes).
+  template <class Integrator, class Work>
+  void advance(const Integrator& integ, node_set& gridpoints, real dt, Work& work) {
+    const std::int64_t n_b = block_count();
+    parallel_for(n_b, [&](std::int64_t b) { reduce(gridpoints, static_cast<index>(b)); }, 16);
+    for (index b = 0; b < block_count(); ++b) {
+      const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
+      for (int c = 0; c < 3; ++c)
+        if (con.conflict[static_cast<std::size_t>(c)] != invalid_index) throw_conflict(gridpoints, b, c);
+    }
+    parallel_for(n_b, [&](std::int64_t b) { integrate(integ, gridpoints, static_cast<index>(b), dt); }, 16);
+    for (const integrator::step_work& w : work_) {
+      work.boundary += w.boundary;
+      work.damping += w.damping;
+    }
+  }
+
+  /// Empty: rigid blocks have no zones (reinforcement sees no confinement).
+  [[nodiscard]] const zone_stress_matrix& zone_stress() const { return zone_stress_; }
+  /// Rigid blocks store no elastic energy (J).
+  [[nodiscard]] real stored_energy(const node_set& /*gridpoints*/) const { return 0; }
+  /// sum_b 1/2 m |v|^2 + 1/2 sum_k I_k w_k^2 (J) at the half step (scaled masses).
+  [[nodiscard]] real kinetic_energy(const node_set& /*gridpoints*/) const {
+    real e = 0;
+    for (const body& bd : bodies_)
+      e += 0.5 * (bd.mass * bd.velocity.squaredNorm() + bd.angular_velocity.dot(bd.inertia.cwiseProduct(bd.angular_velocity)));
+    return e;
+  }
+  [[nodiscard]] index block_count() const { return static_cast<index>(bodies_.size()); }
+
+  // ---- time step and mass scaling (called by the solver instead of the nodal versions) ----
+
+  /// min over blocks of the translational and rotational bounds (see the file comment) from the
+  /// gridpoints' stiffness bounds k_i (N/m) assembled by contacts and bonds; a = stiffness
+  /// amplification of the damping. Blocks without stiffness are skipped.
+  [[nodiscard]] integrator::critical_step critical_time_step(const node_set& gridpoints, real amplification = 1) const {
+    require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
+    integrator::critical_step out;
+    for (const body& bd : bodies_) {
+      const auto [k_t, k_r] = stiffness_bounds(gridpoints, bd);
+      if (k_t > 0) {
+        const real dt = 2 * std::sqrt(bd.mass / (2 * amplification * k_t));
+        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_t};
+      }
+      if (k_r > 0) {
+        const real i_min = bd.inertia.minCoeff();
+        const real dt = 2 * std::sqrt(i_min / (2 * amplification * k_r));
+        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_r * bd.mass / i_min};
+      }
+    }
+    return out;
+  }
+
+  /// Multiplies m and I of every block whose bound is below target_dt by the smallest common
+  /// factor that makes safety x its bound reach target_dt; updates the gridpoints' shared masses.
+  /// The report counts blocks in `scaled_nodes`.
+  integrator::mass_scaling_report scale_masses(node_set& gridpoints, real target_dt, real safety = integrator::default_safety,
+                                               real amplification = 1) {
+    require_positive(target_dt, "rigid blocks: mass-scaling target time step (s)");
+    require(safety > 0 && safety <= 1, "rigid blocks: mass-scaling safety factor = ", safety, " must lie in (0, 1]");
+    require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
+    integrator::mass_scaling_report rep;
+    // safety 2 sqrt(m / (2 a k)) >= dt*  <=>  m >= 2 a k (dt* / (2 safety))^2
+    const real c = 2 * amplification * (target_dt / (2 * safety)) * (target_dt / (2 * safety));
+    for (body& bd : bodies_) {
+      rep.original_mass += bd.mass;
+      const auto [k_t, k_r] = stiffness_bounds(gridpoints, bd);
+      const real factor = std::max({real(1), c * k_t / bd.mass, c * k_r / bd.inertia.minCoeff()});
+      if (factor > 1) {
+        rep.added_mass += (factor - 1) * bd.mass;
+        bd.mass *= factor;
+        bd.inertia *= factor;
+        ++rep.scaled_nodes;
+      }
+    }
+    share_masses(gridpoints);
+    return rep;
+  }
+
+  // ---- initial conditions ----
+
+  /// Sets the centroid velocity v (m/s) and the angular velocity omega (rad/s, world frame) of
+  /// block b as the half-step velocities of the next step, and the gridpoint velocities to the
+  /// rigid field v + omega x (x_i - c). Throws invalid_input for a bad block id or a non-finite vector.
+  void set_velocity(index b, const vec3& v, const vec3& omega, node_set& gridpoints) {
+    require(b >= 0 && b < block_count(), "rigid blocks: block ", b, " does not exist (", block_count(), " blocks)");
+    require(v.allFinite() && omega.allFinite(), "rigid blocks: velocity (", v.transpose(), ") m/s or angular velocity (",
+            omega.transpose(), ") rad/s of block ", b, " is not finite");
+    body& bd = bodies_[static_cast<std::size_t>(b)];
+    bd.velocity = v;
+    bd.angular_velocity = bd.rotation.transpose() * omega;
+    for (index i = bd.first; i < bd.end; ++i)
+      gridpoints.velocity.row(i) = (v + omega.cross(bd.rotation * body_position(i))).transpose();
+  }
+
+  // ---- state of block b ----
+
+  [[nodiscard]] real mass(index b) const { return at(b).mass; }                       ///< m (kg, scaled)
+  [[nodiscard]] const vec3& principal_moments(index b) const { return at(b).inertia; } ///< I1 <= I2 <= I3 (kg m^2, scaled)
+  /// Principal axes E (columns) in the reference configuration.
+  [[nodiscard]] const mat3& principal_axes(index b) const { return at(b).axes; }
+  /// Inertia tensor about the centroid in the current orientation, R diag(I) R^T (kg m^2).
+  [[nodiscard]] mat3 inertia(index b) const {
+    const body& bd = at(b);
+    return bd.rotation * bd.inertia.asDiagonal() * bd.rotation.transpose();
+  }
+  [[nodiscard]] const vec3& reference_centroid(index b) const { return at(b).centroid; }  ///< c (m)
+  [[nodiscard]] vec3 centroid(index b) const { return at(b).centroid + at(b).displacement; }  ///< c + u_c (m)
+  [[nodiscard]] const vec3& displacement(index b) const { return at(b).displacement; }  ///< u_c (m)
+  [[nodiscard]] const vec3& velocity(index b) const { return at(b).velocity; }  ///< v (m/s), half step
+  /// Angular velocity (rad/s) in the body principal frame, half step.
+  [[nodiscard]] const vec3& body_angular_velocity(index b) const { return at(b).angular_velocity; }
+  /// Angular velocity (rad/s) in the world frame, R(q_half) w, half step.
+  [[nodiscard]] vec3 angular_velocity(index b) const {
+    return at(b).half_orientation.toRotationMatrix() * at(b).angular_velocity;
+  }
+  /// Angular momentum about the centroid (kg m^2/s, world) at the half step: R(q_half) I w, with
+  /// q_half the orientation halfway through the last step's rotation.
+  [[nodiscard]] vec3 angular_momentum(index b) const {
+    return at(b).half_orientation.toRotationMatrix() * at(b).inertia.cwiseProduct(at(b).angular_velocity);
+  }
+  /// Orientation q (body principal frame -> world), full step.
+  [[nodiscard]] const Eigen::Quaterniond& orientation(index b) const { return at(b).orientation; }
+  /// Rotation of the block since the reference configuration, R(q) E^T.
+  [[nodiscard]] mat3 rotation(index b) const { return at(b).rotation * at(b).axes.transpose(); }
+  [[nodiscard]] const vec3& force(index b) const { return at(b).force; }    ///< F of the last step (N)
+  [[nodiscard]] const vec3& moment(index b) const { return at(b).moment; }  ///< M about c, last step (N m, world)
+  /// Support reaction on the block, last step (N, world); zero in unprescribed components.
+  [[nodiscard]] const vec3& reaction_force(index b) const { return at(b).reaction_force; }
+  /// Support moment about the centroid holding a constrained block's rotation, last step (N m, world).
+  [[nodiscard]] const vec3& reaction_moment(index b) const { return at(b).reaction_moment; }
+  /// Body coordinates r_i = E^T (X_i - c) of gridpoint i (m).
+  [[nodiscard]] vec3 body_position(index i) const { return body_position_.row(i).transpose(); }
+  [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] const params& material() const { return params_; }
+
+ private:
+  struct body {
+    real mass = 0;                                     ///< m (kg, possibly scaled)
+    vec3 inertia = vec3::Zero();                       ///< principal moments I1 <= I2 <= I3 (kg m^2, possibly scaled)
+    mat3 axes = mat3::Identity();                      ///< E, principal axes in the reference configuration
+    vec3 centroid = vec3::Zero();                      ///< reference centroid c (m)
+    vec3 displacement = vec3::Zero();                  ///< u_c (m)
+    vec3 velocity = vec3::Zero();                      ///< v (m/s), half step
+    vec3 angular_velocity = vec3::Zero();              ///< w (rad/s), body frame, half step
+    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();       ///< q, full step
+    Eigen::Quaterniond half_orientation = Eigen::Quaterniond::Identity();  ///< q exp(w dt / 4), mid-step
+    mat3 rotation = mat3::Identity();                  ///< R(q)
+    vec3 force = vec3::Zero(), moment = vec3::Zero();  ///< F (N), M (N m, world)
+    vec3 reaction_force = vec3::Zero(), reaction_moment = vec3::Zero();
+    index first = 0, end = 0;                          ///< gridpoints [first, end)
+  };
+  /// Prescriptions found on a block's gridpoints in the last reduction.
+  struct block_constraints {
+    std::array<index, 3> count{0, 0, 0};               ///< gridpoints prescribing component c
+    std::array<index, 3> first{invalid_index, invalid_index, invalid_index};     ///< the first of them
+    std::array<index, 3> conflict{invalid_index, invalid_index, invalid_index};  ///< one disagreeing with it
+    vec3 velocity = vec3::Zero();                      ///< prescribed velocity (m/s)
+    [[nodiscard]] bool any() const { return count[0] + count[1] + count[2] > 0; }
+  };
+
+  [[nodiscard]] const body& at(index b) const {
+    require(b >= 0 && b < block_count(), "rigid blocks: block ", b, " does not exist (", block_count(), " blocks)");
+    return bodies_[static_cast<std::size_t>(b)];
+  }
+
+  void share_masses(node_set& gridpoints) const {
+    for (const body& bd : bodies_)
+      for (index i = bd.first; i < bd.end; ++i) gridpoints.mass[i] = bd.mass / static_cast<real>(bd.end - bd.first);
+  }
+
+  /// k_t = sum_i k_i (N/m) and k_r = sum_i k_i |r_i|^2 (N m) over the block's gridpoints.
+  [[nodiscard]] std::array<real, 2> stiffness_bounds(const node_set& gridpoints, const body& bd) const {
+    real k_t = 0, k_r = 0;
+    for (index i = bd.first; i < bd.end; ++i) {
+      k_t += gridpoints.stiffness[i];
+      k_r += gridpoints.stiffness[i] * body_position_.row(i).squaredNorm();
+    }
+    return {k_t, k_r};
+  }
+
+  /// Step 1 of the file comment, plus the prescriptions of block b's gridpoints.
+  void reduce(const node_set& gp, index b) noexcept {
+    body& bd = bodies_[static_cast<std::size_t>(b)];
+    block_constraints& con = constraints_[static_cast<std::size_t>(b)];
+    con = block_constraints{};
+    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
+    vec3 f_sum = vec3::Zero(), m_sum = vec3::Zero();
+    for (index i = bd.first; i < bd.end; ++i) {
+      const vec3 f(gp.force(i, 0), gp.force(i, 1), gp.force(i, 2));
+      const vec3 rho = bd.rotation * body_position(i);
+      f_sum += f;
+      m_sum += rho.cross(f);
+      for (int c = 0; c < 3; ++c) {
+        if (gp.constraint(i, c) != prescribed) continue;
+        const auto cs = static_cast<std::size_t>(c);
+        if (con.count[cs]++ == 0) {
+          con.first[cs] = i;
+          con.velocity[c] = gp.prescribed_velocity(i, c);
+        } else if (gp.prescribed_velocity(i, c) != con.velocity[c] && con.conflict[cs] == invalid_index) {
+          con.conflict[cs] = i;
+        }
+      }
+    }
+    bd.force = f_sum;
+    bd.moment = m_sum;
+  }
+
+  [[noreturn]] void throw_conflict(const node_set& gp, index b, int c) const {
+    const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
+    const index i = con.first[static_cast<std::size_t>(c)], j = con.conflict[static_cast<std::size_t>(c)];
+    throw invalid_input(tessera::detail::concat("rigid blocks: block ", b, " has conflicting prescribed velocities in component ",
+                                       "xyz"[c], ": gridpoint ", i, " prescribes ", gp.prescribed_velocity(i, c),
+                                       " m/s, gridpoint ", j, " prescribes ", gp.prescribed_velocity(j, c),
+                                       " m/s; a rigid block moves as one body (release one of them)"));
+  }
+
+  /// Steps 2-5 of the file comment for block b.
+  template <class Integrator>
+  void integrate(const Integrator& integ, node_set& gp, index b, real dt) noexcept {
+    body& bd = bodies_[static_cast<std::size_t>(b)];
+    const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
+    constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
+    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
+    integrator::step_work w;
+
+    // Translation, per world component.
+    vec3 reaction = vec3::Zero();
+    for (int c = 0; c < 3; ++c) {
+      const std::uint8_t kind = con.count[static_cast<std::size_t>(c)] > 0 ? prescribed : free;
+      bd.velocity[c] = integ.advance_dof(bd.force[c], bd.mass, bd.velocity[c], kind, con.velocity[c], dt, reaction[c], w);
+    }
+    bd.displacement += bd.velocity * dt;
+    bd.reaction_force = reaction;
+
+    // Rotation: Euler's equations per principal component, gyroscopic term at wm (fixed point).
+    const std::uint8_t rotation_kind = con.any() ? prescribed : free;
+    const vec3 torque = bd.rotation.transpose() * bd.moment;
+    const vec3 w_old = bd.angular_velocity;
+    vec3 w_new = w_old, moment_reaction = vec3::Zero();
+    integrator::step_work rotation_work;
+    constexpr int max_iterations = 20;
+    for (int it = 0; it < max_iterations; ++it) {
+      const vec3 wm = 0.5 * (w_old + w_new);
+      const vec3 t = torque - wm.cross(bd.inertia.cwiseProduct(wm));
+      rotation_work = {};
+      vec3 next;
+      for (int k = 0; k < 3; ++k)
+        next[k] = integ.advance_dof(t[k], bd.inertia[k], w_old[k], rotation_kind, 0.0, dt, moment_reaction[k], rotation_work);
+      const real change = (next - w_new).cwiseAbs().maxCoeff();
+      w_new = next;
+      if (change <= 1e-15 * w_new.cwiseAbs().maxCoeff()) break;
+    }
+    w.boundary += rotation_work.boundary;
+    w.damping += rotation_work.damping;
+    bd.angular_velocity = w_new;
+    bd.reaction_moment = bd.rotation * moment_reaction;
+
+    // Orientation by the exponential map; gridpoints slaved with the secant velocity.
+    const vec3 phi = w_new * dt;
+    const mat3 rotation_old = bd.rotation;
+    bd.half_orientation = (bd.orientation * detail::rotation_vector_quaternion(0.5 * phi)).normalized();
+    bd.orientation = (bd.orientation * detail::rotation_vector_quaternion(phi)).normalized();
+    bd.rotation = bd.orientation.toRotationMatrix();
+    const mat3 change = bd.rotation - bd.axes;
+    const real inv_dt = 1 / dt;
+    for (index i = bd.first; i < bd.end; ++i) {
+      const vec3 r = body_position(i);
+      const vec3 u = bd.displacement + change * r;
+      const vec3 v = bd.velocity + rotation_old * detail::rotation_increment(phi, r) * inv_dt;
+      for (int c = 0; c < 3; ++c) {
+        gp.displacement(i, c) = u[c];
+        gp.velocity(i, c) = v[c];
+        const auto cs = static_cast<std::size_t>(c);
+        gp.reaction(i, c) = gp.constraint(i, c) == prescribed ? reaction[c] / static_cast<real>(con.count[cs]) : 0.0;
+      }
+    }
+    work_[static_cast<std::size_t>(b)] = w;
+  }
+
+  params params_{};
+  std::vector<body> bodies_;
+  std::vector<block_constraints> constraints_;  ///< per block, rebuilt every step
+  std::vector<integrator::step_work> work_;     ///< per block energy increments of the step (summed in block order)
+  std::vector<index> gridpoint_block_;
+  soa3 body_position_;                          ///< r_i in the body principal frame (m)
+  zone_stress_matrix zone_stress_;              ///< empty
+};
+
+static_assert(BlockModel<rigid>);
+
+}  // namespace tessera::blocks
