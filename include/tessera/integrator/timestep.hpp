@@ -42,15 +42,18 @@ struct critical_step {
 };
 
 /// min_i 2 sqrt(m_i / (a k_i)) over the nodes with k_i > 0 (s), a = stiffness amplification of the
-/// damping (1 undamped). Throws invalid_input for a node with positive stiffness and non-positive
-/// mass, naming it.
+/// damping (1 undamped). Throws invalid_input naming the node for a non-finite or negative
+/// stiffness bound, a non-finite mass, or a positive stiffness on a non-positive mass.
 [[nodiscard]] inline critical_step critical_time_step(const node_set& nodes, real amplification = 1) {
   require(amplification >= 1, "time step: stiffness amplification a = ", amplification, " must be >= 1");
   critical_step out;
   for (index i = 0; i < nodes.size(); ++i) {
     const real k = nodes.stiffness[i];
-    if (!(k > 0)) continue;
     const real m = nodes.mass[i];
+    require(std::isfinite(k) && k >= 0, "time step: node ", i, " has stiffness bound k = ", k,
+            " N/m; expected finite and >= 0 (a non-finite stiffness, modulus or area upstream)");
+    require(std::isfinite(m), "time step: node ", i, " has mass ", m, " kg; expected finite and > 0");
+    if (k == 0) continue;
     require(m > 0, "time step: node ", i, " has stiffness ", k, " N/m but mass ", m, " kg; expected mass > 0");
     const real dt = 2 * std::sqrt(m / (amplification * k));
     if (dt < out.dt) out = {dt, i, m, k};
