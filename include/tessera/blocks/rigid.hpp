@@ -28,7 +28,9 @@
 //     iterations per block, contraction ~|w| dt), not at w-: then wm . (wm x I wm) = 0 and
 //     (I wm) . (wm x I wm) = 0, so a torque-free body keeps its kinetic energy 1/2 w.Iw and
 //     |I w| exactly, while the forward-evaluated term w- x I w- adds energy of order
-//     (|w| dt)^2 per step (secular drift). Forces stay explicit.
+//     (|w| dt)^2 per step (secular drift). Measured over 1e4 torque-free steps at |w| dt = 8.4e-4
+//     rad: kinetic-energy drift 3.6e-4 forward, 5e-15 centred; world angular momentum (at the half
+//     step, angular_momentum()) 1.9e-8 (tests/test_rigid.cpp). Forces stay explicit.
 //  4. Orientation by the exact exponential map of the step's rotation, renormalised:
 //         q+ = q ⊗ exp(w+ dt / 2)      (R+ = R exp([w+ dt]x), body-frame increment).
 //  5. Slaved gridpoints: u_i = u_c + (R+ - E) r_i, and the SECANT velocity
