@@ -6,8 +6,15 @@
 // Construction (no refinement, zoning_options::target_edge_length = 0):
 //  - each block gets its own copy of each of its polyhedron vertices as gridpoints, plus one
 //    interior gridpoint at the block's volume centroid;
-//  - each face is fan-triangulated from its vertex with the smallest GLOBAL vertex id, so the two
-//    sides of a shared face produce the same triangles (reversed orientation);
+//  - each face is triangulated so that its smallest triangle angle is as large as possible
+//    (geometry/polygon_triangulation.hpp: dynamic programming over the face polygon, run on a
+//    canonical vertex order that starts at the smallest GLOBAL vertex id, so the two sides of a
+//    shared face produce the same triangles, reversed). Why not the fan from one vertex: every
+//    face triangle is coned to the centroid, and a fan over a face with a short edge or a
+//    vertex close to a diagonal makes needle triangles, hence sliver zones, that a better choice
+//    of diagonals avoids. What it cannot avoid are zones over a short polyhedron edge itself:
+//    those need geometry/regularize.hpp. Slightly warped faces (regularized tessellations) are
+//    fine: both sides use the same triangles, so the zoned blocks still fill the box exactly;
 //  - each face triangle and the centroid form one zone. A block with V vertices, E edges and
 //    F faces gets sum_f (n_f - 2) = 2E - 2F = 2V - 4 zones (Euler), e.g. about 26 for the
 //    average random Voronoi cell (V ~ 27); the reference study used about 20 per block.
@@ -53,6 +60,7 @@
 #include "../core/errors.hpp"
 #include "../core/types.hpp"
 #include "block_mesh.hpp"
+#include "polygon_triangulation.hpp"
 #include "tessellation.hpp"
 
 namespace tessera::geometry {
@@ -202,21 +210,20 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
   surface_registry reg;
   reg.position = tess.vertices;
   std::vector<std::vector<triangle>> face_tris(static_cast<std::size_t>(n_faces));
-  std::vector<triangle> fan;
+  std::vector<triangle> coarse;
+  triangulation_workspace workspace;
   for (index f = 0; f < n_faces; ++f) {
     const auto loop = tess.face(f);
     const auto n = static_cast<index>(loop.size());
     require<geometry_error>(n >= 3, "zone_blocks: face ", f, " of block ", tess.face_cell[f], " has ", n,
                             " vertices, expected >= 3");
-    const index start = static_cast<index>(std::min_element(loop.begin(), loop.end()) - loop.begin());
-    fan.clear();
-    for (index i = 1; i + 1 < n; ++i)
-      fan.push_back({loop[start], loop[(start + i) % n], loop[(start + i + 1) % n]});
+    coarse.clear();
+    min_angle_triangulation(tess.vertices, loop, coarse, workspace);
     auto& tris = face_tris[static_cast<std::size_t>(f)];
     if (h > 0) {
-      for (const auto& t : fan) refine_triangle(t, h * h, reg, tris, options.max_gridpoints);
+      for (const auto& t : coarse) refine_triangle(t, h * h, reg, tris, options.max_gridpoints);
     } else {
-      tris = fan;
+      tris = coarse;
     }
     std::sort(tris.begin(), tris.end(), [](const triangle& a, const triangle& b) { return sorted(a) < sorted(b); });
   }

@@ -1,0 +1,138 @@
+#pragma once
+// Triangulation of one face polygon that maximises the smallest triangle angle, identical for a
+// face and its reversed twin. Used by the zoning (geometry/zoning.hpp: every face triangle is
+// coned to the block centroid, so a thin face triangle makes a sliver zone) and by the
+// regularization (geometry/regularize.hpp) to check that a collapse leaves every face
+// triangulable.
+//
+// Method: dynamic programming over the diagonals of the polygon q_0 .. q_{n-1} (the classic
+// optimal-polygon-triangulation recursion, O(n^3) time, O(n^2) memory):
+//     S(i, i+1) = +inf,
+//     S(i, j)   = max_{i<k<j} min( S(i, k), S(k, j), a(i, k, j) ),
+// where a(i, k, j) is the smallest corner angle of triangle (q_i, q_k, q_j), or -1 if the
+// triangle's normal does not agree with the polygon's Newell normal (dot product <= 0: a
+// diagonal outside a slightly non-convex polygon, or a flipped triangle of a warped one). S(0, n-1)
+// is the best smallest angle; a triangulation whose triangles all agree with the normal
+// covers a simple polygon without overlap (a locally orientation-preserving map of the disk with
+// a simple boundary is one-to-one). Ties are broken by the smallest k, so the result is a
+// deterministic function of the canonical sequence below.
+//
+// Twin invariance: the polygon is first put in canonical order, which depends only on the SET of
+// global ids and their cyclic adjacency, not on the loop direction: start at the smallest global
+// id and go towards the smaller of its two loop neighbours. A face and its reversed twin
+// therefore run the recursion on the same sequence with the same floating-point operations and
+// get the same triangles; only their orientation is flipped back to each loop's own.
+//
+// Faces need not be planar (a regularized tessellation has slightly warped faces): angles and
+// normals are those of the 3D triangles. If no triangulation has all triangles agreeing with the
+// Newell normal (a badly folded face), the fan from the canonical start vertex is returned with
+// a non-positive score, and the caller decides.
+//
+// Cost: O(n^3) for an n-gon (n ~ 5-6 for random Voronoi faces); allocates its O(n^2) table in a
+// caller-owned workspace. Thread safety: pure, given a workspace per thread.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "../core/types.hpp"
+
+namespace tessera::geometry {
+
+/// Smallest corner angle (rad) of triangle (a, b, c); 0 for a degenerate triangle.
+[[nodiscard]] inline real min_corner_angle(const vec3& a, const vec3& b, const vec3& c) {
+  const vec3 ab = b - a, bc = c - b, ca = a - c;
+  // angle at a corner between edges u (outgoing) and -v (incoming): atan2(|u x v|, -u.v)
+  const real twice_area = ab.cross(ca).norm();
+  const real at_a = std::atan2(twice_area, -ab.dot(ca));
+  const real at_b = std::atan2(twice_area, -bc.dot(ab));
+  const real at_c = std::atan2(twice_area, -ca.dot(bc));
+  return std::min({at_a, at_b, at_c});
+}
+
+/// Scratch memory of min_angle_triangulation (reuse it across faces to avoid reallocation).
+struct triangulation_workspace {
+  std::vector<index> sequence;  ///< canonical vertex order
+  std::vector<vec3> points;     ///< their positions
+  std::vector<real> score;      ///< S(i, j), row-major n x n
+  std::vector<int> split;       ///< argmax k of S(i, j)
+  std::vector<std::array<int, 2>> stack;
+};
+
+/// Triangulates face `loop` (global ids into `vertices`, counter-clockwise seen from outside)
+/// maximising the smallest angle (see the file comment), appending n - 2 triangles of global ids,
+/// each oriented like `loop`, to `out`. Returns the smallest angle (rad) of the result, or a
+/// value <= 0 if no triangulation agrees with the Newell normal (the fan was returned).
+/// Requires n >= 3 distinct ids.
+inline real min_angle_triangulation(std::span<const vec3> vertices, std::span<const index> loop,
+                                    std::vector<std::array<index, 3>>& out, triangulation_workspace& ws) {
+  const int n = static_cast<int>(loop.size());
+  const auto at = [](auto i) { return static_cast<std::size_t>(i); };
+  // ---- canonical sequence: smallest id first, towards its smaller neighbour ----
+  int start = 0;
+  for (int k = 1; k < n; ++k)
+    if (loop[at(k)] < loop[at(start)]) start = k;
+  const bool forward = loop[at((start + 1) % n)] < loop[at((start + n - 1) % n)];
+  ws.sequence.resize(at(n));
+  ws.points.resize(at(n));
+  for (int k = 0; k < n; ++k) {
+    const int pos = forward ? (start + k) % n : (start + n - k) % n;
+    ws.sequence[at(k)] = loop[at(pos)];
+    ws.points[at(k)] = vertices[at(loop[at(pos)])];
+  }
+  const auto emit = [&](int i, int k, int j) {
+    const index a = ws.sequence[at(i)], b = ws.sequence[at(k)], c = ws.sequence[at(j)];
+    out.push_back(forward ? std::array<index, 3>{a, b, c} : std::array<index, 3>{a, c, b});
+  };
+  if (n == 3) {
+    emit(0, 1, 2);
+    return min_corner_angle(ws.points[0], ws.points[1], ws.points[2]);
+  }
+  // Newell normal of the canonical sequence (same bits for both twins).
+  vec3 normal = vec3::Zero();
+  for (int k = 0; k < n; ++k) normal += ws.points[at(k)].cross(ws.points[at((k + 1) % n)]);
+
+  const auto cell = [n](int i, int j) { return static_cast<std::size_t>(i * n + j); };
+  ws.score.assign(at(n * n), std::numeric_limits<real>::infinity());
+  ws.split.assign(at(n * n), -1);
+  for (int gap = 2; gap < n; ++gap)
+    for (int i = 0; i + gap < n; ++i) {
+      const int j = i + gap;
+      real best = -std::numeric_limits<real>::infinity();
+      int best_k = i + 1;
+      for (int k = i + 1; k < j; ++k) {
+        const vec3& a = ws.points[at(i)];
+        const vec3& b = ws.points[at(k)];
+        const vec3& c = ws.points[at(j)];
+        const real angle = (b - a).cross(c - a).dot(normal) > 0 ? min_corner_angle(a, b, c) : real(-1);
+        const real s = std::min({ws.score[cell(i, k)], ws.score[cell(k, j)], angle});
+        if (s > best) { best = s; best_k = k; }
+      }
+      ws.score[cell(i, j)] = best;
+      ws.split[cell(i, j)] = best_k;
+    }
+  const real result = ws.score[cell(0, n - 1)];
+  if (!(result > 0)) {
+    for (int k = 1; k + 1 < n; ++k) emit(0, k, k + 1);
+    return result;
+  }
+  ws.stack.clear();
+  ws.stack.push_back({0, n - 1});
+  while (!ws.stack.empty()) {
+    const auto [i, j] = ws.stack.back();
+    ws.stack.pop_back();
+    if (j - i < 2) continue;
+    const int k = ws.split[cell(i, j)];
+    emit(i, k, j);
+    ws.stack.push_back({k, j});
+    ws.stack.push_back({i, k});
+  }
+  return result;
+}
+
+}  // namespace tessera::geometry

@@ -1,0 +1,506 @@
+#pragma once
+// Regularization of a conforming tessellation: removal of short edges by edge collapse, as
+// Neper's "-regularization" does for the same reason (Quey et al. 2011). Random Voronoi cells
+// have edges far shorter than the cell size (0.1 mm in 12 mm cells of the study's prism); every
+// zone touching such an edge is a sliver whatever the face triangulation, and slivers are stiff
+// for their mass, so they set the explicit stable time step (3e-9 s unscaled for the 100-block
+// prism). Collapsing the short edges removes them at the price of slightly warped faces.
+//
+// Algorithm (serial, deterministic):
+//  1. Threshold l_min = min_edge_rel x L, L = (V_box / N_cells)^(1/3) the mean cell size.
+//  2. Every edge shorter than l_min enters a queue, shortest first (ties by vertex ids). For the
+//     edge (a, b) at the head, first the whole cluster of vertices joined to a by chains of short
+//     edges, then the edge alone, is merged into its vertex of smallest GLOBAL id (union-find
+//     over global ids): a tiny face then shrinks to a point in one step, without the needle
+//     triangles of its intermediate states. The merged vertex is placed at the best of these
+//     candidates: the mean of all original vertices merged into it, or the position of one of
+//     the merged vertices (which keeps that vertex's faces planar); "best" = the largest
+//     smallest zone altitude (see 5).
+//  3. Box sides: each vertex carries the set of box sides it lies on (exactly, as welded by
+//     cleanup.hpp). A collapse is allowed only if one endpoint's side set contains the other's;
+//     the merged vertex then takes the larger set and is projected exactly onto those sides.
+//     Hence box corners never move, vertices on a box edge stay on that edge, two different
+//     corners (or two points on different box edges) are never merged, and every boundary face
+//     stays exactly in its side plane. (Merging a vertex of side x- with one of side y- would put
+//     a new vertex on the x-/y- box edge in the middle of an existing boundary edge: a
+//     zero-thickness overlap of boundary faces.)
+//  4. In every face loop the removed id is replaced by the kept one and consecutive repeats are
+//     removed; a face left with fewer than 3 vertices is dropped. The two sides of an interior
+//     face use the same global ids, so they change identically: twins stay twins, and a dropped
+//     face drops on both sides.
+//  5. A collapse is refused (and counted) if any cell touching a or b would afterwards
+//       - have fewer than 4 faces, or a face visiting a vertex twice (a pinched face);
+//       - not be a closed 2-manifold: every directed edge once, with its reverse, and Euler
+//         characteristic V - E + F = 2;
+//       - have a face without a valid triangulation (geometry/polygon_triangulation.hpp: no
+//         triangle normal opposing the face's Newell normal, no zero angle) or with two of
+//         its triangles' normals more than 90 degrees apart (a fold-over); this also refuses
+//         faces that would become zero-area;
+//       - have a face triangle whose cone to the cell's volume centroid is not positive by a
+//         margin of 1e-10 of the cell volume, i.e. the cell must stay star-shaped from its
+//         centroid with respect to the same triangles geometry::zone_blocks will use, so the
+//         zoning of a regularized tessellation never meets a non-positive zone;
+//       - lower the smallest altitude h = 3 V / A_max of those zones (which sets their stable
+//         time step) below min(its value before, altitude_floor_rel x l_min). Without this rule
+//         a collapse can warp a large face so that one of its triangles passes almost through
+//         the centroid (measured: a 2e-5 m high zone in a 30 mm cell).
+//     Edges next to a successful collapse are re-queued (their length changed, and an edge
+//     refused before may now be collapsible).
+//  6. The tessellation is rebuilt: surviving vertices renumbered in increasing old id (so the
+//     "smallest global id" rules of the triangulations keep their meaning), dropped faces
+//     removed, twins, shared_faces and CSR offsets rebuilt. Cells are never removed.
+//
+// Guarantees: the result is conforming (every interior face has its reversed twin), every cell
+// is a closed 2-manifold with positive volume, the cell volumes sum to the box volume up to
+// rounding (the boundary faces stay in their side planes and interior faces cancel pairwise in
+// the divergence theorem), and boundary vertices stay on the box. Faces may be slightly warped
+// and cells slightly non-convex: geometry::check() measures both (max_face_warp,
+// max_nonconvexity), and the zoning and the mass properties handle warped faces because both
+// sides of a face use the same triangles. Edges shorter than l_min can remain where every
+// collapse was refused; regularization_report counts them.
+//
+// Cost: O(number of short edges x candidates x cells per vertex x face size^3): 0.1-0.2 s for
+// 500 cells at min_edge_rel = 0.2 (serial). Not thread-safe on the same tessellation.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <queue>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "../core/errors.hpp"
+#include "../core/types.hpp"
+#include "polygon_triangulation.hpp"
+#include "tessellation.hpp"
+
+namespace tessera::geometry {
+
+/// Relative short-edge threshold used by the example scenes: edges shorter than 0.1 of the mean
+/// cell size are collapsed. Measured on the study's prism (100-500 blocks, seeds 1-3): it raises
+/// the unscaled stable time step by about an order of magnitude and the smallest zone dihedral
+/// angle from < 0.1 deg to several degrees, while moving no vertex by more than 0.05 L; larger
+/// thresholds (0.2) gain less per unit of distortion and are refused more often (docs/model.md).
+inline constexpr real study_regularization = 0.1;
+
+/// What regularize() did.
+struct regularization_report {
+  real threshold = 0;              ///< l_min (m)
+  index short_edges_before = 0;    ///< edges shorter than l_min before
+  index collapsed_edges = 0;       ///< successful collapses (= vertices removed)
+  index refused_collapses = 0;     ///< collapse attempts refused by a check (an edge may be retried)
+  index refused_boundary = 0;      ///< of which: incompatible box sides
+  index refused_topology = 0;      ///< of which: pinched face, < 4 faces, not a closed manifold
+  index refused_geometry = 0;      ///< of which: untriangulable/folded face, non-positive cone
+  index dropped_faces = 0;         ///< faces removed (each side of an interior face counts)
+  index short_edges_after = 0;     ///< edges still shorter than l_min (each was refused)
+  real min_edge_before = 0;        ///< shortest edge before (m)
+  real min_edge_after = 0;         ///< shortest edge after (m)
+  real max_vertex_shift = 0;       ///< largest distance of an original vertex from its merged vertex (m)
+};
+
+namespace detail::regularize {
+
+/// A collapse may lower the smallest zone altitude of the cells it touches only while that
+/// altitude stays above this fraction of l_min (measured: 0.02 refuses the fewest collapses and
+/// gives the largest stable steps among 0.02, 0.1, 0.3 on the study's prisms).
+inline constexpr real altitude_floor_rel = 0.02;
+
+inline constexpr std::uint8_t side_bit(int side) { return static_cast<std::uint8_t>(1u << side); }
+
+/// Box sides (bit s = side s: x-, x+, y-, y+, z-, z+) on which p lies exactly.
+[[nodiscard]] inline std::uint8_t sides_of(const vec3& p, const aabb& box) {
+  std::uint8_t s = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (p[a] == box.lo[a]) s |= side_bit(2 * a);
+    if (p[a] == box.hi[a]) s |= side_bit(2 * a + 1);
+  }
+  return s;
+}
+
+/// Removes cyclically repeated consecutive ids in place; false if an id then still occurs twice.
+[[nodiscard]] inline bool collapse_loop(std::vector<index>& loop) {
+  std::size_t w = 0;
+  for (std::size_t r = 0; r < loop.size(); ++r)
+    if (w == 0 || loop[w - 1] != loop[r]) loop[w++] = loop[r];
+  loop.resize(w);
+  while (loop.size() > 1 && loop.back() == loop.front()) loop.pop_back();
+  for (std::size_t i = 0; i < loop.size(); ++i)
+    for (std::size_t j = i + 1; j < loop.size(); ++j)
+      if (loop[i] == loop[j]) return false;
+  return true;
+}
+
+enum class verdict { ok, boundary, topology, geometry };
+
+/// Working copy of a tessellation under edge collapses.
+struct collapse_state {
+  const tessellation& input;
+  std::vector<vec3> position;           ///< current position of each (surviving) vertex
+  std::vector<vec3> member_sum;         ///< sum of the original positions merged into it
+  std::vector<index> member_count;
+  std::vector<index> parent;            ///< union-find over original ids (root = kept vertex)
+  std::vector<std::uint8_t> sides;
+  std::vector<std::vector<index>> loop; ///< current loop of each face (empty = dropped)
+  std::vector<std::vector<index>> vertex_faces;  ///< faces that contained the vertex (may be stale)
+  triangulation_workspace ws;
+  std::vector<std::array<index, 3>> tris;
+  std::vector<std::pair<index, index>> directed;
+  std::vector<index> scratch_vertices;
+
+  explicit collapse_state(const tessellation& t) : input(t) {
+    const auto nv = static_cast<std::size_t>(t.vertex_count());
+    position = t.vertices;
+    member_sum = t.vertices;
+    member_count.assign(nv, 1);
+    parent.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<index>(v);
+    sides.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) sides[v] = sides_of(t.vertices[v], t.domain);
+    loop.resize(static_cast<std::size_t>(t.face_count()));
+    vertex_faces.resize(nv);
+    for (index f = 0; f < t.face_count(); ++f) {
+      const auto l = t.face(f);
+      loop[static_cast<std::size_t>(f)].assign(l.begin(), l.end());
+      for (const index v : l) vertex_faces[static_cast<std::size_t>(v)].push_back(f);
+    }
+  }
+
+  [[nodiscard]] index find(index v) const {
+    while (parent[static_cast<std::size_t>(v)] != v) v = parent[static_cast<std::size_t>(v)];
+    return v;
+  }
+  [[nodiscard]] real length(index a, index b) const {
+    if (a > b) std::swap(a, b);
+    return (position[static_cast<std::size_t>(b)] - position[static_cast<std::size_t>(a)]).norm();
+  }
+  /// True if a and b are consecutive in some live face loop.
+  [[nodiscard]] bool is_edge(index a, index b) const {
+    for (const index f : vertex_faces[static_cast<std::size_t>(a)]) {
+      const auto& l = loop[static_cast<std::size_t>(f)];
+      for (std::size_t k = 0; k < l.size(); ++k)
+        if (l[k] == a && (l[(k + 1) % l.size()] == b || l[(k + l.size() - 1) % l.size()] == b)) return true;
+    }
+    return false;
+  }
+
+  /// The vertices joined to v by chains of live edges shorter than l_min (sorted, v included).
+  void short_edge_cluster(index v, real l_min, std::vector<index>& out) const {
+    out.assign(1, v);
+    for (std::size_t head = 0; head < out.size(); ++head) {
+      const index u = out[head];
+      for (const index f : vertex_faces[static_cast<std::size_t>(u)]) {
+        const auto& l = loop[static_cast<std::size_t>(f)];
+        for (std::size_t k = 0; k < l.size(); ++k) {
+          if (l[k] != u) continue;
+          for (const index w : {l[(k + 1) % l.size()], l[(k + l.size() - 1) % l.size()]})
+            if (length(u, w) < l_min && std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
+        }
+      }
+    }
+    std::sort(out.begin(), out.end());
+  }
+
+  /// Checks cell c whose faces have the loops `loops_of(f)` (current positions) and lowers
+  /// `min_altitude` (m) to the smallest altitude of the zones geometry::zone_blocks would make.
+  template <class Loops>
+  [[nodiscard]] verdict check_cell(index c, const Loops& loops_of, real& min_altitude) {
+    index faces = 0;
+    directed.clear();
+    scratch_vertices.clear();
+    for (index f = input.first_face(c); f < input.end_face(c); ++f) {
+      const std::vector<index>& l = loops_of(f);
+      if (l.empty()) continue;
+      ++faces;
+      for (std::size_t k = 0; k < l.size(); ++k) {
+        directed.emplace_back(l[k], l[(k + 1) % l.size()]);
+        scratch_vertices.push_back(l[k]);
+      }
+    }
+    if (faces < 4) return verdict::topology;
+    std::sort(directed.begin(), directed.end());
+    for (std::size_t e = 0; e < directed.size(); ++e) {
+      if (e > 0 && directed[e] == directed[e - 1]) return verdict::topology;
+      const std::pair<index, index> reverse{directed[e].second, directed[e].first};
+      if (!std::binary_search(directed.begin(), directed.end(), reverse)) return verdict::topology;
+    }
+    std::sort(scratch_vertices.begin(), scratch_vertices.end());
+    const auto n_vertices =
+        static_cast<index>(std::unique(scratch_vertices.begin(), scratch_vertices.end()) - scratch_vertices.begin());
+    if (n_vertices - static_cast<index>(directed.size()) / 2 + faces != 2) return verdict::topology;
+
+    // Triangulate every face as the zoning will; no fold-over; volume centroid of the triangles.
+    tris.clear();
+    for (index f = input.first_face(c); f < input.end_face(c); ++f) {
+      const std::vector<index>& l = loops_of(f);
+      if (l.empty()) continue;
+      const std::size_t first = tris.size();
+      if (!(min_angle_triangulation(position, l, tris, ws) > 0)) return verdict::geometry;
+      for (std::size_t i = first; i < tris.size(); ++i)
+        for (std::size_t j = i + 1; j < tris.size(); ++j)
+          if (normal(tris[i]).dot(normal(tris[j])) <= 0) return verdict::geometry;
+    }
+    const vec3 p0 = position[static_cast<std::size_t>(tris.front()[0])];
+    real volume6 = 0;
+    vec3 moment = vec3::Zero();
+    for (const auto& t : tris) {
+      const vec3 a = position[static_cast<std::size_t>(t[0])] - p0, b = position[static_cast<std::size_t>(t[1])] - p0,
+                 cc = position[static_cast<std::size_t>(t[2])] - p0;
+      const real v6 = a.dot(b.cross(cc));
+      volume6 += v6;
+      moment += v6 * (a + b + cc) / 4;
+    }
+    if (!(volume6 > 0)) return verdict::geometry;
+    const vec3 centroid = p0 + moment / volume6;
+    for (const auto& t : tris) {
+      const vec3& a = position[static_cast<std::size_t>(t[0])];
+      const vec3& b = position[static_cast<std::size_t>(t[1])];
+      const vec3& cc = position[static_cast<std::size_t>(t[2])];
+      const real cone6 = (b - a).cross(cc - a).dot(a - centroid);
+      if (!(cone6 > 1e-10 * volume6)) return verdict::geometry;
+      // zone altitude h = 3 V / A_max = 6V / (2 A_max); twice the face areas are cross-product norms
+      const real twice_area_max = std::max({(b - a).cross(cc - a).norm(), (b - a).cross(centroid - a).norm(),
+                                            (cc - b).cross(centroid - b).norm(), (a - cc).cross(centroid - cc).norm()});
+      min_altitude = std::min(min_altitude, cone6 / twice_area_max);
+    }
+    return verdict::ok;
+  }
+  [[nodiscard]] vec3 normal(const std::array<index, 3>& t) const {
+    const vec3& a = position[static_cast<std::size_t>(t[0])];
+    return (position[static_cast<std::size_t>(t[1])] - a).cross(position[static_cast<std::size_t>(t[2])] - a);
+  }
+};
+
+}  // namespace detail::regularize
+
+/// Collapses the edges of `tess` shorter than min_edge_rel x (V_box / N_cells)^(1/3) in place,
+/// following the rules and guarantees of the file comment; min_edge_rel = 0 does nothing.
+/// Throws invalid_input for min_edge_rel outside [0, 0.5] (larger thresholds would collapse
+/// whole cells).
+inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
+  using namespace detail::regularize;
+  require(std::isfinite(min_edge_rel) && min_edge_rel >= 0 && min_edge_rel <= 0.5,
+          "regularize: min_edge_rel = ", min_edge_rel, " must lie in [0, 0.5] (relative to the mean cell size)");
+  regularization_report rep;
+  if (tess.cell_count() <= 0) return rep;
+  rep.threshold = min_edge_rel * std::cbrt(tess.domain.volume() / tess.cell_count());
+  const real l_min = rep.threshold;
+
+  collapse_state st(tess);
+  using entry = std::tuple<real, index, index>;  // (length, a < b)
+  std::priority_queue<entry, std::vector<entry>, std::greater<>> queue;
+  const auto shortest_and_count = [&](index* count) {
+    std::vector<std::pair<index, index>> edges;
+    for (const auto& l : st.loop)
+      for (std::size_t k = 0; k < l.size(); ++k)
+        edges.emplace_back(std::min(l[k], l[(k + 1) % l.size()]), std::max(l[k], l[(k + 1) % l.size()]));
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    real shortest = std::numeric_limits<real>::infinity();
+    index n_short = 0;
+    for (const auto& [a, b] : edges) {
+      const real len = st.length(a, b);
+      shortest = std::min(shortest, len);
+      if (len < l_min) {
+        ++n_short;
+        if (count == nullptr) queue.emplace(len, a, b);
+      }
+    }
+    if (count != nullptr) *count = n_short;
+    return shortest;
+  };
+  rep.min_edge_before = shortest_and_count(nullptr);
+  rep.short_edges_before = static_cast<index>(queue.size());
+
+  const real altitude_floor = detail::regularize::altitude_floor_rel * l_min;
+  std::vector<index> faces, cells, cluster;
+  std::vector<std::vector<index>> new_loops;
+  // Merges the vertices `members` (sorted, >= 2) into members[0] if every check passes.
+  const auto try_merge = [&](const std::vector<index>& members) -> verdict {
+    // Box sides: the union of the members' side sets must be one of them (see the file comment).
+    std::uint8_t merged_sides = 0;
+    for (const index m : members) merged_sides |= st.sides[static_cast<std::size_t>(m)];
+    bool realized = false;
+    for (const index m : members) realized = realized || st.sides[static_cast<std::size_t>(m)] == merged_sides;
+    if (!realized) return verdict::boundary;
+    const index keep = members.front();
+    vec3 sum = vec3::Zero();
+    index count = 0;
+    for (const index m : members) {
+      sum += st.member_sum[static_cast<std::size_t>(m)];
+      count += st.member_count[static_cast<std::size_t>(m)];
+    }
+    const auto on_sides = [&](vec3 x) {
+      for (int s = 0; s < 6; ++s)
+        if (merged_sides & side_bit(s)) x[s / 2] = s % 2 ? tess.domain.hi[s / 2] : tess.domain.lo[s / 2];
+      return x;
+    };
+    const auto is_member = [&](index v) { return std::binary_search(members.begin(), members.end(), v); };
+
+    // Tentative loops of the faces touching a member, and the cells to check.
+    faces.clear();
+    for (const index m : members)
+      for (const index f : st.vertex_faces[static_cast<std::size_t>(m)])
+        if (!st.loop[static_cast<std::size_t>(f)].empty()) faces.push_back(f);
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    new_loops.resize(faces.size());
+    bool pinched = false;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      new_loops[i] = st.loop[static_cast<std::size_t>(faces[i])];
+      for (index& v : new_loops[i])
+        if (is_member(v)) v = keep;
+      pinched = pinched || !collapse_loop(new_loops[i]);
+      if (new_loops[i].size() < 3) new_loops[i].clear();
+    }
+    if (pinched) return verdict::topology;
+    cells.clear();
+    for (const index f : faces) cells.push_back(tess.face_cell[static_cast<std::size_t>(f)]);
+    std::sort(cells.begin(), cells.end());
+    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+
+    // Worst zone altitude of the affected cells now (the state is valid, the verdict is ok).
+    real altitude_before = std::numeric_limits<real>::infinity();
+    const auto current_loop = [&](index f) -> const std::vector<index>& { return st.loop[static_cast<std::size_t>(f)]; };
+    for (const index c : cells) static_cast<void>(st.check_cell(c, current_loop, altitude_before));
+
+    // Candidate positions of the merged vertex: the cluster mean, then each member's own
+    // position (which keeps that member's faces planar); the one whose worst zone is best wins.
+    const vec3 old_position = st.position[static_cast<std::size_t>(keep)];
+    const auto loops_of = [&](index f) -> const std::vector<index>& {
+      const auto it = std::lower_bound(faces.begin(), faces.end(), f);
+      if (it != faces.end() && *it == f) return new_loops[static_cast<std::size_t>(it - faces.begin())];
+      return st.loop[static_cast<std::size_t>(f)];
+    };
+    verdict best_verdict = verdict::geometry;
+    real best_altitude = -1;
+    vec3 merged = old_position;
+    for (std::size_t candidate = 0; candidate <= members.size(); ++candidate) {
+      const vec3 x = on_sides(candidate == 0 ? vec3(sum / static_cast<real>(count))
+                                             : st.position[static_cast<std::size_t>(members[candidate - 1])]);
+      st.position[static_cast<std::size_t>(keep)] = x;
+      real altitude = std::numeric_limits<real>::infinity();
+      verdict v = verdict::ok;
+      for (std::size_t i = 0; i < cells.size() && v == verdict::ok; ++i) v = st.check_cell(cells[i], loops_of, altitude);
+      if (v != verdict::ok) {
+        if (best_altitude < 0 && v == verdict::topology) best_verdict = v;
+        continue;
+      }
+      if (altitude > best_altitude) {
+        best_altitude = altitude;
+        merged = x;
+        best_verdict = verdict::ok;
+      }
+    }
+    st.position[static_cast<std::size_t>(keep)] = old_position;
+    if (best_verdict != verdict::ok) return best_verdict;
+    // Quality: the worst zone may not get worse than before, unless it stays above the floor.
+    if (best_altitude < std::min(altitude_before, altitude_floor)) return verdict::geometry;
+    st.position[static_cast<std::size_t>(keep)] = merged;
+
+    // Commit.
+    rep.collapsed_edges += static_cast<index>(members.size()) - 1;
+    for (const index m : members) {
+      if (m == keep) continue;
+      st.parent[static_cast<std::size_t>(m)] = keep;
+      st.vertex_faces[static_cast<std::size_t>(m)].clear();
+    }
+    st.member_sum[static_cast<std::size_t>(keep)] = sum;
+    st.member_count[static_cast<std::size_t>(keep)] = count;
+    st.sides[static_cast<std::size_t>(keep)] = merged_sides;
+    for (std::size_t i = 0; i < faces.size(); ++i) {
+      if (new_loops[i].empty()) ++rep.dropped_faces;
+      st.loop[static_cast<std::size_t>(faces[i])] = std::move(new_loops[i]);
+    }
+    auto& kept_faces = st.vertex_faces[static_cast<std::size_t>(keep)];
+    kept_faces.clear();
+    for (const index f : faces)
+      if (!st.loop[static_cast<std::size_t>(f)].empty()) kept_faces.push_back(f);
+    // Re-queue the short edges of the cells around the merged vertex.
+    for (const index c : cells)
+      for (index f = tess.first_face(c); f < tess.end_face(c); ++f) {
+        const auto& l = st.loop[static_cast<std::size_t>(f)];
+        for (std::size_t k = 0; k < l.size(); ++k) {
+          const index p = std::min(l[k], l[(k + 1) % l.size()]), q = std::max(l[k], l[(k + 1) % l.size()]);
+          const real lq = st.length(p, q);
+          if (lq < l_min) queue.emplace(lq, p, q);
+        }
+      }
+    return verdict::ok;
+  };
+
+  while (!queue.empty()) {
+    const auto [len, a, b] = queue.top();
+    queue.pop();
+    if (st.parent[static_cast<std::size_t>(a)] != a || st.parent[static_cast<std::size_t>(b)] != b) continue;
+    if (st.length(a, b) != len || !st.is_edge(a, b)) continue;  // stale entry
+    // First the whole cluster of vertices joined to a by short edges (a tiny face shrinks to a
+    // point in one step, without the needle triangles of its intermediate states), then the
+    // single edge.
+    st.short_edge_cluster(a, l_min, cluster);
+    verdict v = cluster.size() > 2 ? try_merge(cluster) : verdict::topology;
+    if (v != verdict::ok) v = try_merge({a, b});
+    if (v == verdict::ok) continue;
+    ++rep.refused_collapses;
+    ++(v == verdict::boundary ? rep.refused_boundary
+                              : v == verdict::topology ? rep.refused_topology : rep.refused_geometry);
+  }
+
+  // ---- rebuild ----
+  const index nv = tess.vertex_count();
+  std::vector<index> new_vertex(static_cast<std::size_t>(nv), invalid_index);
+  tessellation out;
+  out.domain = tess.domain;
+  out.seeds = tess.seeds;
+  out.weights = tess.weights;
+  for (const auto& l : st.loop)
+    for (const index v : l) new_vertex[static_cast<std::size_t>(v)] = 0;  // used
+  for (index v = 0; v < nv; ++v)
+    if (new_vertex[static_cast<std::size_t>(v)] == 0) {
+      new_vertex[static_cast<std::size_t>(v)] = static_cast<index>(out.vertices.size());
+      out.vertices.push_back(st.position[static_cast<std::size_t>(v)]);
+    }
+  for (index v = 0; v < nv; ++v)
+    rep.max_vertex_shift = std::max(rep.max_vertex_shift, (tess.vertices[static_cast<std::size_t>(v)] -
+                                                           st.position[static_cast<std::size_t>(st.find(v))]).norm());
+  std::vector<index> new_face(static_cast<std::size_t>(tess.face_count()), invalid_index);
+  for (index c = 0; c < tess.cell_count(); ++c) {
+    for (index f = tess.first_face(c); f < tess.end_face(c); ++f) {
+      const auto& l = st.loop[static_cast<std::size_t>(f)];
+      if (l.empty()) continue;
+      new_face[static_cast<std::size_t>(f)] = out.face_count();
+      for (const index v : l) {
+        const index nvid = new_vertex[static_cast<std::size_t>(v)];
+        require<geometry_error>(nvid != invalid_index, "regularize: face ", f, " of cell ", c,
+                                " refers to removed vertex ", v);
+        out.face_vertices.push_back(nvid);
+      }
+      out.face_offsets.push_back(static_cast<index>(out.face_vertices.size()));
+      out.face_cell.push_back(c);
+      out.face_neighbor.push_back(tess.face_neighbor[static_cast<std::size_t>(f)]);
+    }
+    out.cell_face_offsets.push_back(out.face_count());
+  }
+  out.face_twin.assign(static_cast<std::size_t>(out.face_count()), invalid_index);
+  for (index f = 0; f < tess.face_count(); ++f) {
+    const index nf = new_face[static_cast<std::size_t>(f)];
+    const index g = tess.face_twin[static_cast<std::size_t>(f)];
+    if (nf == invalid_index || g == invalid_index) continue;
+    const index ng = new_face[static_cast<std::size_t>(g)];
+    require<geometry_error>(ng != invalid_index, "regularize: face ", f, " survived but its twin ", g, " was dropped");
+    out.face_twin[static_cast<std::size_t>(nf)] = ng;
+  }
+  for (index f = 0; f < out.face_count(); ++f) {
+    const index c = out.face_cell[static_cast<std::size_t>(f)], n = out.face_neighbor[static_cast<std::size_t>(f)];
+    if (n > c) out.shared_faces.push_back({c, f, n, out.face_twin[static_cast<std::size_t>(f)]});
+  }
+  rep.min_edge_after = shortest_and_count(&rep.short_edges_after);
+  tess = std::move(out);
+  return rep;
+}
+
+}  // namespace tessera::geometry
