@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <type_traits>
 
 #include <Eigen/Dense>
 
@@ -128,6 +129,9 @@ using rigid_undamped_solver =
 
 static_assert(blocks::BlockModel<blocks::rigid>);
 static_assert(blocks::rigid::is_rigid);
+// A scene's deformable block material converts to the rigid one (density only).
+static_assert(std::is_convertible_v<zones::linear_elastic_tet::params, blocks::rigid::params>);
+static_assert(blocks::rigid::params(zones::linear_elastic_tet::params{280e9, 0.2, 1800}).density == 1800);
 
 TEST_CASE("rigid blocks: mass, centroid and inertia are the polyhedron's", "[rigid][mass]") {
   const real rho = 2400;

@@ -74,6 +74,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <vector>
@@ -99,9 +100,17 @@ namespace tessera::blocks {
 
 class rigid {
  public:
-  /// Block material of rigid blocks.
+  /// Block material of rigid blocks: only the density.
   struct params {
     real density = 2400;  ///< mass density rho (kg/m^3)
+
+    constexpr params() = default;
+    constexpr params(real rho) : density(rho) {}  // NOLINT(google-explicit-constructor): params{2400}
+    /// From any block material with a density (e.g. zones::linear_elastic_tet::params), so a scene
+    /// built for deformable blocks runs with rigid ones unchanged; the elastic constants are unused.
+    template <class Material>
+      requires requires(const Material& m) { { m.density } -> std::convertible_to<real>; }
+    constexpr params(const Material& m) : density(m.density) {}  // NOLINT(google-explicit-constructor)
   };
   static constexpr bool is_rigid = true;
 
