@@ -37,6 +37,7 @@
 #include "cleanup.hpp"
 #include "convex_polyhedron.hpp"
 #include "predicates.hpp"
+#include "regularize.hpp"
 #include "tessellation.hpp"
 
 namespace tessera::geometry {
@@ -49,6 +50,9 @@ struct tessellation_options {
   real min_spacing = 0;
   /// Weld tolerance relative to the mean cell size (V_box / N)^(1/3); see cleanup.hpp.
   real cleanup_tolerance = 1e-9;
+  /// Regularization: edges shorter than min_edge_rel x the mean cell size are collapsed
+  /// (geometry/regularize.hpp; 0 = off, the examples use study_regularization).
+  real min_edge_rel = 0;
 };
 
 namespace detail {
@@ -270,8 +274,11 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
     const seed_grid grid(box, seeds, 2.0);
     validate_seeds(box, seeds, grid, who);
     std::vector<convex_polyhedron> cells = compute_cells(box, seeds, weights, grid);
-    if (it == options.lloyd_iterations)
-      return assemble_tessellation(box, cells, seeds, weights, options.cleanup_tolerance * mean_size);
+    if (it == options.lloyd_iterations) {
+      tessellation t = assemble_tessellation(box, cells, seeds, weights, options.cleanup_tolerance * mean_size);
+      if (options.min_edge_rel != 0) regularize(t, options.min_edge_rel);  // throws for < 0, > 0.5, NaN
+      return t;
+    }
     // Lloyd step: x_i <- centroid of C_i (an empty Laguerre cell keeps its generator).
     parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
       const convex_polyhedron& p = cells[static_cast<std::size_t>(c)];
