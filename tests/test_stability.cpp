@@ -165,6 +165,85 @@ struct mass_spring {
   [[nodiscard]] idx gridpoint_block(idx) const { return 0; }
 };
 
+/// Lumped masses and the stiffness K = -dF/du of a solver's scene around its current state,
+/// over the gridpoint then bar-node degrees of freedom, by central finite differences of the
+/// force function (zones + contact springs + bar axial and bond springs), symmetrised.
+struct assembled_system {
+  Eigen::MatrixXd stiffness;
+  Eigen::VectorXd mass;
+  real asymmetry = 0;  ///< max |K - K^T| / max |K|
+  /// lambda_max(M^-1 K) by a dense symmetric eigen-solve of M^-1/2 K M^-1/2 (1/s^2).
+  [[nodiscard]] real lambda_max() const {
+    const Eigen::VectorXd s = mass.cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd a = s.asDiagonal() * stiffness * s.asDiagonal();
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(a, Eigen::EigenvaluesOnly).eigenvalues().maxCoeff();
+  }
+};
+
+template <class Solver>
+assembled_system assemble(const Solver& s, real h) {
+  constexpr bool bars = Solver::reinforcement_type::enabled;
+  const idx n_gp = s.gridpoints().size();
+  idx n_bar = 0;
+  if constexpr (bars) n_bar = s.bar_nodes().size();
+  const idx n = 3 * (n_gp + n_bar);
+  assembled_system out;
+  out.stiffness.resize(n, n);
+  out.mass.resize(n);
+  for (idx i = 0; i < n_gp + n_bar; ++i)
+    for (int c = 0; c < 3; ++c) out.mass[3 * i + c] = i < n_gp ? s.gridpoints().mass[i] : s.bar_nodes().mass[i - n_gp];
+  const auto forces = [&](idx dof, real dx) {
+    Solver probe = s;
+    node_set& gp = probe.gridpoints();
+    const idx node = dof / 3;
+    const int c = static_cast<int>(dof % 3);
+    if (node < n_gp) {
+      gp.displacement(node, c) += dx;
+      gp.velocity(node, c) = dx / probe.dt();  // the contact increment of this "step"
+    } else {
+      if constexpr (bars) probe.bar_nodes().displacement(node - n_gp, c) += dx;
+    }
+    gp.force.setZero();
+    auto blocks = probe.blocks();
+    blocks.accumulate_forces(gp);
+    auto contacts = probe.contacts();
+    contacts.update(gp, probe.dt());
+    Eigen::VectorXd f(n);
+    if constexpr (bars) {
+      probe.bar_nodes().force.setZero();
+      probe.reinforcement().accumulate_forces(gp, blocks.zone_stress());
+    }
+    for (idx i = 0; i < n_gp + n_bar; ++i)
+      for (int k = 0; k < 3; ++k) f[3 * i + k] = i < n_gp ? gp.force(i, k) : probe.bar_nodes().force(i - n_gp, k);
+    return f;
+  };
+  for (idx j = 0; j < n; ++j) out.stiffness.col(j) = -(forces(j, h) - forces(j, -h)) / (2 * h);
+  const Eigen::MatrixXd sym = 0.5 * (out.stiffness + out.stiffness.transpose());
+  out.asymmetry = (out.stiffness - sym).cwiseAbs().maxCoeff() / out.stiffness.cwiseAbs().maxCoeff();
+  out.stiffness = sym;
+  return out;
+}
+
+/// The true critical steps of a scene against the solver's: returns dt_true = 2 / sqrt(a lambda_max)
+/// with the damping's stiffness amplification a, after checking the solver's step does not exceed it.
+template <class Solver>
+real check_step_against_eigenvalue(const Solver& s, const char* scene) {
+  const assembled_system sys = assemble(s, 1e-9);
+  const real lambda = sys.lambda_max();
+  const real a = s.stiffness_amplification();
+  const real undamped_true = 2 / std::sqrt(lambda);
+  const real damped_true = undamped_true / std::sqrt(a);
+  INFO(scene << ": " << sys.mass.size() << " dof, lambda_max = " << lambda << " 1/s^2, true undamped step "
+             << undamped_true << " s, with a = " << a << ": " << damped_true << " s; Gershgorin (with a) "
+             << s.critical_step().dt << " s, automatic dt " << s.dt() << " s = " << s.dt() / damped_true
+             << " x the true damped limit");
+  CHECK(sys.asymmetry < 1e-5);
+  CHECK(s.critical_step().dt * std::sqrt(a) <= undamped_true);  // Gershgorin bounds the undamped limit
+  CHECK(s.dt() <= damped_true);                                  // the automatic step, damping included
+  CHECK(s.dt() >= 0.3 * damped_true);                            // ... and not uselessly small
+  return damped_true;
+}
+
 }  // namespace
 
 // =============================================================================================
@@ -251,5 +330,117 @@ TEST_CASE("step checker: non-finite state and the checker policy", "[stability][
     s.gridpoints().velocity(0, 0) = std::numeric_limits<real>::quiet_NaN();
     CHECK_NOTHROW(s.run(200));
     CHECK_FALSE(all_finite(s.gridpoints()));
+  }
+}
+
+// =============================================================================================
+// Automatic time step against the true largest eigenvalue
+// =============================================================================================
+
+TEST_CASE("automatic time step <= 2 / sqrt((1 + gamma) lambda_max(M^-1 K)) of small assembled scenes", "[stability][timestep]") {
+  SECTION("three cubes on two stiff contact faces") {
+    const auto tess = cube_column(3, 0.05);
+    const auto mesh = geometry::zone_blocks(tess);
+    prism_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12));
+    check_step_against_eigenvalue(s, "3-cube column");
+  }
+  SECTION("three cubes, contact stiffness 1e15 Pa/m (contacts govern)") {
+    const auto tess = cube_column(3, 0.05);
+    const auto mesh = geometry::zone_blocks(tess);
+    prism_solver s(tess, mesh, concrete_block, elastic_contact(1e15, 4e14));
+    check_step_against_eigenvalue(s, "3-cube column, k_n = 1e15");
+  }
+  SECTION("four random Voronoi blocks") {
+    aabb box;
+    box.lo = vec3::Zero();
+    box.hi = vec3(0.05, 0.05, 0.08);
+    const auto tess = geometry::random_voronoi(box, 4, 7);
+    const auto mesh = geometry::zone_blocks(tess);
+    prism_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12));
+    REQUIRE(s.contacts().size() > 0);
+    check_step_against_eigenvalue(s, "4 Voronoi blocks");
+  }
+  SECTION("two cubes with an embedded bar (zones + contact + axial + bond springs)") {
+    const real a = 0.05;
+    const auto tess = cube_column(2, a);
+    const auto mesh = geometry::zone_blocks(tess);
+    truss::params bars{reinforcement::pulatsu2020::tie_steel(), reinforcement::pulatsu2020::tie_bond(),
+                       {reinforcement::bar{vec3(0.02, 0.03, 0.005), vec3(0.02, 0.03, 2 * a - 0.005), 8, true}}};
+    tie_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12), bars);
+    REQUIRE(s.bar_nodes().size() == 9);
+    check_step_against_eigenvalue(s, "2 cubes + bar");
+  }
+}
+
+// =============================================================================================
+// Stiff and extreme cases
+// =============================================================================================
+
+namespace {
+
+/// Two cubes of edge a on one contact face, compressed quasi-statically by delta at the top face
+/// (bottom face on z-rollers, statically determinate lateral supports), with the automatic step.
+/// Uniaxial stress is exact for constant-strain zones and the four corner sub-contacts, so
+///     sigma = -delta / (2 a / E_block + 1 / k_n).
+/// Returns {measured, expected} mean top stress (Pa).
+std::pair<real, real> compress_column(real e_block, real k_n, std::int64_t* steps_taken = nullptr) {
+  const real a = 0.05, f_T = 2.15e6;
+  const auto tess = cube_column(2, a);
+  const auto mesh = geometry::zone_blocks(tess);
+  auto law_params = law::study_prism_params(100);
+  law_params.k_n = k_n;
+  law_params.k_s = 0.4 * k_n;
+  law_params.tension.f_T = f_T;
+  law_params.tension.G_f = std::max(60.0, f_T * f_T / k_n);  // zeta > eta at every k_n
+  prism_solver s(tess, mesh, zones::linear_elastic_tet::params{e_block, 0.2, 2400}, law_params);
+  s.fix(s.gridpoints_on_plane(2, 0, 1e-9), bc::components::z);
+  s.fix(bc::nodes_where(s.gridpoints(), [](const vec3& x) { return x.norm() < 1e-9; }, "origin"), bc::components::xy);
+  s.fix(bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return (x - vec3(a, 0, 0)).norm() < 1e-9; }, "x corner"),
+        bc::components::y);
+  const bc::node_group top = s.gridpoints_on_plane(2, 2 * a, 1e-9);
+  s.prescribe_velocity(top, vec3::Zero(), bc::components::z);
+  const real compliance = 2 * a / e_block + 1 / k_n;
+  const real expected = -1e6;  // Pa
+  const real delta = -expected * compliance;
+  // Smooth ramp (1 - cos) over n_load steps, then hold until the reaction stops changing.
+  const std::int64_t n_load = 20000;
+  for (std::int64_t i = 0; i < n_load; ++i) {
+    const real phase = 2 * std::numbers::pi * (static_cast<real>(i) + 0.5) / static_cast<real>(n_load);
+    bc::update_velocity(s.gridpoints(), top, vec3(0, 0, -delta / (static_cast<real>(n_load) * s.dt()) * (1 - std::cos(phase))),
+                        bc::components::z);
+    s.step();
+  }
+  bc::update_velocity(s.gridpoints(), top, vec3::Zero(), bc::components::z);
+  real previous = 0, sigma = 0;
+  for (int chunk = 0; chunk < 200; ++chunk) {
+    s.run(1000);
+    sigma = recorders::reaction_sum(s.gridpoints(), top).z() / (a * a);
+    if (std::abs(sigma - previous) < 1e-8 * std::abs(expected)) break;
+    previous = sigma;
+  }
+  if (steps_taken) *steps_taken = s.step_count();
+  CHECK(all_finite(s.gridpoints()));
+  return {sigma, expected};
+}
+
+}  // namespace
+
+TEST_CASE("contact stiffness k_n from 1e9 to 1e16 Pa/m: stable automatic step, series-spring response", "[stability][stiff]") {
+  for (real k_n : {1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16}) {
+    std::int64_t steps = 0;
+    const auto [sigma, expected] = compress_column(280e9, k_n, &steps);
+    INFO("k_n = " << k_n << " Pa/m: sigma = " << sigma << " Pa, expected " << expected << " Pa, " << steps << " steps");
+    CHECK(sigma == Approx(expected).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("block / contact modulus ratio E_block / (k_n a) from 1 to 1e4: stable, series-spring response", "[stability][stiff]") {
+  const real k_n = 1.16e12, a = 0.05;
+  for (real ratio : {1.0, 10.0, 100.0, 1e3, 1e4}) {
+    std::int64_t steps = 0;
+    const auto [sigma, expected] = compress_column(ratio * k_n * a, k_n, &steps);
+    INFO("E_block / (k_n a) = " << ratio << ": sigma = " << sigma << " Pa, expected " << expected << " Pa, " << steps
+                                << " steps");
+    CHECK(sigma == Approx(expected).epsilon(1e-6));
   }
 }
