@@ -103,7 +103,7 @@ struct regularization_report {
   real max_vertex_shift = 0;       ///< largest distance of an original vertex from its merged vertex (m)
 };
 
-namespace detail::regularize {
+namespace detail::edge_collapse {
 
 /// A collapse may lower the smallest zone altitude of the cells it touches only while that
 /// altitude stays above this fraction of l_min (measured: 0.02 refuses the fewest collapses and
@@ -275,14 +275,14 @@ struct collapse_state {
   }
 };
 
-}  // namespace detail::regularize
+}  // namespace detail::edge_collapse
 
 /// Collapses the edges of `tess` shorter than min_edge_rel x (V_box / N_cells)^(1/3) in place,
 /// following the rules and guarantees of the file comment; min_edge_rel = 0 does nothing.
 /// Throws invalid_input for min_edge_rel outside [0, 0.5] (larger thresholds would collapse
 /// whole cells).
 inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
-  using namespace detail::regularize;
+  using namespace detail::edge_collapse;
   require(std::isfinite(min_edge_rel) && min_edge_rel >= 0 && min_edge_rel <= 0.5,
           "regularize: min_edge_rel = ", min_edge_rel, " must lie in [0, 0.5] (relative to the mean cell size)");
   regularization_report rep;
@@ -316,7 +316,7 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
   rep.min_edge_before = shortest_and_count(nullptr);
   rep.short_edges_before = static_cast<index>(queue.size());
 
-  const real altitude_floor = detail::regularize::altitude_floor_rel * l_min;
+  const real altitude_floor = detail::edge_collapse::altitude_floor_rel * l_min;
   std::vector<index> faces, cells, cluster;
   std::vector<std::vector<index>> new_loops;
   // Merges the vertices `members` (sorted, >= 2) into members[0] if every check passes.
