@@ -86,6 +86,13 @@ struct tessellation_report {
   index nonconvex_cells = 0;  ///< cells with a vertex outside a face plane by more than 1e-9 of the cell extent
   real min_face_area = 0;     ///< smallest face area (m^2)
   real min_edge_length = 0;   ///< shortest face edge (m)
+  /// Largest distance of a face vertex from its face's mean plane (Newell normal through the
+  /// vertex mean) (m): 0 for planar faces; a regularized tessellation (regularize.hpp) has
+  /// slightly warped faces.
+  real max_face_warp = 0;
+  /// Largest distance of a cell vertex outside one of its cell's face planes (m): 0 for convex
+  /// cells (nonconvex_cells counts those above 1e-9 of the cell extent).
+  real max_nonconvexity = 0;
 };
 
 /// Checks the invariants of a conforming tessellation. O(sum over cells of V x F).
@@ -100,6 +107,13 @@ struct tessellation_report {
   for (index f = 0; f < t.face_count(); ++f) {
     const auto loop = t.face(f);
     r.min_face_area = std::min(r.min_face_area, face_area(t, f));
+    {
+      const vec3 n = face_normal(t, f);
+      vec3 mean = vec3::Zero();
+      for (index v : loop) mean += t.vertices[static_cast<std::size_t>(v)];
+      mean /= static_cast<real>(loop.size());
+      for (index v : loop) r.max_face_warp = std::max(r.max_face_warp, std::abs(n.dot(t.vertices[static_cast<std::size_t>(v)] - mean)));
+    }
     for (std::size_t k = 0; k < loop.size(); ++k)
       r.min_edge_length = std::min(r.min_edge_length, (t.vertices[static_cast<std::size_t>(loop[(k + 1) % loop.size()])] -
                                                        t.vertices[static_cast<std::size_t>(loop[k])]).norm());
@@ -138,10 +152,13 @@ struct tessellation_report {
     for (index v : seen) bb.expand(t.vertices[static_cast<std::size_t>(v)]);
     const real tol = 1e-9 * bb.size().maxCoeff();
     bool convex = true;
-    for (index f = t.first_face(c); f < t.end_face(c) && convex; ++f) {
+    for (index f = t.first_face(c); f < t.end_face(c); ++f) {
       const plane h = plane::through(face_normal(t, f), face_centroid(t, f));
-      for (index v : seen)
-        if (h.signed_distance(t.vertices[static_cast<std::size_t>(v)]) > tol) { convex = false; break; }
+      for (index v : seen) {
+        const real d = h.signed_distance(t.vertices[static_cast<std::size_t>(v)]);
+        r.max_nonconvexity = std::max(r.max_nonconvexity, d);
+        if (d > tol) convex = false;
+      }
     }
     if (!convex) ++r.nonconvex_cells;
   }
