@@ -42,6 +42,19 @@ void* operator new(std::size_t size) {
 }
 void operator delete(void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+// The nothrow and array forms must be replaced too: the library's defaults of those allocate
+// with their own operator new, and freeing that memory with free() above is a mismatch
+// (AddressSanitizer: alloc-dealloc-mismatch on memory Catch2 allocates with new(nothrow)).
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  if (count_allocations.load(std::memory_order_relaxed)) allocation_count.fetch_add(1);
+  return std::malloc(size == 0 ? 1 : size);
+}
+void* operator new[](std::size_t size) { return ::operator new(size); }
+void* operator new[](std::size_t size, const std::nothrow_t& tag) noexcept { return ::operator new(size, tag); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
 #endif
