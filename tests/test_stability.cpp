@@ -444,3 +444,106 @@ TEST_CASE("block / contact modulus ratio E_block / (k_n a) from 1 to 1e4: stable
     CHECK(sigma == Approx(expected).epsilon(1e-6));
   }
 }
+
+namespace {
+
+/// End stiffness F / delta of a bar of `elements` equal truss elements bonded along its length
+/// to a fixed host, pulled axially at its last node: the static condensation of the chain
+/// (axial springs K_axial between neighbours, bond springs (xi/2) sum K_axial of the adjacent
+/// elements from every node to the ground).
+real bonded_chain_end_stiffness(idx elements, real k_axial, real xi) {
+  const idx n = elements;  // free nodes 0 .. n-1, node n prescribed
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  const auto bond = [&](idx i) { return (i == 0 || i == elements ? 0.5 : 1.0) * xi * k_axial; };
+  for (idx i = 0; i < n; ++i) {
+    k(i, i) = bond(i) + (i == 0 ? 1 : 2) * k_axial;
+    if (i > 0) k(i, i - 1) = -k_axial;
+    if (i + 1 < n) k(i, i + 1) = -k_axial;
+  }
+  b[n - 1] = k_axial;  // unit displacement of node n
+  const Eigen::VectorXd u = k.ldlt().solve(b);
+  return bond(elements) + k_axial * (1 - u[n - 1]);
+}
+
+}  // namespace
+
+TEST_CASE("bond cohesion c_bond = 1e9 (elastic chain) and 1e4 N/m (full pull-out), automatic step", "[stability][bond]") {
+  const real a = 0.1, length = 0.08, delta = 2e-4;
+  const idx elements = 16;
+  const auto tess = cube_column(1, a);
+  const auto mesh = geometry::zone_blocks(tess);
+  for (real c_bond : {1e9, 1e4}) {
+    const auto steel = reinforcement::pulatsu2020::tie_steel();
+    truss::params bars{steel, reinforcement::coulomb_bond::params{4.0, c_bond, 0.0},
+                       {reinforcement::bar{vec3(0.03, 0.04, 0.01), vec3(0.03, 0.04, 0.01 + length), elements, true}}};
+    tie_solver s(tess, mesh, concrete_block, elastic_contact(1e12, 4e11), bars);
+    s.fix(bc::all_nodes(s.gridpoints()));
+    node_set& nodes = s.bar_nodes();
+    const idx last = nodes.size() - 1;
+    const bc::node_group end{{last}, "pulled bar end"};
+    bc::fix(nodes, end, bc::components::z);
+    const real target = c_bond > 1e6 ? 1e-7 : delta;  // stay elastic for the perfect bond
+    const std::int64_t n_load = 20000;
+    for (std::int64_t i = 0; i < n_load; ++i) {
+      const real phase = 2 * std::numbers::pi * (static_cast<real>(i) + 0.5) / static_cast<real>(n_load);
+      nodes.prescribed_velocity(last, 2) = target / (static_cast<real>(n_load) * s.dt()) * (1 - std::cos(phase));
+      s.step();
+    }
+    nodes.prescribed_velocity(last, 2) = 0;
+    s.run(20000);
+    const real force = nodes.reaction(last, 2);
+    INFO("c_bond = " << c_bond << " N/m: dt = " << s.dt() << " s, pulled " << nodes.displacement(last, 2) << " m, force "
+                     << force << " N");
+    REQUIRE(all_finite(nodes));
+    CHECK(nodes.displacement(last, 2) == Approx(target).epsilon(1e-9));
+    if (c_bond > 1e6) {
+      const real k_axial = steel.axial_rigidity() / (length / static_cast<real>(elements));
+      const real expected = bonded_chain_end_stiffness(elements, k_axial, 4.0) * target;
+      CHECK(force == Approx(expected).epsilon(1e-4));
+      for (idx n = 0; n < nodes.size(); ++n) CHECK_FALSE(s.reinforcement().bond_slipping(n));
+    } else {
+      CHECK(force == Approx(c_bond * length).epsilon(1e-6));  // every node at its limit c_bond L_trib
+    }
+    CHECK(s.energies().error_rel() < 1e-6);
+  }
+}
+
+TEST_CASE("mass ratio 1e6: light bar nodes in heavy blocks run stably with the automatic step", "[stability][bond]") {
+  // 0.3 m concrete cubes (16 kg on a block centroid gridpoint) and a 1 mm steel wire in 160
+  // elements (1.1e-5 kg on its end nodes).
+  const real a = 0.3;
+  const auto tess = cube_column(2, a);
+  const auto mesh = geometry::zone_blocks(tess);
+  const reinforcement::steel wire{192.3e9, 400e6, 7850, 0.001};
+  truss::params bars{wire, reinforcement::pulatsu2020::tie_bond(),
+                     {reinforcement::bar{vec3(0.14, 0.16, 0.005), vec3(0.14, 0.16, 2 * a - 0.005), 160, true}}};
+  tie_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12), bars);
+  const real ratio = s.gridpoints().mass.maxCoeff() / s.bar_nodes().mass.minCoeff();
+  INFO("heaviest gridpoint / lightest bar node = " << ratio << ", dt = " << s.dt() << " s");
+  REQUIRE(ratio > 1e6);
+  s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+  const bc::node_group top = s.gridpoints_on_plane(2, 2 * a, 1e-9);
+  s.prescribe_velocity(top, vec3::Zero(), bc::components::z);
+  const real delta = 2e-7;
+  const std::int64_t n_load = 20000;
+  for (std::int64_t i = 0; i < n_load; ++i) {
+    const real phase = 2 * std::numbers::pi * (static_cast<real>(i) + 0.5) / static_cast<real>(n_load);
+    bc::update_velocity(s.gridpoints(), top, vec3(0, 0, delta / (static_cast<real>(n_load) * s.dt()) * (1 - std::cos(phase))),
+                        bc::components::z);
+    s.step();
+  }
+  bc::update_velocity(s.gridpoints(), top, vec3::Zero(), bc::components::z);
+  s.run(30000);
+  REQUIRE(all_finite(s.gridpoints()));
+  REQUIRE(all_finite(s.bar_nodes()));
+  // Equilibrium: the supports carry equal and opposite forces; the bar carries part of the load.
+  const real pull = recorders::reaction_sum(s.gridpoints(), s.gridpoints_on_plane(2, 2 * a, 1e-9)).z();
+  const real hold = recorders::reaction_sum(s.gridpoints(), s.gridpoints_on_plane(2, 0, 1e-9)).z();
+  INFO("top reaction " << pull << " N, bottom " << hold << " N, bar force at mid-length "
+                       << s.reinforcement().axial_force(80) << " N");
+  CHECK(pull > 0);
+  CHECK(std::abs(pull + hold) < 1e-6 * pull);
+  CHECK(s.reinforcement().axial_force(80) > 0);
+  CHECK(s.energies().error_rel() < 1e-4);
+}
