@@ -34,6 +34,9 @@ struct prism_options {
   std::uint64_t seed = 1;                  ///< tessellation seed
   vec3 size = vec3(0.068, 0.068, 0.6);     ///< box edge lengths (m), long axis z
   real zone_edge = 0;                      ///< zoning target edge (m), 0 = one zone per face triangle
+  /// Regularisation of the random tessellation (Lloyd steps, minimum generator spacing, ...);
+  /// the default is a plain Poisson-Voronoi tessellation.
+  geometry::tessellation_options tessellation{};
 };
 
 struct prism_scene {
@@ -64,7 +67,7 @@ struct prism_scene {
   s.contact = law::study_prism_params(o.blocks);
   s.box.lo = vec3::Zero();
   s.box.hi = o.size;
-  s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed);
+  s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed, o.tessellation);
   geometry::zoning_options z;
   z.target_edge_length = o.zone_edge;
   s.mesh = geometry::zone_blocks(s.tess, z);

@@ -1,0 +1,391 @@
+#pragma once
+// The direct tension test of the study's plain-concrete prism (Pulatsu et al. 2020, Sec. 3) as a
+// reusable routine: supports, quasi-static loading, recorders, the stop criterion and the
+// post-processing of one run. Used by the direct_tension driver (outputs, CLI) and by
+// benchmarks/work_precision_tension.cpp (error against run time).
+//
+// Supports. Bottom gridpoints (z = 0) fixed; top gridpoints (z = L) fixed transversally (the
+// study's loading platens do not rotate) and pulled along +z with the prescribed velocity v(t).
+//
+// Loading (quasi-static). A velocity switched on at once sends a stress wave of amplitude
+// sqrt(E rho) v through the (mass-scaled) prism, and the pre-peak curve becomes a staircase of
+// wave reflections. The top velocity therefore rises as a half cosine,
+//     v(t) = v_0 (1 - cos(pi t / T_r)) / 2   for t < T_r,   v_0 afterwards,
+// whose acceleration starts and ends at zero, over T_r = n_r t_w (default n_r = 4) axial wave
+// transits t_w = L sqrt(rho_eff / E), rho_eff = (scaled total mass) / (specimen volume): the
+// static response is reached with a dynamic remainder that the local damping removes within a
+// few transits.
+//
+// Mass scaling (the study scales masses too). The cost of a run is its number of steps,
+// U / (v_0 dt) for a top displacement U, so the natural control is the top displacement per
+// step du* (default 2 nm, 1/900 of the opening at peak f_T/k_n = 1.85 um of the 100-block
+// contacts; 5 nm overshoots the peak of the top reaction by 5 % when the crack forms): the target step is dt* = du* / v_0 and the masses of every gridpoint whose own
+// stable step is below dt* are raised until it is stable (integrator/timestep.hpp). When every
+// gridpoint is scaled, the scaled masses grow as dt*^2 ~ 1/v_0^2 and the equations of motion in
+// the displacement variable U = v_0 t no longer depend on v_0: the inertia of the run is set by
+// du* alone (m v_0^2 ~ k du*^2). A lower rate at fixed du* therefore costs the same number of
+// steps and approaches the fully scaled response; du* (or dt*) itself is the convergence
+// parameter of the work-precision benchmark.
+//
+// Softening tail. Once the stress has fallen below tail_stress_ratio (0.3) x peak, one crack is
+// open and the rest of the prism unloads slowly along the long power-law tail (the cut-off
+// opening is 0.5 mm against 0.08 mm at the peak); the top velocity is then raised by the same
+// half cosine to tail_speedup (4) x v_0, which cuts the steps of a run to separation by ~2.5.
+//
+// Quasi-static indicators (reported): after the ramp, the largest ratio of kinetic to elastic
+// (zones + contact springs) energy, and the largest imbalance |R_top + R_bottom| of the axial
+// support reactions relative to f_T A (zero in static equilibrium).
+//
+// Stop criterion. Complete separation: no chain of blocks joined by sub-contacts with tensile
+// capacity (not broken in tension, and not failed in shear while carrying no tension) links a
+// block touching the bottom to one touching the top (union-find over the blocks each sample).
+// Then every sub-contact of the through crack that opened has been pulled past the softening
+// cut-off and has dissipated its full separation energy; what the crack still transmits is
+// residual friction of shear-failed faces. Also stops at `max_displacement`, or (quick runs) when the stress has
+// fallen below `stop_below_peak_ratio` x peak after the peak.
+//
+// Post-processing. Crack areas at the end (m^2): sub-contacts broken in tension (crack_area),
+// failed in shear only (shear_crack_area), and the projection of the tension-broken area on the
+// cross-section, sum A |n_z| (projected_crack_area; = A for one flat through crack, more for a
+// tortuous or branched one). The tensile dissipation is split into that of the broken
+// sub-contacts and that of the sub-contacts that softened without breaking (process zone). At
+// the peak, the axial force carried across the final crack surface is decomposed into the part
+// carried by normal stresses, sum A sigma_n |n_z|, and by shear stresses, sum A tau_z sgn(n_z)
+// (both over the sub-contacts with tensile damage >= 0.5 at the end, in stress units over A).
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/scenes.hpp"
+#include "tessera/law/concepts.hpp"
+#include "tessera/solver.hpp"
+
+namespace tessera::scenes {
+
+/// Loading and run control of one direct tension run (SI).
+struct tension_loading {
+  real rate = 0.005;               ///< top velocity v_0 after the ramp (m/s), > 0
+  real step_displacement = 2e-9;   ///< target top displacement per step du* (m): dt* = du* / v_0
+  real dt = 0;                     ///< > 0: mass-scaling target step (s), overrides step_displacement
+  bool mass_scaling = true;        ///< false: physical masses, dt = safety x stable step
+  real ramp_transits = 4;          ///< half-cosine ramp duration in axial wave transits (0 = none)
+  real tail_speedup = 4;           ///< velocity factor on the softening tail (1 = constant rate)
+  real tail_stress_ratio = 0.3;    ///< the tail starts past the peak once stress < this x peak
+  real max_displacement = 1.5e-3;  ///< stop at this top displacement (m)
+  bool stop_at_separation = true;  ///< stop at complete separation (see the file comment)
+  real stop_below_peak_ratio = 0;  ///< > 0: stop once past the peak with stress < ratio x peak
+  index sample = 100;              ///< steps between curve samples
+  int threads = 0;                 ///< OpenMP threads (0 = library default)
+  bool platen_restraint = true;    ///< top gridpoints fixed transversally (the study); false = free (frictionless platen)
+  bool keep_fields = false;        ///< keep contact and zone snapshots at the peak and the end
+  std::string label = "direct_tension";  ///< progress-line label
+  bool progress = true;            ///< show a progress line on stderr
+};
+
+/// Per-sub-contact and per-zone fields at one instant (VTK output).
+struct tension_snapshot {
+  real time = 0, displacement = 0, stress = 0;  ///< s, m, Pa
+  std::vector<vec3> contact_position, contact_normal, contact_tau;  ///< m, unit A->B, Pa
+  std::vector<real> damage, opening, sigma_n;                       ///< -, m, Pa
+  std::vector<std::int32_t> status;                                 ///< law::contact_status bits
+  soa3 gridpoint_displacement;                                      ///< m
+  zone_stress_matrix zone_stress;                                   ///< Pa, Voigt xx yy zz yz zx xy
+
+  template <class Solver>
+  void take(const Solver& s, bool with_zones) {
+    using law = typename Solver::law_type;
+    const auto& c = s.contacts();
+    const auto n = static_cast<std::size_t>(c.size());
+    contact_position.resize(n), contact_normal.resize(n), contact_tau.resize(n);
+    damage.resize(n), opening.resize(n), sigma_n.resize(n), status.resize(n);
+    for (index i = 0; i < c.size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const auto& st = c.state(i);
+      contact_position[k] = c.position(i, s.gridpoints());
+      contact_normal[k] = c.normal(i);
+      contact_tau[k] = vec3(st.tau);
+      damage[k] = law::tensile_damage(c.params(), st);
+      opening[k] = st.u_n;
+      sigma_n[k] = st.sigma_n;
+      status[k] = static_cast<std::int32_t>(law::status(st));
+    }
+    if (with_zones) {
+      gridpoint_displacement = s.gridpoints().displacement;
+      zone_stress = s.blocks().zone_stress();
+    }
+  }
+};
+
+/// Everything one run measures (SI).
+struct tension_result {
+  std::vector<real> displacement;                       ///< top displacement (m)
+  std::vector<real> stress, stress_top, stress_bottom;  ///< axial stress: mean, from the top, from the bottom reaction (Pa)
+  real peak_stress = 0, peak_displacement = 0, initial_modulus = 0, residual_stress = 0;
+  // energies (J)
+  real boundary_work = 0, damping = 0, kinetic = 0, stored = 0;
+  real dissipated = 0, dissipated_tension = 0, dissipated_shear = 0, dissipated_compression = 0;
+  real dissipated_tension_broken = 0, dissipated_tension_unbroken = 0;
+  real energy_balance_error = 0;
+  // crack (m^2)
+  real crack_area = 0, shear_crack_area = 0, projected_crack_area = 0, process_zone_area = 0;
+  bool separated = false;
+  real separation_displacement = 0;  ///< m (0 if not separated)
+  // Peak decomposition over the final crack, the sub-contacts with tensile damage >= 0.5 at the
+  // end: axial force at the peak carried by their normal and shear stresses (Pa over the
+  // cross-section), and their area and projected area sum A |n_z| (m^2).
+  real peak_normal_part = 0, peak_shear_part = 0, peak_crack_area = 0, peak_crack_projected_area = 0;
+  // quasi-static indicators
+  real kinetic_to_elastic_max = 0, reaction_imbalance_max = 0;
+  // run
+  real tail_displacement = 0;  ///< top displacement where the tail speed-up began (m; 0 = none)
+  real dt = 0, ramp_time = 0, transit_time = 0, added_mass_ratio = 0;
+  std::int64_t steps = 0, subcontacts = 0, zones = 0, gridpoints = 0, blocks = 0;
+  double runtime_s = 0;
+  tension_snapshot at_peak, at_end;
+};
+
+/// Least-squares slope of stress against strain u/L over the pre-peak samples between 10 % and
+/// 50 % of the peak (Pa); 0 if fewer than two samples qualify.
+[[nodiscard]] inline real initial_modulus(const tension_result& r, real length) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  int n = 0;
+  for (std::size_t k = 0; k < r.stress.size() && r.displacement[k] <= r.peak_displacement; ++k) {
+    if (r.stress[k] < 0.1 * r.peak_stress || r.stress[k] > 0.5 * r.peak_stress) continue;
+    const double x = r.displacement[k] / length, y = r.stress[k];
+    sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
+  }
+  if (n < 2) return 0;
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+/// Stress of curve (u, s) at displacement x by linear interpolation (clamped at the ends).
+[[nodiscard]] inline real interpolate_curve(const std::vector<real>& u, const std::vector<real>& s, real x) {
+  if (u.empty()) return 0;
+  const auto it = std::lower_bound(u.begin(), u.end(), x);
+  if (it == u.begin()) return s.front();
+  if (it == u.end()) return s.back();
+  const auto j = static_cast<std::size_t>(it - u.begin());
+  const real t = (x - u[j - 1]) / std::max(u[j] - u[j - 1], real(1e-300));
+  return s[j - 1] + t * (s[j] - s[j - 1]);
+}
+
+/// Curve error of (u, s) against a reference (u_ref, s_ref): the L2 norm of the stress difference
+/// over [0, u_max] divided by the reference peak,
+///     e = sqrt( (1/u_max) int_0^u_max (s - s_ref)^2 du ) / max s_ref,
+/// on 1000 uniform points (trapezoidal rule). u_max defaults to the shorter of the two curves.
+[[nodiscard]] inline real curve_error_rel(const std::vector<real>& u, const std::vector<real>& s,
+                                          const std::vector<real>& u_ref, const std::vector<real>& s_ref,
+                                          real u_max = 0) {
+  if (u.empty() || u_ref.empty()) return 1;
+  if (!(u_max > 0)) u_max = std::min(u.back(), u_ref.back());
+  const real peak = *std::max_element(s_ref.begin(), s_ref.end());
+  constexpr int n = 1000;
+  double sum = 0;
+  for (int k = 0; k <= n; ++k) {
+    const real x = u_max * k / n;
+    const real d = interpolate_curve(u, s, x) - interpolate_curve(u_ref, s_ref, x);
+    sum += (k == 0 || k == n ? 0.5 : 1.0) * d * d;
+  }
+  return std::sqrt(sum / n) / peak;
+}
+
+/// Runs the direct tension test on `scene` with solver type Solver and contact parameters
+/// `law_params` (see the file comment). Throws what the solver throws (invalid_input,
+/// numerical_instability).
+template <class Solver, class LawParams>
+[[nodiscard]] tension_result run_direct_tension(const prism_scene& scene, const LawParams& law_params,
+                                                const tension_loading& in) {
+  namespace bc = tessera::bc;
+  namespace rec = tessera::recorders;
+  using law = typename Solver::law_type;
+  require_positive(in.rate, "direct tension: loading rate (m/s)");
+  require_positive(in.step_displacement, "direct tension: displacement per step (m)");
+  require_non_negative(in.ramp_transits, "direct tension: ramp duration (wave transits)");
+  require_positive(in.tail_speedup, "direct tension: tail speed-up factor");
+  const cli::wall_timer timer;
+
+  solver_options opt;
+  if (in.mass_scaling) opt.mass_scaling_dt = in.dt > 0 ? in.dt : in.step_displacement / in.rate;
+  opt.threads = in.threads;
+  Solver s(scene.tess, scene.mesh, scene.block_material, law_params, {}, opt);
+
+  const real length = scene.length(), area = scene.cross_section(), f_t = law_params.tension.f_T;
+  const real tol = 1e-9 * length;
+  const bc::node_group bottom = s.gridpoints_on_plane(2, 0.0, tol);
+  const bc::node_group top = s.gridpoints_on_plane(2, length, tol);
+  s.fix(bottom);
+  if (in.platen_restraint) s.fix(top, bc::transverse_to(2));
+  s.prescribe_velocity(top, vec3::Zero(), bc::components::z);
+
+  tension_result r;
+  const real total_mass = s.mass_scaling().original_mass + s.mass_scaling().added_mass;
+  const real mass = total_mass > 0 ? total_mass : s.gridpoints().mass.sum();
+  r.transit_time = length * std::sqrt(mass / (length * area) / concrete_young);
+  r.ramp_time = in.ramp_transits * r.transit_time;
+  // v(t) = v0 (1 - cos(pi t / T_r)) / 2 over the ramp, and on the tail (from t_tail) the same
+  // half cosine from v0 to tail_speedup x v0; applied before each step to the half-step
+  // velocity v(t + dt/2).
+  real tail_start = -1;  // s, < 0: not on the tail yet
+  const auto half_cosine = [&](real t) {
+    return t >= r.ramp_time ? real(1) : real(0.5) * (1 - std::cos(std::numbers::pi * t / r.ramp_time));
+  };
+  const auto ramp = [&](const Solver& sv) {
+    const real t_mid = sv.time() + 0.5 * sv.dt();
+    real factor = 1;
+    if (tail_start >= 0) {
+      if (t_mid - tail_start > r.ramp_time + sv.dt()) return;
+      factor = 1 + (in.tail_speedup - 1) * half_cosine(t_mid - tail_start);
+    } else {
+      if (t_mid > r.ramp_time + sv.dt()) return;
+      factor = half_cosine(t_mid);
+    }
+    bc::update_velocity(s.gridpoints(), top, vec3(0, 0, in.rate * factor), bc::components::z);
+  };
+  ramp(s);
+
+  // Blocks touching the supports, for the separation test.
+  const index n_blocks = scene.tess.cell_count();
+  std::vector<char> touches_bottom(static_cast<std::size_t>(n_blocks), 0), touches_top(touches_bottom);
+  for (index g : bottom.nodes) touches_bottom[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
+  for (index g : top.nodes) touches_top[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
+  std::vector<index> parent(static_cast<std::size_t>(n_blocks));
+  const auto separated_now = [&](const Solver& sv) {
+    std::iota(parent.begin(), parent.end(), index{0});
+    const auto root = [&](index b) {
+      while (parent[static_cast<std::size_t>(b)] != b) b = parent[static_cast<std::size_t>(b)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(b)])];
+      return b;
+    };
+    const auto& c = sv.contacts();
+    for (index i = 0; i < c.size(); ++i) {
+      const auto& st = c.state(i);
+      const auto flags = law::status(st);
+      // A load path needs tensile capacity: not broken in tension, and not a shear-failed
+      // sub-contact without tension (it holds only residual friction, |tau| <= c_res).
+      if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) continue;
+      if (tessera::law::has(flags, tessera::law::contact_status::slipped) && !(st.sigma_n > 0)) continue;
+      const index a = root(c.block_a(i)), b = root(c.block_b(i));
+      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+    std::vector<char> bottom_root(static_cast<std::size_t>(n_blocks), 0);
+    for (index b = 0; b < n_blocks; ++b)
+      if (touches_bottom[static_cast<std::size_t>(b)]) bottom_root[static_cast<std::size_t>(root(b))] = 1;
+    for (index b = 0; b < n_blocks; ++b)
+      if (touches_top[static_cast<std::size_t>(b)] && bottom_root[static_cast<std::size_t>(root(b))]) return false;
+    return true;
+  };
+
+  std::vector<real> imbalance, kinetic_ratio;
+  std::size_t indicator_samples_to_peak = 0;
+  cli::progress_line progress(in.label);
+  bool stop = false;
+  const auto observe = [&](const Solver& sv) {
+    const real u = rec::mean_displacement(sv.gridpoints(), top).z();
+    const real r_top = rec::reaction_sum(sv.gridpoints(), top).z();
+    const real r_bottom = rec::reaction_sum(sv.gridpoints(), bottom).z();
+    // Mean axial stress (tension +) from the two support reactions: R_top + R_bottom = -sum m a,
+    // the inertia force of the specimen, so their mean is the static estimate and their
+    // difference the quasi-static indicator below.
+    const real sigma = 0.5 * (r_top - r_bottom) / area;
+    r.displacement.push_back(u);
+    r.stress.push_back(sigma);
+    r.stress_top.push_back(r_top / area);
+    r.stress_bottom.push_back(-r_bottom / area);
+    if (sigma > r.peak_stress) {
+      r.peak_stress = sigma;
+      r.peak_displacement = u;
+      r.at_peak.take(sv, in.keep_fields);
+      r.at_peak.time = sv.time(), r.at_peak.displacement = u, r.at_peak.stress = sigma;
+    }
+    // Quasi-static indicators between the end of the ramp and the peak (past the peak the crack
+    // releases elastic energy dynamically, which is physics, not a loading artefact).
+    if (sv.time() > r.ramp_time && sigma > 0.9 * r.peak_stress) {
+      const auto e = sv.energies();
+      const real elastic = e.block_elastic + e.contact_stored;
+      imbalance.push_back(std::abs(r_top + r_bottom) / (f_t * area));
+      kinetic_ratio.push_back(elastic > 0 ? e.kinetic / elastic : 0);
+      if (sigma >= r.peak_stress) indicator_samples_to_peak = imbalance.size();
+    }
+    const bool past_peak = u > 1.2 * r.peak_displacement && r.peak_stress > 0.5 * f_t;
+    if (tail_start < 0 && in.tail_speedup != 1 && past_peak && sigma < in.tail_stress_ratio * r.peak_stress) {
+      tail_start = sv.time();
+      r.tail_displacement = u;
+    }
+    if (in.stop_at_separation && past_peak && separated_now(sv)) {
+      r.separated = true;
+      r.separation_displacement = u;
+      stop = true;
+    }
+    if (in.stop_below_peak_ratio > 0 && past_peak && sigma < in.stop_below_peak_ratio * r.peak_stress) stop = true;
+    if (u >= in.max_displacement) stop = true;
+    if (in.progress)
+      progress.update(std::min(1.0, u / in.max_displacement),
+                      tessera::detail::concat("u = ", u * 1e3, " mm, sigma = ", sigma * 1e-6, " MPa, peak ",
+                                              r.peak_stress * 1e-6, " MPa"));
+  };
+  s.run_until([&](const Solver&) { return stop; }, std::int64_t{1} << 40, ramp, rec::every(in.sample, observe));
+  progress.finish();
+
+  for (std::size_t k = 0; k < indicator_samples_to_peak; ++k) {
+    r.reaction_imbalance_max = std::max(r.reaction_imbalance_max, imbalance[k]);
+    r.kinetic_to_elastic_max = std::max(r.kinetic_to_elastic_max, kinetic_ratio[k]);
+  }
+  const auto e = s.energies();
+  const auto ce = s.contacts().energies();
+  r.boundary_work = e.boundary_work;
+  r.damping = e.damping_dissipated;
+  r.kinetic = e.kinetic;
+  r.stored = e.block_elastic + e.contact_stored;
+  r.dissipated = ce.dissipated;
+  r.dissipated_tension = ce.dissipated_tension;
+  r.dissipated_shear = ce.dissipated_shear;
+  r.dissipated_compression = ce.dissipated_compression;
+  r.energy_balance_error = e.error_rel();
+  r.residual_stress = r.stress.empty() ? 0 : r.stress.back();
+
+  const auto& c = s.contacts();
+  for (index i = 0; i < c.size(); ++i) {
+    const auto& st = c.state(i);
+    const auto flags = law::status(st);
+    const real a = c.area(i), nz = c.normal(i).z();
+    if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) {
+      r.crack_area += a;
+      r.projected_crack_area += a * std::abs(nz);
+      r.dissipated_tension_broken += a * st.dissipated_tension;
+    } else {
+      r.dissipated_tension_unbroken += a * st.dissipated_tension;
+      if (tessera::law::has(flags, tessera::law::contact_status::softening)) r.process_zone_area += a;
+      if (tessera::law::has(flags, tessera::law::contact_status::slipped)) r.shear_crack_area += a;
+    }
+    const auto k = static_cast<std::size_t>(i);
+    if (k < r.at_peak.sigma_n.size() && law::tensile_damage(c.params(), st) >= 0.5) {
+      const real nz_peak = r.at_peak.contact_normal[k].z();
+      r.peak_crack_area += a;
+      r.peak_crack_projected_area += a * std::abs(nz_peak);
+      r.peak_normal_part += a * r.at_peak.sigma_n[k] * std::abs(nz_peak) / area;
+      r.peak_shear_part += a * r.at_peak.contact_tau[k].z() * (nz_peak >= 0 ? 1 : -1) / area;
+    }
+  }
+  if (in.keep_fields) {
+    r.at_end.take(s, true);
+    r.at_end.time = s.time(), r.at_end.displacement = r.displacement.empty() ? 0 : r.displacement.back();
+    r.at_end.stress = r.residual_stress;
+  }
+  r.initial_modulus = initial_modulus(r, length);
+  r.dt = s.dt();
+  r.added_mass_ratio = s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0;
+  r.steps = s.step_count();
+  r.subcontacts = c.size();
+  r.zones = scene.mesh.zone_count();
+  r.gridpoints = scene.mesh.gridpoint_count();
+  r.blocks = n_blocks;
+  r.runtime_s = timer.seconds();
+  return r;
+}
+
+}  // namespace tessera::scenes
