@@ -44,15 +44,15 @@
 
 namespace tessera::geometry {
 
-/// Smallest corner angle (rad) of triangle (a, b, c); 0 for a degenerate triangle.
+/// Smallest corner angle (rad) of triangle (a, b, c); 0 for a degenerate triangle. It is the
+/// angle opposite the shortest side (law of sines), atan2(|u x v|, u . v) of the two other sides.
 [[nodiscard]] inline real min_corner_angle(const vec3& a, const vec3& b, const vec3& c) {
   const vec3 ab = b - a, bc = c - b, ca = a - c;
-  // angle at a corner between edges u (outgoing) and -v (incoming): atan2(|u x v|, -u.v)
+  const real lab = ab.squaredNorm(), lbc = bc.squaredNorm(), lca = ca.squaredNorm();
   const real twice_area = ab.cross(ca).norm();
-  const real at_a = std::atan2(twice_area, -ab.dot(ca));
-  const real at_b = std::atan2(twice_area, -bc.dot(ab));
-  const real at_c = std::atan2(twice_area, -ca.dot(bc));
-  return std::min({at_a, at_b, at_c});
+  if (lab <= lbc && lab <= lca) return std::atan2(twice_area, -bc.dot(ca));  // at c
+  if (lbc <= lca) return std::atan2(twice_area, -ca.dot(ab));                // at a
+  return std::atan2(twice_area, -ab.dot(bc));                                // at b
 }
 
 /// Scratch memory of min_angle_triangulation (reuse it across faces to avoid reallocation).

@@ -15,7 +15,8 @@
 //     triangles of its intermediate states. The merged vertex is placed at the best of these
 //     candidates: the mean of all original vertices merged into it, or the position of one of
 //     the merged vertices (which keeps that vertex's faces planar); "best" = the largest
-//     smallest zone altitude (see 5).
+//     smallest zone altitude (see 5). Candidates that would leave an original vertex farther
+//     than max_shift_rel x l_min from its merged vertex are skipped.
 //  3. Box sides: each vertex carries the set of box sides it lies on (exactly, as welded by
 //     cleanup.hpp). A collapse is allowed only if one endpoint's side set contains the other's;
 //     the merged vertex then takes the larger set and is projected exactly onto those sides.
@@ -66,6 +67,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <queue>
 #include <tuple>
 #include <utility>
@@ -80,12 +82,14 @@
 
 namespace tessera::geometry {
 
-/// Relative short-edge threshold used by the example scenes: edges shorter than 0.1 of the mean
-/// cell size are collapsed. Measured on the study's prism (100-500 blocks, seeds 1-3): it raises
-/// the unscaled stable time step by about an order of magnitude and the smallest zone dihedral
-/// angle from < 0.1 deg to several degrees, while moving no vertex by more than 0.05 L; larger
-/// thresholds (0.2) gain less per unit of distortion and are refused more often (docs/model.md).
-inline constexpr real study_regularization = 0.1;
+/// Relative short-edge threshold of the examples: edges shorter than 0.2 of the mean cell size L
+/// are collapsed. Measured on the study's prism (100, 250, 500 blocks, seeds 1-3, min-angle
+/// zoning): the unscaled stable step of the deformable prism rises from 1e-10..8e-9 s to
+/// 1.5e-8..8e-8 s (every case), the zones with volume ratio < 0.1 fall from 17-22 % to 1.4-2.6 %,
+/// at the price of 20-30 % fewer sub-contacts, faces warped by up to 0.1 L and merged vertices
+/// moved by up to 0.4 L (clusters). 0.1 L leaves cases at 4e-9 s (500 blocks, seed 2) and
+/// 0.15 L at 3e-9 s (500 blocks, seed 1): below 0.2 a few refused collapses keep slivers.
+inline constexpr real study_regularization = 0.2;
 
 /// What regularize() did.
 struct regularization_report {
@@ -109,6 +113,11 @@ namespace detail::edge_collapse {
 /// altitude stays above this fraction of l_min (measured: 0.02 refuses the fewest collapses and
 /// gives the largest stable steps among 0.02, 0.1, 0.3 on the study's prisms).
 inline constexpr real altitude_floor_rel = 0.02;
+/// No original vertex may end farther than this multiple of l_min from its merged vertex
+/// (bounded by the farthest corner of the box of the merged originals). Chains of short edges
+/// otherwise merge into vertices moved by up to 0.7 L; 3 l_min (0.6 L at the study's 0.2) keeps
+/// every measured case's stable step, 1 l_min cuts it up to 20-fold by refusing collapses.
+inline constexpr real max_shift_rel = 3.0;
 
 inline constexpr std::uint8_t side_bit(int side) { return static_cast<std::uint8_t>(1u << side); }
 
@@ -143,12 +152,19 @@ struct collapse_state {
   std::vector<vec3> position;           ///< current position of each (surviving) vertex
   std::vector<vec3> member_sum;         ///< sum of the original positions merged into it
   std::vector<index> member_count;
+  std::vector<aabb> member_box;         ///< bounding box of the original positions merged into it
   std::vector<index> parent;            ///< union-find over original ids (root = kept vertex)
   std::vector<std::uint8_t> sides;
   std::vector<std::vector<index>> loop; ///< current loop of each face (empty = dropped)
   std::vector<std::vector<index>> vertex_faces;  ///< faces that contained the vertex (may be stale)
   triangulation_workspace ws;
   std::vector<std::array<index, 3>> tris;
+  struct face_triangles {
+    bool valid = false;     ///< tris/foldfree hold for the stored loop and positions
+    bool foldfree = false;  ///< a valid triangulation without fold-over exists
+    std::vector<std::array<index, 3>> tris;
+  };
+  std::vector<face_triangles> cache;  ///< per face
   std::vector<std::pair<index, index>> directed;
   std::vector<index> scratch_vertices;
 
@@ -157,11 +173,14 @@ struct collapse_state {
     position = t.vertices;
     member_sum = t.vertices;
     member_count.assign(nv, 1);
+    member_box.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v) member_box[v].expand(t.vertices[v]);
     parent.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<index>(v);
     sides.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) sides[v] = sides_of(t.vertices[v], t.domain);
     loop.resize(static_cast<std::size_t>(t.face_count()));
+    cache.resize(static_cast<std::size_t>(t.face_count()));
     vertex_faces.resize(nv);
     for (index f = 0; f < t.face_count(); ++f) {
       const auto l = t.face(f);
@@ -234,15 +253,29 @@ struct collapse_state {
     if (n_vertices - static_cast<index>(directed.size()) / 2 + faces != 2) return verdict::topology;
 
     // Triangulate every face as the zoning will; no fold-over; volume centroid of the triangles.
+    // Faces of the current state (loops_of returns the stored loop) are cached: only the faces
+    // around the merged vertex change from one candidate to the next.
     tris.clear();
     for (index f = input.first_face(c); f < input.end_face(c); ++f) {
       const std::vector<index>& l = loops_of(f);
       if (l.empty()) continue;
+      const bool current = &l == &loop[static_cast<std::size_t>(f)];
+      face_triangles& cached = cache[static_cast<std::size_t>(f)];
+      if (current && cached.valid) {
+        if (!cached.foldfree) return verdict::geometry;
+        tris.insert(tris.end(), cached.tris.begin(), cached.tris.end());
+        continue;
+      }
       const std::size_t first = tris.size();
-      if (!(min_angle_triangulation(position, l, tris, ws) > 0)) return verdict::geometry;
-      for (std::size_t i = first; i < tris.size(); ++i)
-        for (std::size_t j = i + 1; j < tris.size(); ++j)
-          if (normal(tris[i]).dot(normal(tris[j])) <= 0) return verdict::geometry;
+      bool foldfree = min_angle_triangulation(position, l, tris, ws) > 0;
+      for (std::size_t i = first; i < tris.size() && foldfree; ++i)
+        for (std::size_t j = i + 1; j < tris.size() && foldfree; ++j) foldfree = normal(tris[i]).dot(normal(tris[j])) > 0;
+      if (current) {
+        cached.valid = true;
+        cached.foldfree = foldfree;
+        cached.tris.assign(tris.begin() + static_cast<std::ptrdiff_t>(first), tris.end());
+      }
+      if (!foldfree) return verdict::geometry;
     }
     const vec3 p0 = position[static_cast<std::size_t>(tris.front()[0])];
     real volume6 = 0;
@@ -317,7 +350,12 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
   rep.short_edges_before = static_cast<index>(queue.size());
 
   const real altitude_floor = detail::edge_collapse::altitude_floor_rel * l_min;
+  const real max_shift = detail::edge_collapse::max_shift_rel * l_min;
   std::vector<index> faces, cells, cluster;
+  // Retry bookkeeping: a refused edge is re-evaluated only after a commit touched one of its cells.
+  index commits = 0;
+  std::vector<index> cell_stamp(static_cast<std::size_t>(tess.cell_count()), 0);
+  std::map<std::pair<index, index>, index> refused_at;
   std::vector<std::vector<index>> new_loops;
   // Merges the vertices `members` (sorted, >= 2) into members[0] if every check passes.
   const auto try_merge = [&](const std::vector<index>& members) -> verdict {
@@ -330,7 +368,10 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     const index keep = members.front();
     vec3 sum = vec3::Zero();
     index count = 0;
+    aabb originals;
     for (const index m : members) {
+      originals.expand(st.member_box[static_cast<std::size_t>(m)].lo);
+      originals.expand(st.member_box[static_cast<std::size_t>(m)].hi);
       sum += st.member_sum[static_cast<std::size_t>(m)];
       count += st.member_count[static_cast<std::size_t>(m)];
     }
@@ -363,10 +404,6 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     std::sort(cells.begin(), cells.end());
     cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
 
-    // Worst zone altitude of the affected cells now (the state is valid, the verdict is ok).
-    real altitude_before = std::numeric_limits<real>::infinity();
-    const auto current_loop = [&](index f) -> const std::vector<index>& { return st.loop[static_cast<std::size_t>(f)]; };
-    for (const index c : cells) static_cast<void>(st.check_cell(c, current_loop, altitude_before));
 
     // Candidate positions of the merged vertex: the cluster mean, then each member's own
     // position (which keeps that member's faces planar); the one whose worst zone is best wins.
@@ -382,6 +419,8 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     for (std::size_t candidate = 0; candidate <= members.size(); ++candidate) {
       const vec3 x = on_sides(candidate == 0 ? vec3(sum / static_cast<real>(count))
                                              : st.position[static_cast<std::size_t>(members[candidate - 1])]);
+      // no original vertex may move farther than l_min (bound: farthest corner of their box)
+      if ((x - originals.lo).cwiseAbs().cwiseMax((x - originals.hi).cwiseAbs()).norm() > max_shift) continue;
       st.position[static_cast<std::size_t>(keep)] = x;
       real altitude = std::numeric_limits<real>::infinity();
       verdict v = verdict::ok;
@@ -399,10 +438,17 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     st.position[static_cast<std::size_t>(keep)] = old_position;
     if (best_verdict != verdict::ok) return best_verdict;
     // Quality: the worst zone may not get worse than before, unless it stays above the floor.
-    if (best_altitude < std::min(altitude_before, altitude_floor)) return verdict::geometry;
+    if (best_altitude < altitude_floor) {
+      real altitude_before = std::numeric_limits<real>::infinity();
+      const auto current_loop = [&](index f) -> const std::vector<index>& { return st.loop[static_cast<std::size_t>(f)]; };
+      for (const index c : cells) static_cast<void>(st.check_cell(c, current_loop, altitude_before));
+      if (best_altitude < altitude_before) return verdict::geometry;
+    }
     st.position[static_cast<std::size_t>(keep)] = merged;
 
     // Commit.
+    ++commits;
+    for (const index c : cells) cell_stamp[static_cast<std::size_t>(c)] = commits;
     rep.collapsed_edges += static_cast<index>(members.size()) - 1;
     for (const index m : members) {
       if (m == keep) continue;
@@ -411,8 +457,10 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     }
     st.member_sum[static_cast<std::size_t>(keep)] = sum;
     st.member_count[static_cast<std::size_t>(keep)] = count;
+    st.member_box[static_cast<std::size_t>(keep)] = originals;
     st.sides[static_cast<std::size_t>(keep)] = merged_sides;
     for (std::size_t i = 0; i < faces.size(); ++i) {
+      st.cache[static_cast<std::size_t>(faces[i])].valid = false;
       if (new_loops[i].empty()) ++rep.dropped_faces;
       st.loop[static_cast<std::size_t>(faces[i])] = std::move(new_loops[i]);
     }
@@ -438,6 +486,13 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     queue.pop();
     if (st.parent[static_cast<std::size_t>(a)] != a || st.parent[static_cast<std::size_t>(b)] != b) continue;
     if (st.length(a, b) != len || !st.is_edge(a, b)) continue;  // stale entry
+    if (const auto it = refused_at.find({a, b}); it != refused_at.end()) {
+      bool changed = false;
+      for (const index v : {a, b})
+        for (const index f : st.vertex_faces[static_cast<std::size_t>(v)])
+          changed = changed || cell_stamp[static_cast<std::size_t>(tess.face_cell[static_cast<std::size_t>(f)])] > it->second;
+      if (!changed) continue;
+    }
     // First the whole cluster of vertices joined to a by short edges (a tiny face shrinks to a
     // point in one step, without the needle triangles of its intermediate states), then the
     // single edge.
@@ -445,6 +500,7 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     verdict v = cluster.size() > 2 ? try_merge(cluster) : verdict::topology;
     if (v != verdict::ok) v = try_merge({a, b});
     if (v == verdict::ok) continue;
+    refused_at[{a, b}] = commits;
     ++rep.refused_collapses;
     ++(v == verdict::boundary ? rep.refused_boundary
                               : v == verdict::topology ? rep.refused_topology : rep.refused_geometry);
