@@ -1,0 +1,314 @@
+// rc_tie: the reference study's reinforced-concrete tie in direct tension — tension stiffening
+// (Pulatsu et al. 2020, Sec. 3.1, Figures 6-9; DESIGN.md §4).
+//
+// Experiment (examples/common/rc_tie_scene.hpp has the full scene description):
+//   specimen  68 x 68 x 600 mm prism (long axis z), --blocks random Voronoi blocks, deformable
+//             semi-rigid (10 x 28 GPa), Table 1 contacts, power (default) or linear softening
+//   bar       Ø8 mm on the axis, E_s = 192.3 GPa, f_y = 400 MPa, --elements truss elements,
+//             bond ratio --xi, bond cohesion --cbond (N/m)
+//   supports  first bar node fixed; last bar node pulled along z at --rate after a half-cosine
+//             ramp of --ramp s; concrete end gridpoints on rollers (x, y fixed, z free)
+//   solver    central differences, local damping 0.8, masses scaled to the step --dt
+//   stop      --post-yield x the elongation at which the first bar element yields past it, or
+//             at --max-elongation
+//
+// Outputs in --out DIR:
+//   curve.csv        elongation_m, force_N (force = tension at the fixed bar end)
+//   bare_bar.csv     the bare bar, elastic-perfectly plastic (closed form) on the same range
+//   curve.png        both curves (gnuplot)
+//   <tag>_contacts.vtp, <tag>_bar.vtp, <tag>_zones.vtu for tag = drop1, drop2, ..., yield, end:
+//                    sub-contacts (tensile damage 0..1, status flags, opening, normal stress),
+//                    the bar as a polyline (axial force per element, slip and bond force per
+//                    node, displacement), zones (displacement, stress); tie.pvd lists them
+//   summary.json     inputs, hand checks, first_crack_force_N and its error vs f_T (A_c + n A_s),
+//                    initial_stiffness_N_per_m and its error vs (E_c A_c + E_s A_s)/L, load_drops,
+//                    cracks, crack_positions_m, yield_force_N and its error vs f_y A, energy
+//                    balance error, sizes, steps, runtime_s
+// Definitions (load drop, through-crack, initial stiffness, yield force): rc_tie_scene.hpp.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/rc_tie_scene.hpp"
+#include "tessera/io/atomic_file.hpp"
+#include "tessera/io/csv.hpp"
+#include "tessera/io/json.hpp"
+#include "tessera/io/plot.hpp"
+#include "tessera/io/vtk.hpp"
+
+namespace {
+
+using tessera::index;
+using tessera::real;
+using tessera::vec3;
+namespace fs = std::filesystem;
+namespace vtk = tessera::io::vtk;
+
+struct inputs {
+  tessera::cli::standard_options common;
+  tessera::scenes::tie_options tie;
+  tessera::scenes::tie_loading loading;
+  bool write_vtk = true;
+};
+
+/// Writes the VTK snapshot `tag` of a running tie solver and registers it in the .pvd.
+class snapshot_writer {
+ public:
+  snapshot_writer(fs::path dir, const tessera::scenes::tie_scene& scene, bool enabled)
+      : dir_(std::move(dir)), scene_(&scene), enabled_(enabled) {}
+
+  template <class Solver>
+  void operator()(const Solver& s, const std::string& tag) {
+    if (!enabled_) return;
+    using law = typename Solver::law_type;
+    const real t = s.time();
+    // Sub-contacts as points.
+    {
+      const auto& c = s.contacts();
+      const auto n = static_cast<std::size_t>(c.size());
+      std::vector<vec3> position(n);
+      std::vector<double> damage(n), opening(n), sigma_n(n);
+      std::vector<std::int32_t> status(n);
+      for (index i = 0; i < c.size(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        const auto& st = c.state(i);
+        position[k] = c.position(i, s.gridpoints());
+        damage[k] = law::tensile_damage(c.params(), st);
+        opening[k] = st.u_n;
+        sigma_n[k] = st.sigma_n;
+        status[k] = static_cast<std::int32_t>(law::status(st));
+      }
+      vtk::poly_data pd;
+      pd.set_points(std::move(position));
+      for (index i = 0; i < c.size(); ++i) pd.add_vertex(i);
+      pd.point_data.add_scalar("tensile_damage", std::span<const double>(damage));
+      pd.point_data.add_scalar("status", std::span<const std::int32_t>(status));
+      pd.point_data.add_scalar("opening_m", std::span<const double>(opening));
+      pd.point_data.add_scalar("sigma_n_Pa", std::span<const double>(sigma_n));
+      write(pd, tag + "_contacts.vtp", t, 1);
+    }
+    // The bar: reference points + displacement, one polyline, element forces as line segments.
+    {
+      const auto& bar = s.reinforcement();
+      const tessera::node_set& nodes = bar.nodes();
+      std::vector<vec3> points;
+      std::vector<double> slip, bond_force;
+      for (index n = 0; n < nodes.size(); ++n) {
+        points.push_back(nodes.reference.row(n).transpose());
+        slip.push_back(bar.bonded(n) ? bar.slip(n) : 0.0);
+        bond_force.push_back(bar.bonded(n) ? bar.bond_force(n) : 0.0);
+      }
+      vtk::poly_data pd;
+      pd.set_points(std::move(points));
+      std::vector<double> axial;
+      std::vector<std::int32_t> yielded;
+      for (index e = 0; e < bar.element_count(); ++e) {
+        const index ends[2] = {bar.element_node_a(e), bar.element_node_b(e)};
+        pd.add_line(ends);
+        axial.push_back(bar.axial_force(e));
+        yielded.push_back(bar.yielded(e) ? 1 : 0);
+      }
+      pd.point_data.add_vector("displacement", nodes.displacement);
+      pd.point_data.add_scalar("slip_m", std::span<const double>(slip));
+      pd.point_data.add_scalar("bond_force_N", std::span<const double>(bond_force));
+      pd.cell_data.add_scalar("axial_force_N", std::span<const double>(axial));
+      pd.cell_data.add_scalar("yielded", std::span<const std::int32_t>(yielded));
+      write(pd, tag + "_bar.vtp", t, 2);
+    }
+    // Zones with displacement and stress (empty for rigid blocks).
+    {
+      std::vector<vtk::sym_tensor> stress;
+      const auto& zs = s.blocks().zone_stress();
+      for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back({zs(z, 0), zs(z, 1), zs(z, 2), zs(z, 5), zs(z, 3), zs(z, 4)});
+      vtk::zone_fields fields;
+      fields.displacement = &s.gridpoints().displacement;
+      fields.stress = stress;
+      const fs::path file = dir_ / (tag + "_zones.vtu");
+      vtk::write_zones_vtu(file, scene_->prism.mesh, fields, vtk::format::binary);
+      pvd_.add(t, file, 0);
+    }
+    pvd_.write(dir_ / "tie.pvd");
+    tags_.push_back(tag);
+  }
+  [[nodiscard]] const std::vector<std::string>& tags() const { return tags_; }
+
+ private:
+  template <class Data>
+  void write(const Data& d, const std::string& name, real t, int part) {
+    d.write(dir_ / name, vtk::format::binary);
+    pvd_.add(t, dir_ / name, part);
+  }
+  fs::path dir_;
+  const tessera::scenes::tie_scene* scene_;
+  bool enabled_;
+  vtk::pvd_collection pvd_;
+  std::vector<std::string> tags_;
+};
+
+int run(inputs in) {
+  namespace io = tessera::io;
+  const fs::path out = in.common.out;
+  io::ensure_directory(out);
+  const tessera::cli::wall_timer timer;
+  in.tie.seed = in.common.seed;
+  in.loading.threads = in.common.threads;
+  in.loading.progress_label = in.tie.bare ? "rc_tie (bare bar)" : "rc_tie";
+  const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);
+  const auto& hand = scene.hand;
+
+  snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
+  const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
+
+  io::write_csv(out / "curve.csv", {"elongation_m", "force_N", "pulled_end_force_N"}, {r.elongation, r.force, r.pulled_force});
+  std::vector<double> bare_u, bare_f;
+  const real u_end = std::max(r.end_elongation, 1.2 * hand.yield_force / hand.bare_bar_stiffness);
+  for (int i = 0; i <= 200; ++i) {
+    bare_u.push_back(u_end * i / 200.0);
+    bare_f.push_back(hand.bare_bar_force(bare_u.back()));
+  }
+  io::write_csv(out / "bare_bar.csv", {"elongation_m", "force_N"}, {bare_u, bare_f});
+  io::plot_spec plot;
+  plot.title = tessera::detail::concat("RC tie, ", in.tie.blocks, " blocks, ", in.tie.elements, " elements, xi ",
+                                       in.tie.xi, ", c_bond ", in.tie.c_bond, " N/m, ", in.loading.softening,
+                                       " softening", in.tie.bare ? " (bare bar run)" : "");
+  plot.xlabel = "elongation (mm)";
+  plot.ylabel = "force (kN)";
+  plot.series.push_back({.csv = out / "curve.csv", .x_column = "elongation_m", .y_column = "force_N",
+                         .title = in.tie.bare ? "tessera, bare bar" : "tessera", .x_scale = 1e3, .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "bare_bar.csv", .x_column = "elongation_m", .y_column = "force_N",
+                         .title = "bare bar (elastic-perfectly plastic)", .style = "lines dt 2 lw 2", .x_scale = 1e3,
+                         .y_scale = 1e-3});
+  io::plot_png(out / "curve.png", plot);
+
+  const auto rel = [](double value, double reference) { return std::abs(value - reference) / std::abs(reference); };
+  std::vector<double> drop_forces, drop_elongations;
+  for (const auto& d : r.drops) drop_forces.push_back(d.peak_force), drop_elongations.push_back(d.peak_elongation);
+  std::vector<double> formation_u, formation_f;
+  for (const auto& [u, f] : r.crack_formation) formation_u.push_back(u), formation_f.push_back(f);
+  const real bare_error = tessera::scenes::curve_error(tessera::scenes::running_max(r.elongation), r.force, bare_u,
+                                                       bare_f, hand.yield_force);
+  io::summary_json js;
+  js.set("example", "rc_tie")
+      .set("blocks", in.tie.blocks)
+      .set("seed", in.tie.seed)
+      .set("elements", in.tie.elements)
+      .set("xi", in.tie.xi)
+      .set("c_bond_N_per_m", in.tie.c_bond)
+      .set("softening", in.loading.softening)
+      .set("rigid", in.tie.rigid)
+      .set("bare", in.tie.bare)
+      .set("rate_m_per_s", in.loading.rate)
+      .set("ramp_s", in.loading.ramp_time)
+      .set("quick", in.common.quick)
+      .set("threads", tessera::max_threads())
+      .set("length_m", hand.length)
+      .set("steel_area_m2", hand.steel_area)
+      .set("concrete_area_m2", hand.concrete_area)
+      .set("modular_ratio", hand.modular_ratio)
+      .set("hand_cracking_force_N", hand.cracking_force)
+      .set("hand_uncracked_stiffness_N_per_m", hand.uncracked_stiffness)
+      .set("hand_bare_bar_stiffness_N_per_m", hand.bare_bar_stiffness)
+      .set("hand_yield_force_N", hand.yield_force)
+      .set("first_crack_force_N", r.first_crack_force)
+      .set("first_crack_error_rel", rel(r.first_crack_force, hand.cracking_force))
+      .set("initial_stiffness_N_per_m", r.initial_stiffness)
+      .set("initial_stiffness_error_rel",
+           rel(r.initial_stiffness, in.tie.bare ? hand.bare_bar_stiffness : hand.uncracked_stiffness))
+      .set("load_drops", static_cast<std::int64_t>(r.drops.size()))
+      .set("load_drop_peak_forces_N", drop_forces)
+      .set("load_drop_elongations_m", drop_elongations)
+      .set("cracks", r.cracks.cracks)
+      .set("crack_positions_m", r.cracks.positions)
+      .set("crack_opening_threshold_m", r.cracks.opening_threshold)
+      .set("softened_cracks", r.softened_cracks.cracks)
+      .set("softened_crack_positions_m", r.softened_cracks.positions)
+      .set("crack_formation_elongations_m", formation_u)
+      .set("crack_formation_forces_N", formation_f)
+      .set("open_subcontacts", r.cracks.open_subcontacts)
+      .set("yielded", r.yielded)
+      .set("yield_elongation_m", r.yield_elongation)
+      .set("yield_force_N", r.yield_force)
+      .set("yield_force_error_rel", rel(r.yield_force, hand.yield_force))
+      .set("end_elongation_m", r.end_elongation)
+      .set("bare_bar_curve_error_rel", bare_error)
+      .set("boundary_work_J", r.boundary_work)
+      .set("contact_dissipated_J", r.contact_dissipated)
+      .set("bar_dissipated_J", r.bar_dissipated)
+      .set("damping_dissipated_J", r.damping_dissipated)
+      .set("energy_balance_error_rel", r.energy_balance_error)
+      .set("max_end_force_imbalance_rel", r.max_imbalance)
+      .set("subcontacts", r.subcontacts)
+      .set("zones", r.zones)
+      .set("gridpoints", r.gridpoints)
+      .set("dt_s", r.dt)
+      .set("added_mass_ratio", r.added_mass_ratio)
+      .set("steps", r.steps)
+      .set("runtime_s", timer.seconds());
+  js.write(out / "summary.json");
+
+  std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (hand %.1f, error %.1f %%)\n"
+              "  load drops %zu, softened through-cracks %d, fully opened through-cracks %d at z =",
+              r.first_crack_force * 1e-3, hand.cracking_force * 1e-3, 100 * rel(r.first_crack_force, hand.cracking_force),
+              r.initial_stiffness * 1e-6, hand.uncracked_stiffness * 1e-6,
+              100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(), r.softened_cracks.cracks,
+              r.cracks.cracks);
+  for (real z : r.cracks.positions) std::printf(" %.3f", z);
+  std::printf(" m\n  yield %.2f kN (f_y A %.2f kN, error %.2f %%) at %.3f mm; energy balance error %.2g\n"
+              "  %lld sub-contacts, %lld zones, dt %.3g s (added mass %.1fx), %lld steps, runtime %.1f s; wrote %s\n",
+              r.yield_force * 1e-3, hand.yield_force * 1e-3, 100 * rel(r.yield_force, hand.yield_force),
+              r.yield_elongation * 1e3, r.energy_balance_error, static_cast<long long>(r.subcontacts),
+              static_cast<long long>(r.zones), r.dt, r.added_mass_ratio, static_cast<long long>(r.steps), timer.seconds(),
+              out.string().c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  inputs in;
+  std::string softening = in.loading.softening;
+  tessera::cli::parser cli("rc_tie",
+                           "Reinforced-concrete tie (68 x 68 x 600 mm, one 8 mm bar) pulled by its bar to past yield\n"
+                           "(Pulatsu et al. 2020, Sec. 3.1): load drops as cracks form, yield at f_y A = 20.1 kN.");
+  cli.add_standard(in.common);
+  int elements = static_cast<int>(in.tie.elements);
+  bool no_vtk = false;
+  cli.option("--blocks", in.tie.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N");
+  cli.option("--elements", elements, "truss elements along the bar", "N");
+  cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI");
+  cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C");
+  cli.option("--softening", softening, "contact tensile softening: power (alpha = 3) or linear", "power|linear");
+  cli.option("--rate", in.loading.rate, "pull velocity of the last bar node (m/s)", "V");
+  cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T");
+  cli.option("--dt", in.loading.dt, "mass-scaled time step (s); 0 = stable step of the unscaled masses", "DT");
+  cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U");
+  cli.option("--post-yield", in.loading.post_yield, "after first yield at u_y, stop at (1 + this) u_y", "R");
+  cli.option("--damping", in.loading.damping_gamma, "local damping constant gamma", "G");
+  cli.option("--sample", in.loading.sample, "steps between curve samples", "K");
+  cli.flag("--rigid", in.tie.rigid, "rigid 6-DOF blocks instead of deformable semi-rigid ones");
+  cli.flag("--bare", in.tie.bare, "the bar alone (unbonded, concrete fixed): simulated bare-bar curve");
+  cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
+  cli.parse_or_exit(argc, argv);
+  in.tie.elements = elements;
+  in.loading.softening = softening;
+  in.write_vtk = !no_vtk;
+  if (in.common.quick) {
+    // Reduced run (CTest): coarser mass-scaled step, 10 mm/s, shorter ramp.
+    in.loading.dt = std::max(in.loading.dt, 4e-6);
+    in.loading.rate = std::max(in.loading.rate, 0.01);
+    in.loading.ramp_time = std::min(in.loading.ramp_time, 5e-3);
+  }
+  try {
+    return run(in);
+  } catch (const std::exception& e) {
+    std::cerr << "rc_tie: " << e.what() << '\n';
+    return 1;
+  }
+}
