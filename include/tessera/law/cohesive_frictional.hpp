@@ -33,6 +33,7 @@
 //     Broken in tension (Tension::exhausted), for good: no tensile stress, sigma = k_n min(0, u_n - u_p)
 //     with u_p reset to the compressive plastic closure (0 unless plastic_cap yielded), i.e.
 //     sigma = k_n min(0, u_n): compression only once the faces overlap geometrically again.
+//     While such a broken contact is open (u_n > u_p) it carries no shear stress either (step 3).
 //     Compression (plastic_cap): sigma >= -f_c, perfectly plastic; the irreversible closure goes into u_p.
 //  3. Shear. tau_trial = tau + k_s du_s, limited by tau_max = Shear::strength(sigma_n, flags) with the
 //     new sigma_n. At the first exceedance the contact is marked `slipped` for good (brittle: the
@@ -159,10 +160,15 @@ struct cohesive_frictional {
       s.dissipated_tension += normal_dissipation;
 
     // 3. Shear: elastic trial, Coulomb limit at the new normal stress, brittle first failure.
+    //    An open crack (broken in tension with its faces apart, u_n > u_p) transmits no shear: its
+    //    faces do not touch (3DEC's rule for a joint opened past its tensile strength); the shear
+    //    energy it stored is booked as dissipated below.
     vec3 tau = tau_old + p.k_s * du_s;
     real tau_max = Shear::strength(p.shear, sigma, s.flags);
     const real trial_sq = tau.squaredNorm();
-    if (trial_sq > tau_max * tau_max) {
+    if (has(s.flags, contact_status::broken_tension) && s.u_n > s.u_p) [[unlikely]] {
+      tau = vec3::Zero();
+    } else if (trial_sq > tau_max * tau_max) {
       if (!has(s.flags, contact_status::slipped)) {
         s.flags = s.flags | contact_status::slipped;
         tau_max = Shear::strength(p.shear, sigma, s.flags);
