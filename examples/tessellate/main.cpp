@@ -2,12 +2,15 @@
 // into constant-strain tetrahedral zones: the geometry every tessera scene starts from.
 //
 // Default specimen: the reference study's prism, 0.068 x 0.068 x 0.6 m, 100 blocks
-// (Pulatsu et al. 2020, Sec. 3).
+// (Pulatsu et al. 2020, Sec. 3), regularized like Neper's cells (edges shorter than
+// geometry::study_regularization = 0.2 of the mean cell size collapsed; --regularize 0 keeps the
+// raw Voronoi cells and their sliver zones).
 //
 // Outputs in --out DIR:
 //   blocks.vtu    polyhedral cells (VTK type 42) with cell data block, volume
 //   zones.vtu     tetrahedral zones with cell/point data block
-//   summary.json  inputs, tessellation checks (volume_error_rel, unmatched_faces), zone quality,
+//   summary.json  inputs, tessellation checks (volume_error_rel, unmatched_faces, face warp and
+//                 non-convexity after --regularize), zone quality,
 //                 runtime_s (tessellation + zoning wall time)
 #include <array>
 #include <cstdint>
@@ -18,6 +21,7 @@
 
 #include "common/cli.hpp"
 #include "tessera/core/parallel.hpp"
+#include "tessera/geometry/regularize.hpp"
 #include "tessera/geometry/tessellation_queries.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
@@ -34,6 +38,8 @@ struct inputs {
   int lloyd = 0;
   double min_spacing = 0.0;                        // m
   double target_edge = 0.0;                        // m, 0 = one zone per face triangle
+  // collapse edges shorter than this x the mean cell size (geometry/regularize.hpp), 0 = off
+  double regularize = tessera::geometry::study_regularization;
 };
 
 int run(const inputs& in) {
@@ -49,6 +55,7 @@ int run(const inputs& in) {
   geo::tessellation_options topt;
   topt.lloyd_iterations = in.lloyd;
   topt.min_spacing = in.min_spacing;
+  topt.min_edge_rel = in.regularize;
   geo::zoning_options zopt;
   zopt.target_edge_length = in.target_edge;
 
@@ -80,6 +87,7 @@ int run(const inputs& in) {
       .set("lloyd_iterations", in.lloyd)
       .set("min_spacing_m", in.min_spacing)
       .set("target_edge_length_m", in.target_edge)
+      .set("regularize_min_edge_rel", in.regularize)
       .set("quick", in.common.quick)
       .set("threads", tessera::max_threads())
       .set("blocks", tess.cell_count())
@@ -93,6 +101,8 @@ int run(const inputs& in) {
       .set("nonconvex_cells", report.nonconvex_cells)
       .set("min_face_area_m2", report.min_face_area)
       .set("min_edge_length_m", report.min_edge_length)
+      .set("max_face_warp_m", report.max_face_warp)
+      .set("max_nonconvexity_m", report.max_nonconvexity)
       .set("gridpoints", mesh.gridpoint_count())
       .set("zones", q.zones)
       .set("face_nodes", static_cast<std::int64_t>(mesh.face_nodes.size()))
@@ -115,7 +125,10 @@ int run(const inputs& in) {
               in.size[1], in.size[2], static_cast<unsigned long long>(in.common.seed), in.lloyd);
   std::printf("  faces %d (%zu shared, %lld on the boundary), vertices %d\n", tess.face_count(), tess.shared_faces.size(),
               static_cast<long long>(boundary_faces), tess.vertex_count());
-  std::printf("  volume_error_rel %.3e, unmatched_faces %d\n", report.volume_error_rel, report.unmatched_faces);
+  std::printf("  volume_error_rel %.3e, unmatched_faces %d, open_cells %d\n", report.volume_error_rel,
+              report.unmatched_faces, report.open_cells);
+  std::printf("  min edge %.3g m, max face warp %.3g m, max non-convexity %.3g m (regularize %g)\n",
+              report.min_edge_length, report.max_face_warp, report.max_nonconvexity, in.regularize);
   std::printf("  zones %d (per block min/mean/max %d / %.2f / %d), gridpoints %d, sub-contacts %lld\n", q.zones,
               q.min_zones_per_block, q.mean_zones_per_block, q.max_zones_per_block, mesh.gridpoint_count(),
               static_cast<long long>(subcontacts));
@@ -140,6 +153,8 @@ int main(int argc, char** argv) {
   cli.option("--lloyd", in.lloyd, "Lloyd relaxation iterations (more uniform blocks)", "K");
   cli.option("--min-spacing", in.min_spacing, "minimum distance between generators (m), 0 = none", "D");
   cli.option("--edge", in.target_edge, "target zone edge length (m), 0 = no refinement", "H");
+  cli.option("--regularize", in.regularize,
+             "collapse edges shorter than REL x mean cell size, 0 = off (raw Voronoi)", "REL");
   cli.parse_or_exit(argc, argv);
   if (in.common.quick) in.blocks = std::min(in.blocks, 20);
   try {
