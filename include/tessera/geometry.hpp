@@ -10,3 +10,5 @@
 #include "geometry/voronoi.hpp"
 #include "geometry/tessellation_queries.hpp"
 #include "geometry/zoning.hpp"
+#include "geometry/polygon_triangulation.hpp"
+#include "geometry/regularize.hpp"
