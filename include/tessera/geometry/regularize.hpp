@@ -87,8 +87,8 @@ namespace tessera::geometry {
 /// zoning): the unscaled stable step of the deformable prism rises from 1e-10..8e-9 s to
 /// 1.5e-8..8e-8 s (every case), the zones with volume ratio < 0.1 fall from 17-22 % to 1.4-2.6 %,
 /// at the price of 20-30 % fewer sub-contacts, faces warped by up to 0.1 L and merged vertices
-/// moved by up to 0.4 L (clusters). 0.1 L leaves cases at 4e-9 s (500 blocks, seed 2) and
-/// 0.15 L at 3e-9 s (500 blocks, seed 1): below 0.2 a few refused collapses keep slivers.
+/// moved by up to 0.6 L (clusters; the max_shift_rel cap). 0.1 L leaves 4e-9 s (500 blocks, seed 2);
+/// below 0.2 a few refused collapses keep slivers.
 inline constexpr real study_regularization = 0.2;
 
 /// What regularize() did.
