@@ -615,3 +615,29 @@ TEST_CASE("solver with embedded_truss: Coulomb pull-out from a fixed zoned block
   CHECK(e.error_rel() < 1e-6);
 }
 #endif
+
+TEST_CASE("coulomb_bond: stiffness basis per node and per unit bar length", "[reinforcement]") {
+  // Eq. 9 read per node: K_bond = xi K_axial at an interior node, half at the ends. Read as 3DEC's
+  // grout stiffness (a modulus per metre of bar): K_bond = xi K_axial L_el at an interior node.
+  const auto mesh = box_mesh(vec3(0, 0, 0), vec3(1, 0.6, 0.6), 4, 2, 2, 2);
+  const node_set gp = gridpoint_set(mesh);
+  const bar b{vec3(0.05, 0.3, 0.3), vec3(0.95, 0.3, 0.3), 9, true};
+  const real l_el = 0.9 / 9;
+  for (const auto basis : {stiffness_basis::per_node, stiffness_basis::per_unit_length}) {
+    truss r;
+    r.build({pulatsu2020::tie_steel(), pulatsu2020::tie_bond(basis), {b}}, mesh, gp);
+    const real k_axial = r.axial_stiffness(0);
+    REQUIRE(k_axial == Approx(pulatsu2020::tie_steel().axial_rigidity() / l_el).epsilon(1e-12));
+    const real interior = basis == stiffness_basis::per_node ? 4.0 * k_axial : 4.0 * k_axial * l_el;
+    for (idx n = 1; n < 9; ++n) CHECK(r.bond_stiffness(n) == Approx(interior).epsilon(1e-12));
+    CHECK(r.bond_stiffness(0) == Approx(0.5 * interior).epsilon(1e-12));
+    CHECK(r.bond_stiffness(9) == Approx(0.5 * interior).epsilon(1e-12));
+  }
+  // The study's tie: 96 elements over 0.6 m, xi = 4: 6.19 GN/m per node, or 6.19e9 N/m per metre
+  // of bar, i.e. 38.7 MN/m per interior node with L_el = 6.25 mm.
+  truss tie;
+  const auto tie_mesh = box_mesh(vec3(-0.034, -0.034, 0), vec3(0.034, 0.034, 0.6), 2, 2, 8, 1);
+  tie.build(pulatsu2020::tie_reinforcement(vec3(0, 0, 0), vec3(0, 0, 0.6)), tie_mesh, gridpoint_set(tie_mesh));
+  CHECK(tie.bond_stiffness(50) == Approx(4.0 * 1.547e9 * 0.00625).epsilon(1e-3));
+  CHECK(pulatsu2020::tie_bond().basis == stiffness_basis::per_unit_length);
+}

@@ -16,8 +16,18 @@
 // the contact laws and truss.hpp: exact on the plateau, energy-consistent with a trapezoidal work
 // integral always (a limit that drops at fixed slip dissipates exactly the released spring energy).
 //
-// The per-node stiffness is given to the law by embedded_truss (K_bond = xi/2 sum of the adjacent
-// elements' K_axial, i.e. xi K_axial on interior nodes; see embedded_truss.hpp).
+// The per-node stiffness is given to the law by embedded_truss from xi and the stiffness basis:
+//
+//   per_node         K_bond,n = (xi/2) sum_adjacent K_axial        (xi K_axial on interior nodes)
+//   per_unit_length  K_bond,n = (xi/2) sum_adjacent K_axial L_el   (bond modulus xi K_axial in
+//                                                                    N/m per m of bar, lumped)
+//
+// DESIGN.md reads eq. 9 per node. The study's own numbers fit the second reading: it quotes
+// K_bond = 6.19 "GPa" (N/m^2, 3DEC's cable grout stiffness is a force per unit length per unit
+// slip) next to c_bond in N/m of bar, and with a per-node 6.19 GN/m the bond transfer length
+// 1/lambda = sqrt(E_s A L_el / K_bond) is 3 mm, so a crack in the tie can open only by the
+// stretch of the one element spanning it (~20 um at yield) and never opens fully; per unit
+// length the transfer length is 40 mm and the study's load drops appear (docs/model.md §3).
 
 #include <cmath>
 #include <numbers>
@@ -27,11 +37,18 @@
 
 namespace tessera::reinforcement {
 
+/// How the bond stiffness ratio xi = K_bond / K_axial (study eq. 9) turns into a spring per node.
+enum class stiffness_basis {
+  per_node,         ///< K_bond,n = xi K_axial (N/m) at an interior node (DESIGN.md's reading)
+  per_unit_length,  ///< xi K_axial is a bond modulus in N/m per m of bar (3DEC cable grout stiffness)
+};
+
 struct coulomb_bond {
   struct params {
     real stiffness_ratio = 4.0;  ///< xi = K_bond / K_axial (-), eq. 9; the study uses 4
     real cohesion = 1e9;         ///< c_bond (N/m of bar length); 1e9 = the study's "perfect bond"
     real friction_angle = 0.0;   ///< phi_bond (rad), in [0, pi/2); multiplies the confining stress
+    stiffness_basis basis = stiffness_basis::per_node;  ///< how xi K_axial becomes a nodal spring
   };
   /// History of one bar node; value-initialised = virgin bond.
   struct state {
@@ -50,6 +67,10 @@ struct coulomb_bond {
             "coulomb_bond: bond friction angle phi_bond = ", p.friction_angle, " rad must be in [0, pi/2)");
   }
   [[nodiscard]] static real stiffness_ratio(const params& p) noexcept { return p.stiffness_ratio; }
+  /// True when xi K_axial is a modulus per unit bar length (N/m^2) rather than a nodal spring (N/m).
+  [[nodiscard]] static bool stiffness_per_unit_length(const params& p) noexcept {
+    return p.basis == stiffness_basis::per_unit_length;
+  }
 
   /// F_max (N) of a node with tributary length L_trib (m) on a bar of perimeter pi d (m) under a
   /// confining stress sigma_conf (Pa, compression positive, >= 0).

@@ -51,6 +51,7 @@ concept BondLaw = requires(const typename B::params& p, typename B::state& s, co
   typename B::state;
   { B::validate(p) } -> std::same_as<void>;
   { B::stiffness_ratio(p) } -> std::convertible_to<real>;
+  { B::stiffness_per_unit_length(p) } -> std::convertible_to<bool>;
   { B::strength(p, x, x, x) } -> std::convertible_to<real>;
   { B::update(p, s, x, x, x) } noexcept -> std::same_as<void>;
   { cs.slip } -> std::convertible_to<real>;

@@ -13,8 +13,11 @@
 // - Bond, per node n with reference unit tangent a (mean of the adjacent elements' reference
 //   directions): relative displacement d = u_n - u_host, slip s = d . a, axial bond force
 //   F_a = Bond law (eq. 7) with stiffness K_bond,n and strength F_max,n.
-//   * Stiffness (eq. 9): K_bond,n = (xi / 2) sum over the adjacent elements of K_axial, i.e.
-//     xi K_axial on an interior node and xi K_axial / 2 on an end node. This is a bond modulus per
+//   * Stiffness (eq. 9), coulomb_bond::params::basis = per_node (the default):
+//     K_bond,n = (xi / 2) sum over the adjacent elements of K_axial, i.e.
+//     xi K_axial on an interior node and xi K_axial / 2 on an end node. With basis =
+//     per_unit_length, xi K_axial is a modulus per metre of bar and each adjacent element adds
+//     (xi / 2) K_axial L_el (bond.hpp explains why the study's tie needs this reading). This is a bond modulus per
 //     unit length k_b = xi E_s A / L_el^2 lumped over each node's tributary length, so a bar's bond
 //     stiffness does not depend on where it is cut, and the discrete pull-out response converges
 //     to the shear-lag solution (tested).
@@ -99,6 +102,7 @@ class embedded_truss {
     tributary_length_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     bond_stiffness_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     const real xi = Bond::stiffness_ratio(p.bond);
+    const bool per_unit_length = Bond::stiffness_per_unit_length(p.bond);
     for (index e = 0; e < n_elements; ++e) {
       const index a = element_node_a_[static_cast<std::size_t>(e)], b = element_node_b_[static_cast<std::size_t>(e)];
       const real length = element_length_[static_cast<std::size_t>(e)];
@@ -111,7 +115,9 @@ class embedded_truss {
         nodes_.mass(n) += half_mass;
         tangent_.row(n) += chord.transpose() / length;
         tributary_length_[static_cast<std::size_t>(n)] += 0.5 * length;
-        bond_stiffness_[static_cast<std::size_t>(n)] += 0.5 * xi * k_axial;  // eq. 9, lumped per unit length
+        // eq. 9: half of each adjacent element's xi K_axial (per node), or of its modulus per unit
+        // length xi K_axial times its length (per unit length); see bond.hpp
+        bond_stiffness_[static_cast<std::size_t>(n)] += 0.5 * xi * k_axial * (per_unit_length ? length : 1.0);
       }
     }
     for (index n = 0; n < n_nodes; ++n) tangent_.row(n).normalize();
@@ -316,9 +322,13 @@ namespace pulatsu2020 {
 /// E_s A = 9.666 MN. With 96 elements over the 0.6 m prism, L_el = 6.25 mm and
 /// K_axial = E_s A / L_el = 1.547 GN/m, the study's "1.55 GN/m"; bare bar E_s A / L = 16.1 kN/mm.
 [[nodiscard]] inline steel tie_steel() { return steel{192.3e9, 400e6, 7850.0, 0.008}; }
-/// xi = 4 (K_bond = 6.19 GN/m on interior nodes), c_bond = 1e9 N/m ("perfect bond"). The study gives
+/// xi = 4, c_bond = 1e9 N/m ("perfect bond"), bond stiffness per unit bar length: xi K_axial =
+/// 6.19e9 N/m per m of bar, 3DEC's cable grout stiffness (bond.hpp gives the evidence; pass
+/// stiffness_basis::per_node for DESIGN.md's reading, 6.19 GN/m per interior node). The study gives
 /// no bond friction angle; with c_bond = 1e9 N/m it cannot matter, so phi_bond = 0.
-[[nodiscard]] inline coulomb_bond::params tie_bond() { return coulomb_bond::params{4.0, 1e9, 0.0}; }
+[[nodiscard]] inline coulomb_bond::params tie_bond(stiffness_basis basis = stiffness_basis::per_unit_length) {
+  return coulomb_bond::params{4.0, 1e9, 0.0, basis};
+}
 /// The tie's bar from `start` to `end` (the prism axis) with `elements` truss elements (96).
 [[nodiscard]] inline embedded_truss<coulomb_bond>::params tie_reinforcement(const vec3& start, const vec3& end,
                                                                             index elements = 96) {
