@@ -32,6 +32,8 @@
 
 #include <array>
 #include <cmath>
+#include <concepts>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -71,17 +73,22 @@ class deformable {
     gridpoints.resize(n_gp);
     for (index i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
 
-    corners_ = mesh.zones;
     zone_block_ = mesh.zone_block;
     gridpoint_block_ = mesh.gridpoint_block;
     block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
-    zone_geometry_.resize(static_cast<std::size_t>(n_z));
+    for (int a = 0; a < 4; ++a) corner_[a].resize(static_cast<std::size_t>(n_z));
+    for (int k = 0; k < 9; ++k) gradient_[k].resize(static_cast<std::size_t>(n_z));
+    volume_.resize(static_cast<std::size_t>(n_z));
     std::vector<real> block_volume(static_cast<std::size_t>(n_b), 0.0);
     const real rho = Zone::density(p);
     for (index z = 0; z < n_z; ++z) {
-      const auto& c = corners_[static_cast<std::size_t>(z)];
+      const auto zs = static_cast<std::size_t>(z);
+      const auto& c = mesh.zones[zs];
       std::array<vec3, 4> x;
-      for (int a = 0; a < 4; ++a) x[static_cast<std::size_t>(a)] = mesh.gridpoints[static_cast<std::size_t>(c[static_cast<std::size_t>(a)])];
+      for (std::size_t a = 0; a < 4; ++a) {
+        corner_[a][zs] = c[a];
+        x[a] = mesh.gridpoints[static_cast<std::size_t>(c[a])];
+      }
       // Shape-function gradients of a linear tetrahedron: with J = [x1-x0, x2-x0, x3-x0],
       // grad N_{1,2,3} are the rows of J^-1 and grad N_0 = -(sum of the others).
       mat3 j;
@@ -92,43 +99,53 @@ class deformable {
       const real volume = det / 6;
       const real scale = std::cbrt(std::abs(j.col(0).dot(j.col(0)) * j.col(1).dot(j.col(1)) * j.col(2).dot(j.col(2))));
       require<geometry_error>(det > 1e-12 * std::pow(scale, 1.5), "deformable blocks: zone ", z, " of block ",
-                              zone_block_[static_cast<std::size_t>(z)], " has volume ", volume,
+                              zone_block_[zs], " has volume ", volume,
                               " m^3; expected a positively oriented tetrahedron of non-zero volume");
       const mat3 j_inv = j.inverse();
-      zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
-      g.volume = volume;
+      volume_[zs] = volume;
       for (int a = 1; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) g.grad[static_cast<std::size_t>(3 * a + k)] = j_inv(a - 1, k);
-      for (int k = 0; k < 3; ++k)
-        g.grad[static_cast<std::size_t>(k)] = -(g.grad[static_cast<std::size_t>(3 + k)] + g.grad[static_cast<std::size_t>(6 + k)] +
-                                               g.grad[static_cast<std::size_t>(9 + k)]);
-      for (int a = 0; a < 4; ++a) gridpoints.mass[c[static_cast<std::size_t>(a)]] += rho * volume / 4;
-      block_volume[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])] += volume;
+        for (int k = 0; k < 3; ++k) gradient_[3 * (a - 1) + k][zs] = j_inv(a - 1, k);
+      for (std::size_t a = 0; a < 4; ++a) gridpoints.mass[c[a]] += rho * volume / 4;
+      block_volume[static_cast<std::size_t>(zone_block_[zs])] += volume;
     }
     for (index i = 0; i < n_gp; ++i)
       require<geometry_error>(gridpoints.mass[i] > 0, "deformable blocks: gridpoint ", i, " of block ",
                               gridpoint_block_[static_cast<std::size_t>(i)],
                               " belongs to no zone (zero mass); every gridpoint must be a zone corner");
 
+    // Runs of consecutive zones of one block (the zoning numbers the zones block by block, so
+    // normally one run per block): the kernel loops over the zones of a run with that block's
+    // rotation held in registers.
+    run_offsets_.assign(1, 0);
+    run_block_.clear();
+    for (index z = 0; z < n_z; ++z) {
+      const index b = zone_block_[static_cast<std::size_t>(z)];
+      if (z > 0 && b == run_block_.back()) continue;
+      if (z > 0) run_offsets_.push_back(z);
+      run_block_.push_back(b);
+    }
+    run_offsets_.push_back(n_z);
+
     // Block-average gradient weights w_i and the gridpoint -> zone-corner incidence (CSR).
     block_gradient_.setZero(n_gp, 3);
     corner_offsets_.assign(static_cast<std::size_t>(n_gp) + 1, 0);
     for (index z = 0; z < n_z; ++z)
-      for (index id : corners_[static_cast<std::size_t>(z)]) ++corner_offsets_[static_cast<std::size_t>(id) + 1];
+      for (int a = 0; a < 4; ++a) ++corner_offsets_[static_cast<std::size_t>(corner(z, a)) + 1];
     for (index i = 0; i < n_gp; ++i) corner_offsets_[static_cast<std::size_t>(i) + 1] += corner_offsets_[static_cast<std::size_t>(i)];
     corner_slots_.resize(static_cast<std::size_t>(4 * n_z));
     std::vector<index> fill(corner_offsets_.begin(), corner_offsets_.end() - 1);
     for (index z = 0; z < n_z; ++z) {
-      const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
+      const std::array<real, 12> g = gradients(z);
+      const real v = volume_[static_cast<std::size_t>(z)];
       const real vb = block_volume[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
       for (int a = 0; a < 4; ++a) {
-        const index id = corners_[static_cast<std::size_t>(z)][static_cast<std::size_t>(a)];
-        corner_slots_[static_cast<std::size_t>(fill[static_cast<std::size_t>(id)]++)] = 4 * z + a;
-        for (int k = 0; k < 3; ++k) block_gradient_(id, k) += g.volume * g.grad[static_cast<std::size_t>(3 * a + k)] / vb;
+        const index id = corner(z, a);
+        corner_slots_[static_cast<std::size_t>(fill[static_cast<std::size_t>(id)]++)] = 3 * a * n_z + z;
+        for (int k = 0; k < 3; ++k) block_gradient_(id, k) += v * g[static_cast<std::size_t>(3 * a + k)] / vb;
       }
     }
     rotation_.assign(static_cast<std::size_t>(n_b), mat3::Identity());
-    corner_force_.setZero(12, n_z);
+    corner_force_.setZero(n_z, 12);
     zone_stress_.setZero(n_z, 6);
   }
 
@@ -139,21 +156,22 @@ class deformable {
     const typename Zone::constants p = Zone::prepare(params_);
     const real* const u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                               gridpoints.displacement.col(2).data()};
-    parallel_for(zone_count(), [&](std::int64_t z) { zone_kernel(p, u, static_cast<index>(z)); });
+    parallel_for(static_cast<std::int64_t>(run_block_.size()), [&](std::int64_t r) { zone_kernel(p, u, at(r)); }, 4);
     const index n_gp = gridpoints.size();
+    const real* const f = corner_force_.data();
+    const std::ptrdiff_t n_z = zone_count();
     parallel_for(n_gp, [&](std::int64_t ii) {
-      const index i = static_cast<index>(ii);
+      const auto i = at(ii);
       real f0 = 0, f1 = 0, f2 = 0;
-      for (index s = corner_offsets_[static_cast<std::size_t>(i)]; s < corner_offsets_[static_cast<std::size_t>(i) + 1]; ++s) {
-        const index slot = corner_slots_[static_cast<std::size_t>(s)];
-        const real* f = corner_force_.data() + 3 * static_cast<std::ptrdiff_t>(slot);
-        f0 += f[0];
-        f1 += f[1];
-        f2 += f[2];
+      for (index s = corner_offsets_[i]; s < corner_offsets_[i + 1]; ++s) {
+        const real* fs = f + corner_slots_[at(s)];
+        f0 += fs[0];
+        f1 += fs[n_z];
+        f2 += fs[2 * n_z];
       }
-      gridpoints.force(i, 0) += f0;
-      gridpoints.force(i, 1) += f1;
-      gridpoints.force(i, 2) += f2;
+      gridpoints.force(static_cast<index>(ii), 0) += f0;
+      gridpoints.force(static_cast<index>(ii), 1) += f1;
+      gridpoints.force(static_cast<index>(ii), 2) += f2;
     });
   }
 
@@ -166,11 +184,10 @@ class deformable {
   void add_stiffness_bounds(node_set& gridpoints) const {
     const Eigen::Matrix<real, 6, 6> c = Zone::elasticity_matrix(params_);
     for (index z = 0; z < zone_count(); ++z) {
-      const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
+      const std::array<real, 12> g = gradients(z);
       Eigen::Matrix<real, 6, 12> b = Eigen::Matrix<real, 6, 12>::Zero();
       for (int a = 0; a < 4; ++a) {
-        const real gx = g.grad[static_cast<std::size_t>(3 * a)], gy = g.grad[static_cast<std::size_t>(3 * a + 1)],
-                   gz = g.grad[static_cast<std::size_t>(3 * a + 2)];
+        const real gx = g[at(3 * a)], gy = g[at(3 * a + 1)], gz = g[at(3 * a + 2)];
         b(0, 3 * a) = gx;
         b(1, 3 * a + 1) = gy;
         b(2, 3 * a + 2) = gz;
@@ -181,11 +198,11 @@ class deformable {
         b(5, 3 * a) = gy;
         b(5, 3 * a + 1) = gx;
       }
-      const Eigen::Matrix<real, 12, 12> k = g.volume * b.transpose() * c * b;
+      const Eigen::Matrix<real, 12, 12> k = volume_[at(z)] * b.transpose() * c * b;
       for (int a = 0; a < 4; ++a) {
         real row_max = 0;
         for (int r = 0; r < 3; ++r) row_max = std::max(row_max, k.row(3 * a + r).cwiseAbs().sum());
-        gridpoints.stiffness[corners_[static_cast<std::size_t>(z)][static_cast<std::size_t>(a)]] += row_max;
+        gridpoints.stiffness[corner(z, a)] += row_max;
       }
     }
   }
@@ -211,7 +228,7 @@ class deformable {
       const mat3 m = rotated_gradient(gridpoints, zi, rotations[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(zi)])]);
       voigt6 e;
       e << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
-      return zone_geometry_[static_cast<std::size_t>(zi)].volume * Zone::strain_energy_density(params_, e);
+      return volume_[at(zi)] * Zone::strain_energy_density(params_, e);
     });
   }
   /// Kinetic energy sum_i 1/2 m_i |v_i|^2 (J), v at the half step.
@@ -231,20 +248,28 @@ class deformable {
   }
 
   [[nodiscard]] index block_count() const { return static_cast<index>(rotation_.size()); }
-  [[nodiscard]] index zone_count() const { return static_cast<index>(corners_.size()); }
-  [[nodiscard]] real zone_volume(index z) const { return zone_geometry_[static_cast<std::size_t>(z)].volume; }
+  [[nodiscard]] index zone_count() const { return static_cast<index>(volume_.size()); }
+  [[nodiscard]] real zone_volume(index z) const { return volume_[at(z)]; }
   /// Rotation R_b of block b at the last accumulate_forces.
   [[nodiscard]] const mat3& rotation(index b) const { return rotation_[static_cast<std::size_t>(b)]; }
   [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
   [[nodiscard]] const params& material() const { return params_; }
 
  private:
-  /// Reference shape-function gradients (1/m) of the 4 corners, corner-major, and volume (m^3):
-  /// the 13 numbers the zone kernel reads, contiguous per zone.
-  struct zone_geometry {
-    std::array<real, 12> grad{};
-    real volume = 0;
-  };
+  template <std::integral I>
+  [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
+    return static_cast<std::size_t>(i);
+  }
+  /// Gridpoint at corner a (0..3) of zone z.
+  [[nodiscard]] index corner(index z, int a) const noexcept { return corner_[at(a)][at(z)]; }
+  /// Reference shape-function gradients (1/m) of the 4 corners of zone z, corner-major, with
+  /// grad N_0 = -(grad N_1 + grad N_2 + grad N_3).
+  [[nodiscard]] std::array<real, 12> gradients(index z) const noexcept {
+    std::array<real, 12> g{};
+    for (std::size_t k = 0; k < 9; ++k) g[3 + k] = gradient_[k][at(z)];
+    for (std::size_t k = 0; k < 3; ++k) g[k] = -(g[3 + k] + g[6 + k] + g[9 + k]);
+    return g;
+  }
 
   /// R_b = polar(F_b), F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b, warm-started
   /// from `previous`.
@@ -266,13 +291,12 @@ class deformable {
 
   /// R_b^T (1 + H_z) - 1 of zone z (its symmetric part is the co-rotated small strain).
   [[nodiscard]] mat3 rotated_gradient(const node_set& gp, index z, const mat3& r) const noexcept {
-    const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
-    const auto& c = corners_[static_cast<std::size_t>(z)];
+    const std::array<real, 12> g = gradients(z);
     mat3 h = mat3::Zero();  // displacement gradient H = sum_a u_a (x) grad N_a
     for (int a = 0; a < 4; ++a) {
-      const index id = c[static_cast<std::size_t>(a)];
+      const index id = corner(z, a);
       const real u0 = gp.displacement(id, 0), u1 = gp.displacement(id, 1), u2 = gp.displacement(id, 2);
-      const real* gr = g.grad.data() + 3 * a;
+      const real* gr = g.data() + 3 * a;
       for (int k = 0; k < 3; ++k) {
         h(0, k) += u0 * gr[k];
         h(1, k) += u1 * gr[k];
@@ -286,72 +310,139 @@ class deformable {
     return m;
   }
 
-  /// Zone forces and stress of zone z (scalar code: the 3x3 products are written out so the
-  /// compiler keeps everything in registers; `p` is a local copy of the material prepared once per
-  /// loop).
-  [[gnu::always_inline]] inline void zone_kernel(const typename Zone::constants& p, const real* const u[3], index z) noexcept {
-    const zone_geometry& g = zone_geometry_[static_cast<std::size_t>(z)];
-    const auto& c = corners_[static_cast<std::size_t>(z)];
-    const mat3& r = rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
-    // Displacement gradient H (row i, column k) = sum_a u_a[i] grad N_a[k].
-    real h[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    for (int a = 0; a < 4; ++a) {
-      const index id = c[static_cast<std::size_t>(a)];
-      const real* gr = g.grad.data() + 3 * a;
-      for (int i = 0; i < 3; ++i) {
-        const real ui = u[i][id];
-        h[3 * i + 0] += ui * gr[0];
-        h[3 * i + 1] += ui * gr[1];
-        h[3 * i + 2] += ui * gr[2];
-      }
+  /// sigma' = Zone::stress(eps) on plain arrays (Voigt, Pa). A zone model that provides
+  /// Zone::stress(constants, const real (&)[6], real (&)[6]) keeps the zone loop free of Eigen
+  /// temporaries, which GCC cannot vectorise across zones (linear_elastic_tet does); otherwise
+  /// the voigt6 form of the ZoneModel concept is used.
+  [[gnu::always_inline]] static inline void zone_stress(const typename Zone::constants& p, const real (&eps)[6],
+                                                        real (&sigma)[6]) noexcept {
+    if constexpr (requires { Zone::stress(p, eps, sigma); }) {
+      Zone::stress(p, eps, sigma);
+    } else {
+      const voigt6 s = Zone::stress(p, voigt6(Eigen::Map<const voigt6>(eps)));
+      for (int k = 0; k < 6; ++k) sigma[k] = s[k];
     }
-    // M = R^T (1 + H) - 1 = (R^T - 1) + R^T H.
-    real m[9];
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k)
-        m[3 * i + k] = (r(k, i) - (i == k ? 1.0 : 0.0)) + r(0, i) * h[k] + r(1, i) * h[3 + k] + r(2, i) * h[6 + k];
-    voigt6 eps;
-    eps[0] = m[0];
-    eps[1] = m[4];
-    eps[2] = m[8];
-    eps[3] = m[5] + m[7];
-    eps[4] = m[6] + m[2];
-    eps[5] = m[1] + m[3];
-    const voigt6 s = Zone::stress(p, eps);
-    const real sig[9] = {s[0], s[5], s[4], s[5], s[1], s[3], s[4], s[3], s[2]};
-    // P = R sigma' (global first index, local second).
-    real pr[9];
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) pr[3 * i + k] = r(i, 0) * sig[k] + r(i, 1) * sig[3 + k] + r(i, 2) * sig[6 + k];
-    // f_a = -V P grad N_a.
-    const real minus_v = -g.volume;
-    real* out = corner_force_.data() + 12 * static_cast<std::ptrdiff_t>(z);
-    for (int a = 0; a < 4; ++a) {
-      const real* gr = g.grad.data() + 3 * a;
-      for (int i = 0; i < 3; ++i)
-        out[3 * a + i] = minus_v * (pr[3 * i] * gr[0] + pr[3 * i + 1] * gr[1] + pr[3 * i + 2] * gr[2]);
+  }
+
+  /// Zone forces and stresses of the zones of run r (consecutive zones of one block b), written
+  /// to corner_force_ and zone_stress_. Per zone, with g_a = grad N_a (g_0 = -(g_1 + g_2 + g_3)):
+  ///     H = sum_{a=0..3} u_a (x) g_a,   M = R^T H,
+  ///     eps = sym(M) + sym(R^T) - 1 (Voigt, engineering shears; sym(R^T) - 1 once per run),
+  ///     sigma' = Zone::stress(eps),   P = R sigma',   Sigma = P R^T,
+  ///     f_a = -V P g_a (a = 1..3),   f_0 = -(f_1 + f_2 + f_3).
+  /// Scalar straight-line code over structure-of-arrays zone data, so the loop over the zones
+  /// of a run vectorises (omp simd; the results of a zone do not depend on which thread or
+  /// vector lane computes it, since runs are never split).
+  void zone_kernel(const typename Zone::constants& p, const real* const u[3], std::size_t r) noexcept {
+    const mat3& rot = rotation_[at(run_block_[r])];
+    const real r00 = rot(0, 0), r01 = rot(0, 1), r02 = rot(0, 2);
+    const real r10 = rot(1, 0), r11 = rot(1, 1), r12 = rot(1, 2);
+    const real r20 = rot(2, 0), r21 = rot(2, 1), r22 = rot(2, 2);
+    // sym(R^T) - 1 in Voigt form (engineering shears).
+    const real q0 = r00 - 1, q1 = r11 - 1, q2 = r22 - 1, q3 = r12 + r21, q4 = r20 + r02, q5 = r01 + r10;
+    const real* const ux = u[0];
+    const real* const uy = u[1];
+    const real* const uz = u[2];
+    const index* const c0 = corner_[0].data();
+    const index* const c1 = corner_[1].data();
+    const index* const c2 = corner_[2].data();
+    const index* const c3 = corner_[3].data();
+    const real* const g[9] = {gradient_[0].data(), gradient_[1].data(), gradient_[2].data(),
+                              gradient_[3].data(), gradient_[4].data(), gradient_[5].data(),
+                              gradient_[6].data(), gradient_[7].data(), gradient_[8].data()};
+    const real* const vol = volume_.data();
+    const std::ptrdiff_t n_z = zone_count();
+    real* const f = corner_force_.data();  // column 3 a + i: component i of corner a, over zones
+    real* const sig = zone_stress_.data();  // column k: Voigt component k, over zones
+    const index first = run_offsets_[r], last = run_offsets_[r + 1];
+#pragma omp simd
+    for (index z = first; z < last; ++z) {
+      const index i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
+      const real u0x = ux[i0], u0y = uy[i0], u0z = uz[i0];
+      const real u1x = ux[i1], u1y = uy[i1], u1z = uz[i1];
+      const real u2x = ux[i2], u2y = uy[i2], u2z = uz[i2];
+      const real u3x = ux[i3], u3y = uy[i3], u3z = uz[i3];
+      const real g1x = g[0][z], g1y = g[1][z], g1z = g[2][z];
+      const real g2x = g[3][z], g2y = g[4][z], g2z = g[5][z];
+      const real g3x = g[6][z], g3y = g[7][z], g3z = g[8][z];
+      const real g0x = -(g1x + g2x + g3x), g0y = -(g1y + g2y + g3y), g0z = -(g1z + g2z + g3z);
+      // Displacement gradient H (row i, column k) = sum_a u_a[i] grad N_a[k].
+      const real hxx = u0x * g0x + u1x * g1x + u2x * g2x + u3x * g3x;
+      const real hxy = u0x * g0y + u1x * g1y + u2x * g2y + u3x * g3y;
+      const real hxz = u0x * g0z + u1x * g1z + u2x * g2z + u3x * g3z;
+      const real hyx = u0y * g0x + u1y * g1x + u2y * g2x + u3y * g3x;
+      const real hyy = u0y * g0y + u1y * g1y + u2y * g2y + u3y * g3y;
+      const real hyz = u0y * g0z + u1y * g1z + u2y * g2z + u3y * g3z;
+      const real hzx = u0z * g0x + u1z * g1x + u2z * g2x + u3z * g3x;
+      const real hzy = u0z * g0y + u1z * g1y + u2z * g2y + u3z * g3y;
+      const real hzz = u0z * g0z + u1z * g1z + u2z * g2z + u3z * g3z;
+      // M = R^T H (row i: local, column k: reference), M_ik = sum_j R_ji H_jk.
+      const real mxx = r00 * hxx + r10 * hyx + r20 * hzx, mxy = r00 * hxy + r10 * hyy + r20 * hzy,
+                 mxz = r00 * hxz + r10 * hyz + r20 * hzz;
+      const real myx = r01 * hxx + r11 * hyx + r21 * hzx, myy = r01 * hxy + r11 * hyy + r21 * hzy,
+                 myz = r01 * hxz + r11 * hyz + r21 * hzz;
+      const real mzx = r02 * hxx + r12 * hyx + r22 * hzx, mzy = r02 * hxy + r12 * hyy + r22 * hzy,
+                 mzz = r02 * hxz + r12 * hyz + r22 * hzz;
+      // eps = sym(M) + sym(R^T) - 1 (Voigt, engineering shears).
+      const real eps[6] = {q0 + mxx, q1 + myy, q2 + mzz, q3 + (myz + mzy), q4 + (mzx + mxz), q5 + (mxy + myx)};
+      real s[6];
+      zone_stress(p, eps, s);
+      const real sxx = s[0], syy = s[1], szz = s[2], syz = s[3], szx = s[4], sxy = s[5];
+      // P = R sigma' (row i: global component, column k: local).
+      const real p00 = r00 * sxx + r01 * sxy + r02 * szx, p01 = r00 * sxy + r01 * syy + r02 * syz,
+                 p02 = r00 * szx + r01 * syz + r02 * szz;
+      const real p10 = r10 * sxx + r11 * sxy + r12 * szx, p11 = r10 * sxy + r11 * syy + r12 * syz,
+                 p12 = r10 * szx + r11 * syz + r12 * szz;
+      const real p20 = r20 * sxx + r21 * sxy + r22 * szx, p21 = r20 * sxy + r21 * syy + r22 * syz,
+                 p22 = r20 * szx + r21 * syz + r22 * szz;
+      // Global Cauchy stress Sigma = P R^T.
+      sig[0 * n_z + z] = p00 * r00 + p01 * r01 + p02 * r02;
+      sig[1 * n_z + z] = p10 * r10 + p11 * r11 + p12 * r12;
+      sig[2 * n_z + z] = p20 * r20 + p21 * r21 + p22 * r22;
+      sig[3 * n_z + z] = p10 * r20 + p11 * r21 + p12 * r22;
+      sig[4 * n_z + z] = p20 * r00 + p21 * r01 + p22 * r02;
+      sig[5 * n_z + z] = p00 * r10 + p01 * r11 + p02 * r12;
+      // Corner forces f_a = -V P g_a, f_0 = -(f_1 + f_2 + f_3).
+      const real mv = -vol[z];
+      const real m00 = mv * p00, m01 = mv * p01, m02 = mv * p02;
+      const real m10 = mv * p10, m11 = mv * p11, m12 = mv * p12;
+      const real m20 = mv * p20, m21 = mv * p21, m22 = mv * p22;
+      const real f1x = m00 * g1x + m01 * g1y + m02 * g1z, f1y = m10 * g1x + m11 * g1y + m12 * g1z,
+                 f1z = m20 * g1x + m21 * g1y + m22 * g1z;
+      const real f2x = m00 * g2x + m01 * g2y + m02 * g2z, f2y = m10 * g2x + m11 * g2y + m12 * g2z,
+                 f2z = m20 * g2x + m21 * g2y + m22 * g2z;
+      const real f3x = m00 * g3x + m01 * g3y + m02 * g3z, f3y = m10 * g3x + m11 * g3y + m12 * g3z,
+                 f3z = m20 * g3x + m21 * g3y + m22 * g3z;
+      f[0 * n_z + z] = -(f1x + f2x + f3x);
+      f[1 * n_z + z] = -(f1y + f2y + f3y);
+      f[2 * n_z + z] = -(f1z + f2z + f3z);
+      f[3 * n_z + z] = f1x;
+      f[4 * n_z + z] = f1y;
+      f[5 * n_z + z] = f1z;
+      f[6 * n_z + z] = f2x;
+      f[7 * n_z + z] = f2y;
+      f[8 * n_z + z] = f2z;
+      f[9 * n_z + z] = f3x;
+      f[10 * n_z + z] = f3y;
+      f[11 * n_z + z] = f3z;
     }
-    // Global Cauchy stress R sigma' R^T (six entries).
-    const auto entry = [&](int i, int j) { return pr[3 * i] * r(j, 0) + pr[3 * i + 1] * r(j, 1) + pr[3 * i + 2] * r(j, 2); };
-    zone_stress_(z, 0) = entry(0, 0);
-    zone_stress_(z, 1) = entry(1, 1);
-    zone_stress_(z, 2) = entry(2, 2);
-    zone_stress_(z, 3) = entry(1, 2);
-    zone_stress_(z, 4) = entry(2, 0);
-    zone_stress_(z, 5) = entry(0, 1);
   }
 
   params params_{};
-  std::vector<std::array<index, 4>> corners_;       ///< zone corner gridpoints
+  // per zone, structure of arrays (hot in the zone kernel)
+  std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
+  std::array<std::vector<real>, 9> gradient_;       ///< gradient_[3 (a - 1) + k][z]: d N_a / d X_k (1/m), a = 1..3
+  std::vector<real> volume_;                        ///< reference volume V_z (m^3)
   std::vector<index> zone_block_;                   ///< owning block of each zone
+  std::vector<index> run_offsets_{0};               ///< zones [run_offsets_[r], run_offsets_[r + 1]) belong to one block
+  std::vector<index> run_block_;                    ///< that block
   std::vector<index> gridpoint_block_;              ///< owning block of each gridpoint
   std::vector<index> block_gridpoint_offsets_;      ///< CSR: gridpoints of block b
-  std::vector<zone_geometry> zone_geometry_;        ///< per zone: reference gradients and volume
   soa3 block_gradient_;                             ///< w_i (1/m): F_b = 1 + sum_i u_i (x) w_i
   std::vector<mat3> rotation_;                      ///< R_b, warm start of the next polar decomposition
   std::vector<index> corner_offsets_;               ///< CSR: gridpoint -> zone-corner slots
-  std::vector<index> corner_slots_;                 ///< slot = 4 z + a
-  Eigen::Matrix<real, 12, Eigen::Dynamic> corner_force_;  ///< per zone: the 4 corner forces (N)
+  std::vector<index> corner_slots_;                 ///< offset 3 a n_z + z of corner a of zone z in corner_force_
+  Eigen::Matrix<real, Eigen::Dynamic, 12> corner_force_;  ///< row z: the 4 corner forces of zone z (N), column 3 a + i
   zone_stress_matrix zone_stress_;                  ///< global Cauchy stress per zone (Pa)
 };
 

@@ -52,6 +52,13 @@ struct linear_elastic_tet {
     return s;
   }
   [[nodiscard]] static voigt6 stress(const params& p, const voigt6& eps) noexcept { return stress(prepare(p), eps); }
+  /// The same on plain arrays: lets blocks::deformable vectorise its zone loop (no Eigen
+  /// temporaries inside it).
+  static void stress(const constants& c, const real (&eps)[6], real (&sigma)[6]) noexcept {
+    const real volumetric = c.lambda * (eps[0] + eps[1] + eps[2]);
+    for (int k = 0; k < 3; ++k) sigma[k] = volumetric + 2 * c.mu * eps[k];
+    for (int k = 3; k < 6; ++k) sigma[k] = c.mu * eps[k];
+  }
   [[nodiscard]] static Eigen::Matrix<real, 6, 6> elasticity_matrix(const params& p) {
     const real lambda = lame_lambda(p), mu = shear_modulus(p);
     Eigen::Matrix<real, 6, 6> c = Eigen::Matrix<real, 6, 6>::Zero();
