@@ -54,17 +54,25 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/examples/tessellate/main.cpp)
     PASS_REGULAR_EXPRESSION "tessellate: unknown option '--blocs'")
 endif()
 
-# ---- direct_tension: plain-concrete prism, 100 blocks, reduced run (rate 10 mm/s, dt 1e-6 s, to 0.2 mm) ----
-# Measured (quick): peak 2.53 MPa (+18 % over f_T = 2.15 MPa; rate and tortuous-crack effects, see
-# docs/architecture.md "Direct tension results"), energy balance error 2e-5.
+# ---- direct_tension: plain-concrete prism, 100 blocks, quasi-static reduced run (5 nm per step,
+# half-cosine ramp, stopped at 70 % of the peak on the softening branch) ----
+# Measured peak: +10 % over f_T = 2.15 MPa at 2 nm per step and 5 mm/s (+13 % at 5 nm). The excess
+# is the shear carried across inclined faces of the tortuous crack (summary peak_shear_part_Pa,
+# about 0.8 MPa; docs/architecture.md "Direct tension results"), so the check brackets the model's
+# value instead of asserting f_T within 5 %: a change that moves the peak out of [+3 %, +16 %]
+# must be explained there.
 tessera_add_example_test(direct_tension
   ARGS --quick --seed 1 --threads 1
-  FILES curve.csv contacts_peak.vtp contacts_end.vtp zones_end.vtu
-  CHECKS "peak_error_rel LESS 0.25"
-         "peak_stress_Pa GREATER 2.0e6"
+  FILES curve.csv contacts_peak.vtp contacts_end.vtp zones_peak.vtu zones_end.vtu direct_tension.pvd
+  CHECKS "peak_error_rel GREATER 0.03"
+         "peak_error_rel LESS 0.16"
+         "peak_shear_part_Pa GREATER 2e5"
+         "reaction_imbalance_max LESS 0.15"
          "energy_balance_error_rel LESS 0.01"
+         "initial_modulus_error_rel LESS 0.05"
+         "initial_modulus_error_rel GREATER -0.05"
          "zones GREATER 2000"
-         "steps GREATER 1000"
+         "steps GREATER 10000"
   TIMEOUT 300)
 
 # ---- rc_tie: the study's RC tie, 100 blocks, reduced run (mass-scaled dt 4e-6 s, 10 mm/s) ----

@@ -1,0 +1,186 @@
+// work_precision_tension: error against run time for the plain-concrete direct tension test
+// (issue 3, "Error against run time"; the scene and its loading are direct_tension/tension_test.hpp).
+//
+// Each variant runs the prism from rest to a top displacement u_max that covers the elastic
+// branch, the peak and the first softening (0.15 mm; --quick 0.11 mm), and is compared with a
+// reference run of the same tessellation and block count:
+//     curve_error_rel = sqrt( (1/u_max) int_0^u_max (sigma - sigma_ref)^2 du ) / max sigma_ref
+// (scenes::curve_error_rel), next to its wall time and number of steps. The accuracy knobs:
+//   - displacement per step du* (the mass-scaling target dt* = du*/rate): the inertia of a
+//     mass-scaled quasi-static run is set by du* alone (tension_test.hpp);
+//   - loading rate at a fixed du* (more or less physical mass left unscaled);
+//   - block count (its own reference: a different model, not a finer one);
+//   - mass scaling off: the physical stable step is tiny (sliver zones), so the run is not made;
+//     its step count is estimated from the stable step and reported with wall time = estimate
+//     (steps x measured time per step of the reference);
+//   - rigid vs deformable blocks: plug blocks::rigid in here when it lands (same loading).
+// Writes DIR/work_precision_tension.csv and DIR/work_precision_tension.png (log10 curve error
+// against log10 wall time). Wall times are measured on a shared machine: compare them within one
+// table only.
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/scenes.hpp"
+#include "direct_tension/tension_test.hpp"
+#include "tessera/io/atomic_file.hpp"
+#include "tessera/io/csv.hpp"
+#include "tessera/io/plot.hpp"
+#include "tessera/solver.hpp"
+
+namespace {
+
+using tessera::real;
+namespace fs = std::filesystem;
+namespace scenes = tessera::scenes;
+
+struct variant {
+  std::string name;
+  int blocks = 100;
+  real rate = 0.005;               // m/s
+  real step_displacement = 2e-9;   // m
+  bool mass_scaling = true;
+  bool reference = false;          // the reference of its block count
+};
+
+struct row {
+  variant v;
+  scenes::tension_result r;
+  real curve_error = 0, peak_difference = 0, wall_s = 0;
+  bool estimated = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  tessera::cli::standard_options common;
+  tessera::cli::parser cli("work_precision_tension",
+                           "Direct tension (100 and 250 blocks): curve error against a reference run vs wall time,\n"
+                           "for displacement per step (mass scaling), loading rate, block count, mass scaling off.\n"
+                           "--quick: 100 blocks only, reference at 2 nm per step, to 0.11 mm.");
+  cli.add_standard(common);
+  if (common.out.empty()) common.out = "results/work_precision_tension";
+  cli.parse_or_exit(argc, argv);
+  try {
+    const fs::path out = common.out;
+    tessera::io::ensure_directory(out);
+    const real u_max = common.quick ? 1.1e-4 : 1.5e-4;
+    std::vector<variant> variants;
+    if (common.quick) {
+      variants = {{"ref_100_2nm", 100, 0.005, 2e-9, true, true},
+                  {"du_5nm", 100, 0.005, 5e-9, true, false},
+                  {"du_10nm", 100, 0.005, 1e-8, true, false},
+                  {"du_20nm", 100, 0.005, 2e-8, true, false},
+                  {"no_mass_scaling", 100, 0.005, 2e-9, false, false}};
+    } else {
+      variants = {{"ref_100_1nm", 100, 0.005, 1e-9, true, true},
+                  {"du_2nm", 100, 0.005, 2e-9, true, false},
+                  {"du_5nm", 100, 0.005, 5e-9, true, false},
+                  {"du_10nm", 100, 0.005, 1e-8, true, false},
+                  {"du_20nm", 100, 0.005, 2e-8, true, false},
+                  {"rate_20mm_du_2nm", 100, 0.02, 2e-9, true, false},
+                  {"rate_1mm_du_2nm", 100, 0.001, 2e-9, true, false},
+                  {"no_mass_scaling", 100, 0.005, 2e-9, false, false},
+                  {"ref_250_2nm", 250, 0.005, 2e-9, true, true},
+                  {"b250_du_5nm", 250, 0.005, 5e-9, true, false},
+                  {"b250_du_10nm", 250, 0.005, 1e-8, true, false}};
+    }
+    std::vector<row> rows;
+    const row* ref = nullptr;
+    scenes::prism_scene scene;
+    int scene_blocks = 0;
+    for (const variant& v : variants) {
+      if (v.blocks != scene_blocks) {
+        scenes::prism_options po;
+        po.blocks = v.blocks;
+        po.seed = common.seed;
+        scene = scenes::make_prism(po);
+        scene_blocks = v.blocks;
+      }
+      row w{v, {}, 0, 0, 0, false};
+      scenes::tension_loading ld;
+      ld.rate = v.rate;
+      ld.step_displacement = v.step_displacement;
+      ld.max_displacement = u_max;
+      ld.stop_at_separation = false;
+      ld.threads = common.threads;
+      ld.label = v.name;
+      if (!v.mass_scaling) {
+        // Not run: estimate its cost from the physical stable step (the ramp is ignored).
+        tessera::solver_options opt;
+        const tessera::prism_solver probe(scene.tess, scene.mesh, scene.block_material, scene.contact, {}, opt);
+        w.r.dt = probe.dt();
+        w.r.steps = static_cast<std::int64_t>(u_max / (v.rate * probe.dt()));
+        w.estimated = true;
+        const real per_step = ref != nullptr && ref->r.steps > 0 ? ref->wall_s / static_cast<real>(ref->r.steps) : 0;
+        w.wall_s = per_step * static_cast<real>(w.r.steps);
+        w.curve_error = 0;
+        std::printf("%-18s not run: physical stable step %.3g s -> %lld steps, about %.0f s\n", v.name.c_str(), w.r.dt,
+                    static_cast<long long>(w.r.steps), w.wall_s);
+        rows.push_back(w);
+        continue;
+      }
+      const tessera::cli::wall_timer timer;
+      w.r = scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
+      w.wall_s = timer.seconds();
+      rows.push_back(w);
+      if (v.reference) ref = &rows.back();
+      row& last = rows.back();
+      if (ref != nullptr && ref->v.blocks == v.blocks) {
+        last.curve_error = scenes::curve_error_rel(last.r.displacement, last.r.stress, ref->r.displacement, ref->r.stress, u_max);
+        last.peak_difference = (last.r.peak_stress - ref->r.peak_stress) / ref->r.peak_stress;
+      }
+      std::printf("%-18s %8lld steps %7.1f s  dt %.3g s  added mass %5.1fx  peak %.4f MPa  curve error %.4f  peak vs ref %+.4f\n",
+                  v.name.c_str(), static_cast<long long>(last.r.steps), last.wall_s, last.r.dt, last.r.added_mass_ratio,
+                  last.r.peak_stress * 1e-6, last.curve_error, last.peak_difference);
+      std::fflush(stdout);
+      // rows may reallocate: re-point the reference.
+      if (v.reference) ref = &rows.back();
+      for (const row& x : rows)
+        if (x.v.reference && x.v.blocks == v.blocks) ref = &x;
+    }
+
+    // CSV (one row per variant) and the log-log plot, one point series per group of variants.
+    const real f_t = scene.contact.tension.f_T;
+    {
+      tessera::io::atomic_ofstream file(out / "work_precision_tension.csv");
+      std::ostream& os = file.stream();
+      os << "variant,blocks,rate_m_per_s,step_displacement_m,mass_scaling,dt_s,added_mass_ratio,steps,wall_s,estimated,"
+            "peak_Pa,peak_error_rel,peak_vs_reference_rel,curve_error_rel\n";
+      os.precision(6);
+      for (const row& x : rows)
+        os << x.v.name << ',' << x.v.blocks << ',' << x.v.rate << ',' << x.v.step_displacement << ','
+           << (x.v.mass_scaling ? 1 : 0) << ',' << x.r.dt << ',' << x.r.added_mass_ratio << ',' << x.r.steps << ','
+           << x.wall_s << ',' << (x.estimated ? 1 : 0) << ',' << x.r.peak_stress << ','
+           << (x.estimated ? 0.0 : (x.r.peak_stress - f_t) / f_t) << ',' << x.peak_difference << ',' << x.curve_error
+           << '\n';
+      file.commit();
+    }
+    tessera::io::plot_spec plot;
+    plot.title = "Direct tension: curve error vs wall time (reference rows and estimates excluded)";
+    plot.xlabel = "log10 wall time (s)";
+    plot.ylabel = "log10 L2 curve error / reference peak";
+    // One point per measured non-reference variant (log10 columns: the plot helper has linear axes).
+    {
+      tessera::io::csv_writer pts(out / "work_precision_tension_points.csv", {"log10_wall_s", "log10_curve_error"});
+      for (const row& x : rows)
+        if (!x.v.reference && !x.estimated && x.curve_error > 0)
+          pts.row(std::log10(x.wall_s), std::log10(x.curve_error));
+      pts.commit();
+    }
+    plot.series.push_back({.csv = out / "work_precision_tension_points.csv", .x_column = "log10_wall_s",
+                           .y_column = "log10_curve_error", .title = "variants", .style = "points pt 7 ps 1.5"});
+    tessera::io::plot_png(out / "work_precision_tension.png", plot);
+    std::printf("wrote %s\n", (out / "work_precision_tension.csv").string().c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "work_precision_tension: " << e.what() << '\n';
+    return 1;
+  }
+}
