@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
                   {"b250_du_10nm", 250, 0.005, 1e-8, true, false}};
     }
     std::vector<row> rows;
+    rows.reserve(variants.size());  // no reallocation: `ref` stays valid
     const row* ref = nullptr;
     scenes::prism_scene scene;
     int scene_blocks = 0;
@@ -140,10 +141,6 @@ int main(int argc, char** argv) {
                   v.name.c_str(), static_cast<long long>(last.r.steps), last.wall_s, last.r.dt, last.r.added_mass_ratio,
                   last.r.peak_stress * 1e-6, last.curve_error, last.peak_difference);
       std::fflush(stdout);
-      // rows may reallocate: re-point the reference.
-      if (v.reference) ref = &rows.back();
-      for (const row& x : rows)
-        if (x.v.reference && x.v.blocks == v.blocks) ref = &x;
     }
 
     // CSV (one row per variant) and the log-log plot, one point series per group of variants.
