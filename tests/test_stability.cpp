@@ -893,3 +893,201 @@ TEST_CASE("bit-identical results for 1 and 2 threads and for repeated runs with 
   CHECK(std::memcmp(two.first.data(), again.first.data(), bytes) == 0);
   CHECK(std::memcmp(&one.second, &two.second, sizeof(real)) == 0);
 }
+
+// =============================================================================================
+// Bad input: every case throws a tessera:: exception naming the entity, the value and the
+// expectation (docs/errors.md lists the messages: TESSERA_PRINT_ERRORS=1 prints them).
+// =============================================================================================
+
+namespace {
+
+template <class E>
+const char* exception_name() {
+  if constexpr (std::is_same_v<E, invalid_input>) return "invalid_input";
+  if constexpr (std::is_same_v<E, geometry_error>) return "geometry_error";
+  if constexpr (std::is_same_v<E, io_error>) return "io_error";
+  if constexpr (std::is_same_v<E, numerical_instability>) return "numerical_instability";
+  return "error";
+}
+
+/// Checks that f() throws E whose message contains every one of `parts`; prints a docs row when
+/// TESSERA_PRINT_ERRORS is set.
+template <class E, class F>
+void expect_error(const char* case_name, F&& f, std::initializer_list<std::string> parts) {
+  INFO(case_name);
+  REQUIRE_THROWS_AS(f(), E);
+  std::string what;
+  try {
+    f();
+  } catch (const E& e) {
+    what = e.what();
+  }
+  INFO(what);
+  for (const std::string& p : parts) CHECK_THAT(what, Catch::Contains(p));
+  if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << "| " << case_name << " | `" << exception_name<E>() << "` | " << what << " |\n";
+}
+
+const real nan_value = std::numeric_limits<real>::quiet_NaN();
+const real inf_value = std::numeric_limits<real>::infinity();
+
+}  // namespace
+
+TEST_CASE("bad input: materials, contact law, steel and bond", "[errors]") {
+  const auto tess = cube_column(2, 0.05);
+  const auto mesh = geometry::zone_blocks(tess);
+  const auto good_law = law::study_prism_params(100);
+  const auto build = [&](zones::linear_elastic_tet::params m, law::study_tie_law::params l) {
+    return prism_solver(tess, mesh, m, l);
+  };
+  const auto with_block = [&](real e, real nu, real rho) { return [=, &build] { (void)build({e, nu, rho}, good_law); }; };
+  expect_error<invalid_input>("block modulus zero", with_block(0, 0.2, 2400), {"Young's modulus E (Pa) = 0", "finite and > 0"});
+  expect_error<invalid_input>("block modulus negative", with_block(-1e9, 0.2, 2400), {"= -1000000000"});
+  expect_error<invalid_input>("block modulus NaN", with_block(nan_value, 0.2, 2400), {"= nan"});
+  expect_error<invalid_input>("block modulus infinite", with_block(inf_value, 0.2, 2400), {"= inf"});
+  expect_error<invalid_input>("Poisson ratio 0.5", with_block(28e9, 0.5, 2400), {"Poisson's ratio nu = 0.5", "(-1, 0.5)"});
+  expect_error<invalid_input>("Poisson ratio -1", with_block(28e9, -1, 2400), {"nu = -1"});
+  expect_error<invalid_input>("Poisson ratio NaN", with_block(28e9, nan_value, 2400), {"nu = nan"});
+  expect_error<invalid_input>("density zero", with_block(28e9, 0.2, 0), {"density rho (kg/m^3) = 0"});
+  expect_error<invalid_input>("density NaN", with_block(28e9, 0.2, nan_value), {"density rho (kg/m^3) = nan"});
+
+  const auto with_law = [&](auto change) {
+    return [=, &build] {
+      auto l = good_law;
+      change(l);
+      (void)build(concrete_block, l);
+    };
+  };
+  using lp = law::study_tie_law::params;
+  expect_error<invalid_input>("normal stiffness zero", with_law([](lp& l) { l.k_n = 0; }), {"normal stiffness k_n = 0 Pa/m", "> 0"});
+  expect_error<invalid_input>("normal stiffness negative", with_law([](lp& l) { l.k_n = -1e12; }), {"k_n = -1e+12"});
+  expect_error<invalid_input>("normal stiffness NaN", with_law([](lp& l) { l.k_n = nan_value; }), {"k_n = nan"});
+  expect_error<invalid_input>("normal stiffness infinite", with_law([](lp& l) { l.k_n = inf_value; }), {"k_n = inf"});
+  expect_error<invalid_input>("shear stiffness zero", with_law([](lp& l) { l.k_s = 0; }), {"shear stiffness k_s = 0"});
+  expect_error<invalid_input>("tensile strength zero", with_law([](lp& l) { l.tension.f_T = 0; }), {"tensile strength f_T = 0"});
+  expect_error<invalid_input>("tensile strength NaN", with_law([](lp& l) { l.tension.f_T = nan_value; }), {"f_T = nan"});
+  expect_error<invalid_input>("fracture energy zero", with_law([](lp& l) { l.tension.G_f = 0; }), {"fracture energy G_f = 0"});
+  expect_error<invalid_input>("fracture energy too small (zeta <= eta)", with_law([](lp& l) { l.tension.G_f = 1; }),
+                              {"fracture energy too small", "G_f = 1 N/m", "zeta", "eta", "must exceed"});
+  expect_error<invalid_input>("softening exponent <= 1", with_law([](lp& l) { l.tension.alpha = 1; }), {"alpha = 1"});
+  expect_error<invalid_input>("cohesion negative", with_law([](lp& l) { l.shear.c_0 = -1; }), {"cohesion c_0 = -1 Pa"});
+  expect_error<invalid_input>("residual cohesion above c_0", with_law([](lp& l) { l.shear.c_res = 2 * l.shear.c_0; }),
+                              {"residual cohesion c_res"});
+  expect_error<invalid_input>("friction angle 90 deg", with_law([](lp& l) { l.shear.phi_0 = law::friction_angle::from_degrees(90); }),
+                              {"friction angle phi_0 = 90 deg", "[0, 90)"});
+
+  truss::params good_bars{reinforcement::pulatsu2020::tie_steel(), reinforcement::pulatsu2020::tie_bond(),
+                          {reinforcement::bar{vec3(0.02, 0.03, 0.005), vec3(0.02, 0.03, 0.095), 8, true}}};
+  const auto with_bars = [&](auto change) {
+    return [=, &tess, &mesh] {
+      auto b = good_bars;
+      change(b);
+      tie_solver s(tess, mesh, concrete_block, good_law, b);
+    };
+  };
+  expect_error<invalid_input>("steel modulus zero", with_bars([](truss::params& b) { b.steel.young_modulus = 0; }),
+                              {"steel: Young's modulus E_s (Pa) = 0"});
+  expect_error<invalid_input>("steel yield stress NaN", with_bars([](truss::params& b) { b.steel.yield_stress = nan_value; }),
+                              {"yield stress f_y (Pa) = nan"});
+  expect_error<invalid_input>("steel density negative", with_bars([](truss::params& b) { b.steel.density = -7850; }),
+                              {"steel: density (kg/m^3) = -7850"});
+  expect_error<invalid_input>("bar diameter zero", with_bars([](truss::params& b) { b.steel.diameter = 0; }),
+                              {"bar diameter d (m) = 0"});
+  expect_error<invalid_input>("bond stiffness ratio zero", with_bars([](truss::params& b) { b.bond.stiffness_ratio = 0; }),
+                              {"bond stiffness ratio xi"});
+  expect_error<invalid_input>("bond cohesion negative", with_bars([](truss::params& b) { b.bond.cohesion = -1; }),
+                              {"bond cohesion c_bond (N/m) = -1"});
+  expect_error<invalid_input>("bond cohesion NaN", with_bars([](truss::params& b) { b.bond.cohesion = nan_value; }),
+                              {"c_bond (N/m) = nan"});
+  expect_error<invalid_input>("bar outside the blocks", with_bars([](truss::params& b) { b.bars[0].end = vec3(0.02, 0.03, 0.2); }),
+                              {"bar 0 node", "lies outside every zone"});
+  expect_error<invalid_input>("bar end point NaN", with_bars([](truss::params& b) { b.bars[0].end.x() = nan_value; }),
+                              {"bar 0: end points"});
+  expect_error<invalid_input>("bar with zero elements", with_bars([](truss::params& b) { b.bars[0].elements = 0; }),
+                              {"bar 0: number of truss elements = 0"});
+}
+
+TEST_CASE("bad input: geometry, seeds, boundary conditions, options, output", "[errors]") {
+  aabb box;
+  box.lo = vec3::Zero();
+  box.hi = vec3(0.1, 0.1, 0.1);
+  std::vector<vec3> seeds{vec3(0.02, 0.02, 0.02), vec3(0.07, 0.07, 0.07), vec3(0.02, 0.02, 0.02)};
+  expect_error<invalid_input>("duplicate seeds", [&] { (void)geometry::voronoi(box, seeds); }, {"seeds 0 and 2 coincide"});
+  seeds[2] = vec3(0.2, 0.02, 0.02);
+  expect_error<invalid_input>("seed outside the domain", [&] { (void)geometry::voronoi(box, seeds); }, {"seed 2 at (0.2"});
+  seeds[2] = vec3(nan_value, 0.02, 0.02);
+  expect_error<invalid_input>("seed NaN", [&] { (void)geometry::voronoi(box, seeds); }, {"seed 2 at (nan"});
+  aabb flat = box;
+  flat.hi.z() = 0;
+  expect_error<invalid_input>("degenerate domain box", [&] { (void)geometry::random_voronoi(flat, 10, 1); }, {"domain box size"});
+
+  // Non-convex blocks. Mildly non-convex cells are accepted by design (geometry::regularize makes
+  // them; the zoning only needs the block star-shaped from its centroid). A block that is not
+  // star-shaped, here a cube with one corner pulled through to the far side of its centroid,
+  // has zones of non-positive volume and is rejected, naming the block.
+  auto folded = cube_column(1, 0.05);
+  folded.vertices[7] = vec3(0.004, 0.004, 0.004);
+  expect_error<geometry_error>("non-convex block (not star-shaped)", [&] {
+    const auto mesh = geometry::zone_blocks(folded);
+    prism_solver s(folded, mesh, concrete_block, law::study_prism_params(100));
+  }, {"block 0", "volume"});
+  // A block squashed flat (zero volume).
+  auto squashed = cube_column(1, 0.05);
+  for (idx v = 4; v < 8; ++v) squashed.vertices[static_cast<std::size_t>(v)].z() = 0;
+  expect_error<geometry_error>("degenerate (flat) block", [&] { (void)geometry::zone_blocks(squashed); }, {"block 0 has volume"});
+
+  const auto tess = cube_column(2, 0.05);
+  const auto mesh = geometry::zone_blocks(tess);
+  prism_solver s(tess, mesh, concrete_block, law::study_prism_params(100));
+  expect_error<invalid_input>("empty boundary group", [&] { (void)s.gridpoints_on_plane(2, 0.3, 1e-9); },
+                              {"node group 'plane z = 0.3 m", "selects no node"});
+  expect_error<invalid_input>("boundary condition on an empty group", [&] { s.fix(bc::node_group{{}, "nothing"}); },
+                              {"node group 'nothing': the group is empty"});
+  s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+  expect_error<invalid_input>("conflicting boundary conditions", [&] {
+    s.prescribe_velocity(s.gridpoints_on_plane(2, 0, 1e-9), vec3(0, 0, 1e-3));
+  }, {"conflicting boundary conditions on node", "component z", "already prescribed v = 0 m/s, now v = 0.001 m/s"});
+  expect_error<invalid_input>("non-finite prescribed velocity", [&] {
+    s.prescribe_velocity(s.gridpoints_on_plane(2, 0.1, 1e-9), vec3(0, 0, nan_value));
+  }, {"is not finite"});
+
+  const auto with_options = [&](auto change) {
+    return [=, &tess, &mesh] {
+      solver_options o;
+      change(o);
+      prism_solver bad(tess, mesh, concrete_block, law::study_prism_params(100), {}, o);
+    };
+  };
+  expect_error<invalid_input>("time step above the stable limit", with_options([](solver_options& o) { o.dt = 1e-3; }),
+                              {"time step dt = 0.001 s exceeds the stable limit", "of block", "lower dt or use mass scaling"});
+  expect_error<invalid_input>("time step NaN", with_options([](solver_options& o) { o.dt = nan_value; }), {"dt (s) = nan"});
+  expect_error<invalid_input>("safety factor above 1", with_options([](solver_options& o) { o.safety = 1.5; }),
+                              {"safety factor = 1.5"});
+  expect_error<invalid_input>("damping gamma >= 1", with_options([](solver_options& o) { o.damping_gamma = 1; }),
+                              {"gamma = 1 must lie in [0, 1)"});
+  expect_error<invalid_input>("check interval zero", with_options([](solver_options& o) { o.check_interval = 0; }),
+                              {"check_interval = 0"});
+
+  const std::filesystem::path scratch = std::filesystem::temp_directory_path() / "tessera_test_stability_errors";
+  std::filesystem::remove_all(scratch);
+  std::filesystem::create_directories(scratch);
+  {
+    std::ofstream(scratch / "a_file") << "x";
+  }
+  expect_error<io_error>("output directory below a file", [&] { io::ensure_directory(scratch / "a_file" / "out"); },
+                         {"cannot create output directory", "a_file/out"});
+  expect_error<io_error>("output path is a file", [&] { io::ensure_directory(scratch / "a_file"); },
+                         {"cannot create output directory", "a_file': "});
+  expect_error<io_error>("output file in a missing directory", [&] { io::write_file_atomically(scratch / "missing" / "summary.json", "{}"); },
+                         {"cannot open", "missing/summary.json"});
+  std::filesystem::create_directories(scratch / "read_only");
+  std::filesystem::permissions(scratch / "read_only", std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+  const bool can_write_anyway = [&] {  // root ignores permission bits
+    std::ofstream probe(scratch / "read_only" / "probe");
+    return static_cast<bool>(probe);
+  }();
+  if (!can_write_anyway)
+    expect_error<io_error>("read-only output directory", [&] { io::ensure_directory(scratch / "read_only"); },
+                           {"is not writable"});
+  std::filesystem::permissions(scratch / "read_only", std::filesystem::perms::owner_all);
+  std::filesystem::remove_all(scratch);
+}
