@@ -163,20 +163,28 @@ struct cohesive_frictional {
     //    An open crack (broken in tension with its faces apart, u_n > u_p) transmits no shear: its
     //    faces do not touch (3DEC's rule for a joint opened past its tensile strength); the shear
     //    energy it stored is booked as dissipated below.
+    //    The shear part of the dissipation, 0.5 (tau_old + tau).(du_s - (tau - tau_old)/k_s), vanishes
+    //    identically on the elastic path (tau - tau_old = k_s du_s), so it is evaluated only when the
+    //    trial is limited.
     vec3 tau = tau_old + p.k_s * du_s;
-    real tau_max = Shear::strength(p.shear, sigma, s.flags);
-    const real trial_sq = tau.squaredNorm();
+    const auto book_shear_dissipation = [&] {
+      s.dissipated_shear += real(0.5) * (tau_old + tau).dot(du_s - (tau - tau_old) * (1 / p.k_s));
+    };
     if (has(s.flags, contact_status::broken_tension) && s.u_n > s.u_p) [[unlikely]] {
       tau = vec3::Zero();
-    } else if (trial_sq > tau_max * tau_max) {
-      if (!has(s.flags, contact_status::slipped)) {
-        s.flags = s.flags | contact_status::slipped;
-        tau_max = Shear::strength(p.shear, sigma, s.flags);
+      book_shear_dissipation();
+    } else {
+      const real trial_sq = tau.squaredNorm();
+      real tau_max = Shear::strength(p.shear, sigma, s.flags);
+      if (trial_sq > tau_max * tau_max) {
+        if (!has(s.flags, contact_status::slipped)) {
+          s.flags = s.flags | contact_status::slipped;
+          tau_max = Shear::strength(p.shear, sigma, s.flags);
+        }
+        tau *= tau_max / std::sqrt(trial_sq);
+        book_shear_dissipation();
       }
-      tau *= tau_max / std::sqrt(trial_sq);
     }
-    const real shear_compliance = 1 / p.k_s;  // one division instead of three
-    s.dissipated_shear += real(0.5) * (tau_old + tau).dot(du_s - (tau - tau_old) * shear_compliance);
     s.tau = tau;
   }
 
