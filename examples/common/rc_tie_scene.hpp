@@ -54,6 +54,12 @@ struct tie_options {
   index elements = 96;       ///< truss elements along the bar
   real xi = 4;               ///< bond stiffness ratio K_bond / K_axial (study eq. 9)
   real c_bond = 1e9;         ///< bond cohesion (N per m of bar)
+  /// How xi K_axial becomes a nodal bond spring (reinforcement/bond.hpp): per unit bar length is
+  /// 3DEC's grout stiffness and reproduces the study's load drops; per node is DESIGN.md's reading.
+  reinforcement::stiffness_basis bond_basis = reinforcement::stiffness_basis::per_unit_length;
+  /// Short-edge regularization of the Voronoi cells (geometry/regularize.hpp), relative to the
+  /// mean cell size; 0 = plain Voronoi.
+  real regularize = 0;
   bool bare = false;         ///< unbonded bar, concrete fixed (bare-bar reference run)
   bool rigid = false;        ///< rigid blocks (blocks::rigid; bond hosts are still the zones, no confinement)
 };
@@ -94,6 +100,7 @@ struct tie_scene {
   prism_options po;
   po.blocks = o.blocks;
   po.seed = o.seed;
+  po.tessellation.min_edge_rel = o.regularize;
   t.prism = make_prism(po);
   const vec3 lo = t.prism.box.lo, hi = t.prism.box.hi;
   const vec3 start(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
@@ -101,6 +108,7 @@ struct tie_scene {
   t.bar = reinforcement::pulatsu2020::tie_reinforcement(start, end, o.elements);
   t.bar.bond.stiffness_ratio = o.xi;
   t.bar.bond.cohesion = o.c_bond;
+  t.bar.bond.basis = o.bond_basis;
   t.bar.bars.front().bonded = !o.bare;
 
   tie_hand_checks& h = t.hand;
@@ -118,7 +126,14 @@ struct tie_scene {
 
 /// Loading and run control of one tie run.
 struct tie_loading {
-  real rate = 5e-3;             ///< pull velocity of the last bar node (m/s)
+  real rate = 5e-3;             ///< elongation rate of the bar (m/s)
+  /// true: the bar ends move at -rate/2 and +rate/2 (the study's setup up to a rigid translation);
+  /// false: first bar node fixed, last pulled at rate (the study's setup verbatim). Local damping
+  /// (F_d = gamma |F| sgn(v)) is not Galilean invariant: with one end fixed the concrete, free
+  /// along z on its rollers, drifts at about rate/2 and the damping drags it, so the forces at the
+  /// two bar ends differ (measured: up to 20 % of f_y A at gamma = 0.8). Pulling both ends keeps
+  /// the concrete's mean velocity at zero; the elongation is the same.
+  bool symmetric = true;
   real ramp_time = 2e-3;        ///< half-cosine velocity ramp from 0 to rate (s)
   real dt = 2e-6;               ///< mass-scaling target step (s); 0 = unscaled stable step
   real max_elongation = 2e-3;   ///< stop here at the latest (m)
@@ -415,8 +430,9 @@ template <class Blocks, class Law, class OnEvent>
   const auto [first_node, end_node] = s.reinforcement().bar_nodes(0);
   const index last_node = end_node - 1;
   const bc::node_group fixed_end{{first_node}, "fixed bar end"}, pulled_end{{last_node}, "pulled bar end"};
-  bc::fix(bar, fixed_end);
+  bc::fix(bar, fixed_end);   // x, y held; z held, or set by the ramp below when symmetric
   bc::fix(bar, pulled_end);  // x, y held; z velocity set by the ramp below
+  const real pulled_share = loading.symmetric ? 0.5 : 1.0;  // of the elongation rate
   const real ramp = loading.ramp_time;
   const auto pull_velocity = [&](real t) {
     if (t >= ramp) return loading.rate;
@@ -436,7 +452,7 @@ template <class Blocks, class Law, class OnEvent>
   real max_force = 0;
   int softened_count = 0;
   const auto sample = [&](const solver_type& sv) {
-    const real u = bar.displacement(last_node, 2);
+    const real u = bar.displacement(last_node, 2) - bar.displacement(first_node, 2);  // elongation
     const real f = -bar.reaction(first_node, 2);
     r.elongation.push_back(u);
     r.force.push_back(f);
@@ -474,8 +490,11 @@ template <class Blocks, class Law, class OnEvent>
   };
   s.run_until([&](const solver_type&) { return done; }, std::int64_t{1} << 40,
               [&](const solver_type& sv) {
-                if (sv.time() <= ramp + sv.dt())
-                  bar.prescribed_velocity(last_node, 2) = pull_velocity(sv.time() + 0.5 * sv.dt());
+                if (sv.time() <= ramp + sv.dt()) {
+                  const real v = pull_velocity(sv.time() + 0.5 * sv.dt());
+                  bar.prescribed_velocity(last_node, 2) = pulled_share * v;
+                  if (loading.symmetric) bar.prescribed_velocity(first_node, 2) = -(1 - pulled_share) * v;
+                }
               },
               recorders::every(loading.sample, sample));
   progress.finish();

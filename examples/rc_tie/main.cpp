@@ -219,7 +219,10 @@ int run(inputs in) {
       .set("blocks", in.tie.blocks)
       .set("seed", in.tie.seed)
       .set("elements", in.tie.elements)
+      .set("regularize", in.tie.regularize)
       .set("xi", in.tie.xi)
+      .set("bond_basis", std::string(in.tie.bond_basis == tessera::reinforcement::stiffness_basis::per_node ? "node" : "length"))
+      .set("symmetric_pull", in.loading.symmetric)
       .set("c_bond_N_per_m", in.tie.c_bond)
       .set("softening", in.loading.softening)
       .set("rigid", in.tie.rigid)
@@ -299,13 +302,17 @@ int main(int argc, char** argv) {
                            "(Pulatsu et al. 2020, Sec. 3.1): load drops as cracks form, yield at f_y A = 20.1 kN.");
   cli.add_standard(in.common);
   int elements = static_cast<int>(in.tie.elements);
-  bool no_vtk = false;
+  bool no_vtk = false, fixed_end = false;
+  std::string bond_basis = "length";
   cli.option("--blocks", in.tie.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N");
+  cli.option("--regularize", in.tie.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)", "REL");
   cli.option("--elements", elements, "truss elements along the bar", "N");
   cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI");
   cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C");
   cli.option("--softening", softening, "contact tensile softening: power (alpha = 3) or linear", "power|linear");
-  cli.option("--rate", in.loading.rate, "pull velocity of the last bar node (m/s)", "V");
+  cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V");
+  cli.flag("--fixed-end", fixed_end, "first bar node fixed, last pulled at --rate (default: both ends pulled at -/+ rate/2)");
+  cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node");
   cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T");
   cli.option("--dt", in.loading.dt, "mass-scaled time step (s); 0 = stable step of the unscaled masses", "DT");
   cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U");
@@ -318,6 +325,13 @@ int main(int argc, char** argv) {
   cli.parse_or_exit(argc, argv);
   in.tie.elements = elements;
   in.loading.softening = softening;
+  in.loading.symmetric = !fixed_end;
+  if (bond_basis != "length" && bond_basis != "node") {
+    std::cerr << "rc_tie: --bond-basis '" << bond_basis << "' must be 'length' or 'node'\n";
+    return 2;
+  }
+  in.tie.bond_basis = bond_basis == "node" ? tessera::reinforcement::stiffness_basis::per_node
+                                           : tessera::reinforcement::stiffness_basis::per_unit_length;
   in.write_vtk = !no_vtk;
   if (in.common.quick) {
     // Reduced run (CTest): coarser mass-scaled step, 10 mm/s, shorter ramp.
