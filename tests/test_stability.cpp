@@ -111,6 +111,11 @@ void perturb(node_set& nodes, real speed, std::uint64_t seed) {
       if (nodes.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::free)) nodes.velocity(i, c) = u(rng);
 }
 
+/// Prints a docs/errors.md row when TESSERA_PRINT_ERRORS is set.
+void print_error_row(const char* case_name, const char* type, const std::string& what) {
+  if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << "| " << case_name << " | `" << type << "` | " << what << " |\n";
+}
+
 bool all_finite(const node_set& n) {
   return n.displacement.allFinite() && n.velocity.allFinite() && n.force.allFinite() && n.reaction.allFinite();
 }
@@ -275,6 +280,7 @@ TEST_CASE("mass-spring: stable at 0.95 x the critical step, stopped by the check
       what = e.what();
     }
     INFO(what);
+    print_error_row("undamped mass-spring at 1.05 x its critical step", "numerical_instability", what);
     CHECK(steps < 100);  // caught at the first check (every 100 steps), state still finite
     CHECK(std::isfinite(ms.node.displacement(0, 0)));
     CHECK_THAT(what, Catch::Contains("gridpoint 0 of block 0") && Catch::Contains("kinetic energy") &&
@@ -306,6 +312,7 @@ TEST_CASE("step checker: non-finite state and the checker policy", "[stability][
     } catch (const numerical_instability& e) {
       const std::string what = e.what();
       INFO(what);
+      print_error_row("NaN velocity in a run", "numerical_instability", what);
       CHECK_THAT(what, Catch::Contains("non-finite displacement y = nan m at gridpoint " + std::to_string(victim) +
                                            " of block 1") &&
                            Catch::Contains("at step 100"));
@@ -924,7 +931,7 @@ void expect_error(const char* case_name, F&& f, std::initializer_list<std::strin
   }
   INFO(what);
   for (const std::string& p : parts) CHECK_THAT(what, Catch::Contains(p));
-  if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << "| " << case_name << " | `" << exception_name<E>() << "` | " << what << " |\n";
+  print_error_row(case_name, exception_name<E>(), what);
 }
 
 const real nan_value = std::numeric_limits<real>::quiet_NaN();

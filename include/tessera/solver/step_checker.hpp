@@ -25,9 +25,9 @@
 // its value, the node's mass m, stiffness bound k and own stable step 2 sqrt(m/(a k)) (a = the
 // damping's stiffness amplification) against the step in use, and the likely cause with what to
 // change: the time step above the node's stable limit (lower dt or scale masses), a mass too small
-// (zero, negative or non-finite), or a stiffness above the bound the step was computed from
-// (parameters or masses changed after construction: call compute_time_step(); or a load applied
-// too fast).
+// (zero, negative or non-finite), a non-finite value set after construction, or a stiffness above
+// the bound the step was computed from (parameters or masses changed after construction: call
+// compute_time_step(); or a load applied too fast).
 //
 // Cost: one pass over nodes and sub-contacts plus one energies() evaluation (about one step's
 // work) per `interval` steps: about 1 % of the run time at interval = 100. No allocation besides
@@ -76,7 +76,7 @@ struct default_step_checker {
             if (!std::isfinite(values[q])) {
               const char* quantity[3] = {"displacement", "velocity", "force"};
               const char* unit[3] = {"m", "m/s", "N"};
-              fail(s, set == 1, i,
+              fail(s, set == 1, i, true,
                    detail::concat("non-finite ", quantity[q], " ", "xyz"[c], " = ", values[q], " ", unit[q], " at "));
             }
         }
@@ -87,7 +87,7 @@ struct default_step_checker {
         const vec3 f = contacts.force(i);
         if (!f.allFinite()) {
           const index a = contacts.node_a(i), b = contacts.node_b(i);
-          fail(s, false, b,
+          fail(s, false, b, true,
                detail::concat("non-finite force (", f.x(), ", ", f.y(), ", ", f.z(), ") N of sub-contact ", i,
                               " between gridpoint ", a, " of block ", contacts.block_a(i), " and "));
         }
@@ -120,7 +120,7 @@ struct default_step_checker {
         }
       }
     }
-    fail(s, is_bar, fastest,
+    fail(s, is_bar, fastest, false,
          detail::concat("kinetic energy ", e.kinetic, " J exceeds the allowed ", allowed,
                         " J (energy supplied: initial ", e.initial, " J + |boundary work| ", std::abs(e.boundary_work),
                         " J); the fastest node, at ", speed, " m/s, is "));
@@ -129,7 +129,7 @@ struct default_step_checker {
  private:
   /// "<entity> of block B (m = .., k = .., its stable step .. s, dt = .. s); likely cause: .."
   template <class Solver>
-  [[noreturn]] static void fail(const Solver& s, bool is_bar, index i, const std::string& what) {
+  [[noreturn]] static void fail(const Solver& s, bool is_bar, index i, bool non_finite, const std::string& what) {
     const node_set& nodes = is_bar ? s.bar_nodes() : s.gridpoints();
     const real m = i >= 0 ? nodes.mass[i] : 0, k = i >= 0 ? nodes.stiffness[i] : 0;
     const real a = s.stiffness_amplification();
@@ -151,6 +151,10 @@ struct default_step_checker {
         : s.dt() > own_dt * (1 + 1e-12)
             ? "time step above the stable limit of this node: lower dt or raise its mass (solver_options::"
               "mass_scaling_dt), and call compute_time_step() after changing masses or stiffnesses"
+        : non_finite
+            ? "a non-finite value set after construction (initial displacement or velocity, a prescribed "
+              "velocity), or a stiffness above the bound k the step was computed from (parameters or masses "
+              "changed after construction: call compute_time_step())"
             : "stiffness too high for the time step: a zone, contact or bond stiffer than the bound k the step "
               "was computed from (parameters changed after construction: call compute_time_step()), or a load "
               "applied too fast (a velocity jump at a support: ramp it)";
