@@ -29,9 +29,10 @@
 // the bound the step was computed from (parameters or masses changed after construction: call
 // compute_time_step(); or a load applied too fast).
 //
-// Cost: one pass over nodes and sub-contacts plus one energies() evaluation (about one step's
-// work) per `interval` steps: about 1 % of the run time at interval = 100. No allocation besides
-// what energies() does; nothing is built unless the check fails.
+// Cost: one pass over nodes and sub-contacts plus one energies() evaluation per `interval` steps.
+// Measured on the 100-block prism (1 thread, 2000 steps): 0.77 s without the checker, 0.78-0.81 s
+// with it at interval = 100, i.e. one check costs about 3 steps and the checker 1-4 % of the run.
+// No allocation besides what energies() does; no message is built unless the check fails.
 //
 // | expression          | meaning                                                    |
 // |---------------------|------------------------------------------------------------|
