@@ -3,7 +3,8 @@
 //
 // Experiment:
 //   specimen  68 x 68 x 600 mm prism (long axis z), N random Voronoi blocks (--blocks 100|250|500|750)
-//   blocks    deformable, semi-rigid: E_block = 10 x 28 GPa, nu = 0.2, rho = 2400 kg/m^3
+//   blocks    deformable, semi-rigid: E_block = 10 x 28 GPa, nu = 0.2, rho = 2400 kg/m^3;
+//             or rigid 6-DOF blocks of the same density (--rigid)
 //   contacts  Table 1 k_n, k_s for N; f_T = 2.15 MPa, G_f = 60 N/m, c_0 = 2 f_T, phi_0 = 35 deg;
 //             power (alpha = 3, default) or linear softening (--softening)
 //   supports  bottom gridpoints (z = 0) fixed; top gridpoints (z = 0.6 m) fixed transversally
@@ -87,9 +88,12 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   loading.keep_fields = keep_fields;
   loading.threads = in.common.threads;
   loading.label = tessera::detail::concat("direct_tension seed ", seed);
-  // Block model: deformable semi-rigid blocks. Rigid blocks (--rigid) plug in here as a
-  // solver alias with the same law (blocks::rigid, include/tessera/blocks/rigid.hpp).
-  tessera::require(!in.rigid, "direct_tension: --rigid is not available yet (blocks::rigid is unfinished)");
+  // Block model: deformable semi-rigid blocks, or rigid 6-DOF blocks (--rigid) with the same law.
+  if (in.rigid) {
+    if (in.softening == "power") return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, loading);
+    return scenes::run_direct_tension<tessera::solver<tessera::blocks::rigid, tessera::law::linear_tie_law>>(
+        scene, scenes::linear_softening_params(scene.contact), loading);
+  }
   if (in.softening == "power") return scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, loading);
   return scenes::run_direct_tension<tessera::prism_linear_solver>(scene, scenes::linear_softening_params(scene.contact),
                                                                    loading);
