@@ -76,17 +76,18 @@ tessera_add_example_test(direct_tension
   TIMEOUT 300)
 
 # ---- rc_tie: the study's RC tie, 100 blocks, reduced run (mass-scaled dt 4e-6 s, 10 mm/s) ----
-# Measured (quick, seed 1): yield plateau 19.2 kN (f_y A = 20.1 kN, -4.6 %), K0 243 kN/mm (hand
-# 230), energy balance error 4e-5, ~19k steps in ~9 s. The acceptance tolerances of issue 4 (first
-# cracking within 10 % of f_T (A_c + n A_s), yield within 2 % of f_y A) are NOT met by the current
-# model (see the rc_tie report / examples/rc_tie/main.cpp), so the checks below are the
-# tolerances it does meet; tighten them when the bond/damping questions are resolved.
+# Bond stiffness per unit bar length, symmetric pull (the defaults). Measured (quick, seed 1):
+# first crack 15.2 kN (hand 10.6 kN, +43 %: the quick run is coarse and the tortuous-crack shear
+# excess of the plain prism adds ~10 %), K0 82.1 kN/mm vs the shear-lag value 85.6 (-4 %), 2 load
+# drops, yield 21.3 kN (f_y A = 20.1 kN, +6 %), energy balance error 5.5e-5, 26.6k steps. The
+# acceptance tolerances of issue 4 (first cracking within 10 %, yield within 2 %) are NOT met yet
+# (README, "RC tie"), so the checks below are the tolerances the model meets today.
 tessera_add_example_test(rc_tie
   ARGS --quick --seed 1 --threads 1
   FILES curve.csv bare_bar.csv tie.pvd yield_contacts.vtp yield_bar.vtp yield_zones.vtu
   CHECKS "yield_force_N GREATER 15000"
          "yield_force_error_rel LESS 0.15"
-         "initial_stiffness_error_rel LESS 0.25"
+         "initial_stiffness_shear_lag_error_rel LESS 0.15"
          "first_crack_error_rel LESS 0.6"
          "energy_balance_error_rel LESS 0.01"
          "subcontacts GREATER 2000"

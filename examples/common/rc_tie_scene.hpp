@@ -75,6 +75,13 @@ struct tie_hand_checks {
   real cracking_force = 0;       ///< N_cr = f_T (A_c + n A_s) (N)
   real uncracked_stiffness = 0;  ///< (E_c A_c + E_s A_s) / L (N/m)
   real bare_bar_stiffness = 0;   ///< E_s A_s / L (N/m)
+  real bond_modulus = 0;         ///< k_b, bond stiffness per unit bar length per unit slip (N/m^2)
+  /// Uncracked stiffness of the tie loaded through its bar ends with a bond of modulus k_b
+  /// (shear lag): delta / P = L / EA + (EA_c / EA) (2 / (lambda EA_s)) tanh(lambda L / 2), with
+  /// EA = EA_s + EA_c and lambda^2 = k_b (1/EA_s + 1/EA_c). The bar alone carries P at its ends and
+  /// hands it to the concrete over a transfer length 1/lambda; uncracked_stiffness is the limit
+  /// k_b -> infinity (N/m).
+  real bonded_stiffness = 0;
   real yield_force = 0;          ///< f_y A_s (N)
   /// Bare bar, elastic-perfectly plastic: F(u) = min(E_s A_s u / L, f_y A_s) for u >= 0 (N).
   [[nodiscard]] real bare_bar_force(real elongation) const {
@@ -120,6 +127,18 @@ struct tie_scene {
   h.cracking_force = t.prism.contact.tension.f_T * (h.concrete_area + h.modular_ratio * h.steel_area);
   h.uncracked_stiffness = (concrete_young * h.concrete_area + s.young_modulus * h.steel_area) / h.length;
   h.bare_bar_stiffness = s.young_modulus * h.steel_area / h.length;
+  {
+    const real ea_s = s.young_modulus * h.steel_area, ea_c = concrete_young * h.concrete_area, ea = ea_s + ea_c;
+    const real l_el = h.length / static_cast<real>(o.elements);
+    const real k_axial = ea_s / l_el;  // eq. 8
+    // eq. 9: xi K_axial is the modulus per unit length (per_unit_length) or a spring per node of
+    // tributary length L_el (per_node), see reinforcement/bond.hpp
+    h.bond_modulus = o.bond_basis == reinforcement::stiffness_basis::per_unit_length ? o.xi * k_axial
+                                                                                    : o.xi * k_axial / l_el;
+    const real lambda = std::sqrt(h.bond_modulus * (1 / ea_s + 1 / ea_c));
+    const real compliance = h.length / ea + (ea_c / ea) * (2 / (lambda * ea_s)) * std::tanh(0.5 * lambda * h.length);
+    h.bonded_stiffness = 1 / compliance;
+  }
   h.yield_force = s.yield_force();
   return t;
 }

@@ -244,6 +244,9 @@ int run(inputs in) {
       .set("initial_stiffness_N_per_m", r.initial_stiffness)
       .set("initial_stiffness_error_rel",
            rel(r.initial_stiffness, in.tie.bare ? hand.bare_bar_stiffness : hand.uncracked_stiffness))
+      .set("initial_stiffness_shear_lag_N_per_m", in.tie.bare ? hand.bare_bar_stiffness : hand.bonded_stiffness)
+      .set("initial_stiffness_shear_lag_error_rel",
+           rel(r.initial_stiffness, in.tie.bare ? hand.bare_bar_stiffness : hand.bonded_stiffness))
       .set("load_drops", static_cast<std::int64_t>(r.drops.size()))
       .set("load_drop_peak_forces_N", drop_forces)
       .set("load_drop_elongations_m", drop_elongations)
@@ -276,11 +279,13 @@ int run(inputs in) {
       .set("runtime_s", timer.seconds());
   js.write(out / "summary.json");
 
-  std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (hand %.1f, error %.1f %%)\n"
+  std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (shear lag %.1f, error %.1f %%;"
+              " perfect compatibility %.1f, error %.1f %%)\n"
               "  load drops %zu, softened through-cracks %d, fully opened through-cracks %d at z =",
               r.first_crack_force * 1e-3, hand.cracking_force * 1e-3, 100 * rel(r.first_crack_force, hand.cracking_force),
-              r.initial_stiffness * 1e-6, hand.uncracked_stiffness * 1e-6,
-              100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(), r.softened_cracks.cracks,
+              r.initial_stiffness * 1e-6, hand.bonded_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.bonded_stiffness),
+              hand.uncracked_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(),
+              r.softened_cracks.cracks,
               r.cracks.cracks);
   for (real z : r.cracks.positions) std::printf(" %.3f", z);
   std::printf(" m\n  yield %.2f kN (f_y A %.2f kN, error %.2f %%) at %.3f mm; energy balance error %.2g\n"
