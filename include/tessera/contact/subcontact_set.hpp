@@ -64,8 +64,9 @@
 // add_stiffness_bounds() must not run concurrently with anything else on the same object.
 //
 // Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 390 instructions per sub-contact-step with
-// law::study_tie_law, of which the law update is about 150 (benchmarks/bench_contacts.cpp).
+// construction O(sub-contacts + gridpoints). About 375 instructions per sub-contact-step with
+// law::study_tie_law on baseline x86-64 (305 for x86-64-v3), of which the law update is about
+// 130 (callgrind, 100-block prism; benchmarks/bench_contacts.cpp).
 
 #include <algorithm>
 #include <array>
