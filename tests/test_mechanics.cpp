@@ -2,6 +2,8 @@
 // conditions, energy balance, solver composition (see tests/CMakeLists.txt).
 #include <catch2/catch.hpp>
 
+#include "support/hand_meshes.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -24,55 +26,9 @@ using idx = tessera::index;
 
 namespace {
 
-/// One box [lo, hi] as a single-cell tessellation (faces CCW seen from outside).
-geometry::tessellation box_tessellation(const vec3& lo, const vec3& hi) {
-  geometry::tessellation t;
-  t.domain.expand(lo);
-  t.domain.expand(hi);
-  for (int k = 0; k < 8; ++k)
-    t.vertices.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
-  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (int f = 0; f < 6; ++f) {
-    for (int k = 0; k < 4; ++k) t.face_vertices.push_back(faces[f][k]);
-    t.face_offsets.push_back(static_cast<idx>(t.face_vertices.size()));
-    t.face_cell.push_back(0);
-    t.face_neighbor.push_back(geometry::boundary_tag(f));
-    t.face_twin.push_back(invalid_index);
-  }
-  t.cell_face_offsets.push_back(6);
-  return t;
-}
-
+using test::box_tessellation;
 /// Column [0,a]x[0,a]x[0,2a] split at z = a into two cells (cell 0 below, cell 1 above) sharing one face.
-geometry::tessellation two_cell_column(real a) {
-  geometry::tessellation t;
-  t.domain.expand(vec3::Zero());
-  t.domain.expand(vec3(a, a, 2 * a));
-  for (int l = 0; l < 3; ++l)
-    for (int k = 0; k < 4; ++k) t.vertices.emplace_back(a * (k & 1), a * ((k >> 1) & 1), a * l);
-  // Vertex v(l, k) = 4 l + k, k = x bit + 2 y bit.
-  const auto add_face = [&](std::initializer_list<int> loop, idx cell, idx neighbor) {
-    for (int v : loop) t.face_vertices.push_back(v);
-    t.face_offsets.push_back(static_cast<idx>(t.face_vertices.size()));
-    t.face_cell.push_back(cell);
-    t.face_neighbor.push_back(neighbor);
-    t.face_twin.push_back(invalid_index);
-  };
-  for (int c = 0; c < 2; ++c) {
-    const int lo = 4 * c, hi = 4 * (c + 1);
-    add_face({lo + 0, hi + 0, hi + 2, lo + 2}, c, geometry::boundary_tag(0));
-    add_face({lo + 1, lo + 3, hi + 3, hi + 1}, c, geometry::boundary_tag(1));
-    add_face({lo + 0, lo + 1, hi + 1, hi + 0}, c, geometry::boundary_tag(2));
-    add_face({lo + 2, hi + 2, hi + 3, lo + 3}, c, geometry::boundary_tag(3));
-    add_face({lo + 0, lo + 2, lo + 3, lo + 1}, c, c == 0 ? geometry::boundary_tag(4) : 0);
-    add_face({hi + 0, hi + 1, hi + 3, hi + 2}, c, c == 0 ? 1 : geometry::boundary_tag(5));
-    t.cell_face_offsets.push_back(static_cast<idx>(t.face_cell.size()));
-  }
-  t.face_twin[5] = 10;
-  t.face_twin[10] = 5;
-  t.shared_faces.push_back({0, 5, 1, 10});
-  return t;
-}
+geometry::tessellation two_cell_column(real a) { return test::box_column(vec3::Zero(), vec3(a, a, a), 2); }
 
 /// Unit cube split into the 6 tetrahedra of the Kuhn (Freudenthal) triangulation: every
 /// gridpoint is a corner, no interior node.

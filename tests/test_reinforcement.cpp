@@ -3,6 +3,8 @@
 // Coulomb pull-out plateau), momentum conservation, stiffness bounds and input checks.
 #include <catch2/catch.hpp>
 
+#include "support/hand_meshes.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -552,24 +554,8 @@ TEST_CASE("embedded_truss rejects bad input with a message naming it", "[reinfor
 #include "tessera/solver.hpp"
 
 namespace {
-/// One box [lo, hi] as a single-cell tessellation (faces CCW seen from outside).
-geometry::tessellation box_cell(const vec3& lo, const vec3& hi) {
-  geometry::tessellation t;
-  t.domain.expand(lo);
-  t.domain.expand(hi);
-  for (int k = 0; k < 8; ++k)
-    t.vertices.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
-  const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
-  for (int f = 0; f < 6; ++f) {
-    for (int k = 0; k < 4; ++k) t.face_vertices.push_back(faces[f][k]);
-    t.face_offsets.push_back(static_cast<idx>(t.face_vertices.size()));
-    t.face_cell.push_back(0);
-    t.face_neighbor.push_back(geometry::boundary_tag(f));
-    t.face_twin.push_back(invalid_index);
-  }
-  t.cell_face_offsets.push_back(6);
-  return t;
-}
+/// One box [lo, hi] as a single-cell tessellation.
+geometry::tessellation box_cell(const vec3& lo, const vec3& hi) { return test::box_tessellation(lo, hi); }
 }  // namespace
 
 TEST_CASE("solver with embedded_truss: Coulomb pull-out from a fixed zoned block, energy balance", "[reinforcement][solver]") {

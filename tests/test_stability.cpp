@@ -12,6 +12,8 @@
 // messages; run this binary with TESSERA_PRINT_ERRORS=1 to print them (tag [errors]).
 #include <catch2/catch.hpp>
 
+#include "support/hand_meshes.hpp"
+
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -47,38 +49,8 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 
 /// n cubes of edge a stacked along z ([0,a]^2 x [0, n a]); cell c occupies [c a, (c+1) a] and
-/// shares its top face with cell c + 1. Faces CCW seen from outside.
-geometry::tessellation cube_column(int n, real a) {
-  geometry::tessellation t;
-  t.domain.expand(vec3::Zero());
-  t.domain.expand(vec3(a, a, n * a));
-  for (int l = 0; l <= n; ++l)
-    for (int k = 0; k < 4; ++k) t.vertices.emplace_back(a * (k & 1), a * ((k >> 1) & 1), a * l);
-  const auto add_face = [&](std::initializer_list<int> loop, idx cell, idx neighbor) {
-    for (int v : loop) t.face_vertices.push_back(v);
-    t.face_offsets.push_back(static_cast<idx>(t.face_vertices.size()));
-    t.face_cell.push_back(cell);
-    t.face_neighbor.push_back(neighbor);
-    t.face_twin.push_back(invalid_index);
-  };
-  for (int c = 0; c < n; ++c) {
-    const int lo = 4 * c, hi = 4 * (c + 1);  // vertex (l, k) = 4 l + k, k = x bit + 2 y bit
-    add_face({lo + 0, hi + 0, hi + 2, lo + 2}, c, geometry::boundary_tag(0));
-    add_face({lo + 1, lo + 3, hi + 3, hi + 1}, c, geometry::boundary_tag(1));
-    add_face({lo + 0, lo + 1, hi + 1, hi + 0}, c, geometry::boundary_tag(2));
-    add_face({lo + 2, hi + 2, hi + 3, lo + 3}, c, geometry::boundary_tag(3));
-    add_face({lo + 0, lo + 2, lo + 3, lo + 1}, c, c == 0 ? geometry::boundary_tag(4) : c - 1);
-    add_face({hi + 0, hi + 1, hi + 3, hi + 2}, c, c == n - 1 ? geometry::boundary_tag(5) : c + 1);
-    t.cell_face_offsets.push_back(static_cast<idx>(t.face_cell.size()));
-  }
-  for (int c = 0; c + 1 < n; ++c) {
-    const idx top = 6 * c + 5, bottom = 6 * (c + 1) + 4;
-    t.face_twin[static_cast<std::size_t>(top)] = bottom;
-    t.face_twin[static_cast<std::size_t>(bottom)] = top;
-    t.shared_faces.push_back({c, top, c + 1, bottom});
-  }
-  return t;
-}
+/// shares its top face with cell c + 1.
+geometry::tessellation cube_column(int n, real a) { return test::box_column(vec3::Zero(), vec3(a, a, a), n); }
 
 using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
 using truss = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
