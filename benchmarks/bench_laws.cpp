@@ -29,14 +29,7 @@ constexpr int subcontact_count = 4096;
 enum class mix { elastic = 0, mixed = 1 };
 
 linear_tie_law::params linear_tie_params() {
-  const study_tie_law::params s = study_prism_params(100);
-  linear_tie_law::params p;
-  p.k_n = s.k_n;
-  p.k_s = s.k_s;
-  p.tension.f_T = s.tension.f_T;
-  p.tension.G_f = s.tension.G_f;
-  p.shear = s.shear;
-  return p;
+  return with_linear_softening(study_prism_params(100));
 }
 
 study_beam_law::params beam_params() {

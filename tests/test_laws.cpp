@@ -30,14 +30,7 @@ const vec3 no_slip = vec3::Zero();
 
 /// The study's tie parameters (100 blocks) with linear softening: eta = 1.853e-6 m, zeta = 5.581e-5 m.
 linear_tie_law::params linear_tie_params() {
-  const study_tie_law::params s = study_prism_params(100);
-  linear_tie_law::params p;
-  p.k_n = s.k_n;
-  p.k_s = s.k_s;
-  p.tension.f_T = s.tension.f_T;
-  p.tension.G_f = s.tension.G_f;
-  p.shear = s.shear;
-  return p;
+  return with_linear_softening(study_prism_params(100));
 }
 
 /// The study's beam contacts (Sec. 4, 250 blocks): k_n = 500 GPa/m, f_T = 2.5 MPa, c = 2 f_T, phi = 35 deg,
@@ -606,4 +599,18 @@ TEST_CASE("an open contact broken in tension carries no shear; closed again, Cou
   c.open_to(-1e-7, 10);  // faces overlap: compression, then elastic shear up to c_res + |sigma| tan(phi_0)
   c.step(0, vec3(1e-9, 0, 0), e_z);
   CHECK(c.s.tau.norm() == Approx(c.p.k_s * 1e-9).epsilon(1e-9));
+}
+
+TEST_CASE("with_linear_softening keeps the stiffnesses, strengths and fracture energy of the power law", "[law]") {
+  const auto power = study_prism_params(250);
+  const auto linear = with_linear_softening(power);
+  CHECK(linear.k_n == power.k_n);
+  CHECK(linear.k_s == power.k_s);
+  CHECK(linear.tension.f_T == power.tension.f_T);
+  CHECK(linear.tension.G_f == power.tension.G_f);
+  CHECK(linear.shear.c_0 == power.shear.c_0);
+  CHECK(linear.shear.c_res == power.shear.c_res);
+  CHECK(linear.shear.phi_0.radians() == power.shear.phi_0.radians());
+  CHECK(linear.shear.phi_res.radians() == power.shear.phi_res.radians());
+  CHECK_NOTHROW(linear_tie_law::validate(linear));
 }

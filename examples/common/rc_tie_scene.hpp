@@ -566,7 +566,7 @@ template <class OnEvent>
   require(loading.softening == "power" || loading.softening == "linear", "rc_tie: softening '", loading.softening,
           "' must be 'power' or 'linear'");
   const bool power = loading.softening == "power";
-  const auto linear = linear_softening_params(scene.prism.contact);
+  const auto linear = tessera::law::with_linear_softening(scene.prism.contact);
   if (scene.options.rigid)
     return power ? run_tie<blocks::rigid, law::study_tie_law>(scene, scene.prism.contact, loading, on_event)
                  : run_tie<blocks::rigid, law::linear_tie_law>(scene, linear, loading, on_event);

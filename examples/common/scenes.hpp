@@ -49,17 +49,6 @@ struct prism_scene {
   [[nodiscard]] real length() const { return box.size().z(); }
 };
 
-/// The same contact parameters with linear softening (Sec. 3.2 sensitivity).
-[[nodiscard]] inline law::linear_tie_law::params linear_softening_params(const law::study_tie_law::params& p) {
-  law::linear_tie_law::params q;
-  q.k_n = p.k_n;
-  q.k_s = p.k_s;
-  q.tension.f_T = p.tension.f_T;
-  q.tension.G_f = p.tension.G_f;
-  q.shear = p.shear;
-  return q;
-}
-
 /// Builds the study's prism: tessellation, zoning, materials (throws invalid_input for a block
 /// count outside Table 1).
 [[nodiscard]] inline prism_scene make_prism(const prism_options& o) {

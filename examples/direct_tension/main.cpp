@@ -92,10 +92,10 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   if (in.rigid) {
     if (in.softening == "power") return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, loading);
     return scenes::run_direct_tension<tessera::solver<tessera::blocks::rigid, tessera::law::linear_tie_law>>(
-        scene, scenes::linear_softening_params(scene.contact), loading);
+        scene, tessera::law::with_linear_softening(scene.contact), loading);
   }
   if (in.softening == "power") return scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, loading);
-  return scenes::run_direct_tension<tessera::prism_linear_solver>(scene, scenes::linear_softening_params(scene.contact),
+  return scenes::run_direct_tension<tessera::prism_linear_solver>(scene, tessera::law::with_linear_softening(scene.contact),
                                                                    loading);
 }
 
@@ -188,7 +188,7 @@ int run(const inputs& in) {
   const double separation_energy =
       in.softening == "power" ? tessera::law::power_softening::separation_energy(scene.contact.tension, scene.contact.k_n)
                               : tessera::law::linear_softening::separation_energy(
-                                    scenes::linear_softening_params(scene.contact).tension, scene.contact.k_n);
+                                    tessera::law::with_linear_softening(scene.contact).tension, scene.contact.k_n);
   const double broken_error = r.crack_area > 0 ? (r.dissipated_tension_broken - separation_energy * r.crack_area) /
                                                      (separation_energy * r.crack_area)
                                                : 1.0;

@@ -29,7 +29,7 @@ static_assert(ContactLaw<study_beam_law>);
 /// tessellation of `blocks` blocks (100, 250, 500 or 750): k_n = 1160/1570/1980/2260 GPa/m,
 /// k_s = 482/654/824/943 GPa/m, f_T = 2.15 MPa, G_f = 60 N/m, power softening alpha = 3
 /// (residual_ratio 1e-3), c_0 = 2 f_T, c_res = 0.01 c_0, phi_0 = 35 deg, phi_res = 30 deg, no
-/// compression limit. For linear softening copy k_n, k_s, shear and f_T, G_f into linear_tie_law::params.
+/// compression limit (with_linear_softening gives the Sec. 3.2 linear-softening variant).
 /// Throws invalid_input for any other block count.
 [[nodiscard]] inline study_tie_law::params study_prism_params(int blocks) {
   struct table_row {
@@ -56,6 +56,19 @@ static_assert(ContactLaw<study_beam_law>);
   }
   throw invalid_input(tessera::detail::concat("study_prism_params: blocks = ", blocks,
                                               " is not a block count of the study's Table 1 (100, 250, 500, 750)"));
+}
+
+/// The same contact with linear instead of power softening (study Sec. 3.2, Fig. 10): identical
+/// stiffnesses, f_T, G_f and shear parameters, so both dissipate the same fracture energy.
+[[nodiscard]] inline linear_tie_law::params with_linear_softening(const study_tie_law::params& power) {
+  linear_tie_law::params p;
+  p.k_n = power.k_n;
+  p.k_s = power.k_s;
+  p.tension.f_T = power.tension.f_T;
+  p.tension.G_f = power.tension.G_f;
+  p.compression = power.compression;
+  p.shear = power.shear;
+  return p;
 }
 
 }  // namespace tessera::law
