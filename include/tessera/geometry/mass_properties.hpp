@@ -91,20 +91,19 @@ struct mass_properties {
   return first / area.norm();
 }
 
-/// Volume, centroid and second moment of a closed polyhedron with outward-oriented face loops
-/// (see the file comment for the argument layout). Returns volume 0 and the vertex average as
-/// centroid for an empty polyhedron.
-[[nodiscard]] inline mass_properties polyhedron_mass_properties(std::span<const vec3> vertices,
-                                                                std::span<const index> face_offsets,
-                                                                std::span<const index> face_vertices) {
-  mass_properties mp;
-  if (face_offsets.size() < 2) return mp;
-  // Reference point: the first vertex of the first face; coordinates relative to it keep the
-  // moments free of cancellation against the absolute position.
-  const vec3 r = vertices[static_cast<std::size_t>(face_vertices[static_cast<std::size_t>(face_offsets[0])])];
-  real six_v = 0;
-  vec3 first = vec3::Zero();  // 24 * first moment
-  mat3 second = mat3::Zero(); // 120 * second moment
+namespace detail {
+/// Reference point of the volume integrals: the first vertex of the first face. Coordinates
+/// relative to it keep the moments free of cancellation against the absolute position.
+[[nodiscard]] inline vec3 reference_point(std::span<const vec3> vertices, std::span<const index> face_offsets,
+                                          std::span<const index> face_vertices) {
+  return vertices[static_cast<std::size_t>(face_vertices[static_cast<std::size_t>(face_offsets[0])])];
+}
+/// Calls visit(a, b, c) for every triangle of every face, fan-triangulated from fan_apex, with
+/// a, b, c relative to r: the tetrahedra (r, a, b, c) decompose the polyhedron with signed volumes
+/// a.(b x c)/6. Faces with fewer than 3 vertices are skipped.
+template <class Visit>
+void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const index> face_offsets,
+                              std::span<const index> face_vertices, const vec3& r, Visit&& visit) {
   for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f) {
     const auto loop = face_vertices.subspan(static_cast<std::size_t>(face_offsets[f]),
                                             static_cast<std::size_t>(face_offsets[f + 1] - face_offsets[f]));
@@ -115,13 +114,33 @@ struct mass_properties {
     for (std::size_t t = 1; t + 1 < n; ++t) {
       const vec3 b = vertices[static_cast<std::size_t>(loop[(k0 + t) % n])] - r;
       const vec3 c = vertices[static_cast<std::size_t>(loop[(k0 + t + 1) % n])] - r;
-      const real w = a.dot(b.cross(c));  // 6 V_t
-      const vec3 s = a + b + c;
-      six_v += w;
-      first += w * s;
-      second += w * (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
+      visit(a, b, c);
     }
   }
+}
+}  // namespace detail
+
+/// Volume, centroid and second moment of a closed polyhedron with outward-oriented face loops
+/// (see the file comment for the argument layout). Returns volume 0 and the vertex average as
+/// centroid for an empty polyhedron.
+[[nodiscard]] inline mass_properties polyhedron_mass_properties(std::span<const vec3> vertices,
+                                                                std::span<const index> face_offsets,
+                                                                std::span<const index> face_vertices) {
+  mass_properties mp;
+  if (face_offsets.size() < 2) return mp;
+  const vec3 r = detail::reference_point(vertices, face_offsets, face_vertices);
+  real six_v = 0;
+  vec3 first = vec3::Zero();  // 24 * first moment
+  mat3 second = mat3::Zero(); // 120 * second moment
+  detail::for_each_fan_tetrahedron(vertices, face_offsets, face_vertices, r,
+                                   [&](const vec3& a, const vec3& b, const vec3& c) {
+                                     const real w = a.dot(b.cross(c));  // 6 V_t
+                                     const vec3 s = a + b + c;
+                                     six_v += w;
+                                     first += w * s;
+                                     second += w * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
+                                                    s * s.transpose());
+                                   });
   mp.volume = six_v / 6;
   if (!(std::abs(six_v) > 0)) {
     mp.centroid = r;
@@ -137,21 +156,10 @@ struct mass_properties {
 [[nodiscard]] inline real polyhedron_volume(std::span<const vec3> vertices, std::span<const index> face_offsets,
                                             std::span<const index> face_vertices) {
   if (face_offsets.size() < 2) return 0;
-  const vec3 r = vertices[static_cast<std::size_t>(face_vertices[static_cast<std::size_t>(face_offsets[0])])];
+  const vec3 r = detail::reference_point(vertices, face_offsets, face_vertices);
   real six_v = 0;
-  for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f) {
-    const auto loop = face_vertices.subspan(static_cast<std::size_t>(face_offsets[f]),
-                                            static_cast<std::size_t>(face_offsets[f + 1] - face_offsets[f]));
-    const std::size_t n = loop.size();
-    if (n < 3) continue;
-    const std::size_t k0 = fan_apex(loop);
-    const vec3 a = vertices[static_cast<std::size_t>(loop[k0])] - r;
-    for (std::size_t t = 1; t + 1 < n; ++t) {
-      const vec3 b = vertices[static_cast<std::size_t>(loop[(k0 + t) % n])] - r;
-      const vec3 c = vertices[static_cast<std::size_t>(loop[(k0 + t + 1) % n])] - r;
-      six_v += a.dot(b.cross(c));
-    }
-  }
+  detail::for_each_fan_tetrahedron(vertices, face_offsets, face_vertices, r,
+                                   [&](const vec3& a, const vec3& b, const vec3& c) { six_v += a.dot(b.cross(c)); });
   return six_v / 6;
 }
 
