@@ -360,7 +360,7 @@ class deformable {
     real* const f = corner_force_.data();  // column 3 a + i: component i of corner a, over zones
     real* const sig = zone_stress_.data();  // column k: Voigt component k, over zones
     const index first = run_offsets_[r], last = run_offsets_[r + 1];
-#pragma omp simd
+TESSERA_PRAGMA_SIMD
     for (index z = first; z < last; ++z) {
       const index i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
       const real u0x = ux[i0], u0y = uy[i0], u0z = uz[i0];

@@ -10,6 +10,14 @@
 #include <omp.h>
 #endif
 
+/// `#pragma omp simd` where OpenMP is enabled, nothing otherwise (so builds without OpenMP, such
+/// as the sanitizer presets, do not warn about an unknown pragma). Put it right before a loop.
+#if defined(_OPENMP)
+#define TESSERA_PRAGMA_SIMD _Pragma("omp simd")
+#else
+#define TESSERA_PRAGMA_SIMD
+#endif
+
 namespace tessera {
 
 /// Number of threads parallel loops use (1 without OpenMP).
