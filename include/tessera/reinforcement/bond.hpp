@@ -34,6 +34,7 @@
 
 #include "../core/errors.hpp"
 #include "../core/types.hpp"
+#include "detail/plastic_spring.hpp"
 
 namespace tessera::reinforcement {
 
@@ -82,19 +83,14 @@ struct coulomb_bond {
   /// Return mapping for the total slip s (m) with stiffness K_bond (N/m) and limit F_max (N).
   static void update(const params&, state& st, real slip, real stiffness, real strength) noexcept {
     st.slip = slip;
-    const real trial = stiffness * (slip - st.plastic_slip);
-    if (std::abs(trial) <= strength) {
-      st.force = trial;
-      st.slipping = false;
-      return;
+    const detail::plastic_return r = detail::elastic_perfectly_plastic(slip, st.plastic_slip, stiffness, strength);
+    if (r.limited) {
+      st.plastic_slip += r.plastic_increment;
+      st.dissipated += 0.5 * (st.force + r.force) * r.plastic_increment;
+      st.has_slipped = true;
     }
-    const real old_force = st.force;
-    st.force = std::copysign(strength, trial);
-    const real plastic_increment = slip - st.force / stiffness - st.plastic_slip;
-    st.plastic_slip += plastic_increment;
-    st.dissipated += 0.5 * (old_force + st.force) * plastic_increment;
-    st.slipping = true;
-    st.has_slipped = true;
+    st.force = r.force;
+    st.slipping = r.limited;
   }
 
   /// Recoverable energy of the axial bond spring F_a^2 / (2 K_bond) (J).

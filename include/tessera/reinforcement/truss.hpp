@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "../core/types.hpp"
+#include "detail/plastic_spring.hpp"
 
 namespace tessera::reinforcement {
 
@@ -38,19 +39,15 @@ struct truss_element {
   /// Return mapping for total elongation e (m): sets N, e_p, the yielding flag and adds the
   /// dissipated increment 0.5 (N_old + N_new) Delta e_p (J).
   static void update(state& s, real elongation, real axial_stiffness, real yield_force) noexcept {
-    const real trial = axial_stiffness * (elongation - s.plastic_elongation);
-    if (std::abs(trial) <= yield_force) {
-      s.axial_force = trial;
-      s.yielding = false;
-      return;
+    const detail::plastic_return r =
+        detail::elastic_perfectly_plastic(elongation, s.plastic_elongation, axial_stiffness, yield_force);
+    if (r.limited) {
+      s.plastic_elongation += r.plastic_increment;
+      s.dissipated += 0.5 * (s.axial_force + r.force) * r.plastic_increment;
+      s.has_yielded = true;
     }
-    const real old_force = s.axial_force;
-    s.axial_force = std::copysign(yield_force, trial);
-    const real plastic_increment = elongation - s.axial_force / axial_stiffness - s.plastic_elongation;
-    s.plastic_elongation += plastic_increment;
-    s.dissipated += 0.5 * (old_force + s.axial_force) * plastic_increment;
-    s.yielding = true;
-    s.has_yielded = true;
+    s.axial_force = r.force;
+    s.yielding = r.limited;
   }
 
   /// Recoverable elastic energy N^2 / (2 K_axial) (J).
