@@ -32,19 +32,7 @@ linear_tie_law::params linear_tie_params() {
   return with_linear_softening(study_prism_params(100));
 }
 
-study_beam_law::params beam_params() {
-  study_beam_law::params p;
-  p.k_n = 500e9;
-  p.k_s = p.k_n / 2.4;
-  p.tension.f_T = 2.5e6;
-  p.tension.G_f = 60;
-  p.compression.f_c = 35e6;
-  p.shear.c_0 = 2 * p.tension.f_T;
-  p.shear.c_res = 0.01 * p.shear.c_0;
-  p.shear.phi_0 = friction_angle::from_degrees(35);
-  p.shear.phi_res = friction_angle::from_degrees(30);
-  return p;
-}
+study_beam_law::params beam_params() { return study_beam_params(250); }
 
 template <class Law>
 typename Law::params params_for() {

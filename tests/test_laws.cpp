@@ -35,19 +35,7 @@ linear_tie_law::params linear_tie_params() {
 
 /// The study's beam contacts (Sec. 4, 250 blocks): k_n = 500 GPa/m, f_T = 2.5 MPa, c = 2 f_T, phi = 35 deg,
 /// f_c = 35 MPa, G_f = 60 N/m; k_s = k_n G/E with nu = 0.2 (the study gives no k_s for the beam).
-study_beam_law::params beam_params() {
-  study_beam_law::params p;
-  p.k_n = 500e9;
-  p.k_s = p.k_n / (2 * 1.2);
-  p.tension.f_T = 2.5e6;
-  p.tension.G_f = 60;
-  p.compression.f_c = 35e6;
-  p.shear.c_0 = 2 * p.tension.f_T;
-  p.shear.c_res = 0.01 * p.shear.c_0;
-  p.shear.phi_0 = friction_angle::from_degrees(35);
-  p.shear.phi_res = friction_angle::from_degrees(30);
-  return p;
-}
+study_beam_law::params beam_params() { return study_beam_params(250); }
 
 /// Drives one sub-contact and integrates the work done on it with the trapezoidal rule, as a solver
 /// would: W = sum 0.5 (sigma_old + sigma_new) du_n + 0.5 (tau_old' + tau_new) . du_s, tau_old' being the
@@ -613,4 +601,16 @@ TEST_CASE("with_linear_softening keeps the stiffnesses, strengths and fracture e
   CHECK(linear.shear.phi_0.radians() == power.shear.phi_0.radians());
   CHECK(linear.shear.phi_res.radians() == power.shear.phi_res.radians());
   CHECK_NOTHROW(linear_tie_law::validate(linear));
+}
+
+TEST_CASE("study_beam_params: Table 3 of the study, k_s from nu = 0.2", "[law]") {
+  const auto b250 = study_beam_params(250), b500 = study_beam_params(500);
+  CHECK(b250.k_n == 500e9);
+  CHECK(b500.k_n == 625e9);
+  CHECK(b500.k_s == Approx(625e9 / 2.4).epsilon(1e-15));
+  CHECK(b250.tension.f_T == 2.5e6);
+  CHECK(b250.compression.f_c == 35e6);
+  CHECK(b250.shear.c_0 == 5e6);
+  CHECK_NOTHROW(study_beam_law::validate(b500));
+  REQUIRE_THROWS_WITH(study_beam_params(100), Catch::Contains("blocks = 100"));
 }

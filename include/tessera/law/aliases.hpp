@@ -71,4 +71,26 @@ static_assert(ContactLaw<study_beam_law>);
   return p;
 }
 
+/// Contact parameters of the study's RC beam in four-point bending (Sec. 4, Table 3) for 250 or
+/// 500 blocks: k_n = 500 / 625 GPa/m, f_T = 2.5 MPa, c_0 = 2 f_T, phi = 35 deg, f_c = 35 MPa,
+/// G_f = 60 N/m, linear softening. The study gives no shear stiffness for the beam; k_s = k_n G/E =
+/// k_n / (2 (1 + nu)) with nu = 0.2, the ratio Table 1 uses for the prism (k_s/k_n = 0.416). The
+/// residual values follow the prism (c_res = 0.01 c_0, phi_res = 30 deg). Throws invalid_input
+/// for any other block count.
+[[nodiscard]] inline study_beam_law::params study_beam_params(int blocks) {
+  require<invalid_input>(blocks == 250 || blocks == 500, "study_beam_params: blocks = ", blocks,
+                         " is not a block count of the study's beam (250, 500)");
+  study_beam_law::params p;
+  p.k_n = blocks == 250 ? 500e9 : 625e9;
+  p.k_s = p.k_n / (2 * 1.2);
+  p.tension.f_T = 2.5e6;
+  p.tension.G_f = 60;
+  p.compression.f_c = 35e6;
+  p.shear.c_0 = 2 * p.tension.f_T;
+  p.shear.c_res = 0.01 * p.shear.c_0;
+  p.shear.phi_0 = friction_angle::from_degrees(35);
+  p.shear.phi_res = friction_angle::from_degrees(30);
+  return p;
+}
+
 }  // namespace tessera::law
