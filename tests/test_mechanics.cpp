@@ -2,6 +2,7 @@
 // conditions, energy balance, solver composition (see tests/CMakeLists.txt).
 #include <catch2/catch.hpp>
 
+#include "support/elastic_contact.hpp"
 #include "support/hand_meshes.hpp"
 
 #include <algorithm>
@@ -197,18 +198,6 @@ using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
 using undamped_solver = solver<deformable_blocks, law::study_tie_law, reinforcement::none,
                                integrator::central_difference<integrator::no_damping>, checks::no_step_checker>;
 
-/// Elastic contact for mechanics tests: the study's law with strengths far above any stress here.
-law::study_tie_law::params stiff_elastic_contact(real k_n, real k_s) {
-  auto p = law::study_prism_params(100);
-  p.k_n = k_n;
-  p.k_s = k_s;
-  p.tension.f_T = 1e12;
-  p.tension.G_f = 1e13;  // zeta = 2 G_f / f_T must exceed eta = f_T / k_n
-  p.shear.c_0 = 2e12;
-  p.shear.c_res = 2e10;
-  return p;
-}
-
 }  // namespace
 
 static_assert(integrator::Integrator<integrator::central_difference<integrator::local_damping>>);
@@ -276,7 +265,7 @@ TEST_CASE("undamped elastic vibration of a zoned block conserves energy", "[mech
   // stay constant to well below 1e-3 over 1e5 steps at 0.9 of the Gershgorin step.
   const auto tess = box_tessellation(vec3(0, 0, 0), vec3(0.068, 0.068, 0.1));
   const auto mesh = geometry::zone_blocks(tess);
-  undamped_solver s(tess, mesh, concrete_block, stiff_elastic_contact(1e12, 4e11));
+  undamped_solver s(tess, mesh, concrete_block, test::elastic_contact(1e12, 4e11));
   // Initial velocity: a twisting + stretching field plus a slow spin (no loads, no supports).
   for (idx i = 0; i < s.gridpoints().size(); ++i) {
     const vec3 x = s.gridpoints().reference.row(i).transpose() - vec3(0.034, 0.034, 0.05);
@@ -316,7 +305,7 @@ TEST_CASE("a block on a contact spring oscillates with period 2 pi sqrt(m/k)", "
   const real k_n = 1e12;  // Pa/m
   // Blocks far stiffer than the contact, so block 1 moves as a rigid mass on the spring k_n A.
   const zones::linear_elastic_tet::params stiff{1e5 * k_n * a, 0.2, 2400};
-  undamped_solver s(tess, mesh, stiff, stiff_elastic_contact(k_n, 0.4 * k_n));
+  undamped_solver s(tess, mesh, stiff, test::elastic_contact(k_n, 0.4 * k_n));
   bc::fix(s.gridpoints(), bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return x.z() < a - 1e-9; }, "block 0"));
   bc::node_group upper = bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return x.z() > a + 1e-9; }, "upper");
   for (idx i = 0; i < mesh.gridpoint_count(); ++i)
@@ -343,7 +332,7 @@ TEST_CASE("Gershgorin time step is below the true critical step", "[mechanics][t
   const real a = 0.05;
   const auto tess = two_cell_column(a);
   const auto mesh = geometry::zone_blocks(tess);
-  undamped_solver s(tess, mesh, concrete_block, stiff_elastic_contact(1.16e12, 0.482e12));
+  undamped_solver s(tess, mesh, concrete_block, test::elastic_contact(1.16e12, 0.482e12));
   // Dense K by central finite differences of the (linear near the reference) internal forces.
   const idx n = s.gridpoints().size();
   Eigen::MatrixXd k(3 * n, 3 * n);
@@ -385,7 +374,7 @@ TEST_CASE("solver: time step options and mass scaling", "[mechanics][timestep]")
   const real a = 0.05;
   const auto tess = two_cell_column(a);
   const auto mesh = geometry::zone_blocks(tess);
-  const auto law_params = stiff_elastic_contact(1.16e12, 0.482e12);
+  const auto law_params = test::elastic_contact(1.16e12, 0.482e12);
   const prism_solver automatic(tess, mesh, concrete_block, law_params);
   solver_options too_large;
   too_large.dt = 2 * automatic.dt();
@@ -405,12 +394,12 @@ TEST_CASE("step checker stops a run whose masses are too small", "[mechanics][ch
   const real a = 0.05;
   const auto tess = two_cell_column(a);
   const auto mesh = geometry::zone_blocks(tess);
-  prism_solver s(tess, mesh, concrete_block, stiff_elastic_contact(1.16e12, 0.482e12));
+  prism_solver s(tess, mesh, concrete_block, test::elastic_contact(1.16e12, 0.482e12));
   s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
   s.prescribe_velocity(s.gridpoints_on_plane(2, 2 * a, 1e-9), vec3(0, 0, 1e-3), bc::components::z);
   s.gridpoints().mass *= 1e-3;  // dt now ~30 x above the stable limit
   CHECK_THROWS_AS(s.run(5000), numerical_instability);
-  prism_solver s2(tess, mesh, concrete_block, stiff_elastic_contact(1.16e12, 0.482e12));
+  prism_solver s2(tess, mesh, concrete_block, test::elastic_contact(1.16e12, 0.482e12));
   s2.gridpoints().mass *= 1e-3;
   s2.gridpoints().velocity.setConstant(1e-6);
   try {

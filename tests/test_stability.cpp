@@ -12,6 +12,7 @@
 // messages; run this binary with TESSERA_PRINT_ERRORS=1 to print them (tag [errors]).
 #include <catch2/catch.hpp>
 
+#include "support/elastic_contact.hpp"
 #include "support/hand_meshes.hpp"
 
 #include <chrono>
@@ -62,17 +63,7 @@ using undamped_tie_solver = solver<deformable_blocks, law::study_tie_law, truss,
 
 const zones::linear_elastic_tet::params concrete_block{280e9, 0.2, 2400};
 
-/// The study's law with strengths far above any stress of the test (an elastic contact).
-law::study_tie_law::params elastic_contact(real k_n, real k_s) {
-  auto p = law::study_prism_params(100);
-  p.k_n = k_n;
-  p.k_s = k_s;
-  p.tension.f_T = 1e12;
-  p.tension.G_f = 1e13;  // zeta = 2 G_f / f_T must exceed eta = f_T / k_n
-  p.shear.c_0 = 2e12;
-  p.shear.c_res = 2e10;
-  return p;
-}
+using test::elastic_contact;  // the study's law with strengths far above any stress here
 
 /// A velocity field of pseudo-random components of size `speed` (m/s) on every free node.
 void perturb(node_set& nodes, real speed, std::uint64_t seed) {
