@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/core/errors.hpp"
 #include "tessera/reinforcement/embedded_truss.hpp"
@@ -277,17 +278,6 @@ class load_drop_detector {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
-/// Linear interpolation of a curve with ascending abscissa at x (clamped to its ends).
-[[nodiscard]] inline real interpolate(const std::vector<real>& x, const std::vector<real>& y, real at) {
-  if (x.empty()) return 0;
-  if (at <= x.front()) return y.front();
-  if (at >= x.back()) return y.back();
-  const auto it = std::upper_bound(x.begin(), x.end(), at);
-  const std::size_t j = static_cast<std::size_t>(it - x.begin());
-  const real t = (at - x[j - 1]) / (x[j] - x[j - 1]);
-  return y[j - 1] + t * (y[j] - y[j - 1]);
-}
-
 /// Curve error of (x, y) against a reference (xr, yr): the RMS force difference over the common
 /// elongation range [0, min(x_end, xr_end)] on 2000 equal intervals (trapezoidal), relative to
 /// `scale` (the yield force f_y A):  e = sqrt( (1/U) int_0^U (F - F_ref)^2 du ) / scale.
@@ -297,14 +287,7 @@ class load_drop_detector {
   if (x.size() < 2 || xr.size() < 2) return 1;
   const real u_end = std::min(x.back(), xr.back());
   if (u_end <= 0) return 1;
-  constexpr int n = 2000;
-  double sum = 0;
-  for (int i = 0; i <= n; ++i) {
-    const real u = u_end * i / n;
-    const real d = interpolate(x, y, u) - interpolate(xr, yr, u);
-    sum += (i == 0 || i == n ? 0.5 : 1.0) * d * d;
-  }
-  return std::sqrt(sum / n) / scale;
+  return rms_curve_difference(x, y, xr, yr, u_end, 2000) / scale;
 }
 
 /// A monotone copy of a sampled elongation history (running maximum), so curves sampled during

@@ -65,6 +65,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
 #include "tessera/solver.hpp"
@@ -168,17 +169,6 @@ struct tension_result {
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
-/// Stress of curve (u, s) at displacement x by linear interpolation (clamped at the ends).
-[[nodiscard]] inline real interpolate_curve(const std::vector<real>& u, const std::vector<real>& s, real x) {
-  if (u.empty()) return 0;
-  const auto it = std::lower_bound(u.begin(), u.end(), x);
-  if (it == u.begin()) return s.front();
-  if (it == u.end()) return s.back();
-  const auto j = static_cast<std::size_t>(it - u.begin());
-  const real t = (x - u[j - 1]) / std::max(u[j] - u[j - 1], real(1e-300));
-  return s[j - 1] + t * (s[j] - s[j - 1]);
-}
-
 /// Curve error of (u, s) against a reference (u_ref, s_ref): the L2 norm of the stress difference
 /// over [0, u_max] divided by the reference peak,
 ///     e = sqrt( (1/u_max) int_0^u_max (s - s_ref)^2 du ) / max s_ref,
@@ -189,14 +179,7 @@ struct tension_result {
   if (u.empty() || u_ref.empty()) return 1;
   if (!(u_max > 0)) u_max = std::min(u.back(), u_ref.back());
   const real peak = *std::max_element(s_ref.begin(), s_ref.end());
-  constexpr int n = 1000;
-  double sum = 0;
-  for (int k = 0; k <= n; ++k) {
-    const real x = u_max * k / n;
-    const real d = interpolate_curve(u, s, x) - interpolate_curve(u_ref, s_ref, x);
-    sum += (k == 0 || k == n ? 0.5 : 1.0) * d * d;
-  }
-  return std::sqrt(sum / n) / peak;
+  return rms_curve_difference(u, s, u_ref, s_ref, u_max, 1000) / peak;
 }
 
 /// Runs the direct tension test on `scene` with solver type Solver and contact parameters

@@ -159,7 +159,7 @@ void write_study(const study& s, const sc::tie_hand_checks& hand, const fs::path
     std::vector<double> col;
     for (int i = 0; i <= n; ++i) {
       const real u = columns[0][static_cast<std::size_t>(i)];
-      col.push_back(x.empty() || u > x.back() ? std::numeric_limits<double>::quiet_NaN() : sc::interpolate(x, r.force, u));
+      col.push_back(x.empty() || u > x.back() ? std::numeric_limits<double>::quiet_NaN() : sc::interpolate_curve(x, r.force, u));
     }
     columns.push_back(std::move(col));
   }
