@@ -463,6 +463,7 @@ TEST_CASE("random load paths: energy balance closes, damage never heals", "[laws
   SECTION("study tie law") { run(study_tie_law{}, study_prism_params(500), true); }
   SECTION("linear tie law") { run(linear_tie_law{}, linear_tie_params(), true); }
   SECTION("study beam law") { run(study_beam_law{}, beam_params(), false); }
+  SECTION("coupled tie law") { run(coupled_tie_law{}, with_coupled_cohesion(study_prism_params(500)), true); }
 }
 
 TEST_CASE("parameter validation names the parameter and its value", "[laws][validation]") {
@@ -613,4 +614,50 @@ TEST_CASE("study_beam_params: Table 3 of the study, k_s from nu = 0.2", "[law]")
   CHECK(b250.shear.c_0 == 5e6);
   CHECK_NOTHROW(study_beam_law::validate(b500));
   REQUIRE_THROWS_WITH(study_beam_params(100), Catch::Contains("blocks = 100"));
+}
+
+TEST_CASE("coulomb_coupled: the cohesion softens with f_t/f_T, the normal response is unchanged", "[laws][shear]") {
+  const auto decoupled_p = study_prism_params(100);
+  const auto coupled_p = with_coupled_cohesion(decoupled_p);
+  const real f_T = decoupled_p.tension.f_T, k_n = decoupled_p.k_n;
+  const real c_0 = decoupled_p.shear.c_0, c_res = decoupled_p.shear.c_res;
+  const real tan_0 = std::tan(35 * std::numbers::pi / 180);
+  const real eta = eta_of(decoupled_p), zeta = zeta_of(decoupled_p);
+  contact_driver<study_tie_law> d(decoupled_p);
+  contact_driver<coupled_tie_law> c(coupled_p);
+
+  SECTION("intact: both laws give c_0 - sigma_n tan(phi_0)") {
+    d.open_to(0.5 * eta, 10);
+    c.open_to(0.5 * eta, 10);
+    CHECK(coupled_tie_law::shear_strength(c.p, c.s) == Approx(c_0 - 0.5 * f_T * tan_0).epsilon(1e-12));
+    CHECK(study_tie_law::shear_strength(d.p, d.s) == coupled_tie_law::shear_strength(c.p, c.s));
+  }
+  SECTION("softening at w = zeta: f_t = f_T/8, c = c_res + (c_0 - c_res)/8 (decoupled keeps c_0)") {
+    d.open_to(eta + zeta, 400);
+    c.open_to(eta + zeta, 400);
+    REQUIRE(c.s.sigma_n == d.s.sigma_n);  // same normal response, bit for bit
+    REQUIRE(c.s.sigma_n == Approx(f_T / 8).epsilon(1e-12));
+    const real c_coupled = c_res + (c_0 - c_res) / 8;
+    CHECK(coupled_tie_law::shear_strength(c.p, c.s) == Approx(c_coupled - f_T / 8 * tan_0).epsilon(1e-12));
+    CHECK(study_tie_law::shear_strength(d.p, d.s) == Approx(c_0 - f_T / 8 * tan_0).epsilon(1e-12));
+    // Sliding now: elastic up to the coupled limit, then brittle failure onto the residual one.
+    const real limit = c_coupled - f_T / 8 * tan_0;
+    c.slide_by(e_x * (0.99 * limit / c.p.k_s), 50);
+    CHECK_FALSE(has(coupled_tie_law::status(c.s), contact_status::slipped));
+    c.slide_by(e_x * (0.02 * limit / c.p.k_s), 5);
+    CHECK(has(coupled_tie_law::status(c.s), contact_status::slipped));
+    // Residual limit c_res - (f_T/8) tan(phi_res) = 43 kPa - 155 kPa < 0: no shear stress left.
+    REQUIRE(c_res - f_T / 8 * std::tan(30 * std::numbers::pi / 180) < 0);
+    CHECK(c.s.tau.norm() == 0);
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  }
+  SECTION("pulled to separation: the same separation energy as the decoupled law, cohesion c_res") {
+    const real u_end = 20 * zeta;
+    d.open_to(u_end, 20000);
+    c.open_to(u_end, 20000);
+    REQUIRE(has(coupled_tie_law::status(c.s), contact_status::broken_tension));
+    CHECK(c.s.dissipated_tension == d.s.dissipated_tension);
+    c.open_to(-1e-7, 10);
+    CHECK(coupled_tie_law::shear_strength(c.p, c.s) == Approx(c_res + k_n * 1e-7 * tan_0).epsilon(1e-9));
+  }
 }

@@ -49,6 +49,7 @@ struct inputs {
   tessera::cli::standard_options common;
   int blocks = 100;
   std::string softening = "power";
+  std::string cohesion = "decoupled";  // decoupled (DESIGN.md) | coupled (softens with f_t)
   bool rigid = false;
   int seeds = 1;
   int lloyd = 0;                  // Lloyd steps of the tessellation
@@ -89,6 +90,11 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   loading.threads = in.common.threads;
   loading.label = tessera::detail::concat("direct_tension seed ", seed);
   // Block model: deformable semi-rigid blocks, or rigid 6-DOF blocks (--rigid) with the same law.
+  if (in.cohesion == "coupled") {
+    const auto contact = tessera::law::with_coupled_cohesion(scene.contact);
+    if (in.rigid) return scenes::run_direct_tension<tessera::coupled_rigid_prism_solver>(scene, contact, loading);
+    return scenes::run_direct_tension<tessera::coupled_prism_solver>(scene, contact, loading);
+  }
   if (in.rigid) {
     if (in.softening == "power") return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, loading);
     return scenes::run_direct_tension<tessera::solver<tessera::blocks::rigid, tessera::law::linear_tie_law>>(
@@ -106,6 +112,10 @@ int run(const inputs& in) {
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
   tessera::require(in.softening == "power" || in.softening == "linear", "direct_tension: --softening '", in.softening,
                    "' must be 'power' or 'linear'");
+  tessera::require(in.cohesion == "decoupled" || in.cohesion == "coupled", "direct_tension: --cohesion '", in.cohesion,
+                   "' must be 'decoupled' or 'coupled'");
+  tessera::require(in.cohesion == "decoupled" || in.softening == "power",
+                   "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
   const tessera::cli::wall_timer timer;
 
   std::vector<scenes::tension_result> runs;
@@ -198,6 +208,7 @@ int run(const inputs& in) {
       .set("seed", in.common.seed)
       .set("seeds", in.seeds)
       .set("softening", in.softening)
+      .set("cohesion", in.cohesion)
       .set("rigid", in.rigid)
       .set("lloyd_iterations", in.lloyd)
       .set("platen_restraint", in.loading.platen_restraint)
@@ -290,6 +301,10 @@ int main(int argc, char** argv) {
   cli.option("--blocks", in.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N");
   cli.option("--seeds", in.seeds, "number of random tessellations (seed, seed+1, ...); envelope of their curves", "K");
   cli.option("--softening", in.softening, "tensile softening: power (alpha = 3) or linear", "power|linear");
+  cli.option("--cohesion", in.cohesion,
+             "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled "
+             "(c softens with f_t/f_T; power softening only)",
+             "decoupled|coupled");
   cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V");
   cli.flag("--rigid", in.rigid, "rigid blocks instead of deformable semi-rigid ones");
   cli.option("--step-displacement", ld.step_displacement,

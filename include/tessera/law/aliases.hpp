@@ -7,6 +7,8 @@
 // | study_tie_law  | power_softening  | elastic_compression | coulomb_residual | plain prism, RC tie (Sec. 3) |
 // | linear_tie_law | linear_softening | elastic_compression | coulomb_residual | tie, LS vs PS (Sec. 3.2)     |
 // | study_beam_law | linear_softening | plastic_cap         | coulomb_residual | RC beam (Sec. 4)             |
+// | coupled_tie_law| power_softening  | elastic_compression | coulomb_coupled  | opt-in: cohesion softens with |
+// |                |                  |                     |                  | f_t (docs/model.md)           |
 
 #include "../core/errors.hpp"
 #include "cohesive_frictional.hpp"
@@ -20,10 +22,12 @@ namespace tessera::law {
 using study_tie_law = cohesive_frictional<power_softening, elastic_compression, coulomb_residual>;
 using linear_tie_law = cohesive_frictional<linear_softening, elastic_compression, coulomb_residual>;
 using study_beam_law = cohesive_frictional<linear_softening, plastic_cap, coulomb_residual>;
+using coupled_tie_law = cohesive_frictional<power_softening, elastic_compression, coulomb_coupled>;
 
 static_assert(ContactLaw<study_tie_law>);
 static_assert(ContactLaw<linear_tie_law>);
 static_assert(ContactLaw<study_beam_law>);
+static_assert(ContactLaw<coupled_tie_law>);
 
 /// Contact parameters of the study's plain concrete prism (Table 1, DESIGN.md §4) for a
 /// tessellation of `blocks` blocks (100, 250, 500 or 750): k_n = 1160/1570/1980/2260 GPa/m,
@@ -68,6 +72,18 @@ static_assert(ContactLaw<study_beam_law>);
   p.tension.G_f = power.tension.G_f;
   p.compression = power.compression;
   p.shear = power.shear;
+  return p;
+}
+
+/// The same contact with its cohesion softening together with the tensile strength
+/// (coulomb_coupled): identical stiffnesses, tension, compression and shear parameters.
+[[nodiscard]] inline coupled_tie_law::params with_coupled_cohesion(const study_tie_law::params& decoupled) {
+  coupled_tie_law::params p;
+  p.k_n = decoupled.k_n;
+  p.k_s = decoupled.k_s;
+  p.tension = decoupled.tension;
+  p.compression = decoupled.compression;
+  p.shear = decoupled.shear;
   return p;
 }
 

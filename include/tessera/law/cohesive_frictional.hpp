@@ -4,7 +4,7 @@
 // manner of MercuryDPM's Species<Normal, Friction, ...>:
 //     Tension      TensionSoftening  (tension.hpp):     linear_softening, power_softening, no_tension
 //     Compression  CompressionLimit  (compression.hpp): elastic_compression, plastic_cap
-//     Shear        ShearLimit        (shear.hpp):       coulomb_residual
+//     Shear        ShearLimit        (shear.hpp):       coulomb_residual, coulomb_coupled
 // The named combinations of the study are in aliases.hpp. The law is a pure evaluator of one
 // sub-contact: stresses per unit area, the caller (contact::subcontact_set) multiplies by the
 // tributary area and owns loops and storage. It satisfies law::ContactLaw (concepts.hpp).
@@ -39,7 +39,8 @@
 //     new sigma_n. At the first exceedance the contact is marked `slipped` for good (brittle: the
 //     coulomb_residual policy then returns the residual limit) and tau is scaled back onto the limit
 //     along its own direction; afterwards perfectly plastic slip on that limit. Broken in tension
-//     also drops the cohesion to c_res (policy). Tension and shear are otherwise decoupled.
+//     also drops the cohesion to c_res (policy). Tension and shear are otherwise decoupled with
+//     coulomb_residual (DESIGN.md); coulomb_coupled softens the cohesion with f_t/f_T as well.
 //
 // Energy (J/m^2). Per step and mechanism the dissipated increment is the trapezoidal work minus the
 // change of elastic energy,
@@ -175,11 +176,12 @@ struct cohesive_frictional {
       book_shear_dissipation();
     } else {
       const real trial_sq = tau.squaredNorm();
-      real tau_max = Shear::strength(p.shear, sigma, s.flags);
+      const real fraction = tensile_fraction(p, s);
+      real tau_max = Shear::strength(p.shear, sigma, s.flags, fraction);
       if (trial_sq > tau_max * tau_max) {
         if (!has(s.flags, contact_status::slipped)) {
           s.flags = s.flags | contact_status::slipped;
-          tau_max = Shear::strength(p.shear, sigma, s.flags);
+          tau_max = Shear::strength(p.shear, sigma, s.flags, fraction);
         }
         tau *= tau_max / std::sqrt(trial_sq);
         book_shear_dissipation();
@@ -203,7 +205,7 @@ struct cohesive_frictional {
   }
   /// Current Coulomb limit tau_max (Pa) at the stored normal stress.
   [[nodiscard]] static real shear_strength(const params& p, const state& s) noexcept {
-    return Shear::strength(p.shear, s.sigma_n, s.flags);
+    return Shear::strength(p.shear, s.sigma_n, s.flags, tensile_fraction(p, s));
   }
   /// Energy dissipated so far by all mechanisms (J/m^2).
   [[nodiscard]] static real dissipated_energy(const state& s) noexcept {
@@ -215,6 +217,18 @@ struct cohesive_frictional {
   }
 
  private:
+  /// f_t/f_T for the shear policy: 1 unless the policy couples cohesion to tension and the contact
+  /// has softened (then the envelope is evaluated; a decoupled law never pays for it).
+  [[nodiscard]] static real tensile_fraction(const params& p, const state& s) noexcept {
+    if constexpr (Shear::couples_tension) {
+      if (s.u_soft > 0 && !has(s.flags, contact_status::broken_tension)) {
+        const real f_peak = Tension::peak_strength(p.tension);
+        return f_peak > 0 ? Tension::strength(p.tension, p.k_n, s.u_soft) / f_peak : real(0);
+      }
+    }
+    return 1;
+  }
+
   /// Tension cap for an intact contact whose trial stress is positive and may exceed the current
   /// strength: returns the normal stress and updates u_soft, u_p and the flags.
   static real tension_return(const params& p, state& s, real sigma_trial, real f_peak) noexcept {

@@ -9,13 +9,25 @@
 // the shear response is elastic, and at the first exceedance the law marks the contact `slipped`,
 // asks the policy again (now with the slipped flag) and scales tau back onto that limit.
 //
+// Two policies:
+//   coulomb_residual  the study's law as DESIGN.md §3 states it: the cohesion stays c_0 while the
+//                     contact softens in tension and drops to c_res only once it is broken.
+//   coulomb_coupled   the cohesion softens with the tensile strength, c = c_res + (c_0 - c_res)
+//                     f_t/f_T (one scalar damage for both, as in damage-coupled interface models).
+//                     Not the DESIGN.md default: opt-in, see docs/model.md "Cohesion and tensile
+//                     damage" for why it exists (a softening inclined face of a tortuous crack
+//                     otherwise keeps carrying 2 f_T of cohesion, which lifts the prism's peak).
+//
 // Concept ShearLimit, one requirement per line:
-// | expression                     | meaning                                                          |
-// |--------------------------------|------------------------------------------------------------------|
-// | S::params                      | plain struct, SI units, angles as friction_angle                 |
-// | S::validate(p)                 | throws invalid_input naming a bad parameter                      |
-// | S::strength(p, sigma_n, flags) | tau_max >= 0 (Pa) at normal stress sigma_n (Pa, + tension) for a  |
-// |                                | contact in damage state `flags` (contact_status); noexcept       |
+// | expression                        | meaning                                                        |
+// |-----------------------------------|----------------------------------------------------------------|
+// | S::params                         | plain struct, SI units, angles as friction_angle               |
+// | S::validate(p)                    | throws invalid_input naming a bad parameter                    |
+// | S::couples_tension                | constexpr bool: strength depends on the tensile damage         |
+// | S::strength(p, sigma_n, flags, r) | tau_max >= 0 (Pa) at normal stress sigma_n (Pa, + tension) for  |
+// |                                   | a contact in damage state `flags` (contact_status) whose        |
+// |                                   | tensile strength is the fraction r = f_t/f_T in [0, 1] of its   |
+// |                                   | peak (1 intact; the law passes 1 when !couples_tension); noexcept|
 
 #include <cmath>
 #include <concepts>
@@ -28,10 +40,11 @@
 namespace tessera::law {
 
 template <class S>
-concept ShearLimit = requires(const typename S::params& p, real sigma_n, contact_status flags) {
+concept ShearLimit = requires(const typename S::params& p, real sigma_n, contact_status flags, real r) {
   typename S::params;
   { S::validate(p) } -> std::same_as<void>;
-  { S::strength(p, sigma_n, flags) } noexcept -> std::convertible_to<real>;
+  { S::couples_tension } -> std::convertible_to<bool>;
+  { S::strength(p, sigma_n, flags, r) } noexcept -> std::convertible_to<real>;
 };
 
 /// A friction angle held in radians together with its tangent, so the Coulomb limit costs no
@@ -68,6 +81,7 @@ inline void require_friction_angle(const friction_angle& phi, const char* name) 
 /// shear, for good): c = c_res and phi = phi_res. Setting c_res = c_0 and phi_res = phi_0 gives a
 /// perfectly plastic Coulomb contact.
 struct coulomb_residual {
+  static constexpr bool couples_tension = false;
   struct params {
     real c_0 = 0;              ///< initial cohesion (Pa, >= 0)
     friction_angle phi_0{};    ///< initial friction angle, [0, 90) deg
@@ -82,8 +96,10 @@ struct coulomb_residual {
     detail::require_friction_angle(p.phi_0, "phi_0");
     detail::require_friction_angle(p.phi_res, "phi_res");
   }
-  /// tau_max = max(0, c - sigma_n tan(phi)) (Pa) with (c, phi) chosen by the damage state.
-  [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags) noexcept {
+  /// tau_max = max(0, c - sigma_n tan(phi)) (Pa) with (c, phi) chosen by the damage state; the
+  /// tensile fraction is ignored (decoupled).
+  [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags,
+                                     real /*tensile_fraction*/ = 1) noexcept {
     const bool slipped = has(flags, contact_status::slipped);
     const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
     const real c = cohesion_lost ? p.c_res : p.c_0;
@@ -93,6 +109,27 @@ struct coulomb_residual {
   }
 };
 
+/// coulomb_residual whose cohesion softens together with the tensile strength: while the contact
+/// is neither slipped nor broken, c = c_res + (c_0 - c_res) r with r = f_t/f_T the remaining
+/// fraction of the tensile strength, so c = c_0 for an intact contact and c -> c_res as the
+/// contact breaks (continuous, where coulomb_residual jumps from c_0 to c_res at the break). The
+/// friction angle and the brittle shear failure are those of coulomb_residual. Same parameters.
+struct coulomb_coupled {
+  static constexpr bool couples_tension = true;
+  using params = coulomb_residual::params;
+  static void validate(const params& p) { coulomb_residual::validate(p); }
+  [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags,
+                                     real tensile_fraction = 1) noexcept {
+    const bool slipped = has(flags, contact_status::slipped);
+    const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
+    const real c = cohesion_lost ? p.c_res : p.c_res + (p.c_0 - p.c_res) * tensile_fraction;
+    const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
+    const real limit = c - sigma_n * tan_phi;
+    return limit > 0 ? limit : real(0);
+  }
+};
+
 static_assert(ShearLimit<coulomb_residual>);
+static_assert(ShearLimit<coulomb_coupled>);
 
 }  // namespace tessera::law

@@ -284,5 +284,8 @@ using prism_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::
 using prism_linear_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::linear_tie_law>;
 /// The prism with rigid 6-DOF blocks (blocks::rigid, density only) and the study's tie law.
 using rigid_prism_solver = solver<blocks::rigid, law::study_tie_law>;
+/// Opt-in variants whose cohesion softens with the tensile strength (law::coupled_tie_law).
+using coupled_prism_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::coupled_tie_law>;
+using coupled_rigid_prism_solver = solver<blocks::rigid, law::coupled_tie_law>;
 
 }  // namespace tessera
