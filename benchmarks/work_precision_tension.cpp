@@ -13,7 +13,9 @@
 //   - mass scaling off: the physical stable step is tiny (sliver zones), so the run is not made;
 //     its step count is estimated from the stable step and reported with wall time = estimate
 //     (steps x measured time per step of the reference);
-//   - rigid vs deformable blocks: plug blocks::rigid in here when it lands (same loading).
+//   - rigid vs deformable blocks: the same tessellation with rigid 6-DOF blocks (blocks::rigid),
+//     compared with the deformable reference of its block count (so its error includes the
+//     modelling difference, not only the discretisation).
 // Writes DIR/work_precision_tension.csv and DIR/work_precision_tension.png (log10 curve error
 // against log10 wall time). Wall times are measured on a shared machine: compare them within one
 // table only.
@@ -47,6 +49,7 @@ struct variant {
   real step_displacement = 2e-9;   // m
   bool mass_scaling = true;
   bool reference = false;          // the reference of its block count
+  bool rigid = false;              // rigid 6-DOF blocks instead of deformable ones
 };
 
 struct row {
@@ -77,6 +80,7 @@ int main(int argc, char** argv) {
                   {"du_5nm", 100, 0.005, 5e-9, true, false},
                   {"du_10nm", 100, 0.005, 1e-8, true, false},
                   {"du_20nm", 100, 0.005, 2e-8, true, false},
+                  {"rigid_du_5nm", 100, 0.005, 5e-9, true, false, true},
                   {"no_mass_scaling", 100, 0.005, 2e-9, false, false}};
     } else {
       variants = {{"ref_100_1nm", 100, 0.005, 1e-9, true, true},
@@ -86,6 +90,8 @@ int main(int argc, char** argv) {
                   {"du_20nm", 100, 0.005, 2e-8, true, false},
                   {"rate_20mm_du_2nm", 100, 0.02, 2e-9, true, false},
                   {"rate_1mm_du_2nm", 100, 0.001, 2e-9, true, false},
+                  {"rigid_du_2nm", 100, 0.005, 2e-9, true, false, true},
+                  {"rigid_du_5nm", 100, 0.005, 5e-9, true, false, true},
                   {"no_mass_scaling", 100, 0.005, 2e-9, false, false},
                   {"ref_250_2nm", 250, 0.005, 2e-9, true, true},
                   {"b250_du_5nm", 250, 0.005, 5e-9, true, false},
@@ -128,7 +134,8 @@ int main(int argc, char** argv) {
         continue;
       }
       const tessera::cli::wall_timer timer;
-      w.r = scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
+      w.r = v.rigid ? scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, ld)
+                    : scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
       w.wall_s = timer.seconds();
       rows.push_back(w);
       if (v.reference) ref = &rows.back();
@@ -148,11 +155,11 @@ int main(int argc, char** argv) {
     {
       tessera::io::atomic_ofstream file(out / "work_precision_tension.csv");
       std::ostream& os = file.stream();
-      os << "variant,blocks,rate_m_per_s,step_displacement_m,mass_scaling,dt_s,added_mass_ratio,steps,wall_s,estimated,"
-            "peak_Pa,peak_error_rel,peak_vs_reference_rel,curve_error_rel\n";
+      os << "variant,blocks,blocks_model,rate_m_per_s,step_displacement_m,mass_scaling,dt_s,added_mass_ratio,steps,wall_s,"
+            "estimated,peak_Pa,peak_error_rel,peak_vs_reference_rel,curve_error_rel\n";
       os.precision(6);
       for (const row& x : rows)
-        os << x.v.name << ',' << x.v.blocks << ',' << x.v.rate << ',' << x.v.step_displacement << ','
+        os << x.v.name << ',' << x.v.blocks << ',' << (x.v.rigid ? "rigid" : "deformable") << ',' << x.v.rate << ',' << x.v.step_displacement << ','
            << (x.v.mass_scaling ? 1 : 0) << ',' << x.r.dt << ',' << x.r.added_mass_ratio << ',' << x.r.steps << ','
            << x.wall_s << ',' << (x.estimated ? 1 : 0) << ',' << x.r.peak_stress << ','
            << (x.estimated ? 0.0 : (x.r.peak_stress - f_t) / f_t) << ',' << x.peak_difference << ',' << x.curve_error
@@ -163,16 +170,23 @@ int main(int argc, char** argv) {
     plot.title = "Direct tension: curve error vs wall time (reference rows and estimates excluded)";
     plot.xlabel = "log10 wall time (s)";
     plot.ylabel = "log10 L2 curve error / reference peak";
-    // One point per measured non-reference variant (log10 columns: the plot helper has linear axes).
-    {
-      tessera::io::csv_writer pts(out / "work_precision_tension_points.csv", {"log10_wall_s", "log10_curve_error"});
+    // One point per measured non-reference variant (log10 columns: the plot helper has linear axes),
+    // one series per block model.
+    for (const bool rigid : {false, true}) {
+      const std::string name = rigid ? "work_precision_tension_points_rigid.csv" : "work_precision_tension_points.csv";
+      tessera::io::csv_writer pts(out / name, {"log10_wall_s", "log10_curve_error"});
+      int n = 0;
       for (const row& x : rows)
-        if (!x.v.reference && !x.estimated && x.curve_error > 0)
+        if (x.v.rigid == rigid && !x.v.reference && !x.estimated && x.curve_error > 0) {
           pts.row(std::log10(x.wall_s), std::log10(x.curve_error));
+          ++n;
+        }
       pts.commit();
+      if (n > 0)
+        plot.series.push_back({.csv = out / name, .x_column = "log10_wall_s", .y_column = "log10_curve_error",
+                               .title = rigid ? "rigid blocks" : "deformable blocks",
+                               .style = rigid ? "points pt 5 ps 1.5" : "points pt 7 ps 1.5"});
     }
-    plot.series.push_back({.csv = out / "work_precision_tension_points.csv", .x_column = "log10_wall_s",
-                           .y_column = "log10_curve_error", .title = "variants", .style = "points pt 7 ps 1.5"});
     tessera::io::plot_png(out / "work_precision_tension.png", plot);
     std::printf("wrote %s\n", (out / "work_precision_tension.csv").string().c_str());
     return 0;

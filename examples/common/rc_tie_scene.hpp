@@ -162,6 +162,9 @@ struct tie_loading {
   real damping_gamma = 0.8;     ///< local damping constant (study and 3DEC default 0.8)
   int threads = 0;              ///< OpenMP threads (0 = default)
   std::string softening = "power";  ///< "power" (alpha = 3) or "linear"
+  /// "decoupled" (cohesion c_0 until broken, DESIGN.md) or "coupled" (cohesion softens with f_t/f_T,
+  /// law::coulomb_coupled; power softening and deformable blocks only)
+  std::string cohesion = "decoupled";
   std::string progress_label;   ///< non-empty: a progress line on stderr with this label
 };
 
@@ -548,7 +551,16 @@ template <class OnEvent>
 [[nodiscard]] tie_result run_tie(const tie_scene& scene, const tie_loading& loading, OnEvent&& on_event) {
   require(loading.softening == "power" || loading.softening == "linear", "rc_tie: softening '", loading.softening,
           "' must be 'power' or 'linear'");
+  require(loading.cohesion == "decoupled" || loading.cohesion == "coupled", "rc_tie: cohesion '", loading.cohesion,
+          "' must be 'decoupled' or 'coupled'");
   const bool power = loading.softening == "power";
+  if (loading.cohesion == "coupled") {
+    require(power && !scene.options.rigid,
+            "rc_tie: coupled cohesion is built for power softening and deformable blocks only (got softening ",
+            loading.softening, scene.options.rigid ? ", rigid blocks)" : ")");
+    return run_tie<deformable_blocks, law::coupled_tie_law>(scene, law::with_coupled_cohesion(scene.prism.contact),
+                                                           loading, on_event);
+  }
   const auto linear = tessera::law::with_linear_softening(scene.prism.contact);
   if (scene.options.rigid)
     return power ? run_tie<blocks::rigid, law::study_tie_law>(scene, scene.prism.contact, loading, on_event)

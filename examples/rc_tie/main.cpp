@@ -215,6 +215,7 @@ int run(inputs in) {
       .set("symmetric_pull", in.loading.symmetric)
       .set("c_bond_N_per_m", in.tie.c_bond)
       .set("softening", in.loading.softening)
+      .set("cohesion", in.loading.cohesion)
       .set("rigid", in.tie.rigid)
       .set("bare", in.tie.bare)
       .set("rate_m_per_s", in.loading.rate)
@@ -305,6 +306,10 @@ int main(int argc, char** argv) {
   cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI");
   cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C");
   cli.option("--softening", softening, "contact tensile softening: power (alpha = 3) or linear", "power|linear");
+  cli.option("--cohesion", in.loading.cohesion,
+             "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
+             "f_t/f_T; power softening, deformable blocks)",
+             "decoupled|coupled");
   cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V");
   cli.flag("--fixed-end", fixed_end, "first bar node fixed, last pulled at --rate (default: both ends pulled at -/+ rate/2)");
   cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node");
