@@ -3,9 +3,11 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <sstream>
 #include <vector>
@@ -548,4 +550,160 @@ TEST_CASE("clip: a small polyhedron far from the origin gets no rounding-noise v
   }
   CHECK(cuts > 100);
   CHECK(near_duplicates == 0);
+}
+
+namespace {
+
+// A cut of a fuzz_clip reproducer: the plane and the tag (the cut's number in the input).
+struct recorded_cut {
+  plane h;
+  tessera::index tag;
+};
+
+// Clips the box [0, 1000 m]^3 with `cuts` in order; `resolution` returns the largest plane
+// tolerance the cuts used (clip's default: 1e-12 of the extent, floored at 16 eps |x|).
+convex_polyhedron replay_cuts(const std::vector<recorded_cut>& cuts, real& resolution) {
+  auto p = convex_polyhedron::box(vec3::Zero(), vec3::Constant(1000));
+  resolution = 0;
+  for (const recorded_cut& c : cuts) {
+    real coordinate_max = std::abs(c.h.offset);
+    for (const vec3& v : p.vertices()) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
+    resolution = std::max({resolution, plane_tolerance_rel * p.extent(), plane_rounding_tolerance(coordinate_max)});
+    p.clip(c.h, c.tag);
+  }
+  return p;
+}
+
+// Largest distance (m) of a vertex outside a face plane (face planes from the vertices, as
+// check() computes them), and the smallest face height (2 area / longest edge, m).
+real nonconvexity(const convex_polyhedron& p, real* min_height = nullptr) {
+  real worst = 0, height = std::numeric_limits<real>::infinity();
+  for (tessera::index f = 0; f < p.face_count(); ++f) {
+    const plane h = p.face_plane(f);
+    for (const vec3& v : p.vertices()) worst = std::max(worst, h.signed_distance(v));
+    const auto loop = p.face(f);
+    real longest = 0;
+    for (std::size_t k = 0; k < loop.size(); ++k)
+      longest = std::max(longest, (p.vertex(loop[(k + 1) % loop.size()]) - p.vertex(loop[k])).norm());
+    height = std::min(height, 2 * p.face_area(f) / longest);
+  }
+  if (min_height) *min_height = height;
+  return worst;
+}
+
+}  // namespace
+
+// Found by fuzz_clip (tests/fuzz/corpus/clip/clip_nonconvex_4e-9 and
+// clip_nonconvex_after_widened_cut): a 1000 m box cut down to 1.5e-6 m, and a 528 m polyhedron
+// cut down to 1.4e-3 m, had a vertex 4.1e-9 and 3.8e-8 of their extent outside a face plane.
+// Not a clipping error: the vertices carry the resolution of the cuts that made them, an
+// absolute length at the scale of the polyhedron then (coordinates rounded on 1000 m edges;
+// a vertex kept "on" plane 11 1e-10 m off it, inside that cut's 5.3e-10 m tolerance). The
+// convexity bound is therefore 1e-9 of the extent plus what that resolution tilts (fuzz_clip.cpp,
+// require_valid); these checks pin both cases to it.
+TEST_CASE("clip: a polyhedron cut far below its size stays convex within its cuts' resolution",
+          "[geometry][polyhedron][fuzz]") {
+  auto require_bound = [](const convex_polyhedron& p, real resolution) {
+    REQUIRE_FALSE(p.empty());
+    CHECK(p.euler_characteristic() == 2);
+    real height = 0;
+    const real d = nonconvexity(p, &height);
+    const real extent = p.extent();
+    CHECK(d <= 1e-9 * extent + 2 * resolution + extent * resolution / height);
+    return d;
+  };
+  SECTION("a corner 1e-7 m deep shaved off a 1000 m box, then cut down to 1.5e-6 m") {
+    real resolution = 0;
+    const auto p = replay_cuts({{{{0.99999848771609601, 0.0017391278047236452, 0}, 1001.7376145208196}, 0},
+                                {{{5.7500086813879119e-07, 0.99999999999983469, -0}, 999.9999999998347}, 2},
+                                {{{0.99905620433551801, 0.043435898204210309, 0.00015272819340439632}, 21.322361251117968}, 3},
+                                {{{-0.99910149083497757, 0.042381729687748421, 0}, 20.794877721207293}, 4},
+                                {{{-0.75995798290654482, 0.088073222963446607, -0.64397746203842166}, 0}, 5},
+                                {{{-0.57735026918962584, -0.57735026918962584, -0.57735026918962584}, -1.0000000000000001e-07}, 6},
+                                {{{0.00026237687688194817, -3.0407440539930906e-05, -0.99999996511688038}, 1.7347234759768071e-18}, 7},
+                                {{{0.70710654912414728, 0, 0.70710701324887149}, 1.224744467633643e-07}, 8}},
+                               resolution);
+    CHECK(p.extent() == Approx(1.49454e-6).epsilon(1e-4));
+    const real d = require_bound(p, resolution);
+    // 4.1e-9 of the extent, but in metres the rounding of coordinates on the 1000 m edges
+    // (eps x 490 m, the far endpoint of the edges the vertices were interpolated on)
+    CHECK(d / p.extent() > 1e-9);
+    CHECK(d < 4 * std::numeric_limits<real>::epsilon() * 1000);
+  }
+  SECTION("a vertex kept on plane 11 within its tolerance, then cut down to 1.4e-3 m") {
+    real resolution = 0;
+    const auto p = replay_cuts({{{{-0.024245518106113154, 0.13565467568461656, -0.99045947106212662}, 0}, 0},
+                                {{{0.39661363384108478, 0.62082631055401361, -0.67621913428655755}, -348.39455255861793}, 1},
+                                {{{-0.36259974437956849, 0.26037894317230537, 0.89483195703346718}, 1032.3238212959404}, 2},
+                                {{{-0.52335407472378437, -0.61545637839482814, 0.58933348688423737}, 589.33347861864706}, 3},
+                                {{{0.22133895609669213, 0.44962529797371958, -0.86535897634222902}, -445.84120536954583}, 4},
+                                {{{0.1414072066699, -0.46655964682608098, -0.87311287807209603}, -449.83608964254466}, 5},
+                                {{{0.60238860596871591, -0.33392163663270397, -0.7249995227499143}, -227.08977901876938}, 6},
+                                {{{-0.75071251684795459, 0.65737473683958469, 0.065491773627658068}, 412.61553505305699}, 7},
+                                {{{0.95005705036605514, 0.28078313022614387, 0.13620732296818464}, 284.47357942189655}, 11},
+                                {{{0, -0.74561597111249556, 0.66637588763547717}, 272.65687041491947}, 20}},
+                               resolution);
+    CHECK(p.extent() == Approx(1.35595e-3).epsilon(1e-4));
+    const real d = require_bound(p, resolution);
+    CHECK(d / p.extent() > 1e-9);
+    CHECK(d < 1e-12 * 528.045);  // in metres, within the tolerance of cut 11 (1e-12 of its 528 m extent)
+  }
+}
+
+// Found by fuzz_clip (tests/fuzz/corpus/clip/clip_coincident_cap_vertices): cut 9 crossed a
+// 1000 m long sliver face 5e-6 m wide 2e-6 m from its tip; its two long edges met the plane
+// 1e-14 m apart, below the 1e-13 m spacing of doubles near 1000, so the new face had two
+// vertices with equal coordinates. clip now merges such exact coincidences.
+TEST_CASE("clip: intersection points that round to the same position become one vertex", "[geometry][polyhedron][fuzz]") {
+  const std::vector<recorded_cut> cuts{
+      {{{0, 0, 1}, 347.93621728847177}, 0},
+      {{{0.043674319717726735, 0, 0.99904582167045453}, 391.27854370759781}, 3},
+      {{{0.87715194735342639, -1.96032619382102e-09, 0.48021293324325609}, 1044.2354168306929}, 8},
+      {{{0.57735026918962573, 0.57735026918962573, 0.57735026918962573}, 1355.5816057696259}, 9},
+      {{{0.8806454300245421, -0.43933985180911866, -0.17732490290207717}, -274.61204980258941}, 11},
+      {{{0, 0.95899453932625267, 0.28342454647124088}, 1057.6081987583893}, 13},
+      {{{-0.33333539481496005, -0.92562057592961688, -0.17920397311242559}, -987.97212519878951}, 14}};
+  auto p = convex_polyhedron::box(vec3::Zero(), vec3::Constant(1000));
+  for (const recorded_cut& c : cuts) {
+    p.clip(c.h, c.tag);
+    REQUIRE_FALSE(p.empty());
+    CHECK(p.euler_characteristic() == 2);
+    std::set<std::array<real, 3>> positions;
+    for (const vec3& v : p.vertices()) CHECK(positions.insert({v.x(), v.y(), v.z()}).second);
+    for (tessera::index f = 0; f < p.face_count(); ++f) {
+      const auto loop = p.face(f);
+      CHECK(std::set<tessera::index>(loop.begin(), loop.end()).size() == loop.size());
+      CHECK(loop.size() >= 3);
+    }
+  }
+}
+
+// Found by fuzz_tessellation (tests/fuzz/corpus/tessellation/voronoi_near_pair_nonconvex): two
+// pairs of generators 9.3e-10 m and 9.8e-11 m apart (s1/s3, s9/s11) share a vertex; each of its
+// four cells computed it from two nearly parallel bisectors, the best of them 1e-7 m off the
+// s1/s3 bisector, and welding put it there: cells 1 and 3 were 6e-8 m (2.3e-8 of their extent)
+// non-convex. Such vertices are now recomputed from their four generators (cleanup.hpp).
+TEST_CASE("voronoi: two near-coincident generator pairs sharing a vertex keep their cells convex",
+          "[geometry][voronoi][fuzz]") {
+  const aabb box{vec3(0, 0, 0), vec3(1.3125, 2.25, 3.8125)};
+  const std::vector<vec3> seeds{{0.67053959716182188, 1.6084229800869765, 0.49227702754253455},
+                                {0.52730315861753263, 1.159555962462806, 2.0923809796292061},
+                                {0.40247196154726483, 2.1648889906157014, 1.3580376897840849},
+                                {0.52730315805232308, 1.1595559618975964, 2.0923809790639964},
+                                {0.64772831311512935, 2.1961318379491872, 0.011053253986419471},
+                                {0.11944380865186541, 0.82721446555275813, 0.012507629510948349},
+                                {0.38753147173266195, 0.028839551384756235, 0.013496604867627986},
+                                {0.27858205539024949, 2.1085831998168918, 1.7569438086518654},
+                                {0.35700961318379487, 0.69396887159533072, 0.0081445029373617157},
+                                {0.76392767223620972, 0.008239871824216068, 2.8267242694743269},
+                                {0.82695410849164563, 0.05469214923323415, 0.011227779049362936},
+                                {0.76392767230543346, 0.0082398717549923145, 2.8267242694743269}};
+  const tessellation t = voronoi(box, seeds);
+  REQUIRE(t.cell_count() == 12);
+  require_valid(t);
+  const tessellation_report r = check(t);
+  CHECK(r.max_nonconvexity < 1e-13);  // m; was 6.0e-8
+  CHECK(r.max_face_warp < 1e-13);     // m; was 5.7e-8
+  for (tessera::index c = 0; c < t.cell_count(); ++c)
+    CHECK(cell_polyhedron(t, c).contains(t.seeds[static_cast<std::size_t>(c)], 1e-12));
 }

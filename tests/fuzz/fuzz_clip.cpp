@@ -16,7 +16,8 @@
 // After every cut the polyhedron must be empty or: closed and manifold (each directed edge once,
 // its reverse once; Euler characteristic 2), free of duplicate vertices (when no edge of the cut polyhedron
 // was shorter than 1e-9 extent), every face a loop of at
-// least 3 distinct vertices, convex (no vertex more than 1e-9 extent outside a face plane),
+// least 3 distinct vertices, convex (no vertex more than 1e-9 extent outside a face plane, plus
+// the resolution of the vertices: the plane tolerances of earlier cuts, see require_valid),
 // inside every cut made so far (within the documented maximal widening of the plane tolerance,
 // 1e-6 of the extent), with a volume that is positive and no larger than before the cut, both up
 // to the rounding of the coordinates and of the volume sum (see require_valid).
@@ -55,7 +56,7 @@ vec3 raw_normal(byte_reader& in) {
 }
 
 void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, real extent0, real volume_before,
-                    bool resolved) {
+                    bool resolved, real resolution) {
   if (p.empty()) {
     if (p.vertex_count() != 0) finding(concat("empty polyhedron keeps ", p.vertex_count(), " vertices"));
     return;
@@ -94,13 +95,24 @@ void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, r
   // position, a feature below the kernel's resolution that the tessellation cleanup welds.
   for (std::size_t k = 1; k < sorted.size() && resolved; ++k)
     if (sorted[k] == sorted[k - 1]) finding("two vertices at the same position");
-  // Convexity tolerance: 1e-9 of the extent plus the propagated rounding of the coordinates.
-  // A vertex stored to within delta = 4 eps |x|_max tilts the normal of a face whose smallest
-  // height is w by up to delta / w, which moves a vertex at distance `extent` by extent delta / w.
+  // Convexity tolerance: 1e-9 of the extent plus the propagated resolution of the vertices.
+  // A vertex lies off the planes of its faces by up to delta, which tilts the normal of a face
+  // whose smallest height is w by up to delta / w and so moves a vertex at distance `extent` by
+  // extent delta / w. delta is an absolute length fixed when the vertex was made, at the scale
+  // of the polyhedron of that cut, not of today's: a vertex classified "on" stays where it is,
+  // up to the plane tolerance of its cut (1e-12 of the extent then, or 16 eps |x|) off the new
+  // face, and an intersection point is rounded to eps |x| of the edge it was computed on. So
+  // delta = max(4 eps |x|_max now, `resolution` = the largest plane tolerance of the cuts so
+  // far). Measured on the two former open findings: a 1000 m box cut down to 1.5e-6 m (vertices
+  // from the 1000 m cuts 1.2e-14 m = 8e-9 extents off their face) and a 528 m polyhedron cut down
+  // to 1.4e-3 m (a vertex kept "on" 1e-10 m off plane 11, 7.6e-8 extents now). For a polyhedron
+  // not shrunk by its cuts delta stays 1e-12 of the extent, so a face of height >= 1e-3 extent
+  // is still held to 2e-9 of the extent: a misplaced vertex or wrong loop (an O(extent) error)
+  // is caught.
   const real extent = p.extent();
   real coordinate_max = 0;
   for (const vec3& v : p.vertices()) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
-  const real delta = 4 * std::numeric_limits<real>::epsilon() * coordinate_max;
+  const real delta = std::max(4 * std::numeric_limits<real>::epsilon() * coordinate_max, resolution);
   for (index f = 0; f < p.face_count(); ++f) {
     const plane h = p.face_plane(f);
     const auto loop = p.face(f);
@@ -148,6 +160,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const real extent0 = p.extent();
   std::vector<plane> cuts;
   plane previous = plane::through(vec3::UnitX(), 0.5 * hi);
+  real resolution = 0;  // largest plane tolerance of the cuts so far (m), see require_valid
   for (int cut = 0; cut < 48 && !in.exhausted() && !p.empty(); ++cut) {
     const int op = in.u8() % 8;
     const tessera::index nv = p.vertex_count();
@@ -193,6 +206,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         shortest_edge = std::min(shortest_edge, (p.vertex(loop[(k + 1) % loop.size()]) - p.vertex(loop[k])).norm());
     }
     const bool resolved = shortest_edge > 1e-9 * extent;
+    // clip's default plane tolerance for this cut (convex_polyhedron::clip)
+    real coordinate_max = std::abs(h.offset);
+    for (const vec3& v : p.vertices()) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
+    resolution = std::max({resolution, tessera::geometry::plane_tolerance_rel * extent,
+                           tessera::geometry::plane_rounding_tolerance(coordinate_max)});
     const std::size_t vertices_before = p.vertices().size();
     bool changed = false;
     try {
@@ -203,7 +221,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (op == 6 && (changed || p.vertices().size() != vertices_before)) finding("a plane beyond every vertex cut something");
     cuts.push_back(h);
     previous = h;
-    require_valid(p, cuts, extent0, volume_before, resolved);
+    require_valid(p, cuts, extent0, volume_before, resolved, resolution);
   }
   return 0;
 }

@@ -11,7 +11,10 @@
 //     neighbours). Welding is transitive (connected components, built with a uniform bin grid,
 //     a sort of the keys and union-find). The welded vertex takes the position of its
 //     best-conditioned member (largest |det| of the three incident unit face normals), ties
-//     broken by cell order, so the result does not depend on the thread count. Vertices within
+//     broken by cell order, so the result does not depend on the thread count. A welded vertex
+//     whose members are farther apart than tol (joined by their key: every computation was
+//     ill-conditioned) is instead recomputed from its generators, the least-squares point of
+//     all their pairwise power planes (recompute_ill_conditioned_vertices). Vertices within
 //     tol of a domain side are then snapped exactly onto it.
 //  2. Edges shorter than tol have now become repeated consecutive ids in a face loop: the
 //     repeats are removed (edge collapse). Spikes a-b-a left by a collapsed sliver are removed
@@ -35,10 +38,13 @@
 #include <span>
 #include <vector>
 
+#include <Eigen/SVD>
+
 #include "../core/errors.hpp"
 #include "../core/parallel.hpp"
 #include "../core/types.hpp"
 #include "convex_polyhedron.hpp"
+#include "predicates.hpp"
 #include "tessellation.hpp"
 
 namespace tessera::geometry {
@@ -174,6 +180,96 @@ inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_
   return out;
 }
 
+/// The power centre of the generators and box sides in `ids` (generator ids >= 0, boundary
+/// tags < 0): the least-squares point of every pairwise power plane and every side plane,
+/// solved by SVD. Returns false when those planes do not fix a point (smallest singular value
+/// below 1e-9 of the largest), e.g. fewer than three independent directions.
+[[nodiscard]] inline bool power_centre(std::span<const index> ids, std::span<const vec3> seeds,
+                                       std::span<const real> weights, const aabb& domain, vec3& x) {
+  Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic> a(0, 3);
+  Eigen::Matrix<real, Eigen::Dynamic, 1> b(0);
+  auto add_row = [&](const vec3& n, real offset) {
+    a.conservativeResize(a.rows() + 1, Eigen::NoChange);
+    b.conservativeResize(b.rows() + 1);
+    a.row(a.rows() - 1) = n.transpose();
+    b(b.rows() - 1) = offset;
+  };
+  auto weight = [&](index i) { return weights.empty() ? real(0) : weights[static_cast<std::size_t>(i)]; };
+  for (std::size_t p = 0; p < ids.size(); ++p) {
+    const index i = ids[p];
+    if (i < 0) {
+      const int side = boundary_side(i);
+      add_row(vec3::Unit(side / 2), (side % 2) ? domain.hi[side / 2] : domain.lo[side / 2]);
+      continue;
+    }
+    for (std::size_t q = p + 1; q < ids.size(); ++q) {
+      const index j = ids[q];
+      if (j < 0) continue;
+      const plane h = power_plane(seeds[static_cast<std::size_t>(i)], weight(i), seeds[static_cast<std::size_t>(j)], weight(j));
+      add_row(h.normal, h.offset);
+    }
+  }
+  if (a.rows() < 3) return false;
+  const Eigen::JacobiSVD<Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic>> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const auto& sigma = svd.singularValues();
+  if (!(sigma(2) > 1e-9 * sigma(0))) return false;
+  x = svd.solve(b);
+  return x.allFinite();
+}
+
+/// Step 1 for ill-conditioned vertices. A welded vertex whose members are farther apart than
+/// tol was joined by its vertex key (weld_vertices), i.e. every cell computed it from nearly
+/// parallel planes: two generators 1e-9 L apart make nearly identical bisectors in each of
+/// their neighbours. Its best-conditioned member can then still be 1e-7 L off the bisector of
+/// the close pair (fuzz_tessellation, two such pairs sharing a vertex: every one of its four
+/// computations had two nearly parallel planes), which tilts the faces through it by more than
+/// the 1e-9 convexity tolerance of check(). Such a vertex is recomputed from what it is by
+/// definition, the point of equal power distance to the generators of its keys (and on their box
+/// sides), from all pairwise planes at once: the close pair's own bisector is well defined
+/// (its normal is the exact difference of the two generators), so the system is well
+/// conditioned although every single cell's three planes were not. Vertices whose members agree
+/// within tol, i.e. every vertex of a tessellation without near-coincident generators, keep
+/// the member's position bit for bit.
+inline void recompute_ill_conditioned_vertices(welded_points& welded, std::span<const vec3> points,
+                                               std::span<const vertex_key> keys, std::span<const vec3> seeds,
+                                               std::span<const real> weights, real tol, const aabb& domain) {
+  const std::size_t nv = welded.vertices.size();
+  std::vector<aabb> spread(nv);
+  for (std::size_t k = 0; k < points.size(); ++k) spread[static_cast<std::size_t>(welded.global_id[k])].expand(points[k]);
+  std::vector<std::vector<index>> ids;  // per spread vertex: its key ids (filled lazily)
+  std::vector<index> spread_vertex(nv, invalid_index);
+  for (std::size_t g = 0; g < nv; ++g)
+    if (spread[g].size().maxCoeff() > tol) {
+      spread_vertex[g] = static_cast<index>(ids.size());
+      ids.emplace_back();
+    }
+  if (ids.empty()) return;
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const index sv = spread_vertex[static_cast<std::size_t>(welded.global_id[k])];
+    if (sv == invalid_index || keys[k] == no_vertex_key) continue;
+    auto& list = ids[static_cast<std::size_t>(sv)];
+    list.insert(list.end(), keys[k].begin(), keys[k].end());
+  }
+  for (std::size_t g = 0; g < nv; ++g) {
+    const index sv = spread_vertex[g];
+    if (sv == invalid_index) continue;
+    auto& list = ids[static_cast<std::size_t>(sv)];
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+    if (list.size() < 4 || list.size() > 8) continue;  // unkeyed, or many vertices welded into one
+    vec3 x;
+    if (!power_centre(list, seeds, weights, domain, x)) continue;
+    // the defining point must lie where its computations are (within the key-weld radius)
+    const vec3 centre = 0.5 * (spread[g].lo + spread[g].hi);
+    if ((x - centre).cwiseAbs().maxCoeff() > 1e4 * tol) continue;
+    for (int a = 0; a < 3; ++a) {
+      if (std::abs(x[a] - domain.lo[a]) <= tol) x[a] = domain.lo[a];
+      if (std::abs(x[a] - domain.hi[a]) <= tol) x[a] = domain.hi[a];
+    }
+    welded.vertices[g] = x;
+  }
+}
+
 /// Removes repeated consecutive ids (cyclically) and spikes a-b-a from a face loop, in place.
 inline void clean_loop(std::vector<index>& loop) {
   bool changed = true;
@@ -239,6 +335,7 @@ inline void clean_loop(std::vector<index>& loop) {
     }
   }, 64);
   welded_points welded = weld_vertices(points, tol, domain, keys, conditioning);
+  if (!seeds.empty()) recompute_ill_conditioned_vertices(welded, points, keys, seeds, weights, tol, domain);
 
   // Global loops per cell, cleaned; cells with < 4 faces are dropped.
   struct raw_face { index neighbor; std::size_t begin, end; };
