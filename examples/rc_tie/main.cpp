@@ -244,6 +244,7 @@ int run(inputs in) {
       .set("cracks", r.cracks.cracks)
       .set("crack_positions_m", r.cracks.positions)
       .set("crack_opening_threshold_m", r.cracks.opening_threshold)
+      .set("cracks_normal_opening_only", r.cracks_normal_only.cracks)
       .set("softened_cracks", r.softened_cracks.cracks)
       .set("softened_crack_positions_m", r.softened_cracks.positions)
       .set("crack_formation_elongations_m", formation_u)
@@ -272,12 +273,11 @@ int run(inputs in) {
 
   std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (shear lag %.1f, error %.1f %%;"
               " perfect compatibility %.1f, error %.1f %%)\n"
-              "  load drops %zu, softened through-cracks %d, fully opened through-cracks %d at z =",
+              "  load drops %zu, softened through-cracks %d, fully opened through-cracks %d (%d by u_n alone) at z =",
               r.first_crack_force * 1e-3, hand.cracking_force * 1e-3, 100 * rel(r.first_crack_force, hand.cracking_force),
               r.initial_stiffness * 1e-6, hand.bonded_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.bonded_stiffness),
               hand.uncracked_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(),
-              r.softened_cracks.cracks,
-              r.cracks.cracks);
+              r.softened_cracks.cracks, r.cracks.cracks, r.cracks_normal_only.cracks);
   for (real z : r.cracks.positions) std::printf(" %.3f", z);
   std::printf(" m\n  yield %.2f kN (f_y A %.2f kN, error %.2f %%) at %.3f mm; energy balance error %.2g\n"
               "  %lld sub-contacts, %lld zones, dt %.3g s (added mass %.1fx), %lld steps, runtime %.1f s; wrote %s\n",
