@@ -206,6 +206,10 @@ struct tie_result {
   real initial_stiffness = 0;           ///< N/m (initial_stiffness())
   real yield_force = 0;                 ///< mean force over the second half of the post-yield samples (N), 0 if not yielded
   real yield_elongation = 0;            ///< elongation at yield: an element yielded and F >= 0.9 f_y A (m)
+  /// Where the final branch has got to: the mean of the two bar-end forces over the last 2 % of the
+  /// elongation (N); 0 if not yielded. The two ends differ by the damping and inertia forces on the
+  /// floating concrete, so their mean is the better estimate of the quasi-static force.
+  real final_force = 0;
   real end_elongation = 0;              ///< m
   real energy_balance_error = 0;
   real boundary_work = 0, contact_dissipated = 0, damping_dissipated = 0, bar_dissipated = 0;  ///< J
@@ -546,6 +550,14 @@ template <class Blocks, class Law, class OnEvent>
     double sum = 0;
     for (std::size_t k = from; k < r.force.size(); ++k) sum += r.force[k];
     r.yield_force = r.force.size() > from ? sum / static_cast<double>(r.force.size() - from) : r.force.back();
+    const real u_last = r.elongation.back();
+    double end_sum = 0;
+    std::size_t end_count = 0;
+    for (std::size_t k = r.force.size(); k-- > yield_sample && r.elongation[k] >= 0.98 * u_last;) {
+      end_sum += 0.5 * (r.force[k] + r.pulled_force[k]);
+      ++end_count;
+    }
+    r.final_force = end_count > 0 ? end_sum / static_cast<double>(end_count) : 0;
   }
   r.end_elongation = r.elongation.empty() ? 0 : r.elongation.back();
   const real w_open = 2 * law_params.tension.G_f / law_params.tension.f_T;
