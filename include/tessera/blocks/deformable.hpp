@@ -29,8 +29,9 @@
 // assembled |K|).
 //
 // Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 395
-// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 211
-// for x86-64-v3 (AVX2, 4 zones per vector); 24 ns per zone-step with -march=native
+// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 208
+// for x86-64-v3 (AVX2, 4 zones per vector), of which the gather is about 65 (baseline); 29 ns
+// per zone-step with the default flags, 24 ns with -march=native
 // (benchmarks/bench_kernels.cpp).
 //
 // Thread safety: const members are safe to call concurrently; accumulate_forces is not.

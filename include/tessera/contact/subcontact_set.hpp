@@ -62,11 +62,15 @@
 // owns and the gather sums in a fixed order, so results are bit-identical for any thread count.
 // update() allocates nothing. Concurrent const access is safe; update() and
 // add_stiffness_bounds() must not run concurrently with anything else on the same object.
+// update() is also offered in pieces (begin_update, update_face, add_force) so that the solver
+// can run the faces in one parallel region with the zone kernel and gather contact and zone
+// forces in one pass over the gridpoints (solver.hpp); the results are the same to the bit.
 //
 // Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 375 instructions per sub-contact-step with
-// law::study_tie_law on baseline x86-64 (305 for x86-64-v3), of which the law update is about
-// 130 (callgrind, 100-block prism; benchmarks/bench_contacts.cpp).
+// construction O(sub-contacts + gridpoints). About 335 instructions per sub-contact-step with
+// law::study_tie_law on baseline x86-64 (270 for x86-64-v3), of which the law update (inlined)
+// is about 105 and the gather about 45; about 30 ns per sub-contact-step on one core of the
+// shared 2-core machine (callgrind and wall time, 100-block prism; benchmarks/bench_contacts.cpp).
 
 #include <algorithm>
 #include <array>
