@@ -29,8 +29,9 @@
 // assembled |K|).
 //
 // Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 395
-// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 211
-// for x86-64-v3 (AVX2, 4 zones per vector); 24 ns per zone-step with -march=native
+// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 208
+// for x86-64-v3 (AVX2, 4 zones per vector), of which the gather is about 65 (baseline); 29 ns
+// per zone-step with the default flags, 24 ns with -march=native
 // (benchmarks/bench_kernels.cpp).
 //
 // Thread safety: const members are safe to call concurrently; accumulate_forces is not.
@@ -70,6 +71,7 @@ class deformable {
              node_set& gridpoints) {
     Zone::validate(p);
     params_ = p;
+    constants_ = Zone::prepare(p);
     const index n_gp = mesh.gridpoint_count();
     const index n_z = mesh.zone_count();
     const index n_b = mesh.block_count();
@@ -130,6 +132,14 @@ class deformable {
       run_block_.push_back(b);
     }
     run_offsets_.push_back(n_z);
+    {
+      std::vector<char> seen(static_cast<std::size_t>(n_b), 0);
+      rotation_per_run_ = static_cast<index>(run_block_.size()) == n_b;
+      for (const index b : run_block_) {
+        if (seen[at(b)]) rotation_per_run_ = false;
+        seen[at(b)] = 1;
+      }
+    }
 
     // Block-average gradient weights w_i and the gridpoint -> zone-corner incidence (CSR).
     block_gradient_.setZero(n_gp, 3);
@@ -157,27 +167,46 @@ class deformable {
   /// Step 2: computes block rotations, zone strains and stresses from the current displacements
   /// and adds the zone forces (N) to gridpoints.force.
   void accumulate_forces(node_set& gridpoints) noexcept {
-    update_rotations(gridpoints);
-    const typename Zone::constants p = Zone::prepare(params_);
+    begin_zone_forces(gridpoints);
+    parallel_for(run_count(), [&](std::int64_t r) { zone_forces_of_run(static_cast<index>(r), gridpoints); }, 4);
+    parallel_for(gridpoints.size(), [&](std::int64_t i) { add_force(static_cast<index>(i), gridpoints); });
+  }
+
+  // ---- accumulate_forces() in pieces, for a solver that fuses the loops of its step ----
+  // accumulate_forces(gp) == begin_zone_forces(gp); zone_forces_of_run(r, gp) for every run r (in
+  // any order or concurrently); then add_force(i, gp) for every gridpoint i. Same results to the bit.
+
+  /// Number of runs (consecutive zones of one block; normally one per block).
+  [[nodiscard]] index run_count() const { return static_cast<index>(run_block_.size()); }
+  /// Block rotations, unless each block is exactly one run (then zone_forces_of_run computes
+  /// the rotation of its block first, saving a parallel loop).
+  void begin_zone_forces(const node_set& gridpoints) noexcept {
+    if (!rotation_per_run_) update_rotations(gridpoints);
+  }
+  /// Rotation (one run per block), zone stresses and corner forces of the zones of run r.
+  void zone_forces_of_run(index r, const node_set& gridpoints) noexcept {
+    if (rotation_per_run_) {
+      const auto b = at(run_block_[at(r)]);
+      rotation_[b] = block_rotation(gridpoints, static_cast<index>(b), rotation_[b]);
+    }
     const real* const u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                               gridpoints.displacement.col(2).data()};
-    parallel_for(static_cast<std::int64_t>(run_block_.size()), [&](std::int64_t r) { zone_kernel(p, u, at(r)); }, 4);
-    const index n_gp = gridpoints.size();
+    zone_kernel(constants_, u, at(r));
+  }
+  /// Adds to gridpoints.force the zone-corner forces of gridpoint i (sum in fixed CSR order).
+  void add_force(index i, node_set& gridpoints) const noexcept {
     const real* const f = corner_force_.data();
     const std::ptrdiff_t n_z = zone_count();
-    parallel_for(n_gp, [&](std::int64_t ii) {
-      const auto i = at(ii);
-      real f0 = 0, f1 = 0, f2 = 0;
-      for (index s = corner_offsets_[i]; s < corner_offsets_[i + 1]; ++s) {
-        const real* fs = f + corner_slots_[at(s)];
-        f0 += fs[0];
-        f1 += fs[n_z];
-        f2 += fs[2 * n_z];
-      }
-      gridpoints.force(static_cast<index>(ii), 0) += f0;
-      gridpoints.force(static_cast<index>(ii), 1) += f1;
-      gridpoints.force(static_cast<index>(ii), 2) += f2;
-    });
+    real f0 = 0, f1 = 0, f2 = 0;
+    for (index s = corner_offsets_[at(i)]; s < corner_offsets_[at(i) + 1]; ++s) {
+      const real* fs = f + corner_slots_[at(s)];
+      f0 += fs[0];
+      f1 += fs[n_z];
+      f2 += fs[2 * n_z];
+    }
+    gridpoints.force(i, 0) += f0;
+    gridpoints.force(i, 1) += f1;
+    gridpoints.force(i, 2) += f2;
   }
 
   /// Adds to gridpoints.stiffness (N/m) the largest Gershgorin row sum sum_j |K_ij| over the
@@ -434,6 +463,8 @@ TESSERA_PRAGMA_SIMD
   }
 
   params params_{};
+  typename Zone::constants constants_{};            ///< Zone::prepare(params_)
+  bool rotation_per_run_ = false;                   ///< every block is exactly one run
   // per zone, structure of arrays (hot in the zone kernel)
   std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
   std::array<std::vector<real>, 9> gradient_;       ///< gradient_[3 (a - 1) + k][z]: d N_a / d X_k (1/m), a = 1..3

@@ -62,11 +62,15 @@
 // owns and the gather sums in a fixed order, so results are bit-identical for any thread count.
 // update() allocates nothing. Concurrent const access is safe; update() and
 // add_stiffness_bounds() must not run concurrently with anything else on the same object.
+// update() is also offered in pieces (begin_update, update_face, add_force) so that the solver
+// can run the faces in one parallel region with the zone kernel and gather contact and zone
+// forces in one pass over the gridpoints (solver.hpp); the results are the same to the bit.
 //
 // Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 375 instructions per sub-contact-step with
-// law::study_tie_law on baseline x86-64 (305 for x86-64-v3), of which the law update is about
-// 130 (callgrind, 100-block prism; benchmarks/bench_contacts.cpp).
+// construction O(sub-contacts + gridpoints). About 335 instructions per sub-contact-step with
+// law::study_tie_law on baseline x86-64 (270 for x86-64-v3), of which the law update (inlined)
+// is about 105 and the gather about 45; about 30 ns per sub-contact-step on one core of the
+// shared 2-core machine (callgrind and wall time, 100-block prism; benchmarks/bench_contacts.cpp).
 
 #include <algorithm>
 #include <array>
@@ -266,12 +270,12 @@ class subcontact_set {
       ++count[at(node_b_[i])];
     }
     std::vector<index> next_slot(at(n_gridpoints), invalid_index);
-    gather_offsets_.assign(1, 0);
+    slot_offsets_.assign(at(n_gridpoints) + 1, 0);
     for (index g = 0; g < n_gridpoints; ++g) {
+      slot_offsets_[at(g) + 1] = slot_offsets_[at(g)] + count[at(g)];
       if (count[at(g)] == 0) continue;
-      next_slot[at(g)] = gather_offsets_.back();
+      next_slot[at(g)] = slot_offsets_[at(g)];
       contact_gridpoints_.push_back(g);
-      gather_offsets_.push_back(gather_offsets_.back() + count[at(g)]);
     }
     slot_a_.resize(n);
     slot_b_.resize(n);
@@ -306,68 +310,79 @@ class subcontact_set {
   /// positions. `gridpoints` must be the node_set of the block_mesh the set was built from.
   void update(node_set& gridpoints, real dt) noexcept {
     assert(gridpoints.size() == gridpoint_count_);
+    // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
+    // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
+    begin_update();
+    parallel_for(face_count(), [&](std::int64_t s) { update_face(static_cast<index>(s), gridpoints, dt); }, 16);
+    // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
+    parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
+                 [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
+  }
+
+  // ---- update() in pieces, for a solver that fuses the loops of its step (solver.hpp) ----
+  // update(gp, dt) == begin_update(); update_face(s, gp, dt) for every face s (in any order or
+  // concurrently); then add_force(g, gp) for every gridpoint g (concurrently for distinct g).
+  // Same results to the bit.
+
+  /// Makes the current frames the previous ones; once per step, before update_face.
+  void begin_update() noexcept { normal_.swap(previous_normal_); }
+
+  /// Frame of face s from the current positions (a degenerate face keeps its previous frame),
+  /// then law update and force rows of each of its sub-contacts. Writes only face s's data.
+  void update_face(index s, const node_set& gridpoints, real dt) noexcept {
     const real* X[3] = {gridpoints.reference.col(0).data(), gridpoints.reference.col(1).data(),
                         gridpoints.reference.col(2).data()};
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
-
-    // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
-    // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
-    // A degenerate face keeps its previous frame.
-    normal_.swap(previous_normal_);
-    const params_type& p = params_;
     real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
-    parallel_for(
-        face_count(),
-        [&](std::int64_t s) {
-          const vec3 d = face_area_vector(static_cast<index>(s), X, u);
-          const vec3 n_prev(previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2));
-          const real length2 = d.squaredNorm();
-          const vec3 n = length2 > 0 ? vec3(d / std::sqrt(length2)) : n_prev;
-          for (int c = 0; c < 3; ++c) normal_(s, c) = n[c];
-          const vec3 tilt = n_prev.cross(n);  // rotation vector n_prev -> n (first order)
-          const auto first = at(first_subcontact_[at(s)]);
-          const auto last = at(first_subcontact_[at(s) + 1]);
-          for (std::size_t i = first; i < last; ++i) {
-            const index a = node_a_[i], b = node_b_[i];
-            vec3 du, gap;
-            for (int c = 0; c < 3; ++c) {
-              du[c] = (v[c][b] - v[c][a]) * dt;
-              gap[c] = u[c][b] - u[c][a];
-            }
-            du -= tilt.cross(gap);
-            const real du_n = du.dot(n);
-            const vec3 du_s = du - du_n * n;
-            state_type& st = state_[i];
-            Law::update(p, st, du_n, du_s, n);
-            const vec3 traction = st.sigma_n * n + vec3(st.tau);
-            const real area = area_[i];
-            const index sa = slot_a_[i], sb = slot_b_[i];
-            for (int c = 0; c < 3; ++c) {
-              buffer[c][sb] = -area * traction[c];
-              buffer[c][sa] = area * traction[c];
-            }
-          }
-        },
-        16);
-
-    // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
-    real* F[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(), gridpoints.force.col(2).data()};
-    parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()), [&](std::int64_t jj) {
-      const auto j = at(jj);
-      const index g = contact_gridpoints_[j];
-      real fx = 0, fy = 0, fz = 0;
-      for (index e = gather_offsets_[j]; e < gather_offsets_[j + 1]; ++e) {
-        fx += buffer[0][e];
-        fy += buffer[1][e];
-        fz += buffer[2][e];
+    const params_type& p = params_;
+    const vec3 d = face_area_vector(s, X, u);
+    const vec3 n_prev(previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2));
+    const real length2 = d.squaredNorm();
+    const vec3 n = length2 > 0 ? vec3(d / std::sqrt(length2)) : n_prev;
+    for (int c = 0; c < 3; ++c) normal_(s, c) = n[c];
+    const vec3 tilt = n_prev.cross(n);  // rotation vector n_prev -> n (first order)
+    const auto first = at(first_subcontact_[at(s)]);
+    const auto last = at(first_subcontact_[at(s) + 1]);
+    for (std::size_t i = first; i < last; ++i) {
+      const index a = node_a_[i], b = node_b_[i];
+      vec3 du, gap;
+      for (int c = 0; c < 3; ++c) {
+        du[c] = (v[c][b] - v[c][a]) * dt;
+        gap[c] = u[c][b] - u[c][a];
       }
-      F[0][g] += fx;
-      F[1][g] += fy;
-      F[2][g] += fz;
-    });
+      du -= tilt.cross(gap);
+      const real du_n = du.dot(n);
+      const vec3 du_s = du - du_n * n;
+      state_type& st = state_[i];
+      Law::update(p, st, du_n, du_s, n);
+      const vec3 traction = st.sigma_n * n + vec3(st.tau);
+      const real area = area_[i];
+      const index sa = slot_a_[i], sb = slot_b_[i];
+      for (int c = 0; c < 3; ++c) {
+        buffer[c][sb] = -area * traction[c];
+        buffer[c][sa] = area * traction[c];
+      }
+    }
+  }
+
+  /// Adds the contact forces of the last update_face calls on gridpoint g to gridpoints.force
+  /// (a contiguous sum over g's slots in fixed order; nothing for a gridpoint without sub-contacts).
+  void add_force(index g, node_set& gridpoints) const noexcept {
+    const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
+    if (begin == end) return;
+    const real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
+    real fx = 0, fy = 0, fz = 0;
+    for (index e = begin; e < end; ++e) {
+      fx += buffer[0][e];
+      fy += buffer[1][e];
+      fz += buffer[2][e];
+    }
+    gridpoints.force(g, 0) += fx;
+    gridpoints.force(g, 1) += fy;
+    gridpoints.force(g, 2) += fz;
   }
 
   /// Adds to gridpoints.stiffness (N/m) the Gershgorin row bound of every sub-contact spring:
@@ -513,9 +528,10 @@ class subcontact_set {
   soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
   /// Contact forces of the last update (N), 2 rows per sub-contact grouped by gridpoint: rows
-  /// [gather_offsets_[j], gather_offsets_[j + 1]) belong to gridpoint contact_gridpoints_[j].
+  /// [slot_offsets_[g], slot_offsets_[g + 1]) belong to gridpoint g (empty without sub-contacts).
   soa3 force_buffer_;
-  std::vector<index> contact_gridpoints_, gather_offsets_{0};
+  std::vector<index> slot_offsets_{0};
+  std::vector<index> contact_gridpoints_;  ///< gridpoints with a non-empty slot range, increasing
 };
 
 }  // namespace tessera::contact

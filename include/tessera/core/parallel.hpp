@@ -52,6 +52,29 @@ void parallel_for(std::int64_t n, F&& f, std::int64_t grain = 256) {
   for (std::int64_t i = 0; i < n; ++i) f(i);
 }
 
+/// Calls f(i) for i in [0, n) and g(j) for j in [0, m) in ONE parallel region (two statically
+/// scheduled loops without a barrier between them), for two independent loops of a step: one
+/// fork/join instead of two. f and g must only write state owned by their index and must not
+/// depend on each other's results. Serial (f then g) when n + m < 2 grain or one thread.
+template <class F, class G>
+void parallel_for_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_t grain = 16) {
+#if defined(_OPENMP)
+  if (n + m >= 2 * grain && omp_get_max_threads() > 1) {
+#pragma omp parallel
+    {
+#pragma omp for schedule(static) nowait
+      for (std::int64_t i = 0; i < n; ++i) f(i);
+#pragma omp for schedule(static) nowait
+      for (std::int64_t j = 0; j < m; ++j) g(j);
+    }
+    return;
+  }
+#endif
+  (void)grain;
+  for (std::int64_t i = 0; i < n; ++i) f(i);
+  for (std::int64_t j = 0; j < m; ++j) g(j);
+}
+
 /// Sum of f(i) over [0, n) with a result independent of the thread count: partial sums
 /// over fixed chunks of `chunk` indices, added in chunk order.
 template <class F>

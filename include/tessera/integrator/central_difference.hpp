@@ -59,6 +59,13 @@ class central_difference {
 
   /// Advances every node of `nodes` by one step (see the file comment).
   void advance(node_set& nodes, real dt, step_work& work) const noexcept {
+    advance(nodes, dt, work, [](std::int64_t, std::int64_t) {});
+  }
+  /// The same, calling prepare(begin, end) on each chunk of nodes [begin, end) right before
+  /// integrating it (in the same parallel loop), e.g. to gather the chunk's forces while they
+  /// are about to be used; prepare must only write the nodes of its chunk.
+  template <class Prepare>
+  void advance(node_set& nodes, real dt, step_work& work, Prepare&& prepare) const noexcept {
     const std::int64_t n = nodes.size();
     if (n == 0) return;
     constexpr std::int64_t max_chunks = 64;
@@ -68,6 +75,7 @@ class central_difference {
     parallel_for(chunks, [&](std::int64_t k) {
       step_work w;
       const std::int64_t end = std::min(n, (k + 1) * chunk);
+      prepare(k * chunk, end);
       for (int c = 0; c < 3; ++c) {
         real* v = nodes.velocity.col(c).data();
         real* u = nodes.displacement.col(c).data();
