@@ -92,7 +92,8 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_coupled_quic
 # Bond stiffness per unit bar length, symmetric pull (the defaults). Measured (quick, seed 1):
 # first crack 15.2 kN (hand 10.6 kN, +43 %: the quick run is coarse and the tortuous-crack shear
 # excess of the plain prism adds ~10 %), K0 82.1 kN/mm vs the shear-lag value 85.6 (-4 %), 2 load
-# drops, yield 21.3 kN (f_y A = 20.1 kN, +6 %), energy balance error 5.5e-5, 26.6k steps. The
+# drops, 2 fully opened through-cracks (4 softened), yield 21.3 kN (f_y A = 20.1 kN, +6 %; final
+# branch +5.4 %), energy balance error 5.5e-5, 26.6k steps. The
 # acceptance tolerances of issue 4 (first cracking within 10 %, yield within 2 %) are NOT met yet
 # (README, "RC tie"), so the checks below are the tolerances the model meets today.
 tessera_add_example_test(rc_tie
@@ -102,6 +103,9 @@ tessera_add_example_test(rc_tie
          "yield_force_error_rel LESS 0.15"
          "initial_stiffness_shear_lag_error_rel LESS 0.15"
          "first_crack_error_rel LESS 0.6"
+         "final_force_error_rel LESS 0.1"
+         "cracks GREATER 0"
+         "softened_cracks GREATER 1"
          "energy_balance_error_rel LESS 0.01"
          "subcontacts GREATER 2000"
   TIMEOUT 300)
