@@ -707,3 +707,54 @@ TEST_CASE("voronoi: two near-coincident generator pairs sharing a vertex keep th
   for (tessera::index c = 0; c < t.cell_count(); ++c)
     CHECK(cell_polyhedron(t, c).contains(t.seeds[static_cast<std::size_t>(c)], 1e-12));
 }
+
+// Found by fuzz_clip (tests/fuzz/corpus/clip/clip_pinched_cap_throws): cut 17 of a 0.023 m
+// polyhedron is a plane through its edge v0-v1 that also passes within 1.6e-14 m (inside the
+// 2.3e-14 m tolerance) of all three vertices of a triangle face with 3.5e-11 m edges (tag 16),
+// which touches the cross-section at v8 only. Removing that face as "on" left the outline of
+// the new face pinched at v8 (0-1-8 and 8-7-9: two successors), and clip threw "no consistent
+// cut" at every band. clip now retries with "on" vertices without an outside neighbour (v7, v9)
+// counted as inside: the tiny face stays, the new face is the cross-section triangle, and no
+// vertex moves. The polyhedron is the fuzzer's state before cut 17 (coordinates to 17 digits).
+TEST_CASE("clip: a plane through a sub-resolution face touching the cut at one vertex", "[geometry][polyhedron][fuzz]") {
+  const std::vector<vec3> vertices{{0.0234375, 0, 0},
+                                   {0.0234375, 0, 0.0234375},
+                                   {0.0234375, 0.00079495548753016464, 4.1548196212385542e-07},
+                                   {0.016716885582574621, 0, 0.0234375},
+                                   {0.0072429710067605929, 0.021931474814164117, 0.0234375},
+                                   {0.0074895485131136717, 0.022355482167695572, 9.8317907395771454e-06},
+                                   {0.0075166487781613035, 0.022355482110730244, 9.8349382434916234e-06},
+                                   {0.0010741781740138704, 0.021931474814164117, 0.0234375},
+                                   {0.0010741781740137533, 0.021931474814129329, 0.0234375},
+                                   {0.0010741781739996683, 0.021931474814164825, 0.02343749999996082}};
+  auto p = convex_polyhedron::from_faces(
+      vertices, {0, 3, 6, 11, 15, 19, 24, 29, 32},
+      {0, 2, 1, 0, 1, 3, 3, 1, 4, 7, 8, 0, 5, 6, 2, 1, 2, 6, 4, 0, 3, 8, 9, 5, 4, 6, 5, 9, 7, 7, 9, 8},
+      {-2, -3, -6, 7, 13, 14, 15, 16});
+  REQUIRE(p.euler_characteristic() == 2);
+  const real extent = p.extent(), volume_before = p.volume();
+  const plane h{{-0.70017964974304459, -0.71396670656670491, 1.2758506209011399e-12}, -0.016410460540822704};
+  bool cut = false;
+  REQUIRE_NOTHROW(cut = p.clip(h, 17));  // threw geometry_error
+  CHECK(cut);
+  REQUIRE_FALSE(p.empty());
+  CHECK(p.euler_characteristic() == 2);
+  // closed and manifold: every directed edge once, its reverse once
+  std::vector<std::pair<tessera::index, tessera::index>> edges;
+  for (tessera::index f = 0; f < p.face_count(); ++f) {
+    const auto loop = p.face(f);
+    CHECK(loop.size() >= 3);
+    for (std::size_t k = 0; k < loop.size(); ++k) edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
+  }
+  std::sort(edges.begin(), edges.end());
+  CHECK(std::adjacent_find(edges.begin(), edges.end()) == edges.end());
+  for (const auto& [a, b] : edges) CHECK(std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a)));
+  // one new face (tag 17), and the tiny face is kept
+  CHECK(std::count(p.face_tags().begin(), p.face_tags().end(), 17) == 1);
+  CHECK(std::count(p.face_tags().begin(), p.face_tags().end(), 16) == 1);
+  // inside the cut within its tolerance (1e-12 of the extent), convex, smaller
+  for (const vec3& v : p.vertices()) CHECK(h.signed_distance(v) <= plane_tolerance_rel * extent);
+  CHECK(nonconvexity(p) <= 1e-9 * extent);  // 1.0e-17 m
+  CHECK(p.volume() < volume_before);
+  CHECK(p.volume() > 0.6 * volume_before);  // 1.169e-6 of 1.745e-6 m^3
+}
