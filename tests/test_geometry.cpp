@@ -758,3 +758,49 @@ TEST_CASE("clip: a plane through a sub-resolution face touching the cut at one v
   CHECK(p.volume() < volume_before);
   CHECK(p.volume() > 0.6 * volume_before);  // 1.169e-6 of 1.745e-6 m^3
 }
+
+// Found by fuzz_tessellation (tests/fuzz/corpus/tessellation/voronoi_far_box_nonconvex_2e-9):
+// eight generators on a sphere of radius 40 m (s3 ... s16 around the box centre) and s15, a
+// copy of s6 moved 7.7e-8 m (1e-9 L, the weld tolerance), 4.4e-8 m closer to the centre. Cell 15
+// has eight true vertices within 1.9e-7 m of the centre; welding (transitively, each within tol
+// of the next) made them one vertex at the position of one of them, 1.3e-7 m off the planes of
+// s15, and cells 7, 9 and 15 were 2.1e-9 of their extent non-convex (2.8e-7 m). Not rounding far
+// from the origin: the cells computed every true vertex the same within 1e-12 m. The cleanup now
+// recomputes such a vertex from all nine generators of the cluster, not only up to eight.
+TEST_CASE("voronoi: a generator near a cospherical set leaves no welded cluster off its planes",
+          "[geometry][voronoi][fuzz]") {
+  const aabb box{vec3(450, -756.25, 762.5), vec3(750, -453.125, 862.5)};
+  const std::vector<vec3> seeds{{450, -753.88179980163272, 764.74765392538336},
+                                {457.10002288853286, -737.30439841306168, 762.50915541313805},
+                                {471.09407186999312, -586.89593347066454, 769.92198825055311},
+                                {571.7157287525381, -604.6875, 840.7842712474619},
+                                {600, -604.6875, 852.5},
+                                {628.2842712474619, -604.6875, 840.7842712474619},
+                                {576.90598923241498, -581.59348923241498, 835.59401076758502},
+                                {600, -576.4032287525381, 840.7842712474619},
+                                {623.09401076758502, -581.59348923241498, 835.59401076758502},
+                                {600, -583.65825551523471, 846.52603233408161},
+                                {600, -625.71674448476529, 846.52603233408161},
+                                {450, -453.125, 762.5},
+                                {450, -604.6875, 840.7842712474619},
+                                {450.02288853284506, -756.25, 762.5},
+                                {450.14648661020829, -581.59348923241498, 835.59401076758502},
+                                {576.90598923241498, -581.59348930931105, 835.59401076758502},
+                                {565.97396766591839, -604.6875, 791.47075551523471},
+                                {600.00228885328454, -604.68518730449375, 862.11089494163423},
+                                {571.7157287525381, -756.23149843595024, 840.7842712474619},
+                                {450.02288853284506, -453.125, 862.5}};
+  const tessellation t = voronoi(box, seeds);
+  REQUIRE(t.cell_count() == 20);
+  require_valid(t);
+  real worst_rel = 0;
+  for (tessera::index c = 0; c < t.cell_count(); ++c) {
+    const convex_polyhedron p = cell_polyhedron(t, c);
+    worst_rel = std::max(worst_rel, nonconvexity(p) / p.extent());
+    CHECK(p.contains(t.seeds[static_cast<std::size_t>(c)], 1e-9 * p.extent()));
+  }
+  CHECK(worst_rel < 1e-9);  // 5.5e-10; was 2.1e-9
+  const tessellation_report r = check(t);
+  CHECK(r.max_nonconvexity < 1e-7);  // m; 4.1e-8, was 2.8e-7
+  CHECK(r.max_face_warp < 5e-8);     // m; 3.5e-8, was 6.6e-8
+}
