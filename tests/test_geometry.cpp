@@ -759,6 +759,42 @@ TEST_CASE("clip: a plane through a sub-resolution face touching the cut at one v
   CHECK(p.volume() > 0.6 * volume_before);  // 1.169e-6 of 1.745e-6 m^3
 }
 
+// Found by fuzz_clip (tests/fuzz/corpus/clip/clip_needle_tip_throws): a 133 m needle whose tip
+// is three vertices 5e-13 m apart (a sub-resolution triangle face), shaved 9.4e-4 m below the
+// tip (cut 15). The three edges meet the plane at points that round to two positions, so the new
+// face merged into two vertices and clip threw "no consistent cut" at every band. It now drops
+// such a face in its fallback: the needle ends in an edge, and the surface stays closed.
+TEST_CASE("clip: a cut near the tip of a sub-resolution needle may leave no new face", "[geometry][polyhedron][fuzz]") {
+  auto p = convex_polyhedron::from_faces({{696.35684435246594, 906.00286982786736, 280.02266580584876},
+                                          {696.35684435246594, 906.00286982786781, 280.02266580584831},
+                                          {696.35684435246594, 906.00286982786702, 280.02266580584921},
+                                          {696.19337108336708, 999.99999955966848, 186.06603695206121},
+                                          {696.19337108333411, 999.99999957863884, 186.06603692495202},
+                                          {696.19337103516762, 999.9999996627555, 186.06603685276872}},
+                                         {0, 4, 8, 12, 15, 18}, {3, 0, 1, 4, 4, 1, 2, 5, 0, 3, 5, 2, 0, 2, 1, 3, 4, 5},
+                                         {0, 6, 9, 12, 13});
+  REQUIRE(p.euler_characteristic() == 2);
+  const real extent = p.extent();
+  const plane h{{0.027017161347914959, 0, 0.9996349698728535}, 298.73309434484332};
+  bool cut = false;
+  REQUIRE_NOTHROW(cut = p.clip(h, 15));  // threw geometry_error
+  CHECK(cut);
+  REQUIRE(p.face_count() == 4);
+  CHECK(p.vertex_count() == 5);
+  CHECK(p.euler_characteristic() == 2);
+  std::vector<std::pair<tessera::index, tessera::index>> edges;
+  for (tessera::index f = 0; f < p.face_count(); ++f) {
+    const auto loop = p.face(f);
+    CHECK(std::set<tessera::index>(loop.begin(), loop.end()).size() == loop.size());
+    for (std::size_t k = 0; k < loop.size(); ++k) edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
+  }
+  std::sort(edges.begin(), edges.end());
+  CHECK(std::adjacent_find(edges.begin(), edges.end()) == edges.end());
+  for (const auto& [a, b] : edges) CHECK(std::binary_search(edges.begin(), edges.end(), std::make_pair(b, a)));
+  for (const vec3& v : p.vertices()) CHECK(h.signed_distance(v) <= plane_tolerance_rel * extent);  // 5.7e-14 m
+  CHECK(std::count(p.face_tags().begin(), p.face_tags().end(), 12) == 0);  // the tip face is cut off
+}
+
 // Found by fuzz_tessellation (tests/fuzz/corpus/tessellation/voronoi_far_box_nonconvex_2e-9):
 // eight generators on a sphere of radius 40 m (s3 ... s16 around the box centre) and s15, a
 // copy of s6 moved 7.7e-8 m (1e-9 L, the weld tolerance), 4.4e-8 m closer to the centre. Cell 15
