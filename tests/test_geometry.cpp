@@ -882,9 +882,16 @@ TEST_CASE("voronoi: a generator near a cospherical set leaves no welded cluster 
 
 namespace {
 
-// Over the interior faces of t: the largest distance (m) of a face vertex from the face's
-// bisector, and of a cell vertex outside a bisector of its cell (Voronoi, the defining planes).
-std::pair<real, real> bisector_residuals(const tessellation& t) {
+// Voronoi tessellation of `seeds` in `box`: conforming and closed (check()), every vertex within
+// the weld tolerance (1e-9 L) of the bisector of each of its interior faces (on_own), and every
+// cell vertex inside every bisector of its cell within it (outside). Returns the two maxima (m).
+std::pair<real, real> require_within_weld_tolerance(const aabb& box, const std::vector<vec3>& seeds) {
+  const tessellation t = voronoi(box, seeds);
+  REQUIRE(t.cell_count() == static_cast<tessera::index>(seeds.size()));
+  const tessellation_report r = check(t);
+  CHECK(r.volume_error_rel < 1e-12);
+  CHECK(r.unmatched_faces == 0);
+  CHECK(r.open_cells == 0);
   real on_own = 0, outside = 0;
   for (tessera::index c = 0; c < t.cell_count(); ++c) {
     const convex_polyhedron p = cell_polyhedron(t, c);
@@ -896,6 +903,9 @@ std::pair<real, real> bisector_residuals(const tessellation& t) {
       for (const vec3& x : p.vertices()) outside = std::max(outside, h.signed_distance(x));
     }
   }
+  const real tol = 1e-9 * std::cbrt(box.volume() / static_cast<real>(seeds.size()));
+  CHECK(on_own < tol);
+  CHECK(outside < tol);
   return {on_own, outside};
 }
 
@@ -928,16 +938,9 @@ TEST_CASE("voronoi: a face at the weld scale keeps its vertices on its bisector 
       {18, {450.02288853284506, -453.125, 862.5}},
       {19, {750, -581.59348923241498, 835.59401076758502}}};
   for (const auto& [i, x] : differ) seeds[i] = x;
-  const tessellation t = voronoi(box, seeds);
-  REQUIRE(t.cell_count() == 20);
-  const tessellation_report r = check(t);
-  CHECK(r.volume_error_rel < 1e-12);
-  CHECK(r.unmatched_faces == 0);
-  CHECK(r.open_cells == 0);
-  const real tol = 1e-9 * std::cbrt(box.volume() / 20);  // the weld tolerance, 7.7e-8 m
-  const auto [on_own, outside] = bisector_residuals(t);
-  CHECK(on_own < tol);   // 4.9e-8 m
-  CHECK(outside < tol);  // 4.9e-8 m
+  const auto [on_own, outside] = require_within_weld_tolerance(box, seeds);  // tol 7.7e-8 m
+  CHECK(on_own < 5e-8);   // 4.9e-8 m
+  CHECK(outside < 5e-8);  // 4.9e-8 m
 }
 
 // Found by fuzz_tessellation (tests/fuzz/corpus/tessellation/voronoi_weld_moved_vertex): the
@@ -968,14 +971,7 @@ TEST_CASE("voronoi: a welded vertex stays within the weld tolerance of every bis
                                 {300, -386.8651293202106, -711.92492561226823},
                                 {300, 46.875, -704.59104441715579},
                                 {300, 21.245608284192237, -697.5932730928381}};
-  const tessellation t = voronoi(box, seeds);
-  REQUIRE(t.cell_count() == 20);
-  const tessellation_report r = check(t);
-  CHECK(r.volume_error_rel < 1e-12);
-  CHECK(r.unmatched_faces == 0);
-  CHECK(r.open_cells == 0);
-  const real tol = 1e-9 * std::cbrt(box.volume() / 20);  // the weld tolerance, 1.17e-7 m
-  const auto [on_own, outside] = bisector_residuals(t);
-  CHECK(on_own < tol);   // 9.3e-8 m (0.79 tol) over all cells
-  CHECK(outside < tol);  // 9.3e-8 m
+  const auto [on_own, outside] = require_within_weld_tolerance(box, seeds);  // tol 1.17e-7 m
+  CHECK(on_own < 1e-7);   // 9.3e-8 m (0.79 tol) over all cells
+  CHECK(outside < 1e-7);  // 9.3e-8 m
 }
