@@ -55,8 +55,18 @@ vec3 raw_normal(byte_reader& in) {
   return n;
 }
 
+// Rounding bound (m^3) of the signed-tetrahedron sum of p.volume(): about 4 eps |a||b||c| <=
+// 4 eps (sqrt(3) L)^3 / 6 per fan triangle (coordinates relative to a reference point inside,
+// L the extent); it dominates for slivers and needles, whose volume is << L^3.
+real volume_rounding(const convex_polyhedron& p) {
+  std::size_t triangles = 0;
+  for (index f = 0; f < p.face_count(); ++f) triangles += p.face(f).size() - 2;
+  const real extent = p.extent();
+  return 4 * std::numeric_limits<real>::epsilon() * static_cast<real>(triangles) * 5.2 * extent * extent * extent / 6;
+}
+
 void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, real extent0, real volume_before,
-                    bool resolved, real resolution) {
+                   real volume_before_rounding, bool resolved, real resolution) {
   if (p.empty()) {
     if (p.vertex_count() != 0) finding(concat("empty polyhedron keeps ", p.vertex_count(), " vertices"));
     return;
@@ -130,22 +140,25 @@ void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, r
       if (cuts[c].signed_distance(v) > 1e-6 * extent0)
         finding(concat("vertex ", cuts[c].signed_distance(v) / extent0, " extents outside cut ", c));
   // A cut removes volume. Allowed apparent growth: the rounding of the coordinates (delta x
-  // area) plus that of the signed-tetrahedron sum, about 4 eps |a||b||c| <= 4 eps (sqrt(3) L)^3
-  // per fan triangle (it dominates for slivers, whose volume is << L^3), before and after.
+  // area) plus that of the signed-tetrahedron sums before and after (volume_rounding), each at
+  // the scale of its own polyhedron: a cut that leaves a 2.8e-5 m piece of a needle of extent 94 m compares
+  // with a volume computed at 94 m (fuzz_clip, corpus/clip/clip_needle_base_volume: -4.0e-14
+  // m^3 before, 1.8e-21 after; the former bound took both roundings at today's extent).
   const real volume = p.volume();
   real area = 0;
-  std::size_t triangles = 0;
-  for (index f = 0; f < p.face_count(); ++f) {
-    area += p.face_area(f);
-    triangles += p.face(f).size() - 2;
-  }
-  const real tetrahedron_sum_rounding =
-      2 * 4 * std::numeric_limits<real>::epsilon() * static_cast<real>(triangles) * 5.2 * extent * extent * extent / 6;
+  for (index f = 0; f < p.face_count(); ++f) area += p.face_area(f);
+  const real tetrahedron_sum_rounding = volume_rounding(p);
   // "Positive" up to rounding: clip does not resolve features thinner than its plane tolerance
   // (1e-12 extent), so a needle or a sliver below it may keep a volume that rounds to 0 (the
   // tessellation cleanup removes such cells); an inverted (clearly negative) volume is a finding.
-  if (!(volume > -tetrahedron_sum_rounding)) finding(concat("non-empty polyhedron of volume ", volume));
-  if (volume > volume_before * (1 + 1e-12) + 2 * delta * area + tetrahedron_sum_rounding)
+  // The vertices are known to delta, which moves the volume by up to delta x area, as above
+  // (fuzz_clip, corpus/clip/clip_speck_negative_volume: a needle of extent 94 m cut down to a
+  // 3.1e-10 m speck, below the 1e-9 m resolution of the cuts of the 1000 m box, of volume
+  // -6.1e-40 m^3; the bound had the tetrahedron-sum rounding, 1.9e-43 m^3, not 2 delta x area,
+  // 1.2e-31 m^3).
+  if (!(volume > -2 * tetrahedron_sum_rounding - 2 * delta * area))
+    finding(concat("non-empty polyhedron of volume ", volume));
+  if (volume > volume_before * (1 + 1e-12) + 2 * delta * area + tetrahedron_sum_rounding + volume_before_rounding)
     finding(concat("a cut grew the volume from ", volume_before, " to ", volume));
 }
 
@@ -198,7 +211,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       h = previous.flipped();
     }
     if (!h.normal.allFinite() || !std::isfinite(h.offset)) continue;  // zero normal: no plane
-    const real volume_before = p.volume();
+    const real volume_before = p.volume(), volume_before_rounding = volume_rounding(p);
     real shortest_edge = std::numeric_limits<real>::infinity();
     for (tessera::index f = 0; f < p.face_count(); ++f) {
       const auto loop = p.face(f);
@@ -221,7 +234,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (op == 6 && (changed || p.vertices().size() != vertices_before)) finding("a plane beyond every vertex cut something");
     cuts.push_back(h);
     previous = h;
-    require_valid(p, cuts, extent0, volume_before, resolved, resolution);
+    require_valid(p, cuts, extent0, volume_before, volume_before_rounding, resolved, resolution);
   }
   return 0;
 }

@@ -169,19 +169,22 @@ class convex_polyhedron {
   /// coordinate, so a small polyhedron far from the origin is not cut by rounding noise. When every vertex is outside or on the plane, the result is
   /// empty. When rounding makes the sides inconsistent (a face loop that leaves and re-enters
   /// the plane), the "on" band is widened 100x per attempt up to max_widened_tolerance_rel
-  /// (1e-6) of extent(); throws geometry_error when no consistent cut is found at that bound.
+  /// (1e-6) of extent(). When no band gives a consistent cut, the attempts are repeated in
+  /// fallback mode, which settles features below the tolerance (see try_clip); throws
+  /// geometry_error when that fails too.
   bool clip(const plane& h, index tag, real tol = -1) {
     if (empty()) return false;
     if (tol < 0) tol = plane_tolerance_rel * extent();
     real coordinate_max = std::abs(h.offset);
     for (const vec3& v : vertices_) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
     tol = std::max(tol, plane_rounding_tolerance(coordinate_max));
-    const real widest = std::max(tol, max_widened_tolerance_rel * extent());
-    for (;;) {
-      const clip_result r = try_clip(h, tag, tol);
-      if (r != clip_result::inconsistent) return r == clip_result::cut;
-      if (tol >= widest) break;
-      tol = std::min(100 * tol, widest);  // rounding broke the bitonic side pattern of a face: widen the "on" band
+    const real narrowest = tol, widest = std::max(tol, max_widened_tolerance_rel * extent());
+    for (const bool fallback : {false, true}) {
+      for (tol = narrowest;; tol = std::min(100 * tol, widest)) {  // rounding broke the bitonic side pattern of a face: widen the "on" band
+        const clip_result r = try_clip(h, tag, tol, fallback);
+        if (r != clip_result::inconsistent) return r == clip_result::cut;
+        if (tol >= widest) break;
+      }
     }
     throw geometry_error(tessera::detail::concat("convex_polyhedron::clip: no consistent cut by plane n = (", h.normal.x(),
                                         ", ", h.normal.y(), ", ", h.normal.z(), "), offset = ", h.offset,
@@ -217,15 +220,48 @@ class convex_polyhedron {
     return s;
   }
 
-  clip_result try_clip(const plane& h, index tag, real tol) {
+  // One attempt of clip with "on" band tol. The fallback mode, used only after every band
+  // failed without it (so cuts that succeeded before are unchanged bit for bit), differs twice:
+  // (1) A vertex "on" the plane none of whose neighbours (along face edges) is outside counts as inside:
+  // it stays where it is, as every "on" vertex does, but the faces through it are kept instead
+  // of being replaced by the new face. In exact arithmetic such a vertex cannot exist while
+  // anything is outside (the polyhedron lies in the cone of the edges at the vertex, and all of
+  // them point inside or along the plane), so it marks a feature below the plane tolerance
+  // lying on the plane. fuzz_clip: a plane through an edge of a 0.023 m polyhedron and, within
+  // 1e-14 m, through a triangle face with 3.5e-11 m edges that touches the cross-section at one
+  // vertex; removing that face as "on" pinches the outline of the new face there (two
+  // successors), while keeping it leaves the new face the cross-section triangle and the tiny
+  // face where it was. No vertex moves and no face changes its plane.
+  // (2) A new face whose vertices merge into fewer than 3 (merge_coincident_cap_vertices) is
+  // dropped instead of failing: the part cut off ends in an edge or a point that the
+  // coordinates cannot resolve. fuzz_clip: a 133 m needle whose tip is three vertices 5e-13 m
+  // apart, shaved 9.4e-4 m: the three intersection points near the tip round to two positions.
+  // The surface stays closed: the faces around a dropped face of two vertices a, b use the
+  // edge as a->b and b->a.
+  clip_result try_clip(const plane& h, index tag, real tol, bool fallback) {
     scratch& s = workspace();
     const std::size_t nv = vertices_.size();
     s.distance.resize(nv);
     s.vertex_side.resize(nv);
-    bool any_outside = false, any_inside = false;
     for (std::size_t v = 0; v < nv; ++v) {
       s.distance[v] = h.signed_distance(vertices_[v]);
       s.vertex_side[v] = classify_distance(s.distance[v], tol);
+    }
+    if (fallback) {
+      s.used.assign(nv, 0);  // 1: an "on" vertex with an outside neighbour
+      for (index f = 0; f < face_count(); ++f) {
+        const auto loop = face(f);
+        for (std::size_t k = 0; k < loop.size(); ++k) {
+          const auto a = static_cast<std::size_t>(loop[k]), b = static_cast<std::size_t>(loop[(k + 1) % loop.size()]);
+          if (s.vertex_side[a] == side::outside && s.vertex_side[b] == side::on) s.used[b] = 1;
+          if (s.vertex_side[b] == side::outside && s.vertex_side[a] == side::on) s.used[a] = 1;
+        }
+      }
+      for (std::size_t v = 0; v < nv; ++v)
+        if (s.vertex_side[v] == side::on && !s.used[v]) s.vertex_side[v] = side::inside;
+    }
+    bool any_outside = false, any_inside = false;
+    for (std::size_t v = 0; v < nv; ++v) {
       any_outside |= s.vertex_side[v] == side::outside;
       any_inside |= s.vertex_side[v] == side::inside;
     }
@@ -329,7 +365,7 @@ class convex_polyhedron {
       s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
       s.face_tags.push_back(tag);
     }
-    if (!merge_coincident_cap_vertices(s)) return clip_result::inconsistent;
+    if (!merge_coincident_cap_vertices(s, fallback)) return clip_result::inconsistent;
 
     // Drop vertices no face uses any more (an on-plane vertex whose faces were all removed).
     s.used.assign(nnew, invalid_index);
@@ -355,8 +391,9 @@ class convex_polyhedron {
   // (the last face) at exactly the same position are merged into one; repeats this leaves in a
   // loop are removed and a face left with fewer than 3 vertices (of zero area) is dropped. Only
   // exact coincidences are merged, so no vertex moves and any other cut is unchanged bit for bit.
-  // Returns false when the new face itself degenerates (the caller then widens the tolerance).
-  static bool merge_coincident_cap_vertices(scratch& s) {
+  // Returns false when the new face itself degenerates (the caller then widens the tolerance),
+  // unless may_drop_new_face (try_clip's fallback), or when fewer than 4 faces are left.
+  static bool merge_coincident_cap_vertices(scratch& s, bool may_drop_new_face) {
     const std::size_t faces = s.face_tags.size();
     const index cap_begin = s.face_offsets[faces - 1], cap_end = s.face_offsets[faces];
     const index m = cap_end - cap_begin;
@@ -402,7 +439,7 @@ class convex_polyhedron {
     s.face_vertices.resize(write);
     s.face_offsets.resize(kept_faces + 1);
     s.face_tags.resize(kept_faces);
-    return cap_kept && kept_faces >= 4;
+    return (cap_kept || may_drop_new_face) && kept_faces >= 4;
   }
 
   std::vector<vec3> vertices_;
