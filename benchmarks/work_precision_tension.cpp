@@ -16,8 +16,8 @@
 //   - rigid vs deformable blocks: the same tessellation with rigid 6-DOF blocks (blocks::rigid),
 //     compared with the deformable reference of its block count (so its error includes the
 //     modelling difference, not only the discretisation).
-// Writes DIR/work_precision_tension.csv and DIR/work_precision_tension.png (log10 curve error
-// against log10 wall time). Wall times are measured on a shared machine: compare them within one
+// Writes DIR/work_precision_tension.csv and DIR/work_precision_tension.png (curve error against
+// wall time, log-log). Wall times are measured on a shared machine: compare them within one
 // table only.
 #include <cmath>
 #include <cstdint>
@@ -168,22 +168,23 @@ int main(int argc, char** argv) {
     }
     tessera::io::plot_spec plot;
     plot.title = "Direct tension: curve error vs wall time (reference rows and estimates excluded)";
-    plot.xlabel = "log10 wall time (s)";
-    plot.ylabel = "log10 L2 curve error / reference peak";
-    // One point per measured non-reference variant (log10 columns: the plot helper has linear axes),
-    // one series per block model.
+    plot.xlabel = "wall time (s)";
+    plot.ylabel = "L2 curve error / reference peak";
+    plot.log_x = true;
+    plot.log_y = true;
+    // One point per measured non-reference variant, one series per block model.
     for (const bool rigid : {false, true}) {
       const std::string name = rigid ? "work_precision_tension_points_rigid.csv" : "work_precision_tension_points.csv";
-      tessera::io::csv_writer pts(out / name, {"log10_wall_s", "log10_curve_error"});
+      tessera::io::csv_writer pts(out / name, {"wall_s", "curve_error"});
       int n = 0;
       for (const row& x : rows)
         if (x.v.rigid == rigid && !x.v.reference && !x.estimated && x.curve_error > 0) {
-          pts.row(std::log10(x.wall_s), std::log10(x.curve_error));
+          pts.row(x.wall_s, x.curve_error);
           ++n;
         }
       pts.commit();
       if (n > 0)
-        plot.series.push_back({.csv = out / name, .x_column = "log10_wall_s", .y_column = "log10_curve_error",
+        plot.series.push_back({.csv = out / name, .x_column = "wall_s", .y_column = "curve_error",
                                .title = rigid ? "rigid blocks" : "deformable blocks",
                                .style = rigid ? "points pt 5 ps 1.5" : "points pt 7 ps 1.5"});
     }

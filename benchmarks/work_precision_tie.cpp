@@ -106,6 +106,8 @@ int main(int argc, char** argv) {
     plot.title = tessera::detail::concat("RC tie work-precision, ", blocks, " blocks (error vs converged reference)");
     plot.xlabel = "wall time (s)";
     plot.ylabel = "curve error / f_y A";
+    plot.log_x = true;
+    plot.log_y = true;
     plot.series.push_back({.csv = out / "deformable.csv", .x_column = "runtime_s", .y_column = "curve_error_rel",
                            .title = "deformable blocks", .style = "points pt 7 ps 1.5"});
     plot.series.push_back({.csv = out / "rigid.csv", .x_column = "runtime_s", .y_column = "curve_error_rel",

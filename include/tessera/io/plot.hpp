@@ -43,6 +43,8 @@ struct plot_spec {
   std::vector<plot_series> series;
   int width_px = 1000;
   int height_px = 700;
+  bool log_x = false;  ///< logarithmic x axis (every x value must be > 0)
+  bool log_y = false;  ///< logarithmic y axis (every y value must be > 0)
 };
 
 namespace detail {
@@ -101,6 +103,8 @@ inline bool plot_png(const std::filesystem::path& png, const plot_spec& spec) no
        << "set xlabel " << detail::gp_quote(spec.xlabel) << "\n"
        << "set ylabel " << detail::gp_quote(spec.ylabel) << "\n"
        << "set grid\nset key top left noenhanced\n";
+    if (spec.log_x) gp << "set logscale x\n";
+    if (spec.log_y) gp << "set logscale y\n";
     std::vector<std::string> curves;
     for (const plot_series& s : spec.series) {
       const int xc = detail::csv_column(s.csv, s.x_column), yc = detail::csv_column(s.csv, s.y_column);
