@@ -40,6 +40,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -319,7 +320,11 @@ int main(int argc, char** argv) {
   cli.flag("--fixed-end", fixed_end, "first bar node fixed, last pulled at --rate (default: both ends pulled at -/+ rate/2)");
   cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node");
   cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T");
-  cli.option("--dt", in.loading.dt, "mass-scaled time step (s); 0 = stable step of the unscaled masses", "DT");
+  std::string dt_text = "auto";
+  cli.option("--dt", dt_text,
+             "mass-scaled time step (s); auto = 2e-6 x (100/blocks)^0.55 (2, 1.2, 0.83 us for 100, 250, 500 "
+             "blocks: about the same added mass, ~70x); 0 = stable step of the unscaled masses",
+             "DT|auto");
   cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U");
   cli.option("--post-yield", in.loading.post_yield, "after first yield at u_y, stop at (1 + this) u_y", "R");
   cli.option("--damping", in.loading.damping_gamma, "local damping constant gamma", "G");
@@ -338,6 +343,16 @@ int main(int argc, char** argv) {
   in.tie.bond_basis = bond_basis == "node" ? tessera::reinforcement::stiffness_basis::per_node
                                            : tessera::reinforcement::stiffness_basis::per_unit_length;
   in.write_vtk = !no_vtk;
+  if (dt_text == "auto") {
+    in.loading.dt = tessera::scenes::scaled_tie_dt(in.tie.blocks);  // same added mass for every block count
+  } else {
+    char* end = nullptr;
+    in.loading.dt = std::strtod(dt_text.c_str(), &end);
+    if (end == dt_text.c_str() || *end != '\0' || !(in.loading.dt >= 0)) {
+      std::cerr << "rc_tie: --dt '" << dt_text << "' must be 'auto' or a time step >= 0 (s)\n";
+      return 2;
+    }
+  }
   if (in.common.quick) {
     // Reduced run (CTest): coarser mass-scaled step, 10 mm/s, shorter ramp.
     in.loading.dt = std::max(in.loading.dt, 4e-6);

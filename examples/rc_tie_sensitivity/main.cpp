@@ -6,7 +6,8 @@
 //   softening  power (alpha = 3) vs linear                                  (Fig. 10)
 //   xi         bond stiffness ratio 2, 4, 6                                  (Fig. 11)
 //   elements   48, 96, 120 truss elements                                    (Fig. 12)
-//   blocks     100, 250, 500 blocks (Table 1 stiffnesses)                    (Fig. 13, Table 2)
+//   blocks     100, 250, 500 blocks (Table 1 stiffnesses), each at the step that keeps the
+//              100-block added mass (scaled_tie_dt: --dt x (100/blocks)^0.55)  (Fig. 13, Table 2)
 //   cbond      c_bond = 1e9, 1e8, 1e7, 1e6, 1e5, 1e4 N/m                     (Fig. 15)
 //   rate       pull rate 4, 2, 1, 0.5 x --rate                              (Fig. 8)
 // --quick runs a reduced set (xi 2 and 4, c_bond 1e9 and 1e4, 100 blocks, a coarser step).
@@ -110,7 +111,10 @@ study make_study(const std::string& name, const inputs& in) {
     s.title = "number of blocks (Fig. 13, Table 2)";
     s.parameter = "blocks";
     for (int n : quick ? std::vector<int>{100} : std::vector<int>{100, 250, 500})
-      add(number(n) + " blocks", [n](variant& v) { v.tie.blocks = n; });
+      add(number(n) + " blocks", [n](variant& v) {
+        v.tie.blocks = n;
+        v.loading.dt = tessera::scenes::scaled_tie_dt(n, v.loading.dt);  // same added mass as 100 blocks
+      });
   } else if (name == "cbond") {
     s.title = "bond cohesion c_bond (Fig. 15)";
     s.parameter = "c_bond_N_per_m";
