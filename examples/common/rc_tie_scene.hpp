@@ -212,6 +212,10 @@ struct tie_result {
   /// the force has passed N_cr / 2 (a coarse, fast start-up can soften a section at the pulled
   /// end earlier); without one, the first drop's peak, else the maximum before yield.
   real first_crack_force = 0;
+  /// Peak of the first load drop whose peak is above N_cr / 2 (N); 0 without one. Differs from
+  /// first_crack_force when the first crack drops the load before it has softened across the whole
+  /// section (500 blocks: first drop 12.29 kN, first softened through-crack 15.67 kN).
+  real first_drop_force = 0;
   real initial_stiffness = 0;           ///< N/m (initial_stiffness())
   real yield_force = 0;                 ///< mean force over the second half of the post-yield samples (N), 0 if not yielded
   real yield_elongation = 0;            ///< elongation at yield: an element yielded and F >= 0.9 f_y A (m)
@@ -550,6 +554,11 @@ template <class Blocks, class Law, class OnEvent>
   for (const auto& [u, f] : r.crack_formation)
     if (f >= 0.5 * scene.hand.cracking_force) {  // ignore start-up transients at the pulled end
       r.first_crack_force = f;
+      break;
+    }
+  for (const load_drop& d : r.drops)
+    if (d.peak_force >= 0.5 * scene.hand.cracking_force) {
+      r.first_drop_force = d.peak_force;
       break;
     }
   r.initial_stiffness = initial_stiffness(r.elongation, r.force, first_peak);

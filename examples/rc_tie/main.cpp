@@ -23,6 +23,7 @@
 //                    the bar as a polyline (axial force per element, slip and bond force per
 //                    node, displacement), zones (displacement, stress); tie.pvd lists them
 //   summary.json     inputs, hand checks, first_crack_force_N and its error vs f_T (A_c + n A_s),
+//                    first_drop_force_N (peak of the first load drop) and its error,
 //                    initial_stiffness_N_per_m and its error vs (E_c A_c + E_s A_s)/L and vs the
 //                    shear-lag value of the bonded tie, load_drops,
 //                    cracks (fully opened through-cracks), crack_positions_m, softened_cracks,
@@ -234,6 +235,8 @@ int run(inputs in) {
       .set("hand_yield_force_N", hand.yield_force)
       .set("first_crack_force_N", r.first_crack_force)
       .set("first_crack_error_rel", rel(r.first_crack_force, hand.cracking_force))
+      .set("first_drop_force_N", r.first_drop_force)
+      .set("first_drop_error_rel", rel(r.first_drop_force, hand.cracking_force))
       .set("initial_stiffness_N_per_m", r.initial_stiffness)
       .set("initial_stiffness_error_rel",
            rel(r.initial_stiffness, in.tie.bare ? hand.bare_bar_stiffness : hand.uncracked_stiffness))
