@@ -403,11 +403,8 @@ class crack_graph {
     return evaluate(
         contacts, gridpoints,
         [&](index i) {
-          const auto flags = contacts.state(i).flags;
-          const bool softened = law::has(flags, law::contact_status::softening) ||
-                                law::has(flags, law::contact_status::broken_tension);
           const real jump = (gridpoints.position(contacts.node_b(i)) - gridpoints.position(contacts.node_a(i))).norm();
-          return softened && jump >= w_open;
+          return past_peak(contacts.state(i).flags) && jump >= w_open;
         },
         w_open);
   }
@@ -419,13 +416,14 @@ class crack_graph {
   /// Softened through-cracks (every sub-contact of the faces past its tensile peak).
   template <class Contacts>
   [[nodiscard]] crack_report softened(const Contacts& contacts, const node_set& gridpoints) {
-    return evaluate(contacts, gridpoints, [&](index i) {
-      return law::has(contacts.state(i).flags, law::contact_status::softening) ||
-             law::has(contacts.state(i).flags, law::contact_status::broken_tension);
-    });
+    return evaluate(contacts, gridpoints, [&](index i) { return past_peak(contacts.state(i).flags); });
   }
 
  private:
+  /// A sub-contact past its tensile peak: softening or broken in tension.
+  [[nodiscard]] static bool past_peak(law::contact_status flags) {
+    return law::has(flags, law::contact_status::softening) || law::has(flags, law::contact_status::broken_tension);
+  }
   struct face {
     index a, b, first, last;
   };

@@ -41,7 +41,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <iostream>
@@ -349,9 +348,12 @@ int main(int argc, char** argv) {
   if (dt_text == "auto") {
     in.loading.dt = tessera::scenes::scaled_tie_dt(in.tie.blocks);  // same added mass for every block count
   } else {
-    char* end = nullptr;
-    in.loading.dt = std::strtod(dt_text.c_str(), &end);
-    if (end == dt_text.c_str() || *end != '\0' || !(in.loading.dt >= 0)) {
+    try {
+      in.loading.dt = tessera::cli::detail::parse_value<double>("--dt", dt_text);
+    } catch (const tessera::cli::usage_error&) {
+      in.loading.dt = -1;  // not a number: reported below
+    }
+    if (!(in.loading.dt >= 0)) {
       std::cerr << "rc_tie: --dt '" << dt_text << "' must be 'auto' or a time step >= 0 (s)\n";
       return 2;
     }

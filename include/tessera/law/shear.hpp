@@ -74,6 +74,18 @@ inline void require_friction_angle(const friction_angle& phi, const char* name) 
     throw invalid_input(tessera::detail::concat("contact law: friction angle ", name, " = ", phi.degrees(),
                                                 " deg must be in [0, 90) deg"));
 }
+/// The Coulomb limit max(0, c - sigma_n tan(phi)) of a contact in damage state `flags`: residual
+/// cohesion and friction once slipped, residual cohesion once broken in tension, otherwise the
+/// cohesion `c_intact` the policy gives and phi_0.
+template <class Params>
+[[nodiscard]] inline real coulomb_limit(const Params& p, real sigma_n, contact_status flags, real c_intact) noexcept {
+  const bool slipped = has(flags, contact_status::slipped);
+  const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
+  const real c = cohesion_lost ? p.c_res : c_intact;
+  const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
+  const real limit = c - sigma_n * tan_phi;
+  return limit > 0 ? limit : real(0);
+}
 }  // namespace detail
 
 /// Coulomb limit with brittle shear failure and residual strength (study eq. 6, DESIGN.md §3):
@@ -100,12 +112,7 @@ struct coulomb_residual {
   /// tensile fraction is ignored (decoupled).
   [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags,
                                      real /*tensile_fraction*/ = 1) noexcept {
-    const bool slipped = has(flags, contact_status::slipped);
-    const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
-    const real c = cohesion_lost ? p.c_res : p.c_0;
-    const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
-    const real limit = c - sigma_n * tan_phi;
-    return limit > 0 ? limit : real(0);
+    return detail::coulomb_limit(p, sigma_n, flags, p.c_0);
   }
 };
 
@@ -120,12 +127,7 @@ struct coulomb_coupled {
   static void validate(const params& p) { coulomb_residual::validate(p); }
   [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags,
                                      real tensile_fraction = 1) noexcept {
-    const bool slipped = has(flags, contact_status::slipped);
-    const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
-    const real c = cohesion_lost ? p.c_res : p.c_res + (p.c_0 - p.c_res) * tensile_fraction;
-    const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
-    const real limit = c - sigma_n * tan_phi;
-    return limit > 0 ? limit : real(0);
+    return detail::coulomb_limit(p, sigma_n, flags, p.c_res + (p.c_0 - p.c_res) * tensile_fraction);
   }
 };
 
