@@ -661,3 +661,80 @@ TEST_CASE("coulomb_coupled: the cohesion softens with f_t/f_T, the normal respon
     CHECK(coupled_tie_law::shear_strength(c.p, c.s) == Approx(c_res + k_n * 1e-7 * tan_0).epsilon(1e-9));
   }
 }
+
+TEST_CASE("slip_breaks_tension: the first shear failure also ends the tensile strength", "[laws][shear]") {
+  // DESIGN.md keeps the tensile strength of a contact that failed in shear; the opt-in rule of
+  // 3DEC's brittle Coulomb joints breaks it in tension as well.
+  auto p = study_prism_params(100);
+  const real k_n = p.k_n, k_s = p.k_s, f_T = p.tension.f_T, c_0 = p.shear.c_0;
+  const real tan_0 = std::tan(35 * std::numbers::pi / 180);
+  // Held open at sigma_t = f_T / 2 (intact), then slid past the Coulomb limit c_0 - sigma_t tan(phi_0).
+  const real sigma_t = 0.5 * f_T;
+  const real slide = 1.01 * (c_0 - sigma_t * tan_0) / k_s;
+
+  SECTION("default (DESIGN.md): the slipped contact keeps its tension and its strength") {
+    contact_driver<study_tie_law> c(p);
+    c.open_by(sigma_t / k_n, 10);
+    c.slide_by(e_x * slide, 101);
+    REQUIRE(study_tie_law::status(c.s) == contact_status::slipped);
+    CHECK(c.s.sigma_n == Approx(sigma_t).epsilon(1e-12));
+    CHECK(study_tie_law::tensile_strength(c.p, c.s) == Approx(f_T).epsilon(1e-15));
+  }
+  SECTION("opt-in: broken in tension, the tension is released as dissipation, compression returns") {
+    p.shear.slip_breaks_tension = true;
+    contact_driver<study_tie_law> c(p);
+    c.open_by(sigma_t / k_n, 10);
+    c.slide_by(e_x * slide, 101);
+    const auto flags = study_tie_law::status(c.s);
+    REQUIRE(has(flags, contact_status::slipped));
+    REQUIRE(has(flags, contact_status::broken_tension));
+    CHECK_FALSE(has(flags, contact_status::softening));
+    CHECK(study_tie_law::tensile_strength(c.p, c.s) == 0);
+    // The normal stress of the failing step stands; the next one releases it.
+    c.step(0);
+    CHECK(c.s.sigma_n == 0);
+    CHECK(c.s.tau.norm() == 0);  // open (u_n > 0) and broken: no shear either
+    CHECK(c.s.dissipated_tension == Approx(sigma_t * sigma_t / (2 * k_n)).epsilon(1e-12));
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+    // Pulled further: still no tension. Closed past the original position: compression k_n u_n
+    // and residual friction.
+    c.open_by(10 * sigma_t / k_n, 10);
+    CHECK(c.s.sigma_n == 0);
+    c.open_to(-1e6 / k_n, 20);
+    CHECK(c.s.sigma_n == Approx(-1e6).epsilon(1e-9));
+    c.slide_by(e_x * 1e-4, 10);
+    CHECK(c.s.tau.norm() == Approx(p.shear.c_res + 1e6 * std::tan(30 * std::numbers::pi / 180)).epsilon(1e-9));
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-10));
+  }
+  SECTION("opt-in on a softening contact: the softened tension is released the same way") {
+    p.shear.slip_breaks_tension = true;
+    contact_driver<study_tie_law> c(p);
+    const real eta = f_T / k_n;
+    c.open_to(eta + 5e-6, 50);  // on the power envelope
+    REQUIRE(has(study_tie_law::status(c.s), contact_status::softening));
+    const real sigma_soft = c.s.sigma_n;
+    const real before = c.s.dissipated_tension;
+    c.slide_by(e_x * (1.01 * (c_0 - sigma_soft * tan_0) / k_s), 101);
+    REQUIRE(has(study_tie_law::status(c.s), contact_status::broken_tension));
+    c.step(0);
+    CHECK(c.s.sigma_n == 0);
+    CHECK(c.s.dissipated_tension - before == Approx(sigma_soft * sigma_soft / (2 * k_n)).epsilon(1e-9));
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  }
+  SECTION("random load paths keep the energy balance with the rule on") {
+    p.shear.slip_breaks_tension = true;
+    contact_driver<study_tie_law> c(p);
+    std::mt19937_64 rng(11);
+    std::normal_distribution<real> gauss(0, 1);
+    const real eta = f_T / k_n;
+    real max_work = 0;
+    for (int i = 0; i < 20000; ++i) {
+      const vec3 du_s(0.2 * eta * gauss(rng), 0.2 * eta * gauss(rng), 0);
+      c.step(eta * (0.05 * gauss(rng) + 0.01), du_s);
+      max_work = std::max(max_work, std::abs(c.work));
+    }
+    CHECK(has(study_tie_law::status(c.s), contact_status::slipped));
+    CHECK(has(study_tie_law::status(c.s), contact_status::broken_tension));
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).margin(1e-10 * max_work));
+  }
+}

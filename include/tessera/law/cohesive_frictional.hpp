@@ -41,6 +41,8 @@
 //     along its own direction; afterwards perfectly plastic slip on that limit. Broken in tension
 //     also drops the cohesion to c_res (policy). Tension and shear are otherwise decoupled with
 //     coulomb_residual (DESIGN.md); coulomb_coupled softens the cohesion with f_t/f_T as well.
+//     Opt-in (shear params slip_breaks_tension = true): the first shear failure also breaks the
+//     contact in tension (3DEC's brittle Coulomb joint, YADE's fragile cohesive contact), see break_on_slip.
 //
 // Energy (J/m^2). Per step and mechanism the dissipated increment is the trapezoidal work minus the
 // change of elastic energy,
@@ -197,6 +199,8 @@ struct cohesive_frictional {
         if (!has(s.flags, contact_status::slipped)) {
           s.flags = s.flags | contact_status::slipped;
           tau_max = Shear::strength(p.shear, sigma, s.flags, fraction);
+          if constexpr (requires { p.shear.slip_breaks_tension; })
+            if (p.shear.slip_breaks_tension) break_on_slip(p, s);
         }
         const real scale = tau_max / std::sqrt(trial_sq);
         c0 *= scale;
@@ -247,6 +251,24 @@ struct cohesive_frictional {
       }
     }
     return 1;
+  }
+
+  /// Shear failure that also ends the tensile strength (opt-in, Shear::params::slip_breaks_tension):
+  /// the contact is marked broken in tension and u_p is reset to the compressive plastic closure,
+  /// so from the next step on it carries compression only, and no shear while its faces are apart.
+  /// The normal stress of this step stands; its stored energy is released, and booked as
+  /// dissipated in tension, by the next step's trapezoidal increment.
+  static void break_on_slip(const params& p, state& s) noexcept {
+    if (has(s.flags, contact_status::broken_tension)) return;
+    real closure = 0;
+    if constexpr (Compression::bounded) {
+      // u_p = closure + w + (f_T - f_t(w))/k_n on or below the envelope, closure alone while intact
+      const real f_peak = Tension::peak_strength(p.tension);
+      closure = s.u_soft > 0 ? s.u_p - s.u_soft - (f_peak - Tension::strength(p.tension, p.k_n, s.u_soft)) / p.k_n
+                             : s.u_p;
+    }
+    s.u_p = closure;
+    s.flags = detail::without(s.flags, contact_status::softening) | contact_status::broken_tension;
   }
 
   /// Tension cap for an intact contact whose trial stress is positive and may exceed the current

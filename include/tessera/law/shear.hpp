@@ -99,6 +99,11 @@ struct coulomb_residual {
     friction_angle phi_0{};    ///< initial friction angle, [0, 90) deg
     real c_res = 0;            ///< residual cohesion (Pa, in [0, c_0])
     friction_angle phi_res{};  ///< residual friction angle, [0, 90) deg
+    /// false (DESIGN.md, the study): a contact that fails in shear keeps its tensile strength and
+    /// softening state. true: the first shear failure also breaks it in tension for good, as the
+    /// brittle Coulomb joints of 3DEC and YADE's fragile cohesive contacts do (opt-in; see
+    /// docs/model.md "Shear failure and tension").
+    bool slip_breaks_tension = false;
   };
   static void validate(const params& p) {
     if (!(p.c_0 >= 0) || !std::isfinite(p.c_0))
