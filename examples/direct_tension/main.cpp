@@ -50,6 +50,7 @@ struct inputs {
   int blocks = 100;
   std::string softening = "power";
   std::string cohesion = "decoupled";  // decoupled (DESIGN.md) | coupled (softens with f_t)
+  bool slip_breaks_tension = false;    // shear failure also breaks the contact in tension (opt-in)
   bool rigid = false;
   int seeds = 1;
   int lloyd = 0;                  // Lloyd steps of the tessellation
@@ -85,6 +86,7 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   po.seed = seed;
   po.tessellation.lloyd_iterations = in.lloyd;
   scene = scenes::make_prism(po);
+  scene.contact.shear.slip_breaks_tension = in.slip_breaks_tension;
   scenes::tension_loading loading = in.loading;
   loading.keep_fields = keep_fields;
   loading.threads = in.common.threads;
@@ -209,6 +211,7 @@ int run(const inputs& in) {
       .set("seeds", in.seeds)
       .set("softening", in.softening)
       .set("cohesion", in.cohesion)
+      .set("slip_breaks_tension", in.slip_breaks_tension)
       .set("rigid", in.rigid)
       .set("lloyd_iterations", in.lloyd)
       .set("platen_restraint", in.loading.platen_restraint)
@@ -305,6 +308,8 @@ int main(int argc, char** argv) {
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled "
              "(c softens with f_t/f_T; power softening only)",
              "decoupled|coupled");
+  cli.flag("--slip-breaks-tension", in.slip_breaks_tension,
+           "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V");
   cli.flag("--rigid", in.rigid, "rigid blocks instead of deformable semi-rigid ones");
   cli.option("--step-displacement", ld.step_displacement,

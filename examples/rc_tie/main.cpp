@@ -218,6 +218,7 @@ int run(inputs in) {
       .set("c_bond_N_per_m", in.tie.c_bond)
       .set("softening", in.loading.softening)
       .set("cohesion", in.loading.cohesion)
+      .set("slip_breaks_tension", in.loading.slip_breaks_tension)
       .set("rigid", in.tie.rigid)
       .set("bare", in.tie.bare)
       .set("rate_m_per_s", in.loading.rate)
@@ -318,6 +319,8 @@ int main(int argc, char** argv) {
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
              "f_t/f_T; power softening, deformable blocks)",
              "decoupled|coupled");
+  cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
+           "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V");
   cli.flag("--fixed-end", fixed_end, "first bar node fixed, last pulled at --rate (default: both ends pulled at -/+ rate/2)");
   cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node");
