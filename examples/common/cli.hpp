@@ -117,6 +117,13 @@ inline int auto_threads(const std::string& program) {
   return idle;
 }
 
+/// Prints an error that ended a run as "<program>: <message>" on stderr, without doubling the
+/// prefix when the message already starts with it (the drivers' own checks name themselves).
+inline void print_error(const std::string& program, const std::exception& e) {
+  const std::string message = e.what(), prefix = program + ": ";
+  std::cerr << (message.rfind(prefix, 0) == 0 ? message : prefix + message) << '\n';
+}
+
 /// Options every example driver has (DESIGN.md §5).
 struct standard_options {
   std::string out;          ///< output directory (default results/<program>)

@@ -51,6 +51,7 @@ struct inputs {
   std::string softening = "power";
   std::string cohesion = "decoupled";  // decoupled (DESIGN.md) | coupled (softens with f_t)
   bool slip_breaks_tension = false;    // shear failure also breaks the contact in tension (opt-in)
+  double cohesion_ratio = 2;           // c_0 / f_T (the study: 2), c_res = 0.01 c_0
   bool rigid = false;
   int seeds = 1;
   int lloyd = 0;                  // Lloyd steps of the tessellation
@@ -87,6 +88,8 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   po.tessellation.lloyd_iterations = in.lloyd;
   scene = scenes::make_prism(po);
   scene.contact.shear.slip_breaks_tension = in.slip_breaks_tension;
+  scene.contact.shear.c_0 = in.cohesion_ratio * scene.contact.tension.f_T;
+  scene.contact.shear.c_res = 0.01 * scene.contact.shear.c_0;
   scenes::tension_loading loading = in.loading;
   loading.keep_fields = keep_fields;
   loading.threads = in.common.threads;
@@ -110,14 +113,16 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
 int run(const inputs& in) {
   namespace io = tessera::io;
   const fs::path out = in.common.out;
-  io::ensure_directory(out);
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
+  tessera::require(std::isfinite(in.cohesion_ratio) && in.cohesion_ratio >= 0, "direct_tension: --cohesion-ratio ",
+                   in.cohesion_ratio, " must be finite and >= 0");
   tessera::require(in.softening == "power" || in.softening == "linear", "direct_tension: --softening '", in.softening,
                    "' must be 'power' or 'linear'");
   tessera::require(in.cohesion == "decoupled" || in.cohesion == "coupled", "direct_tension: --cohesion '", in.cohesion,
                    "' must be 'decoupled' or 'coupled'");
   tessera::require(in.cohesion == "decoupled" || in.softening == "power",
                    "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
+  io::ensure_directory(out);  // after the checks: bad input leaves no directory behind
   const tessera::cli::wall_timer timer;
 
   std::vector<scenes::tension_result> runs;
@@ -212,6 +217,7 @@ int run(const inputs& in) {
       .set("softening", in.softening)
       .set("cohesion", in.cohesion)
       .set("slip_breaks_tension", in.slip_breaks_tension)
+      .set("cohesion_ratio", in.cohesion_ratio)
       .set("rigid", in.rigid)
       .set("lloyd_iterations", in.lloyd)
       .set("platen_restraint", in.loading.platen_restraint)
@@ -308,6 +314,7 @@ int main(int argc, char** argv) {
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled "
              "(c softens with f_t/f_T; power softening only)",
              "decoupled|coupled");
+  cli.option("--cohesion-ratio", in.cohesion_ratio, "initial cohesion c_0 / f_T (c_res = 0.01 c_0)", "R");
   cli.flag("--slip-breaks-tension", in.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V");
@@ -333,7 +340,7 @@ int main(int argc, char** argv) {
   try {
     return run(in);
   } catch (const std::exception& e) {
-    std::cerr << "direct_tension: " << e.what() << '\n';
+    tessera::cli::print_error("direct_tension", e);
     return 1;
   }
 }

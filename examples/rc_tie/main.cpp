@@ -370,7 +370,7 @@ int main(int argc, char** argv) {
   try {
     return run(in);
   } catch (const std::exception& e) {
-    std::cerr << "rc_tie: " << e.what() << '\n';
+    tessera::cli::print_error("rc_tie", e);
     return 1;
   }
 }

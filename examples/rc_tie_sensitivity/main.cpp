@@ -382,7 +382,7 @@ int main(int argc, char** argv) {
   try {
     return run(in);
   } catch (const std::exception& e) {
-    std::cerr << "rc_tie_sensitivity: " << e.what() << '\n';
+    tessera::cli::print_error("rc_tie_sensitivity", e);
     return 1;
   }
 }

@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
   try {
     return run(in);
   } catch (const std::exception& e) {
-    std::cerr << "tessellate: " << e.what() << '\n';
+    tessera::cli::print_error("tessellate", e);
     return 1;
   }
 }
