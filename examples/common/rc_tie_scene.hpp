@@ -203,6 +203,10 @@ struct tie_result {
   /// along z, carries no net force), so |pulled_force - force| measures the inertia and damping
   /// forces still in the model.
   std::vector<real> pulled_force;
+  /// Mean axial stress of the concrete over the middle two thirds of the tie (Pa): (F - mean bar
+  /// force there) / A_c, i.e. the concrete's share of the load where the bond has handed it over.
+  std::vector<real> concrete_stress;
+  std::vector<index> softened_subcontacts;  ///< sub-contacts past their tensile peak, per sample
   real max_imbalance = 0;               ///< max |pulled_force - force| / f_y A over the run
   std::vector<load_drop> drops;         ///< before the first yield
   crack_report cracks;                  ///< fully opened through-cracks at the end of the run
@@ -219,6 +223,11 @@ struct tie_result {
   /// first_crack_force when the first crack drops the load before it has softened across the whole
   /// section (500 blocks: first drop 12.29 kN, first softened through-crack 15.67 kN).
   real first_drop_force = 0;
+  /// Force when the first sub-contact passed its tensile peak (N), after the force has passed
+  /// N_cr / 10 (start-up): the onset of (distributed) cracking, long before a through-crack.
+  real first_softening_force = 0;
+  real concrete_stress_at_first_crack = 0;  ///< concrete_stress at the first_crack_force sample (Pa)
+  index softened_at_first_crack = 0;        ///< softened_subcontacts at that sample
   real initial_stiffness = 0;           ///< N/m (initial_stiffness())
   real yield_force = 0;                 ///< mean force over the second half of the post-yield samples (N), 0 if not yielded
   /// Elongation at yield (m): the bar's plastic elongation has reached 2 % of the bare bar's yield
@@ -423,12 +432,12 @@ class crack_graph {
   [[nodiscard]] crack_report softened(const Contacts& contacts, const node_set& gridpoints) {
     return evaluate(contacts, gridpoints, [&](index i) { return past_peak(contacts.state(i).flags); });
   }
-
- private:
   /// A sub-contact past its tensile peak: softening or broken in tension.
   [[nodiscard]] static bool past_peak(law::contact_status flags) {
     return law::has(flags, law::contact_status::softening) || law::has(flags, law::contact_status::broken_tension);
   }
+
+ private:
   struct face {
     index a, b, first, last;
   };
@@ -504,6 +513,23 @@ template <class Blocks, class Law, class OnEvent>
     r.elongation.push_back(u);
     r.force.push_back(f);
     r.pulled_force.push_back(bar.reaction(last_node, 2));
+    {
+      real bar_sum = 0;
+      index bar_count = 0;
+      for (index e = 0; e < truss.element_count(); ++e) {
+        const real z = (static_cast<real>(e) + 0.5) * length / static_cast<real>(truss.element_count());
+        if (z < length / 6 || z > 5 * length / 6) continue;
+        bar_sum += truss.axial_force(e);
+        ++bar_count;
+      }
+      r.concrete_stress.push_back(bar_count > 0 ? (f - bar_sum / static_cast<real>(bar_count)) / scene.hand.concrete_area : 0);
+      index softened = 0;
+      for (index i = 0; i < sv.contacts().size(); ++i)
+        if (crack_graph::past_peak(sv.contacts().state(i).flags)) ++softened;
+      r.softened_subcontacts.push_back(softened);
+      if (r.first_softening_force == 0 && softened > 0 && f >= 0.1 * scene.hand.cracking_force)
+        r.first_softening_force = f;
+    }
     r.max_imbalance = std::max(r.max_imbalance, std::abs(r.pulled_force.back() - f) / scene.hand.yield_force);
     max_force = std::max(max_force, f);
     if (!r.yielded && r.elongation.size() % 4 == 0) {
@@ -559,11 +585,18 @@ template <class Blocks, class Law, class OnEvent>
     for (std::size_t k = 0; k < pre_yield; ++k)
       if (r.force[k] > r.force[first_peak]) first_peak = k;
   r.first_crack_force = r.force.empty() ? 0 : r.force[first_peak];
+  std::size_t first_crack_sample = first_peak;
   for (const auto& [u, f] : r.crack_formation)
     if (f >= 0.5 * scene.hand.cracking_force) {  // ignore start-up transients at the pulled end
       r.first_crack_force = f;
+      for (std::size_t k = 0; k < r.force.size() && r.elongation[k] <= u; ++k)
+        if (r.force[k] == f) first_crack_sample = k;
       break;
     }
+  if (first_crack_sample < r.force.size()) {
+    r.concrete_stress_at_first_crack = r.concrete_stress[first_crack_sample];
+    r.softened_at_first_crack = r.softened_subcontacts[first_crack_sample];
+  }
   for (const load_drop& d : r.drops)
     if (d.peak_force >= 0.5 * scene.hand.cracking_force) {
       r.first_drop_force = d.peak_force;

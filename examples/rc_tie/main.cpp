@@ -11,11 +11,13 @@
 //             pulled at --rate, the study verbatim) after a half-cosine ramp of --ramp s;
 //             concrete end gridpoints on rollers (x, y fixed, z free)
 //   solver    central differences, local damping 0.8, masses scaled to the step --dt
-//   stop      --post-yield x the elongation at which the first bar element yields past it, or
-//             at --max-elongation
+//   stop      --post-yield x the elongation at which the tie yields past it (yield: the bar flows
+//             plastically, rc_tie_scene.hpp), or at --max-elongation
 //
 // Outputs in --out DIR:
-//   curve.csv        elongation_m, force_N (force = tension at the fixed bar end)
+//   curve.csv        elongation_m, force_N (force = tension at the fixed bar end), pulled_end_force_N,
+//                    concrete_stress_Pa (the concrete's mean axial stress over the middle two
+//                    thirds), softened_subcontacts (past their tensile peak)
 //   bare_bar.csv     the bare bar, elastic-perfectly plastic (closed form) on the same range
 //   curve.png        both curves (gnuplot)
 //   <tag>_contacts.vtp, <tag>_bar.vtp, <tag>_zones.vtu for tag = drop1, drop2, ..., yield, end:
@@ -24,6 +26,8 @@
 //                    node, displacement), zones (displacement, stress); tie.pvd lists them
 //   summary.json     inputs, hand checks, first_crack_force_N and its error vs f_T (A_c + n A_s),
 //                    first_drop_force_N (peak of the first load drop) and its error,
+//                    first_softening_force_N (first sub-contact past its peak),
+//                    concrete_stress_at_first_crack_Pa (and / f_T), softened_subcontacts_at_first_crack,
 //                    initial_stiffness_N_per_m and its error vs (E_c A_c + E_s A_s)/L and vs the
 //                    shear-lag value of the bonded tie, load_drops,
 //                    cracks (fully opened through-cracks), crack_positions_m, softened_cracks,
@@ -178,7 +182,9 @@ int run(inputs in) {
   snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
   const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
 
-  io::write_csv(out / "curve.csv", {"elongation_m", "force_N", "pulled_end_force_N"}, {r.elongation, r.force, r.pulled_force});
+  std::vector<real> softened(r.softened_subcontacts.begin(), r.softened_subcontacts.end());
+  io::write_csv(out / "curve.csv", {"elongation_m", "force_N", "pulled_end_force_N", "concrete_stress_Pa", "softened_subcontacts"},
+                {r.elongation, r.force, r.pulled_force, r.concrete_stress, softened});
   std::vector<double> bare_u, bare_f;
   const real u_end = std::max(r.end_elongation, 1.2 * hand.yield_force / hand.bare_bar_stiffness);
   for (int i = 0; i <= 200; ++i) {
@@ -237,6 +243,10 @@ int run(inputs in) {
       .set("first_crack_error_rel", rel(r.first_crack_force, hand.cracking_force))
       .set("first_drop_force_N", r.first_drop_force)
       .set("first_drop_error_rel", rel(r.first_drop_force, hand.cracking_force))
+      .set("first_softening_force_N", r.first_softening_force)
+      .set("concrete_stress_at_first_crack_Pa", r.concrete_stress_at_first_crack)
+      .set("concrete_stress_at_first_crack_over_f_T", r.concrete_stress_at_first_crack / scene.prism.contact.tension.f_T)
+      .set("softened_subcontacts_at_first_crack", r.softened_at_first_crack)
       .set("initial_stiffness_N_per_m", r.initial_stiffness)
       .set("initial_stiffness_error_rel",
            rel(r.initial_stiffness, in.tie.bare ? hand.bare_bar_stiffness : hand.uncracked_stiffness))
@@ -286,7 +296,12 @@ int run(inputs in) {
               hand.uncracked_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(),
               r.softened_cracks.cracks, r.cracks.cracks, r.cracks_normal_only.cracks);
   for (real z : r.cracks.positions) std::printf(" %.3f", z);
-  std::printf(" m\n  yield %.2f kN (f_y A %.2f kN, error %.2f %%) at %.3f mm, final branch %.2f kN (error %.2f %%); "
+  std::printf(" m\n  first sub-contact softened at %.2f kN; at first crack the concrete carries %.2f MPa (%.2f f_T) with %lld"
+              " of %lld sub-contacts past their peak\n  yield",
+              r.first_softening_force * 1e-3, r.concrete_stress_at_first_crack * 1e-6,
+              r.concrete_stress_at_first_crack / scene.prism.contact.tension.f_T, static_cast<long long>(r.softened_at_first_crack),
+              static_cast<long long>(r.subcontacts));
+  std::printf(" %.2f kN (f_y A %.2f kN, error %.2f %%) at %.3f mm, final branch %.2f kN (error %.2f %%); "
               "energy balance error %.2g\n"
               "  %lld sub-contacts, %lld zones, dt %.3g s (added mass %.1fx), %lld steps, runtime %.1f s; wrote %s\n",
               r.yield_force * 1e-3, hand.yield_force * 1e-3, 100 * rel(r.yield_force, hand.yield_force),
