@@ -388,6 +388,38 @@ TEST_CASE("solver: time step options and mass scaling", "[mechanics][timestep]")
   CHECK(s.options().safety * s.critical_step().dt >= s.dt() * (1 - 1e-12));
   CHECK(s.mass_scaling().added_mass > 0);
   CHECK(s.gridpoints().mass.sum() == Approx(s.mass_scaling().original_mass + s.mass_scaling().added_mass));
+
+  // A target added-mass ratio instead of a step: the solver finds the step that adds it, and the
+  // same step given directly adds the same mass.
+  for (const real ratio : {0.5, 10.0, 250.0}) {
+    solver_options by_ratio;
+    by_ratio.mass_scaling_ratio = ratio;
+    const prism_solver r(tess, mesh, concrete_block, law_params, {}, by_ratio);
+    INFO("ratio " << ratio << ", dt " << r.dt());
+    CHECK(r.mass_scaling().added_mass / r.mass_scaling().original_mass == Approx(ratio).epsilon(1e-9));
+    CHECK(r.options().mass_scaling_dt == r.dt());
+    CHECK(r.dt() > automatic.dt());
+    solver_options by_step;
+    by_step.mass_scaling_dt = r.dt();
+    const prism_solver d(tess, mesh, concrete_block, law_params, {}, by_step);
+    CHECK(d.mass_scaling().added_mass == Approx(r.mass_scaling().added_mass).epsilon(1e-12));
+  }
+  // preview_mass_scaling reports what scale_masses does without doing it.
+  node_set nodes = automatic.gridpoints();
+  const auto preview = integrator::preview_mass_scaling(nodes, 10 * automatic.dt());
+  CHECK(nodes.mass.sum() == Approx(preview.original_mass).epsilon(1e-15));
+  const auto applied = integrator::scale_masses(nodes, 10 * automatic.dt());
+  CHECK(applied.added_mass == preview.added_mass);
+  CHECK(applied.scaled_nodes == preview.scaled_nodes);
+  // Bad input names the option and the value.
+  solver_options both;
+  both.mass_scaling_dt = 1e-6;
+  both.mass_scaling_ratio = 10;
+  CHECK_THROWS_WITH(prism_solver(tess, mesh, concrete_block, law_params, {}, both), Catch::Contains("not both"));
+  solver_options negative;
+  negative.mass_scaling_ratio = -1;
+  CHECK_THROWS_WITH(prism_solver(tess, mesh, concrete_block, law_params, {}, negative),
+                    Catch::Contains("added-mass ratio = -1"));
 }
 
 TEST_CASE("step checker stops a run whose masses are too small", "[mechanics][checker]") {

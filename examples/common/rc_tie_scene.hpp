@@ -156,6 +156,9 @@ struct tie_loading {
   bool symmetric = true;
   real ramp_time = 2e-3;        ///< half-cosine velocity ramp from 0 to rate (s)
   real dt = 2e-6;               ///< mass-scaling target step (s); 0 = unscaled stable step
+  /// > 0: instead of `dt`, the step at which mass scaling adds this multiple of the original mass
+  /// (solver_options::mass_scaling_ratio; deformable blocks)
+  real added_mass_ratio = 0;
   real max_elongation = 2e-3;   ///< stop here at the latest (m)
   real post_yield = 0.25;       ///< after the tie yields at elongation u_y (see yield_elongation), stop at (1 + this) u_y
   index sample = 25;            ///< steps between curve samples
@@ -469,7 +472,8 @@ template <class Blocks, class Law, class OnEvent>
   require_positive(loading.max_elongation, "rc_tie: maximum elongation (m)");
   const cli::wall_timer timer;
   solver_options opt;
-  opt.mass_scaling_dt = loading.dt;
+  opt.mass_scaling_dt = loading.added_mass_ratio > 0 ? 0 : loading.dt;
+  opt.mass_scaling_ratio = loading.added_mass_ratio;
   opt.threads = loading.threads;
   opt.damping_gamma = loading.damping_gamma;
   solver_type s(scene.prism.tess, scene.prism.mesh, scene.prism.block_material, law_params, scene.bar, opt);

@@ -283,6 +283,7 @@ int run(inputs in) {
       .set("zones", r.zones)
       .set("gridpoints", r.gridpoints)
       .set("dt_s", r.dt)
+      .set("added_mass_target", in.loading.added_mass_ratio)
       .set("added_mass_ratio", r.added_mass_ratio)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
@@ -345,6 +346,10 @@ int main(int argc, char** argv) {
              "mass-scaled time step (s); auto = 2e-6 x (100/blocks)^0.55 (2, 1.2, 0.83 us for 100, 250, 500 "
              "blocks: about the same added mass, ~70x); 0 = stable step of the unscaled masses",
              "DT|auto");
+  cli.option("--added-mass", in.loading.added_mass_ratio,
+             "instead of --dt: the mass-scaled step at which the added mass is R x the original mass (0 = off; "
+             "deformable blocks; the 100-block default step adds 68.7x)",
+             "R");
   cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U");
   cli.option("--post-yield", in.loading.post_yield, "after first yield at u_y, stop at (1 + this) u_y", "R");
   cli.option("--damping", in.loading.damping_gamma, "local damping constant gamma", "G");

@@ -17,13 +17,15 @@
 // Velocities live at half steps; displacements at full steps.
 //
 // Time step (integrator/timestep.hpp): nodal stiffness bounds from blocks, contacts and bonds,
-// then optional mass scaling to options.mass_scaling_dt, then dt = options.dt if given (it must
+// then optional mass scaling to options.mass_scaling_dt (or to the step that adds
+// options.mass_scaling_ratio times the original mass), then dt = options.dt if given (it must
 // not exceed safety x the critical step, else invalid_input naming the limiting node and block),
 // else the mass-scaling target, else safety x critical step.
 //
 // Thread safety: one solver is driven by one thread; its loops are parallel and deterministic
 // (bit-identical for any thread count). step() allocates nothing.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -59,6 +61,10 @@ struct solver_options {
   real safety = integrator::default_safety;  ///< dt = safety x min_i 2 sqrt(m_i / k_i), in (0, 1]
   real dt = 0;                 ///< user time step (s); 0 = automatic. Above the stable limit -> invalid_input
   real mass_scaling_dt = 0;    ///< > 0: raise nodal masses so this step (s) is stable, and use it
+  /// > 0 (instead of mass_scaling_dt): scale masses to the step at which the added mass is this
+  /// multiple of the original mass (integrator::step_for_added_mass; deformable blocks). Resolved
+  /// into mass_scaling_dt when the solver is built (options().mass_scaling_dt then holds the step).
+  real mass_scaling_ratio = 0;
   real damping_gamma = 0.8;    ///< local damping constant (ignored by no_damping)
   int threads = 0;             ///< OpenMP threads; 0 = leave the current setting
   index check_interval = 100;  ///< steps between step-checker passes
@@ -87,6 +93,14 @@ class solver {
             " must lie in (0, 1]");
     require_non_negative(options.dt, "solver: user time step dt (s)");
     require_non_negative(options.mass_scaling_dt, "solver: mass-scaling target time step (s)");
+    require(std::isfinite(options.mass_scaling_ratio) && options.mass_scaling_ratio >= 0,
+            "solver: mass-scaling added-mass ratio = ", options.mass_scaling_ratio, " must be finite and >= 0");
+    require(options.mass_scaling_ratio == 0 || options.mass_scaling_dt == 0,
+            "solver: give a mass-scaling time step (", options.mass_scaling_dt, " s) or an added-mass ratio (",
+            options.mass_scaling_ratio, "), not both");
+    require(options.mass_scaling_ratio == 0 || !Blocks::is_rigid,
+            "solver: an added-mass ratio (", options.mass_scaling_ratio,
+            ") is for deformable blocks; give rigid blocks a mass-scaling time step");
     require(options.check_interval >= 1, "solver: check_interval = ", options.check_interval, " must be >= 1");
     if (options.threads > 0) set_threads(options.threads);
     if constexpr (requires(typename Integrator::damping_type d) { d.gamma; }) {
@@ -235,6 +249,24 @@ class solver {
     contacts_.add_stiffness_bounds(gridpoints_);
     if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
     const real amplification = integrator_.stiffness_amplification();
+    if (options_.mass_scaling_ratio > 0) {
+      // Resolved once, on the unscaled masses; later calls keep the step it gave.
+      real unscaled = integrator::critical_time_step(gridpoints_, amplification).dt;
+      if constexpr (Reinforcement::enabled)
+        unscaled = std::min(unscaled, integrator::critical_time_step(reinforcement_.nodes(), amplification).dt);
+      options_.mass_scaling_dt = integrator::step_for_added_mass(
+          options_.mass_scaling_ratio, options_.safety * unscaled, [&](real dt) {
+            integrator::mass_scaling_report r =
+                integrator::preview_mass_scaling(gridpoints_, dt, options_.safety, amplification);
+            if constexpr (Reinforcement::enabled) {
+              const auto bars = integrator::preview_mass_scaling(reinforcement_.nodes(), dt, options_.safety, amplification);
+              r.added_mass += bars.added_mass;
+              r.original_mass += bars.original_mass;
+            }
+            return r.added_mass / r.original_mass;
+          });
+      options_.mass_scaling_ratio = 0;
+    }
     if (options_.mass_scaling_dt > 0) {
       // Rigid blocks scale their bodies' mass and inertia (blocks/rigid.hpp), not the gridpoints.
       if constexpr (Blocks::is_rigid)
