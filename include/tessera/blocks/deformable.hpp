@@ -31,11 +31,12 @@
 // Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 395
 // instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 208
 // for x86-64-v3 (AVX2, 4 zones per vector), of which the gather is about 65 (baseline); 29 ns
-// per zone-step with the default flags, 24 ns with -march=native
-// (benchmarks/bench_kernels.cpp).
+// per zone-step with the default flags, 20 ns with -march=native on AVX-512 (zones in packs of
+// 16, see zone_kernel) on one core (benchmarks/bench_kernels.cpp).
 //
 // Thread safety: const members are safe to call concurrently; accumulate_forces is not.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <concepts>
@@ -388,9 +389,7 @@ class deformable {
     const std::ptrdiff_t n_z = zone_count();
     real* const f = corner_force_.data();  // column 3 a + i: component i of corner a, over zones
     real* const sig = zone_stress_.data();  // column k: Voigt component k, over zones
-    const index first = run_offsets_[r], last = run_offsets_[r + 1];
-TESSERA_PRAGMA_SIMD
-    for (index z = first; z < last; ++z) {
+    const auto zone = [&](index z) __attribute__((always_inline)) {
       const index i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
       const real u0x = ux[i0], u0y = uy[i0], u0z = uz[i0];
       const real u1x = ux[i1], u1y = uy[i1], u1z = uz[i1];
@@ -459,8 +458,34 @@ TESSERA_PRAGMA_SIMD
       f[9 * n_z + z] = f3x;
       f[10 * n_z + z] = f3y;
       f[11 * n_z + z] = f3z;
+    };
+    // With 512-bit vectors the zones of the run go in packs of zone_pack, the last pack shifted
+    // back to end at `last` (it recomputes a few zones of the previous pack, writing the same
+    // values), so every zone goes through the vector loop: runs are ~30 zones, and GCC's scalar
+    // remainder loop would take a fifth of them (-3 ns per zone on the bench preset's AVX-512).
+    // With 2- or 4-wide vectors the remainder is small and the overlap would cost more than it
+    // saves, so the plain loop is kept. Each zone's arithmetic is the same in any lane, so the
+    // results do not depend on the packing.
+    const index first = run_offsets_[r], last = run_offsets_[r + 1];
+    if (zone_pack == 0 || last - first < zone_pack) {
+TESSERA_PRAGMA_SIMD
+      for (index z = first; z < last; ++z) zone(z);
+      return;
+    }
+    for (index start = first;; start += zone_pack) {
+      const index pack_first = std::min(start, last - zone_pack);
+TESSERA_PRAGMA_SIMD
+      for (index k = 0; k < zone_pack; ++k) zone(pack_first + k);
+      if (pack_first == last - zone_pack) break;
     }
   }
+  /// Zones per pack of the zone kernel's vector loop (see zone_kernel): two 8-wide vectors with
+  /// AVX-512, 0 (plain loop) otherwise.
+#if defined(__AVX512F__)
+  static constexpr index zone_pack = 16;
+#else
+  static constexpr index zone_pack = 0;
+#endif
 
   params params_{};
   typename Zone::constants constants_{};            ///< Zone::prepare(params_)
