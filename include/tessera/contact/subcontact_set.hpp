@@ -68,10 +68,11 @@
 // forces in one pass over the gridpoints (solver.hpp); the results are the same to the bit.
 //
 // Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 335 instructions per sub-contact-step with
-// law::study_tie_law on baseline x86-64 (270 for x86-64-v3), of which the law update (inlined)
-// is about 105 and the gather about 45; about 30 ns per sub-contact-step on one core of the
-// shared 2-core machine (callgrind and wall time, 100-block prism; benchmarks/bench_contacts.cpp).
+// construction O(sub-contacts + gridpoints). About 322 instructions per sub-contact-step with
+// law::study_tie_law on baseline x86-64 (261 for x86-64-v3), of which the law update (inlined)
+// is about 105, the face frames about 40 and the gather about 40; about 27 ns per sub-contact-step
+// on one core of the shared 2-core machine with -march=native (callgrind and wall time, 100-block
+// prism; benchmarks/bench_contacts.cpp).
 
 #include <algorithm>
 #include <array>
