@@ -28,14 +28,15 @@
 // K_z = V_z B^T C B, summed over the zones of a gridpoint (an upper bound of the row sum of the
 // assembled |K|).
 //
-// Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 395
-// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 208
+// Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 382
+// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 203
 // for x86-64-v3 (AVX2, 4 zones per vector), of which the gather is about 65 (baseline); 29 ns
-// per zone-step with the default flags, 24 ns with -march=native
-// (benchmarks/bench_kernels.cpp).
+// per zone-step with the default flags, 20 ns with -march=native on AVX-512 (zones in packs of
+// 16, see zone_kernel) on one core (benchmarks/bench_kernels.cpp).
 //
 // Thread safety: const members are safe to call concurrently; accumulate_forces is not.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <concepts>
@@ -84,7 +85,7 @@ class deformable {
     gridpoint_block_ = mesh.gridpoint_block;
     block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
     for (int a = 0; a < 4; ++a) corner_[a].resize(static_cast<std::size_t>(n_z));
-    for (int k = 0; k < 9; ++k) gradient_[k].resize(static_cast<std::size_t>(n_z));
+    for (auto& g : gradient_) g.resize(static_cast<std::size_t>(n_z));
     volume_.resize(static_cast<std::size_t>(n_z));
     std::vector<real> block_volume(static_cast<std::size_t>(n_b), 0.0);
     const real rho = Zone::density(p);
@@ -111,7 +112,9 @@ class deformable {
       const mat3 j_inv = j.inverse();
       volume_[zs] = volume;
       for (int a = 1; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) gradient_[3 * (a - 1) + k][zs] = j_inv(a - 1, k);
+        for (int k = 0; k < 3; ++k) gradient_[at(3 * a + k)][zs] = j_inv(a - 1, k);
+      for (std::size_t k = 0; k < 3; ++k)
+        gradient_[k][zs] = -(gradient_[3 + k][zs] + gradient_[6 + k][zs] + gradient_[9 + k][zs]);
       for (std::size_t a = 0; a < 4; ++a) gridpoints.mass[c[a]] += rho * volume / 4;
       block_volume[static_cast<std::size_t>(zone_block_[zs])] += volume;
     }
@@ -300,8 +303,7 @@ class deformable {
   /// grad N_0 = -(grad N_1 + grad N_2 + grad N_3).
   [[nodiscard]] std::array<real, 12> gradients(index z) const noexcept {
     std::array<real, 12> g{};
-    for (std::size_t k = 0; k < 9; ++k) g[3 + k] = gradient_[k][at(z)];
-    for (std::size_t k = 0; k < 3; ++k) g[k] = -(g[3 + k] + g[6 + k] + g[9 + k]);
+    for (std::size_t k = 0; k < 12; ++k) g[k] = gradient_[k][at(z)];
     return g;
   }
 
@@ -381,25 +383,24 @@ class deformable {
     const index* const c1 = corner_[1].data();
     const index* const c2 = corner_[2].data();
     const index* const c3 = corner_[3].data();
-    const real* const g[9] = {gradient_[0].data(), gradient_[1].data(), gradient_[2].data(),
-                              gradient_[3].data(), gradient_[4].data(), gradient_[5].data(),
-                              gradient_[6].data(), gradient_[7].data(), gradient_[8].data()};
+    const real* const g[12] = {gradient_[0].data(), gradient_[1].data(), gradient_[2].data(),
+                               gradient_[3].data(), gradient_[4].data(), gradient_[5].data(),
+                               gradient_[6].data(), gradient_[7].data(), gradient_[8].data(),
+                               gradient_[9].data(), gradient_[10].data(), gradient_[11].data()};
     const real* const vol = volume_.data();
     const std::ptrdiff_t n_z = zone_count();
     real* const f = corner_force_.data();  // column 3 a + i: component i of corner a, over zones
     real* const sig = zone_stress_.data();  // column k: Voigt component k, over zones
-    const index first = run_offsets_[r], last = run_offsets_[r + 1];
-TESSERA_PRAGMA_SIMD
-    for (index z = first; z < last; ++z) {
+    const auto zone = [&](index z) __attribute__((always_inline)) {
       const index i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
       const real u0x = ux[i0], u0y = uy[i0], u0z = uz[i0];
       const real u1x = ux[i1], u1y = uy[i1], u1z = uz[i1];
       const real u2x = ux[i2], u2y = uy[i2], u2z = uz[i2];
       const real u3x = ux[i3], u3y = uy[i3], u3z = uz[i3];
-      const real g1x = g[0][z], g1y = g[1][z], g1z = g[2][z];
-      const real g2x = g[3][z], g2y = g[4][z], g2z = g[5][z];
-      const real g3x = g[6][z], g3y = g[7][z], g3z = g[8][z];
-      const real g0x = -(g1x + g2x + g3x), g0y = -(g1y + g2y + g3y), g0z = -(g1z + g2z + g3z);
+      const real g0x = g[0][z], g0y = g[1][z], g0z = g[2][z];
+      const real g1x = g[3][z], g1y = g[4][z], g1z = g[5][z];
+      const real g2x = g[6][z], g2y = g[7][z], g2z = g[8][z];
+      const real g3x = g[9][z], g3y = g[10][z], g3z = g[11][z];
       // Displacement gradient H (row i, column k) = sum_a u_a[i] grad N_a[k].
       const real hxx = u0x * g0x + u1x * g1x + u2x * g2x + u3x * g3x;
       const real hxy = u0x * g0y + u1x * g1y + u2x * g2y + u3x * g3y;
@@ -459,15 +460,43 @@ TESSERA_PRAGMA_SIMD
       f[9 * n_z + z] = f3x;
       f[10 * n_z + z] = f3y;
       f[11 * n_z + z] = f3z;
+    };
+    // With 512-bit vectors the zones of the run go in packs of zone_pack, the last pack shifted
+    // back to end at `last` (it recomputes a few zones of the previous pack, writing the same
+    // values), so every zone goes through the vector loop: runs are ~30 zones, and GCC's scalar
+    // remainder loop would take a fifth of them (-3 ns per zone on the bench preset's AVX-512).
+    // With 2- or 4-wide vectors the remainder is small and the overlap would cost more than it
+    // saves, so the plain loop is kept. Each zone's arithmetic is the same in any lane, so the
+    // results do not depend on the packing.
+    const index first = run_offsets_[r], last = run_offsets_[r + 1];
+    if (zone_pack == 0 || last - first < zone_pack) {
+TESSERA_PRAGMA_SIMD
+      for (index z = first; z < last; ++z) zone(z);
+      return;
+    }
+    for (index start = first;; start += zone_pack) {
+      const index pack_first = std::min(start, last - zone_pack);
+TESSERA_PRAGMA_SIMD
+      for (index k = 0; k < zone_pack; ++k) zone(pack_first + k);
+      if (pack_first == last - zone_pack) break;
     }
   }
+  /// Zones per pack of the zone kernel's vector loop (see zone_kernel): two 8-wide vectors with
+  /// AVX-512, 0 (plain loop) otherwise.
+#if defined(__AVX512F__)
+  static constexpr index zone_pack = 16;
+#else
+  static constexpr index zone_pack = 0;
+#endif
 
   params params_{};
   typename Zone::constants constants_{};            ///< Zone::prepare(params_)
   bool rotation_per_run_ = false;                   ///< every block is exactly one run
   // per zone, structure of arrays (hot in the zone kernel)
   std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
-  std::array<std::vector<real>, 9> gradient_;       ///< gradient_[3 (a - 1) + k][z]: d N_a / d X_k (1/m), a = 1..3
+  /// gradient_[3 a + k][z]: d N_a / d X_k (1/m), a = 0..3; grad N_0 = -(grad N_1 + grad N_2 +
+  /// grad N_3) is stored too: 3 loads per zone instead of 9 additions in the zone kernel.
+  std::array<std::vector<real>, 12> gradient_;
   std::vector<real> volume_;                        ///< reference volume V_z (m^3)
   std::vector<index> zone_block_;                   ///< owning block of each zone
   std::vector<index> run_offsets_{0};               ///< zones [run_offsets_[r], run_offsets_[r + 1]) belong to one block

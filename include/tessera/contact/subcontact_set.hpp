@@ -47,7 +47,8 @@
 // has the direction of the slip of B relative to A, resists that slip.
 //
 // Storage (structure of arrays behind index handles): per sub-contact node_a, node_b, face,
-// area and the law state; per face its sub-contact range, polygon corners (as sub-contact ids)
+// area and the law state; per face its sub-contact range, polygon corners (the gridpoint pair and
+// the constant reference offset from the first corner, so the frame reads displacements only)
 // and the current and previous normals. Law::state is a small POD read and written as a whole
 // by each update, so an array of states (not one array per state field) is the cache-friendly
 // layout: one or two contiguous cache lines per sub-contact. Forces go through a gridpoint-major
@@ -67,10 +68,11 @@
 // forces in one pass over the gridpoints (solver.hpp); the results are the same to the bit.
 //
 // Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 335 instructions per sub-contact-step with
-// law::study_tie_law on baseline x86-64 (270 for x86-64-v3), of which the law update (inlined)
-// is about 105 and the gather about 45; about 30 ns per sub-contact-step on one core of the
-// shared 2-core machine (callgrind and wall time, 100-block prism; benchmarks/bench_contacts.cpp).
+// construction O(sub-contacts + gridpoints). About 322 instructions per sub-contact-step with
+// law::study_tie_law on baseline x86-64 (261 for x86-64-v3), of which the law update (inlined)
+// is about 105, the face frames about 40 and the gather about 40; about 27 ns per sub-contact-step
+// on one core of the shared 2-core machine with -march=native (callgrind and wall time, 100-block
+// prism; benchmarks/bench_contacts.cpp).
 
 #include <algorithm>
 #include <array>
@@ -236,9 +238,14 @@ class subcontact_set {
             corner = first_subcontact_[at(s)] + k;
         check(corner != invalid_index, "tessellation vertex ", vertex,
               " has no face node copying it on both sides (block_mesh::gridpoint_vertex)");
-        corner_.push_back(corner);
+        corner_a_.push_back(node_a_[at(corner)]);
+        corner_b_.push_back(node_b_[at(corner)]);
       }
-      first_corner_.push_back(static_cast<index>(corner_.size()));
+      first_corner_.push_back(static_cast<index>(corner_a_.size()));
+      // Reference offsets of the corners from the first one (side A), constant.
+      const vec3& x0 = mesh.gridpoints[at(corner_a_[at(first_corner_[at(s)])])];
+      for (index k = first_corner_[at(s)]; k < first_corner_[at(s) + 1]; ++k)
+        for (int c = 0; c < 3; ++c) corner_offset_[at(c)].push_back(mesh.gridpoints[at(corner_a_[at(k)])][c] - x0[c]);
     }
 
     const std::size_t n = node_a_.size();
@@ -247,12 +254,10 @@ class subcontact_set {
     // Reference frames; a face whose two sides cancel has no plane.
     normal_.setZero(face_count, 3);
     {
-      soa3 X(n_gridpoints, 3), u = soa3::Zero(n_gridpoints, 3);
-      for (index g = 0; g < n_gridpoints; ++g) X.row(g) = mesh.gridpoints[at(g)].transpose();
-      const real* Xp[3] = {X.col(0).data(), X.col(1).data(), X.col(2).data()};
+      const soa3 u = soa3::Zero(n_gridpoints, 3);
       const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
       for (index s = 0; s < face_count; ++s) {
-        const vec3 d = face_area_vector(s, Xp, up);
+        const vec3 d = face_area_vector(s, up);
         require<geometry_error>(d.norm() > 0, "subcontact_set: shared face ", s, " (cells ",
                                 shared_faces_[at(s)].cell_a, " and ", shared_faces_[at(s)].cell_b,
                                 "): zero vector area, the face polygon has no plane (degenerate face)");
@@ -292,12 +297,10 @@ class subcontact_set {
   void initialize_frames(const node_set& gridpoints) {
     require(gridpoints.size() == gridpoint_count_, "subcontact_set::initialize_frames: node_set has ",
             gridpoints.size(), " gridpoints, expected ", gridpoint_count_);
-    const real* X[3] = {gridpoints.reference.col(0).data(), gridpoints.reference.col(1).data(),
-                        gridpoints.reference.col(2).data()};
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     for (index s = 0; s < face_count(); ++s) {
-      const vec3 d = face_area_vector(s, X, u);
+      const vec3 d = face_area_vector(s, u);
       if (d.squaredNorm() > 0) normal_.row(s) = d.normalized().transpose();
     }
     previous_normal_ = normal_;
@@ -330,15 +333,13 @@ class subcontact_set {
   /// Frame of face s from the current positions (a degenerate face keeps its previous frame),
   /// then law update and force rows of each of its sub-contacts. Writes only face s's data.
   void update_face(index s, const node_set& gridpoints, real dt) noexcept {
-    const real* X[3] = {gridpoints.reference.col(0).data(), gridpoints.reference.col(1).data(),
-                        gridpoints.reference.col(2).data()};
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
     real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
     const params_type& p = params_;
-    const vec3 d = face_area_vector(s, X, u);
+    const vec3 d = face_area_vector(s, u);
     const vec3 n_prev(previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2));
     const real length2 = d.squaredNorm();
     const vec3 n = length2 > 0 ? vec3(d / std::sqrt(length2)) : n_prev;
@@ -483,30 +484,27 @@ class subcontact_set {
   /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
   /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see the file comment), from differences
   /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
-  /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size).
-  [[nodiscard]] vec3 face_area_vector(index s, const real* const X[3], const real* const u[3]) const noexcept {
-    const index* corner = corner_.data() + first_corner_[at(s)];
-    const index count = first_corner_[at(s) + 1] - first_corner_[at(s)];
-    const auto midpoint_offset = [&](index k, const vec3& origin_X, const vec3& origin_u) {
-      const auto i = at(corner[k]);
-      const index a = node_a_[i], b = node_b_[i];
+  /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size),
+  /// and X_k - X_0 is the stored corner_offset_ (the reference positions of the block_mesh).
+  [[nodiscard]] vec3 face_area_vector(index s, const real* const u[3]) const noexcept {
+    const auto first = at(first_corner_[at(s)]);
+    const auto count = at(first_corner_[at(s) + 1]) - first;
+    const index* ca = corner_a_.data() + first;
+    const index* cb = corner_b_.data() + first;
+    const real* dX[3] = {corner_offset_[0].data() + first, corner_offset_[1].data() + first,
+                         corner_offset_[2].data() + first};
+    vec3 origin_u;
+    for (int c = 0; c < 3; ++c) origin_u[c] = 0.5 * (u[c][ca[0]] + u[c][cb[0]]);
+    const auto midpoint_offset = [&](std::size_t k) {
+      const index a = ca[k], b = cb[k];
       vec3 d;
-      for (int c = 0; c < 3; ++c) d[c] = (X[c][a] - origin_X[c]) + (0.5 * (u[c][a] + u[c][b]) - origin_u[c]);
+      for (int c = 0; c < 3; ++c) d[c] = dX[c][k] + (0.5 * (u[c][a] + u[c][b]) - origin_u[c]);
       return d;
     };
-    vec3 origin_X, origin_u;
-    {
-      const auto i0 = at(corner[0]);
-      const index a = node_a_[i0], b = node_b_[i0];
-      for (int c = 0; c < 3; ++c) {
-        origin_X[c] = X[c][a];
-        origin_u[c] = 0.5 * (u[c][a] + u[c][b]);
-      }
-    }
     vec3 s_area = vec3::Zero();
-    vec3 previous = midpoint_offset(1, origin_X, origin_u);
-    for (index k = 2; k < count; ++k) {
-      const vec3 next = midpoint_offset(k, origin_X, origin_u);
+    vec3 previous = midpoint_offset(1);
+    for (std::size_t k = 2; k < count; ++k) {
+      const vec3 next = midpoint_offset(k);
       s_area += previous.cross(next);
       previous = next;
     }
@@ -523,7 +521,11 @@ class subcontact_set {
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
   std::vector<index> first_subcontact_{0};
-  std::vector<index> first_corner_{0}, corner_;  ///< CSR: polygon corners of face s as sub-contact ids, CCW seen from A
+  // Polygon corners of face s (CCW seen from A), CSR [first_corner_[s], first_corner_[s + 1]):
+  // the gridpoints of the corner pair and the reference offset X_a,k - X_a,0 from the face's
+  // first corner (per component), so the frame reads only displacements.
+  std::vector<index> first_corner_{0}, corner_a_, corner_b_;
+  std::array<std::vector<real>, 3> corner_offset_;
   std::vector<real> face_area_;
   soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
