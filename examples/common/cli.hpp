@@ -96,9 +96,7 @@ template <class T>
     return os.str();
   }
 }
-}  // namespace detail
 
-namespace detail {
 /// Busy and total jiffies of all CPUs from the first line of /proc/stat; false if unreadable.
 inline bool read_cpu_jiffies(unsigned long long& busy, unsigned long long& total) {
   std::FILE* f = std::fopen("/proc/stat", "r");

@@ -511,6 +511,14 @@ template <class Blocks, class Law, class OnEvent>
   real max_force = 0;
   int softened_count = 0;
   const real yield_flow = 0.02 * scene.hand.yield_force / scene.hand.bare_bar_stiffness;  // m
+  // Bar elements whose midpoints lie in the middle two thirds of the tie (concrete_stress).
+  index middle_first = truss.element_count(), middle_end = 0;
+  for (index e = 0; e < truss.element_count(); ++e) {
+    const real z = (static_cast<real>(e) + 0.5) * length / static_cast<real>(truss.element_count());
+    if (z < length / 6 || z > 5 * length / 6) continue;
+    middle_first = std::min(middle_first, e);
+    middle_end = e + 1;
+  }
   const auto sample = [&](const solver_type& sv) {
     const real u = bar.displacement(last_node, 2) - bar.displacement(first_node, 2);  // elongation
     const real f = -bar.reaction(first_node, 2);
@@ -519,13 +527,8 @@ template <class Blocks, class Law, class OnEvent>
     r.pulled_force.push_back(bar.reaction(last_node, 2));
     {
       real bar_sum = 0;
-      index bar_count = 0;
-      for (index e = 0; e < truss.element_count(); ++e) {
-        const real z = (static_cast<real>(e) + 0.5) * length / static_cast<real>(truss.element_count());
-        if (z < length / 6 || z > 5 * length / 6) continue;
-        bar_sum += truss.axial_force(e);
-        ++bar_count;
-      }
+      for (index e = middle_first; e < middle_end; ++e) bar_sum += truss.axial_force(e);
+      const index bar_count = std::max<index>(0, middle_end - middle_first);
       r.concrete_stress.push_back(bar_count > 0 ? (f - bar_sum / static_cast<real>(bar_count)) / scene.hand.concrete_area : 0);
       index softened = 0;
       for (index i = 0; i < sv.contacts().size(); ++i)

@@ -66,6 +66,13 @@ struct mass_scaling_report {
   real added_mass = 0;     ///< sum of the mass added (kg)
   real original_mass = 0;  ///< sum of the masses before scaling (kg)
   index scaled_nodes = 0;  ///< number of nodes whose mass was raised
+  /// Adds another node set's report (e.g. the bar nodes' to the gridpoints').
+  mass_scaling_report& operator+=(const mass_scaling_report& o) noexcept {
+    added_mass += o.added_mass;
+    original_mass += o.original_mass;
+    scaled_nodes += o.scaled_nodes;
+    return *this;
+  }
 };
 
 namespace detail {

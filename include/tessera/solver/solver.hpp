@@ -258,11 +258,8 @@ class solver {
           options_.mass_scaling_ratio, options_.safety * unscaled, [&](real dt) {
             integrator::mass_scaling_report r =
                 integrator::preview_mass_scaling(gridpoints_, dt, options_.safety, amplification);
-            if constexpr (Reinforcement::enabled) {
-              const auto bars = integrator::preview_mass_scaling(reinforcement_.nodes(), dt, options_.safety, amplification);
-              r.added_mass += bars.added_mass;
-              r.original_mass += bars.original_mass;
-            }
+            if constexpr (Reinforcement::enabled)
+              r += integrator::preview_mass_scaling(reinforcement_.nodes(), dt, options_.safety, amplification);
             return r.added_mass / r.original_mass;
           });
       options_.mass_scaling_ratio = 0;
@@ -273,13 +270,8 @@ class solver {
         scaling_ = blocks_.scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
       else
         scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
-      if constexpr (Reinforcement::enabled) {
-        const auto bars =
-            integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety, amplification);
-        scaling_.added_mass += bars.added_mass;
-        scaling_.original_mass += bars.original_mass;
-        scaling_.scaled_nodes += bars.scaled_nodes;
-      }
+      if constexpr (Reinforcement::enabled)
+        scaling_ += integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety, amplification);
     }
     if constexpr (Blocks::is_rigid)
       critical_ = blocks_.critical_time_step(gridpoints_, amplification);  // 6-DOF bound per block
