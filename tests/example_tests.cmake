@@ -107,6 +107,7 @@ tessera_add_example_test(rc_tie
          "first_crack_error_rel LESS 0.6"
          "final_force_error_rel LESS 0.1"
          "cracks GREATER 0"
+         "bar_crossing_cracks GREATER 0"
          "softened_cracks GREATER 1"
          "energy_balance_error_rel LESS 0.01"
          "subcontacts GREATER 2000"

@@ -196,6 +196,11 @@ struct crack_report {
   int pieces = 1;                     ///< connected concrete pieces
   int cracks = 0;                     ///< pieces - 1
   std::vector<real> positions;        ///< mean z of each separating crack surface (m), ascending
+  /// Cracks the bar crosses: changes of concrete piece from one bar node's host block to the
+  /// next, walking the bar (-1 when the graph has no bar path). A fragment split off by a
+  /// branching crack (a piece the bar does not pass through) adds a piece but no crossing.
+  int bar_crossings = -1;
+  std::vector<real> bar_crossing_positions;  ///< z of each crossing: mean z of the surface between the two pieces (m)
   real opening_threshold = 0;         ///< w_open (m)
   index open_subcontacts = 0;         ///< sub-contacts opened beyond w_open
 };
@@ -370,6 +375,15 @@ class crack_graph {
     parent_.resize(static_cast<std::size_t>(blocks));
   }
 
+  /// The bar's path through the concrete: host block and z of each bar node, in bar order
+  /// (enables crack_report::bar_crossings).
+  void set_bar_path(std::vector<index> node_blocks, std::vector<real> node_z) {
+    require(node_blocks.size() == node_z.size(), "crack_graph: ", node_blocks.size(), " host blocks for ", node_z.size(),
+            " bar nodes");
+    bar_blocks_ = std::move(node_blocks);
+    bar_z_ = std::move(node_z);
+  }
+
   /// Through-cracks of faces whose every sub-contact i satisfies cracked(i).
   template <class Contacts, class Cracked>
   [[nodiscard]] crack_report evaluate(const Contacts& contacts, const node_set& gridpoints, Cracked&& cracked,
@@ -410,6 +424,19 @@ class crack_graph {
     for (const auto& x : surfaces)
       if (x.second.second > 0) r.positions.push_back(x.second.first / x.second.second);
     std::sort(r.positions.begin(), r.positions.end());
+    if (!bar_blocks_.empty()) {
+      r.bar_crossings = 0;
+      for (std::size_t k = 1; k < bar_blocks_.size(); ++k) {
+        index pa = find(bar_blocks_[k - 1]), pb = find(bar_blocks_[k]);
+        if (pa == pb) continue;
+        ++r.bar_crossings;
+        if (pa > pb) std::swap(pa, pb);
+        auto it = std::find_if(surfaces.begin(), surfaces.end(), [&](const auto& x) { return x.first == std::pair(pa, pb); });
+        r.bar_crossing_positions.push_back(it != surfaces.end() && it->second.second > 0
+                                               ? it->second.first / it->second.second
+                                               : 0.5 * (bar_z_[k - 1] + bar_z_[k]));
+      }
+    }
     return r;
   }
 
@@ -455,6 +482,8 @@ class crack_graph {
   std::vector<index> order_;
   std::vector<face> faces_;
   std::vector<index> parent_;
+  std::vector<index> bar_blocks_;  ///< host block of each bar node, in bar order (empty: no bar path)
+  std::vector<real> bar_z_;
 };
 
 // ---------------------------------------------------------------- one run
@@ -508,6 +537,16 @@ template <class Blocks, class Law, class OnEvent>
   const bool show = !loading.progress_label.empty();
   bool done = false;
   crack_graph graph(s.contacts(), scene.prism.tess.cell_count());
+  if (!scene.options.bare) {
+    std::vector<index> node_blocks;
+    std::vector<real> node_z;
+    for (index n = first_node; n < end_node; ++n) {
+      if (!truss.bonded(n)) continue;
+      node_blocks.push_back(scene.prism.mesh.zone_block[static_cast<std::size_t>(truss.host(n).zone)]);
+      node_z.push_back(bar.reference(n, 2));
+    }
+    graph.set_bar_path(std::move(node_blocks), std::move(node_z));
+  }
   real max_force = 0;
   int softened_count = 0;
   const real yield_flow = 0.02 * scene.hand.yield_force / scene.hand.bare_bar_stiffness;  // m

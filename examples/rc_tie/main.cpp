@@ -30,7 +30,10 @@
 //                    concrete_stress_at_first_crack_Pa (and / f_T), softened_subcontacts_at_first_crack,
 //                    initial_stiffness_N_per_m and its error vs (E_c A_c + E_s A_s)/L and vs the
 //                    shear-lag value of the bonded tie, load_drops,
-//                    cracks (fully opened through-cracks), crack_positions_m, softened_cracks,
+//                    cracks (fully opened through-cracks), crack_positions_m,
+//                    bar_crossing_cracks (those the bar crosses; a fragment split off by a
+//                    branching crack adds a separated piece but no crossing) and their positions,
+//                    softened_cracks,
 //                    yield_force_N and its error vs f_y A, final_force_N (where the final branch
 //                    ends) and its error vs f_y A, energy balance error, sizes, steps, runtime_s
 // Definitions (load drop, through-crack, initial stiffness, yield force): rc_tie_scene.hpp.
@@ -258,6 +261,8 @@ int run(inputs in) {
       .set("load_drop_elongations_m", drop_elongations)
       .set("cracks", r.cracks.cracks)
       .set("crack_positions_m", r.cracks.positions)
+      .set("bar_crossing_cracks", r.cracks.bar_crossings)
+      .set("bar_crossing_crack_positions_m", r.cracks.bar_crossing_positions)
       .set("crack_opening_threshold_m", r.cracks.opening_threshold)
       .set("cracks_normal_opening_only", r.cracks_normal_only.cracks)
       .set("softened_cracks", r.softened_cracks.cracks)
