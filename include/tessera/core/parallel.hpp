@@ -14,8 +14,12 @@
 /// as the sanitizer presets, do not warn about an unknown pragma). Put it right before a loop.
 #if defined(_OPENMP)
 #define TESSERA_PRAGMA_SIMD _Pragma("omp simd")
+#define TESSERA_DETAIL_PRAGMA(x) _Pragma(#x)
+/// `#pragma omp simd reduction(+ : a, b)` where OpenMP is enabled, nothing otherwise.
+#define TESSERA_PRAGMA_SIMD_REDUCTION(a, b) TESSERA_DETAIL_PRAGMA(omp simd reduction(+ : a, b))
 #else
 #define TESSERA_PRAGMA_SIMD
+#define TESSERA_PRAGMA_SIMD_REDUCTION(a, b)
 #endif
 
 namespace tessera {

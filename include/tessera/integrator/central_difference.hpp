@@ -73,9 +73,9 @@ class central_difference {
     const std::int64_t chunks = (n + chunk - 1) / chunk;
     std::array<step_work, max_chunks> partial{};
     parallel_for(chunks, [&](std::int64_t k) {
-      step_work w;
-      const std::int64_t end = std::min(n, (k + 1) * chunk);
-      prepare(k * chunk, end);
+      const std::int64_t begin = k * chunk, end = std::min(n, (k + 1) * chunk);
+      prepare(begin, end);
+      real boundary = 0, damped = 0;
       for (int c = 0; c < 3; ++c) {
         real* v = nodes.velocity.col(c).data();
         real* u = nodes.displacement.col(c).data();
@@ -84,12 +84,32 @@ class central_difference {
         const real* vp = nodes.prescribed_velocity.col(c).data();
         const std::uint8_t* con = nodes.constraint.col(c).data();
         const real* m = nodes.mass.data();
-        for (std::int64_t i = k * chunk; i < end; ++i) {
-          v[i] = advance_dof(f[i], m[i], v[i], con[i], vp[i], dt, r[i], w);
-          u[i] += v[i] * dt;
+        // advance_dof for every component, branch-free so the loop vectorises: both updates
+        // are evaluated and the constraint selects one (same operations, so the same velocities
+        // and displacements to the bit as advance_dof). The energy sums are reductions over
+        // vector lanes: their rounding depends on the vector width of the build, never on the
+        // thread count (fixed chunks), and they do not feed back into the motion.
+        TESSERA_PRAGMA_SIMD_REDUCTION(boundary, damped)
+        for (std::int64_t i = begin; i < end; ++i) {
+          const real v_old = v[i], force = f[i], mass = m[i];
+          const bool prescribed = con[i] == static_cast<std::uint8_t>(dof_constraint::prescribed);
+          const real reaction = mass * (vp[i] - v_old) / dt - force;
+          real v_free, fd = 0;
+          if constexpr (D::enabled) {
+            fd = damping.force(force, v_old);
+            v_free = v_old + (force - fd) * dt / mass;
+          } else {
+            v_free = v_old + force * dt / mass;
+          }
+          const real v_new = prescribed ? vp[i] : v_free;
+          r[i] = prescribed ? reaction : r[i];
+          boundary += prescribed ? reaction * 0.5 * (v_old + v_new) * dt : real(0);
+          if constexpr (D::enabled) damped += prescribed ? real(0) : fd * 0.5 * (v_old + v_new) * dt;
+          v[i] = v_new;
+          u[i] += v_new * dt;
         }
       }
-      partial[static_cast<std::size_t>(k)] = w;
+      partial[static_cast<std::size_t>(k)] = step_work{boundary, damped};
     }, 1);
     for (std::int64_t k = 0; k < chunks; ++k) {
       work.boundary += partial[static_cast<std::size_t>(k)].boundary;
