@@ -35,8 +35,10 @@
 // - Unbonded bars (bar::bonded = false) have no host and no bond springs (bare-bar reference).
 //
 // Cost and threading: accumulate_forces is a serial loop over elements then nodes in a fixed order
-// (bars have O(100) nodes), allocation-free and deterministic. Not thread-safe for concurrent calls
-// on one object.
+// (bars have O(100) nodes), allocation-free and deterministic. A solver that gathers gridpoint
+// forces in parallel calls its two halves instead: compute_forces (serial), then add_host_force
+// for each gridpoint (concurrently for distinct gridpoints), with the same result to the bit.
+// Not thread-safe for concurrent calls of the other members on one object.
 
 #include <algorithm>
 #include <cmath>
@@ -143,6 +145,32 @@ class embedded_truss {
       }
     }
     bonds_.assign(static_cast<std::size_t>(n_nodes), bond_state{});
+    host_load_.setZero(n_nodes, 3);
+    // Host slots grouped by gridpoint (CSR), each gridpoint's in bonded-node order; a zone's
+    // corners are distinct, so a gridpoint appears at most once per node.
+    host_offsets_.assign(bonded_nodes_.empty() ? 0 : static_cast<std::size_t>(gridpoints.size()) + 1, 0);
+    host_slot_gridpoint_.clear();
+    host_slot_node_.clear();
+    host_slot_weight_.clear();
+    if (!bonded_nodes_.empty()) {
+      for (index n : bonded_nodes_)
+        for (index g : hosts_[static_cast<std::size_t>(n)].gridpoints) ++host_offsets_[static_cast<std::size_t>(g) + 1];
+      for (std::size_t g = 1; g < host_offsets_.size(); ++g) host_offsets_[g] += host_offsets_[g - 1];
+      const std::size_t slots = static_cast<std::size_t>(host_offsets_.back());
+      host_slot_gridpoint_.resize(slots);
+      host_slot_node_.resize(slots);
+      host_slot_weight_.resize(slots);
+      std::vector<index> fill(host_offsets_.begin(), host_offsets_.end() - 1);
+      for (index n : bonded_nodes_) {
+        const host_point& h = hosts_[static_cast<std::size_t>(n)];
+        for (std::size_t i = 0; i < 4; ++i) {
+          const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(h.gridpoints[i])]++);
+          host_slot_gridpoint_[k] = h.gridpoints[i];
+          host_slot_node_[k] = n;
+          host_slot_weight_[k] = h.weights[i];
+        }
+      }
+    }
     transverse_gap_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     confining_stress_.assign(static_cast<std::size_t>(n_nodes), 0.0);
   }
@@ -178,6 +206,23 @@ class embedded_truss {
   /// histories. zone_stress: one Voigt row (xx, yy, zz, yz, zx, xy; Pa, tension +) per zone of the
   /// mesh given to build(), or empty (no confinement).
   void accumulate_forces(node_set& gridpoints, const zone_stress_matrix& zone_stress) noexcept {
+    compute_forces(gridpoints, zone_stress);
+    for (std::size_t k = 0; k < host_slot_node_.size(); ++k) {
+      const index g = host_slot_gridpoint_[k];
+      const real w = host_slot_weight_[k];
+      const index n = host_slot_node_[k];
+      for (int c = 0; c < 3; ++c) gridpoints.force(g, c) -= w * host_load_(n, c);
+    }
+  }
+
+  // ---- accumulate_forces() in two pieces, for a solver that gathers and integrates the
+  // gridpoints in one loop (solver.hpp): compute_forces(gp, stress); then add_host_force(g, gp) for
+  // every gridpoint g (concurrently for distinct g). Same results to the bit. ----
+
+  /// Axial and bond forces on the bar nodes (added to nodes().force), plastic and bond
+  /// histories advanced; the bond force on each node's host point is kept for add_host_force.
+  /// Reads gridpoints' displacements only.
+  void compute_forces(const node_set& gridpoints, const zone_stress_matrix& zone_stress) noexcept {
     const soa3& u = nodes_.displacement;
     soa3& f = nodes_.force;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -213,12 +258,23 @@ class embedded_truss {
       const vec3 transverse = d - slip * a;
       transverse_gap_[ni] = transverse.norm();
       const vec3 on_node = -(bonds_[ni].force * a + k * transverse);
-      for (int c = 0; c < 3; ++c) f(n, c) += on_node[c];
-      for (int i = 0; i < 4; ++i) {
-        const index g = h.gridpoints[static_cast<std::size_t>(i)];
-        const real w = h.weights[static_cast<std::size_t>(i)];
-        for (int c = 0; c < 3; ++c) gridpoints.force(g, c) -= w * on_node[c];
+      for (int c = 0; c < 3; ++c) {
+        f(n, c) += on_node[c];
+        host_load_(n, c) = on_node[c];
       }
+    }
+  }
+
+  /// Subtracts from gridpoints.force(g) the host share w_i f_n of every bond force whose host
+  /// zone has g as corner i, in the order of the bonded nodes (that of accumulate_forces).
+  void add_host_force(index g, node_set& gridpoints) const noexcept {
+    const auto gs = static_cast<std::size_t>(g);
+    if (gs + 1 >= host_offsets_.size()) return;
+    for (index k = host_offsets_[gs]; k < host_offsets_[gs + 1]; ++k) {
+      const auto ks = static_cast<std::size_t>(k);
+      const real w = host_slot_weight_[ks];
+      const index n = host_slot_node_[ks];
+      for (int c = 0; c < 3; ++c) gridpoints.force(g, c) -= w * host_load_(n, c);
     }
   }
 
@@ -311,6 +367,11 @@ class embedded_truss {
   std::vector<host_point> hosts_;
   std::vector<index> bonded_nodes_;  ///< nodes with a host, ascending
   std::vector<bond_state> bonds_;
+  soa3 host_load_;  ///< force on each bonded node from its bond (N); its host gridpoints take -w_i times it
+  // host slots (CSR over the gridpoints): slots [host_offsets_[g], host_offsets_[g + 1]) are g's
+  std::vector<index> host_offsets_;
+  std::vector<index> host_slot_gridpoint_, host_slot_node_;
+  std::vector<real> host_slot_weight_;
 };
 
 static_assert(Reinforcement<embedded_truss<coulomb_bond>>,

@@ -11,6 +11,7 @@
 //   2. blocks: zone forces from the current displacements            -> gridpoints.force
 //   3. contacts: law update from du = (v_b - v_a) dt, forces           -> gridpoints.force
 //   4. reinforcement: axial + bond forces (zone stress = confinement)  -> bar nodes, gridpoints
+//      (steps 2-4 fused into two parallel loops where the policies allow: docs/architecture.md)
 //   5-6. blocks.advance: (rigid: reduce to block force/moment) central differences with damping,
 //      prescribed components and reactions; then bar nodes
 //   7. energy increments, time, step checker every `interval` steps
@@ -148,18 +149,27 @@ class solver {
       parallel_for_pair(
           blocks_.run_count(), [&](std::int64_t r) { blocks_.zone_forces_of_run(static_cast<index>(r), gridpoints_); },
           contacts_.face_count(), [&](std::int64_t f) { contacts_.update_face(static_cast<index>(f), gridpoints_, dt_); });
+      // Bars that can hand their host forces to the gather (embedded_truss): bar-side forces
+      // first (they read displacements and this step's zone stresses), host shares in the gather.
+      constexpr bool split_bars = Reinforcement::enabled && requires(Reinforcement& rf, index i) {
+        rf.compute_forces(gridpoints_, blocks_.zone_stress());
+        rf.add_host_force(i, gridpoints_);
+      };
+      if constexpr (split_bars) reinforcement_.compute_forces(gridpoints_, blocks_.zone_stress());
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t i = begin; i < end; ++i) {
           blocks_.add_force(static_cast<index>(i), gridpoints_);
           contacts_.add_force(static_cast<index>(i), gridpoints_);
+          if constexpr (split_bars) reinforcement_.add_host_force(static_cast<index>(i), gridpoints_);
         }
       };
-      if constexpr (!Reinforcement::enabled &&
+      if constexpr ((!Reinforcement::enabled || split_bars) &&
                     requires(integrator::step_work& w) { integrator_.advance(gridpoints_, dt_, w, gather); }) {
-        // No bar forces to add: the integrator gathers each chunk of gridpoints right before
-        // integrating it (one parallel loop for gather and update).
+        // The integrator gathers each chunk of gridpoints right before integrating it (one
+        // parallel loop for gather and update); the bar nodes, whose forces are complete, follow.
         integrator::step_work work;
         integrator_.advance(gridpoints_, dt_, work, gather);
+        if constexpr (Reinforcement::enabled) integrator_.advance(reinforcement_.nodes(), dt_, work);
         finish_step(work);
         return;
       } else {
