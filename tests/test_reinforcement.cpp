@@ -359,15 +359,15 @@ TEST_CASE("embedded_truss: bond forces conserve momentum; stiffness bounds domin
     for (idx i = 0; i < nb; ++i) for (int c = 0; c < 3; ++c) r.nodes().displacement(i, c) = scale * (rng() - 0.5);
     gp.force.setZero();
     r.nodes().force.setZero();
-    // The split used by the solver's fused gather (compute_forces, then add_host_force per
-    // gridpoint) must give the same bits, also on top of forces already gathered.
+    // The split used by the solver's fused gather (compute_forces, then add_host_forces over
+    // gridpoint ranges) must give the same bits, also on top of forces already gathered.
     truss split = r;
     node_set gp_split = gp;
     soa3 preload(ng, 3);
     for (idx i = 0; i < ng; ++i) for (int c = 0; c < 3; ++c) preload(i, c) = rng() - 0.5;
     gp_split.force = preload;
     split.compute_forces(gp_split, stress);
-    for (idx g = 0; g < ng; ++g) split.add_host_force(g, gp_split);
+    for (idx g = 0; g < ng; g += 3) split.add_host_forces(g, std::min(ng, g + 3), gp_split);
     node_set gp_whole = gp;
     gp_whole.force = preload;
     truss whole = r;

@@ -84,11 +84,14 @@ class central_difference {
         const real* vp = nodes.prescribed_velocity.col(c).data();
         const std::uint8_t* con = nodes.constraint.col(c).data();
         const real* m = nodes.mass.data();
+#if defined(__AVX2__) || defined(__AVX512F__)
         // advance_dof for every component, branch-free so the loop vectorises: both updates
         // are evaluated and the constraint selects one (same operations, so the same velocities
         // and displacements to the bit as advance_dof). The energy sums are reductions over
         // vector lanes: their rounding depends on the vector width of the build, never on the
-        // thread count (fixed chunks), and they do not feed back into the motion.
+        // thread count (fixed chunks), and they do not feed back into the motion. (Baseline
+        // x86-64 has no cheap byte-to-double mask widening, so GCC keeps this loop scalar there,
+        // where the branchy advance_dof below is faster.)
         TESSERA_PRAGMA_SIMD_REDUCTION(boundary, damped)
         for (std::int64_t i = begin; i < end; ++i) {
           const real v_old = v[i], force = f[i], mass = m[i];
@@ -108,6 +111,15 @@ class central_difference {
           v[i] = v_new;
           u[i] += v_new * dt;
         }
+#else
+        step_work w{boundary, damped};
+        for (std::int64_t i = begin; i < end; ++i) {
+          v[i] = advance_dof(f[i], m[i], v[i], con[i], vp[i], dt, r[i], w);
+          u[i] += v[i] * dt;
+        }
+        boundary = w.boundary;
+        damped = w.damping;
+#endif
       }
       partial[static_cast<std::size_t>(k)] = step_work{boundary, damped};
     }, 1);

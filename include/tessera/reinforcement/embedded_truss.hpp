@@ -36,8 +36,8 @@
 //
 // Cost and threading: accumulate_forces is a serial loop over elements then nodes in a fixed order
 // (bars have O(100) nodes), allocation-free and deterministic. A solver that gathers gridpoint
-// forces in parallel calls its two halves instead: compute_forces (serial), then add_host_force
-// for each gridpoint (concurrently for distinct gridpoints), with the same result to the bit.
+// forces in parallel calls its two halves instead: compute_forces (serial), then add_host_forces
+// over gridpoint ranges (concurrently for disjoint ranges), with the same result to the bit.
 // Not thread-safe for concurrent calls of the other members on one object.
 
 #include <algorithm>
@@ -207,20 +207,15 @@ class embedded_truss {
   /// mesh given to build(), or empty (no confinement).
   void accumulate_forces(node_set& gridpoints, const zone_stress_matrix& zone_stress) noexcept {
     compute_forces(gridpoints, zone_stress);
-    for (std::size_t k = 0; k < host_slot_node_.size(); ++k) {
-      const index g = host_slot_gridpoint_[k];
-      const real w = host_slot_weight_[k];
-      const index n = host_slot_node_[k];
-      for (int c = 0; c < 3; ++c) gridpoints.force(g, c) -= w * host_load_(n, c);
-    }
+    add_host_forces(0, gridpoints.size(), gridpoints);
   }
 
   // ---- accumulate_forces() in two pieces, for a solver that gathers and integrates the
-  // gridpoints in one loop (solver.hpp): compute_forces(gp, stress); then add_host_force(g, gp) for
-  // every gridpoint g (concurrently for distinct g). Same results to the bit. ----
+  // gridpoints in one loop (solver.hpp): compute_forces(gp, stress); then add_host_forces(b, e, gp)
+  // over ranges covering all gridpoints (concurrently for disjoint ranges). Same results to the bit. ----
 
   /// Axial and bond forces on the bar nodes (added to nodes().force), plastic and bond
-  /// histories advanced; the bond force on each node's host point is kept for add_host_force.
+  /// histories advanced; the bond force on each node's host point is kept for add_host_forces.
   /// Reads gridpoints' displacements only.
   void compute_forces(const node_set& gridpoints, const zone_stress_matrix& zone_stress) noexcept {
     const soa3& u = nodes_.displacement;
@@ -266,14 +261,14 @@ class embedded_truss {
   }
 
   /// Subtracts from gridpoints.force(g) the host share w_i f_n of every bond force whose host
-  /// zone has g as corner i, in the order of the bonded nodes (that of accumulate_forces).
-  void add_host_force(index g, node_set& gridpoints) const noexcept {
-    const auto gs = static_cast<std::size_t>(g);
-    if (gs + 1 >= host_offsets_.size()) return;
-    for (index k = host_offsets_[gs]; k < host_offsets_[gs + 1]; ++k) {
+  /// zone has g as corner i, for the gridpoints g in [begin, end), each gridpoint's shares in
+  /// the order of the bonded nodes (that of accumulate_forces).
+  void add_host_forces(index begin, index end, node_set& gridpoints) const noexcept {
+    if (host_offsets_.empty()) return;
+    for (index k = host_offsets_[static_cast<std::size_t>(begin)]; k < host_offsets_[static_cast<std::size_t>(end)]; ++k) {
       const auto ks = static_cast<std::size_t>(k);
+      const index g = host_slot_gridpoint_[ks], n = host_slot_node_[ks];
       const real w = host_slot_weight_[ks];
-      const index n = host_slot_node_[ks];
       for (int c = 0; c < 3; ++c) gridpoints.force(g, c) -= w * host_load_(n, c);
     }
   }

@@ -153,15 +153,18 @@ class solver {
       // first (they read displacements and this step's zone stresses), host shares in the gather.
       constexpr bool split_bars = Reinforcement::enabled && requires(Reinforcement& rf, index i) {
         rf.compute_forces(gridpoints_, blocks_.zone_stress());
-        rf.add_host_force(i, gridpoints_);
+        rf.add_host_forces(i, i, gridpoints_);
       };
       if constexpr (split_bars) reinforcement_.compute_forces(gridpoints_, blocks_.zone_stress());
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
+        // Per gridpoint: zone forces, then contact forces, then bar host shares (the order of the
+        // unfused step).
         for (std::int64_t i = begin; i < end; ++i) {
           blocks_.add_force(static_cast<index>(i), gridpoints_);
           contacts_.add_force(static_cast<index>(i), gridpoints_);
-          if constexpr (split_bars) reinforcement_.add_host_force(static_cast<index>(i), gridpoints_);
         }
+        if constexpr (split_bars)
+          reinforcement_.add_host_forces(static_cast<index>(begin), static_cast<index>(end), gridpoints_);
       };
       if constexpr ((!Reinforcement::enabled || split_bars) &&
                     requires(integrator::step_work& w) { integrator_.advance(gridpoints_, dt_, w, gather); }) {
