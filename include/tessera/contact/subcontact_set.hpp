@@ -81,6 +81,7 @@
 #include <concepts>
 #include <cstdint>
 #include <numbers>
+#include <type_traits>
 #include <vector>
 
 #include "../core/errors.hpp"
@@ -90,6 +91,7 @@
 #include "../geometry/block_mesh.hpp"
 #include "../geometry/tessellation.hpp"
 #include "../law/concepts.hpp"
+#include "detail/packed_states.hpp"
 
 namespace tessera::contact {
 
@@ -126,6 +128,9 @@ class subcontact_set {
   using law_type = Law;
   using params_type = typename Law::params;
   using state_type = typename Law::state;
+  /// True when Law has an elastic pack path (law::ElasticPackLaw): states are then stored as
+  /// columns and updated over lanes::pack's (file comment, "Storage").
+  static constexpr bool packed = law::ElasticPackLaw<Law>;
 
   /// max over unit normals n of the absolute row sum of (k_s I + (k_n - k_s) n n^T), per unit
   /// area (Pa/m). Row i: |k_s + (k_n - k_s) n_i^2| + sum_{j != i} |k_n - k_s| |n_i n_j|
@@ -249,7 +254,19 @@ class subcontact_set {
     }
 
     const std::size_t n = node_a_.size();
-    state_.assign(n, state_type{});
+    if constexpr (packed) {
+      state_.assign(n);
+      step_.resize(n);
+    } else {
+      state_.assign(n, state_type{});
+    }
+    // Face blocks: runs of consecutive faces with at least block_subcontacts sub-contacts (the
+    // last one may have fewer), the unit of the parallel face loop.
+    face_blocks_.assign(1, 0);
+    for (index s = 0; s < face_count; ++s)
+      if (first_subcontact_[at(s) + 1] - first_subcontact_[at(face_blocks_.back())] >= block_subcontacts ||
+          s + 1 == face_count)
+        face_blocks_.push_back(s + 1);
 
     // Reference frames; a face whose two sides cancel has no plane.
     normal_.setZero(face_count, 3);
@@ -257,7 +274,8 @@ class subcontact_set {
       const soa3 u = soa3::Zero(n_gridpoints, 3);
       const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
       for (index s = 0; s < face_count; ++s) {
-        const vec3 d = face_area_vector(s, up);
+        const triple area = face_area_vector(s, up);
+        const vec3 d(area.x, area.y, area.z);
         require<geometry_error>(d.norm() > 0, "subcontact_set: shared face ", s, " (cells ",
                                 shared_faces_[at(s)].cell_a, " and ", shared_faces_[at(s)].cell_b,
                                 "): zero vector area, the face polygon has no plane (degenerate face)");
@@ -300,7 +318,8 @@ class subcontact_set {
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     for (index s = 0; s < face_count(); ++s) {
-      const vec3 d = face_area_vector(s, u);
+      const triple area = face_area_vector(s, u);
+      const vec3 d(area.x, area.y, area.z);
       if (d.squaredNorm() > 0) normal_.row(s) = d.normalized().transpose();
     }
     previous_normal_ = normal_;
@@ -316,56 +335,82 @@ class subcontact_set {
     // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
     // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
     begin_update();
-    parallel_for(face_count(), [&](std::int64_t s) { update_face(static_cast<index>(s), gridpoints, dt); }, 16);
+    parallel_for(face_block_count(), [&](std::int64_t b) { update_face_block(static_cast<index>(b), gridpoints, dt); }, 2);
     // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
   }
 
   // ---- update() in pieces, for a solver that fuses the loops of its step (solver.hpp) ----
-  // update(gp, dt) == begin_update(); update_face(s, gp, dt) for every face s (in any order or
-  // concurrently); then add_force(g, gp) for every gridpoint g (concurrently for distinct g).
-  // Same results to the bit.
+  // update(gp, dt) == begin_update(); update_face_block(b, gp, dt) for every face block b (or
+  // update_face(s, gp, dt) for every face s; in any order or concurrently); then add_force(g, gp)
+  // for every gridpoint g (concurrently for distinct g). Same results to the bit.
 
   /// Makes the current frames the previous ones; once per step, before update_face.
   void begin_update() noexcept { normal_.swap(previous_normal_); }
 
-  /// Frame of face s from the current positions (a degenerate face keeps its previous frame),
-  /// then law update and force rows of each of its sub-contacts. Writes only face s's data.
-  void update_face(index s, const node_set& gridpoints, real dt) noexcept {
+  /// Number of face blocks: runs of consecutive faces with about block_subcontacts sub-contacts.
+  [[nodiscard]] index face_block_count() const { return static_cast<index>(face_blocks_.size()) - 1; }
+  /// update_faces over face block b.
+  void update_face_block(index b, const node_set& gridpoints, real dt) noexcept {
+    update_faces(face_blocks_[at(b)], face_blocks_[at(b) + 1], gridpoints, dt);
+  }
+  /// update_faces over face s alone.
+  void update_face(index s, const node_set& gridpoints, real dt) noexcept { update_faces(s, s + 1, gridpoints, dt); }
+
+  /// Frames of faces [first_face, last_face) from the current positions (a degenerate face keeps
+  /// its previous frame), then law update and force rows of each of their sub-contacts. Writes
+  /// only those faces' data.
+  void update_faces(index first_face, index last_face, const node_set& gridpoints, real dt) noexcept {
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
-    real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
     const params_type& p = params_;
-    const vec3 d = face_area_vector(s, u);
-    const vec3 n_prev(previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2));
-    const real length2 = d.squaredNorm();
-    const vec3 n = length2 > 0 ? vec3(d / std::sqrt(length2)) : n_prev;
-    for (int c = 0; c < 3; ++c) normal_(s, c) = n[c];
-    const vec3 tilt = n_prev.cross(n);  // rotation vector n_prev -> n (first order)
-    const auto first = at(first_subcontact_[at(s)]);
-    const auto last = at(first_subcontact_[at(s) + 1]);
-    for (std::size_t i = first; i < last; ++i) {
-      const index a = node_a_[i], b = node_b_[i];
-      vec3 du, gap;
-      for (int c = 0; c < 3; ++c) {
-        du[c] = (v[c][b] - v[c][a]) * dt;
-        gap[c] = u[c][b] - u[c][a];
+    for (index s = first_face; s < last_face; ++s) {
+      const triple d = face_area_vector(s, u);
+      const triple n_prev{previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2)};
+      const real length2 = dot(d, d);
+      triple n = n_prev;
+      if (length2 > 0) {
+        const real length = std::sqrt(length2);
+        n = {d.x / length, d.y / length, d.z / length};
       }
-      du -= tilt.cross(gap);
-      const real du_n = du.dot(n);
-      const vec3 du_s = du - du_n * n;
-      state_type& st = state_[i];
-      Law::update(p, st, du_n, du_s, n);
-      const vec3 traction = st.sigma_n * n + vec3(st.tau);
-      const real area = area_[i];
-      const index sa = slot_a_[i], sb = slot_b_[i];
-      for (int c = 0; c < 3; ++c) {
-        buffer[c][sb] = -area * traction[c];
-        buffer[c][sa] = area * traction[c];
+      normal_(s, 0) = n.x;
+      normal_(s, 1) = n.y;
+      normal_(s, 2) = n.z;
+      const triple tilt = cross(n_prev, n);  // rotation vector n_prev -> n (first order)
+      for (std::size_t i = at(first_subcontact_[at(s)]); i < at(first_subcontact_[at(s) + 1]); ++i) {
+        const index a = node_a_[i], b = node_b_[i];
+        const triple gap{u[0][b] - u[0][a], u[1][b] - u[1][a], u[2][b] - u[2][a]};
+        const triple turn = cross(tilt, gap);
+        const triple du{(v[0][b] - v[0][a]) * dt - turn.x, (v[1][b] - v[1][a]) * dt - turn.y,
+                        (v[2][b] - v[2][a]) * dt - turn.z};
+        const real du_n = dot(du, n);
+        const triple du_s{du.x - du_n * n.x, du.y - du_n * n.y, du.z - du_n * n.z};
+        if constexpr (packed) {
+          // Law::update's arguments, for the pack loop below.
+          step_.du_n[i] = du_n;
+          step_.ds0[i] = du_s.x;
+          step_.ds1[i] = du_s.y;
+          step_.ds2[i] = du_s.z;
+          step_.n0[i] = n.x;
+          step_.n1[i] = n.y;
+          step_.n2[i] = n.z;
+        } else {
+          state_type& st = state_[i];
+          const vec3 normal(n.x, n.y, n.z);
+          Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
+          const vec3 traction = st.sigma_n * normal + vec3(st.tau);
+          write_force(i, area_[i] * traction[0], area_[i] * traction[1], area_[i] * traction[2]);
+        }
       }
+    }
+    if constexpr (packed) {
+      const auto first = at(first_subcontact_[at(first_face)]);
+      const auto last = at(first_subcontact_[at(last_face)]);
+      detail::advance_states<Law>(p, state_, step_, area_.data(), first, last);
+      for (std::size_t i = first; i < last; ++i) write_force(i, step_.force0[i], step_.force1[i], step_.force2[i]);
     }
   }
 
@@ -419,7 +464,14 @@ class subcontact_set {
   [[nodiscard]] vec3 position(index i, const node_set& gridpoints) const {
     return 0.5 * (gridpoints.position(node_a(i)) + gridpoints.position(node_b(i)));
   }
-  [[nodiscard]] const state_type& state(index i) const { return state_[at(i)]; }
+  /// Law state of sub-contact i: a const reference, or a value assembled from the columns when
+  /// `packed` (bind it as `const auto&` either way).
+  [[nodiscard]] decltype(auto) state(index i) const {
+    if constexpr (packed)
+      return state_.get(at(i));
+    else
+      return static_cast<const state_type&>(state_[at(i)]);
+  }
   [[nodiscard]] const params_type& params() const { return params_; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
   [[nodiscard]] vec3 force(index i) const { return force_buffer_.row(slot_b_[at(i)]).transpose(); }
@@ -455,7 +507,7 @@ class subcontact_set {
   [[nodiscard]] contact_energies energies() const {
     contact_energies e;
     for (std::size_t i = 0; i < node_a_.size(); ++i) {
-      const state_type& st = state_[i];
+      const auto& st = state(static_cast<index>(i));
       const real a = area_[i];
       e.stored += a * Law::stored_energy(params_, st);
       e.dissipated += a * Law::dissipated_energy(st);
@@ -481,46 +533,82 @@ class subcontact_set {
   }
 
  private:
+  /// A 3-vector as three scalars, for the per-face and per-sub-contact loops: GCC keeps them in
+  /// registers, where a vec3 in Eigen's 2 + 1 SSE packets went through the stack and stalled on
+  /// store forwarding (a 16-byte load of two 8-byte stores), once per polygon corner. The same
+  /// arithmetic as Eigen's cross and dot ((x + y) + z).
+  struct triple {
+    real x, y, z;
+  };
+  [[nodiscard, gnu::always_inline]] static triple cross(const triple& a, const triple& b) noexcept {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  }
+  [[nodiscard, gnu::always_inline]] static real dot(const triple& a, const triple& b) noexcept {
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+  }
+
+  /// Sub-contacts per face block (at least; fewer in the last block): some whole lanes::pack's per
+  /// block, a few dozen blocks on a 100-block model for the two threads.
+  static constexpr index block_subcontacts = 64;
+
+  /// Force rows of sub-contact i: f = (fx, fy, fz) (N) on node A, -f on node B.
+  void write_force(std::size_t i, real fx, real fy, real fz) noexcept {
+    real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
+    const index sa = slot_a_[i], sb = slot_b_[i];
+    buffer[0][sa] = fx;
+    buffer[1][sa] = fy;
+    buffer[2][sa] = fz;
+    buffer[0][sb] = -fx;
+    buffer[1][sb] = -fy;
+    buffer[2][sb] = -fz;
+  }
+
   /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
   /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see the file comment), from differences
   /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
   /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size),
   /// and X_k - X_0 is the stored corner_offset_ (the reference positions of the block_mesh).
-  [[nodiscard]] vec3 face_area_vector(index s, const real* const u[3]) const noexcept {
+  [[nodiscard]] triple face_area_vector(index s, const real* const u[3]) const noexcept {
     const auto first = at(first_corner_[at(s)]);
     const auto count = at(first_corner_[at(s) + 1]) - first;
     const index* ca = corner_a_.data() + first;
     const index* cb = corner_b_.data() + first;
     const real* dX[3] = {corner_offset_[0].data() + first, corner_offset_[1].data() + first,
                          corner_offset_[2].data() + first};
-    vec3 origin_u;
+    real origin_u[3];
     for (int c = 0; c < 3; ++c) origin_u[c] = 0.5 * (u[c][ca[0]] + u[c][cb[0]]);
     const auto midpoint_offset = [&](std::size_t k) {
       const index a = ca[k], b = cb[k];
-      vec3 d;
+      real d[3];
       for (int c = 0; c < 3; ++c) d[c] = dX[c][k] + (0.5 * (u[c][a] + u[c][b]) - origin_u[c]);
-      return d;
+      return triple{d[0], d[1], d[2]};
     };
-    vec3 s_area = vec3::Zero();
-    vec3 previous = midpoint_offset(1);
+    triple s_area{0, 0, 0};
+    triple previous = midpoint_offset(1);
     for (std::size_t k = 2; k < count; ++k) {
-      const vec3 next = midpoint_offset(k);
-      s_area += previous.cross(next);
+      const triple next = midpoint_offset(k);
+      const triple area = cross(previous, next);
+      s_area = {s_area.x + area.x, s_area.y + area.y, s_area.z + area.z};
       previous = next;
     }
     return s_area;
   }
+
 
   params_type params_{};
   index gridpoint_count_ = 0;
   // per sub-contact
   std::vector<index> node_a_, node_b_, face_;
   std::vector<real> area_;
-  std::vector<state_type> state_;
+  /// Law states: columns when `packed` (with the per-step columns of Law::update's arguments and
+  /// results), else one state_type per sub-contact.
+  std::conditional_t<packed, detail::state_columns<Law>, std::vector<state_type>> state_;
+  detail::step_columns step_;
   std::vector<index> slot_a_, slot_b_;  ///< rows of force_buffer_ receiving -f_i (node A) and +f_i (node B)
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
   std::vector<index> first_subcontact_{0};
+  std::vector<index> face_blocks_{0};  ///< faces [face_blocks_[b], face_blocks_[b + 1]) form block b
   // Polygon corners of face s (CCW seen from A), CSR [first_corner_[s], first_corner_[s + 1]):
   // the gridpoints of the corner pair and the reference offset X_a,k - X_a,0 from the face's
   // first corner (per component), so the frame reads only displacements.

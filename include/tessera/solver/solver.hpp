@@ -147,7 +147,8 @@ class solver {
       contacts_.begin_update();
       parallel_for_pair(
           blocks_.run_count(), [&](std::int64_t r) { blocks_.zone_forces_of_run(static_cast<index>(r), gridpoints_); },
-          contacts_.face_count(), [&](std::int64_t f) { contacts_.update_face(static_cast<index>(f), gridpoints_, dt_); });
+          contacts_.face_block_count(),
+          [&](std::int64_t f) { contacts_.update_face_block(static_cast<index>(f), gridpoints_, dt_); });
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
         for (std::int64_t i = begin; i < end; ++i) {
           blocks_.add_force(static_cast<index>(i), gridpoints_);
