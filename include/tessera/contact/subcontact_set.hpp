@@ -284,9 +284,9 @@ class subcontact_set {
     }
     previous_normal_ = normal_;
 
-    // Gather incidence: the force buffer holds, for each gridpoint carrying sub-contacts in
-    // increasing id, one slot per incident sub-contact in increasing sub-contact order;
-    // sub-contact i writes +f_i to slot_b_[i] and -f_i to slot_a_[i].
+    // Gather incidence: for each gridpoint carrying sub-contacts, in increasing id, one slot per
+    // incident sub-contact in increasing sub-contact order: the sub-contact and the sign of its
+    // force_ on that gridpoint (+1 on node A, -1 on node B).
     std::vector<index> count(at(n_gridpoints), 0);
     for (std::size_t i = 0; i < n; ++i) {
       ++count[at(node_a_[i])];
@@ -300,13 +300,16 @@ class subcontact_set {
       next_slot[at(g)] = slot_offsets_[at(g)];
       contact_gridpoints_.push_back(g);
     }
-    slot_a_.resize(n);
-    slot_b_.resize(n);
+    slot_subcontact_.resize(2 * n);
+    slot_sign_.resize(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
-      slot_b_[i] = next_slot[at(node_b_[i])]++;
-      slot_a_[i] = next_slot[at(node_a_[i])]++;
+      const index sb = next_slot[at(node_b_[i])]++, sa = next_slot[at(node_a_[i])]++;
+      slot_subcontact_[at(sb)] = static_cast<index>(i);
+      slot_sign_[at(sb)] = -1;
+      slot_subcontact_[at(sa)] = static_cast<index>(i);
+      slot_sign_[at(sa)] = 1;
     }
-    force_buffer_.setZero(2 * static_cast<Eigen::Index>(n), 3);
+    for (auto& column : force_) column.assign(n, 0.0);
   }
 
   /// Recomputes the contact frames from the current positions of `gridpoints` and makes them
@@ -402,15 +405,15 @@ class subcontact_set {
           const vec3 normal(n.x, n.y, n.z);
           Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
           const vec3 traction = st.sigma_n * normal + vec3(st.tau);
-          write_force(i, area_[i] * traction[0], area_[i] * traction[1], area_[i] * traction[2]);
+          for (int c = 0; c < 3; ++c) force_[at(c)][i] = area_[i] * traction[c];
         }
       }
     }
     if constexpr (packed) {
       const auto first = at(first_subcontact_[at(first_face)]);
       const auto last = at(first_subcontact_[at(last_face)]);
-      detail::advance_states<Law>(p, state_, step_, area_.data(), first, last);
-      for (std::size_t i = first; i < last; ++i) write_force(i, step_.force0[i], step_.force1[i], step_.force2[i]);
+      real* const force[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
+      detail::advance_states<Law>(p, state_, step_, area_.data(), first, last, force);
     }
   }
 
@@ -419,12 +422,15 @@ class subcontact_set {
   void add_force(index g, node_set& gridpoints) const noexcept {
     const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
     if (begin == end) return;
-    const real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
+    const real* f[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
     real fx = 0, fy = 0, fz = 0;
     for (index e = begin; e < end; ++e) {
-      fx += buffer[0][e];
-      fy += buffer[1][e];
-      fz += buffer[2][e];
+      // +-f exactly: the sum is that of the forces on g in increasing sub-contact order.
+      const auto i = at(slot_subcontact_[at(e)]);
+      const real sign = slot_sign_[at(e)];
+      fx += sign * f[0][i];
+      fy += sign * f[1][i];
+      fz += sign * f[2][i];
     }
     gridpoints.force(g, 0) += fx;
     gridpoints.force(g, 1) += fy;
@@ -474,7 +480,7 @@ class subcontact_set {
   }
   [[nodiscard]] const params_type& params() const { return params_; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
-  [[nodiscard]] vec3 force(index i) const { return force_buffer_.row(slot_b_[at(i)]).transpose(); }
+  [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
 
   // ---- shared faces ----
   [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }
@@ -551,18 +557,6 @@ class subcontact_set {
   /// block, a few dozen blocks on a 100-block model for the two threads.
   static constexpr index block_subcontacts = 64;
 
-  /// Force rows of sub-contact i: f = (fx, fy, fz) (N) on node A, -f on node B.
-  void write_force(std::size_t i, real fx, real fy, real fz) noexcept {
-    real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
-    const index sa = slot_a_[i], sb = slot_b_[i];
-    buffer[0][sa] = fx;
-    buffer[1][sa] = fy;
-    buffer[2][sa] = fz;
-    buffer[0][sb] = -fx;
-    buffer[1][sb] = -fy;
-    buffer[2][sb] = -fz;
-  }
-
   /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
   /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see the file comment), from differences
   /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
@@ -604,7 +598,9 @@ class subcontact_set {
   /// results), else one state_type per sub-contact.
   std::conditional_t<packed, detail::state_columns<Law>, std::vector<state_type>> state_;
   detail::step_columns step_;
-  std::vector<index> slot_a_, slot_b_;  ///< rows of force_buffer_ receiving -f_i (node A) and +f_i (node B)
+  /// Contact force of the last update on node A (N), area (sigma_n n + tau), one array per
+  /// component; node B receives its opposite.
+  std::array<std::vector<real>, 3> force_;
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
   std::vector<index> first_subcontact_{0};
@@ -617,10 +613,11 @@ class subcontact_set {
   std::vector<real> face_area_;
   soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
-  /// Contact forces of the last update (N), 2 rows per sub-contact grouped by gridpoint: rows
-  /// [slot_offsets_[g], slot_offsets_[g + 1]) belong to gridpoint g (empty without sub-contacts).
-  soa3 force_buffer_;
+  /// Slots [slot_offsets_[g], slot_offsets_[g + 1]) belong to gridpoint g (empty without
+  /// sub-contacts): two per sub-contact, its id and the sign of force_ on g (+1 node A, -1 node B).
   std::vector<index> slot_offsets_{0};
+  std::vector<index> slot_subcontact_;
+  std::vector<real> slot_sign_;
   std::vector<index> contact_gridpoints_;  ///< gridpoints with a non-empty slot range, increasing
 };
 

@@ -87,25 +87,31 @@ template <class T>
 [[gnu::always_inline]] inline void store(real* p, const T& v) noexcept {
   std::memcpy(p, &v, sizeof v);
 }
-/// For T = real: b[0] == 0; for T = pack: the mask of the lanes k with b[k] == 0 (e.g. status
-/// flags, 0 = intact).
+/// Integer of a mask lane (all ones = true, 0 = false); a column of them loads as a mask.
+#if defined(__GNUC__)
+using mask_lane = std::remove_cvref_t<decltype(mask{}[0])>;
+#else
+using mask_lane = std::int64_t;
+#endif
+
+/// The lanes of b[0 ..) that are zero: a bool for T = real, a mask for T = pack.
 template <class T>
-[[nodiscard, gnu::always_inline]] inline auto load_is_zero(const std::uint8_t* b) noexcept {
+[[nodiscard, gnu::always_inline]] inline auto load_is_zero(const mask_lane* b) noexcept {
   if constexpr (std::is_same_v<T, real>) {
     return b[0] == 0;
   } else {
     decltype(T{} < T{}) m;
-    for (int k = 0; k < width; ++k) m[k] = b[k] == 0 ? -1 : 0;
-    return m;
+    std::memcpy(&m, b, sizeof m);
+    return m == 0;
   }
 }
-/// Stores 1 for the false lanes of m (a bool or a mask) and 0 for the true ones to b[0 ..).
+/// Stores the lanes of m (a bool or a mask) to b[0 ..) as mask lanes: all ones (-1) or 0.
 template <class M>
-[[gnu::always_inline]] inline void store_negated(std::uint8_t* b, const M& m) noexcept {
+[[gnu::always_inline]] inline void store_mask(mask_lane* b, const M& m) noexcept {
   if constexpr (std::is_same_v<M, bool>) {
-    b[0] = m ? 0 : 1;
+    b[0] = m ? -1 : 0;
   } else {
-    for (int k = 0; k < width; ++k) b[k] = m[k] != 0 ? 0 : 1;
+    std::memcpy(b, &m, sizeof m);
   }
 }
 

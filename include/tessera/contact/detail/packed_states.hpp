@@ -7,14 +7,14 @@
 // step_columns holds the inputs of Law::update per sub-contact for one step (du_n, du_s, n),
 // written by subcontact_set's kinematics loop and read by advance_states.
 //
-// advance_states(p, states, step, area, first, last) advances sub-contacts [first, last):
+// advance_states(p, states, step, area, first, last, force) advances sub-contacts [first, last):
 //   1. packs of lanes::width consecutive sub-contacts through Law::update_elastic; the lanes it
 //      accepts are committed, the others keep their state (blend) and are marked declined;
 //      the sub-contacts after the last whole pack go one by one through update_elastic<real>;
 //   2. each declined sub-contact through Law::update, from its unchanged state.
 // Every sub-contact's arithmetic is that of Law::update whatever its lane or path, so the result
-// does not depend on how [first, last) is cut into packs. step.force<c>[i] = area_i (sigma_n n +
-// tau)_c (N), the force on gridpoint A of sub-contact i. No allocation; writes only entries [first, last).
+// does not depend on how [first, last) is cut into packs. force[c][i] = area_i (sigma_n n + tau)_c
+// (N), the force on gridpoint A of sub-contact i. No allocation; writes only entries [first, last).
 
 #include <array>
 #include <cstdint>
@@ -33,13 +33,14 @@ struct state_columns {
   using state_type = typename Law::state;
   std::vector<real> sigma_n, tau0, tau1, tau2, u_n, u_p, u_soft, dissipated_tension, dissipated_shear,
       dissipated_compression;
-  std::vector<law::contact_status> flags;
+  /// contact_status bits, widened to a mask lane so a pack of them loads with one instruction.
+  std::vector<lanes::mask_lane> flags;
 
   /// n virgin states (state_type{}).
   void assign(std::size_t n) {
     const state_type v{};
     for (auto* column : real_columns()) column->assign(n, 0.0);
-    flags.assign(n, v.flags);
+    flags.assign(n, 0);
     for (std::size_t i = 0; i < n; ++i) set(i, v);
   }
   [[nodiscard]] std::size_t size() const { return flags.size(); }
@@ -53,7 +54,7 @@ struct state_columns {
     s.dissipated_tension = dissipated_tension[i];
     s.dissipated_shear = dissipated_shear[i];
     s.dissipated_compression = dissipated_compression[i];
-    s.flags = flags[i];
+    s.flags = static_cast<law::contact_status>(flags[i]);
     return s;
   }
   void set(std::size_t i, const state_type& s) noexcept {
@@ -67,7 +68,7 @@ struct state_columns {
     dissipated_tension[i] = s.dissipated_tension;
     dissipated_shear[i] = s.dissipated_shear;
     dissipated_compression[i] = s.dissipated_compression;
-    flags[i] = s.flags;
+    flags[i] = static_cast<lanes::mask_lane>(s.flags);
   }
 
  private:
@@ -78,23 +79,21 @@ struct state_columns {
 };
 
 /// Per sub-contact and step: the arguments of Law::update, du_n (m), du_s (m) and the unit normal
-/// n; the result force = area (sigma_n n + tau) (N, on gridpoint A); a byte marking the lanes
-/// update_elastic declined.
+/// n, and whether update_elastic accepted the sub-contact (mask lane: -1 accepted, 0 declined).
 struct step_columns {
-  std::vector<real> du_n, ds0, ds1, ds2, n0, n1, n2, force0, force1, force2;
-  std::vector<std::uint8_t> declined;
+  std::vector<real> du_n, ds0, ds1, ds2, n0, n1, n2;
+  std::vector<lanes::mask_lane> elastic;
   void resize(std::size_t n) {
-    for (auto* column : {&du_n, &ds0, &ds1, &ds2, &n0, &n1, &n2, &force0, &force1, &force2}) column->assign(n, 0.0);
-    declined.assign(n, 0);
+    for (auto* column : {&du_n, &ds0, &ds1, &ds2, &n0, &n1, &n2}) column->assign(n, 0.0);
+    elastic.assign(n, 0);
   }
 };
 
 /// Advances sub-contacts [first, last) by one step (see the file comment) and writes
-/// k.force<c>[i] = area[i] (sigma_n n + tau)_c.
+/// force[c][i] = area[i] (sigma_n n + tau)_c.
 template <law::ElasticPackLaw Law>
 void advance_states(const typename Law::params& p, state_columns<Law>& s, step_columns& k, const real* area,
-                    std::size_t first, std::size_t last) noexcept {
-  real* const force[3] = {k.force0.data(), k.force1.data(), k.force2.data()};
+                    std::size_t first, std::size_t last, real* const force[3]) noexcept {
   // Lanes T (lanes::pack, or real for the sub-contacts after the last whole pack) starting at i.
   const auto lanes_at = [&]<class T>(std::size_t i) __attribute__((always_inline)) {
     using lanes::load;
@@ -106,8 +105,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
                                               load<T>(&s.dissipated_compression[i]),
                                               load<T>(&s.u_p[i]),   load<T>(&s.u_soft[i])};
     const auto old = x;
-    const auto flags = reinterpret_cast<const std::uint8_t*>(s.flags.data()) + i;
-    const auto elastic = Law::update_elastic(p, lanes::load_is_zero<T>(flags), x);
+    const auto elastic = Law::update_elastic(p, lanes::load_is_zero<T>(&s.flags[i]), x);
     using lanes::select;
     using lanes::store;
     store(&s.sigma_n[i], select(elastic, x.sigma_n, old.sigma_n));
@@ -121,7 +119,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
     store(&force[0][i], a * (x.sigma_n * x.n0 + x.tau0));
     store(&force[1][i], a * (x.sigma_n * x.n1 + x.tau1));
     store(&force[2][i], a * (x.sigma_n * x.n2 + x.tau2));
-    lanes::store_negated(&k.declined[i], elastic);
+    lanes::store_mask(&k.elastic[i], elastic);
   };
   std::size_t i = first;
   for (; i + lanes::width <= last; i += lanes::width) lanes_at.template operator()<lanes::pack>(i);
@@ -129,7 +127,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
 
   // Lanes update_elastic declined: the full law from the unchanged state.
   for (std::size_t j = first; j < last; ++j) {
-    if (!k.declined[j]) [[likely]]
+    if (k.elastic[j] != 0) [[likely]]
       continue;
     typename Law::state st = s.get(j);
     const vec3 n(k.n0[j], k.n1[j], k.n2[j]);
