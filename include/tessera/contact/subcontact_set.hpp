@@ -47,32 +47,45 @@
 // has the direction of the slip of B relative to A, resists that slip.
 //
 // Storage (structure of arrays behind index handles): per sub-contact node_a, node_b, face,
-// area and the law state; per face its sub-contact range, polygon corners (the gridpoint pair and
-// the constant reference offset from the first corner, so the frame reads displacements only)
-// and the current and previous normals. Law::state is a small POD read and written as a whole
-// by each update, so an array of states (not one array per state field) is the cache-friendly
-// layout: one or two contiguous cache lines per sub-contact. Forces go through a gridpoint-major
-// buffer (3 component arrays, two rows per sub-contact): the CSR incidence gridpoint ->
-// (sub-contact, side) is built once as the row numbers slot_a(i), slot_b(i), so the kernel
-// writes +f_b and -f_b to rows no other sub-contact owns and the gather is a contiguous sum per
-// gridpoint (over the gridpoints that carry sub-contacts, in increasing sub-contact order).
+// area, the law state and the force of the last step; per face its sub-contact range, polygon
+// corners (the gridpoint pair and the constant reference offset from the first corner, so the
+// frame reads displacements only) and the current and previous normals. The force of sub-contact
+// i is stored as f_i = area (sigma_n n + tau), the force on node A (node B gets -f_i), one array
+// per component written in sub-contact order; the CSR incidence gridpoint -> (sub-contact, sign)
+// is built once, listing for each gridpoint that carries sub-contacts its sub-contacts in
+// increasing order, and the gather sums sign x f_i over it (exact: sign = +-1). (Writing +-f_i to
+// gridpoint-major rows instead cost six stores to scattered cache lines per sub-contact.)
 //
-// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over faces
-// (frame, then law update and force rows of the face's sub-contacts, while the face's gridpoint
-// data are in L1) and over contact gridpoints (gather). Each loop writes only what its index
-// owns and the gather sums in a fixed order, so results are bit-identical for any thread count.
-// update() allocates nothing. Concurrent const access is safe; update() and
-// add_stiffness_bounds() must not run concurrently with anything else on the same object.
-// update() is also offered in pieces (begin_update, update_face, add_force) so that the solver
-// can run the faces in one parallel region with the zone kernel and gather contact and zone
-// forces in one pass over the gridpoints (solver.hpp); the results are the same to the bit.
+// Kernel. Faces go in face blocks, runs of consecutive faces with at least block_subcontacts
+// sub-contacts. For a law with an elastic pack path (law::ElasticPackLaw: cohesive_frictional;
+// `packed` below) the state is stored field by field (detail::state_columns; state(i) assembles a
+// Law::state by value) and a face block runs three loops: (1) per face the frame, then per
+// sub-contact du_n, du_s and n into per-step columns (detail::step_columns); (2) Law::update_elastic
+// over lanes::pack's of consecutive sub-contacts (core/lanes.hpp), which commits the lanes that are
+// intact and stay elastic in this step (almost all of them in a run); (3) Law::update, from the
+// unchanged state, for the lanes it declined (detail::advance_states). update_elastic and update
+// share their arithmetic, so each sub-contact gets exactly the bits Law::update gives it whatever
+// its lane, pack or block (test_contacts "[pack]"). Any other law keeps an array of Law::state and
+// runs Law::update per sub-contact in loop (1). The frame and the kinematics are written on
+// scalars (`triple`): Eigen's vec3 in 2 + 1 SSE packets went through the stack there and stalled
+// on store forwarding once per polygon corner.
 //
-// Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 322 instructions per sub-contact-step with
-// law::study_tie_law on baseline x86-64 (261 for x86-64-v3), of which the law update (inlined)
-// is about 105, the face frames about 40 and the gather about 40; about 27 ns per sub-contact-step
-// on one core of the shared 2-core machine with -march=native (callgrind and wall time, 100-block
-// prism; benchmarks/bench_contacts.cpp).
+// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over face
+// blocks (frames, law updates and forces of the block's sub-contacts) and over contact gridpoints
+// (gather). Each loop writes only what its index owns and the gather sums in a fixed order, so
+// results are bit-identical for any thread count. update() allocates nothing. Concurrent const
+// access is safe; update() and add_stiffness_bounds() must not run concurrently with anything
+// else on the same object. update() is also offered in pieces (begin_update, update_face_block,
+// add_force) so that the solver can run the face blocks in one parallel region with the zone
+// kernel and gather contact and zone forces in one pass over the gridpoints (solver.hpp); the
+// results are the same to the bit.
+//
+// Cost: memory ~ (70 + sizeof(Law::state)) bytes per sub-contact, plus 64 for the per-step
+// columns with a pack law; update() O(sub-contacts); construction O(sub-contacts + gridpoints).
+// With law::study_tie_law on the 100-block prism (benchmarks/bench_contacts.cpp): about 296
+// instructions per sub-contact-step on baseline x86-64 (2-lane packs), 174 for x86-64-v3 (4 lanes);
+// about 17.4 ns on one core of the shared 2-core machine with -march=native (8 lanes), of which
+// roughly frames 3.5, kinematics 6, law 4.7 and gather 3.4 (removing one stage at a time).
 
 #include <algorithm>
 #include <array>

@@ -60,7 +60,8 @@
 //
 // Cost and threading: update is noexcept, allocation-free and branch-light (the softening
 // envelope is evaluated only for contacts past the peak); all functions are static and pure, so
-// updating distinct states from several threads is safe.
+// updating distinct states from several threads is safe. update_elastic is the same step for the
+// intact contacts that stay elastic, written for lanes::pack's of sub-contacts (see below).
 
 #include <algorithm>
 #include <cmath>
