@@ -700,6 +700,14 @@ void check_thread_independence(const geometry::tessellation& tess, const geometr
   CHECK(total.norm() < 1e-9 * force1.cwiseAbs().sum());
 }
 
+/// Random Voronoi tessellation of the 68 x 68 x 300 mm half prism.
+geometry::tessellation half_prism_voronoi(index blocks, unsigned seed) {
+  aabb box;
+  box.expand(vec3::Zero());
+  box.expand(vec3(0.068, 0.068, 0.3));
+  return geometry::random_voronoi(box, blocks, seed);
+}
+
 /// Area vector (m^2) of polygon `loop` of the tessellation, Newell's formula.
 vec3 polygon_area_vector(const geometry::tessellation& t, std::span<const index> loop) {
   vec3 s = vec3::Zero();
@@ -717,19 +725,13 @@ TEST_CASE("determinism: same bits with 1 and 2 threads; forces balance", "[conta
     check_thread_independence(tess, face_mesh(tess), 5.0);
   }
   SECTION("random Voronoi prism, 50 blocks, zone_blocks") {
-    aabb box;
-    box.expand(vec3::Zero());
-    box.expand(vec3(0.068, 0.068, 0.3));
-    const auto tess = geometry::random_voronoi(box, 50, 42);
+    const auto tess = half_prism_voronoi(50, 42);
     check_thread_independence(tess, geometry::zone_blocks(tess), 5.0);
   }
 }
 
 TEST_CASE("random Voronoi + zone_blocks: face areas and normals of every shared face", "[contacts]") {
-  aabb box;
-  box.expand(vec3::Zero());
-  box.expand(vec3(0.068, 0.068, 0.3));
-  const auto tess = geometry::random_voronoi(box, 50, 7);
+  const auto tess = half_prism_voronoi(50, 7);
   for (const real h : {0.0, 0.01}) {
     DYNAMIC_SECTION("zoning target edge length " << h << " m") {
       const auto mesh = geometry::zone_blocks(tess, {h});
@@ -765,6 +767,212 @@ TEST_CASE("update allocates nothing", "[contacts]") {
   for (int k = 0; k < 50; ++k) step(set, g, 1e-7);
   count_allocations = false;
   CHECK(allocation_count.load() == 0);
+}
+
+// ---- the elastic pack path (law::ElasticPackLaw) against the scalar law ----
+
+namespace {
+
+static_assert(law::ElasticPackLaw<law::study_tie_law> && law::ElasticPackLaw<law::study_beam_law> &&
+              law::ElasticPackLaw<law::coupled_tie_law>);
+
+/// study_tie_law without its pack path: subcontact_set runs Law::update on every sub-contact.
+struct scalar_tie_law : law::study_tie_law {
+  static constexpr bool elastic_pack = false;
+};
+static_assert(law::ContactLaw<scalar_tie_law> && !law::ElasticPackLaw<scalar_tie_law>);
+
+/// Bitwise equality of two reals (so -0 != +0 and a NaN equals itself).
+bool same_bits(real a, real b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+template <class State>
+bool same_state(const State& a, const State& b) {
+  return same_bits(a.sigma_n, b.sigma_n) && same_bits(a.tau[0], b.tau[0]) && same_bits(a.tau[1], b.tau[1]) &&
+         same_bits(a.tau[2], b.tau[2]) && same_bits(a.u_n, b.u_n) && same_bits(a.u_p, b.u_p) &&
+         same_bits(a.u_soft, b.u_soft) && same_bits(a.dissipated_tension, b.dissipated_tension) &&
+         same_bits(a.dissipated_shear, b.dissipated_shear) &&
+         same_bits(a.dissipated_compression, b.dissipated_compression) && a.flags == b.flags;
+}
+
+/// One step of `count` sub-contacts of a mixed population: each is driven by Law::update from a
+/// virgin state through a history of its kind (elastic, at the tensile peak, softening, broken,
+/// slipped, at the Coulomb limit, at the compressive cap), and the step's increment lands within
+/// a few ulps of a threshold for the "near" kinds, on both sides.
+template <class Law>
+struct population {
+  std::vector<typename Law::state> states;
+  std::vector<real> du_n, area;
+  std::vector<vec3> du_s, n;
+
+  population(const typename Law::params& p, std::size_t count, unsigned seed) {
+    using Tension = typename Law::tension_policy;
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<real> uni(-1.0, 1.0);
+    const real eta = p.k_n > 0 ? Tension::peak_strength(p.tension) / p.k_n : 0;
+    const real f_peak = Tension::peak_strength(p.tension);
+    const auto random_unit = [&] {
+      vec3 v;
+      do v = vec3(uni(rng), uni(rng), uni(rng));
+      while (v.norm() < 0.1);
+      return vec3(v.normalized());
+    };
+    const auto in_plane = [](const vec3& v, const vec3& normal) { return vec3(v - v.dot(normal) * normal); };
+    for (std::size_t i = 0; i < count; ++i) {
+      typename Law::state s{};
+      const vec3 n0 = random_unit();
+      const auto drive = [&](real total_n, const vec3& total_s, int steps) {
+        for (int k = 0; k < steps; ++k) Law::update(p, s, total_n / steps, in_plane(total_s, n0) / steps, n0);
+      };
+      const real ulps = std::round(4 * uni(rng));  // -4 .. 4
+      const real nudge = 1 + ulps * std::numeric_limits<real>::epsilon();
+      // The step: a slightly turned normal (rotation of the stored tau), a small increment.
+      const vec3 n1 = vec3(n0 + 1e-4 * random_unit()).normalized();
+      real step_n = 1e-3 * eta * uni(rng);
+      vec3 step_s = in_plane(1e-3 * eta * random_unit(), n1);
+      switch (i % 8) {
+        case 0:  // virgin
+          break;
+        case 1:  // elastic history, tension or compression, with shear
+          drive(0.5 * eta * uni(rng), 0.5 * eta * random_unit(), 3);
+          break;
+        case 2:  // the trial lands on f_T within a few ulps
+          drive(0.5 * eta, vec3::Zero(), 2);
+          step_n = f_peak / p.k_n * nudge - s.u_n + s.u_p;
+          step_s = vec3::Zero();
+          break;
+        case 3:  // softening, then unloading or reloading
+          drive(eta * (1.5 + uni(rng)), vec3::Zero(), 5);
+          step_n = 0.2 * eta * uni(rng);
+          break;
+        case 4:  // broken in tension, open or closed
+          drive(1e3 * eta, vec3::Zero(), 20);
+          step_n = (uni(rng) > 0 ? 1 : -1) * (s.u_n - s.u_p) * (1 + 0.01 * uni(rng));
+          break;
+        case 5:  // slipped
+          drive(0, 1e3 * eta * random_unit(), 10);
+          break;
+        case 6: {  // the shear trial lands on the Coulomb limit within a few ulps (same normal)
+          drive(0.3 * eta * uni(rng), 0.3 * eta * random_unit(), 2);
+          const real tau_max = Law::shear_policy::strength(p.shear, s.sigma_n, law::contact_status::intact, 1);
+          const real tau_now = s.tau.norm();
+          const vec3 direction = tau_now > 0 ? vec3(s.tau / tau_now) : in_plane(random_unit(), n0).normalized();
+          step_n = 0;
+          step_s = direction * ((tau_max * nudge - tau_now) / p.k_s);
+          n.push_back(n0);
+          break;
+        }
+        case 7:  // deep compression (at a compressive cap, if the law has one)
+          drive(-1e2 * eta * (1 + uni(rng)), vec3::Zero(), 4);
+          if constexpr (Law::compression_policy::bounded) {
+            const real f_c = Law::compression_policy::strength(p.compression);
+            step_n = -f_c / p.k_n * nudge - s.u_n + s.u_p;
+          }
+          break;
+      }
+      if (n.size() == states.size()) n.push_back(n1);
+      states.push_back(s);
+      du_n.push_back(step_n);
+      du_s.push_back(in_plane(step_s, n.back()));
+      area.push_back(1e-4 * (1.5 + uni(rng)));
+    }
+  }
+};
+
+/// Checks the pack path against Law::update on a population, with [0, count) cut at `cut`.
+template <class Law>
+void check_pack_against_scalar(const typename Law::params& p, std::size_t count, std::size_t cut, unsigned seed) {
+  const population<Law> pop(p, count, seed);
+  // Scalar reference.
+  std::vector<typename Law::state> expected = pop.states;
+  std::vector<vec3> expected_force(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    Law::update(p, expected[i], pop.du_n[i], pop.du_s[i], pop.n[i]);
+    expected_force[i] = pop.area[i] * (expected[i].sigma_n * pop.n[i] + vec3(expected[i].tau));
+  }
+  // Pack path.
+  contact::detail::state_columns<Law> columns;
+  columns.assign(count);
+  contact::detail::step_columns step;
+  step.resize(count);
+  std::array<std::vector<real>, 3> force;
+  for (auto& column : force) column.assign(count, 0.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    columns.set(i, pop.states[i]);
+    step.du_n[i] = pop.du_n[i];
+    step.ds0[i] = pop.du_s[i][0];
+    step.ds1[i] = pop.du_s[i][1];
+    step.ds2[i] = pop.du_s[i][2];
+    step.n0[i] = pop.n[i][0];
+    step.n1[i] = pop.n[i][1];
+    step.n2[i] = pop.n[i][2];
+  }
+  real* const f[3] = {force[0].data(), force[1].data(), force[2].data()};
+  contact::detail::advance_states<Law>(p, columns, step, pop.area.data(), 0, cut, f);
+  contact::detail::advance_states<Law>(p, columns, step, pop.area.data(), cut, count, f);
+
+  std::size_t accepted = 0, status_seen[8] = {};
+  for (std::size_t i = 0; i < count; ++i) {
+    INFO("sub-contact " << i << " of kind " << i % 8);
+    CHECK(same_state(columns.get(i), expected[i]));
+    for (int c = 0; c < 3; ++c) CHECK(same_bits(force[static_cast<std::size_t>(c)][i], expected_force[i][c]));
+    accepted += step.elastic[i] != 0 ? 1 : 0;
+    ++status_seen[static_cast<int>(expected[i].flags) & 7];
+  }
+  // Both paths ran, and the population holds intact, softening, broken and slipped contacts.
+  CHECK(accepted > count / 8);
+  CHECK(accepted < count);
+  CHECK(status_seen[0] > 0);
+  CHECK(status_seen[static_cast<int>(law::contact_status::softening)] > 0);
+  CHECK(status_seen[static_cast<int>(law::contact_status::broken_tension)] > 0);
+  CHECK(status_seen[static_cast<int>(law::contact_status::slipped)] > 0);
+}
+
+}  // namespace
+
+TEST_CASE("elastic pack path: the same states and forces as Law::update, to the bit", "[contacts][pack]") {
+  // 203 sub-contacts: not a multiple of any pack width, cut at 37 (both ranges end in a partial pack).
+  SECTION("study_tie_law (power softening, no compression limit, residual Coulomb)") {
+    check_pack_against_scalar<law::study_tie_law>(law::study_prism_params(100), 203, 37, 1);
+  }
+  SECTION("study_beam_law (linear softening, compressive cap)") {
+    check_pack_against_scalar<law::study_beam_law>(law::study_beam_params(250), 203, 37, 2);
+  }
+  SECTION("coupled_tie_law (cohesion softens with the tensile strength)") {
+    check_pack_against_scalar<law::coupled_tie_law>(law::with_coupled_cohesion(law::study_prism_params(100)), 203,
+                                                    37, 3);
+  }
+}
+
+TEST_CASE("elastic pack path: a set with it and one without give the same bits over a random run",
+          "[contacts][pack]") {
+  const auto tess = half_prism_voronoi(50, 42);
+  const auto mesh = geometry::zone_blocks(tess);
+  auto g_pack = gridpoints_of(mesh);
+  auto g_scalar = gridpoints_of(mesh);
+  contact::subcontact_set<law::study_tie_law> pack(tess, mesh, law::study_prism_params(100));
+  contact::subcontact_set<scalar_tie_law> scalar(tess, mesh, law::study_prism_params(100));
+  static_assert(decltype(pack)::packed && !decltype(scalar)::packed);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<real> uni(-1.0, 1.0);
+  bool all_same = true;
+  for (int k = 0; k < 60; ++k) {
+    for (index i = 0; i < g_pack.size(); ++i)
+      for (int c = 0; c < 3; ++c) g_pack.velocity(i, c) = g_scalar.velocity(i, c) = 2.0 * uni(rng);
+    step(pack, g_pack, 1e-7);
+    step(scalar, g_scalar, 1e-7);
+    all_same = all_same && std::memcmp(g_pack.force.data(), g_scalar.force.data(),
+                                       sizeof(real) * static_cast<std::size_t>(g_pack.force.size())) == 0;
+    for (index i = 0; i < pack.size(); ++i) {
+      all_same = all_same && same_state(pack.state(i), scalar.state(i));
+      for (int c = 0; c < 3; ++c) all_same = all_same && same_bits(pack.force(i)[c], scalar.force(i)[c]);
+    }
+  }
+  CHECK(all_same);
+  // The run reached the nonlinear law: some sub-contacts softened, broke or slipped.
+  index damaged = 0;
+  for (index i = 0; i < pack.size(); ++i) damaged += pack.state(i).flags != law::contact_status::intact ? 1 : 0;
+  CHECK(damaged > 0);
+  CHECK(damaged < pack.size());
 }
 
 }  // namespace tessera::test_contacts

@@ -47,32 +47,45 @@
 // has the direction of the slip of B relative to A, resists that slip.
 //
 // Storage (structure of arrays behind index handles): per sub-contact node_a, node_b, face,
-// area and the law state; per face its sub-contact range, polygon corners (the gridpoint pair and
-// the constant reference offset from the first corner, so the frame reads displacements only)
-// and the current and previous normals. Law::state is a small POD read and written as a whole
-// by each update, so an array of states (not one array per state field) is the cache-friendly
-// layout: one or two contiguous cache lines per sub-contact. Forces go through a gridpoint-major
-// buffer (3 component arrays, two rows per sub-contact): the CSR incidence gridpoint ->
-// (sub-contact, side) is built once as the row numbers slot_a(i), slot_b(i), so the kernel
-// writes +f_b and -f_b to rows no other sub-contact owns and the gather is a contiguous sum per
-// gridpoint (over the gridpoints that carry sub-contacts, in increasing sub-contact order).
+// area, the law state and the force of the last step; per face its sub-contact range, polygon
+// corners (the gridpoint pair and the constant reference offset from the first corner, so the
+// frame reads displacements only) and the current and previous normals. The force of sub-contact
+// i is stored as f_i = area (sigma_n n + tau), the force on node A (node B gets -f_i), one array
+// per component written in sub-contact order; the CSR incidence gridpoint -> (sub-contact, sign)
+// is built once, listing for each gridpoint that carries sub-contacts its sub-contacts in
+// increasing order, and the gather sums sign x f_i over it (exact: sign = +-1). (Writing +-f_i to
+// gridpoint-major rows instead cost six stores to scattered cache lines per sub-contact.)
 //
-// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over faces
-// (frame, then law update and force rows of the face's sub-contacts, while the face's gridpoint
-// data are in L1) and over contact gridpoints (gather). Each loop writes only what its index
-// owns and the gather sums in a fixed order, so results are bit-identical for any thread count.
-// update() allocates nothing. Concurrent const access is safe; update() and
-// add_stiffness_bounds() must not run concurrently with anything else on the same object.
-// update() is also offered in pieces (begin_update, update_face, add_force) so that the solver
-// can run the faces in one parallel region with the zone kernel and gather contact and zone
-// forces in one pass over the gridpoints (solver.hpp); the results are the same to the bit.
+// Kernel. Faces go in face blocks, runs of consecutive faces with at least block_subcontacts
+// sub-contacts. For a law with an elastic pack path (law::ElasticPackLaw: cohesive_frictional;
+// `packed` below) the state is stored field by field (detail::state_columns; state(i) assembles a
+// Law::state by value) and a face block runs three loops: (1) per face the frame, then per
+// sub-contact du_n, du_s and n into per-step columns (detail::step_columns); (2) Law::update_elastic
+// over lanes::pack's of consecutive sub-contacts (core/lanes.hpp), which commits the lanes that are
+// intact and stay elastic in this step (almost all of them in a run); (3) Law::update, from the
+// unchanged state, for the lanes it declined (detail::advance_states). update_elastic and update
+// share their arithmetic, so each sub-contact gets exactly the bits Law::update gives it whatever
+// its lane, pack or block (test_contacts "[pack]"). Any other law keeps an array of Law::state and
+// runs Law::update per sub-contact in loop (1). The frame and the kinematics are written on
+// scalars (`triple`): Eigen's vec3 in 2 + 1 SSE packets went through the stack there and stalled
+// on store forwarding once per polygon corner.
 //
-// Cost: memory ~ (100 + sizeof(Law::state)) bytes per sub-contact; update() O(sub-contacts);
-// construction O(sub-contacts + gridpoints). About 322 instructions per sub-contact-step with
-// law::study_tie_law on baseline x86-64 (261 for x86-64-v3), of which the law update (inlined)
-// is about 105, the face frames about 40 and the gather about 40; about 27 ns per sub-contact-step
-// on one core of the shared 2-core machine with -march=native (callgrind and wall time, 100-block
-// prism; benchmarks/bench_contacts.cpp).
+// Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over face
+// blocks (frames, law updates and forces of the block's sub-contacts) and over contact gridpoints
+// (gather). Each loop writes only what its index owns and the gather sums in a fixed order, so
+// results are bit-identical for any thread count. update() allocates nothing. Concurrent const
+// access is safe; update() and add_stiffness_bounds() must not run concurrently with anything
+// else on the same object. update() is also offered in pieces (begin_update, update_face_block,
+// add_force) so that the solver can run the face blocks in one parallel region with the zone
+// kernel and gather contact and zone forces in one pass over the gridpoints (solver.hpp); the
+// results are the same to the bit.
+//
+// Cost: memory ~ (70 + sizeof(Law::state)) bytes per sub-contact, plus 64 for the per-step
+// columns with a pack law; update() O(sub-contacts); construction O(sub-contacts + gridpoints).
+// With law::study_tie_law on the 100-block prism (benchmarks/bench_contacts.cpp): about 296
+// instructions per sub-contact-step on baseline x86-64 (2-lane packs), 174 for x86-64-v3 (4 lanes);
+// about 17.4 ns on one core of the shared 2-core machine with -march=native (8 lanes), of which
+// roughly frames 3.5, kinematics 6, law 4.7 and gather 3.4 (removing one stage at a time).
 
 #include <algorithm>
 #include <array>
@@ -81,6 +94,7 @@
 #include <concepts>
 #include <cstdint>
 #include <numbers>
+#include <type_traits>
 #include <vector>
 
 #include "../core/errors.hpp"
@@ -90,6 +104,7 @@
 #include "../geometry/block_mesh.hpp"
 #include "../geometry/tessellation.hpp"
 #include "../law/concepts.hpp"
+#include "detail/packed_states.hpp"
 
 namespace tessera::contact {
 
@@ -126,6 +141,9 @@ class subcontact_set {
   using law_type = Law;
   using params_type = typename Law::params;
   using state_type = typename Law::state;
+  /// True when Law has an elastic pack path (law::ElasticPackLaw): states are then stored as
+  /// columns and updated over lanes::pack's (file comment, "Storage").
+  static constexpr bool packed = law::ElasticPackLaw<Law>;
 
   /// max over unit normals n of the absolute row sum of (k_s I + (k_n - k_s) n n^T), per unit
   /// area (Pa/m). Row i: |k_s + (k_n - k_s) n_i^2| + sum_{j != i} |k_n - k_s| |n_i n_j|
@@ -249,7 +267,19 @@ class subcontact_set {
     }
 
     const std::size_t n = node_a_.size();
-    state_.assign(n, state_type{});
+    if constexpr (packed) {
+      state_.assign(n);
+      step_.resize(n);
+    } else {
+      state_.assign(n, state_type{});
+    }
+    // Face blocks: runs of consecutive faces with at least block_subcontacts sub-contacts (the
+    // last one may have fewer), the unit of the parallel face loop.
+    face_blocks_.assign(1, 0);
+    for (index s = 0; s < face_count; ++s)
+      if (first_subcontact_[at(s) + 1] - first_subcontact_[at(face_blocks_.back())] >= block_subcontacts ||
+          s + 1 == face_count)
+        face_blocks_.push_back(s + 1);
 
     // Reference frames; a face whose two sides cancel has no plane.
     normal_.setZero(face_count, 3);
@@ -257,7 +287,8 @@ class subcontact_set {
       const soa3 u = soa3::Zero(n_gridpoints, 3);
       const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
       for (index s = 0; s < face_count; ++s) {
-        const vec3 d = face_area_vector(s, up);
+        const triple area = face_area_vector(s, up);
+        const vec3 d(area.x, area.y, area.z);
         require<geometry_error>(d.norm() > 0, "subcontact_set: shared face ", s, " (cells ",
                                 shared_faces_[at(s)].cell_a, " and ", shared_faces_[at(s)].cell_b,
                                 "): zero vector area, the face polygon has no plane (degenerate face)");
@@ -266,9 +297,9 @@ class subcontact_set {
     }
     previous_normal_ = normal_;
 
-    // Gather incidence: the force buffer holds, for each gridpoint carrying sub-contacts in
-    // increasing id, one slot per incident sub-contact in increasing sub-contact order;
-    // sub-contact i writes +f_i to slot_b_[i] and -f_i to slot_a_[i].
+    // Gather incidence: for each gridpoint carrying sub-contacts, in increasing id, one slot per
+    // incident sub-contact in increasing sub-contact order: the sub-contact and the sign of its
+    // force_ on that gridpoint (+1 on node A, -1 on node B).
     std::vector<index> count(at(n_gridpoints), 0);
     for (std::size_t i = 0; i < n; ++i) {
       ++count[at(node_a_[i])];
@@ -282,13 +313,16 @@ class subcontact_set {
       next_slot[at(g)] = slot_offsets_[at(g)];
       contact_gridpoints_.push_back(g);
     }
-    slot_a_.resize(n);
-    slot_b_.resize(n);
+    slot_subcontact_.resize(2 * n);
+    slot_sign_.resize(2 * n);
     for (std::size_t i = 0; i < n; ++i) {
-      slot_b_[i] = next_slot[at(node_b_[i])]++;
-      slot_a_[i] = next_slot[at(node_a_[i])]++;
+      const index sb = next_slot[at(node_b_[i])]++, sa = next_slot[at(node_a_[i])]++;
+      slot_subcontact_[at(sb)] = static_cast<index>(i);
+      slot_sign_[at(sb)] = -1;
+      slot_subcontact_[at(sa)] = static_cast<index>(i);
+      slot_sign_[at(sa)] = 1;
     }
-    force_buffer_.setZero(2 * static_cast<Eigen::Index>(n), 3);
+    for (auto& column : force_) column.assign(n, 0.0);
   }
 
   /// Recomputes the contact frames from the current positions of `gridpoints` and makes them
@@ -300,7 +334,8 @@ class subcontact_set {
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     for (index s = 0; s < face_count(); ++s) {
-      const vec3 d = face_area_vector(s, u);
+      const triple area = face_area_vector(s, u);
+      const vec3 d(area.x, area.y, area.z);
       if (d.squaredNorm() > 0) normal_.row(s) = d.normalized().transpose();
     }
     previous_normal_ = normal_;
@@ -316,56 +351,82 @@ class subcontact_set {
     // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
     // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
     begin_update();
-    parallel_for(face_count(), [&](std::int64_t s) { update_face(static_cast<index>(s), gridpoints, dt); }, 16);
+    parallel_for(face_block_count(), [&](std::int64_t b) { update_face_block(static_cast<index>(b), gridpoints, dt); }, 2);
     // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
   }
 
   // ---- update() in pieces, for a solver that fuses the loops of its step (solver.hpp) ----
-  // update(gp, dt) == begin_update(); update_face(s, gp, dt) for every face s (in any order or
-  // concurrently); then add_force(g, gp) for every gridpoint g (concurrently for distinct g).
-  // Same results to the bit.
+  // update(gp, dt) == begin_update(); update_face_block(b, gp, dt) for every face block b (or
+  // update_face(s, gp, dt) for every face s; in any order or concurrently); then add_force(g, gp)
+  // for every gridpoint g (concurrently for distinct g). Same results to the bit.
 
   /// Makes the current frames the previous ones; once per step, before update_face.
   void begin_update() noexcept { normal_.swap(previous_normal_); }
 
-  /// Frame of face s from the current positions (a degenerate face keeps its previous frame),
-  /// then law update and force rows of each of its sub-contacts. Writes only face s's data.
-  void update_face(index s, const node_set& gridpoints, real dt) noexcept {
+  /// Number of face blocks: runs of consecutive faces with about block_subcontacts sub-contacts.
+  [[nodiscard]] index face_block_count() const { return static_cast<index>(face_blocks_.size()) - 1; }
+  /// update_faces over face block b.
+  void update_face_block(index b, const node_set& gridpoints, real dt) noexcept {
+    update_faces(face_blocks_[at(b)], face_blocks_[at(b) + 1], gridpoints, dt);
+  }
+  /// update_faces over face s alone.
+  void update_face(index s, const node_set& gridpoints, real dt) noexcept { update_faces(s, s + 1, gridpoints, dt); }
+
+  /// Frames of faces [first_face, last_face) from the current positions (a degenerate face keeps
+  /// its previous frame), then law update and force rows of each of their sub-contacts. Writes
+  /// only those faces' data.
+  void update_faces(index first_face, index last_face, const node_set& gridpoints, real dt) noexcept {
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
-    real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
     const params_type& p = params_;
-    const vec3 d = face_area_vector(s, u);
-    const vec3 n_prev(previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2));
-    const real length2 = d.squaredNorm();
-    const vec3 n = length2 > 0 ? vec3(d / std::sqrt(length2)) : n_prev;
-    for (int c = 0; c < 3; ++c) normal_(s, c) = n[c];
-    const vec3 tilt = n_prev.cross(n);  // rotation vector n_prev -> n (first order)
-    const auto first = at(first_subcontact_[at(s)]);
-    const auto last = at(first_subcontact_[at(s) + 1]);
-    for (std::size_t i = first; i < last; ++i) {
-      const index a = node_a_[i], b = node_b_[i];
-      vec3 du, gap;
-      for (int c = 0; c < 3; ++c) {
-        du[c] = (v[c][b] - v[c][a]) * dt;
-        gap[c] = u[c][b] - u[c][a];
+    for (index s = first_face; s < last_face; ++s) {
+      const triple d = face_area_vector(s, u);
+      const triple n_prev{previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2)};
+      const real length2 = dot(d, d);
+      triple n = n_prev;
+      if (length2 > 0) {
+        const real length = std::sqrt(length2);
+        n = {d.x / length, d.y / length, d.z / length};
       }
-      du -= tilt.cross(gap);
-      const real du_n = du.dot(n);
-      const vec3 du_s = du - du_n * n;
-      state_type& st = state_[i];
-      Law::update(p, st, du_n, du_s, n);
-      const vec3 traction = st.sigma_n * n + vec3(st.tau);
-      const real area = area_[i];
-      const index sa = slot_a_[i], sb = slot_b_[i];
-      for (int c = 0; c < 3; ++c) {
-        buffer[c][sb] = -area * traction[c];
-        buffer[c][sa] = area * traction[c];
+      normal_(s, 0) = n.x;
+      normal_(s, 1) = n.y;
+      normal_(s, 2) = n.z;
+      const triple tilt = cross(n_prev, n);  // rotation vector n_prev -> n (first order)
+      for (std::size_t i = at(first_subcontact_[at(s)]); i < at(first_subcontact_[at(s) + 1]); ++i) {
+        const index a = node_a_[i], b = node_b_[i];
+        const triple gap{u[0][b] - u[0][a], u[1][b] - u[1][a], u[2][b] - u[2][a]};
+        const triple turn = cross(tilt, gap);
+        const triple du{(v[0][b] - v[0][a]) * dt - turn.x, (v[1][b] - v[1][a]) * dt - turn.y,
+                        (v[2][b] - v[2][a]) * dt - turn.z};
+        const real du_n = dot(du, n);
+        const triple du_s{du.x - du_n * n.x, du.y - du_n * n.y, du.z - du_n * n.z};
+        if constexpr (packed) {
+          // Law::update's arguments, for the pack loop below.
+          step_.du_n[i] = du_n;
+          step_.ds0[i] = du_s.x;
+          step_.ds1[i] = du_s.y;
+          step_.ds2[i] = du_s.z;
+          step_.n0[i] = n.x;
+          step_.n1[i] = n.y;
+          step_.n2[i] = n.z;
+        } else {
+          state_type& st = state_[i];
+          const vec3 normal(n.x, n.y, n.z);
+          Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
+          const vec3 traction = st.sigma_n * normal + vec3(st.tau);
+          for (int c = 0; c < 3; ++c) force_[at(c)][i] = area_[i] * traction[c];
+        }
       }
+    }
+    if constexpr (packed) {
+      const auto first = at(first_subcontact_[at(first_face)]);
+      const auto last = at(first_subcontact_[at(last_face)]);
+      real* const force[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
+      detail::advance_states<Law>(p, state_, step_, area_.data(), first, last, force);
     }
   }
 
@@ -374,12 +435,15 @@ class subcontact_set {
   void add_force(index g, node_set& gridpoints) const noexcept {
     const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
     if (begin == end) return;
-    const real* buffer[3] = {force_buffer_.col(0).data(), force_buffer_.col(1).data(), force_buffer_.col(2).data()};
+    const real* f[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
     real fx = 0, fy = 0, fz = 0;
     for (index e = begin; e < end; ++e) {
-      fx += buffer[0][e];
-      fy += buffer[1][e];
-      fz += buffer[2][e];
+      // +-f exactly: the sum is that of the forces on g in increasing sub-contact order.
+      const auto i = at(slot_subcontact_[at(e)]);
+      const real sign = slot_sign_[at(e)];
+      fx += sign * f[0][i];
+      fy += sign * f[1][i];
+      fz += sign * f[2][i];
     }
     gridpoints.force(g, 0) += fx;
     gridpoints.force(g, 1) += fy;
@@ -419,10 +483,17 @@ class subcontact_set {
   [[nodiscard]] vec3 position(index i, const node_set& gridpoints) const {
     return 0.5 * (gridpoints.position(node_a(i)) + gridpoints.position(node_b(i)));
   }
-  [[nodiscard]] const state_type& state(index i) const { return state_[at(i)]; }
+  /// Law state of sub-contact i: a const reference, or a value assembled from the columns when
+  /// `packed` (bind it as `const auto&` either way).
+  [[nodiscard]] decltype(auto) state(index i) const {
+    if constexpr (packed)
+      return state_.get(at(i));
+    else
+      return static_cast<const state_type&>(state_[at(i)]);
+  }
   [[nodiscard]] const params_type& params() const { return params_; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
-  [[nodiscard]] vec3 force(index i) const { return force_buffer_.row(slot_b_[at(i)]).transpose(); }
+  [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
 
   // ---- shared faces ----
   [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }
@@ -455,7 +526,7 @@ class subcontact_set {
   [[nodiscard]] contact_energies energies() const {
     contact_energies e;
     for (std::size_t i = 0; i < node_a_.size(); ++i) {
-      const state_type& st = state_[i];
+      const auto& st = state(static_cast<index>(i));
       const real a = area_[i];
       e.stored += a * Law::stored_energy(params_, st);
       e.dissipated += a * Law::dissipated_energy(st);
@@ -481,46 +552,72 @@ class subcontact_set {
   }
 
  private:
+  /// A 3-vector as three scalars, for the per-face and per-sub-contact loops: GCC keeps them in
+  /// registers, where a vec3 in Eigen's 2 + 1 SSE packets went through the stack and stalled on
+  /// store forwarding (a 16-byte load of two 8-byte stores), once per polygon corner. The same
+  /// arithmetic as Eigen's cross and dot ((x + y) + z).
+  struct triple {
+    real x, y, z;
+  };
+  [[nodiscard, gnu::always_inline]] static triple cross(const triple& a, const triple& b) noexcept {
+    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+  }
+  [[nodiscard, gnu::always_inline]] static real dot(const triple& a, const triple& b) noexcept {
+    return (a.x * b.x + a.y * b.y) + a.z * b.z;
+  }
+
+  /// Sub-contacts per face block (at least; fewer in the last block): some whole lanes::pack's per
+  /// block, a few dozen blocks on a 100-block model for the two threads.
+  static constexpr index block_subcontacts = 64;
+
   /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
   /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see the file comment), from differences
   /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
   /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size),
   /// and X_k - X_0 is the stored corner_offset_ (the reference positions of the block_mesh).
-  [[nodiscard]] vec3 face_area_vector(index s, const real* const u[3]) const noexcept {
+  [[nodiscard]] triple face_area_vector(index s, const real* const u[3]) const noexcept {
     const auto first = at(first_corner_[at(s)]);
     const auto count = at(first_corner_[at(s) + 1]) - first;
     const index* ca = corner_a_.data() + first;
     const index* cb = corner_b_.data() + first;
     const real* dX[3] = {corner_offset_[0].data() + first, corner_offset_[1].data() + first,
                          corner_offset_[2].data() + first};
-    vec3 origin_u;
+    real origin_u[3];
     for (int c = 0; c < 3; ++c) origin_u[c] = 0.5 * (u[c][ca[0]] + u[c][cb[0]]);
     const auto midpoint_offset = [&](std::size_t k) {
       const index a = ca[k], b = cb[k];
-      vec3 d;
+      real d[3];
       for (int c = 0; c < 3; ++c) d[c] = dX[c][k] + (0.5 * (u[c][a] + u[c][b]) - origin_u[c]);
-      return d;
+      return triple{d[0], d[1], d[2]};
     };
-    vec3 s_area = vec3::Zero();
-    vec3 previous = midpoint_offset(1);
+    triple s_area{0, 0, 0};
+    triple previous = midpoint_offset(1);
     for (std::size_t k = 2; k < count; ++k) {
-      const vec3 next = midpoint_offset(k);
-      s_area += previous.cross(next);
+      const triple next = midpoint_offset(k);
+      const triple area = cross(previous, next);
+      s_area = {s_area.x + area.x, s_area.y + area.y, s_area.z + area.z};
       previous = next;
     }
     return s_area;
   }
+
 
   params_type params_{};
   index gridpoint_count_ = 0;
   // per sub-contact
   std::vector<index> node_a_, node_b_, face_;
   std::vector<real> area_;
-  std::vector<state_type> state_;
-  std::vector<index> slot_a_, slot_b_;  ///< rows of force_buffer_ receiving -f_i (node A) and +f_i (node B)
+  /// Law states: columns when `packed` (with the per-step columns of Law::update's arguments and
+  /// results), else one state_type per sub-contact.
+  std::conditional_t<packed, detail::state_columns<Law>, std::vector<state_type>> state_;
+  detail::step_columns step_;
+  /// Contact force of the last update on node A (N), area (sigma_n n + tau), one array per
+  /// component; node B receives its opposite.
+  std::array<std::vector<real>, 3> force_;
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
   std::vector<index> first_subcontact_{0};
+  std::vector<index> face_blocks_{0};  ///< faces [face_blocks_[b], face_blocks_[b + 1]) form block b
   // Polygon corners of face s (CCW seen from A), CSR [first_corner_[s], first_corner_[s + 1]):
   // the gridpoints of the corner pair and the reference offset X_a,k - X_a,0 from the face's
   // first corner (per component), so the frame reads only displacements.
@@ -529,10 +626,11 @@ class subcontact_set {
   std::vector<real> face_area_;
   soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
-  /// Contact forces of the last update (N), 2 rows per sub-contact grouped by gridpoint: rows
-  /// [slot_offsets_[g], slot_offsets_[g + 1]) belong to gridpoint g (empty without sub-contacts).
-  soa3 force_buffer_;
+  /// Slots [slot_offsets_[g], slot_offsets_[g + 1]) belong to gridpoint g (empty without
+  /// sub-contacts): two per sub-contact, its id and the sign of force_ on g (+1 node A, -1 node B).
   std::vector<index> slot_offsets_{0};
+  std::vector<index> slot_subcontact_;
+  std::vector<real> slot_sign_;
   std::vector<index> contact_gridpoints_;  ///< gridpoints with a non-empty slot range, increasing
 };
 

@@ -60,13 +60,15 @@
 //
 // Cost and threading: update is noexcept, allocation-free and branch-light (the softening
 // envelope is evaluated only for contacts past the peak); all functions are static and pure, so
-// updating distinct states from several threads is safe.
+// updating distinct states from several threads is safe. update_elastic is the same step for the
+// intact contacts that stay elastic, written for lanes::pack's of sub-contacts (see below).
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
 
+#include "../core/lanes.hpp"
 #include "../core/types.hpp"
 #include "compression.hpp"
 #include "concepts.hpp"
@@ -111,6 +113,9 @@ struct cohesive_frictional {
     contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
   };
   static_assert(std::is_trivially_destructible_v<state>);
+  // contact::subcontact_set stores the state field by field (law::ElasticPackLaw): a new field must
+  // be added to its columns (contact/detail/state_columns.hpp) as well.
+  static_assert(sizeof(state) == 11 * sizeof(real), "state has a field the state columns do not know");
 
   /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0, then the
   /// tension, compression and shear policies' checks (tension.hpp, compression.hpp, shear.hpp).
@@ -138,15 +143,8 @@ struct cohesive_frictional {
     const real ds0 = du_s[0], ds1 = du_s[1], ds2 = du_s[2];
 
     // 1. Rotate the stored shear stress into the current contact plane, keeping its magnitude.
-    const real t0 = s.tau[0], t1 = s.tau[1], t2 = s.tau[2];
-    const real tau_sq = (t0 * t0 + t1 * t1) + t2 * t2;
-    const real along = (n0 * t0 + n1 * t1) + n2 * t2;
-    real o0 = t0 - n0 * along, o1 = t1 - n1 * along, o2 = t2 - n2 * along;  // tau_old
-    const real in_plane_sq = (o0 * o0 + o1 * o1) + o2 * o2;
-    const real keep = in_plane_sq > 0 ? std::sqrt(tau_sq / in_plane_sq) : real(0);
-    o0 *= keep;
-    o1 *= keep;
-    o2 *= keep;
+    real o0 = s.tau[0], o1 = s.tau[1], o2 = s.tau[2];  // -> tau_old
+    rotate_into_plane(o0, o1, o2, n0, n1, n2);
 
     // 2. Normal stress: elastic trial from the irreversible opening, then the limits.
     const real sigma_old = s.sigma_n;
@@ -167,12 +165,7 @@ struct cohesive_frictional {
       }
     }
     s.sigma_n = sigma;
-    const real sigma_sum = sigma_old + sigma;
-    const real normal_dissipation = real(0.5) * sigma_sum * (du_n - (sigma - sigma_old) / k_n);
-    if (sigma_sum < 0)
-      s.dissipated_compression += normal_dissipation;
-    else
-      s.dissipated_tension += normal_dissipation;
+    book_normal_dissipation(k_n, sigma_old, sigma, du_n, s.dissipated_tension, s.dissipated_compression);
 
     // 3. Shear: elastic trial, Coulomb limit at the new normal stress, brittle first failure.
     //    An open crack (broken in tension with its faces apart, u_n > u_p) transmits no shear: its
@@ -214,6 +207,56 @@ struct cohesive_frictional {
     s.tau[2] = c2;
   }
 
+  // ---- elastic path over packs of sub-contacts (opt-in of law::ElasticPackLaw, concepts.hpp) ----
+  // Almost every sub-contact of a run is intact and elastic in a given step. contact::subcontact_set
+  // runs update_elastic over lanes::pack's of them, keeps the lanes it accepts and runs update() on
+  // the others from their unchanged state. update() and update_elastic share the rotation and the
+  // normal dissipation (rotate_into_plane, book_normal_dissipation) and write the rest with the
+  // same operations in the same order, so an accepted lane is update()'s result to the bit.
+
+  /// True: update_elastic exists (the shear policy evaluates its intact strength on packs).
+  static constexpr bool elastic_pack = PackedShearLimit<Shear>;
+
+  /// Lanes of update_elastic: T = real (one sub-contact) or lanes::pack.
+  template <class T>
+  struct elastic_lanes {
+    T du_n, ds0, ds1, ds2;  ///< in: update()'s du_n (m) and du_s (m)
+    T n0, n1, n2;           ///< in: update()'s unit normal n
+    T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_compression;  ///< in/out: state fields
+    T u_p, u_soft;          ///< in: state fields an elastic step leaves unchanged
+  };
+
+  /// update() of the lanes that are intact (`intact`: their flags are contact_status::intact) and stay
+  /// elastic in this step: no softening history (u_soft = 0), the trial normal stress at most f_T
+  /// (and at least -f_c when bounded) and the shear trial within the intact Coulomb limit. Returns
+  /// the mask of those lanes; for them the outputs are update()'s to the bit, and flags, u_p,
+  /// u_soft and dissipated_shear are unchanged. The outputs of the other lanes are meaningless.
+  template <class T, class M>
+  [[nodiscard, gnu::always_inline]] static inline M update_elastic(const params& p, M intact,
+                                                                  elastic_lanes<T>& x) noexcept {
+    const real k_n = p.k_n;
+    rotate_into_plane(x.tau0, x.tau1, x.tau2, x.n0, x.n1, x.n2);
+    const T sigma_old = x.sigma_n;
+    x.u_n = x.u_n + x.du_n;
+    const T sigma = k_n * (x.u_n - x.u_p);
+    // update() caps sigma when sigma > 0 && (sigma > f_T || u_soft > 0), or when sigma < -f_c.
+    const real f_peak = Tension::peak_strength(p.tension);
+    M elastic = intact & ((x.u_soft > real(0)) == 0) & (((sigma > real(0)) & (sigma > f_peak)) == 0);
+    if constexpr (Compression::bounded) elastic = elastic & ((sigma < -Compression::strength(p.compression)) == 0);
+    x.sigma_n = sigma;
+    book_normal_dissipation(k_n, sigma_old, sigma, x.du_n, x.dissipated_tension, x.dissipated_compression);
+    // Shear trial against the intact limit (tensile fraction 1: u_soft = 0).
+    const real k_s = p.k_s;
+    const T c0 = x.tau0 + k_s * x.ds0, c1 = x.tau1 + k_s * x.ds1, c2 = x.tau2 + k_s * x.ds2;
+    const T trial_sq = (c0 * c0 + c1 * c1) + c2 * c2;
+    const T tau_max = Shear::intact_strength(p.shear, sigma);
+    elastic = elastic & ((trial_sq > tau_max * tau_max) == 0);
+    x.tau0 = c0;
+    x.tau1 = c1;
+    x.tau2 = c2;
+    return elastic;
+  }
+
   [[nodiscard]] static contact_status status(const state& s) noexcept { return s.flags; }
 
   /// Current tensile strength f_t (Pa): f_T for a virgin contact, f_t(u_soft) while softening, 0 once broken.
@@ -241,6 +284,33 @@ struct cohesive_frictional {
   }
 
  private:
+  /// Step 1 of update() for T = real or a lanes::pack: the stored shear stress t is turned into the
+  /// plane of the unit normal n, its n-component removed and the rest rescaled to |t| (a t parallel
+  /// to n has no direction left and becomes 0). Dots as (x + y) + z.
+  template <class T>
+  [[gnu::always_inline]] static inline void rotate_into_plane(T& t0, T& t1, T& t2, T n0, T n1, T n2) noexcept {
+    const T tau_sq = (t0 * t0 + t1 * t1) + t2 * t2;
+    const T along = (n0 * t0 + n1 * t1) + n2 * t2;
+    const T o0 = t0 - n0 * along, o1 = t1 - n1 * along, o2 = t2 - n2 * along;
+    const T in_plane_sq = (o0 * o0 + o1 * o1) + o2 * o2;
+    const T keep = lanes::select(in_plane_sq > real(0), lanes::sqrt(tau_sq / in_plane_sq), T{});
+    t0 = o0 * keep;
+    t1 = o1 * keep;
+    t2 = o2 * keep;
+  }
+
+  /// The normal part of the dissipated increment (file comment, "Energy"), booked to compression
+  /// when sigma_old + sigma < 0 and to tension otherwise; T = real or a lanes::pack.
+  template <class T>
+  [[gnu::always_inline]] static inline void book_normal_dissipation(real k_n, T sigma_old, T sigma, T du_n, T& tension,
+                                                                   T& compression) noexcept {
+    const T sigma_sum = sigma_old + sigma;
+    const T dissipation = real(0.5) * sigma_sum * (du_n - (sigma - sigma_old) / k_n);
+    const auto compressive = sigma_sum < real(0);
+    compression = lanes::select(compressive, compression + dissipation, compression);
+    tension = lanes::select(compressive, tension, tension + dissipation);
+  }
+
   /// f_t/f_T for the shear policy: 1 unless the policy couples cohesion to tension and the contact
   /// has softened (then the envelope is evaluated; a decoupled law never pays for it).
   [[nodiscard]] static real tensile_fraction(const params& p, const state& s) noexcept {

@@ -25,6 +25,9 @@
 #include <concepts>
 #include <cstdint>
 
+#include <utility>
+
+#include "../core/lanes.hpp"
 #include "../core/types.hpp"
 
 namespace tessera::law {
@@ -60,5 +63,34 @@ concept ContactLaw = requires(const typename L::params& p, typename L::state& s,
   { L::dissipated_energy(cs) } -> std::convertible_to<real>;
   { L::stored_energy(p, cs) } -> std::convertible_to<real>;
 };
+
+/// A ContactLaw with an elastic path over packs of sub-contacts (law::cohesive_frictional):
+/// contact::subcontact_set then stores the states as columns (one array per field) and updates
+/// them with L::update_elastic over lanes::pack's, running L::update on the lanes it declines.
+/// | expression                          | meaning                                                     |
+/// |-------------------------------------|-------------------------------------------------------------|
+/// | L::elastic_pack                     | constexpr bool, true                                        |
+/// | L::elastic_lanes<T>                 | aggregate of T: du_n, ds0..2, n0..2 (update()'s arguments), |
+/// |                                     | sigma_n, tau0..2, u_n, u_p, u_soft, dissipated_tension,     |
+/// |                                     | dissipated_compression (state fields)                       |
+/// | L::update_elastic(p, intact, x)     | update() of the lanes of `x` that stay elastic; returns     |
+/// |                                     | their mask (see cohesive_frictional.hpp)                    |
+/// | s.u_p, s.u_soft, s.dissipated_*,    | the other state fields (sigma_n, tau, u_n above); these     |
+/// | s.flags                             | fields are the whole state                                  |
+template <class L>
+concept ElasticPackLaw =
+    ContactLaw<L> && L::elastic_pack &&
+    requires(const typename L::params& p, lanes::mask intact, typename L::template elastic_lanes<lanes::pack>& x,
+             const typename L::state& s) {
+      { L::update_elastic(p, intact, x) } noexcept -> std::same_as<lanes::mask>;
+      { L::update_elastic(p, true, std::declval<typename L::template elastic_lanes<real>&>()) } noexcept
+          -> std::same_as<bool>;
+      { s.u_p } -> std::convertible_to<real>;
+      { s.u_soft } -> std::convertible_to<real>;
+      { s.dissipated_tension } -> std::convertible_to<real>;
+      { s.dissipated_shear } -> std::convertible_to<real>;
+      { s.dissipated_compression } -> std::convertible_to<real>;
+      { s.flags } -> std::convertible_to<contact_status>;
+    };
 
 }  // namespace tessera::law

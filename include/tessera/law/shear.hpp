@@ -28,11 +28,15 @@
 // |                                   | a contact in damage state `flags` (contact_status) whose        |
 // |                                   | tensile strength is the fraction r = f_t/f_T in [0, 1] of its   |
 // |                                   | peak (1 intact; the law passes 1 when !couples_tension); noexcept|
+// Optional (cohesive_frictional's elastic pack path needs it, concept PackedShearLimit):
+// | S::intact_strength(p, sigma_n)    | strength(p, sigma_n, intact, 1) to the bit, for sigma_n a real |
+// |                                   | or a lanes::pack of normal stresses (core/lanes.hpp)            |
 
 #include <cmath>
 #include <concepts>
 #include <numbers>
 
+#include "../core/lanes.hpp"
 #include "../core/types.hpp"
 #include "concepts.hpp"
 #include "detail/validation.hpp"
@@ -74,6 +78,13 @@ inline void require_friction_angle(const friction_angle& phi, const char* name) 
     throw invalid_input(tessera::detail::concat("contact law: friction angle ", name, " = ", phi.degrees(),
                                                 " deg must be in [0, 90) deg"));
 }
+/// max(0, c - sigma_n tan_phi) (Pa) for T = real or a lanes::pack of normal stresses.
+template <class T>
+[[nodiscard, gnu::always_inline]] inline T coulomb_line(real c, real tan_phi, T sigma_n) noexcept {
+  const T limit = c - sigma_n * tan_phi;
+  return lanes::select(limit > real(0), limit, T{});
+}
+
 /// The Coulomb limit max(0, c - sigma_n tan(phi)) of a contact in damage state `flags`: residual
 /// cohesion and friction once slipped, residual cohesion once broken in tension, otherwise the
 /// cohesion `c_intact` the policy gives and phi_0.
@@ -83,8 +94,7 @@ template <class Params>
   const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
   const real c = cohesion_lost ? p.c_res : c_intact;
   const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
-  const real limit = c - sigma_n * tan_phi;
-  return limit > 0 ? limit : real(0);
+  return coulomb_line(c, tan_phi, sigma_n);
 }
 }  // namespace detail
 
@@ -119,6 +129,11 @@ struct coulomb_residual {
                                      real /*tensile_fraction*/ = 1) noexcept {
     return detail::coulomb_limit(p, sigma_n, flags, p.c_0);
   }
+  /// strength(p, sigma_n, intact) for T = real or a lanes::pack of normal stresses, to the bit.
+  template <class T>
+  [[nodiscard, gnu::always_inline]] static T intact_strength(const params& p, T sigma_n) noexcept {
+    return detail::coulomb_line(p.c_0, p.phi_0.tan(), sigma_n);
+  }
 };
 
 /// coulomb_residual whose cohesion softens together with the tensile strength: while the contact
@@ -134,9 +149,21 @@ struct coulomb_coupled {
                                      real tensile_fraction = 1) noexcept {
     return detail::coulomb_limit(p, sigma_n, flags, p.c_res + (p.c_0 - p.c_res) * tensile_fraction);
   }
+  /// strength(p, sigma_n, intact, 1) for T = real or a lanes::pack of normal stresses, to the bit.
+  template <class T>
+  [[nodiscard, gnu::always_inline]] static T intact_strength(const params& p, T sigma_n) noexcept {
+    return detail::coulomb_line(p.c_res + (p.c_0 - p.c_res) * real(1), p.phi_0.tan(), sigma_n);
+  }
+};
+
+/// A ShearLimit whose intact strength can be evaluated on a lanes::pack.
+template <class S>
+concept PackedShearLimit = ShearLimit<S> && requires(const typename S::params& p, lanes::pack sigma_n) {
+  { S::intact_strength(p, sigma_n) } noexcept -> std::same_as<lanes::pack>;
 };
 
 static_assert(ShearLimit<coulomb_residual>);
 static_assert(ShearLimit<coulomb_coupled>);
+static_assert(PackedShearLimit<coulomb_residual> && PackedShearLimit<coulomb_coupled>);
 
 }  // namespace tessera::law

@@ -148,7 +148,8 @@ class solver {
       contacts_.begin_update();
       parallel_for_pair(
           blocks_.run_count(), [&](std::int64_t r) { blocks_.zone_forces_of_run(static_cast<index>(r), gridpoints_); },
-          contacts_.face_count(), [&](std::int64_t f) { contacts_.update_face(static_cast<index>(f), gridpoints_, dt_); });
+          contacts_.face_block_count(),
+          [&](std::int64_t f) { contacts_.update_face_block(static_cast<index>(f), gridpoints_, dt_); });
       // Bars that can hand their host forces to the gather (embedded_truss): bar-side forces
       // first (they read displacements and this step's zone stresses), host shares in the gather.
       constexpr bool split_bars = Reinforcement::enabled && requires(Reinforcement& rf, index i) {
