@@ -105,6 +105,17 @@ template <class T>
     return m == 0;
   }
 }
+/// True when any lane of m (a bool or a mask) is set.
+template <class M>
+[[nodiscard, gnu::always_inline]] inline bool any(const M& m) noexcept {
+  if constexpr (std::is_same_v<M, bool>) {
+    return m;
+  } else {
+    mask_lane bits = 0;
+    for (int k = 0; k < width; ++k) bits |= m[k];
+    return bits != 0;
+  }
+}
 /// Stores the lanes of m (a bool or a mask) to b[0 ..) as mask lanes: all ones (-1) or 0.
 template <class M>
 [[gnu::always_inline]] inline void store_mask(mask_lane* b, const M& m) noexcept {

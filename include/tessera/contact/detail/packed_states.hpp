@@ -122,7 +122,15 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
     lanes::store_mask(&k.elastic[i], elastic);
   };
   std::size_t i = first;
-  for (; i + lanes::width <= last; i += lanes::width) lanes_at.template operator()<lanes::pack>(i);
+  for (; i + lanes::width <= last; i += lanes::width) {
+    // A pack without an intact sub-contact (cracked faces: past the peak, broken or slipped)
+    // would be declined lane by lane; send it to Law::update directly.
+    if (!lanes::any(lanes::load_is_zero<lanes::pack>(&s.flags[i]))) {
+      for (std::size_t j = i; j < i + lanes::width; ++j) k.elastic[j] = 0;
+      continue;
+    }
+    lanes_at.template operator()<lanes::pack>(i);
+  }
   for (; i < last; ++i) lanes_at.template operator()<real>(i);
 
   // Lanes update_elastic declined: the full law from the unchanged state.
