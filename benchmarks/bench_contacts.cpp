@@ -3,7 +3,9 @@
 // concrete prism.
 //
 // Workload: 68 x 68 x 600 mm prism, random Voronoi tessellation of 100 blocks (seed 1), zoned by
-// geometry::zone_blocks (no refinement), law::study_tie_law with law::study_prism_params(100).
+// geometry::zone_blocks (no refinement), law::study_tie_law with law::study_prism_params(100);
+// BM_subcontact_update is the default layout, BM_subcontact_update_packed the opt-in elastic
+// pack path (law::with_elastic_packs).
 // Gridpoints get random velocities (up to 1 mm/s, dt = 1e-6 s: relative increments ~1e-9 m,
 // elastic) whose effect alternates sign every step (through the sign of dt), so the contacts cycle about the unloaded
 // state instead of drifting to failure. Positions are fixed, which does not change the work done. Reported:
@@ -45,12 +47,13 @@ struct prism_scene {
   }
 };
 
-void BM_subcontact_update(benchmark::State& state) {
+template <class Law>
+void subcontact_update(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
   const int previous_threads = max_threads();
   set_threads(threads);
   prism_scene scene(100);
-  contact::subcontact_set<law::study_tie_law> contacts(scene.tess, scene.mesh, law::study_prism_params(100));
+  contact::subcontact_set<Law> contacts(scene.tess, scene.mesh, law::study_prism_params(100));
   const real dt = 1e-6;
   real signed_dt = dt;
   for (auto _ : state) {
@@ -66,7 +69,14 @@ void BM_subcontact_update(benchmark::State& state) {
   state.counters["time_per_subcontact"] =
       benchmark::Counter(n, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
+/// The default layout (an array of law states, Law::update per sub-contact).
+void BM_subcontact_update(benchmark::State& state) { subcontact_update<law::study_tie_law>(state); }
+/// The opt-in elastic pack path (law::with_elastic_packs): all contacts here stay intact and elastic.
+void BM_subcontact_update_packed(benchmark::State& state) {
+  subcontact_update<law::with_elastic_packs<law::study_tie_law>>(state);
+}
 BENCHMARK(BM_subcontact_update)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_subcontact_update_packed)->ArgName("threads")->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 }  // namespace tessera::bench_contacts

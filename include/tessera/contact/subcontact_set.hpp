@@ -57,16 +57,18 @@
 // gridpoint-major rows instead cost six stores to scattered cache lines per sub-contact.)
 //
 // Kernel. Faces go in face blocks, runs of consecutive faces with at least block_subcontacts
-// sub-contacts. For a law with an elastic pack path (law::ElasticPackLaw: cohesive_frictional;
-// `packed` below) the state is stored field by field (detail::state_columns; state(i) assembles a
+// sub-contacts. For a law with an elastic pack path (law::ElasticPackLaw: cohesive_frictional)
+// that asks for it (law::with_elastic_packs; `packed` below) the state is stored field by field (detail::state_columns; state(i) assembles a
 // Law::state by value) and a face block runs three loops: (1) per face the frame, then per
 // sub-contact du_n, du_s and n into per-step columns (detail::step_columns); (2) Law::update_elastic
 // over lanes::pack's of consecutive sub-contacts (core/lanes.hpp), which commits the lanes that are
 // intact and stay elastic in this step (almost all of them in a run); (3) Law::update, from the
 // unchanged state, for the lanes it declined (detail::advance_states). update_elastic and update
 // share their arithmetic, so each sub-contact gets exactly the bits Law::update gives it whatever
-// its lane, pack or block (test_contacts "[pack]"). Any other law keeps an array of Law::state and
-// runs Law::update per sub-contact in loop (1). The frame and the kinematics are written on
+// its lane, pack or block (test_contacts "[pack]"). Any other law (the default, including the
+// plain cohesive_frictional aliases) keeps an array of Law::state and runs Law::update per
+// sub-contact in loop (1): faster on a cracking run, where the column store's gets and sets for
+// the many sub-contacts past their peak cost more than the packs save (RC tie: 10-14 %). The frame and the kinematics are written on
 // scalars (`triple`): Eigen's vec3 in 2 + 1 SSE packets went through the stack there and stalled
 // on store forwarding once per polygon corner.
 //
@@ -141,9 +143,11 @@ class subcontact_set {
   using law_type = Law;
   using params_type = typename Law::params;
   using state_type = typename Law::state;
-  /// True when Law has an elastic pack path (law::ElasticPackLaw): states are then stored as
-  /// columns and updated over lanes::pack's (file comment, "Storage").
-  static constexpr bool packed = law::ElasticPackLaw<Law>;
+  /// True when Law has an elastic pack path (law::ElasticPackLaw) and asks for it
+  /// (law::with_elastic_packs): states are then stored as columns and updated over lanes::pack's
+  /// (file comment, "Kernel"). Off for the plain laws: it pays only where almost all sub-contacts
+  /// are intact and elastic.
+  static constexpr bool packed = law::ElasticPackLaw<Law> && requires { requires Law::use_elastic_packs; };
 
   /// max over unit normals n of the absolute row sum of (k_s I + (k_n - k_s) n n^T), per unit
   /// area (Pa/m). Row i: |k_s + (k_n - k_s) n_i^2| + sum_{j != i} |k_n - k_s| |n_i n_j|
