@@ -150,9 +150,14 @@ class solver {
           blocks_.run_count(), [&](std::int64_t r) { blocks_.zone_forces_of_run(static_cast<index>(r), gridpoints_); },
           contacts_.face_block_count(),
           [&](std::int64_t f) { contacts_.update_face_block(static_cast<index>(f), gridpoints_, dt_); });
-      // Bars that can hand their host forces to the gather (embedded_truss): bar-side forces
+      // An integrator that can gather each chunk of gridpoints inside its own loop.
+      const auto no_prepare = [](std::int64_t, std::int64_t) {};
+      constexpr bool fused_integrator =
+          requires(integrator::step_work& w) { integrator_.advance(gridpoints_, dt_, w, no_prepare); };
+      // Bars that can hand their host forces to that gather (embedded_truss): bar-side forces
       // first (they read displacements and this step's zone stresses), host shares in the gather.
-      constexpr bool split_bars = Reinforcement::enabled && requires(Reinforcement& rf, index i) {
+      // (Without a fused integrator the bars keep accumulate_forces below.)
+      constexpr bool split_bars = fused_integrator && Reinforcement::enabled && requires(Reinforcement& rf, index i) {
         rf.compute_forces(gridpoints_, blocks_.zone_stress());
         rf.add_host_forces(i, i, gridpoints_);
       };
@@ -167,8 +172,7 @@ class solver {
         if constexpr (split_bars)
           reinforcement_.add_host_forces(static_cast<index>(begin), static_cast<index>(end), gridpoints_);
       };
-      if constexpr ((!Reinforcement::enabled || split_bars) &&
-                    requires(integrator::step_work& w) { integrator_.advance(gridpoints_, dt_, w, gather); }) {
+      if constexpr (fused_integrator && (!Reinforcement::enabled || split_bars)) {
         // The integrator gathers each chunk of gridpoints right before integrating it (one
         // parallel loop for gather and update); the bar nodes, whose forces are complete, follow.
         integrator::step_work work;
