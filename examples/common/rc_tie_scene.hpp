@@ -406,11 +406,15 @@ class crack_graph {
       if (find(b) == b) ++r.pieces;
     r.cracks = r.pieces - 1;
     std::vector<std::pair<std::pair<index, index>, std::pair<double, double>>> surfaces;  // pieces -> (sum A z, sum A)
+    const auto surface_between = [&](index pa, index pb) {  // the surface separating two pieces, or end()
+      const std::pair<index, index> key = std::minmax(pa, pb);
+      return std::find_if(surfaces.begin(), surfaces.end(), [&](const auto& x) { return x.first == key; });
+    };
     for (std::size_t f : cracked_faces) {
       index pa = find(faces_[f].a), pb = find(faces_[f].b);
       if (pa == pb) continue;  // a cracked face inside one piece: the crack does not separate there
       if (pa > pb) std::swap(pa, pb);
-      auto it = std::find_if(surfaces.begin(), surfaces.end(), [&](const auto& x) { return x.first == std::pair(pa, pb); });
+      auto it = surface_between(pa, pb);
       if (it == surfaces.end()) {
         surfaces.push_back({{pa, pb}, {0.0, 0.0}});
         it = surfaces.end() - 1;
@@ -427,11 +431,10 @@ class crack_graph {
     if (!bar_blocks_.empty()) {
       r.bar_crossings = 0;
       for (std::size_t k = 1; k < bar_blocks_.size(); ++k) {
-        index pa = find(bar_blocks_[k - 1]), pb = find(bar_blocks_[k]);
+        const index pa = find(bar_blocks_[k - 1]), pb = find(bar_blocks_[k]);
         if (pa == pb) continue;
         ++r.bar_crossings;
-        if (pa > pb) std::swap(pa, pb);
-        auto it = std::find_if(surfaces.begin(), surfaces.end(), [&](const auto& x) { return x.first == std::pair(pa, pb); });
+        const auto it = surface_between(pa, pb);
         r.bar_crossing_positions.push_back(it != surfaces.end() && it->second.second > 0
                                                ? it->second.first / it->second.second
                                                : 0.5 * (bar_z_[k - 1] + bar_z_[k]));

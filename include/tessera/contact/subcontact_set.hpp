@@ -57,20 +57,22 @@
 // gridpoint-major rows instead cost six stores to scattered cache lines per sub-contact.)
 //
 // Kernel. Faces go in face blocks, runs of consecutive faces with at least block_subcontacts
-// sub-contacts. For a law with an elastic pack path (law::ElasticPackLaw: cohesive_frictional)
-// that asks for it (law::with_elastic_packs; `packed` below) the state is stored field by field (detail::state_columns; state(i) assembles a
-// Law::state by value) and a face block runs three loops: (1) per face the frame, then per
-// sub-contact du_n, du_s and n into per-step columns (detail::step_columns); (2) Law::update_elastic
-// over lanes::pack's of consecutive sub-contacts (core/lanes.hpp), which commits the lanes that are
-// intact and stay elastic in this step (almost all of them in a run); (3) Law::update, from the
-// unchanged state, for the lanes it declined (detail::advance_states). update_elastic and update
-// share their arithmetic, so each sub-contact gets exactly the bits Law::update gives it whatever
-// its lane, pack or block (test_contacts "[pack]"). Any other law (the default, including the
-// plain cohesive_frictional aliases) keeps an array of Law::state and runs Law::update per
-// sub-contact in loop (1): faster on a cracking run, where the column store's gets and sets for
-// the many sub-contacts past their peak cost more than the packs save (RC tie: 10-14 %). The frame and the kinematics are written on
-// scalars (`triple`): Eigen's vec3 in 2 + 1 SSE packets went through the stack there and stalled
-// on store forwarding once per polygon corner.
+// sub-contacts. By default (any law, including the plain cohesive_frictional aliases) the states
+// are an array of Law::state and loop (1) below runs Law::update per sub-contact. For a law with
+// an elastic pack path (law::ElasticPackLaw: cohesive_frictional) that asks for it
+// (law::with_elastic_packs; `packed` below) the state is stored field by field
+// (detail::state_columns; state(i) assembles a Law::state by value) and a face block runs three
+// loops: (1) per face the frame, then per sub-contact du_n, du_s and n into per-step columns
+// (detail::step_columns); (2) Law::update_elastic over lanes::pack's of consecutive sub-contacts
+// (core/lanes.hpp), which commits the lanes that are intact and stay elastic in this step; (3)
+// Law::update, from the unchanged state, for the lanes it declined (detail::advance_states).
+// update_elastic and update share their arithmetic, so each sub-contact gets exactly the bits
+// Law::update gives it whatever its lane, pack or block (test_contacts "[pack]"). The packs pay
+// where almost all sub-contacts stay intact and elastic; on a cracking run the column store's
+// gets and sets for the many sub-contacts past their peak cost more than they save (RC tie:
+// 10-14 % slower), hence opt-in. The frame and the kinematics are written on scalars (`triple`):
+// Eigen's vec3 in 2 + 1 SSE packets went through the stack there and stalled on store forwarding
+// once per polygon corner.
 //
 // Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over face
 // blocks (frames, law updates and forces of the block's sub-contacts) and over contact gridpoints
@@ -83,11 +85,12 @@
 // results are the same to the bit.
 //
 // Cost: memory ~ (70 + sizeof(Law::state)) bytes per sub-contact, plus 64 for the per-step
-// columns with a pack law; update() O(sub-contacts); construction O(sub-contacts + gridpoints).
-// With law::study_tie_law on the 100-block prism (benchmarks/bench_contacts.cpp): about 296
-// instructions per sub-contact-step on baseline x86-64 (2-lane packs), 174 for x86-64-v3 (4 lanes);
-// about 17.4 ns on one core of the shared 2-core machine with -march=native (8 lanes), of which
-// roughly frames 3.5, kinematics 6, law 4.7 and gather 3.4 (removing one stage at a time).
+// columns with packs; update() O(sub-contacts); construction O(sub-contacts + gridpoints). With
+// law::study_tie_law on the 100-block prism (benchmarks/bench_contacts.cpp, one core of the shared
+// 2-core machine, -march=native): about 26 ns per sub-contact-step by default; with
+// law::with_elastic_packs about 17.4 ns (8 lanes; 296 instructions on baseline x86-64 with 2
+// lanes, 174 for x86-64-v3 with 4), of which roughly frames 3.5, kinematics 6, law 4.7 and
+// gather 3.4 (removing one stage at a time).
 
 #include <algorithm>
 #include <array>
@@ -604,7 +607,6 @@ class subcontact_set {
     }
     return s_area;
   }
-
 
   params_type params_{};
   index gridpoint_count_ = 0;

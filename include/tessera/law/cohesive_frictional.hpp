@@ -114,7 +114,7 @@ struct cohesive_frictional {
   };
   static_assert(std::is_trivially_destructible_v<state>);
   // contact::subcontact_set stores the state field by field (law::ElasticPackLaw): a new field must
-  // be added to its columns (contact/detail/state_columns.hpp) as well.
+  // be added to its columns (state_columns in contact/detail/packed_states.hpp) as well.
   static_assert(sizeof(state) == 11 * sizeof(real), "state has a field the state columns do not know");
 
   /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0, then the

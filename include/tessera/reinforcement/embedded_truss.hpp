@@ -211,8 +211,8 @@ class embedded_truss {
   }
 
   // ---- accumulate_forces() in two pieces, for a solver that gathers and integrates the
-  // gridpoints in one loop (solver.hpp): compute_forces(gp, stress); then add_host_forces(b, e, gp)
-  // over ranges covering all gridpoints (concurrently for disjoint ranges). Same results to the bit. ----
+  // gridpoints in one loop (solver.hpp): compute_forces(gp, stress); then add_host_forces(b, e,
+  // gp) over ranges covering all gridpoints (concurrently for disjoint ranges). Same bits. ----
 
   /// Axial and bond forces on the bar nodes (added to nodes().force), plastic and bond
   /// histories advanced; the bond force on each node's host point is kept for add_host_forces.
