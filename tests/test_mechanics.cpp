@@ -179,6 +179,59 @@ TEST_CASE("co-rotational zones carry no stress under rigid rotation", "[mechanic
   }
 }
 
+TEST_CASE("block rotations in lock-step over lanes equal the scalar polar iteration to the bit", "[mechanics][zones]") {
+  // deformable::update_rotations runs lanes::width blocks per pack (blocks/detail/polar.hpp); every
+  // lane must reproduce polar_rotation, iteration count included. Starts: the warm start of a
+  // run (F a few 1e-5 away from the previous rotation, so the lanes need different numbers of
+  // Newton steps), large strains, a 90-degree jump, a singular and an inverted F (det <= 0: the
+  // previous rotation is kept), and part-filled packs.
+  INFO("lanes::width = " << lanes::width);
+  std::mt19937_64 rng(20261121);
+  std::uniform_real_distribution<real> unit(-1, 1);
+  std::vector<mat3> f, r_prev;
+  for (int k = 0; k < 200; ++k) {
+    const real scale = k % 4 == 0 ? 1e-2 : k % 4 == 1 ? 1e-5 : k % 4 == 2 ? 1e-9 : 0.0;
+    const mat3 q = skew_rotation(180 * unit(rng), vec3(unit(rng), unit(rng), unit(rng)));
+    const mat3 dq = skew_rotation(1e-3 * unit(rng), vec3(unit(rng), unit(rng), unit(rng)));
+    mat3 u = mat3::Identity();
+    for (int e = 0; e < 9; ++e) u(e / 3, e % 3) += scale * unit(rng);
+    f.push_back(dq * q * u);
+    r_prev.push_back(q);
+  }
+  f.push_back(skew_rotation(90, vec3::UnitZ()));
+  r_prev.push_back(mat3::Identity());
+  f.push_back(mat3::Zero());  // singular
+  r_prev.push_back(skew_rotation(10, vec3::UnitX()));
+  f.push_back(mat3(vec3(1, 1, -1).asDiagonal()));  // inverted
+  r_prev.push_back(mat3::Identity());
+  const auto n = static_cast<int>(f.size());
+  std::vector<mat3> expected(f.size());
+  for (int k = 0; k < n; ++k) expected[static_cast<std::size_t>(k)] = blocks::detail::polar_rotation(f[static_cast<std::size_t>(k)], r_prev[static_cast<std::size_t>(k)]);
+  for (const int fill : {lanes::width, 1, std::max(1, lanes::width - 1)}) {
+    std::vector<mat3> r = r_prev;
+    for (int first = 0; first < n; first += fill) {
+      const int m = std::min(fill, n - first);
+      blocks::detail::polar_rotations(f.data() + first, r.data() + first, m);
+    }
+    int mismatches = 0;
+    for (int k = 0; k < n; ++k)
+      if (std::memcmp(r[static_cast<std::size_t>(k)].data(), expected[static_cast<std::size_t>(k)].data(), sizeof(mat3)) != 0) ++mismatches;
+    INFO("blocks per pack " << fill);
+    CHECK(mismatches == 0);
+  }
+  // And they are rotations with R^T F symmetric (the polar factor), the degenerate starts aside.
+  for (int k = 0; k < 200; ++k) {
+    const mat3& r = expected[static_cast<std::size_t>(k)];
+    CHECK((r.transpose() * r - mat3::Identity()).cwiseAbs().maxCoeff() <= 1e-14);
+    CHECK(r.determinant() == Approx(1).epsilon(1e-14));
+    const mat3 u = r.transpose() * f[static_cast<std::size_t>(k)];
+    CHECK((u - u.transpose()).cwiseAbs().maxCoeff() <= 1e-14);
+  }
+  CHECK(expected[static_cast<std::size_t>(n - 2)] == r_prev[static_cast<std::size_t>(n - 2)]);
+  CHECK(expected[static_cast<std::size_t>(n - 1)] == r_prev[static_cast<std::size_t>(n - 1)]);
+  CHECK((expected[static_cast<std::size_t>(n - 3)] - f[static_cast<std::size_t>(n - 3)]).cwiseAbs().maxCoeff() <= 1e-15);
+}
+
 TEST_CASE("deformable blocks reject inverted zones", "[mechanics][zones]") {
   auto mesh = kuhn_cube(0.1);
   std::swap(mesh.zones[2][1], mesh.zones[2][2]);

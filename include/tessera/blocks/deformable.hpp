@@ -6,7 +6,9 @@
 //  1. Per block b, the volume-averaged deformation gradient
 //         F_b = (1/V_b) sum_z V_z F_z = 1 + sum_i u_i (x) w_i,   w_i = (1/V_b) sum_{z, a = i} V_z grad N_a
 //     (w_i is non-zero only on the block surface) and its rotation R_b = polar(F_b), by a
-//     warm-started Newton iteration (blocks/detail/polar.hpp), a few dozen flops per block.
+//     warm-started Newton iteration (blocks/detail/polar.hpp), a few dozen flops per block, run
+//     for lanes::width blocks at a time in lock-step (the iteration is a chain of dependent
+//     operations: one block at a time it cost ~130 ns per block, mostly waiting).
 //  2. Per zone, the displacement gradient H_z = sum_a u_a (x) grad N_a (constant strain), the
 //     small strain in the rotated frame of its block
 //         eps = sym(R_b^T (1 + H_z)) - 1,
@@ -135,14 +137,6 @@ class deformable {
       run_block_.push_back(b);
     }
     run_offsets_.push_back(n_z);
-    {
-      std::vector<char> seen(static_cast<std::size_t>(n_b), 0);
-      rotation_per_run_ = static_cast<index>(run_block_.size()) == n_b;
-      for (const index b : run_block_) {
-        if (seen[at(b)]) rotation_per_run_ = false;
-        seen[at(b)] = 1;
-      }
-    }
 
     // Block-average gradient weights w_i and the gridpoint -> zone-corner incidence (CSR).
     block_gradient_.setZero(n_gp, 3);
@@ -181,17 +175,11 @@ class deformable {
 
   /// Number of runs (consecutive zones of one block; normally one per block).
   [[nodiscard]] index run_count() const { return static_cast<index>(run_block_.size()); }
-  /// Block rotations, unless each block is exactly one run (then zone_forces_of_run computes
-  /// the rotation of its block first, saving a parallel loop).
-  void begin_zone_forces(const node_set& gridpoints) noexcept {
-    if (!rotation_per_run_) update_rotations(gridpoints);
-  }
-  /// Rotation (one run per block), zone stresses and corner forces of the zones of run r.
+  /// Block rotations (all blocks, the polar iterations in lock-step over lanes; see
+  /// update_rotations).
+  void begin_zone_forces(const node_set& gridpoints) noexcept { update_rotations(gridpoints); }
+  /// Zone stresses and corner forces of the zones of run r.
   void zone_forces_of_run(index r, const node_set& gridpoints) noexcept {
-    if (rotation_per_run_) {
-      const auto b = at(run_block_[at(r)]);
-      rotation_[b] = block_rotation(gridpoints, static_cast<index>(b), rotation_[b]);
-    }
     const real* const u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                               gridpoints.displacement.col(2).data()};
     zone_kernel(constants_, u, at(r));
@@ -310,19 +298,30 @@ class deformable {
   /// R_b = polar(F_b), F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b, warm-started
   /// from `previous`.
   [[nodiscard]] mat3 block_rotation(const node_set& gp, index b, const mat3& previous) const noexcept {
+    return detail::polar_rotation(block_deformation_gradient(gp, b), previous);
+  }
+  /// F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b.
+  [[nodiscard]] mat3 block_deformation_gradient(const node_set& gp, index b) const noexcept {
     mat3 f = mat3::Identity();
     const auto bs = static_cast<std::size_t>(b);
     for (index i = block_gridpoint_offsets_[bs]; i < block_gridpoint_offsets_[bs + 1]; ++i)
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) f(r, c) += gp.displacement(i, r) * block_gradient_(i, c);
-    return detail::polar_rotation(f, previous);
+    return f;
   }
 
+  /// R_b of every block: F_b block by block, the polar iterations of lanes::width blocks in
+  /// lock-step (detail::polar_rotations; the same bits as block_rotation), over packs of blocks.
   void update_rotations(const node_set& gp) noexcept {
-    parallel_for(block_count(), [&](std::int64_t bb) {
-      const auto b = static_cast<std::size_t>(bb);
-      rotation_[b] = block_rotation(gp, static_cast<index>(bb), rotation_[b]);
-    }, 16);
+    constexpr index w = lanes::width;
+    const index n_b = block_count();
+    parallel_for((n_b + w - 1) / w, [&](std::int64_t pk) {
+      const index first = static_cast<index>(pk) * w;
+      const int n = static_cast<int>(std::min<index>(w, n_b - first));
+      mat3 f[w];
+      for (int k = 0; k < n; ++k) f[k] = block_deformation_gradient(gp, first + k);
+      detail::polar_rotations(f, rotation_.data() + first, n);
+    }, 2);
   }
 
   /// R_b^T (1 + H_z) - 1 of zone z (its symmetric part is the co-rotated small strain).
@@ -491,7 +490,6 @@ TESSERA_PRAGMA_SIMD
 
   params params_{};
   typename Zone::constants constants_{};            ///< Zone::prepare(params_)
-  bool rotation_per_run_ = false;                   ///< every block is exactly one run
   // per zone, structure of arrays (hot in the zone kernel)
   std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
   /// gradient_[3 a + k][z]: d N_a / d X_k (1/m), a = 0..3; grad N_0 = -(grad N_1 + grad N_2 +
