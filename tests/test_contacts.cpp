@@ -933,6 +933,16 @@ void check_pack_against_scalar(const typename Law::params& p, std::size_t count,
 }  // namespace
 
 TEST_CASE("elastic pack path: the same states and forces as Law::update, to the bit", "[contacts][pack]") {
+  // The packs are the widest the build's instruction set offers (core/lanes.hpp): 8 lanes with
+  // AVX-512 and 4 with AVX (the native-tests preset, -march=native), 2 with SSE2 (the release
+  // preset's x86-64 baseline). `test_contacts "[pack]" -s` prints the width.
+#if defined(__AVX512F__)
+  CHECK(lanes::width == 8);
+#elif defined(__AVX__)
+  CHECK(lanes::width == 4);
+#elif defined(__SSE2__)
+  CHECK(lanes::width == 2);
+#endif
   // 203 sub-contacts: not a multiple of any pack width, cut at 37 (both ranges end in a partial pack).
   SECTION("study_tie_law (power softening, no compression limit, residual Coulomb)") {
     check_pack_against_scalar<law::study_tie_law>(law::study_prism_params(100), 203, 37, 1);
