@@ -719,7 +719,7 @@ vec3 polygon_area_vector(const geometry::tessellation& t, std::span<const index>
 }
 }  // namespace
 
-TEST_CASE("determinism: same bits with 1 and 2 threads; forces balance", "[contacts]") {
+TEST_CASE("determinism: same bits with 1 and 2 threads, forces balance", "[contacts]") {
   SECTION("jittered brick grid, 120 blocks") {
     const auto tess = brick_tessellation(6, 5, 4, vec3(0.6, 0.5, 0.4), 0.2, 11);
     check_thread_independence(tess, face_mesh(tess), 5.0);

@@ -574,7 +574,7 @@ TEST_CASE("value-initialised state is a virgin contact", "[laws]") {
   CHECK(study_beam_law::tensile_damage(beam_params(), s) == 0);
 }
 
-TEST_CASE("an open contact broken in tension carries no shear; closed again, Coulomb friction returns", "[laws][shear]") {
+TEST_CASE("an open contact broken in tension carries no shear, closed again, Coulomb friction returns", "[laws][shear]") {
   contact_driver<linear_tie_law> c(linear_tie_params());
   const real zeta = zeta_of(c.p);
   c.open_to(1.2 * zeta, 2000);

@@ -305,7 +305,7 @@ TEST_CASE("embedding: a node on a shared block face, edge or vertex gets one det
   CHECK(mesh.zone_block[static_cast<std::size_t>(r.host(3).zone)] == 1);
 }
 
-TEST_CASE("embedded_truss: bond forces conserve momentum; stiffness bounds dominate the block rows", "[reinforcement]") {
+TEST_CASE("embedded_truss: bond forces conserve momentum, stiffness bounds dominate the block rows", "[reinforcement]") {
   const auto mesh = box_mesh(vec3(0, 0, 0), vec3(1, 0.6, 0.6), 4, 2, 2, 2);
   node_set gp = gridpoint_set(mesh);
   truss r;

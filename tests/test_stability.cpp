@@ -701,7 +701,7 @@ TEST_CASE("a fully broken contact carries no tension and no force once separated
   REQUIRE(all_finite(s.gridpoints()));
 }
 
-TEST_CASE("zero damping conserves energy; gamma = 0.8 removes it and balances the books", "[stability][damping]") {
+TEST_CASE("zero damping conserves energy, gamma = 0.8 removes it and balances the books", "[stability][damping]") {
   const auto tess = cube_column(2, 0.05);
   const auto mesh = geometry::zone_blocks(tess);
   const auto contact = elastic_contact(1.16e12, 0.482e12);

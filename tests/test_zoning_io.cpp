@@ -581,7 +581,7 @@ TEST_CASE("regularize: 100 and 2000 random Voronoi cells stay conforming, closed
   REQUIRE_NOTHROW(geometry::zone_blocks(big));  // every zone positive (the star-shape rule)
 }
 
-TEST_CASE("regularize: threshold 0 changes nothing; bad thresholds are rejected", "[zoning][regularize]") {
+TEST_CASE("regularize: threshold 0 changes nothing, bad thresholds are rejected", "[zoning][regularize]") {
   aabb cube;
   cube.lo = vec3::Zero();
   cube.hi = vec3(1, 1, 1);
