@@ -843,16 +843,30 @@ struct population {
           step_n = f_peak / p.k_n * nudge - s.u_n + s.u_p;
           step_s = vec3::Zero();
           break;
-        case 3:  // softening, then unloading or reloading
+        case 3:  // softening, then unloading or reloading, the trial within a few ulps of f_t(u_soft), or broken
           drive(eta * (1.5 + uni(rng)), vec3::Zero(), 5);
           step_n = 0.2 * eta * uni(rng);
+          if (i % 3 == 0) step_n = Law::tensile_strength(p, s) / p.k_n * nudge - s.u_n + s.u_p;
+          if (i % 3 == 1 && uni(rng) > 0) step_n = 1e3 * eta;  // breaks it
           break;
-        case 4:  // broken in tension, open or closed
+        case 4:  // broken in tension, open or closed, the gap within a few ulps of closing, or sheared
           drive(1e3 * eta, vec3::Zero(), 20);
           step_n = (uni(rng) > 0 ? 1 : -1) * (s.u_n - s.u_p) * (1 + 0.01 * uni(rng));
+          if (i % 3 == 0) step_n = -(s.u_n - s.u_p) * nudge;
+          if (i % 3 == 2) {  // closed onto the gap, the shear trial within a few ulps of the residual limit
+            step_n = -(s.u_n - s.u_p);
+            const real tau_max = Law::shear_policy::strength(p.shear, 0, s.flags, 1);
+            step_s = in_plane(random_unit(), n1).normalized() * (tau_max * nudge / p.k_s);
+          }
           break;
-        case 5:  // slipped
+        case 5:  // slipped, or its shear trial within a few ulps of the residual limit (same normal)
           drive(0, 1e3 * eta * random_unit(), 10);
+          if (i % 3 == 0) {
+            const real tau_now = s.tau.norm();
+            step_n = 0;
+            step_s = s.tau / tau_now * ((Law::shear_strength(p, s) * nudge - tau_now) / p.k_s);
+            n.push_back(n0);
+          }
           break;
         case 6: {  // the shear trial lands on the Coulomb limit within a few ulps (same normal)
           drive(0.3 * eta * uni(rng), 0.3 * eta * random_unit(), 2);
@@ -894,7 +908,7 @@ void check_pack_against_scalar(const typename Law::params& p, std::size_t count,
   }
   // Pack path.
   contact::detail::state_columns<Law> columns;
-  columns.assign(count);
+  columns.assign(count, p);
   contact::detail::step_columns step;
   step.resize(count);
   std::array<std::vector<real>, 3> force;
@@ -913,13 +927,29 @@ void check_pack_against_scalar(const typename Law::params& p, std::size_t count,
   contact::detail::advance_states<Law>(p, columns, step, pop.area.data(), 0, cut, f);
   contact::detail::advance_states<Law>(p, columns, step, pop.area.data(), cut, count, f);
 
+  // Sub-contacts by their state before the step and what the step did to them, and their path:
+  // [kind][0] declined (Law::update), [kind][1] accepted by update_elastic.
+  enum { intact, softening, softening_further, slipped, sliding, broken_open, broken_closed, kinds };
+  std::size_t path[kinds][2] = {};
   std::size_t accepted = 0, status_seen[8] = {};
   for (std::size_t i = 0; i < count; ++i) {
     INFO("sub-contact " << i);
     CHECK(same_state(columns.get(i), expected[i]));
     for (int c = 0; c < 3; ++c) CHECK(same_bits(force[static_cast<std::size_t>(c)][i], expected_force[i][c]));
-    accepted += step.elastic[i] != 0 ? 1 : 0;
+    const bool accept = step.elastic[i] != 0;
+    accepted += accept ? 1 : 0;
     ++status_seen[static_cast<int>(expected[i].flags) & 7];
+    const auto& before = pop.states[i];
+    const int kind = law::has(before.flags, law::contact_status::broken_tension)
+                         ? (expected[i].u_n > expected[i].u_p ? broken_open : broken_closed)
+                     : law::has(before.flags, law::contact_status::slipped)
+                         ? (expected[i].dissipated_shear != before.dissipated_shear ? sliding : slipped)
+                     : law::has(before.flags, law::contact_status::softening)
+                         ? (expected[i].u_soft != before.u_soft ? softening_further : softening)
+                         : intact;
+    ++path[kind][accept ? 1 : 0];
+    // The pack's f_t column is the law's tensile strength of the state it holds.
+    CHECK(same_bits(columns.f_t[i], Law::tensile_strength(p, expected[i])));
   }
   // Both paths ran, and the population holds intact, softening, broken and slipped contacts.
   CHECK(accepted > count / 8);
@@ -928,6 +958,14 @@ void check_pack_against_scalar(const typename Law::params& p, std::size_t count,
   CHECK(status_seen[static_cast<int>(law::contact_status::softening)] > 0);
   CHECK(status_seen[static_cast<int>(law::contact_status::broken_tension)] > 0);
   CHECK(status_seen[static_cast<int>(law::contact_status::slipped)] > 0);
+  // Every kind of contact took the pack path; intact ones that reach the peak, and softening ones
+  // whose step exhausts the envelope, Law::update.
+  for (int kind = intact; kind < kinds; ++kind) {
+    INFO("kind " << kind << " (intact, softening, further along the envelope, slipped, sliding, broken open, "
+                 << "broken closed): declined " << path[kind][0] << ", accepted " << path[kind][1]);
+    CHECK(path[kind][1] > 0);
+    if (kind == intact || kind == softening_further) CHECK(path[kind][0] > 0);
+  }
 }
 
 }  // namespace
@@ -949,6 +987,11 @@ TEST_CASE("elastic pack path: the same states and forces as Law::update, to the 
   }
   SECTION("study_beam_law (linear softening, compressive cap)") {
     check_pack_against_scalar<law::study_beam_law>(law::study_beam_params(250), 203, 37, 2);
+  }
+  SECTION("study_tie_law with alpha = 2.5 (std::pow lane by lane)") {
+    auto p = law::study_prism_params(100);
+    p.tension.alpha = 2.5;
+    check_pack_against_scalar<law::study_tie_law>(p, 203, 37, 4);
   }
   SECTION("coupled_tie_law (cohesion softens with the tensile strength)") {
     check_pack_against_scalar<law::coupled_tie_law>(law::with_coupled_cohesion(law::study_prism_params(100)), 203,

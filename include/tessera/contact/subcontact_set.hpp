@@ -64,15 +64,17 @@
 // (detail::state_columns; state(i) assembles a Law::state by value) and a face block runs three
 // loops: (1) per face the frame, then per sub-contact du_n, du_s and n into per-step columns
 // (detail::step_columns); (2) Law::update_elastic over lanes::pack's of consecutive sub-contacts
-// (core/lanes.hpp), which commits the lanes that are intact and stay elastic in this step; (3)
-// Law::update, from the unchanged state, for the lanes it declined (detail::advance_states).
+// (core/lanes.hpp), which commits the lanes whose damage flags the step leaves unchanged
+// (elastic whatever their damage, advancing along the softening envelope, sliding on the
+// residual Coulomb limit); (3) Law::update, from the unchanged state, for the lanes it declined
+// (reaching the peak, breaking, a first slip, a compressive cap: detail::advance_states).
 // update_elastic and update share their arithmetic, so each sub-contact gets exactly the bits
-// Law::update gives it whatever its lane, pack or block (test_contacts "[pack]"). The packs pay
-// where almost all sub-contacts stay intact and elastic; on a cracking run the column store's
-// gets and sets for the many sub-contacts past their peak cost more than they save (RC tie:
-// 10-14 % slower), hence opt-in. The frame and the kinematics are written on scalars (`triple`):
-// Eigen's vec3 in 2 + 1 SSE packets went through the stack there and stalled on store forwarding
-// once per polygon corner.
+// Law::update gives it whatever its lane, pack or block (test_contacts "[pack]"). On the RC tie
+// the packs take all but 8 in a million sub-contact-steps (55 % when they took only intact
+// lanes, which made the tie slower than the default layout; now 12 % faster on one thread), so
+// the named solvers (prism_solver, ..., solver.hpp) and the examples' tie use them. The frame
+// and the kinematics are written on scalars (`triple`): Eigen's vec3 in 2 + 1 SSE packets went
+// through the stack there and stalled on store forwarding once per polygon corner.
 //
 // Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over face
 // blocks (frames, law updates and forces of the block's sub-contacts) and over contact gridpoints
@@ -88,9 +90,10 @@
 // columns with packs; update() O(sub-contacts); construction O(sub-contacts + gridpoints). With
 // law::study_tie_law on the 100-block prism (benchmarks/bench_contacts.cpp, one core of the shared
 // 2-core machine, -march=native): about 26 ns per sub-contact-step by default; with
-// law::with_elastic_packs about 17.4 ns (8 lanes; 296 instructions on baseline x86-64 with 2
-// lanes, 174 for x86-64-v3 with 4), of which roughly frames 3.5, kinematics 6, law 4.7 and
-// gather 3.4 (removing one stage at a time).
+// law::with_elastic_packs about 17.4 ns with intact-only packs (8 lanes; 296 instructions on
+// baseline x86-64 with 2 lanes, 174 for x86-64-v3 with 4), of which roughly frames 3.5,
+// kinematics 6, law 4.7 and gather 3.4 (removing one stage at a time); 17.8-18.1 ns since the
+// packs also take damaged lanes (17.5-18.2 ns for the intact-only packs in the same rounds).
 
 #include <algorithm>
 #include <array>
@@ -148,8 +151,8 @@ class subcontact_set {
   using state_type = typename Law::state;
   /// True when Law has an elastic pack path (law::ElasticPackLaw) and asks for it
   /// (law::with_elastic_packs): states are then stored as columns and updated over lanes::pack's
-  /// (file comment, "Kernel"). Off for the plain laws: it pays only where almost all sub-contacts
-  /// are intact and elastic.
+  /// (file comment, "Kernel"). Off for the plain laws (the default layout, Law::update per
+  /// sub-contact).
   static constexpr bool packed = law::ElasticPackLaw<Law> && requires { requires Law::use_elastic_packs; };
 
   /// max over unit normals n of the absolute row sum of (k_s I + (k_n - k_s) n n^T), per unit
@@ -275,7 +278,7 @@ class subcontact_set {
 
     const std::size_t n = node_a_.size();
     if constexpr (packed) {
-      state_.assign(n);
+      state_.assign(n, params_);
       step_.resize(n);
     } else {
       state_.assign(n, state_type{});

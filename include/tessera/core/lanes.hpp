@@ -94,17 +94,31 @@ using mask_lane = std::remove_cvref_t<decltype(mask{}[0])>;
 using mask_lane = std::int64_t;
 #endif
 
-/// The lanes of b[0 ..) that are zero: a bool for T = real, a mask for T = pack.
+/// x in every lane of T (real or pack).
 template <class T>
-[[nodiscard, gnu::always_inline]] inline auto load_is_zero(const mask_lane* b) noexcept {
+[[nodiscard, gnu::always_inline]] inline T splat(real x) noexcept {
   if constexpr (std::is_same_v<T, real>) {
-    return b[0] == 0;
+    return x;
+  } else {
+    T v;
+    for (int k = 0; k < width; ++k) v[k] = x;
+    return v;
+  }
+}
+
+/// The mask lanes b[0 ..) as integers: a mask_lane for T = real, a mask for T = pack (bit tests
+/// `(m & bits) != 0` then give a bool or a mask).
+template <class T>
+[[nodiscard, gnu::always_inline]] inline auto load_lanes(const mask_lane* b) noexcept {
+  if constexpr (std::is_same_v<T, real>) {
+    return b[0];
   } else {
     decltype(T{} < T{}) m;
     std::memcpy(&m, b, sizeof m);
-    return m == 0;
+    return m;
   }
 }
+
 /// True when any lane of m (a bool or a mask) is set.
 template <class M>
 [[nodiscard, gnu::always_inline]] inline bool any(const M& m) noexcept {

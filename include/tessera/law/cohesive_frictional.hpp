@@ -61,7 +61,7 @@
 // Cost and threading: update is noexcept, allocation-free and branch-light (the softening
 // envelope is evaluated only for contacts past the peak); all functions are static and pure, so
 // updating distinct states from several threads is safe. update_elastic is the same step for the
-// intact contacts that stay elastic, written for lanes::pack's of sub-contacts (see below).
+// contacts whose damage flags it leaves unchanged, written for lanes::pack's of sub-contacts (see below).
 
 #include <algorithm>
 #include <cmath>
@@ -208,13 +208,17 @@ struct cohesive_frictional {
   }
 
   // ---- elastic path over packs of sub-contacts (opt-in of law::ElasticPackLaw, concepts.hpp) ----
-  // Almost every sub-contact of a run is intact and elastic in a given step. contact::subcontact_set
-  // runs update_elastic over lanes::pack's of them, keeps the lanes it accepts and runs update() on
-  // the others from their unchanged state. update() and update_elastic share the rotation and the
-  // normal dissipation (rotate_into_plane, book_normal_dissipation) and write the rest with the
-  // same operations in the same order, so an accepted lane is update()'s result to the bit.
+  // In almost every step of almost every sub-contact the damage flags stay as they are: the
+  // contact is elastic (intact, or softened, broken or slipped but below its current limits),
+  // advances along its softening envelope, or slides on its residual Coulomb limit. Only reaching
+  // the peak, breaking, a first slip and a compressive cap change them. contact::subcontact_set
+  // runs update_elastic over lanes::pack's of sub-contacts, keeps the lanes it accepts and runs
+  // update() on the others from their unchanged state. update() and update_elastic share the
+  // rotation and the normal dissipation (rotate_into_plane, book_normal_dissipation), read the
+  // envelope through the same Tension function (lane_strength) and write the rest with the same
+  // operations in the same order, so an accepted lane is update()'s result to the bit.
 
-  /// True: update_elastic exists (the shear policy evaluates its intact strength on packs).
+  /// True: update_elastic exists (the shear policy evaluates its strength on packs).
   static constexpr bool elastic_pack = PackedShearLimit<Shear>;
 
   /// Lanes of update_elastic: T = real (one sub-contact) or lanes::pack.
@@ -222,35 +226,90 @@ struct cohesive_frictional {
   struct elastic_lanes {
     T du_n, ds0, ds1, ds2;  ///< in: update()'s du_n (m) and du_s (m)
     T n0, n1, n2;           ///< in: update()'s unit normal n
-    T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_compression;  ///< in/out: state fields
-    T u_p, u_soft;          ///< in: state fields an elastic step leaves unchanged
+    T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_shear, dissipated_compression, u_p,
+        u_soft;  ///< in/out: state fields
+    T f_t;       ///< in/out: tensile_strength(p, state), a function of u_soft and the flags
   };
 
-  /// update() of the lanes that are intact (`intact`: their flags are contact_status::intact) and stay
-  /// elastic in this step: no softening history (u_soft = 0), the trial normal stress at most f_T
-  /// (and at least -f_c when bounded) and the shear trial within the intact Coulomb limit. Returns
-  /// the mask of those lanes; for them the outputs are update()'s to the bit, and flags, u_p,
-  /// u_soft and dissipated_shear are unchanged. The outputs of the other lanes are meaningless.
-  template <class T, class M>
-  [[nodiscard, gnu::always_inline]] static inline M update_elastic(const params& p, M intact,
-                                                                  elastic_lanes<T>& x) noexcept {
+  /// update() of the lanes whose flags this step leaves unchanged, whatever their damage (`flags`:
+  /// the lanes' contact_status bits, a lanes::mask for packs, an integer for T = real):
+  ///   normal, not broken in tension: the trial normal stress k_n (u_n - u_p) at most the current
+  ///     strength f_t (f_T before any softening; at least -f_c when bounded), or beyond it for a
+  ///     softening contact (u_soft > 0) whose envelope is not exhausted by the step: returned onto
+  ///     the envelope, u_soft, u_p and f_t advanced (if Tension has lane_strength, tension.hpp);
+  ///   normal, broken in tension: sigma = min(0, k_n (u_n - u_p)) (not below -f_c when bounded);
+  ///   shear: faces of a broken contact apart (u_n > u_p): no shear, its stored energy booked as
+  ///     dissipated, as update() does; otherwise the shear trial within the Coulomb limit of the
+  ///     lane's state (intact, softened with coulomb_coupled, broken, slipped), or beyond it for a
+  ///     lane that has slipped before: scaled back onto the limit, the slip dissipation booked.
+  /// Returns the mask of those lanes; for them the outputs are update()'s to the bit. The
+  /// outputs of the other lanes are meaningless.
+  template <class T, class F>
+  [[nodiscard, gnu::always_inline]] static inline auto update_elastic(const params& p, F flags,
+                                                                     elastic_lanes<T>& x) noexcept {
+    using M = decltype(T{} < T{});
     const real k_n = p.k_n;
     rotate_into_plane(x.tau0, x.tau1, x.tau2, x.n0, x.n1, x.n2);
     const T sigma_old = x.sigma_n;
     x.u_n = x.u_n + x.du_n;
-    const T sigma = k_n * (x.u_n - x.u_p);
-    // update() caps sigma when sigma > 0 && (sigma > f_T || u_soft > 0), or when sigma < -f_c.
-    const real f_peak = Tension::peak_strength(p.tension);
-    M elastic = intact & ((x.u_soft > real(0)) == 0) & (((sigma > real(0)) & (sigma > f_peak)) == 0);
+    const T trial = k_n * (x.u_n - x.u_p);
+    const M broken = (flags & static_cast<lanes::mask_lane>(contact_status::broken_tension)) != 0;
+    const M slipped = (flags & static_cast<lanes::mask_lane>(contact_status::slipped)) != 0;
+    const M softening = (flags & static_cast<lanes::mask_lane>(contact_status::softening)) != 0;
+    // update(): not broken, it returns onto the envelope when trial > 0 and trial > f_t
+    // (tension_return); broken, sigma = std::min(0, trial).
+    T sigma = lanes::select(broken & ((trial < real(0)) == 0), T{}, trial);
+    const M beyond_envelope = (broken == 0) & (trial > real(0)) & (trial > x.f_t);
+    M elastic = beyond_envelope == 0;
+    if constexpr (requires { Tension::lane_strength(p.tension, k_n, x.u_soft); }) {
+      // A softening contact pushed further along its envelope (tension_return's return, unless
+      // the step exhausts the envelope and breaks it). u_soft > 0 is update()'s test; the
+      // softening flag, which every unbroken state with u_soft > 0 carries, lets a caller that
+      // passes constant zero flags (all lanes intact) have the branch folded away.
+      const M advance = beyond_envelope & softening & (x.u_soft > real(0));
+      if (lanes::any(advance)) [[unlikely]] {
+        const T u_soft = x.u_soft + (trial - x.f_t) / k_n;
+        const T f_new = Tension::lane_strength(p.tension, k_n, u_soft);
+        const M on_envelope = advance & (Tension::lane_exhausted(p.tension, f_new) == 0);
+        x.u_soft = lanes::select(on_envelope, u_soft, x.u_soft);
+        x.u_p = lanes::select(on_envelope, x.u_n - f_new / k_n, x.u_p);
+        x.f_t = lanes::select(on_envelope, f_new, x.f_t);
+        sigma = lanes::select(on_envelope, f_new, sigma);
+        elastic = elastic | on_envelope;
+      }
+    }
     if constexpr (Compression::bounded) elastic = elastic & ((sigma < -Compression::strength(p.compression)) == 0);
     x.sigma_n = sigma;
     book_normal_dissipation(k_n, sigma_old, sigma, x.du_n, x.dissipated_tension, x.dissipated_compression);
-    // Shear trial against the intact limit (tensile fraction 1: u_soft = 0).
+    // Shear trial against the limit of the lane's state; an open crack carries none.
     const real k_s = p.k_s;
-    const T c0 = x.tau0 + k_s * x.ds0, c1 = x.tau1 + k_s * x.ds1, c2 = x.tau2 + k_s * x.ds2;
+    T c0 = x.tau0 + k_s * x.ds0, c1 = x.tau1 + k_s * x.ds1, c2 = x.tau2 + k_s * x.ds2;
     const T trial_sq = (c0 * c0 + c1 * c1) + c2 * c2;
-    const T tau_max = Shear::intact_strength(p.shear, sigma);
-    elastic = elastic & ((trial_sq > tau_max * tau_max) == 0);
+    T fraction = lanes::splat<T>(1);  // tensile_fraction()
+    if constexpr (Shear::couples_tension) {
+      const real f_peak = Tension::peak_strength(p.tension);
+      const T softened = f_peak > 0 ? x.f_t / f_peak : T{};
+      fraction = lanes::select((x.u_soft > real(0)) & (broken == 0), softened, fraction);
+    }
+    const T tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+    const M open = broken & (x.u_n > x.u_p);
+    // Beyond the limit: a lane that has slipped before slides on it (update() scales the trial
+    // back onto it); a first slip changes the flags and is declined.
+    const M beyond = (open == 0) & (trial_sq > tau_max * tau_max);
+    elastic = elastic & ((beyond & (slipped == 0)) == 0);
+    const M limited = open | (beyond & slipped);
+    if (lanes::any(limited)) [[unlikely]] {
+      const T scale = tau_max / lanes::sqrt(trial_sq);
+      c0 = lanes::select(open, T{}, lanes::select(beyond, c0 * scale, c0));
+      c1 = lanes::select(open, T{}, lanes::select(beyond, c1 * scale, c1));
+      c2 = lanes::select(open, T{}, lanes::select(beyond, c2 * scale, c2));
+      const real inv_k_s = 1 / k_s;
+      const T w0 = x.ds0 - (c0 - x.tau0) * inv_k_s, w1 = x.ds1 - (c1 - x.tau1) * inv_k_s,
+              w2 = x.ds2 - (c2 - x.tau2) * inv_k_s;
+      const T dissipated = x.dissipated_shear +
+                           real(0.5) * (((x.tau0 + c0) * w0 + (x.tau1 + c1) * w1) + (x.tau2 + c2) * w2);
+      x.dissipated_shear = lanes::select(limited, dissipated, x.dissipated_shear);
+    }
     x.tau0 = c0;
     x.tau1 = c1;
     x.tau2 = c2;

@@ -71,20 +71,24 @@ concept ContactLaw = requires(const typename L::params& p, typename L::state& s,
 /// |-------------------------------------|-------------------------------------------------------------|
 /// | L::elastic_pack                     | constexpr bool, true                                        |
 /// | L::elastic_lanes<T>                 | aggregate of T: du_n, ds0..2, n0..2 (update()'s arguments), |
-/// |                                     | sigma_n, tau0..2, u_n, u_p, u_soft, dissipated_tension,     |
-/// |                                     | dissipated_compression (state fields)                       |
-/// | L::update_elastic(p, intact, x)     | update() of the lanes of `x` that stay elastic; returns     |
-/// |                                     | their mask (see cohesive_frictional.hpp)                    |
+/// |                                     | sigma_n, tau0..2, u_n, dissipated_tension, dissipated_shear,|
+/// |                                     | dissipated_compression, u_p, u_soft (state fields), f_t     |
+/// |                                     | (L::tensile_strength of the state)                          |
+/// | L::update_elastic(p, flags, x)      | update() of the lanes of `x` that stay elastic; returns     |
+/// |                                     | their mask (see cohesive_frictional.hpp); flags: the lanes' |
+/// |                                     | contact_status bits as mask lanes                           |
+/// | L::tensile_strength(p, s)           | a function of s.u_soft and s.flags alone                    |
 /// | s.u_p, s.u_soft, s.dissipated_*,    | the other state fields (sigma_n, tau, u_n above); these     |
 /// | s.flags                             | fields are the whole state                                  |
 template <class L>
 concept ElasticPackLaw =
     ContactLaw<L> && L::elastic_pack &&
-    requires(const typename L::params& p, lanes::mask intact, typename L::template elastic_lanes<lanes::pack>& x,
+    requires(const typename L::params& p, lanes::mask flags, typename L::template elastic_lanes<lanes::pack>& x,
              const typename L::state& s) {
-      { L::update_elastic(p, intact, x) } noexcept -> std::same_as<lanes::mask>;
-      { L::update_elastic(p, true, std::declval<typename L::template elastic_lanes<real>&>()) } noexcept
+      { L::update_elastic(p, flags, x) } noexcept -> std::same_as<lanes::mask>;
+      { L::update_elastic(p, lanes::mask_lane{}, std::declval<typename L::template elastic_lanes<real>&>()) } noexcept
           -> std::same_as<bool>;
+      { L::tensile_strength(p, s) } noexcept -> std::convertible_to<real>;
       { s.u_p } -> std::convertible_to<real>;
       { s.u_soft } -> std::convertible_to<real>;
       { s.dissipated_tension } -> std::convertible_to<real>;

@@ -29,8 +29,9 @@
 // |                                   | tensile strength is the fraction r = f_t/f_T in [0, 1] of its   |
 // |                                   | peak (1 intact; the law passes 1 when !couples_tension); noexcept|
 // Optional (cohesive_frictional's elastic pack path needs it, concept PackedShearLimit):
-// | S::intact_strength(p, sigma_n)    | strength(p, sigma_n, intact, 1) to the bit, for sigma_n a real |
-// |                                   | or a lanes::pack of normal stresses (core/lanes.hpp)            |
+// | S::lane_strength(p, sigma_n,      | strength(p, sigma_n, flags, r) to the bit, lane by lane, for    |
+// |   slipped, broken, r)             | sigma_n and r reals or lanes::pack's (core/lanes.hpp) and the   |
+// |                                   | flags given as the masks slipped and broken (bool for a real)   |
 
 #include <cmath>
 #include <concepts>
@@ -78,9 +79,9 @@ inline void require_friction_angle(const friction_angle& phi, const char* name) 
     throw invalid_input(tessera::detail::concat("contact law: friction angle ", name, " = ", phi.degrees(),
                                                 " deg must be in [0, 90) deg"));
 }
-/// max(0, c - sigma_n tan_phi) (Pa) for T = real or a lanes::pack of normal stresses.
-template <class T>
-[[nodiscard, gnu::always_inline]] inline T coulomb_line(real c, real tan_phi, T sigma_n) noexcept {
+/// max(0, c - sigma_n tan_phi) (Pa) for T = real or a lanes::pack (c and tan_phi reals or packs of T).
+template <class C, class T>
+[[nodiscard, gnu::always_inline]] inline T coulomb_line(C c, C tan_phi, T sigma_n) noexcept {
   const T limit = c - sigma_n * tan_phi;
   return lanes::select(limit > real(0), limit, T{});
 }
@@ -94,6 +95,15 @@ template <class Params>
   const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
   const real c = cohesion_lost ? p.c_res : c_intact;
   const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
+  return coulomb_line(c, tan_phi, sigma_n);
+}
+/// coulomb_limit lane by lane (T = real or lanes::pack, M its mask), the damage state given as the
+/// masks slipped and broken (in tension), to the bit.
+template <class Params, class T, class M>
+[[nodiscard, gnu::always_inline]] inline T coulomb_limit_lanes(const Params& p, T sigma_n, M slipped, M broken,
+                                                              T c_intact) noexcept {
+  const T c = lanes::select(slipped | broken, lanes::splat<T>(p.c_res), c_intact);
+  const T tan_phi = lanes::select(slipped, lanes::splat<T>(p.phi_res.tan()), lanes::splat<T>(p.phi_0.tan()));
   return coulomb_line(c, tan_phi, sigma_n);
 }
 }  // namespace detail
@@ -129,10 +139,11 @@ struct coulomb_residual {
                                      real /*tensile_fraction*/ = 1) noexcept {
     return detail::coulomb_limit(p, sigma_n, flags, p.c_0);
   }
-  /// strength(p, sigma_n, intact) for T = real or a lanes::pack of normal stresses, to the bit.
-  template <class T>
-  [[nodiscard, gnu::always_inline]] static T intact_strength(const params& p, T sigma_n) noexcept {
-    return detail::coulomb_line(p.c_0, p.phi_0.tan(), sigma_n);
+  /// strength(p, sigma_n, flags) lane by lane (T = real or a lanes::pack, M its mask), to the bit.
+  template <class T, class M>
+  [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, T sigma_n, M slipped, M broken,
+                                                          T /*tensile_fraction*/) noexcept {
+    return detail::coulomb_limit_lanes(p, sigma_n, slipped, broken, lanes::splat<T>(p.c_0));
   }
 };
 
@@ -149,17 +160,19 @@ struct coulomb_coupled {
                                      real tensile_fraction = 1) noexcept {
     return detail::coulomb_limit(p, sigma_n, flags, p.c_res + (p.c_0 - p.c_res) * tensile_fraction);
   }
-  /// strength(p, sigma_n, intact, 1) for T = real or a lanes::pack of normal stresses, to the bit.
-  template <class T>
-  [[nodiscard, gnu::always_inline]] static T intact_strength(const params& p, T sigma_n) noexcept {
-    return detail::coulomb_line(p.c_res + (p.c_0 - p.c_res) * real(1), p.phi_0.tan(), sigma_n);
+  /// strength(p, sigma_n, flags, tensile_fraction) lane by lane (T = real or a lanes::pack, M its
+  /// mask), to the bit.
+  template <class T, class M>
+  [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, T sigma_n, M slipped, M broken,
+                                                          T tensile_fraction) noexcept {
+    return detail::coulomb_limit_lanes(p, sigma_n, slipped, broken, p.c_res + (p.c_0 - p.c_res) * tensile_fraction);
   }
 };
 
-/// A ShearLimit whose intact strength can be evaluated on a lanes::pack.
+/// A ShearLimit whose strength can be evaluated on lanes::pack's.
 template <class S>
-concept PackedShearLimit = ShearLimit<S> && requires(const typename S::params& p, lanes::pack sigma_n) {
-  { S::intact_strength(p, sigma_n) } noexcept -> std::same_as<lanes::pack>;
+concept PackedShearLimit = ShearLimit<S> && requires(const typename S::params& p, lanes::pack sigma_n, lanes::mask m) {
+  { S::lane_strength(p, sigma_n, m, m, sigma_n) } noexcept -> std::same_as<lanes::pack>;
 };
 
 static_assert(ShearLimit<coulomb_residual>);

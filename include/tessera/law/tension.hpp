@@ -42,12 +42,18 @@
 // | T::peak_strength(p)        | f_T (Pa), the strength of a virgin contact; 0 for no_tension         |
 // | T::strength(p, k_n, w)     | f_t(w) >= 0 (Pa) after a softening opening w >= 0 (m); noexcept      |
 // | T::exhausted(p, f_t)       | true once the strength f_t (Pa) is spent: broken in tension for good |
+// Optional (cohesive_frictional's pack path then also advances softening contacts on packs):
+// | T::lane_strength(p, k_n, w)| strength(p, k_n, w) to the bit, lane by lane, for w a real or a      |
+// |                            | lanes::pack (core/lanes.hpp)                                         |
+// | T::lane_exhausted(p, f_t)  | exhausted(p, f_t) lane by lane: a bool or a lanes::mask              |
 
 #include <algorithm>
 #include <cmath>
 #include <concepts>
+#include <type_traits>
 
 #include "../core/errors.hpp"
+#include "../core/lanes.hpp"
 #include "../core/types.hpp"
 #include "detail/validation.hpp"
 
@@ -87,12 +93,20 @@ struct linear_softening {
   };
   static void validate(const params& p, real k_n) { detail::validate_envelope(p.f_T, p.G_f, k_n); }
   [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }
-  /// f_t(w) = f_T max(0, 1 - w/(zeta - eta)) (Pa), w = u_n - eta (m).
-  [[nodiscard]] static real strength(const params& p, real k_n, real w) noexcept {
+  /// strength and exhausted for T = real or a lanes::pack (std::max(0, v) is v > 0 ? v : 0).
+  template <class T>
+  [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, real k_n, T w) noexcept {
     const real softening_length = 2 * p.G_f / p.f_T - p.f_T / k_n;  // zeta - eta (m)
-    return p.f_T * std::max(real(0), 1 - w / softening_length);
+    const T v = 1 - w / softening_length;
+    return p.f_T * lanes::select(real(0) < v, v, T{});
   }
-  [[nodiscard]] static bool exhausted(const params&, real f_t) noexcept { return f_t <= 0; }
+  template <class T>
+  [[nodiscard, gnu::always_inline]] static auto lane_exhausted(const params&, T f_t) noexcept {
+    return f_t <= real(0);
+  }
+  /// f_t(w) = f_T max(0, 1 - w/(zeta - eta)) (Pa), w = u_n - eta (m).
+  [[nodiscard]] static real strength(const params& p, real k_n, real w) noexcept { return lane_strength(p, k_n, w); }
+  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return lane_exhausted(p, f_t); }
   /// Total opening at which the contact breaks: zeta (m).
   [[nodiscard]] static real cutoff_opening(const params& p, real /*k_n*/) noexcept { return 2 * p.G_f / p.f_T; }
   /// Energy dissipated per unit area by a contact pulled monotonically to separation (J/m^2): G_f.
@@ -120,14 +134,27 @@ struct power_softening {
                                                   " must be in (0, 1)"));
   }
   [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }
-  /// f_t(w) = f_T (zeta/(zeta + w))^alpha (Pa), w = u_n - eta (m).
-  [[nodiscard]] static real strength(const params& p, real /*k_n*/, real w) noexcept {
+  /// strength and exhausted for T = real or a lanes::pack (std::pow lane by lane for alpha != 3).
+  template <class T>
+  [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, real /*k_n*/, T w) noexcept {
     const real zeta = 2 * p.G_f / p.f_T;
-    const real ratio = zeta / (zeta + w);
+    const T ratio = zeta / (zeta + w);
     if (p.alpha == 3) return p.f_T * ratio * ratio * ratio;
-    return p.f_T * std::pow(ratio, p.alpha);
+    if constexpr (std::is_same_v<T, real>) {
+      return p.f_T * std::pow(ratio, p.alpha);
+    } else {
+      T power;
+      for (int k = 0; k < lanes::width; ++k) power[k] = std::pow(ratio[k], p.alpha);
+      return p.f_T * power;
+    }
   }
-  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return f_t <= p.residual_ratio * p.f_T; }
+  template <class T>
+  [[nodiscard, gnu::always_inline]] static auto lane_exhausted(const params& p, T f_t) noexcept {
+    return f_t <= p.residual_ratio * p.f_T;
+  }
+  /// f_t(w) = f_T (zeta/(zeta + w))^alpha (Pa), w = u_n - eta (m).
+  [[nodiscard]] static real strength(const params& p, real k_n, real w) noexcept { return lane_strength(p, k_n, w); }
+  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return lane_exhausted(p, f_t); }
   /// Total opening at which the contact breaks: u_c = zeta r^(-1/alpha) - zeta + eta (m).
   [[nodiscard]] static real cutoff_opening(const params& p, real k_n) noexcept {
     const real zeta = 2 * p.G_f / p.f_T;

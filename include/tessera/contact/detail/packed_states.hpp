@@ -3,13 +3,21 @@
 // pack path (law::ElasticPackLaw; contact::subcontact_set uses this for such laws).
 //
 // state_columns holds the law state of sub-contact i field by field (one array per field), so a
-// lanes::pack of consecutive sub-contacts loads and stores each field with one instruction.
+// lanes::pack of consecutive sub-contacts loads and stores each field with one instruction, and
+// one column more than the state: its current tensile strength Law::tensile_strength (the
+// envelope f_t(u_soft) while softening, a pure function of u_soft and the flags), re-evaluated
+// by set() exactly when u_soft or the flags change and advanced by update_elastic with u_soft,
+// so a pack reads the envelope of its softened lanes instead of evaluating it.
 // step_columns holds the inputs of Law::update per sub-contact for one step (du_n, du_s, n),
 // written by subcontact_set's kinematics loop and read by advance_states.
 //
 // advance_states(p, states, step, area, first, last, force) advances sub-contacts [first, last):
 //   1. packs of lanes::width consecutive sub-contacts through Law::update_elastic; the lanes it
-//      accepts are committed, the others keep their state (blend) and are marked declined;
+//      accepts (all whose damage flags the step leaves unchanged: elastic ones whatever their
+//      damage, softening ones advancing along their envelope, slipped ones sliding; see
+//      cohesive_frictional::update_elastic) are committed, the others (reaching the peak, breaking,
+//      slipping for the first time, at a compressive cap) keep their state (blend) and are marked
+//      declined;
 //      the sub-contacts after the last whole pack go one by one through update_elastic<real>;
 //   2. each declined sub-contact through Law::update, from its unchanged state.
 // Every sub-contact's arithmetic is that of Law::update whatever its lane or path, so the result
@@ -27,7 +35,8 @@
 
 namespace tessera::contact::detail {
 
-/// The states of sub-contacts as columns (fields as in law::ElasticPackLaw).
+/// The states of sub-contacts as columns (fields as in law::ElasticPackLaw), and their tensile
+/// strengths.
 template <class Law>
 struct state_columns {
   using state_type = typename Law::state;
@@ -35,12 +44,16 @@ struct state_columns {
       dissipated_compression;
   /// contact_status bits, widened to a mask lane so a pack of them loads with one instruction.
   std::vector<lanes::mask_lane> flags;
+  /// Law::tensile_strength(p, state) (Pa): set() re-evaluates it when u_soft or the flags change.
+  std::vector<real> f_t;
 
-  /// n virgin states (state_type{}).
-  void assign(std::size_t n) {
+  /// n virgin states (state_type{}) of a law with parameters p (kept for set()).
+  void assign(std::size_t n, const typename Law::params& p) {
+    params_ = p;
     const state_type v{};
     for (auto* column : real_columns()) column->assign(n, 0.0);
     flags.assign(n, 0);
+    f_t.assign(n, Law::tensile_strength(params_, v));
     for (std::size_t i = 0; i < n; ++i) set(i, v);
   }
   [[nodiscard]] std::size_t size() const { return flags.size(); }
@@ -58,6 +71,8 @@ struct state_columns {
     return s;
   }
   void set(std::size_t i, const state_type& s) noexcept {
+    if (s.u_soft != u_soft[i] || static_cast<lanes::mask_lane>(s.flags) != flags[i])
+      f_t[i] = Law::tensile_strength(params_, s);
     sigma_n[i] = s.sigma_n;
     tau0[i] = s.tau[0];
     tau1[i] = s.tau[1];
@@ -72,6 +87,7 @@ struct state_columns {
   }
 
  private:
+  typename Law::params params_{};
   std::array<std::vector<real>*, 10> real_columns() {
     return {&sigma_n, &tau0, &tau1, &tau2, &u_n, &u_p, &u_soft, &dissipated_tension, &dissipated_shear,
             &dissipated_compression};
@@ -94,18 +110,25 @@ struct step_columns {
 template <law::ElasticPackLaw Law>
 void advance_states(const typename Law::params& p, state_columns<Law>& s, step_columns& k, const real* area,
                     std::size_t first, std::size_t last, real* const force[3]) noexcept {
-  // Lanes T (lanes::pack, or real for the sub-contacts after the last whole pack) starting at i.
-  const auto lanes_at = [&]<class T>(std::size_t i) __attribute__((always_inline)) {
+  // Lanes T (lanes::pack, or real for the sub-contacts after the last whole pack) starting at i,
+  // with their contact_status bits `flags`. Damaged = false: all lanes are intact (flags zero, a
+  // constant the law's damage branches fold away), their f_t is that of a virgin state, and an
+  // intact lane that update_elastic accepts leaves u_p, u_soft, f_t and dissipated_shear
+  // unchanged, so those are not stored.
+  const real f_t_virgin = Law::tensile_strength(p, typename Law::state{});
+  const auto lanes_at = [&]<class T, bool Damaged>(std::size_t i, auto flags) __attribute__((always_inline)) {
     using lanes::load;
     typename Law::template elastic_lanes<T> x{load<T>(&k.du_n[i]),  load<T>(&k.ds0[i]),     load<T>(&k.ds1[i]),
                                               load<T>(&k.ds2[i]),   load<T>(&k.n0[i]),      load<T>(&k.n1[i]),
                                               load<T>(&k.n2[i]),    load<T>(&s.sigma_n[i]), load<T>(&s.tau0[i]),
                                               load<T>(&s.tau1[i]),  load<T>(&s.tau2[i]),    load<T>(&s.u_n[i]),
                                               load<T>(&s.dissipated_tension[i]),
+                                              load<T>(&s.dissipated_shear[i]),
                                               load<T>(&s.dissipated_compression[i]),
-                                              load<T>(&s.u_p[i]),   load<T>(&s.u_soft[i])};
+                                              load<T>(&s.u_p[i]),   load<T>(&s.u_soft[i]),
+                                              Damaged ? load<T>(&s.f_t[i]) : lanes::splat<T>(f_t_virgin)};
     const auto old = x;
-    const auto elastic = Law::update_elastic(p, lanes::load_is_zero<T>(&s.flags[i]), x);
+    const auto elastic = Law::update_elastic(p, flags, x);
     using lanes::select;
     using lanes::store;
     store(&s.sigma_n[i], select(elastic, x.sigma_n, old.sigma_n));
@@ -115,6 +138,12 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
     store(&s.u_n[i], select(elastic, x.u_n, old.u_n));
     store(&s.dissipated_tension[i], select(elastic, x.dissipated_tension, old.dissipated_tension));
     store(&s.dissipated_compression[i], select(elastic, x.dissipated_compression, old.dissipated_compression));
+    if constexpr (Damaged) {
+      store(&s.dissipated_shear[i], select(elastic, x.dissipated_shear, old.dissipated_shear));
+      store(&s.u_p[i], select(elastic, x.u_p, old.u_p));
+      store(&s.u_soft[i], select(elastic, x.u_soft, old.u_soft));
+      store(&s.f_t[i], select(elastic, x.f_t, old.f_t));
+    }
     const T a = load<T>(&area[i]);
     store(&force[0][i], a * (x.sigma_n * x.n0 + x.tau0));
     store(&force[1][i], a * (x.sigma_n * x.n1 + x.tau1));
@@ -123,15 +152,13 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
   };
   std::size_t i = first;
   for (; i + lanes::width <= last; i += lanes::width) {
-    // A pack without an intact sub-contact (cracked faces: past the peak, broken or slipped)
-    // would be declined lane by lane; send it to Law::update directly.
-    if (!lanes::any(lanes::load_is_zero<lanes::pack>(&s.flags[i]))) {
-      for (std::size_t j = i; j < i + lanes::width; ++j) k.elastic[j] = 0;
-      continue;
-    }
-    lanes_at.template operator()<lanes::pack>(i);
+    const auto flags = lanes::load_lanes<lanes::pack>(&s.flags[i]);
+    if (lanes::any(flags != 0))
+      lanes_at.template operator()<lanes::pack, true>(i, flags);
+    else
+      lanes_at.template operator()<lanes::pack, false>(i, decltype(flags){});
   }
-  for (; i < last; ++i) lanes_at.template operator()<real>(i);
+  for (; i < last; ++i) lanes_at.template operator()<real, true>(i, lanes::load_lanes<real>(&s.flags[i]));
 
   // Lanes update_elastic declined: the full law from the unchanged state.
   for (std::size_t j = first; j < last; ++j) {
