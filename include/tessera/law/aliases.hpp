@@ -9,7 +9,7 @@
 // | study_beam_law | linear_softening | plastic_cap         | coulomb_residual | RC beam (Sec. 4)             |
 // | coupled_tie_law| power_softening  | elastic_compression | coulomb_coupled  | opt-in: cohesion softens with |
 // |                |                  |                     |                  | f_t (docs/model.md)           |
-// with_elastic_packs<L>: L with the elastic pack path of contact::subcontact_set switched on (below).
+// with_elastic_packs<L>: L with the pack path of contact::subcontact_set switched on (below).
 
 #include "../core/errors.hpp"
 #include "cohesive_frictional.hpp"
@@ -25,13 +25,12 @@ using linear_tie_law = cohesive_frictional<linear_softening, elastic_compression
 using study_beam_law = cohesive_frictional<linear_softening, plastic_cap, coulomb_residual>;
 using coupled_tie_law = cohesive_frictional<power_softening, elastic_compression, coulomb_coupled>;
 
-/// Opt-in: Law with its elastic pack path switched on in contact::subcontact_set (states stored as
-/// columns, intact elastic sub-contacts updated 8 per AVX-512 instruction; same bits as Law).
-/// Pays where almost every sub-contact is intact and elastic: bench_contacts' elastic prism,
-/// 17.4-18.0 ns per sub-contact-step against 26.9 ns with -march=native. Not the default: on the
-/// RC tie half the sub-contacts are past their peak by the end (44 % on average), they take the
-/// scalar law from the column store, and the full tie ran 10-14 % slower with packs (README,
-/// "Kernels and geometry"). Use it as the Law of a solver or subcontact_set:
+/// Law with its elastic pack path switched on in contact::subcontact_set (states stored as
+/// columns, the sub-contacts whose damage flags a step leaves unchanged updated 8 per AVX-512
+/// instruction; same bits as Law without FMA contraction). The named solvers (solver.hpp) and the
+/// examples' tie use it. With -march=native, one thread: bench_contacts' elastic prism 17.8-18.1 ns
+/// per sub-contact-step against 26.0-28.8 ns; the RC tie 15.0-15.4 s against 17.1-17.5 s
+/// (README, "Kernels and geometry"). Use it as the Law of a solver or subcontact_set:
 ///     solver<blocks::deformable<...>, law::with_elastic_packs<law::study_tie_law>, ...>
 template <ContactLaw L>
 struct with_elastic_packs : L {
