@@ -86,25 +86,22 @@ template <class C, class T>
   return lanes::select(limit > real(0), limit, T{});
 }
 
-/// The Coulomb limit max(0, c - sigma_n tan(phi)) of a contact in damage state `flags`: residual
+/// The Coulomb limit max(0, c - sigma_n tan(phi)) lane by lane (T = real or lanes::pack, M its mask
+/// or a bool), the damage state given as the masks slipped and broken (in tension): residual
 /// cohesion and friction once slipped, residual cohesion once broken in tension, otherwise the
 /// cohesion `c_intact` the policy gives and phi_0.
-template <class Params>
-[[nodiscard]] inline real coulomb_limit(const Params& p, real sigma_n, contact_status flags, real c_intact) noexcept {
-  const bool slipped = has(flags, contact_status::slipped);
-  const bool cohesion_lost = slipped || has(flags, contact_status::broken_tension);
-  const real c = cohesion_lost ? p.c_res : c_intact;
-  const real tan_phi = slipped ? p.phi_res.tan() : p.phi_0.tan();
-  return coulomb_line(c, tan_phi, sigma_n);
-}
-/// coulomb_limit lane by lane (T = real or lanes::pack, M its mask), the damage state given as the
-/// masks slipped and broken (in tension), to the bit.
 template <class Params, class T, class M>
 [[nodiscard, gnu::always_inline]] inline T coulomb_limit_lanes(const Params& p, T sigma_n, M slipped, M broken,
                                                               T c_intact) noexcept {
   const T c = lanes::select(slipped | broken, lanes::splat<T>(p.c_res), c_intact);
   const T tan_phi = lanes::select(slipped, lanes::splat<T>(p.phi_res.tan()), lanes::splat<T>(p.phi_0.tan()));
   return coulomb_line(c, tan_phi, sigma_n);
+}
+/// coulomb_limit_lanes of one contact in damage state `flags`.
+template <class Params>
+[[nodiscard]] inline real coulomb_limit(const Params& p, real sigma_n, contact_status flags, real c_intact) noexcept {
+  return coulomb_limit_lanes(p, sigma_n, has(flags, contact_status::slipped), has(flags, contact_status::broken_tension),
+                             c_intact);
 }
 }  // namespace detail
 

@@ -134,7 +134,7 @@ struct power_softening {
                                                   " must be in (0, 1)"));
   }
   [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }
-  /// strength and exhausted for T = real or a lanes::pack (std::pow lane by lane for alpha != 3).
+  /// strength and exhausted for T = real or a lanes::pack (std::pow lane by lane).
   template <class T>
   [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, real /*k_n*/, T w) noexcept {
     const real zeta = 2 * p.G_f / p.f_T;

@@ -100,39 +100,32 @@ template <class pack = lanes::pack>
 inline void polar_rotations(const mat3* f, mat3* r, int n) noexcept {
   if constexpr (lanes::width == 1) {
     for (int k = 0; k < n; ++k) r[k] = polar_rotation(f[k], r[k]);
-    return;
   } else {
-  real x0[9][lanes::width] = {};
-  for (int k = 0; k < lanes::width; ++k) {
-    real xk[9];
-    if (k < n) {
-      polar_start(f[k], r[k], xk);
-    } else {
-      for (int e = 0; e < 9; ++e) xk[e] = (e % 4 == 0) ? 1.0 : 0.0;  // identity: converges at once
+    pack x[9];
+    for (int k = 0; k < lanes::width; ++k) {
+      real xk[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};  // lanes past n: the identity, converged at once
+      if (k < n) polar_start(f[k], r[k], xk);
+      for (int e = 0; e < 9; ++e) x[e][k] = xk[e];
     }
-    for (int e = 0; e < 9; ++e) x0[e][k] = xk[e];
-  }
-  pack x[9];
-  for (int e = 0; e < 9; ++e) x[e] = lanes::load<pack>(x0[e]);
-  // active: still iterating; failed: det <= 0 met (keeps r_prev, as polar_rotation)
-  auto active = pack{} == pack{};
-  auto failed = pack{} != pack{};
-  for (int it = 0; it < polar_max_steps; ++it) {
-    pack next[9], det, change;
-    polar_newton_step(x, next, det, change);
-    const auto bad = active & ((det > 0) == 0);
-    failed |= bad;
-    active &= (bad == 0);
-    for (int e = 0; e < 9; ++e) x[e] = lanes::select(active, next[e], x[e]);
-    active &= ((change < polar_tolerance) == 0);
-    if (!lanes::any(active)) break;
-  }
-  for (int k = 0; k < n; ++k) {
-    if (failed[k]) continue;
-    real xk[9];
-    for (int e = 0; e < 9; ++e) xk[e] = x[e][k];
-    r[k] = polar_finish(r[k], xk);
-  }
+    // active: still iterating; failed: det <= 0 met (keeps r_prev, as polar_rotation)
+    auto active = pack{} == pack{};
+    auto failed = pack{} != pack{};
+    for (int it = 0; it < polar_max_steps; ++it) {
+      pack next[9], det, change;
+      polar_newton_step(x, next, det, change);
+      const auto bad = active & ((det > 0) == 0);
+      failed |= bad;
+      active &= (bad == 0);
+      for (int e = 0; e < 9; ++e) x[e] = lanes::select(active, next[e], x[e]);
+      active &= ((change < polar_tolerance) == 0);
+      if (!lanes::any(active)) break;
+    }
+    for (int k = 0; k < n; ++k) {
+      if (failed[k]) continue;
+      real xk[9];
+      for (int e = 0; e < 9; ++e) xk[e] = x[e][k];
+      r[k] = polar_finish(r[k], xk);
+    }
   }
 }
 
