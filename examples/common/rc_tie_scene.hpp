@@ -63,6 +63,9 @@ struct tie_options {
   /// Short-edge regularization of the Voronoi cells (geometry/regularize.hpp), relative to the
   /// mean cell size; 0 = plain Voronoi.
   real regularize = 0;
+  /// Lloyd relaxation steps of the tessellation (each generator moved to its cell centroid;
+  /// geometry/voronoi.hpp): more uniform, rounder cells; 0 = plain random Voronoi.
+  int lloyd = 0;
   bool bare = false;         ///< unbonded bar, concrete fixed (bare-bar reference run)
   bool rigid = false;        ///< rigid blocks (blocks::rigid; bond hosts are still the zones, no confinement)
 };
@@ -111,6 +114,7 @@ struct tie_scene {
   po.blocks = o.blocks;
   po.seed = o.seed;
   po.tessellation.min_edge_rel = o.regularize;
+  po.tessellation.lloyd_iterations = o.lloyd;
   t.prism = make_prism(po);
   const vec3 lo = t.prism.box.lo, hi = t.prism.box.hi;
   const vec3 start(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());

@@ -221,6 +221,7 @@ int run(inputs in) {
       .set("seed", in.tie.seed)
       .set("elements", in.tie.elements)
       .set("regularize", in.tie.regularize)
+      .set("lloyd_iterations", in.tie.lloyd)
       .set("xi", in.tie.xi)
       .set("bond_basis", std::string(in.tie.bond_basis == tessera::reinforcement::stiffness_basis::per_node ? "node" : "length"))
       .set("symmetric_pull", in.loading.symmetric)
@@ -332,6 +333,7 @@ int main(int argc, char** argv) {
   std::string bond_basis = "length";
   cli.option("--blocks", in.tie.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N");
   cli.option("--regularize", in.tie.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)", "REL");
+  cli.option("--lloyd", in.tie.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K");
   cli.option("--elements", elements, "truss elements along the bar", "N");
   cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI");
   cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C");
