@@ -108,6 +108,7 @@ struct tie_scene {
   require(o.elements >= 1, "rc_tie: truss elements = ", o.elements, " must be >= 1");
   require_positive(o.xi, "rc_tie: bond stiffness ratio xi");
   require_positive(o.c_bond, "rc_tie: bond cohesion c_bond (N/m)");
+  require(o.lloyd >= 0, "rc_tie: Lloyd steps (--lloyd) = ", o.lloyd, " must be >= 0");
   tie_scene t;
   t.options = o;
   prism_options po;

@@ -114,6 +114,7 @@ int run(const inputs& in) {
   namespace io = tessera::io;
   const fs::path out = in.common.out;
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
+  tessera::require(in.lloyd >= 0, "direct_tension: --lloyd ", in.lloyd, " must be >= 0");
   tessera::require(std::isfinite(in.cohesion_ratio) && in.cohesion_ratio >= 0, "direct_tension: --cohesion-ratio ",
                    in.cohesion_ratio, " must be finite and >= 0");
   tessera::require(in.softening == "power" || in.softening == "linear", "direct_tension: --softening '", in.softening,

@@ -174,12 +174,12 @@ class snapshot_writer {
 int run(inputs in) {
   namespace io = tessera::io;
   const fs::path out = in.common.out;
-  io::ensure_directory(out);
   const tessera::cli::wall_timer timer;
   in.tie.seed = in.common.seed;
   in.loading.threads = in.common.threads;
   in.loading.progress_label = in.tie.bare ? "rc_tie (bare bar)" : "rc_tie";
-  const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);
+  const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
+  io::ensure_directory(out);
   const auto& hand = scene.hand;
 
   snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
