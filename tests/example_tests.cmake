@@ -142,6 +142,28 @@ tessera_add_example_test(rc_tie NAME example_rc_tie_brittle_quick
          "cracks GREATER 0"
          "energy_balance_error_rel LESS 0.01"
   TIMEOUT 300)
+# ---- rc_tie_sensitivity: the Sec. 3.2 studies, reduced set (xi 2 and 4; c_bond 1e9 and 1e4 N/m;
+# 100 blocks, dt 4e-6 s, 5 mm/s; 4 runs, about 45 s on one thread) ----
+# The study's trends with numbers. Measured (quick, seed 1): K0 66.5 kN/mm for xi = 2 and 82.4 for
+# xi = 4; at c_bond = 1e4 N/m the bar slides out of the concrete: K0 16.2 kN/mm (bare bar E_s A_s / L
+# = 16.1), no load drop, curve 6.7 % of f_y A from the bare bar's (34.2 % for the perfect bond); yield
+# plateau of the baseline 20.63 kN (f_y A = 20.11 kN).
+tessera_add_example_test(rc_tie_sensitivity NAME example_rc_tie_sensitivity_quick
+  ARGS --quick --seed 1 --threads 1
+  FILES xi.csv xi.png xi_table.csv cbond.csv cbond_table.csv runtime_table.csv trends.md
+  CHECKS "runs EQUAL 4"
+         "xi_initial_stiffness_sorted STREQUAL ON"
+         "xi_0_initial_stiffness_N_per_m LESS 7.5e7"
+         "xi_1_initial_stiffness_N_per_m GREATER 7.5e7"
+         "xi_1_yield_force_N GREATER 19900"
+         "xi_1_yield_force_N LESS 21500"
+         "cbond_0_curve_error_vs_bare_bar_rel GREATER 0.25"
+         "cbond_1_curve_error_vs_bare_bar_rel LESS 0.1"
+         "cbond_1_initial_stiffness_N_per_m GREATER 1.5e7"
+         "cbond_1_initial_stiffness_N_per_m LESS 1.75e7"
+         "cbond_1_load_drops EQUAL 0"
+  TIMEOUT 600)
+
 if(EXISTS ${PROJECT_SOURCE_DIR}/examples/direct_tension/main.cpp)
   # Bad input: exactly one line, naming the program once, the flag and the value.
   add_test(NAME example_direct_tension_bad_input

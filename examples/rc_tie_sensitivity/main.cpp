@@ -21,7 +21,9 @@
 //                  bar, steps, runtime
 // and runtime_table.csv / .md (Table 2 counterpart: blocks, sub-contacts, zones, steps, runtime,
 // the study's 3DEC minutes), trends.md (each trend the study reports, with our numbers and
-// whether it holds), summary.json.
+// whether it holds), summary.json (run totals, and per variant k of study S the keys
+// S_k_variant, S_k_first_crack_force_N, S_k_initial_stiffness_N_per_m, S_k_load_drops,
+// S_k_yield_force_N, S_k_curve_error_vs_baseline_rel, S_k_curve_error_vs_bare_bar_rel).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -205,29 +207,46 @@ void write_study(const study& s, const sc::tie_hand_checks& hand, const fs::path
   table.commit();
 }
 
-/// Trends the study states, checked with our numbers; appended to trends.md.
-std::string trends(const study& s, const sc::tie_hand_checks& hand) {
-  std::ostringstream os;
-  os << "## " << s.title << "\n\n| variant | first crack (kN) | K0 (kN/mm) | drops | softened / opened cracks | "
-        "yield (kN) | error vs baseline | error vs bare bar | runtime (s) |\n|---|---|---|---|---|---|---|---|---|\n";
+/// Each variant's curve error (RMS force difference over the common elongation range / f_y A)
+/// against the study's baseline variant and against the bare bar.
+struct variant_errors {
+  std::vector<double> baseline, bare_bar;
+};
+variant_errors curve_errors(const study& s, const sc::tie_hand_checks& hand) {
   const auto& base = s.variants[s.baseline].result;
   std::vector<real> bare_u, bare_f;
   for (int i = 0; i <= 400; ++i) {
     bare_u.push_back(4e-3 * i / 400);
     bare_f.push_back(hand.bare_bar_force(bare_u.back()));
   }
-  std::vector<double> k0, bare_err, base_err;
+  variant_errors e;
   for (const auto& v : s.variants) {
     const auto& r = v.result;
     const auto x = sc::running_max(r.elongation);
+    e.bare_bar.push_back(sc::curve_error(x, r.force, bare_u, bare_f, hand.yield_force));
+    e.baseline.push_back(sc::curve_error(x, r.force, sc::running_max(base.elongation), base.force, hand.yield_force));
+  }
+  return e;
+}
+
+/// Trends the study states, checked with our numbers; appended to trends.md.
+std::string trends(const study& s, const sc::tie_hand_checks& hand) {
+  std::ostringstream os;
+  os << "## " << s.title << "\n\n| variant | first crack (kN) | K0 (kN/mm) | drops | softened / opened cracks | "
+        "yield (kN) | error vs baseline | error vs bare bar | runtime (s) |\n|---|---|---|---|---|---|---|---|---|\n";
+  const variant_errors errors = curve_errors(s, hand);
+  const std::vector<double>& bare_err = errors.bare_bar;
+  const std::vector<double>& base_err = errors.baseline;
+  std::vector<double> k0;
+  for (std::size_t k = 0; k < s.variants.size(); ++k) {
+    const auto& r = s.variants[k].result;
+    const auto& v = s.variants[k];
     k0.push_back(r.initial_stiffness);
-    bare_err.push_back(sc::curve_error(x, r.force, bare_u, bare_f, hand.yield_force));
-    base_err.push_back(sc::curve_error(x, r.force, sc::running_max(base.elongation), base.force, hand.yield_force));
     char line[512];
     std::snprintf(line, sizeof line, "| %s | %.2f | %.1f | %zu | %d / %d | %.2f | %.2f %% | %.2f %% | %.1f |\n",
                   v.label.c_str(), r.first_crack_force * 1e-3, r.initial_stiffness * 1e-6, r.drops.size(),
-                  r.softened_cracks.cracks, r.cracks.cracks, r.yield_force * 1e-3, 100 * base_err.back(),
-                  100 * bare_err.back(), r.runtime_s);
+                  r.softened_cracks.cracks, r.cracks.cracks, r.yield_force * 1e-3, 100 * base_err[k],
+                  100 * bare_err[k], r.runtime_s);
     os << line;
   }
   os << "\n";
@@ -351,6 +370,21 @@ int run(const inputs& in) {
   for (const auto& s : studies)
     for (const auto& v : s.variants) ++runs, steps += v.result.steps;
   js.set("runs", runs).set("steps", steps);
+  // Each variant's figures, flat: <study>_<k>_<figure> with k the variant's index in trends.md.
+  for (const auto& s : studies) {
+    const variant_errors errors = curve_errors(s, hand);
+    for (std::size_t k = 0; k < s.variants.size(); ++k) {
+      const auto& r = s.variants[k].result;
+      const std::string key = s.name + "_" + std::to_string(k) + "_";
+      js.set(key + "variant", s.variants[k].label)
+          .set(key + "first_crack_force_N", r.first_crack_force)
+          .set(key + "initial_stiffness_N_per_m", r.initial_stiffness)
+          .set(key + "load_drops", static_cast<std::int64_t>(r.drops.size()))
+          .set(key + "yield_force_N", r.yield_force)
+          .set(key + "curve_error_vs_baseline_rel", errors.baseline[k])
+          .set(key + "curve_error_vs_bare_bar_rel", errors.bare_bar[k]);
+    }
+  }
   for (const auto& s : studies) {
     if (s.name == "xi" || s.name == "elements")
       js.set(s.name + "_initial_stiffness_sorted",
