@@ -57,10 +57,17 @@ struct variant {
   sc::tie_result result;
 };
 
+/// Each variant's curve error (RMS force difference over the common elongation range / f_y A)
+/// against the study's baseline variant and against the bare bar (curve_errors()).
+struct variant_errors {
+  std::vector<double> baseline, bare_bar;
+};
+
 struct study {
   std::string name, title, parameter;
   std::vector<variant> variants;
   std::size_t baseline = 0;  ///< the variant the others are compared with
+  variant_errors errors;     ///< set by curve_errors() once the variants have run
 };
 
 struct inputs {
@@ -145,6 +152,28 @@ double parameter_value(const study& s, const variant& v) {
   return v.loading.rate;
 }
 
+/// The study's curve errors (study::errors), for the table, trends.md and summary.json alike. The
+/// bare bar is sampled every 10 µm up to 4 mm (or the longest run, if longer).
+variant_errors curve_errors(const study& s, const sc::tie_hand_checks& hand) {
+  const auto& base = s.variants[s.baseline].result;
+  real u_max = 4e-3;
+  for (const auto& v : s.variants) u_max = std::max(u_max, v.result.end_elongation);
+  const int n = static_cast<int>(std::ceil(u_max / 1e-5 - 1e-9));
+  std::vector<real> bare_u, bare_f;
+  for (int i = 0; i <= n; ++i) {
+    bare_u.push_back(u_max * i / n);
+    bare_f.push_back(hand.bare_bar_force(bare_u.back()));
+  }
+  variant_errors e;
+  for (const auto& v : s.variants) {
+    const auto& r = v.result;
+    const auto x = sc::running_max(r.elongation);
+    e.bare_bar.push_back(sc::curve_error(x, r.force, bare_u, bare_f, hand.yield_force));
+    e.baseline.push_back(sc::curve_error(x, r.force, sc::running_max(base.elongation), base.force, hand.yield_force));
+  }
+  return e;
+}
+
 void write_study(const study& s, const sc::tie_hand_checks& hand, const fs::path& out) {
   namespace io = tessera::io;
   // Common grid up to the longest run; nan past each variant's end.
@@ -188,55 +217,24 @@ void write_study(const study& s, const sc::tie_hand_checks& hand, const fs::path
                         "softened_cracks", "opened_cracks", "yield_force_N", "yield_elongation_m",
                         "curve_error_vs_baseline_rel", "curve_error_vs_bare_bar_rel", "max_end_force_imbalance_rel",
                         "subcontacts", "steps", "runtime_s"});
-  const auto& base = s.variants[s.baseline].result;
-  std::vector<real> bare_u, bare_f;
-  for (int i = 0; i <= 200; ++i) {
-    bare_u.push_back(2 * u_max * i / 200);
-    bare_f.push_back(hand.bare_bar_force(bare_u.back()));
-  }
   for (std::size_t k = 0; k < s.variants.size(); ++k) {
     const auto& r = s.variants[k].result;
-    const auto x = sc::running_max(r.elongation);
     table.row(static_cast<double>(k), parameter_value(s, s.variants[k]), r.first_crack_force, r.initial_stiffness,
               static_cast<double>(r.drops.size()), static_cast<double>(r.softened_cracks.cracks),
-              static_cast<double>(r.cracks.cracks), r.yield_force, r.yield_elongation,
-              sc::curve_error(x, r.force, sc::running_max(base.elongation), base.force, hand.yield_force),
-              sc::curve_error(x, r.force, bare_u, bare_f, hand.yield_force), r.max_imbalance,
+              static_cast<double>(r.cracks.cracks), r.yield_force, r.yield_elongation, s.errors.baseline[k],
+              s.errors.bare_bar[k], r.max_imbalance,
               static_cast<double>(r.subcontacts), static_cast<double>(r.steps), r.runtime_s);
   }
   table.commit();
 }
 
-/// Each variant's curve error (RMS force difference over the common elongation range / f_y A)
-/// against the study's baseline variant and against the bare bar.
-struct variant_errors {
-  std::vector<double> baseline, bare_bar;
-};
-variant_errors curve_errors(const study& s, const sc::tie_hand_checks& hand) {
-  const auto& base = s.variants[s.baseline].result;
-  std::vector<real> bare_u, bare_f;
-  for (int i = 0; i <= 400; ++i) {
-    bare_u.push_back(4e-3 * i / 400);
-    bare_f.push_back(hand.bare_bar_force(bare_u.back()));
-  }
-  variant_errors e;
-  for (const auto& v : s.variants) {
-    const auto& r = v.result;
-    const auto x = sc::running_max(r.elongation);
-    e.bare_bar.push_back(sc::curve_error(x, r.force, bare_u, bare_f, hand.yield_force));
-    e.baseline.push_back(sc::curve_error(x, r.force, sc::running_max(base.elongation), base.force, hand.yield_force));
-  }
-  return e;
-}
-
 /// Trends the study states, checked with our numbers; appended to trends.md.
-std::string trends(const study& s, const sc::tie_hand_checks& hand) {
+std::string trends(const study& s) {
   std::ostringstream os;
   os << "## " << s.title << "\n\n| variant | first crack (kN) | K0 (kN/mm) | drops | softened / opened cracks | "
         "yield (kN) | error vs baseline | error vs bare bar | runtime (s) |\n|---|---|---|---|---|---|---|---|---|\n";
-  const variant_errors errors = curve_errors(s, hand);
-  const std::vector<double>& bare_err = errors.bare_bar;
-  const std::vector<double>& base_err = errors.baseline;
+  const std::vector<double>& bare_err = s.errors.bare_bar;
+  const std::vector<double>& base_err = s.errors.baseline;
   std::vector<double> k0;
   for (std::size_t k = 0; k < s.variants.size(); ++k) {
     const auto& r = s.variants[k].result;
@@ -351,8 +349,9 @@ int run(const inputs& in) {
         runtime_md += line;
       }
     }
+    s.errors = curve_errors(s, hand);
     write_study(s, hand, out);
-    md += trends(s, hand);
+    md += trends(s);
   }
   runtime.commit();
   md += "## Run time (Table 2 counterpart)\n\n" + runtime_md +
@@ -372,7 +371,6 @@ int run(const inputs& in) {
   js.set("runs", runs).set("steps", steps);
   // Each variant's figures, flat: <study>_<k>_<figure> with k the variant's index in trends.md.
   for (const auto& s : studies) {
-    const variant_errors errors = curve_errors(s, hand);
     for (std::size_t k = 0; k < s.variants.size(); ++k) {
       const auto& r = s.variants[k].result;
       const std::string key = s.name + "_" + std::to_string(k) + "_";
@@ -381,8 +379,8 @@ int run(const inputs& in) {
           .set(key + "initial_stiffness_N_per_m", r.initial_stiffness)
           .set(key + "load_drops", static_cast<std::int64_t>(r.drops.size()))
           .set(key + "yield_force_N", r.yield_force)
-          .set(key + "curve_error_vs_baseline_rel", errors.baseline[k])
-          .set(key + "curve_error_vs_bare_bar_rel", errors.bare_bar[k]);
+          .set(key + "curve_error_vs_baseline_rel", s.errors.baseline[k])
+          .set(key + "curve_error_vs_bare_bar_rel", s.errors.bare_bar[k]);
     }
   }
   for (const auto& s : studies) {
