@@ -135,19 +135,20 @@ class solver {
     gridpoints_.force.setZero();
     if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
     if constexpr (requires(Blocks& b, index i) {
-                    b.run_count();
+                    b.zone_task_count();
                     b.begin_zone_forces(gridpoints_);
-                    b.zone_forces_of_run(i, gridpoints_);
-                    b.add_force(i, gridpoints_);
+                    b.add_zone_forces(i, gridpoints_);
                   }) {
-      // Steps 2-3 fused (same results to the bit as accumulate_forces + update): the zone runs
-      // and the contact faces are independent, so they share one parallel region, and one
-      // pass over the gridpoints gathers zone forces, then contact forces. Two fork/joins per
-      // step instead of five; on a busy machine each one can cost a scheduler time slice.
+      // Steps 2-3 fused (same results to the bit as accumulate_forces + update): the zone tasks
+      // (which add their corner forces to their own block's gridpoints) and the contact faces
+      // (which store their forces per sub-contact) are independent, so they share one parallel
+      // region, and one pass over the gridpoints then gathers the contact forces. Two
+      // fork/joins per step instead of five; on a busy machine each one can cost a scheduler
+      // time slice.
       blocks_.begin_zone_forces(gridpoints_);
       contacts_.begin_update();
       parallel_for_pair(
-          blocks_.run_count(), [&](std::int64_t r) { blocks_.zone_forces_of_run(static_cast<index>(r), gridpoints_); },
+          blocks_.zone_task_count(), [&](std::int64_t t) { blocks_.add_zone_forces(static_cast<index>(t), gridpoints_); },
           contacts_.face_block_count(),
           [&](std::int64_t f) { contacts_.update_face_block(static_cast<index>(f), gridpoints_, dt_); });
       // An integrator that can gather each chunk of gridpoints inside its own loop.
@@ -163,12 +164,9 @@ class solver {
       };
       if constexpr (split_bars) reinforcement_.compute_forces(gridpoints_, blocks_.zone_stress());
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
-        // Per gridpoint: zone forces, then contact forces, then bar host shares (the order of the
-        // unfused step).
-        for (std::int64_t i = begin; i < end; ++i) {
-          blocks_.add_force(static_cast<index>(i), gridpoints_);
-          contacts_.add_force(static_cast<index>(i), gridpoints_);
-        }
+        // Per gridpoint: zone forces (already added), then contact forces, then bar host shares
+        // (the order of the unfused step).
+        for (std::int64_t i = begin; i < end; ++i) contacts_.add_force(static_cast<index>(i), gridpoints_);
         if constexpr (split_bars)
           reinforcement_.add_host_forces(static_cast<index>(begin), static_cast<index>(end), gridpoints_);
       };
