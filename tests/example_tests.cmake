@@ -170,6 +170,10 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/examples/direct_tension/main.cpp)
            COMMAND $<TARGET_FILE:direct_tension> --threads 1 --cohesion-ratio -1 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/bad_input)
   set_tests_properties(example_direct_tension_bad_input PROPERTIES LABELS example
     PASS_REGULAR_EXPRESSION "^direct_tension: --cohesion-ratio -1 must be finite and >= 0\n$")
+  add_test(NAME example_direct_tension_bad_regularize
+           COMMAND $<TARGET_FILE:direct_tension> --threads 1 --regularize 0.7 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/bad_regularize)
+  set_tests_properties(example_direct_tension_bad_regularize PROPERTIES LABELS example
+    PASS_REGULAR_EXPRESSION "^direct_tension: --regularize 0.7 must lie in \\[0, 0.5\\]\n$")
 endif()
 if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
   add_test(NAME example_rc_tie_bad_input

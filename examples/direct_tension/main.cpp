@@ -55,6 +55,7 @@ struct inputs {
   bool rigid = false;
   int seeds = 1;
   int lloyd = 0;                  // Lloyd steps of the tessellation
+  double regularize = 0;          // short-edge regularization (relative to the mean cell size)
   scenes::tension_loading loading;
 };
 
@@ -86,6 +87,7 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   po.blocks = in.blocks;
   po.seed = seed;
   po.tessellation.lloyd_iterations = in.lloyd;
+  po.tessellation.min_edge_rel = in.regularize;
   scene = scenes::make_prism(po);
   scene.contact.shear.slip_breaks_tension = in.slip_breaks_tension;
   scene.contact.shear.c_0 = in.cohesion_ratio * scene.contact.tension.f_T;
@@ -115,6 +117,8 @@ int run(const inputs& in) {
   const fs::path out = in.common.out;
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
   tessera::require(in.lloyd >= 0, "direct_tension: --lloyd ", in.lloyd, " must be >= 0");
+  tessera::require(std::isfinite(in.regularize) && in.regularize >= 0 && in.regularize <= 0.5,
+                   "direct_tension: --regularize ", in.regularize, " must lie in [0, 0.5]");
   tessera::require(std::isfinite(in.cohesion_ratio) && in.cohesion_ratio >= 0, "direct_tension: --cohesion-ratio ",
                    in.cohesion_ratio, " must be finite and >= 0");
   tessera::require(in.softening == "power" || in.softening == "linear", "direct_tension: --softening '", in.softening,
@@ -221,6 +225,7 @@ int run(const inputs& in) {
       .set("cohesion_ratio", in.cohesion_ratio)
       .set("rigid", in.rigid)
       .set("lloyd_iterations", in.lloyd)
+      .set("regularize", in.regularize)
       .set("platen_restraint", in.loading.platen_restraint)
       .set("rate_m_per_s", in.loading.rate)
       .set("step_displacement_m", in.loading.dt > 0 ? in.loading.rate * in.loading.dt : in.loading.step_displacement)
@@ -330,6 +335,9 @@ int main(int argc, char** argv) {
   bool free_platen = false;
   cli.flag("--free-platen", free_platen, "top gridpoints free transversally (frictionless platen; diagnostic)");
   cli.option("--lloyd", in.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K");
+  cli.option("--regularize", in.regularize,
+             "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)",
+             "REL");
   cli.parse_or_exit(argc, argv);
   ld.platen_restraint = !free_platen;
   if (in.common.quick) {
