@@ -38,7 +38,7 @@
 // Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 382
 // instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 203
 // for x86-64-v3 (AVX2, 4 zones per vector), of which the gather is about 65 (baseline); 29 ns
-// per zone-step with the default flags, 19.5 ns with -march=native on AVX-512 (zones in packs of
+// per zone-step with the default flags, 19.1-19.5 ns with -march=native on AVX-512 (zones in packs of
 // 16, see zone_kernel; block rotations 8 per pack) on one core (benchmarks/bench_kernels.cpp).
 //
 // Thread safety: const members are safe to call concurrently; accumulate_forces is not.
