@@ -1004,6 +1004,18 @@ TEST_CASE("bad input: geometry, seeds, boundary conditions, options, output", "[
   auto squashed = cube_column(1, 0.05);
   for (idx v = 4; v < 8; ++v) squashed.vertices[static_cast<std::size_t>(v)].z() = 0;
   expect_error<geometry_error>("degenerate (flat) block", [&] { (void)geometry::zone_blocks(squashed); }, {"block 0 has volume"});
+  // A block_mesh (say, hand-made or imported) in which a zone of block 1 takes a gridpoint of
+  // block 0 as a corner: blocks must own disjoint gridpoints (one task per block sums its zone
+  // forces, concurrently with the other blocks').
+  {
+    const auto two = cube_column(2, 0.05);
+    auto crossed = geometry::zone_blocks(two);
+    const auto z1 = static_cast<std::size_t>(crossed.block_zone_offsets[1]);
+    crossed.zones[z1][0] = 0;
+    expect_error<geometry_error>("zone corner from another block", [&] {
+      prism_solver s(two, crossed, concrete_block, law::study_prism_params(100));
+    }, {tessera::detail::concat("corner 0 of zone ", z1, " (block 1) is gridpoint 0, which is not a gridpoint of that block")});
+  }
 
   const auto tess = cube_column(2, 0.05);
   const auto mesh = geometry::zone_blocks(tess);
