@@ -212,6 +212,14 @@ class deformable {
   /// Block rotations (all blocks, the polar iterations in lock-step over lanes; see
   /// update_rotations).
   void begin_zone_forces(const node_set& gridpoints) noexcept { update_rotations(gridpoints); }
+  /// begin_zone_forces(gp) restricted to the blocks of tasks [t0, t1), then add_zone_forces(t, gp)
+  /// for t in [t0, t1): a thread can run its own share of the tasks without waiting for the other
+  /// blocks' rotations (each block's rotation is the same bits however the blocks are packed).
+  void add_zone_forces_of_tasks(index t0, index t1, node_set& gridpoints) noexcept {
+    if (t0 >= t1) return;
+    update_rotations(gridpoints, task_block_[at(t0)], task_block_[at(t1 - 1)] + 1);
+    for (index t = t0; t < t1; ++t) add_zone_forces(t, gridpoints);
+  }
   /// Zone stresses of the zones of task t (one block b), then the corner forces of each gridpoint
   /// of b summed (in increasing zone order) and added to gridpoints.force. Touches no gridpoint of
   /// another task.
@@ -356,11 +364,18 @@ class deformable {
     const index n_b = block_count();
     parallel_for((n_b + w - 1) / w, [&](std::int64_t pk) {
       const index first = static_cast<index>(pk) * w;
-      const int n = static_cast<int>(std::min<index>(w, n_b - first));
+      update_rotations(gp, first, std::min<index>(first + w, n_b));
+    }, 2);
+  }
+  /// R_b of blocks [b0, b1), serially, in packs of lanes::width from b0.
+  void update_rotations(const node_set& gp, index b0, index b1) noexcept {
+    constexpr index w = lanes::width;
+    for (index first = b0; first < b1; first += w) {
+      const int n = static_cast<int>(std::min<index>(w, b1 - first));
       mat3 f[w];
       for (int k = 0; k < n; ++k) f[k] = block_deformation_gradient(gp, first + k);
       detail::polar_rotations(f, rotation_.data() + first, n);
-    }, 2);
+    }
   }
 
   /// R_b^T (1 + H_z) - 1 of zone z (its symmetric part is the co-rotated small strain).

@@ -79,6 +79,30 @@ void parallel_for_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_
   for (std::int64_t j = 0; j < m; ++j) g(j);
 }
 
+/// Like parallel_for_pair, but each thread gets its share of [0, n) as one contiguous range,
+/// f(begin, end) (thread t of T: [n t / T, n (t + 1) / T)), so f can prepare per-range data (say,
+/// the block rotations its items need) without a barrier; g(j) as in parallel_for_pair. f must
+/// only write state owned by its range. Serial f(0, n) then g when n + m < 2 grain or one thread.
+template <class F, class G>
+void parallel_range_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_t grain = 16) {
+#if defined(_OPENMP)
+  if (n + m >= 2 * grain && omp_get_max_threads() > 1) {
+#pragma omp parallel
+    {
+      const std::int64_t threads = omp_get_num_threads(), t = omp_get_thread_num();
+      const std::int64_t begin = n * t / threads, end = n * (t + 1) / threads;
+      if (begin < end) f(begin, end);
+#pragma omp for schedule(static) nowait
+      for (std::int64_t j = 0; j < m; ++j) g(j);
+    }
+    return;
+  }
+#endif
+  (void)grain;
+  if (n > 0) f(std::int64_t{0}, n);
+  for (std::int64_t j = 0; j < m; ++j) g(j);
+}
+
 /// Sum of f(i) over [0, n) with a result independent of the thread count: partial sums
 /// over fixed chunks of `chunk` indices, added in chunk order.
 template <class F>

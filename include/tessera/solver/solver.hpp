@@ -136,19 +136,21 @@ class solver {
     if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
     if constexpr (requires(Blocks& b, index i) {
                     b.zone_task_count();
-                    b.begin_zone_forces(gridpoints_);
-                    b.add_zone_forces(i, gridpoints_);
+                    b.add_zone_forces_of_tasks(i, i, gridpoints_);
                   }) {
       // Steps 2-3 fused (same results to the bit as accumulate_forces + update): the zone tasks
       // (which add their corner forces to their own block's gridpoints) and the contact faces
       // (which store their forces per sub-contact) are independent, so they share one parallel
-      // region, and one pass over the gridpoints then gathers the contact forces. Two
+      // region, in which each thread first computes the rotations of its own zone tasks' blocks,
+      // and one pass over the gridpoints then gathers the contact forces. Two
       // fork/joins per step instead of five; on a busy machine each one can cost a scheduler
       // time slice.
-      blocks_.begin_zone_forces(gridpoints_);
       contacts_.begin_update();
-      parallel_for_pair(
-          blocks_.zone_task_count(), [&](std::int64_t t) { blocks_.add_zone_forces(static_cast<index>(t), gridpoints_); },
+      parallel_range_pair(
+          blocks_.zone_task_count(),
+          [&](std::int64_t t0, std::int64_t t1) {
+            blocks_.add_zone_forces_of_tasks(static_cast<index>(t0), static_cast<index>(t1), gridpoints_);
+          },
           contacts_.face_block_count(),
           [&](std::int64_t f) { contacts_.update_face_block(static_cast<index>(f), gridpoints_, dt_); });
       // An integrator that can gather each chunk of gridpoints inside its own loop.
