@@ -703,6 +703,58 @@ TEST_CASE("an inclined crack face under restrained ends peaks at f_T (1 + k_s/k_
   }
 }
 
+TEST_CASE("zone tasks split at any block give accumulate_forces' bits; parallel_range_pair covers each index once",
+          "[mechanics][zones][parallel]") {
+  // The fused solver step runs the zone tasks in one range per thread, each range computing the
+  // rotations of its own blocks first (packs of lanes::width blocks starting at the range's first
+  // block, not at a multiple of the width). Every split must give the bits of the unsplit pass.
+  aabb box;
+  box.expand(vec3::Zero());
+  box.expand(vec3(0.1, 0.1, 0.1));
+  const auto tess = geometry::random_voronoi(box, 21, 5);
+  const auto mesh = geometry::zone_blocks(tess);
+  blocks::deformable<zones::linear_elastic_tet> model;
+  node_set gp;
+  model.build(tess, mesh, concrete_block, gp);
+  REQUIRE(model.zone_task_count() == 21);
+  const Eigen::Matrix3d q = Eigen::AngleAxisd(0.4, vec3(3, -1, 2).normalized()).toRotationMatrix();
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<real> noise(-1e-6, 1e-6);
+  for (idx i = 0; i < gp.size(); ++i) {
+    const vec3 x = gp.reference.row(i).transpose();
+    gp.displacement.row(i) = (q * x - x + vec3(noise(rng), noise(rng), noise(rng))).transpose();
+  }
+  const int saved_threads = max_threads();
+  set_threads(1);
+  auto reference_model = model;
+  node_set reference = gp;
+  reference_model.accumulate_forces(reference);
+  const auto bytes = static_cast<std::size_t>(reference.force.size()) * sizeof(real);
+  CHECK(reference.force.cwiseAbs().maxCoeff() > 0);
+  for (idx split : {1, 3, 7, 8, 9, 13, 20}) {
+    auto m = model;
+    node_set split_gp = gp;
+    m.add_zone_forces_of_tasks(split, m.zone_task_count(), split_gp);  // the later range first
+    m.add_zone_forces_of_tasks(0, split, split_gp);
+    INFO("split at task " << split);
+    CHECK(std::memcmp(split_gp.force.data(), reference.force.data(), bytes) == 0);
+    CHECK(std::memcmp(m.zone_stress().data(), reference_model.zone_stress().data(),
+                      static_cast<std::size_t>(reference_model.zone_stress().size()) * sizeof(real)) == 0);
+  }
+  // parallel_range_pair: the ranges of f tile [0, n) and g sees each j once, on two threads.
+  set_threads(2);
+  for (std::int64_t n : {0, 1, 5, 40}) {
+    std::vector<int> f_hits(static_cast<std::size_t>(n), 0), g_hits(37, 0);
+    parallel_range_pair(
+        n, [&](std::int64_t b, std::int64_t e) { for (std::int64_t i = b; i < e; ++i) ++f_hits[static_cast<std::size_t>(i)]; },
+        37, [&](std::int64_t j) { ++g_hits[static_cast<std::size_t>(j)]; }, 1);
+    INFO("n = " << n);
+    CHECK(std::count(f_hits.begin(), f_hits.end(), 1) == n);
+    CHECK(std::count(g_hits.begin(), g_hits.end(), 1) == 37);
+  }
+  set_threads(saved_threads);
+}
+
 TEST_CASE("vectorised zone kernel matches a direct per-zone evaluation, bit-identical for 1 and 2 threads",
           "[mechanics][zones]") {
   // 20 random Voronoi blocks (several zones each, so the kernel's per-block runs and vector
