@@ -703,27 +703,42 @@ TEST_CASE("an inclined crack face under restrained ends peaks at f_T (1 + k_s/k_
   }
 }
 
+/// n_cells random Voronoi blocks (tessellation seed `seed`) of a 0.1 m cube as deformable blocks,
+/// displaced by a rotation of `angle` rad about `axis` plus uniform noise of +-1e-6 m (noise seed
+/// `noise_seed`; zone strains ~1e-4).
+struct rotated_voronoi_blocks {
+  geometry::block_mesh mesh;
+  blocks::deformable<zones::linear_elastic_tet> model;
+  node_set gp;
+  Eigen::Matrix3d q;
+  rotated_voronoi_blocks(idx n_cells, std::uint64_t seed, real angle, const vec3& axis, std::uint64_t noise_seed,
+                         const zones::linear_elastic_tet::params& material) {
+    aabb box;
+    box.expand(vec3::Zero());
+    box.expand(vec3(0.1, 0.1, 0.1));
+    const auto tess = geometry::random_voronoi(box, n_cells, seed);
+    mesh = geometry::zone_blocks(tess);
+    model.build(tess, mesh, material, gp);
+    q = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
+    std::mt19937_64 rng(noise_seed);
+    std::uniform_real_distribution<real> noise(-1e-6, 1e-6);
+    for (idx i = 0; i < gp.size(); ++i) {
+      const vec3 x = gp.reference.row(i).transpose();
+      const vec3 u = q * x - x + vec3(noise(rng), noise(rng), noise(rng));
+      gp.displacement.row(i) = u.transpose();
+    }
+  }
+};
+
 TEST_CASE("zone tasks split at any block give accumulate_forces' bits; parallel_range_pair covers each index once",
           "[mechanics][zones][parallel]") {
   // The fused solver step runs the zone tasks in one range per thread, each range computing the
   // rotations of its own blocks first (packs of lanes::width blocks starting at the range's first
   // block, not at a multiple of the width). Every split must give the bits of the unsplit pass.
-  aabb box;
-  box.expand(vec3::Zero());
-  box.expand(vec3(0.1, 0.1, 0.1));
-  const auto tess = geometry::random_voronoi(box, 21, 5);
-  const auto mesh = geometry::zone_blocks(tess);
-  blocks::deformable<zones::linear_elastic_tet> model;
-  node_set gp;
-  model.build(tess, mesh, concrete_block, gp);
+  rotated_voronoi_blocks scene(21, 5, 0.4, vec3(3, -1, 2), 11, concrete_block);
+  const auto& model = scene.model;
+  const node_set& gp = scene.gp;
   REQUIRE(model.zone_task_count() == 21);
-  const Eigen::Matrix3d q = Eigen::AngleAxisd(0.4, vec3(3, -1, 2).normalized()).toRotationMatrix();
-  std::mt19937_64 rng(11);
-  std::uniform_real_distribution<real> noise(-1e-6, 1e-6);
-  for (idx i = 0; i < gp.size(); ++i) {
-    const vec3 x = gp.reference.row(i).transpose();
-    gp.displacement.row(i) = (q * x - x + vec3(noise(rng), noise(rng), noise(rng))).transpose();
-  }
   const int saved_threads = max_threads();
   set_threads(1);
   auto reference_model = model;
@@ -762,23 +777,11 @@ TEST_CASE("vectorised zone kernel matches a direct per-zone evaluation, bit-iden
   // displacement field (zone strains ~1e-4). Reference: for every zone, from the mesh alone and the block rotation R
   // the kernel used, H = sum_a u_a (x) grad N_a, eps = sym(R^T (1 + H)) - 1, sigma' = Hooke(eps),
   // f_a = -V R sigma' grad N_a assembled per gridpoint, Sigma = R sigma' R^T.
-  aabb box;
-  box.expand(vec3::Zero());
-  box.expand(vec3(0.1, 0.1, 0.1));
-  const auto tess = geometry::random_voronoi(box, 20, 3);
-  const auto mesh = geometry::zone_blocks(tess);
   const zones::linear_elastic_tet::params material{280e9, 0.2, 2400};
-  blocks::deformable<zones::linear_elastic_tet> model;
-  node_set gp;
-  model.build(tess, mesh, material, gp);
-  const Eigen::Matrix3d q = Eigen::AngleAxisd(0.3, vec3(1, 2, 3).normalized()).toRotationMatrix();
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<real> noise(-1e-6, 1e-6);
-  for (idx i = 0; i < gp.size(); ++i) {
-    const vec3 x = gp.reference.row(i).transpose();
-    const vec3 u = q * x - x + vec3(noise(rng), noise(rng), noise(rng));
-    gp.displacement.row(i) = u.transpose();
-  }
+  rotated_voronoi_blocks scene(20, 3, 0.3, vec3(1, 2, 3), 7, material);
+  const auto& mesh = scene.mesh;
+  auto& model = scene.model;
+  const node_set& gp = scene.gp;
   auto model2 = model;  // same warm start of the block rotations
   const int saved_threads = max_threads();
   set_threads(1);
