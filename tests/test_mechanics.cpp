@@ -730,7 +730,7 @@ struct rotated_voronoi_blocks {
   }
 };
 
-TEST_CASE("zone tasks split at any block give accumulate_forces' bits; parallel_range_pair covers each index once",
+TEST_CASE("zone tasks split at any block give the bits of accumulate_forces, parallel_range_pair covers each index once",
           "[mechanics][zones][parallel]") {
   // The fused solver step runs the zone tasks in one range per thread, each range computing the
   // rotations of its own blocks first (packs of lanes::width blocks starting at the range's first
