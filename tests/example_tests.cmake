@@ -105,7 +105,7 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_lloyd_quick
 # Bond stiffness per unit bar length, symmetric pull (the defaults). Measured (quick, seed 1):
 # first crack 15.2 kN (hand 10.6 kN, +43 %: the quick run is coarse and the tortuous-crack shear
 # excess of the plain prism adds ~10 %), K0 82.1 kN/mm vs the shear-lag value 85.6 (-4 %), 2 load
-# drops, 2 fully opened through-cracks (4 softened), yield plateau 21.4 kN (f_y A = 20.1 kN,
+# drops, 2 fully opened through-cracks (2 crack sites; 4 softened), yield plateau 21.4 kN (f_y A = 20.1 kN,
 # +6.5 %; final branch +7.1 %; yield = sustained plastic flow of the bar), energy balance error
 # 5.2e-5; the first sub-contact softens at 4.7 kN and at the first crack the concrete carries
 # 1.33 f_T with 835 sub-contacts past their peak (README "Why first cracking reads high"). The
@@ -120,6 +120,9 @@ tessera_add_example_test(rc_tie
          "first_crack_error_rel LESS 0.6"
          "final_force_error_rel LESS 0.1"
          "cracks GREATER 0"
+         "crack_sites GREATER 0"
+         "crack_site_spacing_m GREATER 0.0302"
+         "crack_site_spacing_m LESS 0.0304"
          "bar_crossing_cracks GREATER 0"
          "softened_cracks GREATER 1"
          "energy_balance_error_rel LESS 0.01"

@@ -31,6 +31,8 @@
 //                    initial_stiffness_N_per_m and its error vs (E_c A_c + E_s A_s)/L and vs the
 //                    shear-lag value of the bonded tie, load_drops,
 //                    cracks (fully opened through-cracks), crack_positions_m,
+//                    crack_sites (those surfaces grouped where less than one mean cell size,
+//                    crack_site_spacing_m, apart) and crack_site_positions_m,
 //                    bar_crossing_cracks (those the bar crosses; a fragment split off by a
 //                    branching crack adds a separated piece but no crossing) and their positions,
 //                    softened_cracks,
@@ -215,6 +217,8 @@ int run(inputs in) {
   for (const auto& [u, f] : r.crack_formation) formation_u.push_back(u), formation_f.push_back(f);
   const real bare_error = tessera::scenes::curve_error(tessera::scenes::running_max(r.elongation), r.force, bare_u,
                                                        bare_f, hand.yield_force);
+  const real cell_size = std::cbrt(scene.prism.box.volume() / in.tie.blocks);  // mean cell size (m)
+  const std::vector<real> sites = tessera::scenes::crack_sites(r.cracks.positions, cell_size);
   io::summary_json js;
   js.set("example", "rc_tie")
       .set("blocks", in.tie.blocks)
@@ -262,6 +266,9 @@ int run(inputs in) {
       .set("load_drop_elongations_m", drop_elongations)
       .set("cracks", r.cracks.cracks)
       .set("crack_positions_m", r.cracks.positions)
+      .set("crack_sites", static_cast<std::int64_t>(sites.size()))
+      .set("crack_site_positions_m", sites)
+      .set("crack_site_spacing_m", cell_size)
       .set("bar_crossing_cracks", r.cracks.bar_crossings)
       .set("bar_crossing_crack_positions_m", r.cracks.bar_crossing_positions)
       .set("crack_opening_threshold_m", r.cracks.opening_threshold)
@@ -303,6 +310,9 @@ int run(inputs in) {
               hand.uncracked_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(),
               r.softened_cracks.cracks, r.cracks.cracks, r.cracks_normal_only.cracks);
   for (real z : r.cracks.positions) std::printf(" %.3f", z);
+  std::printf(" m;\n  %zu crack sites (surfaces less than one cell size, %.1f mm, apart merged) at z =", sites.size(),
+              cell_size * 1e3);
+  for (real z : sites) std::printf(" %.3f", z);
   std::printf(" m\n  first sub-contact softened at %.2f kN; at first crack the concrete carries %.2f MPa (%.2f f_T) with %lld"
               " of %lld sub-contacts past their peak\n  yield",
               r.first_softening_force * 1e-3, r.concrete_stress_at_first_crack * 1e-6,
