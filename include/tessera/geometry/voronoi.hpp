@@ -51,7 +51,8 @@ struct tessellation_options {
   /// Weld tolerance relative to the mean cell size (V_box / N)^(1/3); see cleanup.hpp.
   real cleanup_tolerance = 1e-9;
   /// Regularization: edges shorter than min_edge_rel x the mean cell size are collapsed
-  /// (geometry/regularize.hpp; 0 = off, the examples use study_regularization).
+  /// (geometry/regularize.hpp; 0 = off; the examples take it as --regularize, default 0, and the
+  /// README's regularised runs use study_regularization).
   real min_edge_rel = 0;
 };
 
