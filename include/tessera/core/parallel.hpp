@@ -56,33 +56,13 @@ void parallel_for(std::int64_t n, F&& f, std::int64_t grain = 256) {
   for (std::int64_t i = 0; i < n; ++i) f(i);
 }
 
-/// Calls f(i) for i in [0, n) and g(j) for j in [0, m) in ONE parallel region (two statically
-/// scheduled loops without a barrier between them), for two independent loops of a step: one
-/// fork/join instead of two. f and g must only write state owned by their index and must not
-/// depend on each other's results. Serial (f then g) when n + m < 2 grain or one thread.
-template <class F, class G>
-void parallel_for_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_t grain = 16) {
-#if defined(_OPENMP)
-  if (n + m >= 2 * grain && omp_get_max_threads() > 1) {
-#pragma omp parallel
-    {
-#pragma omp for schedule(static) nowait
-      for (std::int64_t i = 0; i < n; ++i) f(i);
-#pragma omp for schedule(static) nowait
-      for (std::int64_t j = 0; j < m; ++j) g(j);
-    }
-    return;
-  }
-#endif
-  (void)grain;
-  for (std::int64_t i = 0; i < n; ++i) f(i);
-  for (std::int64_t j = 0; j < m; ++j) g(j);
-}
-
-/// Like parallel_for_pair, but each thread gets its share of [0, n) as one contiguous range,
-/// f(begin, end) (thread t of T: [n t / T, n (t + 1) / T)), so f can prepare per-range data (say,
-/// the block rotations its items need) without a barrier; g(j) as in parallel_for_pair. f must
-/// only write state owned by its range. Serial f(0, n) then g when n + m < 2 grain or one thread.
+/// Two independent loops of a step in ONE parallel region (one fork/join instead of two): each
+/// thread gets its share of [0, n) as one contiguous range, f(begin, end) (thread t of T:
+/// [n t / T, n (t + 1) / T)), so f can prepare per-range data (say, the block rotations its items
+/// need) without a barrier, then runs its statically scheduled share of g(j), j in [0, m), with
+/// no barrier in between. f must only write state owned by its range and g state owned by j, and
+/// neither may depend on the other's results. Serial f(0, n) then g when n + m < 2 grain or one
+/// thread.
 template <class F, class G>
 void parallel_range_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_t grain = 16) {
 #if defined(_OPENMP)
