@@ -117,8 +117,11 @@ int run(const inputs& in) {
   const fs::path out = in.common.out;
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
   tessera::require(in.lloyd >= 0, "direct_tension: --lloyd ", in.lloyd, " must be >= 0");
-  tessera::require(std::isfinite(in.regularize) && in.regularize >= 0 && in.regularize <= 0.5,
-                   "direct_tension: --regularize ", in.regularize, " must lie in [0, 0.5]");
+  // geometry::regularize checks this too, but only once the first scene is built, after --out exists.
+  tessera::require(std::isfinite(in.regularize) && in.regularize >= 0 &&
+                       in.regularize <= tessera::geometry::max_regularization,
+                   "direct_tension: --regularize ", in.regularize, " must lie in [0, ",
+                   tessera::geometry::max_regularization, "]");
   tessera::require(std::isfinite(in.cohesion_ratio) && in.cohesion_ratio >= 0, "direct_tension: --cohesion-ratio ",
                    in.cohesion_ratio, " must be finite and >= 0");
   tessera::require(in.softening == "power" || in.softening == "linear", "direct_tension: --softening '", in.softening,

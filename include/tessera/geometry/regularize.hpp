@@ -90,6 +90,8 @@ namespace tessera::geometry {
 /// moved by up to 0.6 L (clusters; the max_shift_rel cap). 0.1 L leaves 4e-9 s (500 blocks, seed 2);
 /// below 0.2 a few refused collapses keep slivers.
 inline constexpr real study_regularization = 0.2;
+/// Largest accepted min_edge_rel: larger thresholds would collapse whole cells.
+inline constexpr real max_regularization = 0.5;
 
 /// What regularize() did.
 struct regularization_report {
@@ -316,8 +318,9 @@ struct collapse_state {
 /// whole cells).
 inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
   using namespace detail::edge_collapse;
-  require(std::isfinite(min_edge_rel) && min_edge_rel >= 0 && min_edge_rel <= 0.5,
-          "regularize: min_edge_rel = ", min_edge_rel, " must lie in [0, 0.5] (relative to the mean cell size)");
+  require(std::isfinite(min_edge_rel) && min_edge_rel >= 0 && min_edge_rel <= max_regularization,
+          "regularize: min_edge_rel = ", min_edge_rel, " must lie in [0, ", max_regularization,
+          "] (relative to the mean cell size)");
   regularization_report rep;
   if (tess.cell_count() <= 0) return rep;
   rep.threshold = min_edge_rel * std::cbrt(tess.domain.volume() / tess.cell_count());
