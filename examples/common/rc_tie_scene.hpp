@@ -202,7 +202,9 @@ struct load_drop {
 struct crack_report {
   int pieces = 1;                     ///< connected concrete pieces
   int cracks = 0;                     ///< pieces - 1
-  std::vector<real> positions;        ///< mean z of each separating crack surface (m), ascending
+  /// Mean z of each surface between two separated pieces (m), ascending: more surfaces than
+  /// cracks where three pieces touch pairwise (a slice that does not fill the section).
+  std::vector<real> positions;
   /// Cracks the bar crosses: changes of concrete piece from one bar node's host block to the
   /// next, walking the bar (-1 when the graph has no bar path). A fragment split off by a
   /// branching crack (a piece the bar does not pass through) adds a piece but no crossing.

@@ -30,7 +30,9 @@
 //                    concrete_stress_at_first_crack_Pa (and / f_T), softened_subcontacts_at_first_crack,
 //                    initial_stiffness_N_per_m and its error vs (E_c A_c + E_s A_s)/L and vs the
 //                    shear-lag value of the bonded tie, load_drops,
-//                    cracks (fully opened through-cracks), crack_positions_m,
+//                    cracks (fully opened through-cracks), crack_positions_m (mean z of each
+//                    surface between two separated pieces: one more than the cracks where three
+//                    pieces touch pairwise, as around a slice that does not fill the section),
 //                    crack_sites (those surfaces grouped where less than one mean cell size,
 //                    crack_site_spacing_m, apart) and crack_site_positions_m,
 //                    bar_crossing_cracks (those the bar crosses; a fragment split off by a
@@ -304,11 +306,12 @@ int run(inputs in) {
 
   std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (shear lag %.1f, error %.1f %%;"
               " perfect compatibility %.1f, error %.1f %%)\n"
-              "  load drops %zu, softened through-cracks %d, fully opened through-cracks %d (%d by u_n alone) at z =",
+              "  load drops %zu, softened through-cracks %d, fully opened through-cracks %d (%d by u_n alone), %zu"
+              " separating surfaces at z =",
               r.first_crack_force * 1e-3, hand.cracking_force * 1e-3, 100 * rel(r.first_crack_force, hand.cracking_force),
               r.initial_stiffness * 1e-6, hand.bonded_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.bonded_stiffness),
               hand.uncracked_stiffness * 1e-6, 100 * rel(r.initial_stiffness, hand.uncracked_stiffness), r.drops.size(),
-              r.softened_cracks.cracks, r.cracks.cracks, r.cracks_normal_only.cracks);
+              r.softened_cracks.cracks, r.cracks.cracks, r.cracks_normal_only.cracks, r.cracks.positions.size());
   for (real z : r.cracks.positions) std::printf(" %.3f", z);
   std::printf(" m;\n  %zu crack sites (surfaces less than one cell size, %.1f mm, apart merged) at z =", sites.size(),
               cell_size * 1e3);
