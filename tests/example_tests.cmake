@@ -196,6 +196,10 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
            COMMAND $<TARGET_FILE:rc_tie> --threads 1 --lloyd -1 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_bad_input)
   set_tests_properties(example_rc_tie_bad_input PROPERTIES LABELS example
     PASS_REGULAR_EXPRESSION "^rc_tie: Lloyd steps \\(--lloyd\\) = -1 must be >= 0\n$")
+  add_test(NAME example_rc_tie_bad_cohesion_ratio
+           COMMAND $<TARGET_FILE:rc_tie> --threads 1 --cohesion-ratio -1 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_bad_cohesion_ratio)
+  set_tests_properties(example_rc_tie_bad_cohesion_ratio PROPERTIES LABELS example
+    PASS_REGULAR_EXPRESSION "^rc_tie: --cohesion-ratio -1 must be finite and >= 0\n$")
   add_test(NAME example_rc_tie_help COMMAND $<TARGET_FILE:rc_tie> --help)
   set_tests_properties(example_rc_tie_help PROPERTIES LABELS example
     PASS_REGULAR_EXPRESSION "--out DIR.*--quick.*--seed N.*--threads N.*--blocks N.*--elements N.*--xi XI.*--cbond C.*--softening.*--rate V.*--rigid.*--bare")

@@ -66,6 +66,9 @@ struct tie_options {
   /// Lloyd relaxation steps of the tessellation (each generator moved to its cell centroid;
   /// geometry/voronoi.hpp): more uniform, rounder cells; 0 = plain random Voronoi.
   int lloyd = 0;
+  /// Initial cohesion of the concrete contacts c_0 / f_T (the study and DESIGN.md: 2; c_res =
+  /// 0.01 c_0 either way).
+  real cohesion_ratio = 2;
   bool bare = false;         ///< unbonded bar, concrete fixed (bare-bar reference run)
   bool rigid = false;        ///< rigid blocks (blocks::rigid; bond hosts are still the zones, no confinement)
 };
@@ -109,6 +112,8 @@ struct tie_scene {
   require_positive(o.xi, "rc_tie: bond stiffness ratio xi");
   require_positive(o.c_bond, "rc_tie: bond cohesion c_bond (N/m)");
   require(o.lloyd >= 0, "rc_tie: Lloyd steps (--lloyd) = ", o.lloyd, " must be >= 0");
+  require(std::isfinite(o.cohesion_ratio) && o.cohesion_ratio >= 0, "rc_tie: --cohesion-ratio ", o.cohesion_ratio,
+          " must be finite and >= 0");
   tie_scene t;
   t.options = o;
   prism_options po;
@@ -117,6 +122,8 @@ struct tie_scene {
   po.tessellation.min_edge_rel = o.regularize;
   po.tessellation.lloyd_iterations = o.lloyd;
   t.prism = make_prism(po);
+  t.prism.contact.shear.c_0 = o.cohesion_ratio * t.prism.contact.tension.f_T;
+  t.prism.contact.shear.c_res = 0.01 * t.prism.contact.shear.c_0;
   const vec3 lo = t.prism.box.lo, hi = t.prism.box.hi;
   const vec3 start(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
   const vec3 end(start.x(), start.y(), hi.z());

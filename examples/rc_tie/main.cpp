@@ -3,7 +3,8 @@
 //
 // Experiment (examples/common/rc_tie_scene.hpp has the full scene description):
 //   specimen  68 x 68 x 600 mm prism (long axis z), --blocks random Voronoi blocks, deformable
-//             semi-rigid (10 x 28 GPa), Table 1 contacts, power (default) or linear softening
+//             semi-rigid (10 x 28 GPa), Table 1 contacts (cohesion c_0 = --cohesion-ratio x f_T,
+//             2 by default), power (default) or linear softening
 //   bar       Ø8 mm on the axis, E_s = 192.3 GPa, f_y = 400 MPa, --elements truss elements,
 //             bond ratio --xi (per unit bar length by default, --bond-basis), bond cohesion
 //             --cbond (N/m)
@@ -234,6 +235,7 @@ int run(inputs in) {
       .set("c_bond_N_per_m", in.tie.c_bond)
       .set("softening", in.loading.softening)
       .set("cohesion", in.loading.cohesion)
+      .set("cohesion_ratio", in.tie.cohesion_ratio)
       .set("slip_breaks_tension", in.loading.slip_breaks_tension)
       .set("rigid", in.tie.rigid)
       .set("bare", in.tie.bare)
@@ -355,6 +357,7 @@ int main(int argc, char** argv) {
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
              "f_t/f_T; power softening, deformable blocks)",
              "decoupled|coupled");
+  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R");
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V");
