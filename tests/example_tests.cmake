@@ -100,6 +100,18 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_lloyd_quick
          "peak_shear_part_Pa LESS 6e5"
          "energy_balance_error_rel LESS 0.01"
   TIMEOUT 300)
+# The same reduced run with the cohesion calibrated to c_0 = 1.2 f_T (--cohesion-ratio 1.2; the
+# study and the default: 2): the issue's tolerance, peak within 5 % of f_T, which this cohesion
+# meets for 100, 250 and 500 blocks (README "Known gaps": full runs -1.5...+2.2 %). Measured
+# (quick, seed 1): -1.3 %, shear part over the crack 0.28 MPa (c_0 = 2 f_T: +13.2 %, 0.89 MPa).
+tessera_add_example_test(direct_tension NAME example_direct_tension_calibrated_cohesion_quick
+  ARGS --quick --seed 1 --threads 1 --cohesion-ratio 1.2
+  FILES curve.csv
+  CHECKS "peak_error_rel LESS 0.05"
+         "peak_error_rel GREATER -0.05"
+         "peak_shear_part_Pa LESS 5e5"
+         "energy_balance_error_rel LESS 0.01"
+  TIMEOUT 300)
 # The same reduced run on regularised cells (--regularize 0.2: edges shorter than 0.2 x the mean
 # cell size collapsed, as Neper does; README "Regularised cells"). Measured (quick, seed 1): 1526
 # sub-contacts and 2010 zones (plain 2079 and 3004), peak +8.1 % (plain +13.2 %), 2.6 s. The checks
