@@ -121,9 +121,8 @@ struct tie_scene {
   po.seed = o.seed;
   po.tessellation.min_edge_rel = o.regularize;
   po.tessellation.lloyd_iterations = o.lloyd;
+  po.cohesion_ratio = o.cohesion_ratio;
   t.prism = make_prism(po);
-  t.prism.contact.shear.c_0 = o.cohesion_ratio * t.prism.contact.tension.f_T;
-  t.prism.contact.shear.c_res = 0.01 * t.prism.contact.shear.c_0;
   const vec3 lo = t.prism.box.lo, hi = t.prism.box.hi;
   const vec3 start(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
   const vec3 end(start.x(), start.y(), hi.z());

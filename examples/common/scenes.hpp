@@ -7,7 +7,7 @@
 //   geometry  68 x 68 x 600 mm box, long axis z, `blocks` random Voronoi blocks (seed)
 //   blocks    semi-rigid: E_block = 10 E = 280 GPa, nu = 0.2, rho = 2400 kg/m^3
 //   contacts  Table 1 stiffnesses for the block count, f_T = 2.15 MPa, G_f = 60 N/m,
-//             c_0 = 2 f_T, c_res = 0.01 c_0, phi_0 = 35 deg, phi_res = 30 deg, power softening
+//             c_0 = 2 f_T (prism_options::cohesion_ratio), c_res = 0.01 c_0, phi_0 = 35 deg, phi_res = 30 deg, power softening
 //             (alpha = 3) or linear softening
 
 #include <cstdint>
@@ -34,6 +34,9 @@ struct prism_options {
   std::uint64_t seed = 1;                  ///< tessellation seed
   vec3 size = vec3(0.068, 0.068, 0.6);     ///< box edge lengths (m), long axis z
   real zone_edge = 0;                      ///< zoning target edge (m), 0 = one zone per face triangle
+  /// Initial cohesion of the contacts c_0 / f_T (the study and DESIGN.md: 2); c_res = 0.01 c_0.
+  /// The drivers check it (finite, >= 0) before they create their output folder.
+  real cohesion_ratio = 2;
   /// Regularisation of the random tessellation (Lloyd steps, minimum generator spacing, ...);
   /// the default is a plain Poisson-Voronoi tessellation.
   geometry::tessellation_options tessellation{};
@@ -54,6 +57,8 @@ struct prism_scene {
 [[nodiscard]] inline prism_scene make_prism(const prism_options& o) {
   prism_scene s;
   s.contact = law::study_prism_params(o.blocks);
+  s.contact.shear.c_0 = o.cohesion_ratio * s.contact.tension.f_T;
+  s.contact.shear.c_res = 0.01 * s.contact.shear.c_0;
   s.box.lo = vec3::Zero();
   s.box.hi = o.size;
   s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed, o.tessellation);

@@ -88,10 +88,9 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   po.seed = seed;
   po.tessellation.lloyd_iterations = in.lloyd;
   po.tessellation.min_edge_rel = in.regularize;
+  po.cohesion_ratio = in.cohesion_ratio;
   scene = scenes::make_prism(po);
   scene.contact.shear.slip_breaks_tension = in.slip_breaks_tension;
-  scene.contact.shear.c_0 = in.cohesion_ratio * scene.contact.tension.f_T;
-  scene.contact.shear.c_res = 0.01 * scene.contact.shear.c_0;
   scenes::tension_loading loading = in.loading;
   loading.keep_fields = keep_fields;
   loading.threads = in.common.threads;
