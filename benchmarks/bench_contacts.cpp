@@ -1,4 +1,4 @@
-// Cost of the per-step contact kernel, contact::subcontact_set::update (frames per face, law
+// Cost of the per-step contact kernel, contact::face_contacts::update (frames per face, law
 // update and force buffer per sub-contact, gather onto gridpoints), on the study's plain
 // concrete prism.
 //
@@ -20,7 +20,7 @@
 #include <random>
 #include <tessera/contact.hpp>
 #include <tessera/geometry.hpp>
-#include <tessera/law/aliases.hpp>
+#include <tessera/presets.hpp>
 
 // Nested in tessera so `index` is tessera::index, not POSIX ::index.
 namespace tessera::bench_contacts {
@@ -53,7 +53,7 @@ void subcontact_update(benchmark::State& state) {
   const int previous_threads = max_threads();
   set_threads(threads);
   prism_scene scene(100);
-  contact::subcontact_set<Law> contacts(scene.tess, scene.mesh, law::study_prism_params(100));
+  contact::face_contacts<Law> contacts(scene.tess, scene.mesh, law::study_prism_params(100));
   const real dt = 1e-6;
   real signed_dt = dt;
   for (auto _ : state) {

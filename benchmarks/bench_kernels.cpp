@@ -8,6 +8,7 @@
 #include <benchmark/benchmark.h>
 
 #include "common/scenes.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 
 namespace {

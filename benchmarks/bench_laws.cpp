@@ -1,4 +1,4 @@
-// Cost of one contact-law update per sub-contact, for each named law (law/aliases.hpp).
+// Cost of one contact-law update per sub-contact, for each named law (presets/pulatsu2020.hpp).
 //
 // Workload: 4096 sub-contact states (a few solver faces' worth, 352 KiB of state, so the loop runs
 // from L2 as it would in a solver sweep) with precomputed random unit normals and increments. Each
@@ -17,6 +17,7 @@
 
 #include <random>
 #include <tessera/law.hpp>
+#include <tessera/presets.hpp>
 #include <vector>
 
 namespace {

@@ -1,5 +1,5 @@
 // Tests for contact/: sub-contact creation from a conforming tessellation, contact kinematics and
-// the per-step force kernel of contact::subcontact_set (include/tessera/contact/subcontact_set.hpp).
+// the per-step force kernel of contact::face_contacts (include/tessera/contact/face_contacts.hpp).
 //
 // Scenes are built by hand so the tests depend only on the tessellation/block_mesh data layout:
 // brick_tessellation() makes an nx x ny x nz grid of hexahedral cells with welded vertices
@@ -18,10 +18,10 @@
 #include <numbers>
 #include <random>
 #include <string>
-#include <tessera/contact/subcontact_set.hpp>
+#include <tessera/contact/face_contacts.hpp>
+#include <tessera/presets.hpp>
 #include <tessera/geometry/voronoi.hpp>
 #include <tessera/geometry/zoning.hpp>
-#include <tessera/law/aliases.hpp>
 #include <vector>
 
 // ---- allocation counter: replaces the global operator new of this test executable ----
@@ -114,6 +114,8 @@ struct elastic_brittle_law {
   }
 };
 static_assert(law::ContactLaw<elastic_brittle_law>);
+static_assert(contact::ContactSet<contact::face_contacts<elastic_brittle_law>>);
+static_assert(contact::ContactSet<contact::face_contacts<law::with_elastic_packs<law::study_tie_law>>>);
 
 /// nx x ny x nz hexahedral cells filling [0, size]; interior vertices moved by up to `jitter`
 /// times the cell size in each direction (faces stay conforming, no longer planar).
@@ -281,7 +283,7 @@ struct two_cubes {
 TEST_CASE("two cubes: one sub-contact per face node pair, areas sum to the face area, normal +x", "[contacts]") {
   two_cubes scene;
   REQUIRE(scene.tess.shared_faces.size() == 1);
-  const contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
+  const contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
   REQUIRE(set.size() == 4);
   REQUIRE(set.face_count() == 1);
   real total = 0;
@@ -309,7 +311,7 @@ TEST_CASE("two cubes: one sub-contact per face node pair, areas sum to the face 
 TEST_CASE("areas sum to the face area and normals are unit A->B on a jittered brick grid", "[contacts]") {
   const auto tess = brick_tessellation(3, 3, 2, vec3(0.3, 0.3, 0.2), 0.2, 7);
   const auto mesh = face_mesh(tess);
-  const contact::subcontact_set<elastic_brittle_law> set(tess, mesh, {1e12, 4e11});
+  const contact::face_contacts<elastic_brittle_law> set(tess, mesh, {1e12, 4e11});
   REQUIRE(set.face_count() == static_cast<index>(tess.shared_faces.size()));
   REQUIRE(set.size() == 4 * set.face_count());
   for (index s = 0; s < set.face_count(); ++s) {
@@ -344,7 +346,7 @@ TEST_CASE("areas sum to the face area and normals are unit A->B on a jittered br
 TEST_CASE("opening: restoring force k_n u_n area while elastic, on both nodes, with the stored energy", "[contacts]") {
   two_cubes scene;
   const real k_n = 1e12, k_s = 4e11;
-  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
+  contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
   const real dt = 1e-6, speed = 1e-3;  // opening 1e-9 m per step
   set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(speed, 0, 0));
   for (int k = 1; k <= 20; ++k) {
@@ -375,7 +377,7 @@ TEST_CASE("opening: restoring force k_n u_n area while elastic, on both nodes, w
 TEST_CASE("shear slide: force k_s slip area against the slip, no normal force", "[contacts]") {
   two_cubes scene;
   const real k_n = 1e12, k_s = 4e11;
-  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
+  contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
   const real dt = 1e-6;
   const vec3 v(0, 2e-3, -1e-3);
   set_block_velocity(scene.gridpoints, scene.mesh, 1, v);
@@ -399,7 +401,7 @@ TEST_CASE("linear softening: force-opening curve = law x face area, separation d
   p.shear.c_res = 4e4;
   p.shear.phi_0 = law::friction_angle::from_degrees(35);
   p.shear.phi_res = law::friction_angle::from_degrees(30);
-  contact::subcontact_set<law::linear_tie_law> set(scene.tess, scene.mesh, p);
+  contact::face_contacts<law::linear_tie_law> set(scene.tess, scene.mesh, p);
   const real dt = 1e-6;
   const real du = 2e-7;  // eta / 10: steps land on the peak and on zeta (exact trapezoidal bookkeeping)
   set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(du / dt, 0, 0));
@@ -437,7 +439,7 @@ TEST_CASE("Coulomb shear: k_s slip area up to c_0 - sigma_n tan phi_0, then the 
   p.shear.c_res = 4e4;
   p.shear.phi_0 = law::friction_angle::from_degrees(35);
   p.shear.phi_res = law::friction_angle::from_degrees(30);
-  contact::subcontact_set<law::linear_tie_law> set(scene.tess, scene.mesh, p);
+  contact::face_contacts<law::linear_tie_law> set(scene.tess, scene.mesh, p);
   const real dt = 1e-6;
   // Precompress by 1e-6 m (sigma_n = -1 MPa) in one step, then slide B along +y.
   set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(-1.0, 0, 0));
@@ -478,7 +480,7 @@ TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with 
   for (const bool preload : {false, true}) {
     DYNAMIC_SECTION((preload ? "open and sheared contact" : "unloaded contact")) {
       two_cubes scene;
-      contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
+      contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s});
       const vec3 opening(2e-7, 0, 0), slip(0, 1e-7, -0.5e-7);
       if (preload) {
         set_block_velocity(scene.gridpoints, scene.mesh, 1, (opening + slip) / dt);
@@ -520,7 +522,7 @@ TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with 
 
 TEST_CASE("initialize_frames: frames from displaced positions, no spurious increment on the next step", "[contacts]") {
   two_cubes scene;
-  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
+  contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
   const mat3 r = Eigen::AngleAxis<real>(std::numbers::pi / 2, vec3(0, 0, 1)).toRotationMatrix();
   for (index i = 0; i < scene.gridpoints.size(); ++i) {
     const vec3 x = scene.gridpoints.reference.row(i).transpose();
@@ -541,7 +543,7 @@ TEST_CASE("initialize_frames: frames from displaced positions, no spurious incre
 
 TEST_CASE("stiffness bound: Gershgorin row sum for any normal, attained, accumulated on both nodes", "[contacts]") {
   const real k_n = 1e12, k_s = 4e11;
-  using set_type = contact::subcontact_set<elastic_brittle_law>;
+  using set_type = contact::face_contacts<elastic_brittle_law>;
   const real bound = set_type::stiffness_row_bound_per_area({k_n, k_s});
   CHECK(bound == Approx(k_s + (k_n - k_s) * (1 + std::sqrt(3.0)) / 2).epsilon(1e-15));
   const auto row_max = [&](const vec3& n) {
@@ -574,7 +576,7 @@ TEST_CASE("stiffness bound: Gershgorin row sum for any normal, attained, accumul
 TEST_CASE("brittle break: broken area, fully broken faces and dissipated energy per sub-contact", "[contacts]") {
   two_cubes scene;
   const real k_n = 1e12, k_s = 4e11, f_t = 1e6;
-  contact::subcontact_set<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s, f_t});
+  contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {k_n, k_s, f_t});
   const real dt = 1e-6;
   // B opens along x, tilting about the z axis: v_x = w (y + 0.5), so nodes at y = 1 open 3x faster.
   const real w = 2e-3;
@@ -605,7 +607,7 @@ TEST_CASE("brittle break: broken area, fully broken faces and dissipated energy 
 }
 
 TEST_CASE("bad pairing and bad input throw with the shared face, its cells and the value", "[contacts]") {
-  using set_type = contact::subcontact_set<elastic_brittle_law>;
+  using set_type = contact::face_contacts<elastic_brittle_law>;
   const elastic_brittle_law::params p{1e12, 4e11};
   const auto tess = brick_tessellation(2, 2, 1, vec3(2, 2, 1));
   const auto good = face_mesh(tess);
@@ -666,7 +668,7 @@ std::pair<soa3, std::vector<real>> random_run(int threads, const geometry::tesse
   const int previous_threads = max_threads();
   set_threads(threads);
   auto g = gridpoints_of(mesh);
-  contact::subcontact_set<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
+  contact::face_contacts<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
   std::mt19937 rng(5);
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
   const real dt = 1e-7;
@@ -735,7 +737,7 @@ TEST_CASE("random Voronoi + zone_blocks: face areas and normals of every shared 
   for (const real h : {0.0, 0.01}) {
     DYNAMIC_SECTION("zoning target edge length " << h << " m") {
       const auto mesh = geometry::zone_blocks(tess, {h});
-      const contact::subcontact_set<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
+      const contact::face_contacts<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
       REQUIRE(set.face_count() == static_cast<index>(tess.shared_faces.size()));
       index expected_size = 0, polygon_vertices = 0;
       for (index s = 0; s < set.face_count(); ++s) {
@@ -759,7 +761,7 @@ TEST_CASE("update allocates nothing", "[contacts]") {
   const auto tess = brick_tessellation(6, 5, 4, vec3(0.6, 0.5, 0.4), 0.2, 13);
   const auto mesh = face_mesh(tess);
   auto g = gridpoints_of(mesh);
-  contact::subcontact_set<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
+  contact::face_contacts<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
   g.velocity.setConstant(1e-3);
   step(set, g, 1e-7);  // warm up (thread pool)
   allocation_count = 0;
@@ -776,7 +778,7 @@ namespace {
 static_assert(law::ElasticPackLaw<law::study_tie_law> && law::ElasticPackLaw<law::study_beam_law> &&
               law::ElasticPackLaw<law::coupled_tie_law>);
 
-/// study_tie_law without its pack path: subcontact_set runs Law::update on every sub-contact.
+/// study_tie_law without its pack path: face_contacts runs Law::update on every sub-contact.
 struct scalar_tie_law : law::study_tie_law {
   static constexpr bool elastic_pack = false;
 };
@@ -914,7 +916,7 @@ void check_pack_against_scalar(const typename Law::params& p, std::size_t count,
   std::array<std::vector<real>, 3> force;
   for (auto& column : force) column.assign(count, 0.0);
   for (std::size_t i = 0; i < count; ++i) {
-    columns.set(i, pop.states[i]);
+    columns.set(i, pop.states[i], p);
     step.du_n[i] = pop.du_n[i];
     step.ds0[i] = pop.du_s[i][0];
     step.ds1[i] = pop.du_s[i][1];
@@ -1005,10 +1007,10 @@ TEST_CASE("elastic pack path: a set with it and one without give the same bits o
   const auto mesh = geometry::zone_blocks(tess);
   auto g_pack = gridpoints_of(mesh);
   auto g_scalar = gridpoints_of(mesh);
-  contact::subcontact_set<law::with_elastic_packs<law::study_tie_law>> pack(tess, mesh, law::study_prism_params(100));
-  contact::subcontact_set<law::study_tie_law> scalar(tess, mesh, law::study_prism_params(100));
+  contact::face_contacts<law::with_elastic_packs<law::study_tie_law>> pack(tess, mesh, law::study_prism_params(100));
+  contact::face_contacts<law::study_tie_law> scalar(tess, mesh, law::study_prism_params(100));
   static_assert(decltype(pack)::packed && !decltype(scalar)::packed);
-  static_assert(!contact::subcontact_set<law::with_elastic_packs<scalar_tie_law>>::packed);
+  static_assert(!contact::face_contacts<law::with_elastic_packs<scalar_tie_law>>::packed);
   std::mt19937 rng(9);
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
   bool all_same = true;

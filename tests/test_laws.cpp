@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 #include <tessera/law.hpp>
+#include <tessera/presets.hpp>
 
 using namespace tessera;
 using namespace tessera::law;

@@ -17,6 +17,7 @@
 
 #include "tessera/blocks.hpp"
 #include "tessera/integrator.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
@@ -263,7 +264,7 @@ TEST_CASE("deformable blocks reject inverted zones", "[mechanics][zones]") {
 namespace {
 
 using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
-using undamped_solver = solver<deformable_blocks, law::study_tie_law, reinforcement::none,
+using undamped_solver = solver<deformable_blocks, contact::face_contacts<law::study_tie_law>, reinforcement::none,
                                integrator::central_difference<integrator::no_damping>, checks::no_step_checker>;
 
 }  // namespace
@@ -659,6 +660,70 @@ TEST_CASE("two blocks pulled apart follow the contact law times the face area", 
   CHECK(e.contact_dissipated_tension == Approx(expected).epsilon(0.01));
   INFO("W = " << e.boundary_work << " J, accounted " << e.accounted() << " J");
   CHECK(e.error_rel() < 0.01);
+}
+
+// Materials per block and per contact pair (contact::material_table): a column of three concrete
+// blocks between two steel end plates, compressed along its axis. Blocks of edge a stacked along
+// z; each block is a spring E A / a, each interface k_n A, all in series:
+//     1/K = 2 a/(E_s A) + 3 a/(E_c A) + 2/(k_cc A) + 2/(k_pc A)
+// (two plates, three concrete blocks, two concrete-concrete and two plate-concrete interfaces).
+// Poisson's ratio is zero in both materials, so no lateral mismatch shears the interfaces and the
+// series value is exact; the dynamic-relaxation run settles to it (checked within 1 %).
+// A never-bonded plate-concrete pair then carries no tension when the column is pulled.
+TEST_CASE("materials: concrete column between steel plates has the series stiffness, never-bonded pairs carry no tension",
+          "[mechanics][solver][materials]") {
+  const real a = 0.05, area = a * a;
+  const auto tess = test::box_column(vec3::Zero(), vec3(a, a, a), 5);
+  auto mesh = geometry::zone_blocks(tess);
+  mesh.block_material = {1, 0, 0, 0, 1};  // 0 concrete, 1 steel
+  const zones::linear_elastic_tet::params concrete{30e9, 0.0, 2400}, steel{200e9, 0.0, 7850};
+  auto concrete_concrete = law::study_prism_params(100);
+  auto plate_concrete = concrete_concrete;
+  plate_concrete.k_n = 300e9;  // the plate interfaces on their own (softer) stiffness, Pa/m
+  plate_concrete.k_s = 120e9;
+  using column_solver = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<law::study_tie_law>>;
+  const column_solver::block_materials materials{{concrete, steel}};
+  solver_options opt;
+  opt.mass_scaling_dt = 2e-6;
+
+  const auto run = [&](const contact::material_table<law::study_tie_law::params>& table, real velocity, int steps) {
+    column_solver s(tess, mesh, materials, table, {}, opt);
+    s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+    const auto top = s.gridpoints_on_plane(2, 5 * a, 1e-9);
+    s.fix(top, bc::transverse_to(2));
+    s.prescribe_velocity(top, vec3(0, 0, velocity), bc::components::z);
+    s.run(steps);
+    bc::release(s.gridpoints(), top, bc::components::z);  // hold, let the damping settle
+    s.fix(top, bc::components::z);
+    s.run(4 * steps);
+    const real force = recorders::reaction_sum(s.gridpoints(), top).z();
+    const real displacement = recorders::mean_displacement(s.gridpoints(), top).z();
+    return std::pair{force, displacement};
+  };
+
+  contact::material_table<law::study_tie_law::params> table(concrete_concrete);
+  table.set(0, 1, plate_concrete);
+  const auto [force, displacement] = run(table, -0.002, 5000);  // 10 um of shortening
+  REQUIRE(displacement < 0);
+  const real compliance = 2 * a / (steel.young * area) + 3 * a / (concrete.young * area) + 2 / (concrete_concrete.k_n * area) +
+                          2 / (plate_concrete.k_n * area);
+  INFO("F = " << force << " N, u = " << displacement << " m");
+  CHECK(force / displacement == Approx(1 / compliance).epsilon(0.01));
+  // The plate interfaces matter: with concrete-concrete stiffness everywhere the column is stiffer.
+  const real uniform = 2 * a / (steel.young * area) + 3 * a / (concrete.young * area) + 4 / (concrete_concrete.k_n * area);
+  CHECK(1 / uniform > 1.05 / compliance);
+
+  // Never bonded (c_res = 0: frictional only): pulled apart, the plate leaves the concrete with no force.
+  auto frictional = plate_concrete;
+  frictional.shear.c_res = 0;
+  contact::material_table<law::study_tie_law::params> unbonded(concrete_concrete);
+  unbonded.never_bonded(0, 1, frictional);
+  const auto [pull_force, pull_displacement] = run(unbonded, 0.002, 5000);
+  REQUIRE(pull_displacement > 0);
+  CHECK(std::abs(pull_force) < 1e-9 * std::abs(force));
+  // The same pull on the bonded table is resisted (the interfaces are bonded in tension).
+  const auto [bonded_force, bonded_displacement] = run(table, 0.002, 5000);
+  CHECK(bonded_force / bonded_displacement == Approx(1 / compliance).epsilon(0.01));
 }
 
 // A crack face inclined at theta to the cross-section, between two ends that cannot move

@@ -15,6 +15,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include "tessera/presets.hpp"
 #include "tessera/reinforcement.hpp"
 
 using namespace tessera;
@@ -574,7 +575,7 @@ geometry::tessellation box_cell(const vec3& lo, const vec3& hi) { return test::b
 }  // namespace
 
 TEST_CASE("solver with embedded_truss: Coulomb pull-out from a fixed zoned block, energy balance", "[reinforcement][solver]") {
-  using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::study_tie_law, truss>;
+  using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<law::study_tie_law>, truss>;
   const real a = 0.068, length = 0.3, c_bond = 1e4;
   const auto tess = box_cell(vec3(0, 0, 0), vec3(a, a, length));
   const auto mesh = geometry::zone_blocks(tess);  // one zone per face triangle: hosts are large tets

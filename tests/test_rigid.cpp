@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 
 #include "tessera/blocks.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/integrator.hpp"
@@ -83,7 +84,7 @@ mat3 block_inertia_reference(const blocks::rigid& r, idx b) {
 
 using undamped = integrator::central_difference<integrator::no_damping>;
 using rigid_undamped_solver =
-    solver<blocks::rigid, law::study_tie_law, reinforcement::none, undamped, checks::no_step_checker>;
+    solver<blocks::rigid, contact::face_contacts<law::study_tie_law>, reinforcement::none, undamped, checks::no_step_checker>;
 
 }  // namespace
 
@@ -419,7 +420,7 @@ TEST_CASE("two rigid blocks pulled apart follow the law times the face area", "[
   p.tension.f_T = power.tension.f_T;
   p.tension.G_f = power.tension.G_f;
   p.shear = power.shear;
-  solver<blocks::rigid, law::linear_tie_law> s(tess, mesh, {2400}, p);
+  solver<blocks::rigid, contact::face_contacts<law::linear_tie_law>> s(tess, mesh, {2400}, p);
   s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
   const auto top = s.gridpoints_on_plane(2, 2 * a, 1e-9);
   const real rate = 0.002;  // m/s

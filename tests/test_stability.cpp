@@ -31,6 +31,7 @@
 #include <Eigen/Dense>
 
 #include "tessera/blocks.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/geometry.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
@@ -55,10 +56,10 @@ geometry::tessellation cube_column(int n, real a) { return test::box_column(vec3
 
 using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
 using truss = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
-using undamped_solver = solver<deformable_blocks, law::study_tie_law, reinforcement::none,
+using undamped_solver = solver<deformable_blocks, contact::face_contacts<law::study_tie_law>, reinforcement::none,
                                integrator::central_difference<integrator::no_damping>>;
-using tie_solver = solver<deformable_blocks, law::study_tie_law, truss>;
-using undamped_tie_solver = solver<deformable_blocks, law::study_tie_law, truss,
+using tie_solver = solver<deformable_blocks, contact::face_contacts<law::study_tie_law>, truss>;
+using undamped_tie_solver = solver<deformable_blocks, contact::face_contacts<law::study_tie_law>, truss,
                                    integrator::central_difference<integrator::no_damping>>;
 
 const zones::linear_elastic_tet::params concrete_block{280e9, 0.2, 2400};
@@ -293,7 +294,7 @@ TEST_CASE("step checker: non-finite state and the checker policy", "[stability][
                                         Catch::Contains("fastest node") && Catch::Contains("of block"));
   }
   SECTION("no_step_checker is removed at compile time: the run continues into NaN") {
-    using unchecked = solver<deformable_blocks, law::study_tie_law, reinforcement::none,
+    using unchecked = solver<deformable_blocks, contact::face_contacts<law::study_tie_law>, reinforcement::none,
                              integrator::central_difference<integrator::local_damping>, checks::no_step_checker>;
     static_assert(!checks::no_step_checker::enabled && checks::default_step_checker::enabled);
     unchecked s(tess, mesh, concrete_block, elastic_contact(1e12, 4e11));

@@ -16,6 +16,7 @@
 #include "../examples/common/cli.hpp"
 #include "tessera/geometry/polygon_triangulation.hpp"
 #include "tessera/geometry/regularize.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/geometry/tessellation_queries.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"

@@ -39,6 +39,7 @@
 #include "common/scenes.hpp"
 #include "tessera/core/errors.hpp"
 #include "tessera/reinforcement/embedded_truss.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 
 namespace tessera::scenes {
@@ -48,7 +49,7 @@ using tie_bar = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
 /// contact set's pack path (law::with_elastic_packs: same bits as Law without FMA contraction,
 /// faster on the tie), the embedded bar.
 template <class Blocks, class Law>
-using tie_solver = solver<Blocks, law::with_elastic_packs<Law>, tie_bar>;
+using tie_solver = solver<Blocks, presets::bonded_faces<Law>, tie_bar>;
 using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
 
 struct tie_options {

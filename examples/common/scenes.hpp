@@ -13,12 +13,12 @@
 #include <cstdint>
 
 #include "tessera/blocks/linear_elastic_tet.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/core/types.hpp"
 #include "tessera/geometry/block_mesh.hpp"
 #include "tessera/geometry/tessellation.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
-#include "tessera/law/aliases.hpp"
 
 namespace tessera::scenes {
 

@@ -103,7 +103,7 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   }
   if (in.rigid) {
     if (in.softening == "power") return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, loading);
-    return scenes::run_direct_tension<tessera::solver<tessera::blocks::rigid, tessera::law::linear_tie_law>>(
+    return scenes::run_direct_tension<tessera::solver<tessera::blocks::rigid, tessera::contact::face_contacts<tessera::law::linear_tie_law>>>(
         scene, tessera::law::with_linear_softening(scene.contact), loading);
   }
   if (in.softening == "power") return scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, loading);

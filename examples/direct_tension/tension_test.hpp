@@ -68,6 +68,7 @@
 #include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 
 namespace tessera::scenes {
@@ -114,7 +115,7 @@ struct tension_snapshot {
       contact_position[k] = c.position(i, s.gridpoints());
       contact_normal[k] = c.normal(i);
       contact_tau[k] = vec3(st.tau);
-      damage[k] = law::tensile_damage(c.params(), st);
+      damage[k] = law::tensile_damage(c.subcontact_params(k), st);
       opening[k] = st.u_n;
       sigma_n[k] = st.sigma_n;
       status[k] = static_cast<std::int32_t>(law::status(st));
@@ -353,7 +354,7 @@ template <class Solver, class LawParams>
       if (tessera::law::has(flags, tessera::law::contact_status::slipped)) r.shear_crack_area += a;
     }
     const auto k = static_cast<std::size_t>(i);
-    if (k < r.at_peak.sigma_n.size() && law::tensile_damage(c.params(), st) >= 0.5) {
+    if (k < r.at_peak.sigma_n.size() && law::tensile_damage(c.subcontact_params(i), st) >= 0.5) {
       const real nz_peak = r.at_peak.contact_normal[k].z();
       r.peak_crack_area += a;
       r.peak_crack_projected_area += a * std::abs(nz_peak);

@@ -104,7 +104,7 @@ class snapshot_writer {
         const auto k = static_cast<std::size_t>(i);
         const auto& st = c.state(i);
         position[k] = c.position(i, s.gridpoints());
-        damage[k] = law::tensile_damage(c.params(), st);
+        damage[k] = law::tensile_damage(c.subcontact_params(k), st);
         opening[k] = st.u_n;
         sigma_n[k] = st.sigma_n;
         status[k] = static_cast<std::int32_t>(law::status(st));

@@ -22,6 +22,7 @@
 #include "common/cli.hpp"
 #include "tessera/core/parallel.hpp"
 #include "tessera/geometry/regularize.hpp"
+#include "tessera/presets.hpp"
 #include "tessera/geometry/tessellation_queries.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"

@@ -1,4 +1,6 @@
 #pragma once
 // Module header for contact/. Owners add their headers here as they land.
 #include "core.hpp"
-#include "contact/subcontact_set.hpp"
+#include "contact/concepts.hpp"
+#include "contact/face_contacts.hpp"
+#include "contact/material_table.hpp"

@@ -6,4 +6,4 @@
 #include "law/compression.hpp"
 #include "law/shear.hpp"
 #include "law/cohesive_frictional.hpp"
-#include "law/aliases.hpp"
+#include "law/with_elastic_packs.hpp"

@@ -11,3 +11,4 @@
 #include "reinforcement.hpp"
 #include "integrator.hpp"
 #include "solver.hpp"
+#include "presets.hpp"

@@ -25,7 +25,7 @@ int main() {
   const auto contacts = law::study_prism_params(100);  // k_n, k_s, f_T, G_f, c, phi, alpha = 3
 
   // 3. the solver: deformable blocks, power-softening contacts, no bars, central differences
-  using model = solver<blocks::deformable<zones::linear_elastic_tet>, law::study_tie_law>;
+  using model = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<law::study_tie_law>>;
   solver_options options;
   options.mass_scaling_dt = 1e-6;  // quasi-static: masses scaled so this step is stable
   model s(tess, mesh, blocks, contacts, {}, options);

@@ -2,7 +2,7 @@
 // A contact that stays elastic in the tests: the study's law with strengths far above any stress
 // a test produces, and the given stiffnesses.
 
-#include "tessera/law/aliases.hpp"
+#include "tessera/presets.hpp"
 
 namespace tessera::test {
 

@@ -25,6 +25,8 @@
 // | B::is_rigid                         | constexpr bool: true when gridpoints are slaved to 6-DOF bodies |
 // | b.build(tess, mesh, p, gridpoints)  | validates p, precomputes, sizes gridpoints, sets reference       |
 // |                                     | positions and lumped masses (kg); throws on bad input            |
+// | b.build(tess, mesh, ms, gridpoints) | the same with a std::span of params, one per material id:       |
+// |                                     | block b takes ms[mesh.material(b)]                              |
 // | b.accumulate_forces(gridpoints)     | step 2: adds internal (zone) forces to gridpoints.force (N)      |
 // | b.add_stiffness_bounds(gridpoints)  | adds the Gershgorin row-sum bound of the block stiffness (N/m)   |
 // | b.advance(integ, gp, dt, work)      | steps 5-6: integrates the block DOFs with integrator `integ`,   |
@@ -35,6 +37,7 @@
 // | b.block_count()                     | number of blocks                                                 |
 
 #include <concepts>
+#include <span>
 #include <type_traits>
 
 #include <Eigen/Core>
@@ -73,6 +76,7 @@ concept BlockModel = requires(B& b, const B& cb, const geometry::tessellation& t
   typename B::params;
   typename std::bool_constant<B::is_rigid>;  // must be a compile-time constant
   { b.build(tess, mesh, p, gp) } -> std::same_as<void>;
+  { b.build(tess, mesh, std::span<const typename B::params>(&p, 1), gp) } -> std::same_as<void>;
   { b.accumulate_forces(gp) } noexcept -> std::same_as<void>;
   { cb.add_stiffness_bounds(gp) } -> std::same_as<void>;
   { cb.zone_stress() } -> std::convertible_to<const zone_stress_matrix&>;

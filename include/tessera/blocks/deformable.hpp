@@ -48,6 +48,7 @@
 #include <cmath>
 #include <concepts>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -75,11 +76,23 @@ class deformable {
   /// Validates the material, precomputes zone gradients and volumes, and sizes `gridpoints`
   /// (reference positions from the mesh, lumped masses, zero state). Throws invalid_input for a
   /// bad material and geometry_error for a zone of non-positive volume (naming zone and block).
-  void build(const geometry::tessellation& /*tess*/, const geometry::block_mesh& mesh, const params& p,
+  /// One material for every block.
+  void build(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params& p,
              node_set& gridpoints) {
-    Zone::validate(p);
-    params_ = p;
-    constants_ = Zone::prepare(p);
+    build(tess, mesh, std::span<const params>(&p, 1), gridpoints);
+  }
+  /// The same with one material per material id: block b takes materials[mesh.material(b)]
+  /// (geometry::block_mesh::block_material). Throws invalid_input for a bad material or a block
+  /// whose id has no entry.
+  void build(const geometry::tessellation& /*tess*/, const geometry::block_mesh& mesh,
+             std::span<const params> materials, node_set& gridpoints) {
+    require(!materials.empty(), "deformable blocks: no block material given");
+    materials_.assign(materials.begin(), materials.end());
+    constants_.clear();
+    for (const params& p : materials_) {
+      Zone::validate(p);
+      constants_.push_back(Zone::prepare(p));
+    }
     const index n_gp = mesh.gridpoint_count();
     const index n_z = mesh.zone_count();
     const index n_b = mesh.block_count();
@@ -88,6 +101,13 @@ class deformable {
     gridpoints.resize(n_gp);
     for (index i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
 
+    block_material_.resize(static_cast<std::size_t>(n_b));
+    for (index b = 0; b < n_b; ++b) {
+      const int m = mesh.material(b);
+      require(m >= 0 && static_cast<std::size_t>(m) < materials_.size(), "deformable blocks: block ", b,
+              " has material id ", m, ", but ", materials_.size(), " block material(s) were given");
+      block_material_[static_cast<std::size_t>(b)] = m;
+    }
     zone_block_ = mesh.zone_block;
     gridpoint_block_ = mesh.gridpoint_block;
     block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
@@ -95,7 +115,6 @@ class deformable {
     for (auto& g : gradient_) g.resize(static_cast<std::size_t>(n_z));
     volume_.resize(static_cast<std::size_t>(n_z));
     std::vector<real> block_volume(static_cast<std::size_t>(n_b), 0.0);
-    const real rho = Zone::density(p);
     for (index z = 0; z < n_z; ++z) {
       const auto zs = static_cast<std::size_t>(z);
       const auto& c = mesh.zones[zs];
@@ -126,6 +145,7 @@ class deformable {
         for (int k = 0; k < 3; ++k) gradient_[at(3 * a + k)][zs] = j_inv(a - 1, k);
       for (std::size_t k = 0; k < 3; ++k)
         gradient_[k][zs] = -(gradient_[3 + k][zs] + gradient_[6 + k][zs] + gradient_[9 + k][zs]);
+      const real rho = Zone::density(material_of_block(mesh.zone_block[zs]));
       for (std::size_t a = 0; a < 4; ++a) gridpoints.mass[c[a]] += rho * volume / 4;
       block_volume[static_cast<std::size_t>(zone_block_[zs])] += volume;
     }
@@ -226,9 +246,10 @@ class deformable {
   void add_zone_forces(index t, node_set& gridpoints) noexcept {
     const real* const u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                               gridpoints.displacement.col(2).data()};
-    for (index k = task_run_offsets_[at(t)]; k < task_run_offsets_[at(t) + 1]; ++k)
-      zone_kernel(constants_, u, at(task_runs_[at(k)]));
     const auto b = at(task_block_[at(t)]);
+    const typename Zone::constants& constants = constants_[at(block_material_[b])];
+    for (index k = task_run_offsets_[at(t)]; k < task_run_offsets_[at(t) + 1]; ++k)
+      zone_kernel(constants, u, at(task_runs_[at(k)]));
     const real* const f = corner_force_.data();
     const std::ptrdiff_t n_z = zone_count();
     real* const force[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(),
@@ -254,8 +275,10 @@ class deformable {
   /// mass matrix, hence lambda_max(M^-1 K) is rotation-invariant and the reference-frame bound
   /// holds in any rotated state.
   void add_stiffness_bounds(node_set& gridpoints) const {
-    const Eigen::Matrix<real, 6, 6> c = Zone::elasticity_matrix(params_);
+    std::vector<Eigen::Matrix<real, 6, 6>> elasticity;
+    for (const params& p : materials_) elasticity.push_back(Zone::elasticity_matrix(p));
     for (index z = 0; z < zone_count(); ++z) {
+      const Eigen::Matrix<real, 6, 6>& c = elasticity[at(block_material_[at(zone_block_[at(z)])])];
       const std::array<real, 12> g = gradients(z);
       Eigen::Matrix<real, 6, 12> b = Eigen::Matrix<real, 6, 12>::Zero();
       for (int a = 0; a < 4; ++a) {
@@ -300,7 +323,7 @@ class deformable {
       const mat3 m = rotated_gradient(gridpoints, zi, rotations[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(zi)])]);
       voigt6 e;
       e << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
-      return volume_[at(zi)] * Zone::strain_energy_density(params_, e);
+      return volume_[at(zi)] * Zone::strain_energy_density(material_of_block(zone_block_[at(zi)]), e);
     });
   }
   /// Kinetic energy sum_i 1/2 m_i |v_i|^2 (J), v at the half step.
@@ -325,7 +348,8 @@ class deformable {
   /// Rotation R_b of block b at the last accumulate_forces.
   [[nodiscard]] const mat3& rotation(index b) const { return rotation_[static_cast<std::size_t>(b)]; }
   [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
-  [[nodiscard]] const params& material() const { return params_; }
+  /// Material of block b.
+  [[nodiscard]] const params& material_of_block(index b) const { return materials_[at(block_material_[at(b)])]; }
 
  private:
   template <std::integral I>
@@ -542,8 +566,9 @@ TESSERA_PRAGMA_SIMD
   static constexpr index zone_pack = 0;
 #endif
 
-  params params_{};
-  typename Zone::constants constants_{};            ///< Zone::prepare(params_)
+  std::vector<params> materials_;                   ///< per material id
+  std::vector<typename Zone::constants> constants_;  ///< Zone::prepare of each material
+  std::vector<int> block_material_;                 ///< material id of each block
   // per zone, structure of arrays (hot in the zone kernel)
   std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
   /// gradient_[3 a + k][z]: d N_a / d X_k (1/m), a = 0..3; grad N_0 = -(grad N_1 + grad N_2 +

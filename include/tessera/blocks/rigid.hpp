@@ -77,6 +77,7 @@
 #include <concepts>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -126,8 +127,15 @@ class rigid {
   /// the tessellation disagree on the block count or a cell has non-positive volume.
   void build(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params& p,
              node_set& gridpoints) {
-    validate(p);
-    params_ = p;
+    build(tess, mesh, std::span<const params>(&p, 1), gridpoints);
+  }
+  /// The same with one material per material id: block b takes materials[mesh.material(b)]
+  /// (geometry::block_mesh::block_material); invalid_input for a block whose id has no entry.
+  void build(const geometry::tessellation& tess, const geometry::block_mesh& mesh, std::span<const params> materials,
+             node_set& gridpoints) {
+    require(!materials.empty(), "rigid blocks: no block material given");
+    for (const params& m : materials) validate(m);
+    materials_.assign(materials.begin(), materials.end());
     const index n_b = mesh.block_count();
     const index n_gp = mesh.gridpoint_count();
     require<geometry_error>(n_b > 0 && n_gp > 0, "rigid blocks: block_mesh has ", n_b, " blocks and ", n_gp,
@@ -144,6 +152,10 @@ class rigid {
       bd.first = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
       bd.end = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1];
       require<geometry_error>(bd.end > bd.first, "rigid blocks: block ", b, " has no gridpoint");
+      const int id = mesh.material(b);
+      require(id >= 0 && static_cast<std::size_t>(id) < materials_.size(), "rigid blocks: block ", b,
+              " has material id ", id, ", but ", materials_.size(), " block material(s) were given");
+      const params& p = materials_[static_cast<std::size_t>(id)];
       const geometry::mass_properties mp = geometry::cell_mass_properties(tess, b);
       require<geometry_error>(mp.volume > 0, "rigid blocks: cell ", b, " has volume ", mp.volume,
                               " m^3; expected > 0 (faces CCW seen from outside)");
@@ -317,7 +329,8 @@ class rigid {
   /// Body coordinates r_i = E^T (X_i - c) of gridpoint i (m).
   [[nodiscard]] vec3 body_position(index i) const { return body_position_.row(i).transpose(); }
   [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
-  [[nodiscard]] const params& material() const { return params_; }
+  /// The block materials, by material id.
+  [[nodiscard]] std::span<const params> materials() const { return materials_; }
 
  private:
   struct body {
@@ -463,7 +476,7 @@ class rigid {
     work_[static_cast<std::size_t>(b)] = w;
   }
 
-  params params_{};
+  std::vector<params> materials_;
   std::vector<body> bodies_;
   std::vector<block_constraints> constraints_;  ///< per block, rebuilt every step
   std::vector<integrator::step_work> work_;     ///< per block energy increments of the step (summed in block order)

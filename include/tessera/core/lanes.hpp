@@ -1,6 +1,6 @@
 #pragma once
 // lanes: several values of `real` processed by one instruction, for kernels that run the same
-// arithmetic over packs of entities (contact::subcontact_set's elastic path).
+// arithmetic over packs of entities (contact::face_contacts's elastic path).
 //
 // A pack is a GCC/Clang vector-extension type of `width` reals: + - * / and comparisons act lane by
 // lane with exactly the IEEE operations of scalar code (no reassociation), so a lane of a pack

@@ -22,6 +22,15 @@ struct block_mesh {
   std::vector<index> gridpoint_vertex;         ///< tessellation vertex it copies, invalid_index if interior
   std::vector<index> block_gridpoint_offsets{0};  ///< CSR: gridpoints of block b
 
+  // ---- materials ----
+  /// Material id of each block (>= 0), indexing the block model's per-material parameters and the
+  /// contact set's material-pair table (contact::material_table); empty means material 0 for
+  /// every block. Set it after zoning, e.g. mesh.block_material[b] = 1 for a steel plate.
+  std::vector<int> block_material;
+  [[nodiscard]] int material(index block) const {
+    return block_material.empty() ? 0 : block_material[static_cast<std::size_t>(block)];
+  }
+
   // ---- zones: 4-node tetrahedra, positive orientation ((x1-x0)x(x2-x0)).(x3-x0) > 0 ----
   std::vector<std::array<index, 4>> zones;     ///< gridpoint ids
   std::vector<index> zone_block;               ///< owning block

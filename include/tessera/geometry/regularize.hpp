@@ -82,14 +82,6 @@
 
 namespace tessera::geometry {
 
-/// Relative short-edge threshold of the examples: edges shorter than 0.2 of the mean cell size L
-/// are collapsed. Measured on the study's prism (100, 250, 500 blocks, seeds 1-3, min-angle
-/// zoning): the unscaled stable step of the deformable prism rises from 1e-10..8e-9 s to
-/// 1.5e-8..8e-8 s (every case), the zones with volume ratio < 0.1 fall from 17-22 % to 1.4-2.6 %,
-/// at the price of 20-30 % fewer sub-contacts, faces warped by up to 0.1 L and merged vertices
-/// moved by up to 0.6 L (clusters; the max_shift_rel cap). 0.1 L leaves 4e-9 s (500 blocks, seed 2);
-/// below 0.2 a few refused collapses keep slivers.
-inline constexpr real study_regularization = 0.2;
 /// Largest accepted min_edge_rel: larger thresholds would collapse whole cells.
 inline constexpr real max_regularization = 0.5;
 

@@ -52,7 +52,7 @@ struct tessellation_options {
   real cleanup_tolerance = 1e-9;
   /// Regularization: edges shorter than min_edge_rel x the mean cell size are collapsed
   /// (geometry/regularize.hpp; 0 = off; the examples take it as --regularize, default 0, and the
-  /// README's regularised runs use study_regularization).
+  /// regularised runs of the examples use presets::study_regularization).
   real min_edge_rel = 0;
 };
 

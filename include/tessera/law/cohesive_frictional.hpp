@@ -6,7 +6,7 @@
 //     Compression  CompressionLimit  (compression.hpp): elastic_compression, plastic_cap
 //     Shear        ShearLimit        (shear.hpp):       coulomb_residual, coulomb_coupled
 // The named combinations of the study are in aliases.hpp. The law is a pure evaluator of one
-// sub-contact: stresses per unit area, the caller (contact::subcontact_set) multiplies by the
+// sub-contact: stresses per unit area, the caller (contact::face_contacts) multiplies by the
 // tributary area and owns loops and storage. It satisfies law::ContactLaw (concepts.hpp).
 //
 // Conventions: SI units; sigma_n and u_n positive in tension/opening; the contact normal n points
@@ -113,7 +113,7 @@ struct cohesive_frictional {
     contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
   };
   static_assert(std::is_trivially_destructible_v<state>);
-  // contact::subcontact_set stores the state field by field (law::ElasticPackLaw): a new field must
+  // contact::face_contacts stores the state field by field (law::ElasticPackLaw): a new field must
   // be added to its columns (state_columns in contact/detail/packed_states.hpp) as well.
   static_assert(sizeof(state) == 11 * sizeof(real), "state has a field the state columns do not know");
 
@@ -125,6 +125,16 @@ struct cohesive_frictional {
     Tension::validate(p.tension, p.k_n);
     Compression::validate(p.compression);
     Shear::validate(p.shear);
+  }
+
+  /// State of a sub-contact that was never bonded (contact::material_table::never_bonded): broken
+  /// in tension and slipped from the start, so it carries no tension, no shear while open, and
+  /// shears on the residual limit c_res + sigma_c tan phi_res when closed (give c_res = 0 for a
+  /// purely frictional interface such as a steel plate resting on concrete).
+  [[nodiscard]] static state unbonded_state(const params& /*p*/) noexcept {
+    state s{};
+    s.flags = contact_status::broken_tension | contact_status::slipped;
+    return s;
   }
 
   [[nodiscard]] static real normal_stiffness(const params& p) noexcept { return p.k_n; }
@@ -211,7 +221,7 @@ struct cohesive_frictional {
   // In almost every step of almost every sub-contact the damage flags stay as they are: the
   // contact is elastic (intact, or softened, broken or slipped but below its current limits),
   // advances along its softening envelope, or slides on its residual Coulomb limit. Only reaching
-  // the peak, breaking, a first slip and a compressive cap change them. contact::subcontact_set
+  // the peak, breaking, a first slip and a compressive cap change them. contact::face_contacts
   // runs update_elastic over lanes::pack's of sub-contacts, keeps the lanes it accepts and runs
   // update() on the others from their unchanged state. update() and update_elastic share the
   // rotation and the normal dissipation (rotate_into_plane, book_normal_dissipation), read the

@@ -21,6 +21,8 @@
 // | L::tensile_damage(p, s)            | 0 (intact) .. 1 (broken in tension)                            |
 // | L::dissipated_energy(s)            | energy dissipated so far per unit area (J/m^2), all mechanisms |
 // | L::stored_energy(p, s)             | recoverable elastic energy per unit area (J/m^2)               |
+// | L::unbonded_state(p)   (optional)  | state of a never-bonded sub-contact (contact::material_table:: |
+// |                                    | never_bonded): no tensile strength, residual friction          |
 
 #include <concepts>
 #include <cstdint>
@@ -65,7 +67,7 @@ concept ContactLaw = requires(const typename L::params& p, typename L::state& s,
 };
 
 /// A ContactLaw with an elastic path over packs of sub-contacts (law::cohesive_frictional):
-/// contact::subcontact_set then stores the states as columns (one array per field) and updates
+/// contact::face_contacts then stores the states as columns (one array per field) and updates
 /// them with L::update_elastic over lanes::pack's, running L::update on the lanes it declines.
 /// | expression                          | meaning                                                     |
 /// |-------------------------------------|-------------------------------------------------------------|

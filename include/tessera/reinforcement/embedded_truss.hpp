@@ -372,24 +372,5 @@ class embedded_truss {
 static_assert(Reinforcement<embedded_truss<coulomb_bond>>,
               "embedded_truss<coulomb_bond> must satisfy the Reinforcement concept");
 
-/// Inputs of the reference study's RC tie (Pulatsu et al. 2020, Sec. 3.1).
-namespace pulatsu2020 {
-/// E_s = 192.3 GPa, f_y = 400 MPa, d = 8 mm: A = 50.27 mm^2, yield force f_y A = 20.1 kN,
-/// E_s A = 9.666 MN. With 96 elements over the 0.6 m prism, L_el = 6.25 mm and
-/// K_axial = E_s A / L_el = 1.547 GN/m, the study's "1.55 GN/m"; bare bar E_s A / L = 16.1 kN/mm.
-[[nodiscard]] inline steel tie_steel() { return steel{192.3e9, 400e6, 7850.0, 0.008}; }
-/// xi = 4, c_bond = 1e9 N/m ("perfect bond"), bond stiffness per unit bar length: xi K_axial =
-/// 6.19e9 N/m per m of bar, 3DEC's cable grout stiffness (bond.hpp gives the evidence; pass
-/// stiffness_basis::per_node for DESIGN.md's reading, 6.19 GN/m per interior node). The study gives
-/// no bond friction angle; with c_bond = 1e9 N/m it cannot matter, so phi_bond = 0.
-[[nodiscard]] inline coulomb_bond::params tie_bond(stiffness_basis basis = stiffness_basis::per_unit_length) {
-  return coulomb_bond::params{4.0, 1e9, 0.0, basis};
-}
-/// The tie's bar from `start` to `end` (the prism axis) with `elements` truss elements (96).
-[[nodiscard]] inline embedded_truss<coulomb_bond>::params tie_reinforcement(const vec3& start, const vec3& end,
-                                                                            index elements = 96) {
-  return {tie_steel(), tie_bond(), {bar{start, end, elements, true}}};
-}
-}  // namespace pulatsu2020
 
 }  // namespace tessera::reinforcement

@@ -1,7 +1,8 @@
 #pragma once
-// tessera::solver<Blocks, Law, Reinforcement, Integrator, Checker> — the composed model of a
-// scene: blocks (deformable zones or rigid bodies) on one node_set of gridpoints, a sub-contact
-// set with the contact law on every shared face, optional embedded reinforcement, boundary
+// tessera::solver<Blocks, Contacts, Reinforcement, Integrator, Checker> — the composed model of a
+// scene: blocks (deformable zones or rigid bodies) on one node_set of gridpoints, a contact set
+// (contact::ContactSet: contact::face_contacts<Law> for the bonded faces of a tessellation, or a
+// detecting set) that evaluates its contact law per sub-contact, optional embedded reinforcement, boundary
 // conditions, the stable time step, energy bookkeeping and a step checker. Each policy is
 // checked by its concept, and what a scene does not use is not compiled in (reinforcement::none
 // removes every bar call, no_step_checker the checks).
@@ -30,13 +31,12 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <utility>
+#include <vector>
 
 #include "../blocks/concepts.hpp"
-#include "../blocks/deformable.hpp"
-#include "../blocks/rigid.hpp"
-#include "../blocks/linear_elastic_tet.hpp"
-#include "../contact/subcontact_set.hpp"
+#include "../contact/concepts.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/parallel.hpp"
@@ -47,8 +47,6 @@
 #include "../integrator/concepts.hpp"
 #include "../integrator/damping.hpp"
 #include "../integrator/timestep.hpp"
-#include "../law/aliases.hpp"
-#include "../law/concepts.hpp"
 #include "../reinforcement/concepts.hpp"
 #include "../reinforcement/none.hpp"
 #include "boundary.hpp"
@@ -71,23 +69,36 @@ struct solver_options {
   index check_interval = 100;  ///< steps between step-checker passes
 };
 
-template <blocks::BlockModel Blocks, law::ContactLaw Law, reinforcement::Reinforcement Reinforcement = reinforcement::none,
+template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement::Reinforcement Reinforcement = reinforcement::none,
           integrator::Integrator Integrator = integrator::central_difference<integrator::local_damping>,
           class Checker = checks::default_step_checker>
 class solver {
  public:
   using blocks_type = Blocks;
-  using law_type = Law;
+  using contact_set_type = Contacts;
+  using law_type = typename Contacts::law_type;
   using reinforcement_type = Reinforcement;
   using integrator_type = Integrator;
   using checker_type = Checker;
-  using contact_set_type = contact::subcontact_set<Law>;
 
-  /// Builds the model: blocks (validating their material), sub-contacts (validating the law),
+  /// Builds the model: blocks (validating their material), the contact set (validating the law
+  /// parameters of every material pair: `contact_params` is Contacts::params, for face_contacts a
+  /// contact::material_table, which a plain law params struct converts to),
   /// reinforcement, nodal stiffness bounds, mass scaling and the time step. Throws
   /// invalid_input / geometry_error naming the offending entity.
   solver(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const typename Blocks::params& block_params,
-         const typename Law::params& law_params, const typename Reinforcement::params& reinforcement_params = {},
+         const typename Contacts::params& contact_params, const typename Reinforcement::params& reinforcement_params = {},
+         const solver_options& options = {})
+      : solver(tess, mesh, block_materials{{block_params}}, contact_params, reinforcement_params, options) {}
+
+  /// Block parameters per material id (geometry::block_mesh::block_material): block b takes
+  /// list[mesh.material(b)]. An aggregate, so `{2400}` never converts to it by accident.
+  struct block_materials {
+    std::vector<typename Blocks::params> list;
+  };
+  /// The same with one block material per material id.
+  solver(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const block_materials& materials,
+         const typename Contacts::params& contact_params, const typename Reinforcement::params& reinforcement_params = {},
          const solver_options& options = {})
       : options_(options) {
     require(options.safety > 0 && options.safety <= 1, "solver: safety factor = ", options.safety,
@@ -112,9 +123,9 @@ class solver {
     }
     checker_.interval = options.check_interval;
 
-    blocks_.build(tess, mesh, block_params, gridpoints_);
+    blocks_.build(tess, mesh, std::span<const typename Blocks::params>(materials.list), gridpoints_);
     gridpoint_block_ = mesh.gridpoint_block;
-    contacts_ = contact_set_type(tess, mesh, law_params);
+    contacts_ = contact_set_type(tess, mesh, contact_params);
     if constexpr (Reinforcement::enabled) reinforcement_.build(reinforcement_params, mesh, gridpoints_);
     compute_time_step();
   }
@@ -145,14 +156,14 @@ class solver {
       // and one pass over the gridpoints then gathers the contact forces. Two
       // fork/joins per step instead of five; on a busy machine each one can cost a scheduler
       // time slice.
-      contacts_.begin_update();
+      contacts_.prepare_step(gridpoints_, dt_);
       parallel_range_pair(
           blocks_.zone_task_count(),
           [&](std::int64_t t0, std::int64_t t1) {
             blocks_.add_zone_forces_of_tasks(static_cast<index>(t0), static_cast<index>(t1), gridpoints_);
           },
-          contacts_.face_block_count(),
-          [&](std::int64_t f) { contacts_.update_face_block(static_cast<index>(f), gridpoints_, dt_); });
+          contacts_.task_count(),
+          [&](std::int64_t t) { contacts_.run_task(static_cast<index>(t), gridpoints_, dt_); });
       // An integrator that can gather each chunk of gridpoints inside its own loop.
       const auto no_prepare = [](std::int64_t, std::int64_t) {};
       constexpr bool fused_integrator =
@@ -360,20 +371,5 @@ class solver {
   integrator::critical_step critical_;
   integrator::mass_scaling_report scaling_;
 };
-
-// The named solvers run their contact law with the contact set's pack path
-// (law::with_elastic_packs: the same bits as the plain law without FMA contraction; faster on the
-// cracking tie and on the elastic prism, see README "Kernels and geometry").
-/// The study's plain-concrete prism / tie concrete: deformable semi-rigid blocks, power softening.
-using prism_solver = solver<blocks::deformable<zones::linear_elastic_tet>, law::with_elastic_packs<law::study_tie_law>>;
-/// Linear-softening variant (sensitivity study, Sec. 3.2).
-using prism_linear_solver =
-    solver<blocks::deformable<zones::linear_elastic_tet>, law::with_elastic_packs<law::linear_tie_law>>;
-/// The prism with rigid 6-DOF blocks (blocks::rigid, density only) and the study's tie law.
-using rigid_prism_solver = solver<blocks::rigid, law::with_elastic_packs<law::study_tie_law>>;
-/// Opt-in variants whose cohesion softens with the tensile strength (law::coupled_tie_law).
-using coupled_prism_solver =
-    solver<blocks::deformable<zones::linear_elastic_tet>, law::with_elastic_packs<law::coupled_tie_law>>;
-using coupled_rigid_prism_solver = solver<blocks::rigid, law::with_elastic_packs<law::coupled_tie_law>>;
 
 }  // namespace tessera

@@ -1,6 +1,6 @@
 #pragma once
 // Sub-contact states as columns and their update over packs of lanes, for a law with an elastic
-// pack path (law::ElasticPackLaw; contact::subcontact_set uses this for such laws).
+// pack path (law::ElasticPackLaw; contact::face_contacts uses this for such laws).
 //
 // state_columns holds the law state of sub-contact i field by field (one array per field), so a
 // lanes::pack of consecutive sub-contacts loads and stores each field with one instruction, and
@@ -9,7 +9,7 @@
 // by set() exactly when u_soft or the flags change and advanced by update_elastic with u_soft,
 // so a pack reads the envelope of its softened lanes instead of evaluating it.
 // step_columns holds the inputs of Law::update per sub-contact for one step (du_n, du_s, n),
-// written by subcontact_set's kinematics loop and read by advance_states.
+// written by face_contacts' kinematics loop and read by advance_states.
 //
 // advance_states(p, states, step, area, first, last, force) advances sub-contacts [first, last):
 //   1. packs of lanes::width consecutive sub-contacts through Law::update_elastic; the lanes it
@@ -47,14 +47,23 @@ struct state_columns {
   /// Law::tensile_strength(p, state) (Pa): set() re-evaluates it when u_soft or the flags change.
   std::vector<real> f_t;
 
-  /// n virgin states (state_type{}) of a law with parameters p (kept for set()).
-  void assign(std::size_t n, const typename Law::params& p) {
-    params_ = p;
-    const state_type v{};
+  /// n zeroed states; reset() each before use.
+  void resize(std::size_t n) {
     for (auto* column : real_columns()) column->assign(n, 0.0);
     flags.assign(n, 0);
-    f_t.assign(n, Law::tensile_strength(params_, v));
-    for (std::size_t i = 0; i < n; ++i) set(i, v);
+    f_t.assign(n, 0.0);
+  }
+  /// Sub-contact i holds s, under parameters p (its tensile strength evaluated).
+  void reset(std::size_t i, const state_type& s, const typename Law::params& p) noexcept {
+    f_t[i] = Law::tensile_strength(p, s);
+    u_soft[i] = s.u_soft;
+    flags[i] = static_cast<lanes::mask_lane>(s.flags);
+    set(i, s, p);
+  }
+  /// n virgin states (state_type{}) of a law with parameters p.
+  void assign(std::size_t n, const typename Law::params& p) {
+    resize(n);
+    for (std::size_t i = 0; i < n; ++i) reset(i, state_type{}, p);
   }
   [[nodiscard]] std::size_t size() const { return flags.size(); }
   [[nodiscard]] state_type get(std::size_t i) const noexcept {
@@ -70,9 +79,11 @@ struct state_columns {
     s.flags = static_cast<law::contact_status>(flags[i]);
     return s;
   }
-  void set(std::size_t i, const state_type& s) noexcept {
+  /// Stores s for sub-contact i, whose parameters are p (its tensile strength is re-evaluated
+  /// when u_soft or the flags change).
+  void set(std::size_t i, const state_type& s, const typename Law::params& p) noexcept {
     if (s.u_soft != u_soft[i] || static_cast<lanes::mask_lane>(s.flags) != flags[i])
-      f_t[i] = Law::tensile_strength(params_, s);
+      f_t[i] = Law::tensile_strength(p, s);
     sigma_n[i] = s.sigma_n;
     tau0[i] = s.tau[0];
     tau1[i] = s.tau[1];
@@ -87,7 +98,6 @@ struct state_columns {
   }
 
  private:
-  typename Law::params params_{};
   std::array<std::vector<real>*, 10> real_columns() {
     return {&sigma_n, &tau0, &tau1, &tau2, &u_n, &u_p, &u_soft, &dissipated_tension, &dissipated_shear,
             &dissipated_compression};
@@ -167,7 +177,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
     typename Law::state st = s.get(j);
     const vec3 n(k.n0[j], k.n1[j], k.n2[j]);
     Law::update(p, st, k.du_n[j], vec3(k.ds0[j], k.ds1[j], k.ds2[j]), n);
-    s.set(j, st);
+    s.set(j, st, p);
     const vec3 traction = st.sigma_n * n + vec3(st.tau);
     for (int c = 0; c < 3; ++c) force[c][j] = area[j] * traction[c];
   }

@@ -1,6 +1,14 @@
 #pragma once
-// contact::subcontact_set<Law>: the sub-contacts of a conforming tessellation of blocks, their
-// kinematics and the per-step contact force kernel (DESIGN.md §3 "Contact", docs/architecture.md).
+// contact::face_contacts<Law>: the bonded sub-contacts of a conforming tessellation of blocks,
+// their kinematics and the per-step contact force kernel (DESIGN.md §3 "Contact",
+// docs/architecture.md). A contact::ContactSet (contact/concepts.hpp): the solver drives it
+// through prepare_step / run_task / add_force and knows nothing else of it.
+//
+// Materials. The set is built from a contact::material_table<Law::params>: a face between blocks
+// of materials a and b (geometry::block_mesh::block_material) uses the entry of the pair {a, b};
+// a never-bonded pair's sub-contacts start in Law::unbonded_state. The parameters are resolved
+// per face when the set is built (face blocks never mix two entries), so the step loop reads one
+// parameter struct per face block, as with a single material.
 //
 // Creation. Blocks of a conforming tessellation share faces exactly. For every shared face
 // s = (cell_a < cell_b, face_a, face_b) of the tessellation the block_mesh lists the face
@@ -81,7 +89,7 @@
 // (gather). Each loop writes only what its index owns and the gather sums in a fixed order, so
 // results are bit-identical for any thread count. update() allocates nothing. Concurrent const
 // access is safe; update() and add_stiffness_bounds() must not run concurrently with anything
-// else on the same object. update() is also offered in pieces (begin_update, update_face_block,
+// else on the same object. update() is also offered in pieces (prepare_step, run_task,
 // add_force) so that the solver can run the face blocks in one parallel region with the zone
 // kernel and gather contact and zone forces in one pass over the gridpoints (solver.hpp); the
 // results are the same to the bit.
@@ -112,19 +120,11 @@
 #include "../geometry/block_mesh.hpp"
 #include "../geometry/tessellation.hpp"
 #include "../law/concepts.hpp"
+#include "concepts.hpp"
 #include "detail/packed_states.hpp"
+#include "material_table.hpp"
 
 namespace tessera::contact {
-
-/// Energies held by a subcontact_set (J): sums over sub-contacts of area x the law's per-area
-/// energies, accumulated in sub-contact order (deterministic).
-struct contact_energies {
-  real stored = 0;                  ///< recoverable elastic energy, area x Law::stored_energy
-  real dissipated_tension = 0;      ///< by tensile softening (state field dissipated_tension)
-  real dissipated_shear = 0;        ///< by Coulomb slip and shear failure (dissipated_shear)
-  real dissipated_compression = 0;  ///< by compressive plasticity (dissipated_compression)
-  real dissipated = 0;              ///< all mechanisms, area x Law::dissipated_energy
-};
 
 namespace detail {
 /// A law state that reports its dissipated energy (J/m^2) per mechanism.
@@ -138,7 +138,7 @@ concept has_dissipation_split = requires(const S& s) {
 }  // namespace detail
 
 template <law::ContactLaw Law>
-class subcontact_set {
+class face_contacts {
   /// Array subscript of an index handle.
   template <std::integral I>
   [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
@@ -148,6 +148,9 @@ class subcontact_set {
  public:
   using law_type = Law;
   using params_type = typename Law::params;
+  /// What the constructor takes: the law's parameters per pair of block materials (a plain
+  /// params_type converts to a table with one entry for every pair).
+  using params = material_table<params_type>;
   using state_type = typename Law::state;
   /// True when Law has an elastic pack path (law::ElasticPackLaw) and asks for it
   /// (law::with_elastic_packs): states are then stored as columns and updated over lanes::pack's
@@ -167,7 +170,7 @@ class subcontact_set {
     return k_s + std::abs(k_n - k_s) * (1.0 + std::numbers::sqrt3) / 2.0;
   }
 
-  subcontact_set() = default;
+  face_contacts() = default;
 
   /// Builds one sub-contact per face-node pair of every shared face of `tess` (see the file
   /// comment). Validates `p` with Law::validate (invalid_input). Throws geometry_error, naming
@@ -177,20 +180,33 @@ class subcontact_set {
   /// paired gridpoints do not coincide (beyond 1e-9 of the model's bounding-box diagonal) or
   /// belong to the wrong block, or when their tributary areas differ (beyond 1e-9 relative) or
   /// are not > 0. Cost O(sub-contacts + gridpoints).
-  subcontact_set(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params_type& p)
-      : params_(p) {
-    Law::validate(p);
+  /// One law for every material pair.
+  face_contacts(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params_type& p)
+      : face_contacts(tess, mesh, params(p)) {}
+  /// Law parameters per pair of block materials (geometry::block_mesh::block_material).
+  face_contacts(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params& table) {
+    for (const auto& e : table.entries()) Law::validate(e.params);
     const index n_faces = tess.face_count();
     const index n_gridpoints = mesh.gridpoint_count();
     require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1,
-                            "subcontact_set: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
+                            "face_contacts: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
                             " faces, expected one entry per tessellation face (", n_faces, ")");
     require<geometry_error>(static_cast<index>(mesh.gridpoint_vertex.size()) == n_gridpoints,
-                            "subcontact_set: block_mesh has ", mesh.gridpoint_vertex.size(),
+                            "face_contacts: block_mesh has ", mesh.gridpoint_vertex.size(),
                             " gridpoint_vertex entries, expected one per gridpoint (", n_gridpoints, ")");
-    require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "subcontact_set: block_mesh has ",
+    require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "face_contacts: block_mesh has ",
                             mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(), " face nodes");
+    require<geometry_error>(mesh.block_material.empty() || static_cast<index>(mesh.block_material.size()) == mesh.block_count(),
+                            "face_contacts: block_mesh has ", mesh.block_material.size(), " block materials for ",
+                            mesh.block_count(), " blocks (give one id per block, or none for all 0)");
     gridpoint_count_ = n_gridpoints;
+    for (const auto& e : table.entries()) {
+      law_params_.push_back(e.params);
+      bonded_.push_back(e.bonded ? 1 : 0);
+      if constexpr (!requires { Law::unbonded_state(e.params); })
+        require(e.bonded, "face_contacts: a never-bonded material pair needs a law with an unbonded state "
+                          "(Law::unbonded_state); this law has none");
+    }
 
     aabb box;
     for (const vec3& x : mesh.gridpoints) box.expand(x);
@@ -208,7 +224,7 @@ class subcontact_set {
       // Throws geometry_error naming the face; the message is only built on failure.
       const auto check = [&](bool ok, const auto&... message) {
         if (!ok)
-          throw geometry_error(tessera::detail::concat("subcontact_set: shared face ", s, " (cells ", sf.cell_a,
+          throw geometry_error(tessera::detail::concat("face_contacts: shared face ", s, " (cells ", sf.cell_a,
                                                        " and ", sf.cell_b, ", tessellation faces ", sf.face_a, " and ",
                                                        sf.face_b, "): ", message...));
       };
@@ -254,6 +270,7 @@ class subcontact_set {
       }
       first_subcontact_.push_back(static_cast<index>(node_a_.size()));
       face_area_.push_back(face_area);
+      face_param_.push_back(static_cast<index>(table.entry_index(mesh.material(sf.cell_a), mesh.material(sf.cell_b))));
 
       // Polygon corners: the face node of each tessellation vertex of face_a, in loop order.
       const auto loop = tess.face(sf.face_a);
@@ -278,17 +295,30 @@ class subcontact_set {
 
     const std::size_t n = node_a_.size();
     if constexpr (packed) {
-      state_.assign(n, params_);
+      state_.resize(n);
       step_.resize(n);
     } else {
       state_.assign(n, state_type{});
     }
+    // Initial states: virgin, or unbonded for a never-bonded pair.
+    for (index s = 0; s < face_count; ++s) {
+      const params_type& p = face_params(s);
+      state_type initial{};
+      if constexpr (requires { Law::unbonded_state(p); })
+        if (bonded_[at(face_param_[at(s)])] == 0) initial = Law::unbonded_state(p);
+      for (index i = first_subcontact_[at(s)]; i < first_subcontact_[at(s) + 1]; ++i) {
+        if constexpr (packed)
+          state_.reset(at(i), initial, p);
+        else
+          state_[at(i)] = initial;
+      }
+    }
     // Face blocks: runs of consecutive faces with at least block_subcontacts sub-contacts (the
-    // last one may have fewer), the unit of the parallel face loop.
+    // last one may have fewer) and one material-pair entry, the unit of the parallel face loop.
     face_blocks_.assign(1, 0);
     for (index s = 0; s < face_count; ++s)
-      if (first_subcontact_[at(s) + 1] - first_subcontact_[at(face_blocks_.back())] >= block_subcontacts ||
-          s + 1 == face_count)
+      if (s + 1 == face_count || face_param_[at(s) + 1] != face_param_[at(s)] ||
+          first_subcontact_[at(s) + 1] - first_subcontact_[at(face_blocks_.back())] >= block_subcontacts)
         face_blocks_.push_back(s + 1);
 
     // Reference frames; a face whose two sides cancel has no plane.
@@ -299,7 +329,7 @@ class subcontact_set {
       for (index s = 0; s < face_count; ++s) {
         const triple area = face_area_vector(s, up);
         const vec3 d(area.x, area.y, area.z);
-        require<geometry_error>(d.norm() > 0, "subcontact_set: shared face ", s, " (cells ",
+        require<geometry_error>(d.norm() > 0, "face_contacts: shared face ", s, " (cells ",
                                 shared_faces_[at(s)].cell_a, " and ", shared_faces_[at(s)].cell_b,
                                 "): zero vector area, the face polygon has no plane (degenerate face)");
         normal_.row(s) = d.normalized().transpose();
@@ -339,7 +369,7 @@ class subcontact_set {
   /// the previous frames as well. Construction uses the reference positions; call this before
   /// the first update() when the run starts from non-zero displacements (e.g. a restart).
   void initialize_frames(const node_set& gridpoints) {
-    require(gridpoints.size() == gridpoint_count_, "subcontact_set::initialize_frames: node_set has ",
+    require(gridpoints.size() == gridpoint_count_, "face_contacts::initialize_frames: node_set has ",
             gridpoints.size(), " gridpoints, expected ", gridpoint_count_);
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
@@ -360,25 +390,27 @@ class subcontact_set {
     assert(gridpoints.size() == gridpoint_count_);
     // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
     // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
-    begin_update();
-    parallel_for(face_block_count(), [&](std::int64_t b) { update_face_block(static_cast<index>(b), gridpoints, dt); }, 2);
+    prepare_step(gridpoints, dt);
+    parallel_for(task_count(), [&](std::int64_t b) { run_task(static_cast<index>(b), gridpoints, dt); }, 2);
     // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
   }
 
   // ---- update() in pieces, for a solver that fuses the loops of its step (solver.hpp) ----
-  // update(gp, dt) == begin_update(); update_face_block(b, gp, dt) for every face block b (or
+  // update(gp, dt) == prepare_step(gp, dt); run_task(b, gp, dt) for every face block b (or
   // update_face(s, gp, dt) for every face s; in any order or concurrently); then add_force(g, gp)
   // for every gridpoint g (concurrently for distinct g). Same results to the bit.
 
-  /// Makes the current frames the previous ones; once per step, before update_face.
-  void begin_update() noexcept { normal_.swap(previous_normal_); }
+  /// Makes the current frames the previous ones; once per step, before the tasks (the set never
+  /// allocates: its sub-contacts are fixed when it is built).
+  void prepare_step(const node_set& /*gridpoints*/, real /*dt*/) noexcept { normal_.swap(previous_normal_); }
 
-  /// Number of face blocks: runs of consecutive faces with about block_subcontacts sub-contacts.
-  [[nodiscard]] index face_block_count() const { return static_cast<index>(face_blocks_.size()) - 1; }
+  /// Number of tasks: the face blocks, runs of consecutive faces with about block_subcontacts
+  /// sub-contacts and one material-pair entry.
+  [[nodiscard]] index task_count() const { return static_cast<index>(face_blocks_.size()) - 1; }
   /// update_faces over face block b.
-  void update_face_block(index b, const node_set& gridpoints, real dt) noexcept {
+  void run_task(index b, const node_set& gridpoints, real dt) noexcept {
     update_faces(face_blocks_[at(b)], face_blocks_[at(b) + 1], gridpoints, dt);
   }
   /// update_faces over face s alone.
@@ -392,8 +424,8 @@ class subcontact_set {
                         gridpoints.displacement.col(2).data()};
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
-    const params_type& p = params_;
     for (index s = first_face; s < last_face; ++s) {
+      const params_type& p = face_params(s);
       const triple d = face_area_vector(s, u);
       const triple n_prev{previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2)};
       const real length2 = dot(d, d);
@@ -433,10 +465,15 @@ class subcontact_set {
       }
     }
     if constexpr (packed) {
-      const auto first = at(first_subcontact_[at(first_face)]);
-      const auto last = at(first_subcontact_[at(last_face)]);
+      // One pack pass per run of faces with the same parameters (one run within a face block).
       real* const force[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
-      detail::advance_states<Law>(p, state_, step_, area_.data(), first, last, force);
+      for (index run = first_face; run < last_face;) {
+        index run_end = run + 1;
+        while (run_end < last_face && face_param_[at(run_end)] == face_param_[at(run)]) ++run_end;
+        detail::advance_states<Law>(face_params(run), state_, step_, area_.data(), at(first_subcontact_[at(run)]),
+                                    at(first_subcontact_[at(run_end)]), force);
+        run = run_end;
+      }
     }
   }
 
@@ -467,10 +504,10 @@ class subcontact_set {
   /// have the set's gridpoint count.
   void add_stiffness_bounds(node_set& gridpoints) const {
     require(gridpoints.size() == gridpoint_count_ && gridpoints.stiffness.size() == gridpoint_count_,
-            "subcontact_set::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints and ",
+            "face_contacts::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints and ",
             gridpoints.stiffness.size(), " stiffness entries, expected ", gridpoint_count_);
-    const real per_area = 2.0 * stiffness_row_bound_per_area(params_);
     for (std::size_t i = 0; i < node_a_.size(); ++i) {
+      const real per_area = 2.0 * stiffness_row_bound_per_area(face_params(face_[i]));
       gridpoints.stiffness[node_a_[i]] += per_area * area_[i];
       gridpoints.stiffness[node_b_[i]] += per_area * area_[i];
     }
@@ -478,6 +515,7 @@ class subcontact_set {
 
   // ---- sub-contacts ----
   [[nodiscard]] index size() const { return static_cast<index>(node_a_.size()); }
+  [[nodiscard]] index subcontact_count() const { return size(); }
   /// Gridpoint of block A (lower cell id) / block B of sub-contact i.
   [[nodiscard]] index node_a(index i) const { return node_a_[at(i)]; }
   [[nodiscard]] index node_b(index i) const { return node_b_[at(i)]; }
@@ -501,7 +539,12 @@ class subcontact_set {
     else
       return static_cast<const state_type&>(state_[at(i)]);
   }
-  [[nodiscard]] const params_type& params() const { return params_; }
+  /// Law parameters of sub-contact i (those of its face's material pair).
+  [[nodiscard]] const params_type& subcontact_params(index i) const { return face_params(face(i)); }
+  /// Law parameters of shared face s.
+  [[nodiscard]] const params_type& face_params(index s) const { return law_params_[at(face_param_[at(s)])]; }
+  /// True when the sub-contacts of face s started bonded (false: a never-bonded material pair).
+  [[nodiscard]] bool face_bonded(index s) const { return bonded_[at(face_param_[at(s)])] != 0; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
   [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
 
@@ -538,7 +581,7 @@ class subcontact_set {
     for (std::size_t i = 0; i < node_a_.size(); ++i) {
       const auto& st = state(static_cast<index>(i));
       const real a = area_[i];
-      e.stored += a * Law::stored_energy(params_, st);
+      e.stored += a * Law::stored_energy(face_params(face_[i]), st);
       e.dissipated += a * Law::dissipated_energy(st);
       if constexpr (detail::has_dissipation_split<state_type>) {
         e.dissipated_tension += a * st.dissipated_tension;
@@ -611,7 +654,11 @@ class subcontact_set {
     return s_area;
   }
 
-  params_type params_{};
+  /// Law parameters and bonding of each material_table entry (entry 0 the table's default);
+  /// face s uses entry face_param_[s].
+  std::vector<params_type> law_params_;
+  std::vector<char> bonded_;
+  std::vector<index> face_param_;
   index gridpoint_count_ = 0;
   // per sub-contact
   std::vector<index> node_a_, node_b_, face_;

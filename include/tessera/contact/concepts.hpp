@@ -1,0 +1,82 @@
+#pragma once
+// The ContactSet concept: everything a solver relies on from the policy that owns the
+// sub-contacts of a scene (their creation, storage, kinematics, the loop that calls the contact
+// law, and the gather of their forces onto gridpoints). The solver knows no concrete contact set;
+// contact::face_contacts (the bonded faces of a tessellation) is one, a detecting set another.
+//
+// One time step, as the solver drives it (docs/architecture.md):
+//   c.prepare_step(gp, dt)            serial; the only call that may allocate (a detecting set
+//                                     rebuilds its pairs here and reports the growth)
+//   c.run_task(t, gp, dt), t < c.task_count()
+//                                     concurrently for distinct t, in one parallel region with
+//                                     the zone tasks; each writes only the sub-contacts it owns
+//   c.add_force(g, gp)                concurrently for distinct gridpoints g: the gather, in a
+//                                     fixed order so results are bit-identical for any thread count
+// c.update(gp, dt) does the three in order (the unfused path, tests).
+//
+// | expression                          | meaning                                                         |
+// |-------------------------------------|-----------------------------------------------------------------|
+// | C::law_type                         | the ContactLaw evaluated per sub-contact                        |
+// | C::params                           | what the constructor takes (face_contacts: material_table)      |
+// | C(tess, mesh, params)               | builds the set for the blocks of `mesh`; throws invalid_input / |
+// |                                     | geometry_error naming the entity                                |
+// | c.prepare_step(cgp, dt)             | once per step before the tasks (displacements at t, velocities  |
+// |                                     | at t - dt/2, dt in s)                                           |
+// | cc.task_count()                     | number of independent force tasks this step                     |
+// | c.run_task(t, cgp, dt)              | noexcept: kinematics, law update and force of task t's          |
+// |                                     | sub-contacts (stored in the set, not yet on gridpoints)         |
+// | cc.add_force(g, gp)                 | adds the contact force on gridpoint g to gp.force (N)           |
+// | c.update(gp, dt)                    | prepare_step + every task + the gather of every gridpoint       |
+// | cc.add_stiffness_bounds(gp)         | adds Gershgorin row bounds (N/m) to gp.stiffness, valid for any |
+// |                                     | orientation the contacts may take                               |
+// | cc.energies()                       | contact_energies (J), summed in a fixed order                   |
+// | cc.subcontact_count()               | number of sub-contacts now                                      |
+// | cc.state(i), cc.area(i), cc.normal(i), cc.force(i), cc.node_a(i), cc.node_b(i)                       |
+// |                                     | per sub-contact read access: law state, tributary area (m^2),   |
+// |                                     | unit normal A->B, force on node B (N), gridpoints of A and B    |
+
+#include <concepts>
+
+#include "../core/nodes.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../geometry/tessellation.hpp"
+#include "../law/concepts.hpp"
+
+namespace tessera::contact {
+
+/// Energies held by a contact set (J): sums over sub-contacts of area x the law's per-area
+/// energies, accumulated in sub-contact order (deterministic).
+struct contact_energies {
+  real stored = 0;                  ///< recoverable elastic energy, area x Law::stored_energy
+  real dissipated_tension = 0;      ///< by tensile softening (state field dissipated_tension)
+  real dissipated_shear = 0;        ///< by Coulomb slip and shear failure (dissipated_shear)
+  real dissipated_compression = 0;  ///< by compressive plasticity (dissipated_compression)
+  real dissipated = 0;              ///< all mechanisms, area x Law::dissipated_energy
+};
+
+template <class C>
+concept ContactSet = requires(C& c, const C& cc, const geometry::tessellation& tess, const geometry::block_mesh& mesh,
+                              const typename C::params& p, node_set& gp, const node_set& cgp, real dt, index i) {
+  typename C::law_type;
+  requires law::ContactLaw<typename C::law_type>;
+  typename C::params;
+  requires std::constructible_from<C, const geometry::tessellation&, const geometry::block_mesh&,
+                                   const typename C::params&>;
+  { c.prepare_step(cgp, dt) } -> std::same_as<void>;
+  { cc.task_count() } -> std::convertible_to<index>;
+  { c.run_task(i, cgp, dt) } noexcept -> std::same_as<void>;
+  { cc.add_force(i, gp) } noexcept -> std::same_as<void>;
+  { c.update(gp, dt) } -> std::same_as<void>;
+  { cc.add_stiffness_bounds(gp) } -> std::same_as<void>;
+  { cc.energies() } -> std::same_as<contact_energies>;
+  { cc.subcontact_count() } -> std::convertible_to<index>;
+  cc.state(i);
+  { cc.area(i) } -> std::convertible_to<real>;
+  { cc.normal(i) } -> std::convertible_to<vec3>;
+  { cc.force(i) } -> std::convertible_to<vec3>;
+  { cc.node_a(i) } -> std::convertible_to<index>;
+  { cc.node_b(i) } -> std::convertible_to<index>;
+};
+
+}  // namespace tessera::contact
