@@ -16,7 +16,7 @@ exe="$build/examples/direct_tension"
 [[ -x "$exe" ]] || { echo "side_by_side: no $exe (build the examples first: cmake --workflow --preset test)" >&2; exit 2; }
 
 echo "tessera: 100-block prism, one thread ..." >&2
-OMP_NUM_THREADS=1 "$exe" --threads 1 --blocks 100 --out "$out/tessera" > "$out/tessera.log"
+OMP_NUM_THREADS=1 "$exe" --threads 1 --blocks 100 --out "$out/tessera" > "$out/tessera.log" 2>&1
 tessera_ns=$(python3 - "$out/tessera/summary.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
