@@ -192,26 +192,55 @@ tessera_add_example_test(rc_tie_sensitivity NAME example_rc_tie_sensitivity_quic
          "cbond_1_load_drops EQUAL 0"
   TIMEOUT 600)
 
-if(EXISTS ${PROJECT_SOURCE_DIR}/examples/direct_tension/main.cpp)
-  # Bad input: exactly one line, naming the program once, the flag and the value.
-  add_test(NAME example_direct_tension_bad_input
-           COMMAND $<TARGET_FILE:direct_tension> --threads 1 --cohesion-ratio -1 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/bad_input)
-  set_tests_properties(example_direct_tension_bad_input PROPERTIES LABELS example
-    PASS_REGULAR_EXPRESSION "^direct_tension: --cohesion-ratio -1 must be finite and >= 0\n$")
-  add_test(NAME example_direct_tension_bad_regularize
-           COMMAND $<TARGET_FILE:direct_tension> --threads 1 --regularize 0.7 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/bad_regularize)
-  set_tests_properties(example_direct_tension_bad_regularize PROPERTIES LABELS example
-    PASS_REGULAR_EXPRESSION "^direct_tension: --regularize 0.7 must lie in \\[0, 0.5\\]\n$")
-endif()
+# ---- bad input, tried as a hostile user would (issue: every flag checked before anything is
+# written): a non-zero exit, a message naming the flag and the value, no output directory ----
+function(tessera_add_refusal_test name target expect)
+  if(NOT EXISTS ${PROJECT_SOURCE_DIR}/examples/${target}/main.cpp)
+    return()
+  endif()
+  string(REPLACE ";" "|" args "${ARGN}")
+  add_test(NAME ${name}
+           COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:${target}> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/example_out/${name}
+                   "-DARGS=${args}" "-DEXPECT=${expect}" -P ${CMAKE_CURRENT_LIST_DIR}/check_refused.cmake)
+  set_tests_properties(${name} PROPERTIES LABELS example TIMEOUT 120)
+endfunction()
+tessera_add_refusal_test(refuse_direct_tension_cohesion_ratio direct_tension
+  "^direct_tension: --cohesion-ratio: value '-1' must be > 0\n$" --threads 1 --cohesion-ratio -1)
+tessera_add_refusal_test(refuse_direct_tension_regularize direct_tension
+  "^direct_tension: --regularize: value '0.7' must be <= 0.5\n$" --threads 1 --regularize 0.7)
+tessera_add_refusal_test(refuse_direct_tension_dt_nan direct_tension "--dt: invalid value 'nan'" --quick --dt nan)
+tessera_add_refusal_test(refuse_direct_tension_dt_negative direct_tension "--dt: value '-1' must be >= 0" --quick --dt -1)
+tessera_add_refusal_test(refuse_direct_tension_step_zero direct_tension "--step-displacement: value '0' must be > 0"
+  --quick --step-displacement 0)
+tessera_add_refusal_test(refuse_direct_tension_max_displacement direct_tension "--max-displacement: value '-1' must be > 0"
+  --quick --max-displacement -1)
+tessera_add_refusal_test(refuse_direct_tension_seeds direct_tension "--seeds: value '1000000' must be <= 1000"
+  --seeds 1000000)
+tessera_add_refusal_test(refuse_direct_tension_dt_not_quasi_static direct_tension
+  "loading rate 0.005 m/s with added mass .* is not quasi-static.*use a rate <=" --quick --threads 1 --dt 1)
+tessera_add_refusal_test(refuse_rc_tie_lloyd rc_tie "^rc_tie: --lloyd: value '-1' must be >= 0\n$" --threads 1 --lloyd -1)
+tessera_add_refusal_test(refuse_rc_tie_cohesion_ratio rc_tie "^rc_tie: --cohesion-ratio: value '-1' must be > 0\n$"
+  --threads 1 --cohesion-ratio -1)
+tessera_add_refusal_test(refuse_rc_tie_dt_not_quasi_static rc_tie "loading rate 0.01 m/s .* is not quasi-static"
+  --quick --threads 1 --no-vtk --dt 1)
+tessera_add_refusal_test(refuse_rc_tie_rate rc_tie "loading rate 1000000 m/s .* is not quasi-static.*use a rate <="
+  --quick --threads 1 --no-vtk --rate 1e6)
+tessera_add_refusal_test(refuse_rc_tie_elements rc_tie "--elements: value '1000000000' must be <= 100000"
+  --elements 1000000000)
+tessera_add_refusal_test(refuse_rc_tie_threads rc_tie "--threads: value '1000' must be <= 256" --threads 1000)
+tessera_add_refusal_test(refuse_rc_tie_threads_negative rc_tie "--threads: value '-1' must be >= 0" --threads -1)
+tessera_add_refusal_test(refuse_rc_tie_hex rc_tie "--seed: invalid value '0x10'" --seed 0x10)
+tessera_add_refusal_test(refuse_rc_tie_blocks rc_tie "--blocks: value '123' must be one of 100, 250, 500, 750"
+  --blocks 123)
+tessera_add_refusal_test(refuse_rc_tie_softening rc_tie "--softening: invalid value 'foo' \\(expected power or linear\\)"
+  --softening foo)
+tessera_add_refusal_test(refuse_tessellate_edge tessellate "--edge 1e-05 m .* zones, an estimated .* GiB \\(limit 8 GiB\\)"
+  --edge 1e-5)
+tessera_add_refusal_test(refuse_rc_tie_sensitivity_studies rc_tie_sensitivity "unknown study 'foo'" --studies foo)
 if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
-  add_test(NAME example_rc_tie_bad_input
-           COMMAND $<TARGET_FILE:rc_tie> --threads 1 --lloyd -1 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_bad_input)
-  set_tests_properties(example_rc_tie_bad_input PROPERTIES LABELS example
-    PASS_REGULAR_EXPRESSION "^rc_tie: Lloyd steps \\(--lloyd\\) = -1 must be >= 0\n$")
-  add_test(NAME example_rc_tie_bad_cohesion_ratio
-           COMMAND $<TARGET_FILE:rc_tie> --threads 1 --cohesion-ratio -1 --out ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_bad_cohesion_ratio)
-  set_tests_properties(example_rc_tie_bad_cohesion_ratio PROPERTIES LABELS example
-    PASS_REGULAR_EXPRESSION "^rc_tie: --cohesion-ratio -1 must be finite and >= 0\n$")
+  # An empty --out is refused by the parser (no --out is appended here: the empty one is the input).
+  add_test(NAME refuse_rc_tie_empty_out COMMAND $<TARGET_FILE:rc_tie> --quick --out "")
+  set_tests_properties(refuse_rc_tie_empty_out PROPERTIES LABELS example WILL_FAIL TRUE)
   add_test(NAME example_rc_tie_help COMMAND $<TARGET_FILE:rc_tie> --help)
   set_tests_properties(example_rc_tie_help PROPERTIES LABELS example
     PASS_REGULAR_EXPRESSION "--out DIR.*--quick.*--seed N.*--threads N.*--blocks N.*--elements N.*--xi XI.*--cbond C.*--softening.*--rate V.*--rigid.*--bare")

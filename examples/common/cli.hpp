@@ -67,6 +67,8 @@ template <class T>
       if constexpr (std::is_floating_point_v<T>) {
         const double v = std::stod(text, &used);
         if (used != text.size()) throw bad();
+        if (!std::isfinite(v))
+          throw usage_error(std::string(option) + ": invalid value '" + text + "' (expected a finite real)");
         return static_cast<T>(v);
       } else if constexpr (std::is_unsigned_v<T>) {
         if (text.front() == '-') throw bad();
@@ -168,7 +170,7 @@ class parser {
   parser& flag(std::string name, bool& target, std::string help) {
     check_name(name);
     options_.push_back({std::move(name), {}, std::move(help), "", 0,
-                        [&target](const std::vector<std::string>&) { target = true; }});
+                        [&target](const std::vector<std::string>&) { target = true; }, false, {}, {}});
     return *this;
   }
 
@@ -179,8 +181,37 @@ class parser {
     if (metavar.empty()) metavar = default_metavar<T>();
     const std::string n = name;
     options_.push_back({std::move(name), {std::move(metavar)}, std::move(help), detail::to_text(target), 1,
-                        [&target, n](const std::vector<std::string>& v) { target = detail::parse_value<T>(n, v[0]); }});
+                        [&target, n](const std::vector<std::string>& v) { target = detail::parse_value<T>(n, v[0]); },
+                        std::is_arithmetic_v<T>, {}, {}});
     return *this;
+  }
+
+  // ---- value checks on the option registered last (numbers only; applied to each given value) ----
+  /// value >= lo
+  parser& at_least(double lo) { return check(">= " + detail::to_text(lo), [lo](double v) { return v >= lo; }); }
+  /// value > lo
+  parser& greater_than(double lo) { return check("> " + detail::to_text(lo), [lo](double v) { return v > lo; }); }
+  /// value <= hi
+  parser& at_most(double hi) { return check("<= " + detail::to_text(hi), [hi](double v) { return v <= hi; }); }
+  /// value in [lo, hi]
+  parser& within(double lo, double hi) { return at_least(lo).at_most(hi); }
+  /// One of the listed numbers.
+  parser& one_of_numbers(std::vector<double> values) {
+    std::string rule = "one of";
+    for (std::size_t i = 0; i < values.size(); ++i) rule += (i ? ", " : " ") + detail::to_text(values[i]);
+    return check(rule, [values](double v) { return std::find(values.begin(), values.end(), v) != values.end(); });
+  }
+  /// One of the listed words (a text option).
+  parser& one_of(std::vector<std::string> words) {
+    option_entry& o = options_.back();
+    o.words = std::move(words);
+    o.help += " (" + join(o.words, "|") + ")";
+    return *this;
+  }
+
+  /// True when the option was given on the command line (so --quick can leave it alone).
+  [[nodiscard]] bool given(const std::string& name) const {
+    return std::find(given_.begin(), given_.end(), name) != given_.end();
   }
 
   /// A fixed-count multi-value option, e.g. --size LX LY LZ.
@@ -197,20 +228,22 @@ class parser {
     options_.push_back({std::move(name), std::move(metavars), std::move(help), def, static_cast<int>(N),
                         [&target, n](const std::vector<std::string>& v) {
                           for (std::size_t i = 0; i < N; ++i) target[i] = detail::parse_value<T>(n, v[i]);
-                        }});
+                        },
+                        std::is_arithmetic_v<T>, {}, {}});
     return *this;
   }
 
   /// Registers --out (default results/<program>), --quick, --seed and --threads.
   parser& add_standard(standard_options& s) {
     if (s.out.empty()) s.out = std::string("results/").append(program_);
-    option("--out", s.out, "output directory", "DIR");
-    flag("--quick", s.quick, "reduced run (used by the tests)");
+    option("--out", s.out, "output directory (not empty)", "DIR");
+    check("not empty", {}, [](const std::string& text) { return !text.empty(); });
+    flag("--quick", s.quick, "reduced run (used by the tests); changes only the values not given on the command line");
     option("--seed", s.seed, "random seed", "N");
     option("--threads", s.threads,
            "worker threads (0 = one per core that other processes leave idle, measured over 0.2 s at start, "
            "at least 1; the OpenMP default if OMP_NUM_THREADS is set)",
-           "N");
+           "N").within(0, max_threads);
     standard_ = &s;
     return *this;
   }
@@ -269,9 +302,14 @@ class parser {
         }
       }
       o->apply(values);
+      for (const std::string& text : values) validate(*o, text);
+      given_.push_back(o->name);
     }
     return true;
   }
+
+  /// Largest --threads accepted (more threads than this on a 2-core machine is a typo).
+  static constexpr int max_threads = 256;
 
   /// parse(); on --help prints usage() to stdout and exits 0; on a usage_error prints
   /// "<program>: <message>" to stderr and exits 2.
@@ -295,6 +333,11 @@ class parser {
 
  private:
   standard_options* standard_ = nullptr;  ///< set by add_standard: --threads 0 is resolved after parsing
+  struct value_check {
+    std::string rule;                                  ///< e.g. "> 0", printed in the error
+    std::function<bool(double)> number;                ///< for numeric options
+    std::function<bool(const std::string&)> text;      ///< for text options
+  };
   struct option_entry {
     std::string name;
     std::vector<std::string> metavars;
@@ -302,17 +345,37 @@ class parser {
     std::string default_text;
     int arity;
     std::function<void(const std::vector<std::string>&)> apply;
+    bool numeric = false;
+    std::vector<value_check> checks;
+    std::vector<std::string> words;  ///< allowed values of a text option (empty: any)
   };
+  parser& check(std::string rule, std::function<bool(double)> number, std::function<bool(const std::string&)> text = {}) {
+    if (options_.empty()) throw std::logic_error("cli: a value check needs an option registered before it");
+    option_entry& o = options_.back();
+    if (number && !o.numeric) throw std::logic_error("cli: numeric check on text option " + o.name);
+    o.checks.push_back({rule, std::move(number), std::move(text)});
+    if (number) o.help += " [" + rule + "]";
+    return *this;
+  }
+  /// Throws usage_error naming the option, the value and the rule it breaks.
+  static void validate(const option_entry& o, const std::string& text) {
+    if (!o.words.empty() && std::find(o.words.begin(), o.words.end(), text) == o.words.end())
+      throw usage_error(o.name + ": invalid value '" + text + "' (expected " + join(o.words, " or ") + ")");
+    for (const value_check& c : o.checks) {
+      const bool ok = c.number ? c.number(std::stod(text)) : c.text(text);
+      if (!ok) throw usage_error(o.name + ": value '" + text + "' must be " + c.rule);
+    }
+  }
   template <class T>
   static std::string default_metavar() {
     if constexpr (std::is_same_v<T, std::string>) return "TEXT";
     else if constexpr (std::is_floating_point_v<T>) return "X";
     else return "N";
   }
-  static std::string join(const std::vector<std::string>& v) {
+  static std::string join(const std::vector<std::string>& v, const std::string& separator = " ") {
     std::string s;
     for (std::size_t i = 0; i < v.size(); ++i) {
-      if (i) s += " ";
+      if (i) s += separator;
       s += v[i];
     }
     return s;
@@ -330,6 +393,7 @@ class parser {
   std::string program_;
   std::string description_;
   std::vector<option_entry> options_;
+  std::vector<std::string> given_;  ///< options given on the command line, in order
 };
 
 /// Wall-clock stopwatch (steady clock), started at construction.

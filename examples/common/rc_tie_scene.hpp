@@ -38,6 +38,7 @@
 #include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/core/errors.hpp"
+#include "quasi_static.hpp"
 #include "tessera/reinforcement/embedded_truss.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
@@ -550,6 +551,11 @@ template <class Blocks, class Law, class OnEvent>
   opt.threads = loading.threads;
   opt.damping_gamma = loading.damping_gamma;
   solver_type s(scene.prism.tess, scene.prism.mesh, scene.prism.block_material, law_params, scene.bar, opt);
+  if (!scene.options.bare) {
+    const auto& ms = s.mass_scaling();
+    require_quasi_static("rc_tie", loading.rate, scene.hand.length, concrete_young, concrete_density,
+                         ms.original_mass > 0 ? ms.added_mass / ms.original_mass : 0, law_params.tension.f_T);
+  }
 
   const real length = scene.hand.length, tol = 1e-9 * length;
   if (scene.options.bare) {

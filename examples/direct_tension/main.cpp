@@ -129,7 +129,6 @@ int run(const inputs& in) {
                    "' must be 'decoupled' or 'coupled'");
   tessera::require(in.cohesion == "decoupled" || in.softening == "power",
                    "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
-  io::ensure_directory(out);  // after the checks: bad input leaves no directory behind
   const tessera::cli::wall_timer timer;
 
   std::vector<scenes::tension_result> runs;
@@ -138,6 +137,7 @@ int run(const inputs& in) {
     const std::uint64_t seed = in.common.seed + static_cast<std::uint64_t>(k);
     scenes::prism_scene scene;
     runs.push_back(run_one(in, seed, k == 0, scene));
+    io::ensure_directory(out);  // after the checks and the run's own (quasi-static rate): bad input leaves no directory
     const auto& r = runs.back();
     if (k == 0) first_scene = std::move(scene);
     std::printf("seed %llu: peak %.4f MPa at %.4f mm, E0 %.2f GPa, crack area %.5f m^2, separated %s, %lld steps, %.1f s\n",
@@ -315,38 +315,38 @@ int main(int argc, char** argv) {
       "--quick: 5 nm per step (peak +3 % against 2 nm), stopped at 70 % of the peak on the softening\n"
       "branch (no separation, so no fracture-energy figure); about 17 000 steps.");
   cli.add_standard(in.common);
-  cli.option("--blocks", in.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N");
-  cli.option("--seeds", in.seeds, "number of random tessellations (seed, seed+1, ...); envelope of their curves", "K");
-  cli.option("--softening", in.softening, "tensile softening: power (alpha = 3) or linear", "power|linear");
+  cli.option("--blocks", in.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N").one_of_numbers({100, 250, 500, 750});
+  cli.option("--seeds", in.seeds, "number of random tessellations (seed, seed+1, ...); envelope of their curves", "K").within(1, 1000);
+  cli.option("--softening", in.softening, "tensile softening: power (alpha = 3) or linear", "power|linear").one_of({"power", "linear"});
   cli.option("--cohesion", in.cohesion,
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled "
              "(c softens with f_t/f_T; power softening only)",
-             "decoupled|coupled");
-  cli.option("--cohesion-ratio", in.cohesion_ratio, "initial cohesion c_0 / f_T (c_res = 0.01 c_0)", "R");
+             "decoupled|coupled").one_of({"decoupled", "coupled"});
+  cli.option("--cohesion-ratio", in.cohesion_ratio, "initial cohesion c_0 / f_T (c_res = 0.01 c_0)", "R").greater_than(0);
   cli.flag("--slip-breaks-tension", in.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
-  cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V");
+  cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V").greater_than(0);
   cli.flag("--rigid", in.rigid, "rigid blocks instead of deformable semi-rigid ones");
   cli.option("--step-displacement", ld.step_displacement,
-             "top displacement per step (m): mass-scaling target dt* = this / rate", "DU");
-  cli.option("--dt", ld.dt, "mass-scaling target step (s); overrides --step-displacement (0 = use it)", "DT");
-  cli.option("--ramp-transits", ld.ramp_transits, "half-cosine velocity ramp, in axial wave-transit times", "N");
-  cli.option("--tail-speedup", ld.tail_speedup, "velocity factor on the softening tail (stress < 0.3 x peak)", "F");
-  cli.option("--max-displacement", ld.max_displacement, "stop at this top displacement (m) if not separated", "U");
-  cli.option("--sample", ld.sample, "steps between curve samples", "K");
+             "top displacement per step (m): mass-scaling target dt* = this / rate", "DU").greater_than(0);
+  cli.option("--dt", ld.dt, "mass-scaling target step (s); overrides --step-displacement (0 = use it)", "DT").at_least(0);
+  cli.option("--ramp-transits", ld.ramp_transits, "half-cosine velocity ramp, in axial wave-transit times", "N").at_least(0);
+  cli.option("--tail-speedup", ld.tail_speedup, "velocity factor on the softening tail (stress < 0.3 x peak)", "F").at_least(1);
+  cli.option("--max-displacement", ld.max_displacement, "stop at this top displacement (m) if not separated", "U").greater_than(0);
+  cli.option("--sample", ld.sample, "steps between curve samples", "K").at_least(1);
   bool free_platen = false;
   cli.flag("--free-platen", free_platen, "top gridpoints free transversally (frictionless platen; diagnostic)");
-  cli.option("--lloyd", in.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K");
+  cli.option("--lloyd", in.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K").within(0, 1000);
   cli.option("--regularize", in.regularize,
              "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)",
-             "REL");
+             "REL").within(0, tessera::geometry::max_regularization);
   cli.parse_or_exit(argc, argv);
   ld.platen_restraint = !free_platen;
-  if (in.common.quick) {
-    ld.step_displacement = std::max(ld.step_displacement, 5e-9);
+  if (in.common.quick) {  // reduced run; a value given on the command line is kept
+    if (!cli.given("--step-displacement") && !cli.given("--dt")) ld.step_displacement = 5e-9;
     ld.stop_at_separation = false;
     ld.stop_below_peak_ratio = 0.7;
-    ld.max_displacement = std::min(ld.max_displacement, 2e-4);
+    if (!cli.given("--max-displacement")) ld.max_displacement = std::min(ld.max_displacement, 2e-4);
   }
   try {
     return run(in);

@@ -68,6 +68,7 @@
 #include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
+#include "../common/quasi_static.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 
@@ -216,6 +217,9 @@ template <class Solver, class LawParams>
   const real mass = total_mass > 0 ? total_mass : s.gridpoints().mass.sum();
   r.transit_time = length * std::sqrt(mass / (length * area) / concrete_young);
   r.ramp_time = in.ramp_transits * r.transit_time;
+  require_quasi_static("direct_tension", in.rate, length, concrete_young, concrete_density,
+                       s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0,
+                       f_t);
   // v(t) = v0 (1 - cos(pi t / T_r)) / 2 over the ramp, and on the tail (from t_tail) the same
   // half cosine from v0 to tail_speedup x v0; applied before each step to the half-step
   // velocity v(t + dt/2).

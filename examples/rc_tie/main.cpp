@@ -91,6 +91,7 @@ class snapshot_writer {
   template <class Solver>
   void operator()(const Solver& s, const std::string& tag) {
     if (!enabled_) return;
+    tessera::io::ensure_directory(dir_);
     using law = typename Solver::law_type;
     const real t = s.time();
     // Sub-contacts as points.
@@ -184,11 +185,11 @@ int run(inputs in) {
   in.loading.threads = in.common.threads;
   in.loading.progress_label = in.tie.bare ? "rc_tie (bare bar)" : "rc_tie";
   const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
-  io::ensure_directory(out);
   const auto& hand = scene.hand;
 
   snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
   const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
+  io::ensure_directory(out);  // after the run's own checks (quasi-static rate, stable step) passed
 
   std::vector<real> softened(r.softened_subcontacts.begin(), r.softened_subcontacts.end());
   io::write_csv(out / "curve.csv", {"elongation_m", "force_N", "pulled_end_force_N", "concrete_stress_Pa", "softened_subcontacts"},
@@ -346,24 +347,24 @@ int main(int argc, char** argv) {
   int elements = static_cast<int>(in.tie.elements);
   bool no_vtk = false, fixed_end = false;
   std::string bond_basis = "length";
-  cli.option("--blocks", in.tie.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N");
-  cli.option("--regularize", in.tie.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)", "REL");
-  cli.option("--lloyd", in.tie.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K");
-  cli.option("--elements", elements, "truss elements along the bar", "N");
-  cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI");
-  cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C");
-  cli.option("--softening", softening, "contact tensile softening: power (alpha = 3) or linear", "power|linear");
+  cli.option("--blocks", in.tie.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N").one_of_numbers({100, 250, 500, 750});
+  cli.option("--regularize", in.tie.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)", "REL").within(0, tessera::geometry::max_regularization);
+  cli.option("--lloyd", in.tie.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K").within(0, 1000);
+  cli.option("--elements", elements, "truss elements along the bar", "N").within(2, 100000);
+  cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI").greater_than(0);
+  cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C").greater_than(0);
+  cli.option("--softening", softening, "contact tensile softening: power (alpha = 3) or linear", "power|linear").one_of({"power", "linear"});
   cli.option("--cohesion", in.loading.cohesion,
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
              "f_t/f_T; power softening, deformable blocks)",
-             "decoupled|coupled");
-  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R");
+             "decoupled|coupled").one_of({"decoupled", "coupled"});
+  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R").greater_than(0);
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
-  cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V");
+  cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V").greater_than(0);
   cli.flag("--fixed-end", fixed_end, "first bar node fixed, last pulled at --rate (default: both ends pulled at -/+ rate/2)");
-  cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node");
-  cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T");
+  cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node").one_of({"length", "node"});
+  cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T").at_least(0);
   std::string dt_text = "auto";
   cli.option("--dt", dt_text,
              "mass-scaled time step (s); auto = 2e-6 x (100/blocks)^0.55 (2, 1.2, 0.83 us for 100, 250, 500 "
@@ -372,11 +373,11 @@ int main(int argc, char** argv) {
   cli.option("--added-mass", in.loading.added_mass_ratio,
              "instead of --dt: the mass-scaled step at which the added mass is R x the original mass (0 = off; "
              "deformable blocks; the 100-block default step adds 68.7x)",
-             "R");
-  cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U");
-  cli.option("--post-yield", in.loading.post_yield, "after first yield at u_y, stop at (1 + this) u_y", "R");
-  cli.option("--damping", in.loading.damping_gamma, "local damping constant gamma", "G");
-  cli.option("--sample", in.loading.sample, "steps between curve samples", "K");
+             "R").at_least(0);
+  cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U").greater_than(0);
+  cli.option("--post-yield", in.loading.post_yield, "after first yield at u_y, stop at (1 + this) u_y", "R").greater_than(0);
+  cli.option("--damping", in.loading.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
+  cli.option("--sample", in.loading.sample, "steps between curve samples", "K").at_least(1);
   cli.flag("--rigid", in.tie.rigid, "rigid 6-DOF blocks instead of deformable semi-rigid ones");
   cli.flag("--bare", in.tie.bare, "the bar alone (unbonded, concrete fixed): simulated bare-bar curve");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
@@ -405,10 +406,11 @@ int main(int argc, char** argv) {
     }
   }
   if (in.common.quick) {
-    // Reduced run (CTest): coarser mass-scaled step, 10 mm/s, shorter ramp.
-    in.loading.dt = std::max(in.loading.dt, 4e-6);
-    in.loading.rate = std::max(in.loading.rate, 0.01);
-    in.loading.ramp_time = std::min(in.loading.ramp_time, 5e-3);
+    // Reduced run (CTest): coarser mass-scaled step, 10 mm/s, shorter ramp; a value given on the
+    // command line is kept.
+    if (!cli.given("--dt") && !cli.given("--added-mass")) in.loading.dt = 4e-6;
+    if (!cli.given("--rate")) in.loading.rate = 0.01;
+    if (!cli.given("--ramp")) in.loading.ramp_time = std::min(in.loading.ramp_time, 5e-3);
   }
   try {
     return run(in);

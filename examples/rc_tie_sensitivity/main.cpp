@@ -295,7 +295,6 @@ std::string trends(const study& s) {
 int run(const inputs& in) {
   namespace io = tessera::io;
   const fs::path out = in.common.out;
-  io::ensure_directory(out);
   const tessera::cli::wall_timer timer;
   std::vector<std::string> names;
   {
@@ -308,6 +307,9 @@ int run(const inputs& in) {
                                    }), names.end());
   std::vector<study> studies;
   for (const auto& n : names) studies.push_back(make_study(n, in));
+  tessera::require(!studies.empty(), "rc_tie_sensitivity: --studies '", in.studies, "' names no study",
+                   in.common.quick ? " that --quick runs (xi, cbond)" : "");
+  io::ensure_directory(out);  // after the study names were checked: bad input leaves no directory
 
   sc::tie_hand_checks hand;
   std::string md = "# RC tie sensitivity (Pulatsu et al. 2020, Sec. 3.2) — measured trends\n\n";
@@ -405,12 +407,12 @@ int main(int argc, char** argv) {
                            "stiffness ratio, truss elements, blocks, bond cohesion, pull rate; run-time table.");
   cli.add_standard(in.common);
   cli.option("--studies", in.studies, "comma-separated studies: softening,xi,elements,blocks,cbond,rate", "LIST");
-  cli.option("--rate", in.loading.rate, "baseline pull velocity (m/s)", "V");
-  cli.option("--dt", in.loading.dt, "mass-scaled time step (s)", "DT");
-  cli.option("--ramp", in.loading.ramp_time, "velocity ramp time (s)", "T");
-  cli.option("--max-elongation", in.loading.max_elongation, "stop each run here at the latest (m)", "U");
+  cli.option("--rate", in.loading.rate, "baseline pull velocity (m/s)", "V").greater_than(0);
+  cli.option("--dt", in.loading.dt, "mass-scaled time step (s)", "DT").at_least(0);
+  cli.option("--ramp", in.loading.ramp_time, "velocity ramp time (s)", "T").at_least(0);
+  cli.option("--max-elongation", in.loading.max_elongation, "stop each run here at the latest (m)", "U").greater_than(0);
   cli.parse_or_exit(argc, argv);
-  if (in.common.quick) in.loading.dt = std::max(in.loading.dt, 4e-6);
+  if (in.common.quick && !cli.given("--dt")) in.loading.dt = 4e-6;  // a given --dt is kept
   try {
     return run(in);
   } catch (const std::exception& e) {

@@ -2,9 +2,9 @@
 // into constant-strain tetrahedral zones: the geometry every tessera scene starts from.
 //
 // Default specimen: the reference study's prism, 0.068 x 0.068 x 0.6 m, 100 blocks
-// (Pulatsu et al. 2020, Sec. 3), regularized like Neper's cells (edges shorter than
-// geometry::study_regularization = 0.2 of the mean cell size collapsed; --regularize 0 keeps the
-// raw Voronoi cells and their sliver zones).
+// (Pulatsu et al. 2020, Sec. 3), raw Voronoi cells as the simulations use them (--regularize 0;
+// --regularize 0.2, presets::study_regularization, collapses edges shorter than 0.2 of the mean
+// cell size as Neper does, which warps faces: geometry/regularize.hpp).
 //
 // Outputs in --out DIR:
 //   blocks.vtu    polyhedral cells (VTK type 42) with cell data block, volume
@@ -13,6 +13,7 @@
 //                 non-convexity after --regularize), zone quality,
 //                 runtime_s (tessellation + zoning wall time)
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <exception>
@@ -40,13 +41,26 @@ struct inputs {
   double min_spacing = 0.0;                        // m
   double target_edge = 0.0;                        // m, 0 = one zone per face triangle
   // collapse edges shorter than this x the mean cell size (geometry/regularize.hpp), 0 = off
-  double regularize = tessera::geometry::study_regularization;
+  double regularize = 0;  // as the simulations (direct_tension, rc_tie) default
+  bool allow_large = false;  // --allow-large: skip the memory estimate
 };
 
 int run(const inputs& in) {
   namespace geo = tessera::geometry;
   namespace io = tessera::io;
   const std::filesystem::path out = in.common.out;
+  // Size guard, before anything is written: a zone edge h over a box of volume V makes about
+  // V / (h^3 / (6 sqrt 2)) tetrahedra (regular ones); each costs about 1 KiB across the zoning and
+  // the solver's arrays (measured: 3004 zones of the 100-block prism, ~3 MB).
+  if (in.target_edge > 0 && !in.allow_large) {
+    const double volume = in.size[0] * in.size[1] * in.size[2];
+    const double zones = volume / (in.target_edge * in.target_edge * in.target_edge / (6 * std::sqrt(2.0)));
+    const double bytes = 1024 * zones;
+    const double limit = 8.0 * 1024 * 1024 * 1024;
+    tessera::require(bytes <= limit, "tessellate: --edge ", in.target_edge, " m over a ", in.size[0], " x ", in.size[1],
+                     " x ", in.size[2], " m box makes about ", zones, " zones, an estimated ", bytes / (1 << 30),
+                     " GiB (limit 8 GiB); choose a larger --edge or pass --allow-large");
+  }
   io::ensure_directory(out);
   if (in.common.threads > 0) tessera::set_threads(in.common.threads);
 
@@ -149,15 +163,16 @@ int main(int argc, char** argv) {
                            "Random Voronoi tessellation of a box into convex blocks, zoned into tetrahedra.\n"
                            "Default: the reference study's 68 x 68 x 600 mm prism with 100 blocks.");
   cli.add_standard(in.common);
-  cli.option("--blocks", in.blocks, "number of blocks (Voronoi generators)", "N");
-  cli.option("--size", in.size, "box edge lengths (m)", {"LX", "LY", "LZ"});
-  cli.option("--lloyd", in.lloyd, "Lloyd relaxation iterations (more uniform blocks)", "K");
-  cli.option("--min-spacing", in.min_spacing, "minimum distance between generators (m), 0 = none", "D");
-  cli.option("--edge", in.target_edge, "target zone edge length (m), 0 = no refinement", "H");
+  cli.option("--blocks", in.blocks, "number of blocks (Voronoi generators)", "N").within(1, 1000000);
+  cli.option("--size", in.size, "box edge lengths (m)", {"LX", "LY", "LZ"}).greater_than(0);
+  cli.option("--lloyd", in.lloyd, "Lloyd relaxation iterations (more uniform blocks)", "K").within(0, 1000);
+  cli.option("--min-spacing", in.min_spacing, "minimum distance between generators (m), 0 = none", "D").at_least(0);
+  cli.option("--edge", in.target_edge, "target zone edge length (m), 0 = no refinement", "H").at_least(0);
   cli.option("--regularize", in.regularize,
-             "collapse edges shorter than REL x mean cell size, 0 = off (raw Voronoi)", "REL");
+             "collapse edges shorter than REL x mean cell size, 0 = off (raw Voronoi)", "REL").within(0, tessera::geometry::max_regularization);
+  cli.flag("--allow-large", in.allow_large, "skip the memory estimate that refuses zonings over 8 GiB");
   cli.parse_or_exit(argc, argv);
-  if (in.common.quick) in.blocks = std::min(in.blocks, 20);
+  if (in.common.quick && !cli.given("--blocks")) in.blocks = 20;  // a given --blocks is kept
   try {
     return run(in);
   } catch (const std::exception& e) {
