@@ -245,3 +245,12 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
   set_tests_properties(example_rc_tie_help PROPERTIES LABELS example
     PASS_REGULAR_EXPRESSION "--out DIR.*--quick.*--seed N.*--threads N.*--blocks N.*--elements N.*--xi XI.*--cbond C.*--softening.*--rate V.*--rigid.*--bare")
 endif()
+
+# A killed run: run.json says "interrupted", no summary.json, no temporary file; a rerun removes the
+# files the killed run listed and nothing else (tests/check_interrupt.sh).
+if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
+  add_test(NAME example_rc_tie_interrupted
+           COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/check_interrupt.sh $<TARGET_FILE:rc_tie>
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_interrupted --threads 1)
+  set_tests_properties(example_rc_tie_interrupted PROPERTIES LABELS example TIMEOUT 300)
+endif()

@@ -62,6 +62,7 @@
 #include "common/cli.hpp"
 #include "common/rc_tie_scene.hpp"
 #include "tessera/io/atomic_file.hpp"
+#include "tessera/io/run_record.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/plot.hpp"
@@ -412,8 +413,13 @@ int main(int argc, char** argv) {
     if (!cli.given("--rate")) in.loading.rate = 0.01;
     if (!cli.given("--ramp")) in.loading.ramp_time = std::min(in.loading.ramp_time, 5e-3);
   }
+  // run.json is written when the output directory is created (after the checks), listing each
+  // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
+  tessera::io::run_record record(in.common.out, "rc_tie", argc, argv);
   try {
-    return run(in);
+    const int status = run(in);
+    if (status == 0) record.complete();
+    return status;
   } catch (const std::exception& e) {
     tessera::cli::print_error("rc_tie", e);
     return 1;

@@ -40,6 +40,7 @@
 #include "common/cli.hpp"
 #include "common/rc_tie_scene.hpp"
 #include "tessera/io/atomic_file.hpp"
+#include "tessera/io/run_record.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/plot.hpp"
@@ -413,8 +414,13 @@ int main(int argc, char** argv) {
   cli.option("--max-elongation", in.loading.max_elongation, "stop each run here at the latest (m)", "U").greater_than(0);
   cli.parse_or_exit(argc, argv);
   if (in.common.quick && !cli.given("--dt")) in.loading.dt = 4e-6;  // a given --dt is kept
+  // run.json is written when the output directory is created (after the checks), listing each
+  // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
+  tessera::io::run_record record(in.common.out, "rc_tie_sensitivity", argc, argv);
   try {
-    return run(in);
+    const int status = run(in);
+    if (status == 0) record.complete();
+    return status;
   } catch (const std::exception& e) {
     tessera::cli::print_error("rc_tie_sensitivity", e);
     return 1;

@@ -28,6 +28,7 @@
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/io/atomic_file.hpp"
+#include "tessera/io/run_record.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/vtk.hpp"
 
@@ -173,8 +174,13 @@ int main(int argc, char** argv) {
   cli.flag("--allow-large", in.allow_large, "skip the memory estimate that refuses zonings over 8 GiB");
   cli.parse_or_exit(argc, argv);
   if (in.common.quick && !cli.given("--blocks")) in.blocks = 20;  // a given --blocks is kept
+  // run.json is written when the output directory is created (after the checks), listing each
+  // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
+  tessera::io::run_record record(in.common.out, "tessellate", argc, argv);
   try {
-    return run(in);
+    const int status = run(in);
+    if (status == 0) record.complete();
+    return status;
   } catch (const std::exception& e) {
     tessera::cli::print_error("tessellate", e);
     return 1;

@@ -6,6 +6,8 @@
 //
 // Not thread-safe per object; distinct objects writing distinct paths may be used concurrently.
 
+#include <array>
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -37,6 +39,54 @@ namespace detail {
 [[nodiscard]] inline std::string last_os_error() {
   return errno != 0 ? std::string(std::strerror(errno)) : std::string("unknown error");
 }
+
+/// Observers of the output (io::run_record sets them): a directory made ready by
+/// ensure_directory, a file committed by atomic_ofstream (or drawn by plot_png).
+using path_observer = void (*)(const std::filesystem::path&);
+inline path_observer& directory_observer() {
+  static path_observer observer = nullptr;
+  return observer;
+}
+inline path_observer& output_observer() {
+  static path_observer observer = nullptr;
+  return observer;
+}
+inline void notify_output(const std::filesystem::path& file) {
+  if (output_observer() != nullptr) output_observer()(file);
+}
+
+/// Temporary files of writes in progress, so a signal handler can remove them (async-signal-safe
+/// unlink of fixed buffers). 64 concurrent writes at most are tracked; more are still written
+/// atomically, only not cleaned up on a signal.
+struct temporary_slot {
+  std::atomic<bool> used{false};
+  std::array<char, 4096> path{};
+};
+inline std::array<temporary_slot, 64>& temporary_slots() {
+  static std::array<temporary_slot, 64> slots;
+  return slots;
+}
+inline int register_temporary(const std::string& path) {
+  if (path.size() >= 4096) return -1;
+  auto& slots = temporary_slots();
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    if (slots[i].used.load()) continue;
+    std::memcpy(slots[i].path.data(), path.c_str(), path.size() + 1);
+    slots[i].used.store(true);
+    return static_cast<int>(i);
+  }
+  return -1;
+}
+inline void unregister_temporary(int slot) {
+  if (slot >= 0) temporary_slots()[static_cast<std::size_t>(slot)].used.store(false);
+}
+/// Async-signal-safe: unlinks every registered temporary file.
+inline void remove_temporaries_in_progress() noexcept {
+#if !defined(_WIN32)
+  for (auto& slot : temporary_slots())
+    if (slot.used.load()) ::unlink(slot.path.data());
+#endif
+}
 }  // namespace detail
 
 /// Creates `dir` (and its parents) if needed and checks that it is a writable directory.
@@ -57,6 +107,7 @@ inline void ensure_directory(const std::filesystem::path& dir) {
     if (!out) throw io_error(tessera::detail::concat("output directory '", dir.string(), "' is not writable: ", detail::last_os_error()));
   }
   fs::remove(probe, ec);
+  if (detail::directory_observer() != nullptr) detail::directory_observer()(dir);
 }
 
 /// An output file stream that becomes visible at `target` only on commit().
@@ -75,6 +126,7 @@ class atomic_ofstream {
     temp_ += ".tmp." + std::to_string(detail::process_id());
     errno = 0;
     out_.open(temp_, mode | std::ios::out);
+    slot_ = detail::register_temporary(temp_.string());
     if (!out_) throw io_error(tessera::detail::concat("cannot open '", target_.string(), "' for writing (temporary '",
                                                       temp_.string(), "'): ", detail::last_os_error()));
   }
@@ -86,6 +138,7 @@ class atomic_ofstream {
       std::error_code ec;
       std::filesystem::remove(temp_, ec);
     }
+    detail::unregister_temporary(slot_);
   }
 
   [[nodiscard]] std::ostream& stream() { return out_; }
@@ -117,6 +170,9 @@ class atomic_ofstream {
       throw io_error(tessera::detail::concat("cannot move '", temp_.string(), "' to '", target_.string(), "': ", ec.message()));
     }
     committed_ = true;
+    detail::unregister_temporary(slot_);
+    slot_ = -1;
+    detail::notify_output(target_);
   }
 
  private:
@@ -124,6 +180,7 @@ class atomic_ofstream {
   std::filesystem::path temp_;
   std::ofstream out_;
   bool committed_ = false;
+  int slot_ = -1;  ///< registration of temp_ for removal on a signal
 };
 
 /// Writes `content` to `path` atomically.

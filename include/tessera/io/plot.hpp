@@ -140,7 +140,10 @@ inline bool plot_png(const std::filesystem::path& png, const plot_spec& spec) no
       std::error_code ec;
       if (status == 0 && std::filesystem::exists(temp_png, ec)) {
         std::filesystem::rename(temp_png, png, ec);
-        if (!ec) return true;
+        if (!ec) {
+          detail::notify_output(png);
+          return true;
+        }
       }
       std::filesystem::remove(temp_png, ec);
       if (const auto nl = output.find('\n'); nl != std::string::npos) output.resize(nl);
