@@ -38,6 +38,7 @@
 #include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/core/errors.hpp"
+#include "phase_report.hpp"
 #include "quasi_static.hpp"
 #include "tessera/reinforcement/embedded_truss.hpp"
 #include "tessera/presets.hpp"
@@ -268,6 +269,7 @@ struct tie_result {
   real dt = 0, added_mass_ratio = 0;
   std::int64_t steps = 0;
   index subcontacts = 0, zones = 0, gridpoints = 0;
+  phase_times phases;  ///< time per phase of the step (solver::phases)
   double runtime_s = 0;
   bool yielded = false;
 };
@@ -728,6 +730,7 @@ template <class Blocks, class Law, class OnEvent>
   r.dt = s.dt();
   r.added_mass_ratio = s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0;
   r.steps = s.step_count();
+  r.phases = s.phases();
   r.subcontacts = s.contacts().size();
   r.zones = scene.prism.mesh.zone_count();
   r.gridpoints = scene.prism.mesh.gridpoint_count();

@@ -294,6 +294,7 @@ int run(const inputs& in) {
       .set("tail_start_displacement_m", r.tail_displacement)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
+  tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   js.write(out / "summary.json");
   std::printf(
       "direct_tension: peak %.4f MPa (f_T %.4f MPa, error %+.2f %%; normal %.3f + shear %.3f MPa over the crack), "

@@ -68,6 +68,7 @@
 #include "common/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
+#include "../common/phase_report.hpp"
 #include "../common/quasi_static.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
@@ -153,6 +154,7 @@ struct tension_result {
   real tail_displacement = 0;  ///< top displacement where the tail speed-up began (m; 0 = none)
   real dt = 0, ramp_time = 0, transit_time = 0, added_mass_ratio = 0;
   std::int64_t steps = 0, subcontacts = 0, zones = 0, gridpoints = 0, blocks = 0;
+  phase_times phases;  ///< time per phase of the step (solver::phases)
   double runtime_s = 0;
   tension_snapshot at_peak, at_end;
 };
@@ -375,6 +377,7 @@ template <class Solver, class LawParams>
   r.dt = s.dt();
   r.added_mass_ratio = s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0;
   r.steps = s.step_count();
+  r.phases = s.phases();
   r.subcontacts = c.size();
   r.zones = scene.mesh.zone_count();
   r.gridpoints = scene.mesh.gridpoint_count();

@@ -306,6 +306,7 @@ int run(inputs in) {
       .set("added_mass_ratio", r.added_mass_ratio)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
+  tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   js.write(out / "summary.json");
 
   std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (shear lag %.1f, error %.1f %%;"

@@ -4,6 +4,7 @@
 // thread count. Reductions go through fixed-order per-chunk partial sums.
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <vector>
 #if defined(_OPENMP)
@@ -63,24 +64,49 @@ void parallel_for(std::int64_t n, F&& f, std::int64_t grain = 256) {
 /// no barrier in between. f must only write state owned by its range and g state owned by j, and
 /// neither may depend on the other's results. Serial f(0, n) then g when n + m < 2 grain or one
 /// thread.
+/// Seconds spent in the two loops of parallel_range_pair, summed over threads (so on one thread
+/// the wall time of each loop, on several the thread time: a per-core cost).
+struct range_pair_times {
+  double first = 0;
+  double second = 0;
+};
+
 template <class F, class G>
-void parallel_range_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_t grain = 16) {
+void parallel_range_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int64_t grain = 16,
+                         range_pair_times* times = nullptr) {
+  using clock = std::chrono::steady_clock;
+  const auto seconds = [](clock::time_point a, clock::time_point b) { return std::chrono::duration<double>(b - a).count(); };
 #if defined(_OPENMP)
   if (n + m >= 2 * grain && omp_get_max_threads() > 1) {
 #pragma omp parallel
     {
       const std::int64_t threads = omp_get_num_threads(), t = omp_get_thread_num();
       const std::int64_t begin = n * t / threads, end = n * (t + 1) / threads;
+      const auto t0 = times != nullptr ? clock::now() : clock::time_point{};
       if (begin < end) f(begin, end);
+      const auto t1 = times != nullptr ? clock::now() : clock::time_point{};
 #pragma omp for schedule(static) nowait
       for (std::int64_t j = 0; j < m; ++j) g(j);
+      if (times != nullptr) {
+        const double first = seconds(t0, t1), second = seconds(t1, clock::now());
+#pragma omp atomic
+        times->first += first;
+#pragma omp atomic
+        times->second += second;
+      }
     }
     return;
   }
 #endif
   (void)grain;
+  const auto t0 = times != nullptr ? clock::now() : clock::time_point{};
   if (n > 0) f(std::int64_t{0}, n);
+  const auto t1 = times != nullptr ? clock::now() : clock::time_point{};
   for (std::int64_t j = 0; j < m; ++j) g(j);
+  if (times != nullptr) {
+    times->first += seconds(t0, t1);
+    times->second += seconds(t1, clock::now());
+  }
 }
 
 /// Sum of f(i) over [0, n) with a result independent of the thread count: partial sums

@@ -28,6 +28,7 @@
 // (bit-identical for any thread count). step() allocates nothing.
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -54,6 +55,20 @@
 #include "step_checker.hpp"
 
 namespace tessera {
+
+/// Time spent in each phase of the step since the solver was built (s). zones and contacts are
+/// summed over threads (on one thread their wall time; on several the thread time, so
+/// zones / (zone count x steps) is the per-core cost of a zone-step), the others are wall time:
+/// bars (their axial and bond forces), integration (gather of the contact and bar host forces
+/// and the integrator; on the unfused path the integrator alone), recorders (the observers of run
+/// and run_until). A few clock reads per step and thread (about 0.1 us).
+struct phase_times {
+  double zones = 0;
+  double contacts = 0;
+  double bars = 0;
+  double integration = 0;
+  double recorders = 0;
+};
 
 /// Run-time options of a solver (SI).
 struct solver_options {
@@ -142,6 +157,8 @@ class solver {
 
   /// Advances the model by one time step (see the file comment).
   void step() {
+    using clock = std::chrono::steady_clock;
+    const auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
     if (step_ == 0) initial_energy_ = stored_and_kinetic();
     gridpoints_.force.setZero();
     if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
@@ -156,14 +173,19 @@ class solver {
       // and one pass over the gridpoints then gathers the contact forces. Two
       // fork/joins per step instead of five; on a busy machine each one can cost a scheduler
       // time slice.
+      const auto prepare = clock::now();
       contacts_.prepare_step(gridpoints_, dt_);
+      phases_.contacts += since(prepare);
+      range_pair_times region;
       parallel_range_pair(
           blocks_.zone_task_count(),
           [&](std::int64_t t0, std::int64_t t1) {
             blocks_.add_zone_forces_of_tasks(static_cast<index>(t0), static_cast<index>(t1), gridpoints_);
           },
           contacts_.task_count(),
-          [&](std::int64_t t) { contacts_.run_task(static_cast<index>(t), gridpoints_, dt_); });
+          [&](std::int64_t t) { contacts_.run_task(static_cast<index>(t), gridpoints_, dt_); }, 16, &region);
+      phases_.zones += region.first;
+      phases_.contacts += region.second;
       // An integrator that can gather each chunk of gridpoints inside its own loop.
       const auto no_prepare = [](std::int64_t, std::int64_t) {};
       constexpr bool fused_integrator =
@@ -175,7 +197,11 @@ class solver {
         rf.compute_forces(gridpoints_, blocks_.zone_stress());
         rf.add_host_forces(i, i, gridpoints_);
       };
-      if constexpr (split_bars) reinforcement_.compute_forces(gridpoints_, blocks_.zone_stress());
+      if constexpr (split_bars) {
+        const auto bars = clock::now();
+        reinforcement_.compute_forces(gridpoints_, blocks_.zone_stress());
+        phases_.bars += since(bars);
+      }
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
         // Per gridpoint: zone forces (already added), then contact forces, then bar host shares
         // (the order of the unfused step).
@@ -186,22 +212,36 @@ class solver {
       if constexpr (fused_integrator && (!Reinforcement::enabled || split_bars)) {
         // The integrator gathers each chunk of gridpoints right before integrating it (one
         // parallel loop for gather and update); the bar nodes, whose forces are complete, follow.
+        const auto integration = clock::now();
         integrator::step_work work;
         integrator_.advance(gridpoints_, dt_, work, gather);
         if constexpr (Reinforcement::enabled) integrator_.advance(reinforcement_.nodes(), dt_, work);
+        phases_.integration += since(integration);
         finish_step(work);
         return;
       } else {
+        const auto gathering = clock::now();
         parallel_for(gridpoints_.size(), [&](std::int64_t i) { gather(i, i + 1); });
+        phases_.integration += since(gathering);
       }
     } else {
+      const auto zones = clock::now();
       blocks_.accumulate_forces(gridpoints_);
+      const auto contacts = clock::now();
+      phases_.zones += std::chrono::duration<double>(contacts - zones).count();
       contacts_.update(gridpoints_, dt_);
+      phases_.contacts += since(contacts);
     }
-    if constexpr (Reinforcement::enabled) reinforcement_.accumulate_forces(gridpoints_, blocks_.zone_stress());
+    if constexpr (Reinforcement::enabled) {
+      const auto bars = clock::now();
+      reinforcement_.accumulate_forces(gridpoints_, blocks_.zone_stress());
+      phases_.bars += since(bars);
+    }
+    const auto integration = clock::now();
     integrator::step_work work;
     blocks_.advance(integrator_, gridpoints_, dt_, work);
     if constexpr (Reinforcement::enabled) integrator_.advance(reinforcement_.nodes(), dt_, work);
+    phases_.integration += since(integration);
     finish_step(work);
   }
 
@@ -210,7 +250,7 @@ class solver {
   void run(std::int64_t n_steps, Observers&&... observers) {
     for (std::int64_t k = 0; k < n_steps; ++k) {
       step();
-      (observers(std::as_const(*this)), ...);
+      observe(observers...);
     }
   }
   /// Steps until stop(*this) is true or max_steps were taken; returns the steps taken.
@@ -220,7 +260,7 @@ class solver {
     while (k < max_steps && !stop(std::as_const(*this))) {
       step();
       ++k;
-      (observers(std::as_const(*this)), ...);
+      observe(observers...);
     }
     return k;
   }
@@ -247,6 +287,8 @@ class solver {
   /// Factor a on the nodal stiffness in the stable step (1 + gamma with local damping, else 1).
   [[nodiscard]] real stiffness_amplification() const { return integrator_.stiffness_amplification(); }
   [[nodiscard]] const solver_options& options() const { return options_; }
+  /// Time spent in each phase of the steps so far (see phase_times).
+  [[nodiscard]] const phase_times& phases() const { return phases_; }
 
   /// All energy terms now (J); O(zones + sub-contacts + nodes).
   [[nodiscard]] energy_balance energies() const {
@@ -334,6 +376,15 @@ class solver {
   }
 
  private:
+  template <class... Observers>
+  void observe(Observers&... observers) {
+    if constexpr (sizeof...(Observers) > 0) {
+      const auto start = std::chrono::steady_clock::now();
+      (observers(std::as_const(*this)), ...);
+      phases_.recorders += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  }
+
   /// Step 7: energy increments, time, step checker.
   void finish_step(const integrator::step_work& work) {
     boundary_work_ += work.boundary;
@@ -369,6 +420,7 @@ class solver {
   real damping_dissipated_ = 0;
   real initial_energy_ = 0;
   integrator::critical_step critical_;
+  phase_times phases_;
   integrator::mass_scaling_report scaling_;
 };
 
