@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages tessera needs, skipping those already present.
+# Installs the Debian 12 packages tessera needs, skipping those already present (python3-vtk9:
+# the test that reads every VTK file back with VTK's own readers, as ParaView does).
 # Needs root (or sudo) only when something is missing.
 # --fuzz also installs clang 14 with libFuzzer and its sanitizer runtimes (cmake/run-fuzzers.sh);
 # the main build does not need them.
 set -euo pipefail
-packages=(g++ cmake make libeigen3-dev catch2 libbenchmark-dev gnuplot-nox)
+packages=(g++ cmake make libeigen3-dev catch2 libbenchmark-dev gnuplot-nox python3-vtk9)
 if [[ "${1:-}" == "--fuzz" ]]; then packages+=(clang-14 libclang-rt-14-dev); fi
 missing=()
 for p in "${packages[@]}"; do

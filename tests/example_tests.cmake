@@ -254,3 +254,24 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
                    ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_interrupted --threads 1)
   set_tests_properties(example_rc_tie_interrupted PROPERTIES LABELS example TIMEOUT 300)
 endif()
+
+# ParaView-ready outputs: every VTK file of a quick tie read back with VTK's own XML readers
+# (python3-vtk9, installed by cmake/install-deps.sh): counts, no NaN, one name per quantity,
+# reference configuration + displacement (tests/check_vtk_files.py). Debian's own python3, where
+# python3-vtk9 installs (a python3 first on PATH, e.g. pyenv's, does not see it).
+find_program(TESSERA_SYSTEM_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
+if(NOT TESSERA_SYSTEM_PYTHON)
+  set(TESSERA_SYSTEM_PYTHON python3)
+endif()
+if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
+  add_test(NAME example_rc_tie_vtk_files
+           COMMAND ${TESSERA_SYSTEM_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_vtk_files.py $<TARGET_FILE:rc_tie>
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_vtk_files --quick --threads 1)
+  set_tests_properties(example_rc_tie_vtk_files PROPERTIES LABELS example TIMEOUT 300)
+endif()
+if(EXISTS ${PROJECT_SOURCE_DIR}/examples/direct_tension/main.cpp)
+  add_test(NAME example_direct_tension_vtk_files
+           COMMAND ${TESSERA_SYSTEM_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_vtk_files.py $<TARGET_FILE:direct_tension>
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/direct_tension_vtk_files --quick --threads 1)
+  set_tests_properties(example_direct_tension_vtk_files PROPERTIES LABELS example TIMEOUT 300)
+endif()

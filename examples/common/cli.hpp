@@ -35,6 +35,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <unistd.h>
+
 namespace tessera::cli {
 
 /// Bad command line: unknown option, missing or malformed value. what() names the option and value.
@@ -412,20 +414,30 @@ class wall_timer {
 /// `interval_s` seconds so a fast loop is not slowed by terminal output. finish() ends the line.
 class progress_line {
  public:
-  explicit progress_line(std::string label, double interval_s = 0.5) : label_(std::move(label)), interval_(interval_s) {}
+  /// Shown when stderr is a terminal, or when the environment sets TESSERA_PROGRESS=1 (e.g. to
+  /// follow a run in a log); otherwise quiet.
+  explicit progress_line(std::string label, double interval_s = 0.5)
+      : label_(std::move(label)), interval_(interval_s), enabled_(wanted()) {}
   ~progress_line() { finish(); }
   progress_line(const progress_line&) = delete;
   progress_line& operator=(const progress_line&) = delete;
 
-  /// Shows `fraction` (0..1) done plus a free-form message, if the refresh interval has passed.
+  /// Shows a bar for `fraction` (0..1) done, a free-form message, the elapsed time and an
+  /// estimate of the time left (elapsed x (1 - f) / f), if the refresh interval has passed.
   void update(double fraction, const std::string& message = "") {
+    if (!enabled_) return;
     const double now = timer_.seconds();
     if (shown_ && now - last_ < interval_) return;
     last_ = now;
     shown_ = true;
+    const double f = std::clamp(fraction, 0.0, 1.0);
+    constexpr int width = 20;
+    const int filled = static_cast<int>(f * width);
     std::ostringstream os;
-    os << '\r' << label_ << ' ' << std::fixed << std::setprecision(1) << 100.0 * fraction << "% " << message
-       << "  [" << std::setprecision(1) << now << " s]";
+    os << '\r' << label_ << " [" << std::string(static_cast<std::size_t>(filled), '#')
+       << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << std::fixed << std::setprecision(1)
+       << 100.0 * f << "% " << message << "  " << std::setprecision(1) << now << " s";
+    if (f > 0.01) os << ", ~" << std::setprecision(0) << now * (1 - f) / f << " s left";
     std::string line = os.str();
     if (line.size() < last_width_) line.append(last_width_ - line.size(), ' ');
     last_width_ = line.size();
@@ -437,8 +449,13 @@ class progress_line {
   }
 
  private:
+  static bool wanted() {
+    if (const char* e = std::getenv("TESSERA_PROGRESS"); e != nullptr && std::string(e) == "1") return true;
+    return ::isatty(2) != 0;
+  }
   std::string label_;
   double interval_;
+  bool enabled_;
   wall_timer timer_;
   double last_ = 0.0;
   bool shown_ = false;

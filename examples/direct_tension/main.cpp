@@ -63,10 +63,11 @@ struct inputs {
 
 void write_contacts_vtp(const fs::path& path, const scenes::tension_snapshot& s) {
   tessera::io::vtk::poly_data pd;
-  pd.set_points(s.contact_position);
-  for (tessera::index i = 0; i < static_cast<tessera::index>(s.contact_position.size()); ++i) pd.add_vertex(i);
+  pd.set_points(s.contact_reference);  // reference configuration, as every tessera VTK file
+  for (tessera::index i = 0; i < static_cast<tessera::index>(s.contact_reference.size()); ++i) pd.add_vertex(i);
+  pd.point_data.add_vector("displacement", std::span<const tessera::vec3>(s.contact_displacement));
   pd.point_data.add_scalar("status", std::span<const std::int32_t>(s.status));
-  pd.point_data.add_scalar("damage", std::span<const double>(s.damage));
+  pd.point_data.add_scalar("tensile_damage", std::span<const double>(s.damage));
   pd.point_data.add_scalar("opening_m", std::span<const double>(s.opening));
   pd.point_data.add_scalar("sigma_n_Pa", std::span<const double>(s.sigma_n));
   pd.write(path);

@@ -98,7 +98,10 @@ struct tension_loading {
 /// Per-sub-contact and per-zone fields at one instant (VTK output).
 struct tension_snapshot {
   real time = 0, displacement = 0, stress = 0;  ///< s, m, Pa
-  std::vector<vec3> contact_position, contact_normal, contact_tau;  ///< m, unit A->B, Pa
+  std::vector<vec3> contact_position, contact_normal, contact_tau;  ///< m (current), unit A->B, Pa
+  /// Reference position and displacement of each sub-contact (mean of its two gridpoints), m: the
+  /// VTK files are written in the reference configuration with a displacement array.
+  std::vector<vec3> contact_reference, contact_displacement;
   std::vector<real> damage, opening, sigma_n;                       ///< -, m, Pa
   std::vector<std::int32_t> status;                                 ///< law::contact_status bits
   soa3 gridpoint_displacement;                                      ///< m
@@ -110,11 +113,15 @@ struct tension_snapshot {
     const auto& c = s.contacts();
     const auto n = static_cast<std::size_t>(c.size());
     contact_position.resize(n), contact_normal.resize(n), contact_tau.resize(n);
+    contact_reference.resize(n), contact_displacement.resize(n);
     damage.resize(n), opening.resize(n), sigma_n.resize(n), status.resize(n);
     for (index i = 0; i < c.size(); ++i) {
       const auto k = static_cast<std::size_t>(i);
       const auto& st = c.state(i);
       contact_position[k] = c.position(i, s.gridpoints());
+      const auto& gp = s.gridpoints();
+      contact_reference[k] = 0.5 * (gp.reference.row(c.node_a(i)) + gp.reference.row(c.node_b(i))).transpose();
+      contact_displacement[k] = 0.5 * (gp.displacement.row(c.node_a(i)) + gp.displacement.row(c.node_b(i))).transpose();
       contact_normal[k] = c.normal(i);
       contact_tau[k] = vec3(st.tau);
       damage[k] = law::tensile_damage(c.subcontact_params(k), st);

@@ -99,13 +99,15 @@ class snapshot_writer {
     {
       const auto& c = s.contacts();
       const auto n = static_cast<std::size_t>(c.size());
-      std::vector<vec3> position(n);
+      std::vector<vec3> position(n), displacement(n);  // reference configuration + displacement
       std::vector<double> damage(n), opening(n), sigma_n(n);
       std::vector<std::int32_t> status(n);
       for (index i = 0; i < c.size(); ++i) {
         const auto k = static_cast<std::size_t>(i);
         const auto& st = c.state(i);
-        position[k] = c.position(i, s.gridpoints());
+        const auto& gp = s.gridpoints();
+        position[k] = 0.5 * (gp.reference.row(c.node_a(i)) + gp.reference.row(c.node_b(i))).transpose();
+        displacement[k] = 0.5 * (gp.displacement.row(c.node_a(i)) + gp.displacement.row(c.node_b(i))).transpose();
         damage[k] = law::tensile_damage(c.subcontact_params(k), st);
         opening[k] = st.u_n;
         sigma_n[k] = st.sigma_n;
@@ -114,6 +116,7 @@ class snapshot_writer {
       vtk::poly_data pd;
       pd.set_points(std::move(position));
       for (index i = 0; i < c.size(); ++i) pd.add_vertex(i);
+      pd.point_data.add_vector("displacement", std::span<const vec3>(displacement));
       pd.point_data.add_scalar("tensile_damage", std::span<const double>(damage));
       pd.point_data.add_scalar("status", std::span<const std::int32_t>(status));
       pd.point_data.add_scalar("opening_m", std::span<const double>(opening));
