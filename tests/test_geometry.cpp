@@ -975,3 +975,18 @@ TEST_CASE("voronoi: a welded vertex stays within the weld tolerance of every bis
   CHECK(on_own < 1e-7);   // 9.3e-8 m (0.79 tol) over all cells
   CHECK(outside < 1e-7);  // 9.3e-8 m
 }
+
+TEST_CASE("csr: rows in entry order, empty rows, offsets count the entries", "[csr]") {
+  using tessera::index;
+  const std::vector<index> row_of{2, 0, 2, 3, 0, 2};  // row 1 stays empty
+  std::vector<index> items;
+  auto entries = [&](auto&& emit) {
+    for (std::size_t k = 0; k < row_of.size(); ++k)
+      emit(row_of[k], [&](index slot) { items[static_cast<std::size_t>(slot)] = static_cast<index>(k); });
+  };
+  const std::vector<index> offsets = tessera::csr_offsets(4, entries);
+  items.resize(static_cast<std::size_t>(offsets.back()));
+  tessera::csr_fill(offsets, entries);
+  CHECK(offsets == std::vector<index>{0, 2, 2, 5, 6});
+  CHECK(items == std::vector<index>{1, 4, 0, 2, 5, 3});
+}

@@ -53,6 +53,7 @@
 
 #include <Eigen/Core>
 
+#include "../core/csr.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/parallel.hpp"
@@ -195,22 +196,21 @@ class deformable {
     // Block-average gradient weights w_i and the gridpoint -> zone-corner incidence (CSR, each
     // gridpoint's corners in increasing zone order).
     block_gradient_.setZero(n_gp, 3);
-    corner_offsets_.assign(static_cast<std::size_t>(n_gp) + 1, 0);
-    for (index z = 0; z < n_z; ++z)
-      for (int a = 0; a < 4; ++a) ++corner_offsets_[static_cast<std::size_t>(corner(z, a)) + 1];
-    for (index i = 0; i < n_gp; ++i) corner_offsets_[static_cast<std::size_t>(i) + 1] += corner_offsets_[static_cast<std::size_t>(i)];
-    corner_slots_.resize(static_cast<std::size_t>(4 * n_z));
-    std::vector<index> fill(corner_offsets_.begin(), corner_offsets_.end() - 1);
     for (index z = 0; z < n_z; ++z) {
       const std::array<real, 12> g = gradients(z);
       const real v = volume_[static_cast<std::size_t>(z)];
       const real vb = block_volume[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
-      for (int a = 0; a < 4; ++a) {
-        const index id = corner(z, a);
-        corner_slots_[static_cast<std::size_t>(fill[static_cast<std::size_t>(id)]++)] = 3 * a * n_z + z;
-        for (int k = 0; k < 3; ++k) block_gradient_(id, k) += v * g[static_cast<std::size_t>(3 * a + k)] / vb;
-      }
+      for (int a = 0; a < 4; ++a)
+        for (int k = 0; k < 3; ++k) block_gradient_(corner(z, a), k) += v * g[static_cast<std::size_t>(3 * a + k)] / vb;
     }
+    auto corners = [&](auto&& emit) {
+      for (index z = 0; z < n_z; ++z)
+        for (int a = 0; a < 4; ++a)
+          emit(corner(z, a), [&](index slot) { corner_slots_[static_cast<std::size_t>(slot)] = 3 * a * n_z + z; });
+    };
+    corner_offsets_ = csr_offsets(n_gp, corners);
+    corner_slots_.resize(static_cast<std::size_t>(4 * n_z));
+    csr_fill(corner_offsets_, corners);
     rotation_.assign(static_cast<std::size_t>(n_b), mat3::Identity());
     corner_force_.setZero(n_z, 12);
     zone_stress_.setZero(n_z, 6);

@@ -41,6 +41,7 @@
 
 #include <Eigen/SVD>
 
+#include "../core/csr.hpp"
 #include "../core/errors.hpp"
 #include "../core/parallel.hpp"
 #include "../core/types.hpp"
@@ -97,20 +98,18 @@ inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_
   };
   auto bin_of = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nb[0] * (j + nb[1] * k); };
   const std::int64_t bins = nb[0] * nb[1] * nb[2];
-  std::vector<index> offsets(static_cast<std::size_t>(bins) + 1, 0);
   std::vector<std::int64_t> point_bin(n);
   for (std::size_t k = 0; k < n; ++k) {
     const vec3& p = points[k];
     point_bin[k] = bin_of(bin_coord(p.x(), 0), bin_coord(p.y(), 1), bin_coord(p.z(), 2));
-    ++offsets[static_cast<std::size_t>(point_bin[k]) + 1];
   }
-  for (std::size_t b = 0; b < static_cast<std::size_t>(bins); ++b) offsets[b + 1] += offsets[b];
   std::vector<index> members(n);
-  {
-    std::vector<index> fill(offsets.begin(), offsets.end() - 1);
+  auto entries = [&](auto&& emit) {
     for (std::size_t k = 0; k < n; ++k)
-      members[static_cast<std::size_t>(fill[static_cast<std::size_t>(point_bin[k])]++)] = static_cast<index>(k);
-  }
+      emit(point_bin[k], [&](index slot) { members[static_cast<std::size_t>(slot)] = static_cast<index>(k); });
+  };
+  const std::vector<index> offsets = csr_offsets(static_cast<index>(bins), entries);
+  csr_fill(offsets, entries);
   // Union-find; the root of a component is its smallest point index.
   std::vector<index> parent(n);
   for (std::size_t k = 0; k < n; ++k) parent[k] = static_cast<index>(k);

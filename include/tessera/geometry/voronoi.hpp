@@ -31,6 +31,7 @@
 #include <span>
 #include <vector>
 
+#include "../core/csr.hpp"
 #include "../core/errors.hpp"
 #include "../core/parallel.hpp"
 #include "../core/types.hpp"
@@ -89,18 +90,18 @@ struct seed_grid {
       bin_size[a] = size[a] / n[static_cast<std::size_t>(a)];
       inv_bin_size[a] = n[static_cast<std::size_t>(a)] / size[a];
     }
-    offsets.assign(static_cast<std::size_t>(total) + 1, 0);
     std::vector<index> bin_of_seed(seeds.size());
     for (std::size_t s = 0; s < seeds.size(); ++s) {
       const auto b = coords(seeds[s]);
       bin_of_seed[s] = bin(b[0], b[1], b[2]);
-      ++offsets[static_cast<std::size_t>(bin_of_seed[s]) + 1];
     }
-    for (std::size_t b = 0; b + 1 < offsets.size(); ++b) offsets[b + 1] += offsets[b];
+    auto entries = [&](auto&& emit) {
+      for (std::size_t s = 0; s < seeds.size(); ++s)
+        emit(bin_of_seed[s], [&](index slot) { members[static_cast<std::size_t>(slot)] = static_cast<index>(s); });
+    };
+    offsets = csr_offsets(static_cast<index>(total), entries);
     members.resize(seeds.size());
-    std::vector<index> fill(offsets.begin(), offsets.end() - 1);
-    for (std::size_t s = 0; s < seeds.size(); ++s)
-      members[static_cast<std::size_t>(fill[static_cast<std::size_t>(bin_of_seed[s])]++)] = static_cast<index>(s);
+    csr_fill(offsets, entries);
   }
   [[nodiscard]] std::array<int, 3> coords(const vec3& p) const {
     std::array<int, 3> b{};

@@ -46,6 +46,7 @@
 #include <utility>
 #include <vector>
 
+#include "../core/csr.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
@@ -148,28 +149,29 @@ class embedded_truss {
     host_load_.setZero(n_nodes, 3);
     // Host slots grouped by gridpoint (CSR), each gridpoint's in bonded-node order; a zone's
     // corners are distinct, so a gridpoint appears at most once per node.
-    host_offsets_.assign(bonded_nodes_.empty() ? 0 : static_cast<std::size_t>(gridpoints.size()) + 1, 0);
+    host_offsets_.clear();
     host_slot_gridpoint_.clear();
     host_slot_node_.clear();
     host_slot_weight_.clear();
     if (!bonded_nodes_.empty()) {
-      for (index n : bonded_nodes_)
-        for (index g : hosts_[static_cast<std::size_t>(n)].gridpoints) ++host_offsets_[static_cast<std::size_t>(g) + 1];
-      for (std::size_t g = 1; g < host_offsets_.size(); ++g) host_offsets_[g] += host_offsets_[g - 1];
+      auto slots_of = [&](auto&& emit) {
+        for (index n : bonded_nodes_) {
+          const host_point& h = hosts_[static_cast<std::size_t>(n)];
+          for (std::size_t i = 0; i < 4; ++i)
+            emit(h.gridpoints[i], [&](index slot) {
+              const auto k = static_cast<std::size_t>(slot);
+              host_slot_gridpoint_[k] = h.gridpoints[i];
+              host_slot_node_[k] = n;
+              host_slot_weight_[k] = h.weights[i];
+            });
+        }
+      };
+      host_offsets_ = csr_offsets(static_cast<index>(gridpoints.size()), slots_of);
       const std::size_t slots = static_cast<std::size_t>(host_offsets_.back());
       host_slot_gridpoint_.resize(slots);
       host_slot_node_.resize(slots);
       host_slot_weight_.resize(slots);
-      std::vector<index> fill(host_offsets_.begin(), host_offsets_.end() - 1);
-      for (index n : bonded_nodes_) {
-        const host_point& h = hosts_[static_cast<std::size_t>(n)];
-        for (std::size_t i = 0; i < 4; ++i) {
-          const auto k = static_cast<std::size_t>(fill[static_cast<std::size_t>(h.gridpoints[i])]++);
-          host_slot_gridpoint_[k] = h.gridpoints[i];
-          host_slot_node_[k] = n;
-          host_slot_weight_[k] = h.weights[i];
-        }
-      }
+      csr_fill(host_offsets_, slots_of);
     }
     transverse_gap_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     confining_stress_.assign(static_cast<std::size_t>(n_nodes), 0.0);

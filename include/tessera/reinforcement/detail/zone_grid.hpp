@@ -14,6 +14,7 @@
 #include <span>
 #include <vector>
 
+#include "../../core/csr.hpp"
 #include "../../core/types.hpp"
 
 namespace tessera::reinforcement::detail {
@@ -52,7 +53,6 @@ class zone_grid {
       cell_ *= 1.26;
     }
     // Two-pass CSR fill in ascending zone id: counts, prefix sum, entries.
-    offsets_.assign(static_cast<std::size_t>(dims_[0]) * dims_[1] * dims_[2] + 1, 0);
     auto for_cells = [&](const aabb& box, auto&& visit) {
       const auto lo = cell_of(box.lo);
       const auto hi = cell_of(box.hi);
@@ -60,12 +60,15 @@ class zone_grid {
         for (index j = lo[1]; j <= hi[1]; ++j)
           for (index i = lo[0]; i <= hi[0]; ++i) visit(linear(i, j, k));
     };
-    for (const aabb& box : boxes) for_cells(box, [&](std::size_t c) { ++offsets_[c + 1]; });
-    for (std::size_t c = 1; c < offsets_.size(); ++c) offsets_[c] += offsets_[c - 1];
+    auto entries = [&](auto&& emit) {
+      for (std::size_t z = 0; z < boxes.size(); ++z)
+        for_cells(boxes[z], [&](std::size_t c) {
+          emit(c, [&](index slot) { zone_ids_[static_cast<std::size_t>(slot)] = static_cast<index>(z); });
+        });
+    };
+    offsets_ = csr_offsets(static_cast<index>(dims_[0] * dims_[1] * dims_[2]), entries);
     zone_ids_.resize(static_cast<std::size_t>(offsets_.back()));
-    std::vector<index> fill(offsets_.begin(), offsets_.end() - 1);
-    for (std::size_t z = 0; z < boxes.size(); ++z)
-      for_cells(boxes[z], [&](std::size_t c) { zone_ids_[static_cast<std::size_t>(fill[c]++)] = static_cast<index>(z); });
+    csr_fill(offsets_, entries);
   }
 
   /// Zone ids (ascending) whose padded box may contain p; empty when the grid is empty.
