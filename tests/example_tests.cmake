@@ -263,15 +263,11 @@ find_program(TESSERA_SYSTEM_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
 if(NOT TESSERA_SYSTEM_PYTHON)
   set(TESSERA_SYSTEM_PYTHON python3)
 endif()
-if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
-  add_test(NAME example_rc_tie_vtk_files
-           COMMAND ${TESSERA_SYSTEM_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_vtk_files.py $<TARGET_FILE:rc_tie>
-                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_tie_vtk_files --quick --threads 1)
-  set_tests_properties(example_rc_tie_vtk_files PROPERTIES LABELS example TIMEOUT 300)
-endif()
-if(EXISTS ${PROJECT_SOURCE_DIR}/examples/direct_tension/main.cpp)
-  add_test(NAME example_direct_tension_vtk_files
-           COMMAND ${TESSERA_SYSTEM_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_vtk_files.py $<TARGET_FILE:direct_tension>
-                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/direct_tension_vtk_files --quick --threads 1)
-  set_tests_properties(example_direct_tension_vtk_files PROPERTIES LABELS example TIMEOUT 300)
-endif()
+foreach(driver rc_tie direct_tension)
+  if(EXISTS ${PROJECT_SOURCE_DIR}/examples/${driver}/main.cpp)
+    add_test(NAME example_${driver}_vtk_files
+             COMMAND ${TESSERA_SYSTEM_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/check_vtk_files.py $<TARGET_FILE:${driver}>
+                     ${CMAKE_CURRENT_BINARY_DIR}/example_out/${driver}_vtk_files --quick --threads 1)
+    set_tests_properties(example_${driver}_vtk_files PROPERTIES LABELS example TIMEOUT 300)
+  endif()
+endforeach()
