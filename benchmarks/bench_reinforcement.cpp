@@ -5,6 +5,7 @@
 #include <array>
 #include <vector>
 
+#include "tessera/presets.hpp"
 #include "tessera/reinforcement.hpp"
 
 using namespace tessera;

@@ -17,7 +17,7 @@ runs="${1:-20000}"
 build="${TESSERA_FUZZ_BUILD_DIR:-$root/build/fuzz}"
 seed="${TESSERA_FUZZ_SEED:-1}"
 max_time="${TESSERA_FUZZ_MAX_TIME:-900}"
-targets=(${TESSERA_FUZZ_TARGETS:-fuzz_tess_reader fuzz_tessellation fuzz_clip})
+targets=(${TESSERA_FUZZ_TARGETS:-fuzz_tess_reader fuzz_tessellation fuzz_clip fuzz_cli})
 
 bash "$root/cmake/install-deps.sh" --fuzz
 CXX=clang++-14 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
@@ -25,7 +25,7 @@ CXX=clang++-14 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DTESSERA_USE_OPENMP=OFF -DTESSERA_BUILD_FUZZERS=ON >/dev/null
 cmake --build "$build" --target "${targets[@]}" -j2
 
-declare -A corpus=([fuzz_tess_reader]=tess [fuzz_tessellation]=tessellation [fuzz_clip]=clip)
+declare -A corpus=([fuzz_tess_reader]=tess [fuzz_tessellation]=tessellation [fuzz_clip]=clip [fuzz_cli]=cli)
 mkdir -p "$build/findings"
 failed=()
 for t in "${targets[@]}"; do

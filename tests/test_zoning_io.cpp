@@ -871,6 +871,49 @@ TEST_CASE("cli: errors name the flag and the value", "[cli]") {
   REQUIRE_THROWS_AS(parse(p, {"--blocks", "99999999999"}), cli::usage_error);
 }
 
+TEST_CASE("cli: strict syntax, finite reals, ranges, known words, non-empty --out, bounded --threads", "[cli]") {
+  driver_options o;
+  auto p = make_parser(o);
+  // hexadecimal integers and hex floats, white space, non-finite reals, 1e6 for an integer
+  REQUIRE_THROWS_WITH(parse(p, {"--blocks", "0x10"}), Catch::Contains("--blocks") && Catch::Contains("'0x10'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--rate", "0x1p3"}), Catch::Contains("--rate") && Catch::Contains("'0x1p3'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--blocks", " 5"}), Catch::Contains("' 5'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--blocks", "1e6"}), Catch::Contains("'1e6'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--rate", "nan"}), Catch::Contains("--rate") && Catch::Contains("'nan'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--rate", "inf"}), Catch::Contains("'inf'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--rate", "-inf"}), Catch::Contains("'-inf'"));
+  REQUIRE_THROWS_WITH(parse(p, {"--size", "1", "nan", "1"}), Catch::Contains("--size") && Catch::Contains("'nan'"));
+  // --threads in [0, max_threads]; --out must not be empty
+  REQUIRE_THROWS_WITH(parse(p, {"--threads", "1000"}),
+                      Catch::Contains("--threads: value '1000' must be <= 256"));
+  REQUIRE_THROWS_WITH(parse(p, {"--threads", "-1"}), Catch::Contains("--threads: value '-1' must be >= 0"));
+  CHECK(parse(p, {"--threads", "256"}));
+  REQUIRE_THROWS_WITH(parse(p, {"--out", ""}), Catch::Contains("--out: value '' must be not empty"));
+  // ranges, listed numbers and words declared where the option is registered; a refused value
+  // leaves the target unchanged only if checked before assignment, so the driver must not run
+  double dt = 1e-6;
+  int blocks = 100;
+  std::string law = "power";
+  bool verbose = false;
+  cli::parser q("prog", "");
+  q.option("--dt", dt, "time step (s)", "S").greater_than(0).at_most(1e-3);
+  q.option("--blocks", blocks, "blocks", "N").one_of_numbers({100, 250});
+  q.option("--law", law, "softening", "NAME").one_of({"power", "linear"});
+  q.flag("--verbose", verbose, "more output");
+  REQUIRE_THROWS_WITH(parse(q, {"--dt", "1"}), Catch::Contains("--dt: value '1' must be <= 0.001"));
+  REQUIRE_THROWS_WITH(parse(q, {"--dt", "0"}), Catch::Contains("--dt: value '0' must be > 0"));
+  REQUIRE_THROWS_WITH(parse(q, {"--blocks", "123"}), Catch::Contains("--blocks: value '123' must be one of 100, 250"));
+  REQUIRE_THROWS_WITH(parse(q, {"--law", "foo"}), Catch::Contains("--law: invalid value 'foo' (expected power or linear)"));
+  CHECK(parse(q, {"--dt", "2e-6", "--blocks", "250", "--law", "linear"}));
+  CHECK(dt == 2e-6);
+  CHECK(blocks == 250);
+  CHECK(law == "linear");
+  CHECK_THAT(q.usage(), Catch::Contains("[> 0] [<= 0.001]") && Catch::Contains("(power|linear)"));
+  // given(): what --quick may change
+  CHECK(q.given("--dt"));
+  CHECK_FALSE(q.given("--verbose"));
+}
+
 TEST_CASE("cli: --help lists every option with its default", "[cli]") {
   driver_options o;
   const auto p = make_parser(o);

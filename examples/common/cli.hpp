@@ -64,6 +64,10 @@ template <class T>
       return usage_error(std::string(option) + ": invalid value '" + text + "' (expected " + type_hint<T>() + ")");
     };
     if (text.empty()) throw bad();
+    // Decimal only: no white space, no hexadecimal ("0x10", "0x1p3"), no "nan"/"inf", and an
+    // integer has no fraction or exponent ("1e6").
+    const std::string_view allowed = std::is_floating_point_v<T> ? "0123456789+-.eE" : "0123456789+-";
+    if (text.find_first_not_of(allowed) != std::string::npos) throw bad();
     std::size_t used = 0;
     try {
       if constexpr (std::is_floating_point_v<T>) {
@@ -355,8 +359,8 @@ class parser {
     if (options_.empty()) throw std::logic_error("cli: a value check needs an option registered before it");
     option_entry& o = options_.back();
     if (number && !o.numeric) throw std::logic_error("cli: numeric check on text option " + o.name);
-    o.checks.push_back({rule, std::move(number), std::move(text)});
     if (number) o.help += " [" + rule + "]";
+    o.checks.push_back({rule, std::move(number), std::move(text)});
     return *this;
   }
   /// Throws usage_error naming the option, the value and the rule it breaks.

@@ -348,7 +348,7 @@ int main(int argc, char** argv) {
   cli.flag("--free-platen", free_platen, "top gridpoints free transversally (frictionless platen; diagnostic)");
   cli.option("--lloyd", in.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K").within(0, 1000);
   cli.option("--regularize", in.regularize,
-             "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)",
+             "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = presets::study_regularization)",
              "REL").within(0, tessera::geometry::max_regularization);
   cli.parse_or_exit(argc, argv);
   ld.platen_restraint = !free_platen;

@@ -353,7 +353,7 @@ int main(int argc, char** argv) {
   bool no_vtk = false, fixed_end = false;
   std::string bond_basis = "length";
   cli.option("--blocks", in.tie.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N").one_of_numbers({100, 250, 500, 750});
-  cli.option("--regularize", in.tie.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = geometry::study_regularization)", "REL").within(0, tessera::geometry::max_regularization);
+  cli.option("--regularize", in.tie.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = presets::study_regularization)", "REL").within(0, tessera::geometry::max_regularization);
   cli.option("--lloyd", in.tie.lloyd, "Lloyd relaxation steps of the tessellation (0 = plain Voronoi)", "K").within(0, 1000);
   cli.option("--elements", elements, "truss elements along the bar", "N").within(2, 100000);
   cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI").greater_than(0);
