@@ -42,6 +42,8 @@ tessera_add_example_test(tessellate
          "volume_error_rel LESS 1e-12"
          "unmatched_faces EQUAL 0"
          "open_cells EQUAL 0"
+         "nonconvex_cells EQUAL 0"
+         "regularize_min_edge_rel EQUAL 0"
          "min_zone_volume GREATER 0"
          "zones_per_block_mean GREATER_EQUAL 12")
 # The --help text must list the standard options (DESIGN.md §5).
