@@ -300,13 +300,14 @@ int run(const inputs& in) {
   std::printf(
       "direct_tension: peak %.4f MPa (f_T %.4f MPa, error %+.2f %%; normal %.3f + shear %.3f MPa over the crack), "
       "E0 %.2f GPa\n  crack %.5f m^2 (%.2f x A, projected %.2f x A), separated %s; dissipated tension %.4f J "
-      "(G_f x crack %.4f J, error %+.2f %%; broken %.4f J, process zone %.4f J), shear %.4f J, damping %.4f J\n"
+      "(G_f x crack %.4f J, error %s; broken %.4f J, process zone %.4f J), shear %.4f J, damping %.4f J\n"
       "  energy balance error %.2e, kinetic/elastic at peak %.2e, reaction imbalance max %.2e f_T A\n"
       "  %lld sub-contacts, %lld zones, dt %.3g s (added mass %.1fx), ramp %.3g s, %lld steps, runtime %.1f s; wrote %s\n",
       r.peak_stress * 1e-6, f_t * 1e-6, 100 * (r.peak_stress - f_t) / f_t, r.peak_normal_part * 1e-6,
       r.peak_shear_part * 1e-6, r.initial_modulus * 1e-9, r.crack_area, r.crack_area / area,
       r.projected_crack_area / area, r.separated ? "yes" : "no", r.dissipated_tension, expected_fracture,
-      100 * fracture_error, r.dissipated_tension_broken, r.dissipated_tension_unbroken, r.dissipated_shear, r.damping,
+      std::isfinite(fracture_error) ? tessera::detail::concat(100 * fracture_error, " %").c_str() : "none, no crack fully opened",
+      r.dissipated_tension_broken, r.dissipated_tension_unbroken, r.dissipated_shear, r.damping,
       r.energy_balance_error, r.kinetic_to_elastic_at_peak, r.reaction_imbalance_max, static_cast<long long>(r.subcontacts),
       static_cast<long long>(r.zones), r.dt, r.added_mass_ratio, r.ramp_time, static_cast<long long>(r.steps),
       timer.seconds(), out.string().c_str());
