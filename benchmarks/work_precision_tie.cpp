@@ -2,7 +2,7 @@
 // 2020, Sec. 3.1; DESIGN.md §4, §5). Each variant (mass-scaling target step, pull rate, rigid vs
 // deformable blocks, block count) runs the whole tie to past yield; its curve error is the RMS
 // force difference against a converged reference run over the common elongation range,
-// relative to the yield force f_y A (rc_tie_scene.hpp, curve_error), and is written beside its
+// relative to the yield force f_y A (tessera/analysis/curves.hpp, curve_error), and is written beside its
 // wall time. The reference is the deformable-block run of the same block count at the smallest
 // step and slowest rate of the list (rigid-block rows are measured against it too). The study's 3DEC times (Table 2: 20, 54, 130 min for 100, 250, 500
 // blocks) are written as anchor rows.
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
-#include "common/rc_tie_scene.hpp"
+#include "common/rc_tie_run.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/plot.hpp"
@@ -78,13 +78,13 @@ int main(int argc, char** argv) {
       loading.progress_label = tessera::detail::concat("work_precision_tie ", v.rigid ? "rigid" : "deformable", " dt ",
                                                        v.dt, " rate ", v.rate);
       const sc::tie_result r = sc::run_tie(scene, loading);
-      const auto u = sc::running_max(r.elongation);
+      const auto u = tessera::analysis::running_max(r.elongation);
       real error = 0;
       if (!have_ref) {
         tessera::require(!v.rigid, "work_precision_tie: the reference (first variant) must use deformable blocks");
         ref_u = u, ref_f = r.force, have_ref = true;
       } else {
-        error = sc::curve_error(u, r.force, ref_u, ref_f, scene.hand.yield_force);
+        error = tessera::analysis::curve_error(u, r.force, ref_u, ref_f, scene.hand.yield_force);
         auto& pts = v.rigid ? points_rigid : points_deformable;
         pts[0].push_back(r.runtime_s);
         pts[1].push_back(error);

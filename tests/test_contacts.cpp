@@ -18,6 +18,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <tessera/analysis.hpp>
 #include <tessera/contact/face_contacts.hpp>
 #include <tessera/presets.hpp>
 #include <tessera/geometry/voronoi.hpp>
@@ -1035,3 +1036,133 @@ TEST_CASE("elastic pack path: a set with it and one without give the same bits o
 }
 
 }  // namespace tessera::test_contacts
+
+// ---- analysis/: crack graph along any axis, curve figures, dissipation checks ----
+namespace {
+/// Three blocks in a row along x (0 | 1 | 2), faces at x = 1 and x = 2, two sub-contacts per face
+/// at z = 0.3 (area 0.25) and z = 0.7 (area 0.75); node pairs with their own gridpoints.
+struct row_of_blocks {
+  tessera::node_set gridpoints;
+  std::vector<tessera::law::contact_status> flags;
+  struct state_view {
+    tessera::law::contact_status flags;
+    tessera::real u_n;
+  };
+  row_of_blocks() : flags(4, tessera::law::contact_status::intact) {
+    gridpoints.resize(8);
+    for (int i = 0; i < 4; ++i) {
+      const tessera::vec3 x(i < 2 ? 1.0 : 2.0, 0.5, i % 2 == 0 ? 0.3 : 0.7);
+      gridpoints.reference.row(2 * i) = x.transpose();
+      gridpoints.reference.row(2 * i + 1) = x.transpose();
+    }
+  }
+  [[nodiscard]] tessera::index subcontact_count() const { return 4; }
+  [[nodiscard]] tessera::index block_a(tessera::index i) const { return i < 2 ? 0 : 1; }
+  [[nodiscard]] tessera::index block_b(tessera::index i) const { return i < 2 ? 1 : 2; }
+  [[nodiscard]] tessera::index node_a(tessera::index i) const { return 2 * i; }
+  [[nodiscard]] tessera::index node_b(tessera::index i) const { return 2 * i + 1; }
+  [[nodiscard]] tessera::real area(tessera::index i) const { return i % 2 == 0 ? 0.25 : 0.75; }
+  [[nodiscard]] tessera::vec3 position(tessera::index i, const tessera::node_set& gp) const {
+    return 0.5 * (gp.position(node_a(i)) + gp.position(node_b(i)));
+  }
+  [[nodiscard]] state_view state(tessera::index i) const {
+    const auto node = node_b(i);
+    return {flags[static_cast<std::size_t>(i)], (gridpoints.position(node) - gridpoints.position(node - 1)).x()};
+  }
+};
+}  // namespace
+
+TEST_CASE("crack graph: through-cracks along the axis given, bar crossings, crack sites", "[analysis]") {
+  using tessera::vec3;
+  using tessera::law::contact_status;
+  row_of_blocks row;
+  tessera::analysis::crack_graph along_x(row, 3, vec3(2, 0, 0)), along_z(row, 3, vec3::UnitZ());
+  CHECK(along_x.axis().isApprox(vec3::UnitX()));
+  // Intact: one piece.
+  auto r = along_x.softened(row, row.gridpoints);
+  CHECK(r.pieces == 1);
+  CHECK(r.cracks == 0);
+  // One sub-contact of the face at x = 2 softened: the face still holds.
+  row.flags[2] = contact_status::softening;
+  r = along_x.softened(row, row.gridpoints);
+  CHECK(r.cracks == 0);
+  CHECK(r.open_subcontacts == 1);
+  // The whole face softened: one through-crack at x = 2 (along x), at the area-weighted
+  // z = 0.25 * 0.3 + 0.75 * 0.7 = 0.6 (along z).
+  row.flags[3] = contact_status::broken_tension;
+  r = along_x.softened(row, row.gridpoints);
+  REQUIRE(r.cracks == 1);
+  REQUIRE(r.positions.size() == 1);
+  CHECK(r.positions[0] == Approx(2.0).epsilon(1e-15));
+  r = along_z.softened(row, row.gridpoints);
+  REQUIRE(r.positions.size() == 1);
+  CHECK(r.positions[0] == Approx(0.6).epsilon(1e-15));
+  // A bar through the three blocks crosses it once, at the surface's position.
+  along_x.set_bar_path({0, 1, 2}, {0.5, 1.5, 2.5});
+  r = along_x.softened(row, row.gridpoints);
+  CHECK(r.bar_crossings == 1);
+  REQUIRE(r.bar_crossing_positions.size() == 1);
+  CHECK(r.bar_crossing_positions[0] == Approx(2.0).epsilon(1e-15));
+  // Opened: softened and separated by at least w_open; 0.1 mm apart on one sub-contact only.
+  row.gridpoints.displacement(5, 0) = 1e-4;
+  CHECK(along_x.opened(row, row.gridpoints, 5e-5).cracks == 0);
+  row.gridpoints.displacement(7, 0) = 1e-4;
+  CHECK(along_x.opened(row, row.gridpoints, 5e-5).cracks == 1);
+  CHECK(along_x.opened(row, row.gridpoints, 2e-4).cracks == 0);
+  CHECK(along_x.opened_normal_only(row, row.gridpoints, 5e-5).cracks == 1);
+  // Crack sites: surfaces closer than the spacing are one site, reported by their mean.
+  const auto sites = tessera::analysis::crack_sites({0.5, 0.1, 0.12}, 0.05);
+  REQUIRE(sites.size() == 2);
+  CHECK(sites[0] == Approx(0.11).epsilon(1e-14));
+  CHECK(sites[1] == 0.5);
+  CHECK_THROWS_WITH(tessera::analysis::crack_sites({0.1}, 0), Catch::Contains("spacing = 0"));
+  CHECK_THROWS_WITH(tessera::analysis::crack_graph(row, 3, vec3::Zero()), Catch::Contains("axis (0, 0, 0)"));
+  CHECK_THROWS_WITH(tessera::analysis::crack_graph(row, 2, vec3::UnitX()), Catch::Contains("outside [0, 2)"));
+}
+
+TEST_CASE("curve analysis: load drops with hysteresis, linear-branch slope, plateau, dissipation check", "[analysis]") {
+  using tessera::real;
+  namespace an = tessera::analysis;
+  // Rise to 10, drop to 5 (a drop), rise to 12, dip by 0.4 < threshold 0.5 (noise), rise to 13,
+  // drop to 8 (a second drop).
+  const std::vector<real> f{0, 4, 8, 10, 7, 5, 9, 12, 11.6, 13, 8};
+  std::vector<real> u(f.size());
+  for (std::size_t k = 0; k < u.size(); ++k) u[k] = 1e-4 * static_cast<real>(k);
+  const auto drops = an::find_load_drops(u, f, 0.5, f.size());
+  REQUIRE(drops.size() == 2);
+  CHECK(drops[0].peak_force == 10);
+  CHECK(drops[0].sample == 3);
+  CHECK(drops[0].trough_force == 5);
+  CHECK(drops[1].peak_force == 13);
+  CHECK(drops[1].peak_elongation == Approx(9e-4).epsilon(1e-15));
+  CHECK(an::find_load_drops(u, f, 0.5, 5).size() == 1);  // the first five samples only
+  CHECK_THROWS_WITH(an::load_drop_detector(-1), Catch::Contains("threshold = -1"));
+  // Slope of y = 3e6 x + 100 through the samples with 1000 <= y <= 2000 (x / 2 as abscissa: 6e6).
+  std::vector<real> x, y;
+  for (int k = 0; k < 100; ++k) {
+    x.push_back(1e-5 * k);
+    y.push_back(3e6 * x.back() + 100 + (k > 80 ? -500.0 : 0.0));  // a softened tail outside the band
+  }
+  CHECK(an::band_slope(x, y, x.size(), 1000, 2000) == Approx(3e6).epsilon(1e-9));
+  CHECK(an::band_slope(x, y, x.size(), 1000, 2000, 2.0) == Approx(6e6).epsilon(1e-9));
+  CHECK(an::band_slope(x, y, 3, 1000, 2000) == 0);  // no sample qualifies
+  CHECK(an::tail_mean({1, 2, 3, 5}, 2) == 4);
+  CHECK(an::tail_mean({1, 2}, 7) == 2);
+  // Curve error: a curve 1 % above its reference everywhere on [0, 1] with ordinate 1 -> 0.01.
+  const std::vector<real> xr{0, 1}, yr{1, 1}, yc{1.01, 1.01};
+  CHECK(an::curve_error(xr, yc, xr, yr, 1.0) == Approx(0.01).epsilon(1e-12));
+  CHECK(an::running_max({0, 2, 1, 3}) == std::vector<real>{0, 2, 2, 3});
+  // Dissipation: 12 J against 5 J/m^2 x 2 m^2 = 10 J -> +20 %; nothing expected without area.
+  const auto c = an::check_dissipation(12, 5, 2);
+  CHECK(c.expected == 10);
+  CHECK(c.error_rel == Approx(0.2).epsilon(1e-15));
+  CHECK_FALSE(an::check_dissipation(12, 5, 0).defined());
+  // Energy shares of a balance that closes to 1 %: 100 J in, 60 stored, 39 dissipated.
+  tessera::energy_balance e;
+  e.boundary_work = 100;
+  e.contact_stored = 60;
+  e.contact_dissipated = 39;
+  const auto s = an::shares_of(e);
+  CHECK(s.contact_stored == Approx(0.6).epsilon(1e-15));
+  CHECK(s.residual == Approx(0.01).epsilon(1e-12));
+}

@@ -39,6 +39,7 @@
 #include "tessera/io/json.hpp"
 #include "tessera/io/plot.hpp"
 #include "tessera/io/vtk.hpp"
+#include "tessera/analysis/energy.hpp"
 #include "tessera/solver.hpp"
 
 namespace {
@@ -192,7 +193,7 @@ int run(const inputs& in) {
     for (double u : grid) {
       double a = 1e300, b = -1e300;
       for (const auto& x : runs) {
-        const double v = scenes::interpolate_curve(x.displacement, x.stress, u);
+        const double v = tessera::analysis::interpolate_curve(x.displacement, x.stress, u);
         a = std::min(a, v), b = std::max(b, v);
       }
       lo.push_back(a), hi.push_back(b);
@@ -210,20 +211,19 @@ int run(const inputs& in) {
   // softening a sub-contact pulled to separation dissipates separation_energy = G_f +
   // f_T^2/(2 k_n) - cut-off tail per unit area (+2.3 % for 100 blocks), and sub-contacts off the
   // crack that softened without breaking add theirs; both are reported separately.
-  const double expected_fracture = g_f * r.crack_area;
   // No crack fully opened (the run stopped before separation, e.g. --quick): no fracture-energy
   // figure; summary.json writes null and says why.
-  const double fracture_error = expected_fracture > 0 ? (r.dissipated_tension - expected_fracture) / expected_fracture
-                                                      : std::numeric_limits<double>::quiet_NaN();
-  const std::string fracture_note = expected_fracture > 0 ? "dissipated tension against G_f x area broken in tension"
-                                                          : "no crack fully opened (the run stopped before separation)";
+  const auto fracture = tessera::analysis::check_dissipation(r.dissipated_tension, g_f, r.crack_area);
+  const double expected_fracture = fracture.expected, fracture_error = fracture.error_rel;
+  const std::string fracture_note = fracture.defined() ? "dissipated tension against G_f x area broken in tension"
+                                                       : "no crack fully opened (the run stopped before separation)";
   const double separation_energy =
       in.softening == "power" ? tessera::law::power_softening::separation_energy(scene.contact.tension, scene.contact.k_n)
                               : tessera::law::linear_softening::separation_energy(
                                     tessera::law::with_linear_softening(scene.contact).tension, scene.contact.k_n);
-  const double broken_error = r.crack_area > 0 ? (r.dissipated_tension_broken - separation_energy * r.crack_area) /
-                                                     (separation_energy * r.crack_area)
-                                               : 1.0;
+  // The same for the sub-contacts broken in tension alone (null without any).
+  const double broken_error =
+      tessera::analysis::check_dissipation(r.dissipated_tension_broken, separation_energy, r.crack_area).error_rel;
   io::summary_json js;
   js.set("example", "direct_tension")
       .set("blocks", in.blocks)

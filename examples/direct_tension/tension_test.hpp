@@ -65,7 +65,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
-#include "common/curves.hpp"
+#include "tessera/analysis/curves.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
 #include "../common/phase_report.hpp"
@@ -167,17 +167,11 @@ struct tension_result {
 };
 
 /// Least-squares slope of stress against strain u/L over the pre-peak samples between 10 % and
-/// 50 % of the peak (Pa); 0 if fewer than two samples qualify.
+/// 50 % of the peak (Pa); 0 if fewer than two samples qualify (analysis::band_slope).
 [[nodiscard]] inline real initial_modulus(const tension_result& r, real length) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  int n = 0;
-  for (std::size_t k = 0; k < r.stress.size() && r.displacement[k] <= r.peak_displacement; ++k) {
-    if (r.stress[k] < 0.1 * r.peak_stress || r.stress[k] > 0.5 * r.peak_stress) continue;
-    const double x = r.displacement[k] / length, y = r.stress[k];
-    sx += x, sy += y, sxx += x * x, sxy += x * y, ++n;
-  }
-  if (n < 2) return 0;
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  std::size_t end = 0;
+  while (end < r.stress.size() && r.displacement[end] <= r.peak_displacement) ++end;
+  return analysis::band_slope(r.displacement, r.stress, end, 0.1 * r.peak_stress, 0.5 * r.peak_stress, length);
 }
 
 /// Curve error of (u, s) against a reference (u_ref, s_ref): the L2 norm of the stress difference
@@ -190,7 +184,7 @@ struct tension_result {
   if (u.empty() || u_ref.empty()) return 1;
   if (!(u_max > 0)) u_max = std::min(u.back(), u_ref.back());
   const real peak = *std::max_element(s_ref.begin(), s_ref.end());
-  return rms_curve_difference(u, s, u_ref, s_ref, u_max, 1000) / peak;
+  return analysis::rms_curve_difference(u, s, u_ref, s_ref, u_max, 1000) / peak;
 }
 
 /// Runs the direct tension test on `scene` with solver type Solver and contact parameters

@@ -13,7 +13,7 @@
 //             concrete end gridpoints on rollers (x, y fixed, z free)
 //   solver    central differences, local damping 0.8, masses scaled to the step --dt
 //   stop      --post-yield x the elongation at which the tie yields past it (yield: the bar flows
-//             plastically, rc_tie_scene.hpp), or at --max-elongation
+//             plastically, rc_tie_run.hpp), or at --max-elongation
 //
 // Outputs in --out DIR:
 //   curve.csv        elongation_m, force_N (force = tension at the fixed bar end), pulled_end_force_N,
@@ -41,7 +41,8 @@
 //                    softened_cracks,
 //                    yield_force_N and its error vs f_y A, final_force_N (where the final branch
 //                    ends) and its error vs f_y A, energy balance error, sizes, steps, runtime_s
-// Definitions (load drop, through-crack, initial stiffness, yield force): rc_tie_scene.hpp.
+// Definitions: load drop, initial stiffness and through-crack in tessera/analysis/ (curves.hpp,
+// cracks.hpp), first cracking and yield force in examples/common/rc_tie_run.hpp.
 //
 // Two defaults differ from DESIGN.md's literal reading, each measured (README, "RC tie"): the bond
 // stiffness xi K_axial is a modulus per metre of bar (3DEC's grout stiffness; per node the
@@ -60,7 +61,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
-#include "common/rc_tie_scene.hpp"
+#include "common/rc_tie_run.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/run_record.hpp"
 #include "tessera/io/csv.hpp"
@@ -223,10 +224,10 @@ int run(inputs in) {
   for (const auto& d : r.drops) drop_forces.push_back(d.peak_force), drop_elongations.push_back(d.peak_elongation);
   std::vector<double> formation_u, formation_f;
   for (const auto& [u, f] : r.crack_formation) formation_u.push_back(u), formation_f.push_back(f);
-  const real bare_error = tessera::scenes::curve_error(tessera::scenes::running_max(r.elongation), r.force, bare_u,
+  const real bare_error = tessera::analysis::curve_error(tessera::analysis::running_max(r.elongation), r.force, bare_u,
                                                        bare_f, hand.yield_force);
   const real cell_size = std::cbrt(scene.prism.box.volume() / in.tie.blocks);  // mean cell size (m)
-  const std::vector<real> sites = tessera::scenes::crack_sites(r.cracks.positions, cell_size);
+  const std::vector<real> sites = tessera::analysis::crack_sites(r.cracks.positions, cell_size);
   io::summary_json js;
   js.set("example", "rc_tie")
       .set("blocks", in.tie.blocks)

@@ -38,7 +38,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
-#include "common/rc_tie_scene.hpp"
+#include "common/rc_tie_run.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/run_record.hpp"
 #include "tessera/io/csv.hpp"
@@ -168,9 +168,9 @@ variant_errors curve_errors(const study& s, const sc::tie_hand_checks& hand) {
   variant_errors e;
   for (const auto& v : s.variants) {
     const auto& r = v.result;
-    const auto x = sc::running_max(r.elongation);
-    e.bare_bar.push_back(sc::curve_error(x, r.force, bare_u, bare_f, hand.yield_force));
-    e.baseline.push_back(sc::curve_error(x, r.force, sc::running_max(base.elongation), base.force, hand.yield_force));
+    const auto x = tessera::analysis::running_max(r.elongation);
+    e.bare_bar.push_back(tessera::analysis::curve_error(x, r.force, bare_u, bare_f, hand.yield_force));
+    e.baseline.push_back(tessera::analysis::curve_error(x, r.force, tessera::analysis::running_max(base.elongation), base.force, hand.yield_force));
   }
   return e;
 }
@@ -190,12 +190,12 @@ void write_study(const study& s, const sc::tie_hand_checks& hand, const fs::path
   }
   for (std::size_t k = 0; k < s.variants.size(); ++k) {
     const auto& r = s.variants[k].result;
-    const std::vector<real> x = sc::running_max(r.elongation);
+    const std::vector<real> x = tessera::analysis::running_max(r.elongation);
     names.push_back("force_" + std::to_string(k) + "_N");
     std::vector<double> col;
     for (int i = 0; i <= n; ++i) {
       const real u = columns[0][static_cast<std::size_t>(i)];
-      col.push_back(x.empty() || u > x.back() ? std::numeric_limits<double>::quiet_NaN() : sc::interpolate_curve(x, r.force, u));
+      col.push_back(x.empty() || u > x.back() ? std::numeric_limits<double>::quiet_NaN() : tessera::analysis::interpolate_curve(x, r.force, u));
     }
     columns.push_back(std::move(col));
   }

@@ -11,4 +11,5 @@
 #include "reinforcement.hpp"
 #include "integrator.hpp"
 #include "solver.hpp"
+#include "analysis.hpp"
 #include "presets.hpp"

@@ -34,6 +34,7 @@
 //
 // Kinematics. The solver calls update() in step 3 of the step, when displacements are at time
 // t and velocities at t - dt/2 (docs/architecture.md). The relative displacement increment is
+// (contact/kinematics.hpp, shared with any other contact set)
 //     du = (v_b - v_a) dt  -  (n_prev x n) x (u_b - u_a)
 // The first term is the increment of the last step, t - dt -> t: exactly u(t) - u(t - dt)
 // when dt is the (constant) step that produced the current positions. The second removes, to
@@ -81,7 +82,7 @@
 // the packs take all but 8 in a million sub-contact-steps (55 % when they took only intact
 // lanes, which made the tie slower than the default layout; now 12 % faster on one thread), so
 // the named solvers (prism_solver, ..., solver.hpp) and the examples' tie use them. The frame
-// and the kinematics are written on scalars (`triple`): Eigen's vec3 in 2 + 1 SSE packets went
+// and the kinematics are written on scalars (kinematics::triple): Eigen's vec3 in 2 + 1 SSE packets went
 // through the stack there and stalled on store forwarding once per polygon corner.
 //
 // Threading and determinism. update() runs two parallel loops (core/parallel.hpp): over face
@@ -122,6 +123,7 @@
 #include "../law/concepts.hpp"
 #include "concepts.hpp"
 #include "detail/packed_states.hpp"
+#include "kinematics.hpp"
 #include "material_table.hpp"
 
 namespace tessera::contact {
@@ -428,7 +430,7 @@ class face_contacts {
       const params_type& p = face_params(s);
       const triple d = face_area_vector(s, u);
       const triple n_prev{previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2)};
-      const real length2 = dot(d, d);
+      const real length2 = kinematics::dot(d, d);
       triple n = n_prev;
       if (length2 > 0) {
         const real length = std::sqrt(length2);
@@ -437,15 +439,12 @@ class face_contacts {
       normal_(s, 0) = n.x;
       normal_(s, 1) = n.y;
       normal_(s, 2) = n.z;
-      const triple tilt = cross(n_prev, n);  // rotation vector n_prev -> n (first order)
+      const triple tilt = kinematics::tilt(n_prev, n);  // rotation vector n_prev -> n (first order)
       for (std::size_t i = at(first_subcontact_[at(s)]); i < at(first_subcontact_[at(s) + 1]); ++i) {
         const index a = node_a_[i], b = node_b_[i];
         const triple gap{u[0][b] - u[0][a], u[1][b] - u[1][a], u[2][b] - u[2][a]};
-        const triple turn = cross(tilt, gap);
-        const triple du{(v[0][b] - v[0][a]) * dt - turn.x, (v[1][b] - v[1][a]) * dt - turn.y,
-                        (v[2][b] - v[2][a]) * dt - turn.z};
-        const real du_n = dot(du, n);
-        const triple du_s{du.x - du_n * n.x, du.y - du_n * n.y, du.z - du_n * n.z};
+        const triple dv{v[0][b] - v[0][a], v[1][b] - v[1][a], v[2][b] - v[2][a]};
+        const auto [du_n, du_s] = kinematics::split(kinematics::relative_increment(dv, gap, tilt, dt), n);
         if constexpr (packed) {
           // Law::update's arguments, for the pack loop below.
           step_.du_n[i] = du_n;
@@ -605,19 +604,7 @@ class face_contacts {
   }
 
  private:
-  /// A 3-vector as three scalars, for the per-face and per-sub-contact loops: GCC keeps them in
-  /// registers, where a vec3 in Eigen's 2 + 1 SSE packets went through the stack and stalled on
-  /// store forwarding (a 16-byte load of two 8-byte stores), once per polygon corner. The same
-  /// arithmetic as Eigen's cross and dot ((x + y) + z).
-  struct triple {
-    real x, y, z;
-  };
-  [[nodiscard, gnu::always_inline]] static triple cross(const triple& a, const triple& b) noexcept {
-    return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
-  }
-  [[nodiscard, gnu::always_inline]] static real dot(const triple& a, const triple& b) noexcept {
-    return (a.x * b.x + a.y * b.y) + a.z * b.z;
-  }
+  using triple = kinematics::triple;  ///< scalars in registers (kinematics.hpp)
 
   /// Sub-contacts per face block (at least; fewer in the last block): some whole lanes::pack's per
   /// block, a few dozen blocks on a 100-block model for the two threads.
@@ -647,7 +634,7 @@ class face_contacts {
     triple previous = midpoint_offset(1);
     for (std::size_t k = 2; k < count; ++k) {
       const triple next = midpoint_offset(k);
-      const triple area = cross(previous, next);
+      const triple area = kinematics::cross(previous, next);
       s_area = {s_area.x + area.x, s_area.y + area.y, s_area.z + area.z};
       previous = next;
     }

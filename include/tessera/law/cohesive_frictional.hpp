@@ -69,6 +69,7 @@
 #include <type_traits>
 
 #include "../core/lanes.hpp"
+#include "../contact/kinematics.hpp"
 #include "../core/types.hpp"
 #include "compression.hpp"
 #include "concepts.hpp"
@@ -154,7 +155,7 @@ struct cohesive_frictional {
 
     // 1. Rotate the stored shear stress into the current contact plane, keeping its magnitude.
     real o0 = s.tau[0], o1 = s.tau[1], o2 = s.tau[2];  // -> tau_old
-    rotate_into_plane(o0, o1, o2, n0, n1, n2);
+    contact::kinematics::rotate_into_plane(o0, o1, o2, n0, n1, n2);
 
     // 2. Normal stress: elastic trial from the irreversible opening, then the limits.
     const real sigma_old = s.sigma_n;
@@ -259,7 +260,7 @@ struct cohesive_frictional {
                                                                      elastic_lanes<T>& x) noexcept {
     using M = decltype(T{} < T{});
     const real k_n = p.k_n;
-    rotate_into_plane(x.tau0, x.tau1, x.tau2, x.n0, x.n1, x.n2);
+    contact::kinematics::rotate_into_plane(x.tau0, x.tau1, x.tau2, x.n0, x.n1, x.n2);
     const T sigma_old = x.sigma_n;
     x.u_n = x.u_n + x.du_n;
     const T trial = k_n * (x.u_n - x.u_p);
@@ -353,21 +354,6 @@ struct cohesive_frictional {
   }
 
  private:
-  /// Step 1 of update() for T = real or a lanes::pack: the stored shear stress t is turned into the
-  /// plane of the unit normal n, its n-component removed and the rest rescaled to |t| (a t parallel
-  /// to n has no direction left and becomes 0). Dots as (x + y) + z.
-  template <class T>
-  [[gnu::always_inline]] static inline void rotate_into_plane(T& t0, T& t1, T& t2, T n0, T n1, T n2) noexcept {
-    const T tau_sq = (t0 * t0 + t1 * t1) + t2 * t2;
-    const T along = (n0 * t0 + n1 * t1) + n2 * t2;
-    const T o0 = t0 - n0 * along, o1 = t1 - n1 * along, o2 = t2 - n2 * along;
-    const T in_plane_sq = (o0 * o0 + o1 * o1) + o2 * o2;
-    const T keep = lanes::select(in_plane_sq > real(0), lanes::sqrt(tau_sq / in_plane_sq), T{});
-    t0 = o0 * keep;
-    t1 = o1 * keep;
-    t2 = o2 * keep;
-  }
-
   /// The normal part of the dissipated increment (file comment, "Energy"), booked to compression
   /// when sigma_old + sigma < 0 and to tension otherwise; T = real or a lanes::pack.
   template <class T>

@@ -1,0 +1,7 @@
+#pragma once
+// Analysis of runs: load-displacement curves (load drops, linear-branch slope, plateaus, curve
+// errors), through-cracks along any axis, energy summaries. Reads solver and contact-set data;
+// nothing in the step loop depends on it.
+#include "analysis/cracks.hpp"
+#include "analysis/curves.hpp"
+#include "analysis/energy.hpp"
