@@ -20,6 +20,7 @@
 #include <string>
 #include <tessera/analysis.hpp>
 #include <tessera/contact/face_contacts.hpp>
+#include <tessera/io/vtk_contacts.hpp>
 #include <tessera/presets.hpp>
 #include <tessera/geometry/voronoi.hpp>
 #include <tessera/geometry/zoning.hpp>
@@ -770,6 +771,63 @@ TEST_CASE("update allocates nothing", "[contacts]") {
   for (int k = 0; k < 50; ++k) step(set, g, 1e-7);
   count_allocations = false;
   CHECK(allocation_count.load() == 0);
+}
+
+TEST_CASE("law state declared once: column storage and VTK arrays follow law::cohesive_frictional::state_fields", "[contacts][pack]") {
+  using packed_law = law::with_elastic_packs<law::study_tie_law>;
+  using columns = contact::detail::state_columns<packed_law>;
+  // Ten real columns (tau takes three) and the flags; columns in declaration order.
+  STATIC_REQUIRE(columns::real_count == 10);
+  STATIC_REQUIRE(columns::column("sigma_n") == 0);
+  STATIC_REQUIRE(columns::column("tau") == 1);
+  STATIC_REQUIRE(columns::column("u_n") == 4);
+  STATIC_REQUIRE(columns::column("dissipated_compression") == 9);
+  // A state with ten distinct values and two flags round-trips through the columns bit for bit.
+  packed_law::state st{};
+  st.sigma_n = 1.5, st.tau = vec3(2.5, -3.5, 4.5), st.u_n = 5.5e-6, st.u_p = 6.5e-7, st.u_soft = 7.5e-8;
+  st.dissipated_tension = 8.5, st.dissipated_shear = 9.5, st.dissipated_compression = 10.5;
+  st.flags = law::contact_status::softening | law::contact_status::slipped;
+  const auto p = law::study_prism_params(100);
+  columns c;
+  c.assign(3, p);
+  c.set(1, st, p);
+  const auto back = c.get(1);
+  CHECK(std::memcmp(&back, &st, sizeof st) == 0);
+  CHECK(c.col(columns::column("tau") + 2)[1] == 4.5);
+  CHECK(io::vtk::state_array_name(packed_law::state_fields[5]) == "dissipated_tension_J_per_m2");
+
+  // A damaged run: the snapshot's arrays are the states of the set, field by field.
+  const auto tess = brick_tessellation(4, 3, 3, vec3(0.4, 0.3, 0.3), 0.2, 3);
+  const auto mesh = face_mesh(tess);
+  auto g = gridpoints_of(mesh);
+  contact::face_contacts<packed_law> set(tess, mesh, p);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<real> uni(-1.0, 1.0);
+  for (int k = 0; k < 40; ++k) {
+    for (index i = 0; i < g.size(); ++i)
+      for (int d = 0; d < 3; ++d) g.velocity(i, d) = 5.0 * uni(rng);
+    step(set, g, 1e-7);
+  }
+  io::vtk::contact_snapshot snap;
+  snap.take(set, g);
+  REQUIRE(snap.size() == static_cast<std::size_t>(set.size()));
+  REQUIRE(snap.state.size() == 8);  // nine fields, the flags shown as status
+  const auto* sigma = snap.find("sigma_n_Pa");
+  const auto* tau = snap.find("tau_Pa");
+  const auto* w = snap.find("u_soft_m");
+  REQUIRE((sigma != nullptr && tau != nullptr && w != nullptr));
+  CHECK(tau->components == 3);
+  index damaged = 0;
+  for (index i = 0; i < set.size(); ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    const auto& s_i = set.state(i);
+    CHECK(sigma->values[k] == s_i.sigma_n);
+    CHECK(tau->values[3 * k + 1] == s_i.tau[1]);
+    CHECK(w->values[k] == s_i.u_soft);
+    CHECK(snap.status[k] == static_cast<std::int32_t>(s_i.flags));
+    damaged += s_i.flags != law::contact_status::intact ? 1 : 0;
+  }
+  CHECK(damaged > 0);  // the run reached the nonlinear law
 }
 
 // ---- the elastic pack path (law::ElasticPackLaw) against the scalar law ----

@@ -14,8 +14,8 @@
 //             the stop criterion are explained in direct_tension/tension_test.hpp
 //
 // Outputs in --out DIR: curve.csv (top displacement m, mean axial stress from the top and the
-// bottom reactions Pa), contacts_{peak,end}.vtp (sub-contacts with status, damage, opening,
-// normal stress), zones_{peak,end}.vtu (zones with displacement and stress), direct_tension.pvd
+// bottom reactions Pa), contacts_{peak,end}.vtp (sub-contacts with status, damage and every field
+// the law declares), zones_{peak,end}.vtu (zones with displacement and stress), direct_tension.pvd
 // (both instants), curve.png, summary.json. With --seeds K > 1: curve_seed<S>.csv per
 // tessellation and envelope.csv (min/max stress over the seeds on a common displacement grid,
 // the study's "computational model envelope").
@@ -61,18 +61,6 @@ struct inputs {
   double regularize = 0;          // short-edge regularization (relative to the mean cell size)
   scenes::tension_loading loading;
 };
-
-void write_contacts_vtp(const fs::path& path, const scenes::tension_snapshot& s) {
-  tessera::io::vtk::poly_data pd;
-  pd.set_points(s.contact_reference);  // reference configuration, as every tessera VTK file
-  for (tessera::index i = 0; i < static_cast<tessera::index>(s.contact_reference.size()); ++i) pd.add_vertex(i);
-  pd.point_data.add_vector("displacement", std::span<const tessera::vec3>(s.contact_displacement));
-  pd.point_data.add_scalar("status", std::span<const std::int32_t>(s.status));
-  pd.point_data.add_scalar("tensile_damage", std::span<const double>(s.damage));
-  pd.point_data.add_scalar("opening_m", std::span<const double>(s.opening));
-  pd.point_data.add_scalar("sigma_n_Pa", std::span<const double>(s.sigma_n));
-  pd.write(path);
-}
 
 void write_zones_vtu(const fs::path& path, const scenes::prism_scene& scene, const scenes::tension_snapshot& s) {
   std::vector<tessera::io::vtk::sym_tensor> stress;
@@ -159,8 +147,8 @@ int run(const inputs& in) {
                 {r.displacement, r.stress, r.stress_top, r.stress_bottom});
 
   // Contact and zone snapshots at the peak and at the end, and a ParaView time series of both.
-  write_contacts_vtp(out / "contacts_peak.vtp", r.at_peak);
-  write_contacts_vtp(out / "contacts_end.vtp", r.at_end);
+  r.at_peak.contacts.write(out / "contacts_peak.vtp");
+  r.at_end.contacts.write(out / "contacts_end.vtp");
   write_zones_vtu(out / "zones_peak.vtu", scene, r.at_peak);
   write_zones_vtu(out / "zones_end.vtu", scene, r.at_end);
   io::vtk::pvd_collection pvd;

@@ -66,6 +66,7 @@
 
 #include "common/cli.hpp"
 #include "tessera/analysis/curves.hpp"
+#include "tessera/io/vtk_contacts.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
 #include "../common/phase_report.hpp"
@@ -95,40 +96,18 @@ struct tension_loading {
   bool progress = true;            ///< show a progress line on stderr
 };
 
-/// Per-sub-contact and per-zone fields at one instant (VTK output).
+/// Per-sub-contact and per-zone fields at one instant (VTK output, peak decomposition).
 struct tension_snapshot {
   real time = 0, displacement = 0, stress = 0;  ///< s, m, Pa
-  std::vector<vec3> contact_position, contact_normal, contact_tau;  ///< m (current), unit A->B, Pa
-  /// Reference position and displacement of each sub-contact (mean of its two gridpoints), m: the
-  /// VTK files are written in the reference configuration with a displacement array.
-  std::vector<vec3> contact_reference, contact_displacement;
-  std::vector<real> damage, opening, sigma_n;                       ///< -, m, Pa
-  std::vector<std::int32_t> status;                                 ///< law::contact_status bits
-  soa3 gridpoint_displacement;                                      ///< m
-  zone_stress_matrix zone_stress;                                   ///< Pa, Voigt xx yy zz yz zx xy
+  /// The sub-contacts with every declared state field (io/vtk_contacts.hpp): reference
+  /// positions, displacements, normals, sigma_n_Pa, tau_Pa, ...
+  io::vtk::contact_snapshot contacts;
+  soa3 gridpoint_displacement;     ///< m
+  zone_stress_matrix zone_stress;  ///< Pa, Voigt xx yy zz yz zx xy
 
   template <class Solver>
   void take(const Solver& s, bool with_zones) {
-    using law = typename Solver::law_type;
-    const auto& c = s.contacts();
-    const auto n = static_cast<std::size_t>(c.size());
-    contact_position.resize(n), contact_normal.resize(n), contact_tau.resize(n);
-    contact_reference.resize(n), contact_displacement.resize(n);
-    damage.resize(n), opening.resize(n), sigma_n.resize(n), status.resize(n);
-    for (index i = 0; i < c.size(); ++i) {
-      const auto k = static_cast<std::size_t>(i);
-      const auto& st = c.state(i);
-      contact_position[k] = c.position(i, s.gridpoints());
-      const auto& gp = s.gridpoints();
-      contact_reference[k] = 0.5 * (gp.reference.row(c.node_a(i)) + gp.reference.row(c.node_b(i))).transpose();
-      contact_displacement[k] = 0.5 * (gp.displacement.row(c.node_a(i)) + gp.displacement.row(c.node_b(i))).transpose();
-      contact_normal[k] = c.normal(i);
-      contact_tau[k] = vec3(st.tau);
-      damage[k] = law::tensile_damage(c.subcontact_params(k), st);
-      opening[k] = st.u_n;
-      sigma_n[k] = st.sigma_n;
-      status[k] = static_cast<std::int32_t>(law::status(st));
-    }
+    contacts.take(s.contacts(), s.gridpoints());
     if (with_zones) {
       gridpoint_displacement = s.gridpoints().displacement;
       zone_stress = s.blocks().zone_stress();
@@ -347,6 +326,11 @@ template <class Solver, class LawParams>
   r.residual_stress = r.stress.empty() ? 0 : r.stress.back();
 
   const auto& c = s.contacts();
+  // The peak decomposition reads the peak snapshot's declared fields (io/vtk_contacts.hpp names).
+  const auto* peak_sigma_n = r.at_peak.contacts.find("sigma_n_Pa");
+  const auto* peak_tau = r.at_peak.contacts.find("tau_Pa");
+  require(r.at_peak.contacts.size() == 0 || (peak_sigma_n != nullptr && peak_tau != nullptr),
+          "direct_tension: the contact law declares no sigma_n or tau field");
   for (index i = 0; i < c.size(); ++i) {
     const auto& st = c.state(i);
     const auto flags = law::status(st);
@@ -361,12 +345,12 @@ template <class Solver, class LawParams>
       if (tessera::law::has(flags, tessera::law::contact_status::slipped)) r.shear_crack_area += a;
     }
     const auto k = static_cast<std::size_t>(i);
-    if (k < r.at_peak.sigma_n.size() && law::tensile_damage(c.subcontact_params(i), st) >= 0.5) {
-      const real nz_peak = r.at_peak.contact_normal[k].z();
+    if (k < r.at_peak.contacts.size() && law::tensile_damage(c.subcontact_params(i), st) >= 0.5) {
+      const real nz_peak = r.at_peak.contacts.normal[k].z();
       r.peak_crack_area += a;
       r.peak_crack_projected_area += a * std::abs(nz_peak);
-      r.peak_normal_part += a * r.at_peak.sigma_n[k] * std::abs(nz_peak) / area;
-      r.peak_shear_part += a * r.at_peak.contact_tau[k].z() * (nz_peak >= 0 ? 1 : -1) / area;
+      r.peak_normal_part += a * peak_sigma_n->values[k] * std::abs(nz_peak) / area;
+      r.peak_shear_part += a * peak_tau->values[3 * k + 2] * (nz_peak >= 0 ? 1 : -1) / area;
     }
   }
   if (in.keep_fields) {

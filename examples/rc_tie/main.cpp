@@ -22,7 +22,7 @@
 //   bare_bar.csv     the bare bar, elastic-perfectly plastic (closed form) on the same range
 //   curve.png        both curves (gnuplot)
 //   <tag>_contacts.vtp, <tag>_bar.vtp, <tag>_zones.vtu for tag = drop1, drop2, ..., yield, end:
-//                    sub-contacts (tensile damage 0..1, status flags, opening, normal stress),
+//                    sub-contacts (tensile damage 0..1, status flags, every declared law field),
 //                    the bar as a polyline (axial force per element, slip and bond force per
 //                    node, displacement), zones (displacement, stress); tie.pvd lists them
 //   summary.json     inputs, hand checks, first_crack_force_N and its error vs f_T (A_c + n A_s),
@@ -68,6 +68,7 @@
 #include "tessera/io/json.hpp"
 #include "tessera/io/plot.hpp"
 #include "tessera/io/vtk.hpp"
+#include "tessera/io/vtk_contacts.hpp"
 
 namespace {
 
@@ -94,64 +95,12 @@ class snapshot_writer {
   void operator()(const Solver& s, const std::string& tag) {
     if (!enabled_) return;
     tessera::io::ensure_directory(dir_);
-    using law = typename Solver::law_type;
     const real t = s.time();
-    // Sub-contacts as points.
-    {
-      const auto& c = s.contacts();
-      const auto n = static_cast<std::size_t>(c.size());
-      std::vector<vec3> position(n), displacement(n);  // reference configuration + displacement
-      std::vector<double> damage(n), opening(n), sigma_n(n);
-      std::vector<std::int32_t> status(n);
-      for (index i = 0; i < c.size(); ++i) {
-        const auto k = static_cast<std::size_t>(i);
-        const auto& st = c.state(i);
-        const auto& gp = s.gridpoints();
-        position[k] = 0.5 * (gp.reference.row(c.node_a(i)) + gp.reference.row(c.node_b(i))).transpose();
-        displacement[k] = 0.5 * (gp.displacement.row(c.node_a(i)) + gp.displacement.row(c.node_b(i))).transpose();
-        damage[k] = law::tensile_damage(c.subcontact_params(k), st);
-        opening[k] = st.u_n;
-        sigma_n[k] = st.sigma_n;
-        status[k] = static_cast<std::int32_t>(law::status(st));
-      }
-      vtk::poly_data pd;
-      pd.set_points(std::move(position));
-      for (index i = 0; i < c.size(); ++i) pd.add_vertex(i);
-      pd.point_data.add_vector("displacement", std::span<const vec3>(displacement));
-      pd.point_data.add_scalar("tensile_damage", std::span<const double>(damage));
-      pd.point_data.add_scalar("status", std::span<const std::int32_t>(status));
-      pd.point_data.add_scalar("opening_m", std::span<const double>(opening));
-      pd.point_data.add_scalar("sigma_n_Pa", std::span<const double>(sigma_n));
-      write(pd, tag + "_contacts.vtp", t, 1);
-    }
-    // The bar: reference points + displacement, one polyline, element forces as line segments.
-    {
-      const auto& bar = s.reinforcement();
-      const tessera::node_set& nodes = bar.nodes();
-      std::vector<vec3> points;
-      std::vector<double> slip, bond_force;
-      for (index n = 0; n < nodes.size(); ++n) {
-        points.push_back(nodes.reference.row(n).transpose());
-        slip.push_back(bar.bonded(n) ? bar.slip(n) : 0.0);
-        bond_force.push_back(bar.bonded(n) ? bar.bond_force(n) : 0.0);
-      }
-      vtk::poly_data pd;
-      pd.set_points(std::move(points));
-      std::vector<double> axial;
-      std::vector<std::int32_t> yielded;
-      for (index e = 0; e < bar.element_count(); ++e) {
-        const index ends[2] = {bar.element_node_a(e), bar.element_node_b(e)};
-        pd.add_line(ends);
-        axial.push_back(bar.axial_force(e));
-        yielded.push_back(bar.yielded(e) ? 1 : 0);
-      }
-      pd.point_data.add_vector("displacement", nodes.displacement);
-      pd.point_data.add_scalar("slip_m", std::span<const double>(slip));
-      pd.point_data.add_scalar("bond_force_N", std::span<const double>(bond_force));
-      pd.cell_data.add_scalar("axial_force_N", std::span<const double>(axial));
-      pd.cell_data.add_scalar("yielded", std::span<const std::int32_t>(yielded));
-      write(pd, tag + "_bar.vtp", t, 2);
-    }
+    // Sub-contacts as points with every declared state field; the bar as lines (io/vtk_contacts.hpp).
+    contacts_.take(s.contacts(), s.gridpoints());
+    write(contacts_, tag + "_contacts.vtp", t, 1);
+    vtk::write_bar_vtp(dir_ / (tag + "_bar.vtp"), s.reinforcement());
+    pvd_.add(t, dir_ / (tag + "_bar.vtp"), 2);
     // Zones with displacement and stress (empty for rigid blocks).
     {
       std::vector<vtk::sym_tensor> stress;
@@ -179,6 +128,7 @@ class snapshot_writer {
   const tessera::scenes::tie_scene* scene_;
   bool enabled_;
   vtk::pvd_collection pvd_;
+  vtk::contact_snapshot contacts_;  ///< reused between snapshots
   std::vector<std::string> tags_;
 };
 

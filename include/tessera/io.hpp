@@ -7,3 +7,4 @@
 #include "io/plot.hpp"
 #include "io/vtk.hpp"
 #include "io/neper.hpp"
+#include "io/vtk_contacts.hpp"

@@ -34,6 +34,7 @@
 // | cc.state(i), cc.area(i), cc.normal(i), cc.force(i), cc.node_a(i), cc.node_b(i)                       |
 // |                                     | per sub-contact read access: law state, tributary area (m^2),   |
 // |                                     | unit normal A->B, force on node B (N), gridpoints of A and B    |
+// | cc.subcontact_params(i)             | the law parameters sub-contact i is evaluated with              |
 
 #include <concepts>
 
@@ -77,6 +78,7 @@ concept ContactSet = requires(C& c, const C& cc, const geometry::tessellation& t
   { cc.force(i) } -> std::convertible_to<vec3>;
   { cc.node_a(i) } -> std::convertible_to<index>;
   { cc.node_b(i) } -> std::convertible_to<index>;
+  { cc.subcontact_params(i) } -> std::convertible_to<const typename C::law_type::params&>;
 };
 
 }  // namespace tessera::contact

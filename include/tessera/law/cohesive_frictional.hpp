@@ -64,6 +64,7 @@
 // contacts whose damage flags it leaves unchanged, written for lanes::pack's of sub-contacts (see below).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <type_traits>
@@ -114,10 +115,22 @@ struct cohesive_frictional {
     contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
   };
   static_assert(std::is_trivially_destructible_v<state>);
-  // contact::face_contacts stores the state field by field (law::ElasticPackLaw): a new field must
-  // be added to its columns (state_columns in contact/detail/packed_states.hpp) as well.
-  static_assert(sizeof(state) == 11 * sizeof(real), "state has a field the state columns do not know");
-
+  /// The state's fields, declared once (law::state_field): contact::face_contacts stores them as
+  /// columns from this list and io::vtk::contact_snapshot writes one array each.
+  static constexpr std::array<state_field<state>, 9> state_fields{{
+      {"sigma_n", "Pa", &state::sigma_n},
+      {"tau", "Pa", &state::tau},
+      {"u_n", "m", &state::u_n},
+      {"u_p", "m", &state::u_p},
+      {"u_soft", "m", &state::u_soft},
+      {"dissipated_tension", "J/m^2", &state::dissipated_tension},
+      {"dissipated_shear", "J/m^2", &state::dissipated_shear},
+      {"dissipated_compression", "J/m^2", &state::dissipated_compression},
+      {"flags", "contact_status bits", &state::flags},
+  }};
+  // Ten reals and the flags (padded to one more): a field added to `state` must be declared above.
+  static_assert(sizeof(state) == (real_column_count(state_fields) + 1) * sizeof(real),
+                "state has a field that state_fields does not declare");
   /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0, then the
   /// tension, compression and shear policies' checks (tension.hpp, compression.hpp, shear.hpp).
   static void validate(const params& p) {

@@ -21,11 +21,15 @@
 // | L::tensile_damage(p, s)            | 0 (intact) .. 1 (broken in tension)                            |
 // | L::dissipated_energy(s)            | energy dissipated so far per unit area (J/m^2), all mechanisms |
 // | L::stored_energy(p, s)             | recoverable elastic energy per unit area (J/m^2)               |
+// | L::state_fields        (optional)  | every field of the state, declared once (state_field: name, |
+// |                                    | unit, member); required for the packed column storage       |
 // | L::unbonded_state(p)   (optional)  | state of a never-bonded sub-contact (contact::material_table:: |
 // |                                    | never_bonded): no tensile strength, residual friction          |
 
 #include <concepts>
+#include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 #include <utility>
 
@@ -46,6 +50,57 @@ enum class contact_status : std::uint8_t {
 }
 [[nodiscard]] constexpr bool has(contact_status s, contact_status flag) {
   return (static_cast<std::uint8_t>(s) & static_cast<std::uint8_t>(flag)) != 0;
+}
+
+/// One field of a law's state, declared once by the law (L::state_fields): its name, unit and
+/// member. Contact sets store the state as columns from this list (contact/detail/packed_states.hpp),
+/// and io::vtk::contact_snapshot writes one array per entry, named "<name>" (unit in the array's
+/// documentation, docs/architecture.md), so a new field reaches storage and output by its
+/// declaration alone. Three kinds: a real, a 3-vector (stored as three real columns, components
+/// 0..2) and the contact_status flags.
+template <class S>
+struct state_field {
+  enum class kind : std::uint8_t { scalar, vector, flags };
+  const char* name;
+  const char* unit;
+  kind type;
+  real S::*scalar = nullptr;
+  vec3 S::*vector = nullptr;
+  contact_status S::*flags = nullptr;
+  constexpr state_field(const char* n, const char* u, real S::*m) : name(n), unit(u), type(kind::scalar), scalar(m) {}
+  constexpr state_field(const char* n, const char* u, vec3 S::*m) : name(n), unit(u), type(kind::vector), vector(m) {}
+  constexpr state_field(const char* n, const char* u, contact_status S::*m)
+      : name(n), unit(u), type(kind::flags), flags(m) {}
+  /// Real columns the field takes (1, 3, or 0 for the flags).
+  [[nodiscard]] constexpr int real_columns() const { return type == kind::scalar ? 1 : type == kind::vector ? 3 : 0; }
+};
+
+/// A law that declares its state fields: L::state_fields, a constexpr array of
+/// state_field<L::state> listing every field of the state exactly once.
+template <class L>
+concept DeclaresStateFields = requires {
+  { L::state_fields.size() } -> std::convertible_to<std::size_t>;
+  { L::state_fields[0] } -> std::convertible_to<state_field<typename L::state>>;
+};
+
+/// Index of the first real column of the field called `name` in the columns built from `fields`
+/// (fields in declaration order, each taking real_columns() columns); throws in a constant
+/// expression when no field has that name.
+template <class Fields>
+[[nodiscard]] constexpr std::size_t real_column_of(const Fields& fields, std::string_view name) {
+  std::size_t column = 0;
+  for (const auto& f : fields) {
+    if (std::string_view(f.name) == name) return column;
+    column += static_cast<std::size_t>(f.real_columns());
+  }
+  throw "law state field not declared";
+}
+/// Number of real columns of `fields`.
+template <class Fields>
+[[nodiscard]] constexpr std::size_t real_column_count(const Fields& fields) {
+  std::size_t column = 0;
+  for (const auto& f : fields) column += static_cast<std::size_t>(f.real_columns());
+  return column;
 }
 
 template <class L>
@@ -84,7 +139,7 @@ concept ContactLaw = requires(const typename L::params& p, typename L::state& s,
 /// | s.flags                             | fields are the whole state                                  |
 template <class L>
 concept ElasticPackLaw =
-    ContactLaw<L> && L::elastic_pack &&
+    ContactLaw<L> && DeclaresStateFields<L> && L::elastic_pack &&
     requires(const typename L::params& p, lanes::mask flags, typename L::template elastic_lanes<lanes::pack>& x,
              const typename L::state& s) {
       { L::update_elastic(p, flags, x) } noexcept -> std::same_as<lanes::mask>;

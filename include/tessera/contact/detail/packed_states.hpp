@@ -2,7 +2,8 @@
 // Sub-contact states as columns and their update over packs of lanes, for a law with an elastic
 // pack path (law::ElasticPackLaw; contact::face_contacts uses this for such laws).
 //
-// state_columns holds the law state of sub-contact i field by field (one array per field), so a
+// state_columns holds the law state of sub-contact i field by field (one array per declared field,
+// Law::state_fields; three for a vector), so a
 // lanes::pack of consecutive sub-contacts loads and stores each field with one instruction, and
 // one column more than the state: its current tensile strength Law::tensile_strength (the
 // envelope f_t(u_soft) while softening, a pure function of u_soft and the flags), re-evaluated
@@ -26,6 +27,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string_view>
 #include <type_traits>
 #include <vector>
 
@@ -35,28 +37,38 @@
 
 namespace tessera::contact::detail {
 
-/// The states of sub-contacts as columns (fields as in law::ElasticPackLaw), and their tensile
-/// strengths.
+/// The states of sub-contacts as columns, built from the law's declaration of its state
+/// (Law::state_fields, law::state_field): one real column per scalar field, three per vector
+/// field, in declaration order, and the flags as mask lanes; plus the tensile strengths.
+/// column<"name">-style access is by index: col(c) with c = law::real_column_of(fields, "name"),
+/// a constant expression.
 template <class Law>
 struct state_columns {
   using state_type = typename Law::state;
-  std::vector<real> sigma_n, tau0, tau1, tau2, u_n, u_p, u_soft, dissipated_tension, dissipated_shear,
-      dissipated_compression;
+  static constexpr auto& fields = Law::state_fields;
+  static constexpr std::size_t real_count = law::real_column_count(Law::state_fields);
+  /// Real column of the field `name` (its first component for a vector field).
+  static constexpr std::size_t column(std::string_view name) { return law::real_column_of(Law::state_fields, name); }
+
+  std::array<std::vector<real>, real_count> reals;
   /// contact_status bits, widened to a mask lane so a pack of them loads with one instruction.
   std::vector<lanes::mask_lane> flags;
   /// Law::tensile_strength(p, state) (Pa): set() re-evaluates it when u_soft or the flags change.
   std::vector<real> f_t;
 
+  [[nodiscard]] std::vector<real>& col(std::size_t c) noexcept { return reals[c]; }
+  [[nodiscard]] const std::vector<real>& col(std::size_t c) const noexcept { return reals[c]; }
+
   /// n zeroed states; reset() each before use.
   void resize(std::size_t n) {
-    for (auto* column : real_columns()) column->assign(n, 0.0);
+    for (auto& column : reals) column.assign(n, 0.0);
     flags.assign(n, 0);
     f_t.assign(n, 0.0);
   }
   /// Sub-contact i holds s, under parameters p (its tensile strength evaluated).
   void reset(std::size_t i, const state_type& s, const typename Law::params& p) noexcept {
     f_t[i] = Law::tensile_strength(p, s);
-    u_soft[i] = s.u_soft;
+    reals[u_soft_column][i] = s.u_soft;
     flags[i] = static_cast<lanes::mask_lane>(s.flags);
     set(i, s, p);
   }
@@ -66,42 +78,43 @@ struct state_columns {
     for (std::size_t i = 0; i < n; ++i) reset(i, state_type{}, p);
   }
   [[nodiscard]] std::size_t size() const { return flags.size(); }
+  /// The state of sub-contact i, assembled field by field from the declaration.
   [[nodiscard]] state_type get(std::size_t i) const noexcept {
     state_type s{};
-    s.sigma_n = sigma_n[i];
-    s.tau = vec3(tau0[i], tau1[i], tau2[i]);
-    s.u_n = u_n[i];
-    s.u_p = u_p[i];
-    s.u_soft = u_soft[i];
-    s.dissipated_tension = dissipated_tension[i];
-    s.dissipated_shear = dissipated_shear[i];
-    s.dissipated_compression = dissipated_compression[i];
-    s.flags = static_cast<law::contact_status>(flags[i]);
+    std::size_t c = 0;
+    for (const auto& f : fields) {
+      using kind = typename law::state_field<state_type>::kind;
+      if (f.type == kind::scalar) {
+        s.*f.scalar = reals[c++][i];
+      } else if (f.type == kind::vector) {
+        s.*f.vector = vec3(reals[c][i], reals[c + 1][i], reals[c + 2][i]);
+        c += 3;
+      } else {
+        s.*f.flags = static_cast<law::contact_status>(flags[i]);
+      }
+    }
     return s;
   }
   /// Stores s for sub-contact i, whose parameters are p (its tensile strength is re-evaluated
   /// when u_soft or the flags change).
   void set(std::size_t i, const state_type& s, const typename Law::params& p) noexcept {
-    if (s.u_soft != u_soft[i] || static_cast<lanes::mask_lane>(s.flags) != flags[i])
+    if (s.u_soft != reals[u_soft_column][i] || static_cast<lanes::mask_lane>(s.flags) != flags[i])
       f_t[i] = Law::tensile_strength(p, s);
-    sigma_n[i] = s.sigma_n;
-    tau0[i] = s.tau[0];
-    tau1[i] = s.tau[1];
-    tau2[i] = s.tau[2];
-    u_n[i] = s.u_n;
-    u_p[i] = s.u_p;
-    u_soft[i] = s.u_soft;
-    dissipated_tension[i] = s.dissipated_tension;
-    dissipated_shear[i] = s.dissipated_shear;
-    dissipated_compression[i] = s.dissipated_compression;
-    flags[i] = static_cast<lanes::mask_lane>(s.flags);
+    std::size_t c = 0;
+    for (const auto& f : fields) {
+      using kind = typename law::state_field<state_type>::kind;
+      if (f.type == kind::scalar) {
+        reals[c++][i] = s.*f.scalar;
+      } else if (f.type == kind::vector) {
+        for (int k = 0; k < 3; ++k) reals[c++][i] = (s.*f.vector)[k];
+      } else {
+        flags[i] = static_cast<lanes::mask_lane>(s.*f.flags);
+      }
+    }
   }
 
  private:
-  std::array<std::vector<real>*, 10> real_columns() {
-    return {&sigma_n, &tau0, &tau1, &tau2, &u_n, &u_p, &u_soft, &dissipated_tension, &dissipated_shear,
-            &dissipated_compression};
-  }
+  static constexpr std::size_t u_soft_column = column("u_soft");
 };
 
 /// Per sub-contact and step: the arguments of Law::update, du_n (m), du_s (m) and the unit normal
@@ -126,33 +139,45 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
   // intact lane that update_elastic accepts leaves u_p, u_soft, f_t and dissipated_shear
   // unchanged, so those are not stored.
   const real f_t_virgin = Law::tensile_strength(p, typename Law::state{});
+  using columns = state_columns<Law>;
+  real* const sigma_n = s.col(columns::column("sigma_n")).data();
+  real* const tau0 = s.col(columns::column("tau")).data();
+  real* const tau1 = s.col(columns::column("tau") + 1).data();
+  real* const tau2 = s.col(columns::column("tau") + 2).data();
+  real* const u_n = s.col(columns::column("u_n")).data();
+  real* const u_p = s.col(columns::column("u_p")).data();
+  real* const u_soft = s.col(columns::column("u_soft")).data();
+  real* const dissipated_tension = s.col(columns::column("dissipated_tension")).data();
+  real* const dissipated_shear = s.col(columns::column("dissipated_shear")).data();
+  real* const dissipated_compression = s.col(columns::column("dissipated_compression")).data();
+  real* const f_t = s.f_t.data();
   const auto lanes_at = [&]<class T, bool Damaged>(std::size_t i, auto flags) __attribute__((always_inline)) {
     using lanes::load;
     typename Law::template elastic_lanes<T> x{load<T>(&k.du_n[i]),  load<T>(&k.ds0[i]),     load<T>(&k.ds1[i]),
                                               load<T>(&k.ds2[i]),   load<T>(&k.n0[i]),      load<T>(&k.n1[i]),
-                                              load<T>(&k.n2[i]),    load<T>(&s.sigma_n[i]), load<T>(&s.tau0[i]),
-                                              load<T>(&s.tau1[i]),  load<T>(&s.tau2[i]),    load<T>(&s.u_n[i]),
-                                              load<T>(&s.dissipated_tension[i]),
-                                              load<T>(&s.dissipated_shear[i]),
-                                              load<T>(&s.dissipated_compression[i]),
-                                              load<T>(&s.u_p[i]),   load<T>(&s.u_soft[i]),
-                                              Damaged ? load<T>(&s.f_t[i]) : lanes::splat<T>(f_t_virgin)};
+                                              load<T>(&k.n2[i]),    load<T>(&sigma_n[i]),   load<T>(&tau0[i]),
+                                              load<T>(&tau1[i]),    load<T>(&tau2[i]),      load<T>(&u_n[i]),
+                                              load<T>(&dissipated_tension[i]),
+                                              load<T>(&dissipated_shear[i]),
+                                              load<T>(&dissipated_compression[i]),
+                                              load<T>(&u_p[i]),     load<T>(&u_soft[i]),
+                                              Damaged ? load<T>(&f_t[i]) : lanes::splat<T>(f_t_virgin)};
     const auto old = x;
     const auto elastic = Law::update_elastic(p, flags, x);
     using lanes::select;
     using lanes::store;
-    store(&s.sigma_n[i], select(elastic, x.sigma_n, old.sigma_n));
-    store(&s.tau0[i], select(elastic, x.tau0, old.tau0));
-    store(&s.tau1[i], select(elastic, x.tau1, old.tau1));
-    store(&s.tau2[i], select(elastic, x.tau2, old.tau2));
-    store(&s.u_n[i], select(elastic, x.u_n, old.u_n));
-    store(&s.dissipated_tension[i], select(elastic, x.dissipated_tension, old.dissipated_tension));
-    store(&s.dissipated_compression[i], select(elastic, x.dissipated_compression, old.dissipated_compression));
+    store(&sigma_n[i], select(elastic, x.sigma_n, old.sigma_n));
+    store(&tau0[i], select(elastic, x.tau0, old.tau0));
+    store(&tau1[i], select(elastic, x.tau1, old.tau1));
+    store(&tau2[i], select(elastic, x.tau2, old.tau2));
+    store(&u_n[i], select(elastic, x.u_n, old.u_n));
+    store(&dissipated_tension[i], select(elastic, x.dissipated_tension, old.dissipated_tension));
+    store(&dissipated_compression[i], select(elastic, x.dissipated_compression, old.dissipated_compression));
     if constexpr (Damaged) {
-      store(&s.dissipated_shear[i], select(elastic, x.dissipated_shear, old.dissipated_shear));
-      store(&s.u_p[i], select(elastic, x.u_p, old.u_p));
-      store(&s.u_soft[i], select(elastic, x.u_soft, old.u_soft));
-      store(&s.f_t[i], select(elastic, x.f_t, old.f_t));
+      store(&dissipated_shear[i], select(elastic, x.dissipated_shear, old.dissipated_shear));
+      store(&u_p[i], select(elastic, x.u_p, old.u_p));
+      store(&u_soft[i], select(elastic, x.u_soft, old.u_soft));
+      store(&f_t[i], select(elastic, x.f_t, old.f_t));
     }
     const T a = load<T>(&area[i]);
     store(&force[0][i], a * (x.sigma_n * x.n0 + x.tau0));
