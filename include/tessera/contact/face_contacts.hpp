@@ -77,7 +77,7 @@
 // (elastic whatever their damage, advancing along the softening envelope, sliding on the
 // residual Coulomb limit); (3) Law::update, from the unchanged state, for the lanes it declined
 // (reaching the peak, breaking, a first slip, a compressive cap: detail::advance_states).
-// update_elastic and update share their arithmetic, so each sub-contact gets exactly the bits
+// update_elastic and update are one function of the law (step<T, Transitions>), so each sub-contact gets exactly the bits
 // Law::update gives it whatever its lane, pack or block (test_contacts "[pack]"). On the RC tie
 // the packs take all but 8 in a million sub-contact-steps (55 % when they took only intact
 // lanes, which made the tie slower than the default layout; now 12 % faster on one thread), so

@@ -58,10 +58,14 @@
 // with steps that land on the kinks the bookkeeping is exact: a contact pulled to separation
 // dissipates Tension::separation_energy (G_f for linear softening).
 //
+// One physics path: the step is written once, step<T, Transitions>, in select form for T = real
+// (one sub-contact) or a lanes::pack. update() is step<real, true>, which also takes the
+// transitions (peak, breaking, a first slip, the compressive cap); update_elastic is
+// step<T, false>, which declines the lanes whose flags would change (see below).
+//
 // Cost and threading: update is noexcept, allocation-free and branch-light (the softening
 // envelope is evaluated only for contacts past the peak); all functions are static and pure, so
-// updating distinct states from several threads is safe. update_elastic is the same step for the
-// contacts whose damage flags it leaves unchanged, written for lanes::pack's of sub-contacts (see below).
+// updating distinct states from several threads is safe.
 
 #include <algorithm>
 #include <array>
@@ -154,93 +158,14 @@ struct cohesive_frictional {
   [[nodiscard]] static real normal_stiffness(const params& p) noexcept { return p.k_n; }
   [[nodiscard]] static real shear_stiffness(const params& p) noexcept { return p.k_s; }
 
-  /// Advances `s` by one step (see the file comment). du_n: opening increment (m, + opens);
-  /// du_s: tangential relative displacement increment of B w.r.t. A (m, in the plane of n);
-  /// n: current unit contact normal, A -> B.
-  /// Written on scalar components (no Eigen temporaries) and always inlined: the caller's loop
-  /// keeps du_s and n in registers, and a 3-vector in Eigen's 2 + 1 SSE packets costs shuffles.
-  /// The arithmetic is that of the vector form term by term (dots as (x + y) + z).
-  [[gnu::always_inline]] static inline void update(const params& p, state& s, real du_n, const vec3& du_s,
-                                                  const vec3& n) noexcept {
-    const real k_n = p.k_n;
-    const real n0 = n[0], n1 = n[1], n2 = n[2];
-    const real ds0 = du_s[0], ds1 = du_s[1], ds2 = du_s[2];
-
-    // 1. Rotate the stored shear stress into the current contact plane, keeping its magnitude.
-    real o0 = s.tau[0], o1 = s.tau[1], o2 = s.tau[2];  // -> tau_old
-    contact::kinematics::rotate_into_plane(o0, o1, o2, n0, n1, n2);
-
-    // 2. Normal stress: elastic trial from the irreversible opening, then the limits.
-    const real sigma_old = s.sigma_n;
-    s.u_n += du_n;
-    real sigma = k_n * (s.u_n - s.u_p);
-    if (!has(s.flags, contact_status::broken_tension)) [[likely]] {
-      const real f_peak = Tension::peak_strength(p.tension);
-      if (sigma > 0 && (sigma > f_peak || s.u_soft > 0)) [[unlikely]]
-        sigma = tension_return(p, s, sigma, f_peak);
-    } else {
-      sigma = std::min(real(0), sigma);  // open gap: u_n > u_p
-    }
-    if constexpr (Compression::bounded) {
-      const real f_c = Compression::strength(p.compression);
-      if (sigma < -f_c) {
-        sigma = -f_c;
-        s.u_p = s.u_n + f_c / k_n;
-      }
-    }
-    s.sigma_n = sigma;
-    book_normal_dissipation(k_n, sigma_old, sigma, du_n, s.dissipated_tension, s.dissipated_compression);
-
-    // 3. Shear: elastic trial, Coulomb limit at the new normal stress, brittle first failure.
-    //    An open crack (broken in tension with its faces apart, u_n > u_p) transmits no shear: its
-    //    faces do not touch (3DEC's rule for a joint opened past its tensile strength); the shear
-    //    energy it stored is booked as dissipated below.
-    //    The shear part of the dissipation, 0.5 (tau_old + tau).(du_s - (tau - tau_old)/k_s), vanishes
-    //    identically on the elastic path (tau - tau_old = k_s du_s), so it is evaluated only when the
-    //    trial is limited.
-    const real k_s = p.k_s;
-    real c0 = o0 + k_s * ds0, c1 = o1 + k_s * ds1, c2 = o2 + k_s * ds2;  // tau
-    const auto book_shear_dissipation = [&] {
-      const real inv_k_s = 1 / k_s;
-      const real w0 = ds0 - (c0 - o0) * inv_k_s, w1 = ds1 - (c1 - o1) * inv_k_s, w2 = ds2 - (c2 - o2) * inv_k_s;
-      s.dissipated_shear += real(0.5) * (((o0 + c0) * w0 + (o1 + c1) * w1) + (o2 + c2) * w2);
-    };
-    if (has(s.flags, contact_status::broken_tension) && s.u_n > s.u_p) [[unlikely]] {
-      c0 = c1 = c2 = 0;
-      book_shear_dissipation();
-    } else {
-      const real trial_sq = (c0 * c0 + c1 * c1) + c2 * c2;
-      const real fraction = tensile_fraction(p, s);
-      real tau_max = Shear::strength(p.shear, sigma, s.flags, fraction);
-      if (trial_sq > tau_max * tau_max) [[unlikely]] {
-        if (!has(s.flags, contact_status::slipped)) {
-          s.flags = s.flags | contact_status::slipped;
-          tau_max = Shear::strength(p.shear, sigma, s.flags, fraction);
-          if constexpr (requires { p.shear.slip_breaks_tension; })
-            if (p.shear.slip_breaks_tension) break_on_slip(p, s);
-        }
-        const real scale = tau_max / std::sqrt(trial_sq);
-        c0 *= scale;
-        c1 *= scale;
-        c2 *= scale;
-        book_shear_dissipation();
-      }
-    }
-    s.tau[0] = c0;
-    s.tau[1] = c1;
-    s.tau[2] = c2;
-  }
-
   // ---- elastic path over packs of sub-contacts (opt-in of law::ElasticPackLaw, concepts.hpp) ----
   // In almost every step of almost every sub-contact the damage flags stay as they are: the
   // contact is elastic (intact, or softened, broken or slipped but below its current limits),
   // advances along its softening envelope, or slides on its residual Coulomb limit. Only reaching
   // the peak, breaking, a first slip and a compressive cap change them. contact::face_contacts
   // runs update_elastic over lanes::pack's of sub-contacts, keeps the lanes it accepts and runs
-  // update() on the others from their unchanged state. update() and update_elastic share the
-  // rotation and the normal dissipation (rotate_into_plane, book_normal_dissipation), read the
-  // envelope through the same Tension function (lane_strength) and write the rest with the same
-  // operations in the same order, so an accepted lane is update()'s result to the bit.
+  // update() on the others from their unchanged state. Both are the one function step<>, so an
+  // accepted lane is update()'s result to the bit (test_contacts "[pack]").
 
   /// True: update_elastic exists (the shear policy evaluates its strength on packs).
   static constexpr bool elastic_pack = PackedShearLimit<Shear>;
@@ -255,6 +180,33 @@ struct cohesive_frictional {
     T f_t;       ///< in/out: tensile_strength(p, state), a function of u_soft and the flags
   };
 
+  /// Advances `s` by one step (see the file comment). du_n: opening increment (m, + opens);
+  /// du_s: tangential relative displacement increment of B w.r.t. A (m, in the plane of n);
+  /// n: current unit contact normal, A -> B. The one physics path, step<real, true> (below),
+  /// with every transition (peak, breaking, a first slip, the compressive cap) taken.
+  [[gnu::always_inline]] static inline void update(const params& p, state& s, real du_n, const vec3& du_s,
+                                                  const vec3& n) noexcept {
+    elastic_lanes<real> x{du_n,          du_s[0],   du_s[1],   du_s[2],
+                          n[0],          n[1],      n[2],      s.sigma_n,
+                          s.tau[0],      s.tau[1],  s.tau[2],  s.u_n,
+                          s.dissipated_tension,     s.dissipated_shear,
+                          s.dissipated_compression, s.u_p,     s.u_soft,
+                          tensile_strength(p, s)};
+    auto flags = static_cast<lanes::mask_lane>(s.flags);
+    step<real, true>(p, flags, x);
+    s.sigma_n = x.sigma_n;
+    s.tau[0] = x.tau0;
+    s.tau[1] = x.tau1;
+    s.tau[2] = x.tau2;
+    s.u_n = x.u_n;
+    s.u_p = x.u_p;
+    s.u_soft = x.u_soft;
+    s.dissipated_tension = x.dissipated_tension;
+    s.dissipated_shear = x.dissipated_shear;
+    s.dissipated_compression = x.dissipated_compression;
+    s.flags = static_cast<contact_status>(flags);
+  }
+
   /// update() of the lanes whose flags this step leaves unchanged, whatever their damage (`flags`:
   /// the lanes' contact_status bits, a lanes::mask for packs, an integer for T = real):
   ///   normal, not broken in tension: the trial normal stress k_n (u_n - u_p) at most the current
@@ -266,28 +218,42 @@ struct cohesive_frictional {
   ///     dissipated, as update() does; otherwise the shear trial within the Coulomb limit of the
   ///     lane's state (intact, softened with coulomb_coupled, broken, slipped), or beyond it for a
   ///     lane that has slipped before: scaled back onto the limit, the slip dissipation booked.
-  /// Returns the mask of those lanes; for them the outputs are update()'s to the bit. The
-  /// outputs of the other lanes are meaningless.
+  /// Returns the mask of those lanes; for them the outputs are update()'s to the bit (it is the
+  /// same function, step). The outputs of the other lanes are meaningless.
   template <class T, class F>
   [[nodiscard, gnu::always_inline]] static inline auto update_elastic(const params& p, F flags,
                                                                      elastic_lanes<T>& x) noexcept {
+    return step<T, false>(p, flags, x);
+  }
+
+  /// The step of one sub-contact (T = real) or of a lanes::pack of them, written once.
+  /// Transitions = false: lanes whose flags the step would change are declined (the mask returned
+  /// says which were kept); Transitions = true (T = real only, update()): the peak, breaking, a
+  /// first slip and the compressive cap are taken here too and `flags` is updated. The shared
+  /// arithmetic is the file comment's steps 1-3 in select form; the transitions add the branches
+  /// of tension_transition, the cap and the first slip. x.f_t must hold tensile_strength(p, state).
+  template <class T, bool Transitions, class F>
+  [[nodiscard, gnu::always_inline]] static inline auto step(const params& p, F& flags,
+                                                           elastic_lanes<T>& x) noexcept {
+    static_assert(!Transitions || std::is_same_v<T, real>, "transitions are taken one sub-contact at a time");
     using M = decltype(T{} < T{});
+    constexpr auto bit = [](contact_status b) { return static_cast<lanes::mask_lane>(b); };
     const real k_n = p.k_n;
+    // 1. Rotation of the stored shear stress into the current plane.
     contact::kinematics::rotate_into_plane(x.tau0, x.tau1, x.tau2, x.n0, x.n1, x.n2);
+    // 2. Normal: elastic trial from the irreversible opening, then the limits.
     const T sigma_old = x.sigma_n;
     x.u_n = x.u_n + x.du_n;
     const T trial = k_n * (x.u_n - x.u_p);
-    const M broken = (flags & static_cast<lanes::mask_lane>(contact_status::broken_tension)) != 0;
-    const M slipped = (flags & static_cast<lanes::mask_lane>(contact_status::slipped)) != 0;
-    const M softening = (flags & static_cast<lanes::mask_lane>(contact_status::softening)) != 0;
-    // update(): not broken, it returns onto the envelope when trial > 0 and trial > f_t
-    // (tension_return); broken, sigma = std::min(0, trial).
+    M broken = (flags & bit(contact_status::broken_tension)) != 0;
+    M slipped = (flags & bit(contact_status::slipped)) != 0;
+    const M softening = (flags & bit(contact_status::softening)) != 0;
+    // Not broken: returned onto the envelope when trial > 0 and trial > f_t; broken: min(0, trial).
     T sigma = lanes::select(broken & ((trial < real(0)) == 0), T{}, trial);
     const M beyond_envelope = (broken == 0) & (trial > real(0)) & (trial > x.f_t);
     M elastic = beyond_envelope == 0;
     if constexpr (requires { Tension::lane_strength(p.tension, k_n, x.u_soft); }) {
-      // A softening contact pushed further along its envelope (tension_return's return, unless
-      // the step exhausts the envelope and breaks it). u_soft > 0 is update()'s test; the
+      // A softening contact pushed further along its envelope, unless the step exhausts it. The
       // softening flag, which every unbroken state with u_soft > 0 carries, lets a caller that
       // passes constant zero flags (all lanes intact) have the branch folded away.
       const M advance = beyond_envelope & softening & (x.u_soft > real(0));
@@ -302,10 +268,26 @@ struct cohesive_frictional {
         elastic = elastic | on_envelope;
       }
     }
-    if constexpr (Compression::bounded) elastic = elastic & ((sigma < -Compression::strength(p.compression)) == 0);
+    if constexpr (Transitions) {
+      if (!elastic) [[unlikely]]  // the peak reached, or the envelope exhausted: flags change
+        sigma = tension_transition(p, x, flags, trial);
+      broken = (flags & bit(contact_status::broken_tension)) != 0;
+    }
+    if constexpr (Compression::bounded) {
+      const real f_c = Compression::strength(p.compression);
+      if constexpr (Transitions) {
+        if (sigma < -f_c) {
+          sigma = -f_c;
+          x.u_p = x.u_n + f_c / k_n;
+        }
+      } else {
+        elastic = elastic & ((sigma < -f_c) == 0);
+      }
+    }
     x.sigma_n = sigma;
     book_normal_dissipation(k_n, sigma_old, sigma, x.du_n, x.dissipated_tension, x.dissipated_compression);
-    // Shear trial against the limit of the lane's state; an open crack carries none.
+    // 3. Shear: trial against the Coulomb limit of the state; an open crack (broken, faces apart)
+    //    carries none and its stored shear energy is booked as dissipated.
     const real k_s = p.k_s;
     T c0 = x.tau0 + k_s * x.ds0, c1 = x.tau1 + k_s * x.ds1, c2 = x.tau2 + k_s * x.ds2;
     const T trial_sq = (c0 * c0 + c1 * c1) + c2 * c2;
@@ -315,12 +297,21 @@ struct cohesive_frictional {
       const T softened = f_peak > 0 ? x.f_t / f_peak : T{};
       fraction = lanes::select((x.u_soft > real(0)) & (broken == 0), softened, fraction);
     }
-    const T tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+    T tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
     const M open = broken & (x.u_n > x.u_p);
-    // Beyond the limit: a lane that has slipped before slides on it (update() scales the trial
-    // back onto it); a first slip changes the flags and is declined.
+    // Beyond the limit: a lane that has slipped before slides on it; a first slip changes the flags.
     const M beyond = (open == 0) & (trial_sq > tau_max * tau_max);
-    elastic = elastic & ((beyond & (slipped == 0)) == 0);
+    if constexpr (Transitions) {
+      if (beyond && !slipped) [[unlikely]] {
+        flags = flags | bit(contact_status::slipped);
+        slipped = true;
+        tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+        if constexpr (requires { p.shear.slip_breaks_tension; })
+          if (p.shear.slip_breaks_tension) break_on_slip(p, x, flags);
+      }
+    } else {
+      elastic = elastic & ((beyond & (slipped == 0)) == 0);
+    }
     const M limited = open | (beyond & slipped);
     if (lanes::any(limited)) [[unlikely]] {
       const T scale = tau_max / lanes::sqrt(trial_sq);
@@ -396,38 +387,45 @@ struct cohesive_frictional {
   /// so from the next step on it carries compression only, and no shear while its faces are apart.
   /// The normal stress of this step stands; its stored energy is released, and booked as
   /// dissipated in tension, by the next step's trapezoidal increment.
-  static void break_on_slip(const params& p, state& s) noexcept {
-    if (has(s.flags, contact_status::broken_tension)) return;
+  template <class F>
+  static void break_on_slip(const params& p, elastic_lanes<real>& x, F& flags) noexcept {
+    if ((flags & static_cast<lanes::mask_lane>(contact_status::broken_tension)) != 0) return;
     real closure = 0;
     if constexpr (Compression::bounded) {
       // u_p = closure + w + (f_T - f_t(w))/k_n on or below the envelope, closure alone while intact
       const real f_peak = Tension::peak_strength(p.tension);
-      closure = s.u_soft > 0 ? s.u_p - s.u_soft - (f_peak - Tension::strength(p.tension, p.k_n, s.u_soft)) / p.k_n
-                             : s.u_p;
+      closure = x.u_soft > 0 ? x.u_p - x.u_soft - (f_peak - Tension::strength(p.tension, p.k_n, x.u_soft)) / p.k_n
+                             : x.u_p;
     }
-    s.u_p = closure;
-    s.flags = detail::without(s.flags, contact_status::softening) | contact_status::broken_tension;
+    x.u_p = closure;
+    flags = static_cast<F>(detail::without(static_cast<contact_status>(flags), contact_status::softening) |
+                           contact_status::broken_tension);
   }
 
-  /// Tension cap for an intact contact whose trial stress is positive and may exceed the current
-  /// strength: returns the normal stress and updates u_soft, u_p and the flags.
-  static real tension_return(const params& p, state& s, real sigma_trial, real f_peak) noexcept {
+  /// The tension transitions of one sub-contact whose trial stress `trial` > 0 exceeds its current
+  /// strength x.f_t and that step<> did not return onto its envelope: the peak reached (softening
+  /// starts) or the envelope exhausted (broken for good). Returns the normal stress and updates
+  /// u_soft, u_p, f_t and the flags.
+  template <class F>
+  static real tension_transition(const params& p, elastic_lanes<real>& x, F& flags, real trial) noexcept {
     const real k_n = p.k_n;
-    const real f_old = s.u_soft > 0 ? Tension::strength(p.tension, k_n, s.u_soft) : f_peak;
-    if (!(sigma_trial > f_old)) return sigma_trial;  // elastic below the envelope
-    s.u_soft += (sigma_trial - f_old) / k_n;
-    const real f_new = Tension::strength(p.tension, k_n, s.u_soft);
+    const real f_peak = Tension::peak_strength(p.tension);
+    x.u_soft += (trial - x.f_t) / k_n;
+    const real f_new = Tension::strength(p.tension, k_n, x.u_soft);
+    const auto status = static_cast<contact_status>(flags);
     if (Tension::exhausted(p.tension, f_new)) [[unlikely]] {
       // Broken: the faces separate from the position they had before any tension, shifted by the
       // compressive plastic closure (u_n = eta + u_soft + closure on the envelope).
       real closure = 0;
-      if constexpr (Compression::bounded) closure = s.u_n - s.u_soft - f_peak / k_n;
-      s.u_p = closure;
-      s.flags = detail::without(s.flags, contact_status::softening) | contact_status::broken_tension;
-      return std::min(real(0), k_n * (s.u_n - s.u_p));
+      if constexpr (Compression::bounded) closure = x.u_n - x.u_soft - f_peak / k_n;
+      x.u_p = closure;
+      x.f_t = 0;
+      flags = static_cast<F>(detail::without(status, contact_status::softening) | contact_status::broken_tension);
+      return std::min(real(0), k_n * (x.u_n - x.u_p));
     }
-    s.u_p = s.u_n - f_new / k_n;
-    s.flags = s.flags | contact_status::softening;
+    x.u_p = x.u_n - f_new / k_n;
+    x.f_t = f_new;
+    flags = static_cast<F>(status | contact_status::softening);
     return f_new;
   }
 };
