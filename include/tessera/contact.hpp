@@ -4,3 +4,5 @@
 #include "contact/concepts.hpp"
 #include "contact/face_contacts.hpp"
 #include "contact/material_table.hpp"
+#include "contact/kinematics.hpp"
+#include "contact/stiffness_bound.hpp"

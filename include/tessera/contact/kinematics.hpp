@@ -13,6 +13,13 @@
 // contact registers no spurious slip (face_contacts.hpp, "Kinematics", test "rigid rotation").
 // Then
 //     du_n = du . n   (m, + opens),      du_s = du - du_n n   (m, in the contact plane).
+// The law turns the stored shear stress into the new plane (the tilt) but not about n, so the
+// twist about n is deliberately left in du: for an elastic contact it turns tau with the blocks.
+// Together, a rigid rotation of both blocks by any axis and total angle theta in steps dtheta
+// leaves sigma_n and tau (turned with the blocks) unchanged up to a relative drift of order
+// theta dtheta (test_contacts "rigid rotation": 2e-4 for 1.2 rad in 4000 steps; 33 % without the
+// tilt term). The reference positions of a bonded pair coincide, so X_b - X_a is dropped from the
+// gap; a detecting set whose pair points do not coincide passes the full current gap.
 // For a point of a rigid body the velocity is v + omega x (x - x_c) (rigid_point_velocity).
 // A contact law first turns its stored shear stress into the plane of the current n, keeping
 // its magnitude (rotate_into_plane, templated on a scalar or a lanes::pack so the scalar and the

@@ -1,0 +1,236 @@
+#pragma once
+// The sub-contacts of a conforming tessellation's shared faces, paired and checked
+// (contact::face_contacts, "Creation" in face_contacts.hpp): for every shared face the face nodes
+// of its two sides, pairwise, with their tributary areas, the face's material-pair entry, and the
+// polygon corners that give the face its frame. And the gather incidence gridpoint -> (sub-contact,
+// sign) of the force kernel, built with core/csr.hpp. Construction-time only.
+//
+// Blocks of a conforming tessellation share faces exactly. For every shared face
+// s = (cell_a < cell_b, face_a, face_b) of the tessellation the block_mesh lists the face
+// gridpoints of the two sides in the same order (node k of face_a coincides with node k of
+// face_b); each such pair is one sub-contact i with
+//     node_a(i) = face_nodes(face_a)[k],   node_b(i) = face_nodes(face_b)[k],
+//     area(i)   = face_node_area(face_a)[k]   (tributary area, m^2; equal to face_b's),
+// so the sub-contact areas of a face sum to the face area. Block A is the lower cell id.
+// Sub-contacts of a face are contiguous, faces in tessellation::shared_faces order, and
+// "face s" below always means shared face s (not a tessellation face id).
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "../../core/csr.hpp"
+#include "../../core/errors.hpp"
+#include "../../core/types.hpp"
+#include "../kinematics.hpp"
+#include "../../geometry/block_mesh.hpp"
+#include "../../geometry/tessellation.hpp"
+#include "../material_table.hpp"
+
+namespace tessera::contact::detail {
+
+/// Polygon corners of each shared face, for its frame (face_contacts' contact frame): one unit
+/// normal per shared face per step, from block A to block B, the
+/// normalised vector area of the face's polygon drawn through the midpoints of its corner pairs:
+///     m_k = (x_a,k + x_b,k) / 2,   S = sum_{k=1}^{K-2} (m_k - m_0) x (m_{k+1} - m_0),   n = S / |S|
+/// where k runs over the K polygon vertices of the tessellation face (tessellation::face(face_a),
+/// counter-clockwise seen from A, so S points from A to B) and x = X + u are current positions.
+/// This is the common plane of the two nearly coincident sides: (S_a - S_b)/2, the difference of
+/// the Newell vectors of side A and side B, up to terms quadratic in the relative displacement of
+/// the sides (microns against the face size). The vector area of a closed loop does not depend on
+/// the surface spanned, so S is exact for a planar face and the mean plane of a warped one; edge
+/// midpoints and interior face gridpoints of a refined zoning do not enter it. Faces are 4 to 8
+/// times fewer than sub-contacts, so the frame is computed once per face per step and shared.
+struct face_corners {
+  /// Corners of face s (CCW seen from A): CSR [first[s], first[s + 1]), the gridpoints of each
+  /// corner pair (a, b) and the reference offset X_a,k - X_a,0 from the face's first corner.
+  std::vector<index> first{0}, a, b;
+  std::array<std::vector<real>, 3> offset;
+
+  [[nodiscard]] static constexpr std::size_t at(index i) noexcept { return static_cast<std::size_t>(i); }
+  /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
+  /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see above), from differences
+  /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
+  /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size),
+  /// and X_k - X_0 is the stored `offset` (the reference positions of the block_mesh).
+  [[nodiscard]] kinematics::triple area_vector(index s, const real* const u[3]) const noexcept {
+    const auto begin = at(first[at(s)]);
+    const auto count = at(first[at(s) + 1]) - begin;
+    const index* ca = a.data() + begin;
+    const index* cb = b.data() + begin;
+    const real* dX[3] = {offset[0].data() + begin, offset[1].data() + begin,
+                         offset[2].data() + begin};
+    real origin_u[3];
+    for (int c = 0; c < 3; ++c) origin_u[c] = 0.5 * (u[c][ca[0]] + u[c][cb[0]]);
+    const auto midpoint_offset = [&](std::size_t k) {
+      const index ga = ca[k], gb = cb[k];
+      real d[3];
+      for (int c = 0; c < 3; ++c) d[c] = dX[c][k] + (0.5 * (u[c][ga] + u[c][gb]) - origin_u[c]);
+      return kinematics::triple{d[0], d[1], d[2]};
+    };
+    kinematics::triple s_area{0, 0, 0};
+    kinematics::triple previous = midpoint_offset(1);
+    for (std::size_t k = 2; k < count; ++k) {
+      const kinematics::triple next = midpoint_offset(k);
+      const kinematics::triple area = kinematics::cross(previous, next);
+      s_area = {s_area.x + area.x, s_area.y + area.y, s_area.z + area.z};
+      previous = next;
+    }
+    return s_area;
+  }
+};
+
+/// Sub-contacts and face data of face_contacts, in its order (faces in tessellation::shared_faces
+/// order, the sub-contacts of a face contiguous).
+struct face_pairs {
+  std::vector<index> node_a, node_b, face;  ///< per sub-contact: gridpoints of sides A and B, shared face
+  std::vector<real> area;                   ///< per sub-contact: tributary area (m^2)
+  std::vector<index> first_subcontact{0};   ///< face s: sub-contacts [first_subcontact[s], first_subcontact[s + 1])
+  std::vector<real> face_area;              ///< per face: sum of its sub-contact areas (m^2)
+  std::vector<index> face_param;            ///< per face: its material_table entry
+  face_corners corners;                     ///< polygon corners of each face
+};
+
+/// Pairs the face nodes of every shared face of `tess` (face_contacts' constructor documents the
+/// checks; each throws geometry_error naming the shared face, its cells and tessellation faces).
+template <class P>
+[[nodiscard]] face_pairs pair_face_nodes(const geometry::tessellation& tess, const geometry::block_mesh& mesh,
+                                         const material_table<P>& table) {
+  const auto at = [](index i) { return static_cast<std::size_t>(i); };
+    const index n_faces = tess.face_count();
+    const index n_gridpoints = mesh.gridpoint_count();
+    require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1,
+                            "face_contacts: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
+                            " faces, expected one entry per tessellation face (", n_faces, ")");
+    require<geometry_error>(static_cast<index>(mesh.gridpoint_vertex.size()) == n_gridpoints,
+                            "face_contacts: block_mesh has ", mesh.gridpoint_vertex.size(),
+                            " gridpoint_vertex entries, expected one per gridpoint (", n_gridpoints, ")");
+    require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "face_contacts: block_mesh has ",
+                            mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(), " face nodes");
+    require<geometry_error>(mesh.block_material.empty() || static_cast<index>(mesh.block_material.size()) == mesh.block_count(),
+                            "face_contacts: block_mesh has ", mesh.block_material.size(), " block materials for ",
+                            mesh.block_count(), " blocks (give one id per block, or none for all 0)");
+    face_pairs r;
+    aabb box;
+    for (const vec3& x : mesh.gridpoints) box.expand(x);
+    const real tolerance = 1e-9 * (mesh.gridpoints.empty() ? 1.0 : box.size().norm());
+
+    const auto face_count = static_cast<index>(tess.shared_faces.size());
+    r.first_subcontact.assign(1, 0);
+    r.corners.first.assign(1, 0);
+    r.first_subcontact.reserve(at(face_count) + 1);
+    r.corners.first.reserve(at(face_count) + 1);
+    r.face_area.reserve(at(face_count));
+    for (index s = 0; s < face_count; ++s) {
+      const auto& sf = tess.shared_faces[at(s)];
+      // Throws geometry_error naming the face; the message is only built on failure.
+      const auto check = [&](bool ok, const auto&... message) {
+        if (!ok)
+          throw geometry_error(tessera::detail::concat("face_contacts: shared face ", s, " (cells ", sf.cell_a,
+                                                       " and ", sf.cell_b, ", tessellation faces ", sf.face_a, " and ",
+                                                       sf.face_b, "): ", message...));
+      };
+      check(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces && sf.cell_a >= 0 &&
+                sf.cell_a < sf.cell_b && sf.cell_b < tess.cell_count(),
+            "face or cell id out of range or cells not in increasing order (", tess.cell_count(), " cells, ", n_faces,
+            " faces)");
+      if (static_cast<index>(tess.face_cell.size()) == n_faces)
+        check(tess.face_cell[at(sf.face_a)] == sf.cell_a && tess.face_cell[at(sf.face_b)] == sf.cell_b,
+              "faces belong to cells ", tess.face_cell[at(sf.face_a)], " and ", tess.face_cell[at(sf.face_b)]);
+      const index na0 = mesh.face_node_offsets[at(sf.face_a)];
+      const index nb0 = mesh.face_node_offsets[at(sf.face_b)];
+      const index n_nodes = mesh.face_node_offsets[at(sf.face_a) + 1] - na0;
+      const index n_nodes_b = mesh.face_node_offsets[at(sf.face_b) + 1] - nb0;
+      check(n_nodes == n_nodes_b && n_nodes >= 3, "the sides have ", n_nodes, " and ", n_nodes_b,
+            " face nodes, expected the same number (>= 3)");
+      real face_area = 0;
+      for (index k = 0; k < n_nodes; ++k) {
+        const index a = mesh.face_nodes[at(na0 + k)];
+        const index b = mesh.face_nodes[at(nb0 + k)];
+        check(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, "face node ", k, " refers to gridpoints ", a,
+              " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
+        if (static_cast<index>(mesh.gridpoint_block.size()) == n_gridpoints)
+          check(mesh.gridpoint_block[at(a)] == sf.cell_a && mesh.gridpoint_block[at(b)] == sf.cell_b, "face node ", k,
+                ": gridpoints ", a, " and ", b, " belong to blocks ", mesh.gridpoint_block[at(a)], " and ",
+                mesh.gridpoint_block[at(b)]);
+        const vec3& xa = mesh.gridpoints[at(a)];
+        const vec3& xb = mesh.gridpoints[at(b)];
+        const real gap = (xb - xa).norm();
+        check(gap <= tolerance, "face node ", k, ": gridpoint ", a, " at (", xa.x(), ", ", xa.y(), ", ", xa.z(),
+              ") and gridpoint ", b, " at (", xb.x(), ", ", xb.y(), ", ", xb.z(), ") are ", gap,
+              " m apart, expected coincident (tolerance ", tolerance,
+              " m); the twin faces list their nodes in different orders");
+        const real area_a = mesh.face_node_area[at(na0 + k)];
+        const real area_b = mesh.face_node_area[at(nb0 + k)];
+        check(area_a > 0 && std::isfinite(area_a) && std::abs(area_a - area_b) <= 1e-9 * std::max(area_a, area_b),
+              "face node ", k, ": tributary areas ", area_a, " and ", area_b, " m^2, expected equal and > 0");
+        r.node_a.push_back(a);
+        r.node_b.push_back(b);
+        r.face.push_back(s);
+        r.area.push_back(area_a);
+        face_area += area_a;
+      }
+      r.first_subcontact.push_back(static_cast<index>(r.node_a.size()));
+      r.face_area.push_back(face_area);
+      r.face_param.push_back(static_cast<index>(table.entry_index(mesh.material(sf.cell_a), mesh.material(sf.cell_b))));
+
+      // Polygon corners: the face node of each tessellation vertex of face_a, in loop order.
+      const auto loop = tess.face(sf.face_a);
+      check(loop.size() >= 3, "the polygon has ", loop.size(), " vertices, expected >= 3");
+      for (const index vertex : loop) {
+        index corner = invalid_index;
+        for (index k = 0; k < n_nodes && corner == invalid_index; ++k)
+          if (mesh.gridpoint_vertex[at(mesh.face_nodes[at(na0 + k)])] == vertex &&
+              mesh.gridpoint_vertex[at(mesh.face_nodes[at(nb0 + k)])] == vertex)
+            corner = r.first_subcontact[at(s)] + k;
+        check(corner != invalid_index, "tessellation vertex ", vertex,
+              " has no face node copying it on both sides (block_mesh::gridpoint_vertex)");
+        r.corners.a.push_back(r.node_a[at(corner)]);
+        r.corners.b.push_back(r.node_b[at(corner)]);
+      }
+      r.corners.first.push_back(static_cast<index>(r.corners.a.size()));
+      // Reference offsets of the corners from the first one (side A), constant.
+      const vec3& x0 = mesh.gridpoints[at(r.corners.a[at(r.corners.first[at(s)])])];
+      for (index k = r.corners.first[at(s)]; k < r.corners.first[at(s) + 1]; ++k)
+        for (int c = 0; c < 3; ++c) r.corners.offset[at(c)].push_back(mesh.gridpoints[at(r.corners.a[at(k)])][c] - x0[c]);
+    }
+
+    return r;
+}
+
+/// Gather incidence: for each gridpoint carrying sub-contacts, in increasing id, one slot per
+/// incident sub-contact in increasing sub-contact order: the sub-contact and the sign of its
+/// stored force (the force on node A) on that gridpoint (+1 on node A, -1 on node B).
+struct gather_slots {
+  std::vector<index> offsets;      ///< CSR over all gridpoints (empty rows for those without sub-contacts)
+  std::vector<index> subcontact;   ///< per slot
+  std::vector<real> sign;          ///< per slot, +1 or -1
+  std::vector<index> gridpoints;   ///< gridpoints with a non-empty row, increasing
+};
+[[nodiscard]] inline gather_slots build_gather(index n_gridpoints, const std::vector<index>& node_a,
+                                               const std::vector<index>& node_b) {
+  gather_slots g;
+  const std::size_t n = node_a.size();
+  const auto slots = [&](auto&& emit) {
+    for (std::size_t i = 0; i < n; ++i) {
+      emit(node_b[i], [&, i](index slot) {
+        g.subcontact[static_cast<std::size_t>(slot)] = static_cast<index>(i);
+        g.sign[static_cast<std::size_t>(slot)] = -1;
+      });
+      emit(node_a[i], [&, i](index slot) {
+        g.subcontact[static_cast<std::size_t>(slot)] = static_cast<index>(i);
+        g.sign[static_cast<std::size_t>(slot)] = 1;
+      });
+    }
+  };
+  g.offsets = csr_offsets(n_gridpoints, slots);
+  g.subcontact.resize(2 * n);
+  g.sign.resize(2 * n);
+  csr_fill(g.offsets, slots);
+  for (index v = 0; v < n_gridpoints; ++v)
+    if (g.offsets[static_cast<std::size_t>(v) + 1] > g.offsets[static_cast<std::size_t>(v)]) g.gridpoints.push_back(v);
+  return g;
+}
+
+}  // namespace tessera::contact::detail
