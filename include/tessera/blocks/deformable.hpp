@@ -35,11 +35,9 @@
 // K_z = V_z B^T C B, summed over the zones of a gridpoint (an upper bound of the row sum of the
 // assembled |K|).
 //
-// Cost (callgrind, 100-block prism, one thread; rotations, zone kernel and gather): about 382
-// instructions per zone-step compiled for baseline x86-64 (SSE2, 2 zones per vector) and 203
-// for x86-64-v3 (AVX2, 4 zones per vector), of which the gather is about 65 (baseline); 29 ns
-// per zone-step with the default flags, 19.1-19.5 ns with -march=native on AVX-512 (zones in packs of
-// 16, see zone_kernel; block rotations 8 per pack) on one core (benchmarks/bench_kernels.cpp).
+// Layout: the reference geometry (zones, runs, tasks, gather incidence) is detail::zone_geometry
+// (detail/zone_layout.hpp); this class adds the materials, the rotations and the kernels.
+// Cost: O(zones) per step, no allocation; measured per zone-step in docs/performance.md.
 //
 // Thread safety: const members are safe to call concurrently; accumulate_forces is not.
 
@@ -54,6 +52,7 @@
 #include <Eigen/Core>
 
 #include "../core/csr.hpp"
+#include "detail/zone_layout.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/parallel.hpp"
@@ -66,7 +65,7 @@
 namespace tessera::blocks {
 
 template <zones::ZoneModel Zone>
-class deformable {
+class deformable : private detail::zone_geometry {
  public:
   using zone_model = Zone;
   using params = typename Zone::params;
@@ -109,108 +108,16 @@ class deformable {
               " has material id ", m, ", but ", materials_.size(), " block material(s) were given");
       block_material_[static_cast<std::size_t>(b)] = m;
     }
-    zone_block_ = mesh.zone_block;
-    gridpoint_block_ = mesh.gridpoint_block;
-    block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
-    for (int a = 0; a < 4; ++a) corner_[a].resize(static_cast<std::size_t>(n_z));
-    for (auto& g : gradient_) g.resize(static_cast<std::size_t>(n_z));
-    volume_.resize(static_cast<std::size_t>(n_z));
-    std::vector<real> block_volume(static_cast<std::size_t>(n_b), 0.0);
+    build_geometry(mesh);  // zones, runs, tasks, block gradients, corner incidence (zone_layout.hpp)
+    // Lumped masses rho V_z / 4 per corner, in zone order.
     for (index z = 0; z < n_z; ++z) {
-      const auto zs = static_cast<std::size_t>(z);
-      const auto& c = mesh.zones[zs];
-      std::array<vec3, 4> x;
-      for (std::size_t a = 0; a < 4; ++a) {
-        corner_[a][zs] = c[a];
-        require<geometry_error>(c[a] >= 0 && c[a] < n_gp && mesh.gridpoint_block[static_cast<std::size_t>(c[a])] ==
-                                                                 mesh.zone_block[zs],
-                                "deformable blocks: corner ", a, " of zone ", z, " (block ", mesh.zone_block[zs],
-                                ") is gridpoint ", c[a], ", which is not a gridpoint of that block");
-        x[a] = mesh.gridpoints[static_cast<std::size_t>(c[a])];
-      }
-      // Shape-function gradients of a linear tetrahedron: with J = [x1-x0, x2-x0, x3-x0],
-      // grad N_{1,2,3} are the rows of J^-1 and grad N_0 = -(sum of the others).
-      mat3 j;
-      j.col(0) = x[1] - x[0];
-      j.col(1) = x[2] - x[0];
-      j.col(2) = x[3] - x[0];
-      const real det = j.determinant();
-      const real volume = det / 6;
-      const real scale = std::cbrt(std::abs(j.col(0).dot(j.col(0)) * j.col(1).dot(j.col(1)) * j.col(2).dot(j.col(2))));
-      require<geometry_error>(det > 1e-12 * std::pow(scale, 1.5), "deformable blocks: zone ", z, " of block ",
-                              zone_block_[zs], " has volume ", volume,
-                              " m^3; expected a positively oriented tetrahedron of non-zero volume");
-      const mat3 j_inv = j.inverse();
-      volume_[zs] = volume;
-      for (int a = 1; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) gradient_[at(3 * a + k)][zs] = j_inv(a - 1, k);
-      for (std::size_t k = 0; k < 3; ++k)
-        gradient_[k][zs] = -(gradient_[3 + k][zs] + gradient_[6 + k][zs] + gradient_[9 + k][zs]);
-      const real rho = Zone::density(material_of_block(mesh.zone_block[zs]));
-      for (std::size_t a = 0; a < 4; ++a) gridpoints.mass[c[a]] += rho * volume / 4;
-      block_volume[static_cast<std::size_t>(zone_block_[zs])] += volume;
+      const real rho = Zone::density(material_of_block(zone_block_[at(z)]));
+      for (int a = 0; a < 4; ++a) gridpoints.mass[corner(z, a)] += rho * volume_[at(z)] / 4;
     }
     for (index i = 0; i < n_gp; ++i)
       require<geometry_error>(gridpoints.mass[i] > 0, "deformable blocks: gridpoint ", i, " of block ",
                               gridpoint_block_[static_cast<std::size_t>(i)],
                               " belongs to no zone (zero mass); every gridpoint must be a zone corner");
-
-    // Runs of consecutive zones of one block (the zoning numbers the zones block by block, so
-    // normally one run per block): the kernel loops over the zones of a run with that block's
-    // rotation held in registers.
-    run_offsets_.assign(1, 0);
-    run_block_.clear();
-    for (index z = 0; z < n_z; ++z) {
-      const index b = zone_block_[static_cast<std::size_t>(z)];
-      if (z > 0 && b == run_block_.back()) continue;
-      if (z > 0) run_offsets_.push_back(z);
-      run_block_.push_back(b);
-    }
-    run_offsets_.push_back(n_z);
-
-    // Zone tasks: the runs of each block that has zones, in increasing zone order (CSR, blocks
-    // in increasing order).
-    task_run_offsets_.assign(1, 0);
-    task_runs_.clear();
-    {
-      std::vector<std::vector<index>> runs_of_block(static_cast<std::size_t>(n_b));
-      for (index r = 0; r < static_cast<index>(run_block_.size()); ++r)
-        runs_of_block[static_cast<std::size_t>(run_block_[static_cast<std::size_t>(r)])].push_back(r);
-      task_block_.clear();
-      for (index b = 0; b < n_b; ++b) {
-        const auto& runs = runs_of_block[static_cast<std::size_t>(b)];
-        if (runs.empty()) continue;
-        task_runs_.insert(task_runs_.end(), runs.begin(), runs.end());
-        task_run_offsets_.push_back(static_cast<index>(task_runs_.size()));
-        task_block_.push_back(b);
-      }
-    }
-    for (index i = 0; i < n_gp; ++i) {
-      const index b = gridpoint_block_[static_cast<std::size_t>(i)];
-      require<geometry_error>(b >= 0 && b < n_b && i >= block_gridpoint_offsets_[static_cast<std::size_t>(b)] &&
-                                  i < block_gridpoint_offsets_[static_cast<std::size_t>(b) + 1],
-                              "deformable blocks: gridpoint ", i, " of block ", b,
-                              " lies outside that block's gridpoint range (block_mesh numbers gridpoints block by block)");
-    }
-
-    // Block-average gradient weights w_i and the gridpoint -> zone-corner incidence (CSR, each
-    // gridpoint's corners in increasing zone order).
-    block_gradient_.setZero(n_gp, 3);
-    for (index z = 0; z < n_z; ++z) {
-      const std::array<real, 12> g = gradients(z);
-      const real v = volume_[static_cast<std::size_t>(z)];
-      const real vb = block_volume[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
-      for (int a = 0; a < 4; ++a)
-        for (int k = 0; k < 3; ++k) block_gradient_(corner(z, a), k) += v * g[static_cast<std::size_t>(3 * a + k)] / vb;
-    }
-    auto corners = [&](auto&& emit) {
-      for (index z = 0; z < n_z; ++z)
-        for (int a = 0; a < 4; ++a)
-          emit(corner(z, a), [&](index slot) { corner_slots_[static_cast<std::size_t>(slot)] = 3 * a * n_z + z; });
-    };
-    corner_offsets_ = csr_offsets(n_gp, corners);
-    corner_slots_.resize(static_cast<std::size_t>(4 * n_z));
-    csr_fill(corner_offsets_, corners);
     rotation_.assign(static_cast<std::size_t>(n_b), mat3::Identity());
     corner_force_.setZero(n_z, 12);
     zone_stress_.setZero(n_z, 6);
@@ -352,20 +259,6 @@ class deformable {
   [[nodiscard]] const params& material_of_block(index b) const { return materials_[at(block_material_[at(b)])]; }
 
  private:
-  template <std::integral I>
-  [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
-    return static_cast<std::size_t>(i);
-  }
-  /// Gridpoint at corner a (0..3) of zone z.
-  [[nodiscard]] index corner(index z, int a) const noexcept { return corner_[at(a)][at(z)]; }
-  /// Reference shape-function gradients (1/m) of the 4 corners of zone z, corner-major, with
-  /// grad N_0 = -(grad N_1 + grad N_2 + grad N_3).
-  [[nodiscard]] std::array<real, 12> gradients(index z) const noexcept {
-    std::array<real, 12> g{};
-    for (std::size_t k = 0; k < 12; ++k) g[k] = gradient_[k][at(z)];
-    return g;
-  }
-
   /// R_b = polar(F_b), F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b, warm-started
   /// from `previous`.
   [[nodiscard]] mat3 block_rotation(const node_set& gp, index b, const mat3& previous) const noexcept {
@@ -569,24 +462,7 @@ TESSERA_PRAGMA_SIMD
   std::vector<params> materials_;                   ///< per material id
   std::vector<typename Zone::constants> constants_;  ///< Zone::prepare of each material
   std::vector<int> block_material_;                 ///< material id of each block
-  // per zone, structure of arrays (hot in the zone kernel)
-  std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
-  /// gradient_[3 a + k][z]: d N_a / d X_k (1/m), a = 0..3; grad N_0 = -(grad N_1 + grad N_2 +
-  /// grad N_3) is stored too: 3 loads per zone instead of 9 additions in the zone kernel.
-  std::array<std::vector<real>, 12> gradient_;
-  std::vector<real> volume_;                        ///< reference volume V_z (m^3)
-  std::vector<index> zone_block_;                   ///< owning block of each zone
-  std::vector<index> run_offsets_{0};               ///< zones [run_offsets_[r], run_offsets_[r + 1]) belong to one block
-  std::vector<index> run_block_;                    ///< that block
-  std::vector<index> gridpoint_block_;              ///< owning block of each gridpoint
-  std::vector<index> block_gridpoint_offsets_;      ///< CSR: gridpoints of block b
-  soa3 block_gradient_;                             ///< w_i (1/m): F_b = 1 + sum_i u_i (x) w_i
   std::vector<mat3> rotation_;                      ///< R_b, warm start of the next polar decomposition
-  std::vector<index> task_run_offsets_{0};          ///< CSR: runs of zone task t (one block)
-  std::vector<index> task_runs_;                    ///< those runs, in increasing zone order
-  std::vector<index> task_block_;                   ///< the block of zone task t
-  std::vector<index> corner_offsets_;               ///< CSR: gridpoint -> zone-corner slots
-  std::vector<index> corner_slots_;                 ///< offset 3 a n_z + z of corner a of zone z in corner_force_
   Eigen::Matrix<real, Eigen::Dynamic, 12> corner_force_;  ///< row z: the 4 corner forces of zone z (N), column 3 a + i
   zone_stress_matrix zone_stress_;                  ///< global Cauchy stress per zone (Pa)
 };
