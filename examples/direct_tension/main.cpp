@@ -103,9 +103,9 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
                                                                    loading);
 }
 
-int run(const inputs& in) {
-  namespace io = tessera::io;
-  const fs::path out = in.common.out;
+/// The flags that cannot be checked one at a time (combinations) and those checked again later
+/// inside the library, before anything is written.
+void check_inputs(const inputs& in) {
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
   tessera::require(in.lloyd >= 0, "direct_tension: --lloyd ", in.lloyd, " must be >= 0");
   // geometry::regularize checks this too, but only once the first scene is built, after --out exists.
@@ -121,32 +121,11 @@ int run(const inputs& in) {
                    "' must be 'decoupled' or 'coupled'");
   tessera::require(in.cohesion == "decoupled" || in.softening == "power",
                    "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
-  const tessera::cli::wall_timer timer;
+}
 
-  std::vector<scenes::tension_result> runs;
-  scenes::prism_scene first_scene;
-  for (int k = 0; k < in.seeds; ++k) {
-    const std::uint64_t seed = in.common.seed + static_cast<std::uint64_t>(k);
-    scenes::prism_scene scene;
-    runs.push_back(run_one(in, seed, k == 0, scene));
-    io::ensure_directory(out);  // after the checks and the run's own (quasi-static rate): bad input leaves no directory
-    const auto& r = runs.back();
-    if (k == 0) first_scene = std::move(scene);
-    std::printf("seed %llu: peak %.4f MPa at %.4f mm, E0 %.2f GPa, crack area %.5f m^2, separated %s, %lld steps, %.1f s\n",
-                static_cast<unsigned long long>(seed), r.peak_stress * 1e-6, r.peak_displacement * 1e3,
-                r.initial_modulus * 1e-9, r.crack_area, r.separated ? "yes" : "no", static_cast<long long>(r.steps),
-                r.runtime_s);
-    if (in.seeds > 1)
-      io::write_csv(out / tessera::detail::concat("curve_seed", seed, ".csv"), {"displacement_m", "stress_Pa"},
-                    {r.displacement, r.stress});
-  }
-  const auto& r = runs.front();
-  const auto& scene = first_scene;
-  const real f_t = scene.contact.tension.f_T, g_f = scene.contact.tension.G_f, area = scene.cross_section();
-  io::write_csv(out / "curve.csv", {"displacement_m", "stress_Pa", "stress_top_Pa", "stress_bottom_Pa"},
-                {r.displacement, r.stress, r.stress_top, r.stress_bottom});
-
-  // Contact and zone snapshots at the peak and at the end, and a ParaView time series of both.
+/// Contact and zone snapshots at the peak and at the end, and a ParaView time series of both.
+void write_fields(const fs::path& out, const scenes::prism_scene& scene, const scenes::tension_result& r) {
+  namespace io = tessera::io;
   r.at_peak.contacts.write(out / "contacts_peak.vtp");
   r.at_end.contacts.write(out / "contacts_end.vtp");
   write_zones_vtu(out / "zones_peak.vtu", scene, r.at_peak);
@@ -157,13 +136,14 @@ int run(const inputs& in) {
   pvd.add(r.at_end.time, out / "zones_end.vtu", 0);
   pvd.add(r.at_end.time, out / "contacts_end.vtp", 1);
   pvd.write(out / "direct_tension.pvd");
+}
 
-  double peak_min = r.peak_stress, peak_max = r.peak_stress, peak_sum = 0;
-  for (const auto& x : runs) {
-    peak_min = std::min(peak_min, x.peak_stress);
-    peak_max = std::max(peak_max, x.peak_stress);
-    peak_sum += x.peak_stress;
-  }
+/// curve.csv of the first seed, envelope.csv over the seeds (when more than one) and curve.png.
+void write_curves(const fs::path& out, const inputs& in, const std::vector<scenes::tension_result>& runs) {
+  namespace io = tessera::io;
+  const auto& r = runs.front();
+  io::write_csv(out / "curve.csv", {"displacement_m", "stress_Pa", "stress_top_Pa", "stress_bottom_Pa"},
+                {r.displacement, r.stress, r.stress_top, r.stress_bottom});
   io::plot_spec plot;
   plot.title = tessera::detail::concat("Direct tension, ", in.blocks, " blocks, ", in.softening, " softening, ",
                                        in.loading.rate * 1e3, " mm/s");
@@ -194,7 +174,15 @@ int run(const inputs& in) {
                            .title = "max", .style = "lines dt 2", .x_scale = 1e3, .y_scale = 1e-6});
   }
   io::plot_png(out / "curve.png", plot);
+}
 
+/// Dissipated tension against the fracture energy (file comment of the block below).
+struct fracture_figures {
+  double expected_fracture = 0, fracture_error = 0, separation_energy = 0, broken_error = 0;
+  std::string fracture_note;
+};
+fracture_figures fracture_of(const inputs& in, const scenes::prism_scene& scene, const scenes::tension_result& r) {
+  const real g_f = scene.contact.tension.G_f;
   // Fracture energy: tensile dissipation against G_f x (area broken in tension). For power
   // softening a sub-contact pulled to separation dissipates separation_energy = G_f +
   // f_T^2/(2 k_n) - cut-off tail per unit area (+2.3 % for 100 blocks), and sub-contacts off the
@@ -212,6 +200,24 @@ int run(const inputs& in) {
   // The same for the sub-contacts broken in tension alone (null without any).
   const double broken_error =
       tessera::analysis::check_dissipation(r.dissipated_tension_broken, separation_energy, r.crack_area).error_rel;
+  return {expected_fracture, fracture_error, separation_energy, broken_error, fracture_note};
+}
+
+/// summary.json (one key per line: the list is the file's schema, so it stays in one piece).
+void write_summary(const fs::path& out, const inputs& in, const scenes::prism_scene& scene,
+                   const std::vector<scenes::tension_result>& runs, const fracture_figures& fr,
+                   const tessera::cli::wall_timer& timer) {
+  namespace io = tessera::io;
+  const auto& r = runs.front();
+  const real f_t = scene.contact.tension.f_T, g_f = scene.contact.tension.G_f, area = scene.cross_section();
+  const double separation_energy = fr.separation_energy, fracture_error = fr.fracture_error, broken_error = fr.broken_error;
+  const std::string& fracture_note = fr.fracture_note;
+  double peak_min = r.peak_stress, peak_max = r.peak_stress, peak_sum = 0;
+  for (const auto& x : runs) {
+    peak_min = std::min(peak_min, x.peak_stress);
+    peak_max = std::max(peak_max, x.peak_stress);
+    peak_sum += x.peak_stress;
+  }
   io::summary_json js;
   js.set("example", "direct_tension")
       .set("blocks", in.blocks)
@@ -285,6 +291,13 @@ int run(const inputs& in) {
       .set("runtime_s", timer.seconds());
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   js.write(out / "summary.json");
+}
+
+/// The first seed's figures on stdout, each beside its reference.
+void print_report(const fs::path& out, const scenes::prism_scene& scene, const scenes::tension_result& r,
+                  const fracture_figures& fr, const tessera::cli::wall_timer& timer) {
+  const real f_t = scene.contact.tension.f_T, area = scene.cross_section();
+  const double expected_fracture = fr.expected_fracture, fracture_error = fr.fracture_error;
   std::printf(
       "direct_tension: peak %.4f MPa (f_T %.4f MPa, error %+.2f %%; normal %.3f + shear %.3f MPa over the crack), "
       "E0 %.2f GPa\n  crack %.5f m^2 (%.2f x A, projected %.2f x A), separated %s; dissipated tension %.4f J "
@@ -299,6 +312,38 @@ int run(const inputs& in) {
       r.energy_balance_error, r.kinetic_to_elastic_at_peak, r.reaction_imbalance_max, static_cast<long long>(r.subcontacts),
       static_cast<long long>(r.zones), r.dt, r.added_mass_ratio, r.ramp_time, static_cast<long long>(r.steps),
       timer.seconds(), out.string().c_str());
+}
+
+int run(const inputs& in) {
+  namespace io = tessera::io;
+  const fs::path out = in.common.out;
+  check_inputs(in);
+  const tessera::cli::wall_timer timer;
+
+  std::vector<scenes::tension_result> runs;
+  scenes::prism_scene first_scene;
+  for (int k = 0; k < in.seeds; ++k) {
+    const std::uint64_t seed = in.common.seed + static_cast<std::uint64_t>(k);
+    scenes::prism_scene scene;
+    runs.push_back(run_one(in, seed, k == 0, scene));
+    io::ensure_directory(out);  // after the checks and the run's own (quasi-static rate): bad input leaves no directory
+    const auto& r = runs.back();
+    if (k == 0) first_scene = std::move(scene);
+    std::printf("seed %llu: peak %.4f MPa at %.4f mm, E0 %.2f GPa, crack area %.5f m^2, separated %s, %lld steps, %.1f s\n",
+                static_cast<unsigned long long>(seed), r.peak_stress * 1e-6, r.peak_displacement * 1e3,
+                r.initial_modulus * 1e-9, r.crack_area, r.separated ? "yes" : "no", static_cast<long long>(r.steps),
+                r.runtime_s);
+    if (in.seeds > 1)
+      io::write_csv(out / tessera::detail::concat("curve_seed", seed, ".csv"), {"displacement_m", "stress_Pa"},
+                    {r.displacement, r.stress});
+  }
+  const auto& r = runs.front();
+  const auto& scene = first_scene;
+  write_curves(out, in, runs);
+  write_fields(out, scene, r);
+  const fracture_figures fr = fracture_of(in, scene, r);
+  write_summary(out, in, scene, runs, fr, timer);
+  print_report(out, scene, r, fr, timer);
   return 0;
 }
 

@@ -132,30 +132,33 @@ class snapshot_writer {
   std::vector<std::string> tags_;
 };
 
-int run(inputs in) {
+/// |value - reference| / |reference|.
+double rel(double value, double reference) { return std::abs(value - reference) / std::abs(reference); }
+
+/// A sampled curve (elongation m, force N).
+struct sampled_curve {
+  std::vector<double> u, f;
+};
+
+/// The bare bar, F = min(E_s A_s u / L, f_y A_s), on 201 points to past the run's end and the yield.
+sampled_curve bare_bar_curve(const tessera::scenes::tie_hand_checks& hand, real end_elongation) {
+  sampled_curve bare;
+  const real u_end = std::max(end_elongation, 1.2 * hand.yield_force / hand.bare_bar_stiffness);
+  for (int i = 0; i <= 200; ++i) {
+    bare.u.push_back(u_end * i / 200.0);
+    bare.f.push_back(hand.bare_bar_force(bare.u.back()));
+  }
+  return bare;
+}
+
+/// curve.csv, bare_bar.csv and curve.png.
+void write_curves(const fs::path& out, const inputs& in, const tessera::scenes::tie_result& r,
+                  const sampled_curve& bare) {
   namespace io = tessera::io;
-  const fs::path out = in.common.out;
-  const tessera::cli::wall_timer timer;
-  in.tie.seed = in.common.seed;
-  in.loading.threads = in.common.threads;
-  in.loading.progress_label = in.tie.bare ? "rc_tie (bare bar)" : "rc_tie";
-  const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
-  const auto& hand = scene.hand;
-
-  snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
-  const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
-  io::ensure_directory(out);  // after the run's own checks (quasi-static rate, stable step) passed
-
   std::vector<real> softened(r.softened_subcontacts.begin(), r.softened_subcontacts.end());
   io::write_csv(out / "curve.csv", {"elongation_m", "force_N", "pulled_end_force_N", "concrete_stress_Pa", "softened_subcontacts"},
                 {r.elongation, r.force, r.pulled_force, r.concrete_stress, softened});
-  std::vector<double> bare_u, bare_f;
-  const real u_end = std::max(r.end_elongation, 1.2 * hand.yield_force / hand.bare_bar_stiffness);
-  for (int i = 0; i <= 200; ++i) {
-    bare_u.push_back(u_end * i / 200.0);
-    bare_f.push_back(hand.bare_bar_force(bare_u.back()));
-  }
-  io::write_csv(out / "bare_bar.csv", {"elongation_m", "force_N"}, {bare_u, bare_f});
+  io::write_csv(out / "bare_bar.csv", {"elongation_m", "force_N"}, {bare.u, bare.f});
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC tie, ", in.tie.blocks, " blocks, ", in.tie.elements, " elements, xi ",
                                        in.tie.xi, ", c_bond ", in.tie.c_bond, " N/m, ", in.loading.softening,
@@ -168,16 +171,29 @@ int run(inputs in) {
                          .title = "bare bar (elastic-perfectly plastic)", .style = "lines dt 2 lw 2", .x_scale = 1e3,
                          .y_scale = 1e-3});
   io::plot_png(out / "curve.png", plot);
+}
 
-  const auto rel = [](double value, double reference) { return std::abs(value - reference) / std::abs(reference); };
+/// Where the cracks are: the opened through-cracks grouped into sites one mean cell size apart.
+struct crack_sites_of_run {
+  real cell_size = 0;       ///< (box volume / blocks)^(1/3) (m)
+  std::vector<real> sites;  ///< z of each site (m)
+};
+
+/// summary.json: the inputs, the hand checks, every measured figure beside its reference and
+/// the run's cost (one key per line: the list is the file's schema, so it stays in one piece).
+void write_summary(const fs::path& out, const inputs& in, const tessera::scenes::tie_scene& scene,
+                   const tessera::scenes::tie_result& r, const sampled_curve& bare, const crack_sites_of_run& c,
+                   const tessera::cli::wall_timer& timer) {
+  namespace io = tessera::io;
+  const auto& hand = scene.hand;
+  const real cell_size = c.cell_size;
+  const std::vector<real>& sites = c.sites;
   std::vector<double> drop_forces, drop_elongations;
   for (const auto& d : r.drops) drop_forces.push_back(d.peak_force), drop_elongations.push_back(d.peak_elongation);
   std::vector<double> formation_u, formation_f;
   for (const auto& [u, f] : r.crack_formation) formation_u.push_back(u), formation_f.push_back(f);
-  const real bare_error = tessera::analysis::curve_error(tessera::analysis::running_max(r.elongation), r.force, bare_u,
-                                                       bare_f, hand.yield_force);
-  const real cell_size = std::cbrt(scene.prism.box.volume() / in.tie.blocks);  // mean cell size (m)
-  const std::vector<real> sites = tessera::analysis::crack_sites(r.cracks.positions, cell_size);
+  const real bare_error = tessera::analysis::curve_error(tessera::analysis::running_max(r.elongation), r.force, bare.u,
+                                                       bare.f, hand.yield_force);
   io::summary_json js;
   js.set("example", "rc_tie")
       .set("blocks", in.tie.blocks)
@@ -262,6 +278,14 @@ int run(inputs in) {
       .set("runtime_s", timer.seconds());
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   js.write(out / "summary.json");
+}
+
+/// The run's figures on stdout, each beside its reference.
+void print_report(const fs::path& out, const tessera::scenes::tie_scene& scene, const tessera::scenes::tie_result& r,
+                  const crack_sites_of_run& c, const tessera::cli::wall_timer& timer) {
+  const auto& hand = scene.hand;
+  const real cell_size = c.cell_size;
+  const std::vector<real>& sites = c.sites;
 
   std::printf("rc_tie: first crack %.2f kN (hand %.2f kN, error %.1f %%), K0 %.1f kN/mm (shear lag %.1f, error %.1f %%;"
               " perfect compatibility %.1f, error %.1f %%)\n"
@@ -288,6 +312,29 @@ int run(inputs in) {
               r.energy_balance_error, static_cast<long long>(r.subcontacts),
               static_cast<long long>(r.zones), r.dt, r.added_mass_ratio, static_cast<long long>(r.steps), timer.seconds(),
               out.string().c_str());
+}
+
+int run(inputs in) {
+  namespace io = tessera::io;
+  const fs::path out = in.common.out;
+  const tessera::cli::wall_timer timer;
+  in.tie.seed = in.common.seed;
+  in.loading.threads = in.common.threads;
+  in.loading.progress_label = in.tie.bare ? "rc_tie (bare bar)" : "rc_tie";
+  const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
+  const auto& hand = scene.hand;
+
+  snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
+  const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
+  io::ensure_directory(out);  // after the run's own checks (quasi-static rate, stable step) passed
+
+  const sampled_curve bare = bare_bar_curve(hand, r.end_elongation);
+  write_curves(out, in, r, bare);
+  crack_sites_of_run c;
+  c.cell_size = std::cbrt(scene.prism.box.volume() / in.tie.blocks);  // mean cell size (m)
+  c.sites = tessera::analysis::crack_sites(r.cracks.positions, c.cell_size);
+  write_summary(out, in, scene, r, bare, c, timer);
+  print_report(out, scene, r, c, timer);
   return 0;
 }
 
