@@ -166,6 +166,112 @@ struct tension_result {
   return analysis::rms_curve_difference(u, s, u_ref, s_ref, u_max, 1000) / peak;
 }
 
+/// No load path left between the blocks on the two supports: the blocks joined by sub-contacts
+/// that can still carry tension (not broken in tension, and not shear-failed without tension,
+/// which hold only residual friction) form no chain from a bottom block to a top block.
+class load_path_check {
+ public:
+  template <class Solver>
+  load_path_check(index n_blocks, const Solver& s, const bc::node_group& bottom, const bc::node_group& top)
+      : touches_bottom_(static_cast<std::size_t>(n_blocks), 0), touches_top_(touches_bottom_),
+        parent_(static_cast<std::size_t>(n_blocks)) {
+    for (index g : bottom.nodes) touches_bottom_[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
+    for (index g : top.nodes) touches_top_[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
+  }
+  template <class Contacts>
+  [[nodiscard]] bool separated(const Contacts& c) {
+    using law = typename Contacts::law_type;
+    const auto n_blocks = static_cast<index>(parent_.size());
+    std::iota(parent_.begin(), parent_.end(), index{0});
+    const auto root = [&](index b) {
+      while (parent_[static_cast<std::size_t>(b)] != b)
+        b = parent_[static_cast<std::size_t>(b)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(b)])];
+      return b;
+    };
+    for (index i = 0; i < c.size(); ++i) {
+      const auto& st = c.state(i);
+      const auto flags = law::status(st);
+      if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) continue;
+      if (tessera::law::has(flags, tessera::law::contact_status::slipped) && !(st.sigma_n > 0)) continue;
+      const index a = root(c.block_a(i)), b = root(c.block_b(i));
+      if (a != b) parent_[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
+    }
+    std::vector<char> bottom_root(static_cast<std::size_t>(n_blocks), 0);
+    for (index b = 0; b < n_blocks; ++b)
+      if (touches_bottom_[static_cast<std::size_t>(b)]) bottom_root[static_cast<std::size_t>(root(b))] = 1;
+    for (index b = 0; b < n_blocks; ++b)
+      if (touches_top_[static_cast<std::size_t>(b)] && bottom_root[static_cast<std::size_t>(root(b))]) return false;
+    return true;
+  }
+
+ private:
+  std::vector<char> touches_bottom_, touches_top_;
+  std::vector<index> parent_;
+};
+
+/// The figures of the final state: energies, crack areas and the dissipation on and off the
+/// crack, the peak decomposition over the final crack, the end snapshot, initial modulus, counts.
+template <class Solver>
+void read_tension_end(tension_result& r, const Solver& s, const prism_scene& scene, const tension_loading& in) {
+  using law = typename Solver::law_type;
+  const real length = scene.length(), area = scene.cross_section();
+  const auto e = s.energies();
+  const auto ce = s.contacts().energies();
+  r.boundary_work = e.boundary_work;
+  r.damping = e.damping_dissipated;
+  r.kinetic = e.kinetic;
+  r.stored = e.block_elastic + e.contact_stored;
+  r.dissipated = ce.dissipated;
+  r.dissipated_tension = ce.dissipated_tension;
+  r.dissipated_shear = ce.dissipated_shear;
+  r.dissipated_compression = ce.dissipated_compression;
+  r.energy_balance_error = e.error_rel();
+  r.residual_stress = r.stress.empty() ? 0 : r.stress.back();
+
+  const auto& c = s.contacts();
+  // The peak decomposition reads the peak snapshot's declared fields (io/vtk_contacts.hpp names).
+  const auto* peak_sigma_n = r.at_peak.contacts.find("sigma_n_Pa");
+  const auto* peak_tau = r.at_peak.contacts.find("tau_Pa");
+  require(r.at_peak.contacts.size() == 0 || (peak_sigma_n != nullptr && peak_tau != nullptr),
+          "direct_tension: the contact law declares no sigma_n or tau field");
+  for (index i = 0; i < c.size(); ++i) {
+    const auto& st = c.state(i);
+    const auto flags = law::status(st);
+    const real a = c.area(i), nz = c.normal(i).z();
+    if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) {
+      r.crack_area += a;
+      r.projected_crack_area += a * std::abs(nz);
+      r.dissipated_tension_broken += a * st.dissipated_tension;
+    } else {
+      r.dissipated_tension_unbroken += a * st.dissipated_tension;
+      if (tessera::law::has(flags, tessera::law::contact_status::softening)) r.process_zone_area += a;
+      if (tessera::law::has(flags, tessera::law::contact_status::slipped)) r.shear_crack_area += a;
+    }
+    const auto k = static_cast<std::size_t>(i);
+    if (k < r.at_peak.contacts.size() && law::tensile_damage(c.subcontact_params(i), st) >= 0.5) {
+      const real nz_peak = r.at_peak.contacts.normal[k].z();
+      r.peak_crack_area += a;
+      r.peak_crack_projected_area += a * std::abs(nz_peak);
+      r.peak_normal_part += a * peak_sigma_n->values[k] * std::abs(nz_peak) / area;
+      r.peak_shear_part += a * peak_tau->values[3 * k + 2] * (nz_peak >= 0 ? 1 : -1) / area;
+    }
+  }
+  if (in.keep_fields) {
+    r.at_end.take(s, true);
+    r.at_end.time = s.time(), r.at_end.displacement = r.displacement.empty() ? 0 : r.displacement.back();
+    r.at_end.stress = r.residual_stress;
+  }
+  r.initial_modulus = initial_modulus(r, length);
+  r.dt = s.dt();
+  r.added_mass_ratio = s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0;
+  r.steps = s.step_count();
+  r.phases = s.phases();
+  r.subcontacts = c.size();
+  r.zones = scene.mesh.zone_count();
+  r.gridpoints = scene.mesh.gridpoint_count();
+  r.blocks = scene.tess.cell_count();
+}
+
 /// Runs the direct tension test on `scene` with solver type Solver and contact parameters
 /// `law_params` (see the file comment). Throws what the solver throws (invalid_input,
 /// numerical_instability).
@@ -174,7 +280,6 @@ template <class Solver, class LawParams>
                                                 const tension_loading& in) {
   namespace bc = tessera::bc;
   namespace rec = tessera::recorders;
-  using law = typename Solver::law_type;
   require_positive(in.rate, "direct tension: loading rate (m/s)");
   require_positive(in.step_displacement, "direct tension: displacement per step (m)");
   require_non_negative(in.ramp_transits, "direct tension: ramp duration (wave transits)");
@@ -223,36 +328,10 @@ template <class Solver, class LawParams>
   };
   ramp(s);
 
-  // Blocks touching the supports, for the separation test.
+  // The separation test: no load path left between the blocks on the two supports.
   const index n_blocks = scene.tess.cell_count();
-  std::vector<char> touches_bottom(static_cast<std::size_t>(n_blocks), 0), touches_top(touches_bottom);
-  for (index g : bottom.nodes) touches_bottom[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
-  for (index g : top.nodes) touches_top[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
-  std::vector<index> parent(static_cast<std::size_t>(n_blocks));
-  const auto separated_now = [&](const Solver& sv) {
-    std::iota(parent.begin(), parent.end(), index{0});
-    const auto root = [&](index b) {
-      while (parent[static_cast<std::size_t>(b)] != b) b = parent[static_cast<std::size_t>(b)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(b)])];
-      return b;
-    };
-    const auto& c = sv.contacts();
-    for (index i = 0; i < c.size(); ++i) {
-      const auto& st = c.state(i);
-      const auto flags = law::status(st);
-      // A load path needs tensile capacity: not broken in tension, and not a shear-failed
-      // sub-contact without tension (it holds only residual friction, |tau| <= c_res).
-      if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) continue;
-      if (tessera::law::has(flags, tessera::law::contact_status::slipped) && !(st.sigma_n > 0)) continue;
-      const index a = root(c.block_a(i)), b = root(c.block_b(i));
-      if (a != b) parent[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
-    }
-    std::vector<char> bottom_root(static_cast<std::size_t>(n_blocks), 0);
-    for (index b = 0; b < n_blocks; ++b)
-      if (touches_bottom[static_cast<std::size_t>(b)]) bottom_root[static_cast<std::size_t>(root(b))] = 1;
-    for (index b = 0; b < n_blocks; ++b)
-      if (touches_top[static_cast<std::size_t>(b)] && bottom_root[static_cast<std::size_t>(root(b))]) return false;
-    return true;
-  };
+  load_path_check load_path(n_blocks, s, bottom, top);
+  const auto separated_now = [&](const Solver& sv) { return load_path.separated(sv.contacts()); };
 
   std::vector<real> imbalance;
   std::size_t indicator_samples_to_peak = 0;
@@ -312,61 +391,7 @@ template <class Solver, class LawParams>
 
   for (std::size_t k = 0; k < indicator_samples_to_peak; ++k)
     r.reaction_imbalance_max = std::max(r.reaction_imbalance_max, imbalance[k]);
-  const auto e = s.energies();
-  const auto ce = s.contacts().energies();
-  r.boundary_work = e.boundary_work;
-  r.damping = e.damping_dissipated;
-  r.kinetic = e.kinetic;
-  r.stored = e.block_elastic + e.contact_stored;
-  r.dissipated = ce.dissipated;
-  r.dissipated_tension = ce.dissipated_tension;
-  r.dissipated_shear = ce.dissipated_shear;
-  r.dissipated_compression = ce.dissipated_compression;
-  r.energy_balance_error = e.error_rel();
-  r.residual_stress = r.stress.empty() ? 0 : r.stress.back();
-
-  const auto& c = s.contacts();
-  // The peak decomposition reads the peak snapshot's declared fields (io/vtk_contacts.hpp names).
-  const auto* peak_sigma_n = r.at_peak.contacts.find("sigma_n_Pa");
-  const auto* peak_tau = r.at_peak.contacts.find("tau_Pa");
-  require(r.at_peak.contacts.size() == 0 || (peak_sigma_n != nullptr && peak_tau != nullptr),
-          "direct_tension: the contact law declares no sigma_n or tau field");
-  for (index i = 0; i < c.size(); ++i) {
-    const auto& st = c.state(i);
-    const auto flags = law::status(st);
-    const real a = c.area(i), nz = c.normal(i).z();
-    if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) {
-      r.crack_area += a;
-      r.projected_crack_area += a * std::abs(nz);
-      r.dissipated_tension_broken += a * st.dissipated_tension;
-    } else {
-      r.dissipated_tension_unbroken += a * st.dissipated_tension;
-      if (tessera::law::has(flags, tessera::law::contact_status::softening)) r.process_zone_area += a;
-      if (tessera::law::has(flags, tessera::law::contact_status::slipped)) r.shear_crack_area += a;
-    }
-    const auto k = static_cast<std::size_t>(i);
-    if (k < r.at_peak.contacts.size() && law::tensile_damage(c.subcontact_params(i), st) >= 0.5) {
-      const real nz_peak = r.at_peak.contacts.normal[k].z();
-      r.peak_crack_area += a;
-      r.peak_crack_projected_area += a * std::abs(nz_peak);
-      r.peak_normal_part += a * peak_sigma_n->values[k] * std::abs(nz_peak) / area;
-      r.peak_shear_part += a * peak_tau->values[3 * k + 2] * (nz_peak >= 0 ? 1 : -1) / area;
-    }
-  }
-  if (in.keep_fields) {
-    r.at_end.take(s, true);
-    r.at_end.time = s.time(), r.at_end.displacement = r.displacement.empty() ? 0 : r.displacement.back();
-    r.at_end.stress = r.residual_stress;
-  }
-  r.initial_modulus = initial_modulus(r, length);
-  r.dt = s.dt();
-  r.added_mass_ratio = s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0;
-  r.steps = s.step_count();
-  r.phases = s.phases();
-  r.subcontacts = c.size();
-  r.zones = scene.mesh.zone_count();
-  r.gridpoints = scene.mesh.gridpoint_count();
-  r.blocks = n_blocks;
+  read_tension_end(r, s, scene, in);
   r.runtime_s = timer.seconds();
   return r;
 }
