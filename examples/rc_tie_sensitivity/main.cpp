@@ -35,6 +35,7 @@
 #include <limits>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/cli.hpp"
@@ -293,10 +294,9 @@ std::string trends(const study& s) {
   return os.str();
 }
 
-int run(const inputs& in) {
-  namespace io = tessera::io;
-  const fs::path out = in.common.out;
-  const tessera::cli::wall_timer timer;
+/// The studies named by --studies (xi and cbond alone with --quick); throws invalid_input when
+/// none is left.
+std::vector<study> chosen_studies(const inputs& in) {
   std::vector<std::string> names;
   {
     std::stringstream ss(in.studies);
@@ -310,6 +310,57 @@ int run(const inputs& in) {
   for (const auto& n : names) studies.push_back(make_study(n, in));
   tessera::require(!studies.empty(), "rc_tie_sensitivity: --studies '", in.studies, "' names no study",
                    in.common.quick ? " that --quick runs (xi, cbond)" : "");
+  return studies;
+}
+
+/// summary.json: the run's settings and each variant's figures, flat (<study>_<k>_<figure>).
+/// Returns the number of runs and steps.
+std::pair<std::int64_t, std::int64_t> write_summary(const fs::path& out, const inputs& in,
+                                                    const std::vector<study>& studies,
+                                                    const tessera::cli::wall_timer& timer) {
+  namespace io = tessera::io;
+  io::summary_json js;
+  js.set("example", "rc_tie_sensitivity")
+      .set("quick", in.common.quick)
+      .set("seed", in.common.seed)
+      .set("studies", static_cast<std::int64_t>(studies.size()))
+      .set("rate_m_per_s", in.loading.rate)
+      .set("dt_s", in.loading.dt)
+      .set("runtime_s", timer.seconds());
+  std::int64_t runs = 0, steps = 0;
+  for (const auto& s : studies)
+    for (const auto& v : s.variants) ++runs, steps += v.result.steps;
+  js.set("runs", runs).set("steps", steps);
+  // Each variant's figures, flat: <study>_<k>_<figure> with k the variant's index in trends.md.
+  for (const auto& s : studies) {
+    for (std::size_t k = 0; k < s.variants.size(); ++k) {
+      const auto& r = s.variants[k].result;
+      const std::string key = s.name + "_" + std::to_string(k) + "_";
+      js.set(key + "variant", s.variants[k].label)
+          .set(key + "first_crack_force_N", r.first_crack_force)
+          .set(key + "initial_stiffness_N_per_m", r.initial_stiffness)
+          .set(key + "load_drops", static_cast<std::int64_t>(r.drops.size()))
+          .set(key + "yield_force_N", r.yield_force)
+          .set(key + "curve_error_vs_baseline_rel", s.errors.baseline[k])
+          .set(key + "curve_error_vs_bare_bar_rel", s.errors.bare_bar[k]);
+    }
+  }
+  for (const auto& s : studies) {
+    if (s.name == "xi" || s.name == "elements")
+      js.set(s.name + "_initial_stiffness_sorted",
+             std::is_sorted(s.variants.begin(), s.variants.end(), [](const variant& a, const variant& b) {
+               return a.result.initial_stiffness < b.result.initial_stiffness;
+             }));
+  }
+  js.write(out / "summary.json");
+  return {runs, steps};
+}
+
+int run(const inputs& in) {
+  namespace io = tessera::io;
+  const fs::path out = in.common.out;
+  const tessera::cli::wall_timer timer;
+  std::vector<study> studies = chosen_studies(in);
   io::ensure_directory(out);  // after the study names were checked: bad input leaves no directory
 
   sc::tie_hand_checks hand;
@@ -360,40 +411,7 @@ int run(const inputs& in) {
   md += "## Run time (Table 2 counterpart)\n\n" + runtime_md +
         "\nMeasured on a shared 2-core machine (load from other jobs); the study's times are 3DEC on a 2.1 GHz Xeon.\n";
   io::write_file_atomically(out / "trends.md", md);
-  io::summary_json js;
-  js.set("example", "rc_tie_sensitivity")
-      .set("quick", in.common.quick)
-      .set("seed", in.common.seed)
-      .set("studies", static_cast<std::int64_t>(studies.size()))
-      .set("rate_m_per_s", in.loading.rate)
-      .set("dt_s", in.loading.dt)
-      .set("runtime_s", timer.seconds());
-  std::int64_t runs = 0, steps = 0;
-  for (const auto& s : studies)
-    for (const auto& v : s.variants) ++runs, steps += v.result.steps;
-  js.set("runs", runs).set("steps", steps);
-  // Each variant's figures, flat: <study>_<k>_<figure> with k the variant's index in trends.md.
-  for (const auto& s : studies) {
-    for (std::size_t k = 0; k < s.variants.size(); ++k) {
-      const auto& r = s.variants[k].result;
-      const std::string key = s.name + "_" + std::to_string(k) + "_";
-      js.set(key + "variant", s.variants[k].label)
-          .set(key + "first_crack_force_N", r.first_crack_force)
-          .set(key + "initial_stiffness_N_per_m", r.initial_stiffness)
-          .set(key + "load_drops", static_cast<std::int64_t>(r.drops.size()))
-          .set(key + "yield_force_N", r.yield_force)
-          .set(key + "curve_error_vs_baseline_rel", s.errors.baseline[k])
-          .set(key + "curve_error_vs_bare_bar_rel", s.errors.bare_bar[k]);
-    }
-  }
-  for (const auto& s : studies) {
-    if (s.name == "xi" || s.name == "elements")
-      js.set(s.name + "_initial_stiffness_sorted",
-             std::is_sorted(s.variants.begin(), s.variants.end(), [](const variant& a, const variant& b) {
-               return a.result.initial_stiffness < b.result.initial_stiffness;
-             }));
-  }
-  js.write(out / "summary.json");
+  const auto [runs, steps] = write_summary(out, in, studies, timer);
   std::printf("rc_tie_sensitivity: %lld runs, %lld steps, %.1f s; wrote %s\n", static_cast<long long>(runs),
               static_cast<long long>(steps), timer.seconds(), out.string().c_str());
   return 0;

@@ -46,11 +46,12 @@ struct inputs {
   bool allow_large = false;  // --allow-large: skip the memory estimate
 };
 
-int run(const inputs& in) {
-  namespace geo = tessera::geometry;
-  namespace io = tessera::io;
-  const std::filesystem::path out = in.common.out;
-  // Size guard, before anything is written: a zone edge h over a box of volume V makes about
+namespace geo = tessera::geometry;
+
+/// Size guard, before anything is written (tessellate --edge): throws invalid_input when the
+/// zoning would need more than 8 GiB, unless --allow-large.
+void check_size(const inputs& in) {
+  // a zone edge h over a box of volume V makes about
   // V / (h^3 / (6 sqrt 2)) tetrahedra (regular ones); each costs about 1 KiB across the zoning and
   // the solver's arrays (measured: 3004 zones of the 100-block prism, ~3 MB).
   if (in.target_edge > 0 && !in.allow_large) {
@@ -62,27 +63,16 @@ int run(const inputs& in) {
                      " x ", in.size[2], " m box makes about ", zones, " zones, an estimated ", bytes / (1 << 30),
                      " GiB (limit 8 GiB); choose a larger --edge or pass --allow-large");
   }
-  io::ensure_directory(out);
-  if (in.common.threads > 0) tessera::set_threads(in.common.threads);
+}
 
-  tessera::aabb box;
-  box.lo = tessera::vec3::Zero();
-  box.hi = tessera::vec3(in.size[0], in.size[1], in.size[2]);
-  geo::tessellation_options topt;
-  topt.lloyd_iterations = in.lloyd;
-  topt.min_spacing = in.min_spacing;
-  topt.min_edge_rel = in.regularize;
-  geo::zoning_options zopt;
-  zopt.target_edge_length = in.target_edge;
-
-  // ---- geometry ----
-  const tessera::cli::wall_timer timer;
-  const geo::tessellation tess = geo::random_voronoi(box, in.blocks, in.common.seed, topt);
-  const double tessellation_s = timer.seconds();
-  const geo::block_mesh mesh = geo::zone_blocks(tess, zopt);
-  const double runtime_s = timer.seconds();
-
-  // ---- checks ----
+/// What tessellate measures of its tessellation and zoning.
+struct measures {
+  geo::tessellation_report report;
+  geo::zone_quality q;
+  std::int64_t boundary_faces = 0, subcontacts = 0;
+  double tessellation_s = 0, runtime_s = 0;
+};
+measures measure(const geo::tessellation& tess, const geo::block_mesh& mesh, double tessellation_s, double runtime_s) {
   const geo::tessellation_report report = geo::check(tess);
   const geo::zone_quality q = geo::quality(mesh);
   std::int64_t boundary_faces = 0;
@@ -92,9 +82,17 @@ int run(const inputs& in) {
   for (const auto& sf : tess.shared_faces)
     subcontacts += mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a) + 1] - mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a)];
 
-  // ---- outputs ----
-  io::vtk::write_blocks_vtu(out / "blocks.vtu", tess);
-  io::vtk::write_zones_vtu(out / "zones.vtu", mesh);
+  return {report, q, boundary_faces, subcontacts, tessellation_s, runtime_s};
+}
+
+/// summary.json (one key per line: the file's schema).
+void write_summary(const std::filesystem::path& out, const inputs& in, const geo::tessellation& tess,
+                   const geo::block_mesh& mesh, const measures& m) {
+  namespace io = tessera::io;
+  const geo::tessellation_report& report = m.report;
+  const geo::zone_quality& q = m.q;
+  const std::int64_t boundary_faces = m.boundary_faces, subcontacts = m.subcontacts;
+  const double tessellation_s = m.tessellation_s, runtime_s = m.runtime_s;
   io::summary_json s;
   s.set("example", "tessellate")
       .set("blocks_requested", in.blocks)
@@ -136,7 +134,14 @@ int run(const inputs& in) {
       .set("tessellation_s", tessellation_s)
       .set("runtime_s", runtime_s);
   s.write(out / "summary.json");
+}
 
+void print_report(const std::filesystem::path& out, const inputs& in, const geo::tessellation& tess,
+                  const geo::block_mesh& mesh, const measures& m) {
+  const geo::tessellation_report& report = m.report;
+  const geo::zone_quality& q = m.q;
+  const std::int64_t boundary_faces = m.boundary_faces, subcontacts = m.subcontacts;
+  const double tessellation_s = m.tessellation_s, runtime_s = m.runtime_s;
   std::printf("tessellate: %d blocks in %.4g x %.4g x %.4g m (seed %llu, Lloyd %d)\n", tess.cell_count(), in.size[0],
               in.size[1], in.size[2], static_cast<unsigned long long>(in.common.seed), in.lloyd);
   std::printf("  faces %d (%zu shared, %lld on the boundary), vertices %d\n", tess.face_count(), tess.shared_faces.size(),
@@ -153,6 +158,39 @@ int run(const inputs& in) {
               100.0 * q.fraction_below_ratio_0_1);
   std::printf("  runtime_s %.4f (tessellation %.4f, zoning %.4f)\n", runtime_s, tessellation_s, runtime_s - tessellation_s);
   std::printf("  wrote %s/{blocks.vtu, zones.vtu, summary.json}\n", out.string().c_str());
+}
+
+int run(const inputs& in) {
+  namespace io = tessera::io;
+  const std::filesystem::path out = in.common.out;
+  check_size(in);
+  io::ensure_directory(out);
+  if (in.common.threads > 0) tessera::set_threads(in.common.threads);
+
+  tessera::aabb box;
+  box.lo = tessera::vec3::Zero();
+  box.hi = tessera::vec3(in.size[0], in.size[1], in.size[2]);
+  geo::tessellation_options topt;
+  topt.lloyd_iterations = in.lloyd;
+  topt.min_spacing = in.min_spacing;
+  topt.min_edge_rel = in.regularize;
+  geo::zoning_options zopt;
+  zopt.target_edge_length = in.target_edge;
+
+  // ---- geometry ----
+  const tessera::cli::wall_timer timer;
+  const geo::tessellation tess = geo::random_voronoi(box, in.blocks, in.common.seed, topt);
+  const double tessellation_s = timer.seconds();
+  const geo::block_mesh mesh = geo::zone_blocks(tess, zopt);
+  const double runtime_s = timer.seconds();
+
+  const measures m = measure(tess, mesh, tessellation_s, runtime_s);
+  // ---- outputs ----
+  io::vtk::write_blocks_vtu(out / "blocks.vtu", tess);
+  io::vtk::write_zones_vtu(out / "zones.vtu", mesh);
+  write_summary(out, in, tess, mesh, m);
+
+  print_report(out, in, tess, mesh, m);
   return 0;
 }
 
