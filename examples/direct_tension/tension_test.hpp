@@ -275,6 +275,9 @@ void read_tension_end(tension_result& r, const Solver& s, const prism_scene& sce
 /// Runs the direct tension test on `scene` with solver type Solver and contact parameters
 /// `law_params` (see the file comment). Throws what the solver throws (invalid_input,
 /// numerical_instability).
+/// One function on purpose (about 120 lines): the pull (ramp and tail speed-up) and the sampler
+/// share the run's state (tail start, peak snapshot, stop rules), so the loading history reads
+/// in one place; the separation test and the end-of-run figures are their own pieces.
 template <class Solver, class LawParams>
 [[nodiscard]] tension_result run_direct_tension(const prism_scene& scene, const LawParams& law_params,
                                                 const tension_loading& in) {

@@ -232,6 +232,8 @@ struct cohesive_frictional {
   /// first slip and the compressive cap are taken here too and `flags` is updated. The shared
   /// arithmetic is the file comment's steps 1-3 in select form; the transitions add the branches
   /// of tension_transition, the cap and the first slip. x.f_t must hold tensile_strength(p, state).
+  /// One function on purpose (about 95 lines): it is the law's single physics path, the same
+  /// text for one sub-contact and for a pack; split, the shared arithmetic would be spread again.
   template <class T, bool Transitions, class F>
   [[nodiscard, gnu::always_inline]] static inline auto step(const params& p, F& flags,
                                                            elastic_lanes<T>& x) noexcept {
