@@ -300,20 +300,49 @@ inline void clean_loop(std::vector<index>& loop) {
   }
 }
 
-/// Assembles a conforming tessellation from independently computed cells (cells[c] is the cell
-/// of generator c, faces tagged with the neighbouring generator or boundary_tag), following the
-/// cleanup policy above with absolute weld tolerance `tol` (m). `seeds` and `weights` (may be
-/// empty) are stored per surviving cell. Throws geometry_error for a face without a twin.
-[[nodiscard]] inline tessellation assemble_tessellation(const aabb& domain, std::span<const convex_polyhedron> cells,
-                                                        std::span<const vec3> seeds, std::span<const real> weights,
-                                                        real tol) {
+/// Pairs every interior face of `t` with its twin, the face of the neighbour tagged with this cell
+/// and the reversed loop, and lists the shared faces; throws geometry_error for a face without one.
+inline void match_twins(tessellation& t) {
+  t.face_twin.assign(t.face_cell.size(), invalid_index);
+  for (index f = 0; f < t.face_count(); ++f) {
+    const index c = t.face_cell[static_cast<std::size_t>(f)], n = t.face_neighbor[static_cast<std::size_t>(f)];
+    if (n < 0 || c > n) continue;
+    index g = invalid_index;
+    for (index h = t.first_face(n); h < t.end_face(n); ++h)
+      if (t.face_neighbor[static_cast<std::size_t>(h)] == c) { g = h; break; }
+    require<geometry_error>(g != invalid_index, "tessellation cleanup: face ", f, " of cell ", c,
+                            " has no twin in neighbour cell ", n, " (area ",
+                            polygon_area_vector(t.vertices, t.face(f)).norm(), " m^2); increase cleanup_tolerance");
+    const auto a = t.face(f), b = t.face(g);
+    bool reversed = a.size() == b.size();
+    if (reversed) {
+      const std::size_t m = a.size();
+      const auto start = std::find(b.begin(), b.end(), a[0]);
+      reversed = start != b.end();
+      if (reversed) {
+        const std::size_t s = static_cast<std::size_t>(start - b.begin());
+        for (std::size_t k = 0; k < m && reversed; ++k) reversed = a[k] == b[(s + m - k) % m];
+      }
+    }
+    require<geometry_error>(reversed, "tessellation cleanup: face ", f, " of cell ", c, " (", a.size(),
+                            " vertices) and its twin ", g, " of cell ", n, " (", b.size(),
+                            " vertices) are not the same loop reversed; increase cleanup_tolerance");
+    t.face_twin[static_cast<std::size_t>(f)] = g;
+    t.face_twin[static_cast<std::size_t>(g)] = f;
+    t.shared_faces.push_back({c, f, n, g});
+  }
+  for (index f = 0; f < t.face_count(); ++f)
+    require<geometry_error>(t.face_neighbor[static_cast<std::size_t>(f)] < 0 || t.face_twin[static_cast<std::size_t>(f)] >= 0,
+                            "tessellation cleanup: face ", f, " of cell ", t.face_cell[static_cast<std::size_t>(f)],
+                            " toward cell ", t.face_neighbor[static_cast<std::size_t>(f)], " has no twin");
+}
+
+/// The vertices of every cell copied to `points` (cell c from point_offset[c]) with their weld
+/// keys (the sorted tags of the three faces of a degree-3 vertex and the cell, else no_vertex_key)
+/// and the conditioning |n0 . (n1 x n2)| of their first three faces. Parallel over cells.
+inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::vector<std::size_t>& point_offset,
+                           std::vector<vec3>& points, std::vector<vertex_key>& keys, std::vector<real>& conditioning) {
   const std::size_t ncells = cells.size();
-  std::vector<std::size_t> point_offset(ncells + 1, 0);
-  for (std::size_t c = 0; c < ncells; ++c)
-    point_offset[c + 1] = point_offset[c] + static_cast<std::size_t>(cells[c].vertex_count());
-  std::vector<vec3> points(point_offset[ncells]);
-  std::vector<vertex_key> keys(point_offset[ncells], no_vertex_key);
-  std::vector<real> conditioning(point_offset[ncells], 0);
   parallel_for(static_cast<std::int64_t>(ncells), [&](std::int64_t ci) {
     const auto c = static_cast<std::size_t>(ci);
     const convex_polyhedron& p = cells[c];
@@ -343,6 +372,23 @@ inline void clean_loop(std::vector<index>& loop) {
       std::sort(key.begin(), key.end());
     }
   }, 64);
+}
+
+/// Assembles a conforming tessellation from independently computed cells (cells[c] is the cell
+/// of generator c, faces tagged with the neighbouring generator or boundary_tag), following the
+/// cleanup policy above with absolute weld tolerance `tol` (m). `seeds` and `weights` (may be
+/// empty) are stored per surviving cell. Throws geometry_error for a face without a twin.
+[[nodiscard]] inline tessellation assemble_tessellation(const aabb& domain, std::span<const convex_polyhedron> cells,
+                                                        std::span<const vec3> seeds, std::span<const real> weights,
+                                                        real tol) {
+  const std::size_t ncells = cells.size();
+  std::vector<std::size_t> point_offset(ncells + 1, 0);
+  for (std::size_t c = 0; c < ncells; ++c)
+    point_offset[c + 1] = point_offset[c] + static_cast<std::size_t>(cells[c].vertex_count());
+  std::vector<vec3> points(point_offset[ncells]);
+  std::vector<vertex_key> keys(point_offset[ncells], no_vertex_key);
+  std::vector<real> conditioning(point_offset[ncells], 0);
+  vertex_keys_of(cells, point_offset, points, keys, conditioning);
   welded_points welded = weld_vertices(points, tol, domain, keys, conditioning);
   if (!seeds.empty()) recompute_ill_conditioned_vertices(welded, points, keys, seeds, weights, tol, domain);
 
@@ -408,39 +454,7 @@ inline void clean_loop(std::vector<index>& loop) {
     t.cell_face_offsets.push_back(static_cast<index>(t.face_cell.size()));
   }
 
-  // Twins: the face of the neighbour tagged with this cell, with the reversed loop.
-  t.face_twin.assign(t.face_cell.size(), invalid_index);
-  for (index f = 0; f < t.face_count(); ++f) {
-    const index c = t.face_cell[static_cast<std::size_t>(f)], n = t.face_neighbor[static_cast<std::size_t>(f)];
-    if (n < 0 || c > n) continue;
-    index g = invalid_index;
-    for (index h = t.first_face(n); h < t.end_face(n); ++h)
-      if (t.face_neighbor[static_cast<std::size_t>(h)] == c) { g = h; break; }
-    require<geometry_error>(g != invalid_index, "tessellation cleanup: face ", f, " of cell ", c,
-                            " has no twin in neighbour cell ", n, " (area ",
-                            polygon_area_vector(t.vertices, t.face(f)).norm(), " m^2); increase cleanup_tolerance");
-    const auto a = t.face(f), b = t.face(g);
-    bool reversed = a.size() == b.size();
-    if (reversed) {
-      const std::size_t m = a.size();
-      const auto start = std::find(b.begin(), b.end(), a[0]);
-      reversed = start != b.end();
-      if (reversed) {
-        const std::size_t s = static_cast<std::size_t>(start - b.begin());
-        for (std::size_t k = 0; k < m && reversed; ++k) reversed = a[k] == b[(s + m - k) % m];
-      }
-    }
-    require<geometry_error>(reversed, "tessellation cleanup: face ", f, " of cell ", c, " (", a.size(),
-                            " vertices) and its twin ", g, " of cell ", n, " (", b.size(),
-                            " vertices) are not the same loop reversed; increase cleanup_tolerance");
-    t.face_twin[static_cast<std::size_t>(f)] = g;
-    t.face_twin[static_cast<std::size_t>(g)] = f;
-    t.shared_faces.push_back({c, f, n, g});
-  }
-  for (index f = 0; f < t.face_count(); ++f)
-    require<geometry_error>(t.face_neighbor[static_cast<std::size_t>(f)] < 0 || t.face_twin[static_cast<std::size_t>(f)] >= 0,
-                            "tessellation cleanup: face ", f, " of cell ", t.face_cell[static_cast<std::size_t>(f)],
-                            " toward cell ", t.face_neighbor[static_cast<std::size_t>(f)], " has no twin");
+  match_twins(t);
   return t;
 }
 

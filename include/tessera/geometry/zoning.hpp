@@ -192,23 +192,13 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
   return t;
 }
 
-}  // namespace detail::zoning
-
-/// Splits every block of `tess` into positive constant-strain tetrahedra (see the file comment).
-/// Throws geometry_error naming the block and zone if a zone has non-positive volume (a
-/// non-convex or degenerate block), and invalid_input for a negative or non-finite target length.
-[[nodiscard]] inline block_mesh zone_blocks(const tessellation& tess, const zoning_options& options = {}) {
-  using namespace detail::zoning;
+/// The triangulation of every face (min-angle, refined to edge h = options.target_edge_length
+/// when h > 0), its triangles sorted by their sorted keys so the two sides of a face agree.
+[[nodiscard]] inline std::vector<std::vector<triangle>> triangulate_faces(const tessellation& tess,
+                                                                          const zoning_options& options,
+                                                                          surface_registry& reg) {
   const real h = options.target_edge_length;
-  require_non_negative(h, "zoning_options::target_edge_length (m)");
   const index n_faces = tess.face_count();
-  const index n_cells = tess.cell_count();
-  require<geometry_error>(static_cast<index>(tess.face_cell.size()) == n_faces, "zone_blocks: face_cell has ",
-                          tess.face_cell.size(), " entries, expected one per face (", n_faces, ")");
-
-  // ---- surface triangulation of every face, canonical for twins ----
-  surface_registry reg;
-  reg.position = tess.vertices;
   std::vector<std::vector<triangle>> face_tris(static_cast<std::size_t>(n_faces));
   std::vector<triangle> coarse;
   triangulation_workspace workspace;
@@ -227,6 +217,116 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
     }
     std::sort(tris.begin(), tris.end(), [](const triangle& a, const triangle& b) { return sorted(a) < sorted(b); });
   }
+  return face_tris;
+}
+
+/// Centroid of block b: volume V and centroid c of the polyhedron from the cones of its face
+/// triangles on a point p0 inside it (vertex average), V = sum V_t, c = sum V_t c_t / V. Throws
+/// geometry_error for fewer than 4 vertices or a non-positive volume.
+[[nodiscard]] inline vec3 block_centroid(const tessellation& tess, index b, const std::vector<surface_key>& keys,
+                                         const surface_registry& reg,
+                                         const std::vector<std::vector<triangle>>& face_tris) {
+  vec3 p0 = vec3::Zero();
+  index n_vertices = 0;
+  for (const surface_key k : keys)
+    if (k < tess.vertex_count()) { p0 += reg.position[static_cast<std::size_t>(k)]; ++n_vertices; }
+  require<geometry_error>(n_vertices >= 4, "zone_blocks: block ", b, " has ", n_vertices, " vertices, expected >= 4");
+  p0 /= n_vertices;
+  real volume6 = 0.0;
+  vec3 moment = vec3::Zero();
+  for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+    for (const auto& t : face_tris[static_cast<std::size_t>(f)]) {
+      const vec3& x0 = reg.position[static_cast<std::size_t>(t[0])];
+      const vec3& x1 = reg.position[static_cast<std::size_t>(t[1])];
+      const vec3& x2 = reg.position[static_cast<std::size_t>(t[2])];
+      const real v6 = tet_volume6(x0, x1, x2, p0) * -1.0;  // triangle CCW outward: p0 is behind it
+      volume6 += v6;
+      moment += v6 * (x0 + x1 + x2 + p0) / 4.0;
+    }
+  require<geometry_error>(volume6 > 0, "zone_blocks: block ", b, " has volume ", volume6 / 6.0,
+                          " m^3, expected > 0 (faces must be CCW seen from outside)");
+  return moment / volume6;
+}
+
+/// Face f of a block: its face nodes (by key, then renumbered to the block's gridpoints from
+/// `base`), their tributary areas (a third of each triangle, in canonical triangle order), its
+/// surface triangles and the zones below them: the innermost cone on the centroid (gridpoint
+/// centroid_gp) and three
+/// tetrahedra per triangle and layer, split on the key order so neighbours agree.
+template <class Local, class OnLayer, class AddZone>
+void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, const surface_registry& reg, index base,
+               index centroid_gp, index layers, Local&& local, OnLayer&& on_layer, AddZone&& add_zone) {
+  // Face data: nodes by key, areas accumulated in canonical triangle order.
+  const auto node_begin = static_cast<std::size_t>(mesh.face_nodes.size());
+  for (const auto& t : tris)
+    for (const surface_key k : t) mesh.face_nodes.push_back(k);
+  std::sort(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(node_begin), mesh.face_nodes.end());
+  mesh.face_nodes.erase(std::unique(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(node_begin),
+                                    mesh.face_nodes.end()),
+                        mesh.face_nodes.end());
+  mesh.face_node_area.resize(mesh.face_nodes.size(), 0.0);
+  const auto face_node_entry = [&](surface_key k) {
+    return static_cast<std::size_t>(
+        std::lower_bound(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(node_begin), mesh.face_nodes.end(), k) -
+        mesh.face_nodes.begin());
+  };
+  for (const auto& t : tris) {
+    const triangle s = sorted(t);
+    const vec3& x0 = reg.position[static_cast<std::size_t>(s[0])];
+    const real third_area =
+        (reg.position[static_cast<std::size_t>(s[1])] - x0).cross(reg.position[static_cast<std::size_t>(s[2])] - x0).norm() / 6.0;
+    for (const surface_key k : s) mesh.face_node_area[face_node_entry(k)] += third_area;
+  }
+  for (std::size_t e = node_begin; e < mesh.face_nodes.size(); ++e) mesh.face_nodes[e] = base + local(mesh.face_nodes[e]);
+  mesh.face_node_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index>(mesh.face_nodes.size());
+
+  for (const auto& t : tris) {
+    const index a = local(t[0]), bb = local(t[1]), c = local(t[2]);
+    mesh.face_triangles.push_back({base + a, base + bb, base + c});
+    // Innermost cone: (a, c, b) is CW seen from outside, so (a, c, b, centroid) is positive.
+    add_zone({on_layer(1, a), on_layer(1, c), on_layer(1, bb), centroid_gp});
+    // Prisms between layers l and l+1, split on the key order p < q < r of the triangle.
+    if (layers > 1) {
+      std::array<index, 3> pqr{a, bb, c};
+      std::sort(pqr.begin(), pqr.end());
+      // (p, q, r) has the orientation of (a, b, c) iff it is a cyclic rotation of it.
+      const bool ccw = (pqr[0] == a && pqr[1] == bb) || (pqr[0] == bb && pqr[1] == c) || (pqr[0] == c && pqr[1] == a);
+      for (index l = 1; l < layers; ++l) {
+        const index p = on_layer(l, pqr[0]), q = on_layer(l, pqr[1]), r = on_layer(l, pqr[2]);
+        const index po = on_layer(l + 1, pqr[0]), qo = on_layer(l + 1, pqr[1]), ro = on_layer(l + 1, pqr[2]);
+        if (ccw) {
+          add_zone({p, q, r, ro});
+          add_zone({p, q, ro, qo});
+          add_zone({p, po, qo, ro});
+        } else {
+          add_zone({q, p, r, ro});
+          add_zone({q, p, ro, qo});
+          add_zone({po, p, qo, ro});
+        }
+      }
+    }
+  }
+  mesh.face_triangle_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index>(mesh.face_triangles.size());
+}
+
+}  // namespace detail::zoning
+
+/// Splits every block of `tess` into positive constant-strain tetrahedra (see the file comment).
+/// Throws geometry_error naming the block and zone if a zone has non-positive volume (a
+/// non-convex or degenerate block), and invalid_input for a negative or non-finite target length.
+[[nodiscard]] inline block_mesh zone_blocks(const tessellation& tess, const zoning_options& options = {}) {
+  using namespace detail::zoning;
+  const real h = options.target_edge_length;
+  require_non_negative(h, "zoning_options::target_edge_length (m)");
+  const index n_faces = tess.face_count();
+  const index n_cells = tess.cell_count();
+  require<geometry_error>(static_cast<index>(tess.face_cell.size()) == n_faces, "zone_blocks: face_cell has ",
+                          tess.face_cell.size(), " entries, expected one per face (", n_faces, ")");
+
+  // ---- surface triangulation of every face, canonical for twins ----
+  surface_registry reg;
+  reg.position = tess.vertices;
+  const std::vector<std::vector<triangle>> face_tris = triangulate_faces(tess, options, reg);
 
   block_mesh mesh;
   mesh.block_gridpoint_offsets.reserve(static_cast<std::size_t>(n_cells) + 1);
@@ -248,28 +348,7 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
       return static_cast<index>(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
     };
 
-    // Volume V and centroid c of the polyhedron: cones of the face triangles on a point p0
-    // inside the block (vertex average); V = sum V_t, c = sum V_t c_t / V.
-    vec3 p0 = vec3::Zero();
-    index n_vertices = 0;
-    for (const surface_key k : keys)
-      if (k < tess.vertex_count()) { p0 += reg.position[static_cast<std::size_t>(k)]; ++n_vertices; }
-    require<geometry_error>(n_vertices >= 4, "zone_blocks: block ", b, " has ", n_vertices, " vertices, expected >= 4");
-    p0 /= n_vertices;
-    real volume6 = 0.0;
-    vec3 moment = vec3::Zero();
-    for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
-      for (const auto& t : face_tris[static_cast<std::size_t>(f)]) {
-        const vec3& x0 = reg.position[static_cast<std::size_t>(t[0])];
-        const vec3& x1 = reg.position[static_cast<std::size_t>(t[1])];
-        const vec3& x2 = reg.position[static_cast<std::size_t>(t[2])];
-        const real v6 = tet_volume6(x0, x1, x2, p0) * -1.0;  // triangle CCW outward: p0 is behind it
-        volume6 += v6;
-        moment += v6 * (x0 + x1 + x2 + p0) / 4.0;
-      }
-    require<geometry_error>(volume6 > 0, "zone_blocks: block ", b, " has volume ", volume6 / 6.0,
-                            " m^3, expected > 0 (faces must be CCW seen from outside)");
-    const vec3 centroid = moment / volume6;
+    const vec3 centroid = block_centroid(tess, b, keys, reg, face_tris);
 
     // Interior layers: m homothetic copies of the surface about the centroid.
     index layers = 1;
@@ -316,60 +395,9 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
       mesh.zone_block.push_back(b);
     };
 
-    for (index f = tess.first_face(b); f < tess.end_face(b); ++f) {
-      const auto& tris = face_tris[static_cast<std::size_t>(f)];
-      // Face data: nodes by key, areas accumulated in canonical triangle order.
-      const auto node_begin = static_cast<std::size_t>(mesh.face_nodes.size());
-      for (const auto& t : tris)
-        for (const surface_key k : t) mesh.face_nodes.push_back(k);
-      std::sort(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(node_begin), mesh.face_nodes.end());
-      mesh.face_nodes.erase(std::unique(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(node_begin),
-                                        mesh.face_nodes.end()),
-                            mesh.face_nodes.end());
-      mesh.face_node_area.resize(mesh.face_nodes.size(), 0.0);
-      const auto face_node_entry = [&](surface_key k) {
-        return static_cast<std::size_t>(
-            std::lower_bound(mesh.face_nodes.begin() + static_cast<std::ptrdiff_t>(node_begin), mesh.face_nodes.end(), k) -
-            mesh.face_nodes.begin());
-      };
-      for (const auto& t : tris) {
-        const triangle s = sorted(t);
-        const vec3& x0 = reg.position[static_cast<std::size_t>(s[0])];
-        const real third_area =
-            (reg.position[static_cast<std::size_t>(s[1])] - x0).cross(reg.position[static_cast<std::size_t>(s[2])] - x0).norm() / 6.0;
-        for (const surface_key k : s) mesh.face_node_area[face_node_entry(k)] += third_area;
-      }
-      for (std::size_t e = node_begin; e < mesh.face_nodes.size(); ++e) mesh.face_nodes[e] = base + local(mesh.face_nodes[e]);
-      mesh.face_node_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index>(mesh.face_nodes.size());
-
-      for (const auto& t : tris) {
-        const index a = local(t[0]), bb = local(t[1]), c = local(t[2]);
-        mesh.face_triangles.push_back({base + a, base + bb, base + c});
-        // Innermost cone: (a, c, b) is CW seen from outside, so (a, c, b, centroid) is positive.
-        add_zone({on_layer(1, a), on_layer(1, c), on_layer(1, bb), centroid_gp});
-        // Prisms between layers l and l+1, split on the key order p < q < r of the triangle.
-        if (layers > 1) {
-          std::array<index, 3> pqr{a, bb, c};
-          std::sort(pqr.begin(), pqr.end());
-          // (p, q, r) has the orientation of (a, b, c) iff it is a cyclic rotation of it.
-          const bool ccw = (pqr[0] == a && pqr[1] == bb) || (pqr[0] == bb && pqr[1] == c) || (pqr[0] == c && pqr[1] == a);
-          for (index l = 1; l < layers; ++l) {
-            const index p = on_layer(l, pqr[0]), q = on_layer(l, pqr[1]), r = on_layer(l, pqr[2]);
-            const index po = on_layer(l + 1, pqr[0]), qo = on_layer(l + 1, pqr[1]), ro = on_layer(l + 1, pqr[2]);
-            if (ccw) {
-              add_zone({p, q, r, ro});
-              add_zone({p, q, ro, qo});
-              add_zone({p, po, qo, ro});
-            } else {
-              add_zone({q, p, r, ro});
-              add_zone({q, p, ro, qo});
-              add_zone({po, p, qo, ro});
-            }
-          }
-        }
-      }
-      mesh.face_triangle_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index>(mesh.face_triangles.size());
-    }
+    for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+      zone_face(mesh, f, face_tris[static_cast<std::size_t>(f)], reg, base, centroid_gp, layers, local, on_layer,
+                add_zone);
     mesh.block_zone_offsets.push_back(static_cast<index>(mesh.zones.size()));
   }
   return mesh;

@@ -125,54 +125,7 @@ class embedded_truss {
     }
     for (index n = 0; n < n_nodes; ++n) tangent_.row(n).normalize();
 
-    hosts_.assign(static_cast<std::size_t>(n_nodes), host_point{});
-    bonded_nodes_.clear();
-    const bool any_bonded = std::any_of(p.bars.begin(), p.bars.end(), [](const bar& b) { return b.bonded; });
-    if (any_bonded) {
-      require(gridpoints.size() == mesh.gridpoint_count(), "embedded_truss: the gridpoint node_set has ",
-              gridpoints.size(), " nodes but the block mesh has ", mesh.gridpoint_count(), " gridpoints");
-      require(mesh.zone_count() > 0, "embedded_truss: bonded bars need a host, but the block mesh has no zones");
-      const zone_locator locator(mesh.gridpoints, mesh.zones);
-      for (index n = 0; n < n_nodes; ++n) {
-        const index b = node_bar_[static_cast<std::size_t>(n)];
-        if (!p.bars[static_cast<std::size_t>(b)].bonded) continue;
-        const vec3 x = d.nodes[static_cast<std::size_t>(n)];
-        const std::optional<host_point> host = locator.locate(x);
-        require(host.has_value(), "embedded_truss: bar ", b, " node ", n - bar_node_offsets_[static_cast<std::size_t>(b)],
-                " at ", detail::point_string(x), " m lies outside every zone of the block mesh (tolerance ",
-                zone_locator::tolerance, " relative to the zone size)");
-        hosts_[static_cast<std::size_t>(n)] = *host;
-        bonded_nodes_.push_back(n);
-      }
-    }
-    bonds_.assign(static_cast<std::size_t>(n_nodes), bond_state{});
-    host_load_.setZero(n_nodes, 3);
-    // Host slots grouped by gridpoint (CSR), each gridpoint's in bonded-node order; a zone's
-    // corners are distinct, so a gridpoint appears at most once per node.
-    host_offsets_.clear();
-    host_slot_gridpoint_.clear();
-    host_slot_node_.clear();
-    host_slot_weight_.clear();
-    if (!bonded_nodes_.empty()) {
-      auto slots_of = [&](auto&& emit) {
-        for (index n : bonded_nodes_) {
-          const host_point& h = hosts_[static_cast<std::size_t>(n)];
-          for (std::size_t i = 0; i < 4; ++i)
-            emit(h.gridpoints[i], [&](index slot) {
-              const auto k = static_cast<std::size_t>(slot);
-              host_slot_gridpoint_[k] = h.gridpoints[i];
-              host_slot_node_[k] = n;
-              host_slot_weight_[k] = h.weights[i];
-            });
-        }
-      };
-      host_offsets_ = csr_offsets(static_cast<index>(gridpoints.size()), slots_of);
-      const std::size_t slots = static_cast<std::size_t>(host_offsets_.back());
-      host_slot_gridpoint_.resize(slots);
-      host_slot_node_.resize(slots);
-      host_slot_weight_.resize(slots);
-      csr_fill(host_offsets_, slots_of);
-    }
+    locate_hosts(p, mesh, gridpoints, d);  // host zones of bonded nodes, and their gridpoint slots
     transverse_gap_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     confining_stress_.assign(static_cast<std::size_t>(n_nodes), 0.0);
   }
@@ -349,6 +302,60 @@ class embedded_truss {
   [[nodiscard]] vec3 position(index n) const { return nodes_.position(n); }  ///< current (m)
 
  private:
+  /// Host zone of every node of a bonded bar (throws invalid_input for a node outside all zones)
+  /// and the host slots grouped by gridpoint (CSR, each gridpoint's in bonded-node order; a
+  /// zone's corners are distinct, so a gridpoint appears at most once per node).
+  void locate_hosts(const params& p, const geometry::block_mesh& mesh, const node_set& gridpoints,
+                    const bar_discretisation& d) {
+    const index n_nodes = d.node_count();
+    hosts_.assign(static_cast<std::size_t>(n_nodes), host_point{});
+    bonded_nodes_.clear();
+    const bool any_bonded = std::any_of(p.bars.begin(), p.bars.end(), [](const bar& b) { return b.bonded; });
+    if (any_bonded) {
+      require(gridpoints.size() == mesh.gridpoint_count(), "embedded_truss: the gridpoint node_set has ",
+              gridpoints.size(), " nodes but the block mesh has ", mesh.gridpoint_count(), " gridpoints");
+      require(mesh.zone_count() > 0, "embedded_truss: bonded bars need a host, but the block mesh has no zones");
+      const zone_locator locator(mesh.gridpoints, mesh.zones);
+      for (index n = 0; n < n_nodes; ++n) {
+        const index b = node_bar_[static_cast<std::size_t>(n)];
+        if (!p.bars[static_cast<std::size_t>(b)].bonded) continue;
+        const vec3 x = d.nodes[static_cast<std::size_t>(n)];
+        const std::optional<host_point> host = locator.locate(x);
+        require(host.has_value(), "embedded_truss: bar ", b, " node ", n - bar_node_offsets_[static_cast<std::size_t>(b)],
+                " at ", detail::point_string(x), " m lies outside every zone of the block mesh (tolerance ",
+                zone_locator::tolerance, " relative to the zone size)");
+        hosts_[static_cast<std::size_t>(n)] = *host;
+        bonded_nodes_.push_back(n);
+      }
+    }
+    bonds_.assign(static_cast<std::size_t>(n_nodes), bond_state{});
+    host_load_.setZero(n_nodes, 3);
+    host_offsets_.clear();
+    host_slot_gridpoint_.clear();
+    host_slot_node_.clear();
+    host_slot_weight_.clear();
+    if (!bonded_nodes_.empty()) {
+      auto slots_of = [&](auto&& emit) {
+        for (index n : bonded_nodes_) {
+          const host_point& h = hosts_[static_cast<std::size_t>(n)];
+          for (std::size_t i = 0; i < 4; ++i)
+            emit(h.gridpoints[i], [&](index slot) {
+              const auto k = static_cast<std::size_t>(slot);
+              host_slot_gridpoint_[k] = h.gridpoints[i];
+              host_slot_node_[k] = n;
+              host_slot_weight_[k] = h.weights[i];
+            });
+        }
+      };
+      host_offsets_ = csr_offsets(static_cast<index>(gridpoints.size()), slots_of);
+      const std::size_t slots = static_cast<std::size_t>(host_offsets_.back());
+      host_slot_gridpoint_.resize(slots);
+      host_slot_node_.resize(slots);
+      host_slot_weight_.resize(slots);
+      csr_fill(host_offsets_, slots_of);
+    }
+  }
+
   params params_;
   node_set nodes_;
   real yield_force_ = 0.0;

@@ -92,111 +92,134 @@ struct face_pairs {
   face_corners corners;                     ///< polygon corners of each face
 };
 
+/// The block_mesh arrays face_contacts reads have the sizes of `tess` and of each other.
+inline void check_face_mesh(const geometry::tessellation& tess, const geometry::block_mesh& mesh) {
+  const index n_faces = tess.face_count();
+  const index n_gridpoints = mesh.gridpoint_count();
+  require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1,
+                          "face_contacts: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
+                          " faces, expected one entry per tessellation face (", n_faces, ")");
+  require<geometry_error>(static_cast<index>(mesh.gridpoint_vertex.size()) == n_gridpoints,
+                          "face_contacts: block_mesh has ", mesh.gridpoint_vertex.size(),
+                          " gridpoint_vertex entries, expected one per gridpoint (", n_gridpoints, ")");
+  require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "face_contacts: block_mesh has ",
+                          mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(), " face nodes");
+  require<geometry_error>(mesh.block_material.empty() || static_cast<index>(mesh.block_material.size()) == mesh.block_count(),
+                          "face_contacts: block_mesh has ", mesh.block_material.size(), " block materials for ",
+                          mesh.block_count(), " blocks (give one id per block, or none for all 0)");
+}
+
+/// One shared face s while it is paired: its record, first face nodes of both sides, node
+/// count, and the check that throws geometry_error naming it.
+struct face_in_pairing {
+  index s;
+  const geometry::tessellation::shared_face& sf;
+  index na0, nb0, n_nodes;
+  template <class... Message>
+  void check(bool ok, const Message&... message) const {
+    if (!ok)
+      throw geometry_error(tessera::detail::concat("face_contacts: shared face ", s, " (cells ", sf.cell_a, " and ",
+                                                   sf.cell_b, ", tessellation faces ", sf.face_a, " and ", sf.face_b,
+                                                   "): ", message...));
+  }
+};
+
+/// The sub-contacts of face f: pairs of coincident face nodes of its two sides, with their areas.
+inline void pair_nodes(face_pairs& r, const face_in_pairing& f, const geometry::block_mesh& mesh, real tolerance) {
+  const auto at = [](index i) { return static_cast<std::size_t>(i); };
+  const index n_gridpoints = mesh.gridpoint_count();
+  real face_area = 0;
+  for (index k = 0; k < f.n_nodes; ++k) {
+    const index a = mesh.face_nodes[at(f.na0 + k)];
+    const index b = mesh.face_nodes[at(f.nb0 + k)];
+    f.check(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, "face node ", k, " refers to gridpoints ", a,
+            " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
+    if (static_cast<index>(mesh.gridpoint_block.size()) == n_gridpoints)
+      f.check(mesh.gridpoint_block[at(a)] == f.sf.cell_a && mesh.gridpoint_block[at(b)] == f.sf.cell_b, "face node ",
+              k, ": gridpoints ", a, " and ", b, " belong to blocks ", mesh.gridpoint_block[at(a)], " and ",
+              mesh.gridpoint_block[at(b)]);
+    const vec3& xa = mesh.gridpoints[at(a)];
+    const vec3& xb = mesh.gridpoints[at(b)];
+    const real gap = (xb - xa).norm();
+    f.check(gap <= tolerance, "face node ", k, ": gridpoint ", a, " at (", xa.x(), ", ", xa.y(), ", ", xa.z(),
+            ") and gridpoint ", b, " at (", xb.x(), ", ", xb.y(), ", ", xb.z(), ") are ", gap,
+            " m apart, expected coincident (tolerance ", tolerance,
+            " m); the twin faces list their nodes in different orders");
+    const real area_a = mesh.face_node_area[at(f.na0 + k)];
+    const real area_b = mesh.face_node_area[at(f.nb0 + k)];
+    f.check(area_a > 0 && std::isfinite(area_a) && std::abs(area_a - area_b) <= 1e-9 * std::max(area_a, area_b),
+            "face node ", k, ": tributary areas ", area_a, " and ", area_b, " m^2, expected equal and > 0");
+    r.node_a.push_back(a);
+    r.node_b.push_back(b);
+    r.face.push_back(f.s);
+    r.area.push_back(area_a);
+    face_area += area_a;
+  }
+  r.first_subcontact.push_back(static_cast<index>(r.node_a.size()));
+  r.face_area.push_back(face_area);
+}
+
+/// Polygon corners of face f: the face node of each tessellation vertex of face_a, in loop order,
+/// and their reference offsets from the first one (side A).
+inline void add_corners(face_pairs& r, const face_in_pairing& f, const geometry::tessellation& tess,
+                        const geometry::block_mesh& mesh) {
+  const auto at = [](index i) { return static_cast<std::size_t>(i); };
+  const auto loop = tess.face(f.sf.face_a);
+  f.check(loop.size() >= 3, "the polygon has ", loop.size(), " vertices, expected >= 3");
+  for (const index vertex : loop) {
+    index corner = invalid_index;
+    for (index k = 0; k < f.n_nodes && corner == invalid_index; ++k)
+      if (mesh.gridpoint_vertex[at(mesh.face_nodes[at(f.na0 + k)])] == vertex &&
+          mesh.gridpoint_vertex[at(mesh.face_nodes[at(f.nb0 + k)])] == vertex)
+        corner = r.first_subcontact[at(f.s)] + k;
+    f.check(corner != invalid_index, "tessellation vertex ", vertex,
+            " has no face node copying it on both sides (block_mesh::gridpoint_vertex)");
+    r.corners.a.push_back(r.node_a[at(corner)]);
+    r.corners.b.push_back(r.node_b[at(corner)]);
+  }
+  r.corners.first.push_back(static_cast<index>(r.corners.a.size()));
+  const vec3& x0 = mesh.gridpoints[at(r.corners.a[at(r.corners.first[at(f.s)])])];
+  for (index k = r.corners.first[at(f.s)]; k < r.corners.first[at(f.s) + 1]; ++k)
+    for (int c = 0; c < 3; ++c) r.corners.offset[at(c)].push_back(mesh.gridpoints[at(r.corners.a[at(k)])][c] - x0[c]);
+}
+
 /// Pairs the face nodes of every shared face of `tess` (face_contacts' constructor documents the
 /// checks; each throws geometry_error naming the shared face, its cells and tessellation faces).
 template <class P>
 [[nodiscard]] face_pairs pair_face_nodes(const geometry::tessellation& tess, const geometry::block_mesh& mesh,
                                          const material_table<P>& table) {
   const auto at = [](index i) { return static_cast<std::size_t>(i); };
-    const index n_faces = tess.face_count();
-    const index n_gridpoints = mesh.gridpoint_count();
-    require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1,
-                            "face_contacts: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
-                            " faces, expected one entry per tessellation face (", n_faces, ")");
-    require<geometry_error>(static_cast<index>(mesh.gridpoint_vertex.size()) == n_gridpoints,
-                            "face_contacts: block_mesh has ", mesh.gridpoint_vertex.size(),
-                            " gridpoint_vertex entries, expected one per gridpoint (", n_gridpoints, ")");
-    require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "face_contacts: block_mesh has ",
-                            mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(), " face nodes");
-    require<geometry_error>(mesh.block_material.empty() || static_cast<index>(mesh.block_material.size()) == mesh.block_count(),
-                            "face_contacts: block_mesh has ", mesh.block_material.size(), " block materials for ",
-                            mesh.block_count(), " blocks (give one id per block, or none for all 0)");
-    face_pairs r;
-    aabb box;
-    for (const vec3& x : mesh.gridpoints) box.expand(x);
-    const real tolerance = 1e-9 * (mesh.gridpoints.empty() ? 1.0 : box.size().norm());
-
-    const auto face_count = static_cast<index>(tess.shared_faces.size());
-    r.first_subcontact.assign(1, 0);
-    r.corners.first.assign(1, 0);
-    r.first_subcontact.reserve(at(face_count) + 1);
-    r.corners.first.reserve(at(face_count) + 1);
-    r.face_area.reserve(at(face_count));
-    for (index s = 0; s < face_count; ++s) {
-      const auto& sf = tess.shared_faces[at(s)];
-      // Throws geometry_error naming the face; the message is only built on failure.
-      const auto check = [&](bool ok, const auto&... message) {
-        if (!ok)
-          throw geometry_error(tessera::detail::concat("face_contacts: shared face ", s, " (cells ", sf.cell_a,
-                                                       " and ", sf.cell_b, ", tessellation faces ", sf.face_a, " and ",
-                                                       sf.face_b, "): ", message...));
-      };
-      check(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces && sf.cell_a >= 0 &&
+  check_face_mesh(tess, mesh);
+  const index n_faces = tess.face_count();
+  aabb box;
+  for (const vec3& x : mesh.gridpoints) box.expand(x);
+  const real tolerance = 1e-9 * (mesh.gridpoints.empty() ? 1.0 : box.size().norm());
+  const auto face_count = static_cast<index>(tess.shared_faces.size());
+  face_pairs r;
+  r.first_subcontact.reserve(at(face_count) + 1);
+  r.corners.first.reserve(at(face_count) + 1);
+  r.face_area.reserve(at(face_count));
+  for (index s = 0; s < face_count; ++s) {
+    const auto& sf = tess.shared_faces[at(s)];
+    face_in_pairing f{s, sf, 0, 0, 0};
+    f.check(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces && sf.cell_a >= 0 &&
                 sf.cell_a < sf.cell_b && sf.cell_b < tess.cell_count(),
             "face or cell id out of range or cells not in increasing order (", tess.cell_count(), " cells, ", n_faces,
             " faces)");
-      if (static_cast<index>(tess.face_cell.size()) == n_faces)
-        check(tess.face_cell[at(sf.face_a)] == sf.cell_a && tess.face_cell[at(sf.face_b)] == sf.cell_b,
+    if (static_cast<index>(tess.face_cell.size()) == n_faces)
+      f.check(tess.face_cell[at(sf.face_a)] == sf.cell_a && tess.face_cell[at(sf.face_b)] == sf.cell_b,
               "faces belong to cells ", tess.face_cell[at(sf.face_a)], " and ", tess.face_cell[at(sf.face_b)]);
-      const index na0 = mesh.face_node_offsets[at(sf.face_a)];
-      const index nb0 = mesh.face_node_offsets[at(sf.face_b)];
-      const index n_nodes = mesh.face_node_offsets[at(sf.face_a) + 1] - na0;
-      const index n_nodes_b = mesh.face_node_offsets[at(sf.face_b) + 1] - nb0;
-      check(n_nodes == n_nodes_b && n_nodes >= 3, "the sides have ", n_nodes, " and ", n_nodes_b,
+    f.na0 = mesh.face_node_offsets[at(sf.face_a)];
+    f.nb0 = mesh.face_node_offsets[at(sf.face_b)];
+    f.n_nodes = mesh.face_node_offsets[at(sf.face_a) + 1] - f.na0;
+    const index n_nodes_b = mesh.face_node_offsets[at(sf.face_b) + 1] - f.nb0;
+    f.check(f.n_nodes == n_nodes_b && f.n_nodes >= 3, "the sides have ", f.n_nodes, " and ", n_nodes_b,
             " face nodes, expected the same number (>= 3)");
-      real face_area = 0;
-      for (index k = 0; k < n_nodes; ++k) {
-        const index a = mesh.face_nodes[at(na0 + k)];
-        const index b = mesh.face_nodes[at(nb0 + k)];
-        check(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, "face node ", k, " refers to gridpoints ", a,
-              " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
-        if (static_cast<index>(mesh.gridpoint_block.size()) == n_gridpoints)
-          check(mesh.gridpoint_block[at(a)] == sf.cell_a && mesh.gridpoint_block[at(b)] == sf.cell_b, "face node ", k,
-                ": gridpoints ", a, " and ", b, " belong to blocks ", mesh.gridpoint_block[at(a)], " and ",
-                mesh.gridpoint_block[at(b)]);
-        const vec3& xa = mesh.gridpoints[at(a)];
-        const vec3& xb = mesh.gridpoints[at(b)];
-        const real gap = (xb - xa).norm();
-        check(gap <= tolerance, "face node ", k, ": gridpoint ", a, " at (", xa.x(), ", ", xa.y(), ", ", xa.z(),
-              ") and gridpoint ", b, " at (", xb.x(), ", ", xb.y(), ", ", xb.z(), ") are ", gap,
-              " m apart, expected coincident (tolerance ", tolerance,
-              " m); the twin faces list their nodes in different orders");
-        const real area_a = mesh.face_node_area[at(na0 + k)];
-        const real area_b = mesh.face_node_area[at(nb0 + k)];
-        check(area_a > 0 && std::isfinite(area_a) && std::abs(area_a - area_b) <= 1e-9 * std::max(area_a, area_b),
-              "face node ", k, ": tributary areas ", area_a, " and ", area_b, " m^2, expected equal and > 0");
-        r.node_a.push_back(a);
-        r.node_b.push_back(b);
-        r.face.push_back(s);
-        r.area.push_back(area_a);
-        face_area += area_a;
-      }
-      r.first_subcontact.push_back(static_cast<index>(r.node_a.size()));
-      r.face_area.push_back(face_area);
-      r.face_param.push_back(static_cast<index>(table.entry_index(mesh.material(sf.cell_a), mesh.material(sf.cell_b))));
-
-      // Polygon corners: the face node of each tessellation vertex of face_a, in loop order.
-      const auto loop = tess.face(sf.face_a);
-      check(loop.size() >= 3, "the polygon has ", loop.size(), " vertices, expected >= 3");
-      for (const index vertex : loop) {
-        index corner = invalid_index;
-        for (index k = 0; k < n_nodes && corner == invalid_index; ++k)
-          if (mesh.gridpoint_vertex[at(mesh.face_nodes[at(na0 + k)])] == vertex &&
-              mesh.gridpoint_vertex[at(mesh.face_nodes[at(nb0 + k)])] == vertex)
-            corner = r.first_subcontact[at(s)] + k;
-        check(corner != invalid_index, "tessellation vertex ", vertex,
-              " has no face node copying it on both sides (block_mesh::gridpoint_vertex)");
-        r.corners.a.push_back(r.node_a[at(corner)]);
-        r.corners.b.push_back(r.node_b[at(corner)]);
-      }
-      r.corners.first.push_back(static_cast<index>(r.corners.a.size()));
-      // Reference offsets of the corners from the first one (side A), constant.
-      const vec3& x0 = mesh.gridpoints[at(r.corners.a[at(r.corners.first[at(s)])])];
-      for (index k = r.corners.first[at(s)]; k < r.corners.first[at(s) + 1]; ++k)
-        for (int c = 0; c < 3; ++c) r.corners.offset[at(c)].push_back(mesh.gridpoints[at(r.corners.a[at(k)])][c] - x0[c]);
-    }
-
-    return r;
+    pair_nodes(r, f, mesh, tolerance);
+    r.face_param.push_back(static_cast<index>(table.entry_index(mesh.material(sf.cell_a), mesh.material(sf.cell_b))));
+    add_corners(r, f, tess, mesh);
+  }
+  return r;
 }
 
 /// Gather incidence: for each gridpoint carrying sub-contacts, in increasing id, one slot per
