@@ -240,6 +240,32 @@ class convex_polyhedron {
   // edge as a->b and b->a.
   clip_result try_clip(const plane& h, index tag, real tol, bool fallback) {
     scratch& s = workspace();
+    classify_vertices(s, h, tol, fallback);
+    const std::size_t nv = vertices_.size();
+    bool any_outside = false, any_inside = false;
+    for (std::size_t v = 0; v < nv; ++v) {
+      any_outside |= s.vertex_side[v] == side::outside;
+      any_inside |= s.vertex_side[v] == side::inside;
+    }
+    if (!any_outside) return clip_result::unchanged;
+    if (!any_inside) {  // everything outside or on the plane: nothing of positive volume is left
+      vertices_.clear();
+      face_offsets_.assign(1, 0);
+      face_vertices_.clear();
+      face_tags_.clear();
+      return clip_result::cut;
+    }
+
+    clip_kept_faces(s);
+    if (!close_cap(s, tag)) return clip_result::inconsistent;
+    if (!merge_coincident_cap_vertices(s, fallback)) return clip_result::inconsistent;
+    drop_unused_vertices(s);
+    return clip_result::cut;
+  }
+
+  // Signed distances and sides of the vertices; in fallback mode an "on" vertex without an
+  // outside neighbour counts as inside (rule (1) above).
+  void classify_vertices(scratch& s, const plane& h, real tol, bool fallback) const {
     const std::size_t nv = vertices_.size();
     s.distance.resize(nv);
     s.vertex_side.resize(nv);
@@ -260,20 +286,12 @@ class convex_polyhedron {
       for (std::size_t v = 0; v < nv; ++v)
         if (s.vertex_side[v] == side::on && !s.used[v]) s.vertex_side[v] = side::inside;
     }
-    bool any_outside = false, any_inside = false;
-    for (std::size_t v = 0; v < nv; ++v) {
-      any_outside |= s.vertex_side[v] == side::outside;
-      any_inside |= s.vertex_side[v] == side::inside;
-    }
-    if (!any_outside) return clip_result::unchanged;
-    if (!any_inside) {  // everything outside or on the plane: nothing of positive volume is left
-      vertices_.clear();
-      face_offsets_.assign(1, 0);
-      face_vertices_.clear();
-      face_tags_.clear();
-      return clip_result::cut;
-    }
+  }
 
+  // The kept part of every face with an inside vertex (its outside run replaced by the two
+  // edge intersection points), the kept vertices and the on-plane edges the cap will close.
+  void clip_kept_faces(scratch& s) const {
+    const std::size_t nv = vertices_.size();
     // Kept vertices keep their relative order; intersection points are appended.
     s.remap.assign(nv, invalid_index);
     s.vertices.clear();
@@ -335,7 +353,10 @@ class convex_polyhedron {
       s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
       s.face_tags.push_back(face_tags_[f]);
     }
+  }
 
+  // Appends the new face; false if the on-plane edges do not form one simple loop.
+  static bool close_cap(scratch& s, index tag) {
     // The new face closes the hole: it runs along every on-plane edge that only one kept face
     // uses, in the opposite direction (a closed oriented surface uses each edge once each way).
     const std::size_t nnew = s.vertices.size();
@@ -347,12 +368,12 @@ class convex_polyhedron {
       for (const auto& g : s.plane_edges)
         if (g[0] == e[1] && g[1] == e[0]) { paired = true; break; }
       if (paired) continue;
-      if (s.cap_next[static_cast<std::size_t>(e[1])] != invalid_index) return clip_result::inconsistent;
+      if (s.cap_next[static_cast<std::size_t>(e[1])] != invalid_index) return false;
       s.cap_next[static_cast<std::size_t>(e[1])] = e[0];
       ++cap_edges;
       if (cap_start == invalid_index || e[1] < cap_start) cap_start = e[1];
     }
-    if (cap_edges < 3) return clip_result::inconsistent;
+    if (cap_edges < 3) return false;
     {
       index v = cap_start;
       std::size_t walked = 0;
@@ -361,13 +382,17 @@ class convex_polyhedron {
         v = s.cap_next[static_cast<std::size_t>(v)];
         ++walked;
       } while (v != invalid_index && v != cap_start && walked <= cap_edges);
-      if (v != cap_start || walked != cap_edges) return clip_result::inconsistent;
+      if (v != cap_start || walked != cap_edges) return false;
       s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
       s.face_tags.push_back(tag);
     }
-    if (!merge_coincident_cap_vertices(s, fallback)) return clip_result::inconsistent;
+    return true;
+  }
 
-    // Drop vertices no face uses any more (an on-plane vertex whose faces were all removed).
+  // Drops vertices no face uses any more (an on-plane vertex whose faces were all removed)
+  // and installs the clipped polyhedron.
+  void drop_unused_vertices(scratch& s) {
+    const std::size_t nnew = s.vertices.size();
     s.used.assign(nnew, invalid_index);
     for (index v : s.face_vertices) s.used[static_cast<std::size_t>(v)] = 0;
     index next = 0;
@@ -381,7 +406,6 @@ class convex_polyhedron {
     face_offsets_.swap(s.face_offsets);
     face_vertices_.swap(s.face_vertices);
     face_tags_.swap(s.face_tags);
-    return clip_result::cut;
   }
 
   // Two nearly parallel edges (the long sides of a sliver face) cut close to where they meet

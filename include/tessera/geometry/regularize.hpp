@@ -102,204 +102,38 @@ struct regularization_report {
   real max_vertex_shift = 0;       ///< largest distance of an original vertex from its merged vertex (m)
 };
 
-/// Collapses the edges of `tess` shorter than min_edge_rel x (V_box / N_cells)^(1/3) in place,
-/// following the rules and guarantees of the file comment; min_edge_rel = 0 does nothing.
-/// Throws invalid_input for min_edge_rel outside [0, 0.5] (larger thresholds would collapse
-/// whole cells).
-inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
-  using namespace detail::edge_collapse;
-  require(std::isfinite(min_edge_rel) && min_edge_rel >= 0 && min_edge_rel <= max_regularization,
-          "regularize: min_edge_rel = ", min_edge_rel, " must lie in [0, ", max_regularization,
-          "] (relative to the mean cell size)");
-  regularization_report rep;
-  if (tess.cell_count() <= 0) return rep;
-  rep.threshold = min_edge_rel * std::cbrt(tess.domain.volume() / tess.cell_count());
-  const real l_min = rep.threshold;
+namespace detail::edge_collapse {
 
-  collapse_state st(tess);
-  using entry = std::tuple<real, index, index>;  // (length, a < b)
-  std::priority_queue<entry, std::vector<entry>, std::greater<>> queue;
-  const auto shortest_and_count = [&](index* count) {
-    std::vector<std::pair<index, index>> edges;
-    for (const auto& l : st.loop)
-      for (std::size_t k = 0; k < l.size(); ++k)
-        edges.emplace_back(std::min(l[k], l[(k + 1) % l.size()]), std::max(l[k], l[(k + 1) % l.size()]));
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    real shortest = std::numeric_limits<real>::infinity();
-    index n_short = 0;
-    for (const auto& [a, b] : edges) {
-      const real len = st.length(a, b);
-      shortest = std::min(shortest, len);
-      if (len < l_min) {
-        ++n_short;
-        if (count == nullptr) queue.emplace(len, a, b);
-      }
-    }
-    if (count != nullptr) *count = n_short;
-    return shortest;
-  };
-  rep.min_edge_before = shortest_and_count(nullptr);
-  rep.short_edges_before = static_cast<index>(queue.size());
+using edge_queue = std::priority_queue<std::tuple<real, index, index>, std::vector<std::tuple<real, index, index>>,
+                                       std::greater<>>;  // (length, a < b), shortest first
 
-  const real altitude_floor = detail::edge_collapse::altitude_floor_rel * l_min;
-  const real max_shift = detail::edge_collapse::max_shift_rel * l_min;
-  std::vector<index> faces, cells, cluster;
-  // Retry bookkeeping: a refused edge is re-evaluated only after a commit touched one of its cells.
-  index commits = 0;
-  std::vector<index> cell_stamp(static_cast<std::size_t>(tess.cell_count()), 0);
-  std::map<std::pair<index, index>, index> refused_at;
-  std::vector<std::vector<index>> new_loops;
-  // Merges the vertices `members` (sorted, >= 2) into members[0] if every check passes.
-  const auto try_merge = [&](const std::vector<index>& members) -> verdict {
-    // Box sides: the union of the members' side sets must be one of them (see the file comment).
-    std::uint8_t merged_sides = 0;
-    for (const index m : members) merged_sides |= st.sides[static_cast<std::size_t>(m)];
-    bool realized = false;
-    for (const index m : members) realized = realized || st.sides[static_cast<std::size_t>(m)] == merged_sides;
-    if (!realized) return verdict::boundary;
-    const index keep = members.front();
-    vec3 sum = vec3::Zero();
-    index count = 0;
-    aabb originals;
-    for (const index m : members) {
-      originals.expand(st.member_box[static_cast<std::size_t>(m)].lo);
-      originals.expand(st.member_box[static_cast<std::size_t>(m)].hi);
-      sum += st.member_sum[static_cast<std::size_t>(m)];
-      count += st.member_count[static_cast<std::size_t>(m)];
+/// Shortest edge of the current loops; the edges shorter than l_min are pushed on `queue`
+/// (if given) and counted in `n_short` (if given).
+inline real shortest_edge(const collapse_state& st, real l_min, edge_queue* queue, index* n_short) {
+  std::vector<std::pair<index, index>> edges;
+  for (const auto& l : st.loop)
+    for (std::size_t k = 0; k < l.size(); ++k)
+      edges.emplace_back(std::min(l[k], l[(k + 1) % l.size()]), std::max(l[k], l[(k + 1) % l.size()]));
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  real shortest = std::numeric_limits<real>::infinity();
+  index count = 0;
+  for (const auto& [a, b] : edges) {
+    const real len = st.length(a, b);
+    shortest = std::min(shortest, len);
+    if (len < l_min) {
+      ++count;
+      if (queue != nullptr) queue->emplace(len, a, b);
     }
-    const auto on_sides = [&](vec3 x) {
-      for (int s = 0; s < 6; ++s)
-        if (merged_sides & side_bit(s)) x[s / 2] = s % 2 ? tess.domain.hi[s / 2] : tess.domain.lo[s / 2];
-      return x;
-    };
-    const auto is_member = [&](index v) { return std::binary_search(members.begin(), members.end(), v); };
-
-    // Tentative loops of the faces touching a member, and the cells to check.
-    faces.clear();
-    for (const index m : members)
-      for (const index f : st.vertex_faces[static_cast<std::size_t>(m)])
-        if (!st.loop[static_cast<std::size_t>(f)].empty()) faces.push_back(f);
-    std::sort(faces.begin(), faces.end());
-    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
-    new_loops.resize(faces.size());
-    bool pinched = false;
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      new_loops[i] = st.loop[static_cast<std::size_t>(faces[i])];
-      for (index& v : new_loops[i])
-        if (is_member(v)) v = keep;
-      pinched = pinched || !collapse_loop(new_loops[i]);
-      if (new_loops[i].size() < 3) new_loops[i].clear();
-    }
-    if (pinched) return verdict::topology;
-    cells.clear();
-    for (const index f : faces) cells.push_back(tess.face_cell[static_cast<std::size_t>(f)]);
-    std::sort(cells.begin(), cells.end());
-    cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
-
-
-    // Candidate positions of the merged vertex: the cluster mean, then each member's own
-    // position (which keeps that member's faces planar); the one whose worst zone is best wins.
-    const vec3 old_position = st.position[static_cast<std::size_t>(keep)];
-    const auto loops_of = [&](index f) -> const std::vector<index>& {
-      const auto it = std::lower_bound(faces.begin(), faces.end(), f);
-      if (it != faces.end() && *it == f) return new_loops[static_cast<std::size_t>(it - faces.begin())];
-      return st.loop[static_cast<std::size_t>(f)];
-    };
-    verdict best_verdict = verdict::geometry;
-    real best_altitude = -1;
-    vec3 merged = old_position;
-    for (std::size_t candidate = 0; candidate <= members.size(); ++candidate) {
-      const vec3 x = on_sides(candidate == 0 ? vec3(sum / static_cast<real>(count))
-                                             : st.position[static_cast<std::size_t>(members[candidate - 1])]);
-      // no original vertex may move farther than l_min (bound: farthest corner of their box)
-      if ((x - originals.lo).cwiseAbs().cwiseMax((x - originals.hi).cwiseAbs()).norm() > max_shift) continue;
-      st.position[static_cast<std::size_t>(keep)] = x;
-      real altitude = std::numeric_limits<real>::infinity();
-      verdict v = verdict::ok;
-      for (std::size_t i = 0; i < cells.size() && v == verdict::ok; ++i) v = st.check_cell(cells[i], loops_of, altitude);
-      if (v != verdict::ok) {
-        if (best_altitude < 0 && v == verdict::topology) best_verdict = v;
-        continue;
-      }
-      if (altitude > best_altitude) {
-        best_altitude = altitude;
-        merged = x;
-        best_verdict = verdict::ok;
-      }
-    }
-    st.position[static_cast<std::size_t>(keep)] = old_position;
-    if (best_verdict != verdict::ok) return best_verdict;
-    // Quality: the worst zone may not get worse than before, unless it stays above the floor.
-    if (best_altitude < altitude_floor) {
-      real altitude_before = std::numeric_limits<real>::infinity();
-      const auto current_loop = [&](index f) -> const std::vector<index>& { return st.loop[static_cast<std::size_t>(f)]; };
-      for (const index c : cells) static_cast<void>(st.check_cell(c, current_loop, altitude_before));
-      if (best_altitude < altitude_before) return verdict::geometry;
-    }
-    st.position[static_cast<std::size_t>(keep)] = merged;
-
-    // Commit.
-    ++commits;
-    for (const index c : cells) cell_stamp[static_cast<std::size_t>(c)] = commits;
-    rep.collapsed_edges += static_cast<index>(members.size()) - 1;
-    for (const index m : members) {
-      if (m == keep) continue;
-      st.parent[static_cast<std::size_t>(m)] = keep;
-      st.vertex_faces[static_cast<std::size_t>(m)].clear();
-    }
-    st.member_sum[static_cast<std::size_t>(keep)] = sum;
-    st.member_count[static_cast<std::size_t>(keep)] = count;
-    st.member_box[static_cast<std::size_t>(keep)] = originals;
-    st.sides[static_cast<std::size_t>(keep)] = merged_sides;
-    for (std::size_t i = 0; i < faces.size(); ++i) {
-      st.cache[static_cast<std::size_t>(faces[i])].valid = false;
-      if (new_loops[i].empty()) ++rep.dropped_faces;
-      st.loop[static_cast<std::size_t>(faces[i])] = std::move(new_loops[i]);
-    }
-    auto& kept_faces = st.vertex_faces[static_cast<std::size_t>(keep)];
-    kept_faces.clear();
-    for (const index f : faces)
-      if (!st.loop[static_cast<std::size_t>(f)].empty()) kept_faces.push_back(f);
-    // Re-queue the short edges of the cells around the merged vertex.
-    for (const index c : cells)
-      for (index f = tess.first_face(c); f < tess.end_face(c); ++f) {
-        const auto& l = st.loop[static_cast<std::size_t>(f)];
-        for (std::size_t k = 0; k < l.size(); ++k) {
-          const index p = std::min(l[k], l[(k + 1) % l.size()]), q = std::max(l[k], l[(k + 1) % l.size()]);
-          const real lq = st.length(p, q);
-          if (lq < l_min) queue.emplace(lq, p, q);
-        }
-      }
-    return verdict::ok;
-  };
-
-  while (!queue.empty()) {
-    const auto [len, a, b] = queue.top();
-    queue.pop();
-    if (st.parent[static_cast<std::size_t>(a)] != a || st.parent[static_cast<std::size_t>(b)] != b) continue;
-    if (st.length(a, b) != len || !st.is_edge(a, b)) continue;  // stale entry
-    if (const auto it = refused_at.find({a, b}); it != refused_at.end()) {
-      bool changed = false;
-      for (const index v : {a, b})
-        for (const index f : st.vertex_faces[static_cast<std::size_t>(v)])
-          changed = changed || cell_stamp[static_cast<std::size_t>(tess.face_cell[static_cast<std::size_t>(f)])] > it->second;
-      if (!changed) continue;
-    }
-    // First the whole cluster of vertices joined to a by short edges (a tiny face shrinks to a
-    // point in one step, without the needle triangles of its intermediate states), then the
-    // single edge.
-    st.short_edge_cluster(a, l_min, cluster);
-    verdict v = cluster.size() > 2 ? try_merge(cluster) : verdict::topology;
-    if (v != verdict::ok) v = try_merge({a, b});
-    if (v == verdict::ok) continue;
-    refused_at[{a, b}] = commits;
-    ++rep.refused_collapses;
-    ++(v == verdict::boundary ? rep.refused_boundary
-                              : v == verdict::topology ? rep.refused_topology : rep.refused_geometry);
   }
+  if (n_short != nullptr) *n_short = count;
+  return shortest;
+}
 
-  // ---- rebuild ----
+/// The tessellation of the collapsed loops: used vertices renumbered, dropped faces removed,
+/// twins and shared faces rebuilt. `max_vertex_shift` receives the largest distance of an
+/// original vertex from its merged vertex.
+inline tessellation rebuilt(const tessellation& tess, const collapse_state& st, real& max_vertex_shift) {
   const index nv = tess.vertex_count();
   std::vector<index> new_vertex(static_cast<std::size_t>(nv), invalid_index);
   tessellation out;
@@ -314,8 +148,8 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
       out.vertices.push_back(st.position[static_cast<std::size_t>(v)]);
     }
   for (index v = 0; v < nv; ++v)
-    rep.max_vertex_shift = std::max(rep.max_vertex_shift, (tess.vertices[static_cast<std::size_t>(v)] -
-                                                           st.position[static_cast<std::size_t>(st.find(v))]).norm());
+    max_vertex_shift = std::max(max_vertex_shift, (tess.vertices[static_cast<std::size_t>(v)] -
+                                                   st.position[static_cast<std::size_t>(st.find(v))]).norm());
   std::vector<index> new_face(static_cast<std::size_t>(tess.face_count()), invalid_index);
   for (index c = 0; c < tess.cell_count(); ++c) {
     for (index f = tess.first_face(c); f < tess.end_face(c); ++f) {
@@ -347,7 +181,231 @@ inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
     const index c = out.face_cell[static_cast<std::size_t>(f)], n = out.face_neighbor[static_cast<std::size_t>(f)];
     if (n > c) out.shared_faces.push_back({c, f, n, out.face_twin[static_cast<std::size_t>(f)]});
   }
-  rep.min_edge_after = shortest_and_count(&rep.short_edges_after);
+  return out;
+}
+
+/// One regularization pass: pops short edges shortest first and merges each vertex cluster
+/// (or the single edge) when every check of the file comment passes.
+class merge_pass {
+ public:
+  merge_pass(const tessellation& tess, collapse_state& st, real l_min, regularization_report& rep)
+      : tess_(tess), st_(st), l_min_(l_min), rep_(rep),
+        altitude_floor_(altitude_floor_rel * l_min), max_shift_(max_shift_rel * l_min),
+        cell_stamp_(static_cast<std::size_t>(tess.cell_count()), 0) {}
+
+  edge_queue& queue() { return queue_; }
+
+  void run() {
+    std::vector<index> cluster;
+    while (!queue_.empty()) {
+      const auto [len, a, b] = queue_.top();
+      queue_.pop();
+      if (st_.parent[static_cast<std::size_t>(a)] != a || st_.parent[static_cast<std::size_t>(b)] != b) continue;
+      if (st_.length(a, b) != len || !st_.is_edge(a, b)) continue;  // stale entry
+      if (refused_and_unchanged(a, b)) continue;
+      // First the whole cluster of vertices joined to a by short edges (a tiny face shrinks to
+      // a point in one step, without the needle triangles of its intermediate states), then
+      // the single edge.
+      st_.short_edge_cluster(a, l_min_, cluster);
+      verdict v = cluster.size() > 2 ? try_merge(cluster) : verdict::topology;
+      if (v != verdict::ok) v = try_merge({a, b});
+      if (v == verdict::ok) continue;
+      refused_at_[{a, b}] = commits_;
+      ++rep_.refused_collapses;
+      ++(v == verdict::boundary ? rep_.refused_boundary
+                                : v == verdict::topology ? rep_.refused_topology : rep_.refused_geometry);
+    }
+  }
+
+ private:
+  // A refused edge is re-evaluated only after a commit touched one of its cells.
+  bool refused_and_unchanged(index a, index b) const {
+    const auto it = refused_at_.find({a, b});
+    if (it == refused_at_.end()) return false;
+    for (const index v : {a, b})
+      for (const index f : st_.vertex_faces[static_cast<std::size_t>(v)])
+        if (cell_stamp_[static_cast<std::size_t>(tess_.face_cell[static_cast<std::size_t>(f)])] > it->second)
+          return false;
+    return true;
+  }
+
+  // The cluster's merged data: side set, member sums and the box of the original vertices.
+  struct cluster_data {
+    std::uint8_t sides = 0;
+    vec3 sum = vec3::Zero();
+    index count = 0;
+    aabb originals;
+  };
+
+  // Merges the vertices `members` (sorted, >= 2) into members[0] if every check passes.
+  verdict try_merge(const std::vector<index>& members) {
+    // Box sides: the union of the members' side sets must be one of them (see the file comment).
+    cluster_data d;
+    for (const index m : members) d.sides |= st_.sides[static_cast<std::size_t>(m)];
+    bool realized = false;
+    for (const index m : members) realized = realized || st_.sides[static_cast<std::size_t>(m)] == d.sides;
+    if (!realized) return verdict::boundary;
+    for (const index m : members) {
+      d.originals.expand(st_.member_box[static_cast<std::size_t>(m)].lo);
+      d.originals.expand(st_.member_box[static_cast<std::size_t>(m)].hi);
+      d.sum += st_.member_sum[static_cast<std::size_t>(m)];
+      d.count += st_.member_count[static_cast<std::size_t>(m)];
+    }
+    if (!tentative_loops(members)) return verdict::topology;
+    vec3 merged;
+    const verdict v = best_position(members, d, merged);
+    if (v != verdict::ok) return v;
+    commit(members, d, merged);
+    return verdict::ok;
+  }
+
+  // Tentative loops of the faces touching a member (faces_, new_loops_) and the cells to check
+  // (cells_); false if a loop pinches.
+  bool tentative_loops(const std::vector<index>& members) {
+    const index keep = members.front();
+    const auto is_member = [&](index v) { return std::binary_search(members.begin(), members.end(), v); };
+    faces_.clear();
+    for (const index m : members)
+      for (const index f : st_.vertex_faces[static_cast<std::size_t>(m)])
+        if (!st_.loop[static_cast<std::size_t>(f)].empty()) faces_.push_back(f);
+    std::sort(faces_.begin(), faces_.end());
+    faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
+    new_loops_.resize(faces_.size());
+    bool pinched = false;
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      new_loops_[i] = st_.loop[static_cast<std::size_t>(faces_[i])];
+      for (index& v : new_loops_[i])
+        if (is_member(v)) v = keep;
+      pinched = pinched || !collapse_loop(new_loops_[i]);
+      if (new_loops_[i].size() < 3) new_loops_[i].clear();
+    }
+    if (pinched) return false;
+    cells_.clear();
+    for (const index f : faces_) cells_.push_back(tess_.face_cell[static_cast<std::size_t>(f)]);
+    std::sort(cells_.begin(), cells_.end());
+    cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
+    return true;
+  }
+
+  // Candidate positions of the merged vertex: the cluster mean, then each member's own
+  // position (which keeps that member's faces planar); the one whose worst zone is best wins.
+  // The quality rule: the worst zone may not get worse than before, unless it stays above the
+  // floor.
+  verdict best_position(const std::vector<index>& members, const cluster_data& d, vec3& merged) {
+    const index keep = members.front();
+    const auto on_sides = [&](vec3 x) {
+      for (int s = 0; s < 6; ++s)
+        if (d.sides & side_bit(s)) x[s / 2] = s % 2 ? tess_.domain.hi[s / 2] : tess_.domain.lo[s / 2];
+      return x;
+    };
+    const auto loops_of = [&](index f) -> const std::vector<index>& {
+      const auto it = std::lower_bound(faces_.begin(), faces_.end(), f);
+      if (it != faces_.end() && *it == f) return new_loops_[static_cast<std::size_t>(it - faces_.begin())];
+      return st_.loop[static_cast<std::size_t>(f)];
+    };
+    const vec3 old_position = st_.position[static_cast<std::size_t>(keep)];
+    verdict best_verdict = verdict::geometry;
+    real best_altitude = -1;
+    merged = old_position;
+    for (std::size_t candidate = 0; candidate <= members.size(); ++candidate) {
+      const vec3 x = on_sides(candidate == 0 ? vec3(d.sum / static_cast<real>(d.count))
+                                             : st_.position[static_cast<std::size_t>(members[candidate - 1])]);
+      // no original vertex may move farther than l_min (bound: farthest corner of their box)
+      if ((x - d.originals.lo).cwiseAbs().cwiseMax((x - d.originals.hi).cwiseAbs()).norm() > max_shift_) continue;
+      st_.position[static_cast<std::size_t>(keep)] = x;
+      real altitude = std::numeric_limits<real>::infinity();
+      verdict v = verdict::ok;
+      for (std::size_t i = 0; i < cells_.size() && v == verdict::ok; ++i) v = st_.check_cell(cells_[i], loops_of, altitude);
+      if (v != verdict::ok) {
+        if (best_altitude < 0 && v == verdict::topology) best_verdict = v;
+        continue;
+      }
+      if (altitude > best_altitude) {
+        best_altitude = altitude;
+        merged = x;
+        best_verdict = verdict::ok;
+      }
+    }
+    st_.position[static_cast<std::size_t>(keep)] = old_position;
+    if (best_verdict != verdict::ok) return best_verdict;
+    if (best_altitude < altitude_floor_) {
+      real altitude_before = std::numeric_limits<real>::infinity();
+      const auto current_loop = [&](index f) -> const std::vector<index>& { return st_.loop[static_cast<std::size_t>(f)]; };
+      for (const index c : cells_) static_cast<void>(st_.check_cell(c, current_loop, altitude_before));
+      if (best_altitude < altitude_before) return verdict::geometry;
+    }
+    return verdict::ok;
+  }
+
+  // Applies the merge and re-queues the short edges of the cells around the merged vertex.
+  void commit(const std::vector<index>& members, const cluster_data& d, const vec3& merged) {
+    const index keep = members.front();
+    st_.position[static_cast<std::size_t>(keep)] = merged;
+    ++commits_;
+    for (const index c : cells_) cell_stamp_[static_cast<std::size_t>(c)] = commits_;
+    rep_.collapsed_edges += static_cast<index>(members.size()) - 1;
+    for (const index m : members) {
+      if (m == keep) continue;
+      st_.parent[static_cast<std::size_t>(m)] = keep;
+      st_.vertex_faces[static_cast<std::size_t>(m)].clear();
+    }
+    st_.member_sum[static_cast<std::size_t>(keep)] = d.sum;
+    st_.member_count[static_cast<std::size_t>(keep)] = d.count;
+    st_.member_box[static_cast<std::size_t>(keep)] = d.originals;
+    st_.sides[static_cast<std::size_t>(keep)] = d.sides;
+    for (std::size_t i = 0; i < faces_.size(); ++i) {
+      st_.cache[static_cast<std::size_t>(faces_[i])].valid = false;
+      if (new_loops_[i].empty()) ++rep_.dropped_faces;
+      st_.loop[static_cast<std::size_t>(faces_[i])] = std::move(new_loops_[i]);
+    }
+    auto& kept_faces = st_.vertex_faces[static_cast<std::size_t>(keep)];
+    kept_faces.clear();
+    for (const index f : faces_)
+      if (!st_.loop[static_cast<std::size_t>(f)].empty()) kept_faces.push_back(f);
+    for (const index c : cells_)
+      for (index f = tess_.first_face(c); f < tess_.end_face(c); ++f) {
+        const auto& l = st_.loop[static_cast<std::size_t>(f)];
+        for (std::size_t k = 0; k < l.size(); ++k) {
+          const index p = std::min(l[k], l[(k + 1) % l.size()]), q = std::max(l[k], l[(k + 1) % l.size()]);
+          const real lq = st_.length(p, q);
+          if (lq < l_min_) queue_.emplace(lq, p, q);
+        }
+      }
+  }
+
+  const tessellation& tess_;
+  collapse_state& st_;
+  real l_min_;
+  regularization_report& rep_;
+  real altitude_floor_, max_shift_;
+  edge_queue queue_;
+  index commits_ = 0;
+  std::vector<index> cell_stamp_;
+  std::map<std::pair<index, index>, index> refused_at_;
+  std::vector<index> faces_, cells_;
+  std::vector<std::vector<index>> new_loops_;
+};
+
+}  // namespace detail::edge_collapse
+
+/// Collapses the edges of `tess` shorter than min_edge_rel x (V_box / N_cells)^(1/3) in place,
+/// following the rules and guarantees of the file comment; min_edge_rel = 0 does nothing.
+/// Throws invalid_input for min_edge_rel outside [0, 0.5] (larger thresholds would collapse
+/// whole cells).
+inline regularization_report regularize(tessellation& tess, real min_edge_rel) {
+  using namespace detail::edge_collapse;
+  require(std::isfinite(min_edge_rel) && min_edge_rel >= 0 && min_edge_rel <= max_regularization,
+          "regularize: min_edge_rel = ", min_edge_rel, " must lie in [0, ", max_regularization,
+          "] (relative to the mean cell size)");
+  regularization_report rep;
+  if (tess.cell_count() <= 0) return rep;
+  rep.threshold = min_edge_rel * std::cbrt(tess.domain.volume() / tess.cell_count());
+  collapse_state st(tess);
+  merge_pass pass(tess, st, rep.threshold, rep);
+  rep.min_edge_before = shortest_edge(st, rep.threshold, &pass.queue(), &rep.short_edges_before);
+  pass.run();
+  tessellation out = rebuilt(tess, st, rep.max_vertex_shift);
+  rep.min_edge_after = shortest_edge(st, rep.threshold, nullptr, &rep.short_edges_after);
   tess = std::move(out);
   return rep;
 }
