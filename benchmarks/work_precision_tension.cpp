@@ -59,6 +59,111 @@ struct row {
   bool estimated = false;
 };
 
+// The variants of the table (the first of each block count is its reference).
+std::vector<variant> variants_for(bool quick) {
+  if (quick)
+    return {{"ref_100_2nm", 100, 0.005, 2e-9, true, true},
+            {"du_5nm", 100, 0.005, 5e-9, true, false},
+            {"du_10nm", 100, 0.005, 1e-8, true, false},
+            {"du_20nm", 100, 0.005, 2e-8, true, false},
+            {"rigid_du_5nm", 100, 0.005, 5e-9, true, false, true},
+            {"no_mass_scaling", 100, 0.005, 2e-9, false, false}};
+  return {{"ref_100_1nm", 100, 0.005, 1e-9, true, true},
+          {"du_2nm", 100, 0.005, 2e-9, true, false},
+          {"du_5nm", 100, 0.005, 5e-9, true, false},
+          {"du_10nm", 100, 0.005, 1e-8, true, false},
+          {"du_20nm", 100, 0.005, 2e-8, true, false},
+          {"rate_20mm_du_2nm", 100, 0.02, 2e-9, true, false},
+          {"rate_1mm_du_2nm", 100, 0.001, 2e-9, true, false},
+          {"rigid_du_2nm", 100, 0.005, 2e-9, true, false, true},
+          {"rigid_du_5nm", 100, 0.005, 5e-9, true, false, true},
+          {"no_mass_scaling", 100, 0.005, 2e-9, false, false},
+          {"ref_250_2nm", 250, 0.005, 2e-9, true, true},
+          {"b250_du_5nm", 250, 0.005, 5e-9, true, false},
+          {"b250_du_10nm", 250, 0.005, 1e-8, true, false}};
+}
+
+// Runs one variant (or, without mass scaling, estimates its cost from the physical stable step
+// and the reference's time per step; the ramp is ignored) and prints its line.
+row run_variant(const variant& v, const scenes::prism_scene& scene, const row* ref, real u_max, int threads) {
+  row w{v, {}, 0, 0, 0, false};
+  scenes::tension_loading ld;
+  ld.rate = v.rate;
+  ld.step_displacement = v.step_displacement;
+  ld.max_displacement = u_max;
+  ld.stop_at_separation = false;
+  ld.threads = threads;
+  ld.label = v.name;
+  if (!v.mass_scaling) {
+    tessera::solver_options opt;
+    const tessera::prism_solver probe(scene.tess, scene.mesh, scene.block_material, scene.contact, {}, opt);
+    w.r.dt = probe.dt();
+    w.r.steps = static_cast<std::int64_t>(u_max / (v.rate * probe.dt()));
+    w.estimated = true;
+    const real per_step = ref != nullptr && ref->r.steps > 0 ? ref->wall_s / static_cast<real>(ref->r.steps) : 0;
+    w.wall_s = per_step * static_cast<real>(w.r.steps);
+    std::printf("%-18s not run: physical stable step %.3g s -> %lld steps, about %.0f s\n", v.name.c_str(), w.r.dt,
+                static_cast<long long>(w.r.steps), w.wall_s);
+    return w;
+  }
+  const tessera::cli::wall_timer timer;
+  w.r = v.rigid ? scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, ld)
+                : scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
+  w.wall_s = timer.seconds();
+  const row& against = (v.reference || ref == nullptr || ref->v.blocks != v.blocks) ? w : *ref;
+  if (&against != &w) {
+    w.curve_error = scenes::curve_error_rel(w.r.displacement, w.r.stress, against.r.displacement, against.r.stress, u_max);
+    w.peak_difference = (w.r.peak_stress - against.r.peak_stress) / against.r.peak_stress;
+  }
+  std::printf("%-18s %8lld steps %7.1f s  dt %.3g s  added mass %5.1fx  peak %.4f MPa  curve error %.4f  peak vs ref %+.4f\n",
+              v.name.c_str(), static_cast<long long>(w.r.steps), w.wall_s, w.r.dt, w.r.added_mass_ratio,
+              w.r.peak_stress * 1e-6, w.curve_error, w.peak_difference);
+  std::fflush(stdout);
+  return w;
+}
+
+// One CSV row per variant.
+void write_table(const fs::path& file_path, const std::vector<row>& rows, real f_t) {
+  tessera::io::atomic_ofstream file(file_path);
+  std::ostream& os = file.stream();
+  os << "variant,blocks,blocks_model,rate_m_per_s,step_displacement_m,mass_scaling,dt_s,added_mass_ratio,steps,wall_s,"
+        "estimated,peak_Pa,peak_error_rel,peak_vs_reference_rel,curve_error_rel\n";
+  os.precision(6);
+  for (const row& x : rows)
+    os << x.v.name << ',' << x.v.blocks << ',' << (x.v.rigid ? "rigid" : "deformable") << ',' << x.v.rate << ',' << x.v.step_displacement << ','
+       << (x.v.mass_scaling ? 1 : 0) << ',' << x.r.dt << ',' << x.r.added_mass_ratio << ',' << x.r.steps << ','
+       << x.wall_s << ',' << (x.estimated ? 1 : 0) << ',' << x.r.peak_stress << ','
+       << (x.estimated ? 0.0 : (x.r.peak_stress - f_t) / f_t) << ',' << x.peak_difference << ',' << x.curve_error
+       << '\n';
+  file.commit();
+}
+
+// The log-log plot: one point per measured non-reference variant, one series per block model.
+void write_plot(const fs::path& out, const std::vector<row>& rows) {
+  tessera::io::plot_spec plot;
+  plot.title = "Direct tension: curve error vs wall time (reference rows and estimates excluded)";
+  plot.xlabel = "wall time (s)";
+  plot.ylabel = "L2 curve error / reference peak";
+  plot.log_x = true;
+  plot.log_y = true;
+  for (const bool rigid : {false, true}) {
+    const std::string name = rigid ? "work_precision_tension_points_rigid.csv" : "work_precision_tension_points.csv";
+    tessera::io::csv_writer pts(out / name, {"wall_s", "curve_error"});
+    int n = 0;
+    for (const row& x : rows)
+      if (x.v.rigid == rigid && !x.v.reference && !x.estimated && x.curve_error > 0) {
+        pts.row(x.wall_s, x.curve_error);
+        ++n;
+      }
+    pts.commit();
+    if (n > 0)
+      plot.series.push_back({.csv = out / name, .x_column = "wall_s", .y_column = "curve_error",
+                             .title = rigid ? "rigid blocks" : "deformable blocks",
+                             .style = rigid ? "points pt 5 ps 1.5" : "points pt 7 ps 1.5"});
+  }
+  tessera::io::plot_png(out / "work_precision_tension.png", plot);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -74,29 +179,7 @@ int main(int argc, char** argv) {
     const fs::path out = common.out;
     tessera::io::ensure_directory(out);
     const real u_max = common.quick ? 1.1e-4 : 1.5e-4;
-    std::vector<variant> variants;
-    if (common.quick) {
-      variants = {{"ref_100_2nm", 100, 0.005, 2e-9, true, true},
-                  {"du_5nm", 100, 0.005, 5e-9, true, false},
-                  {"du_10nm", 100, 0.005, 1e-8, true, false},
-                  {"du_20nm", 100, 0.005, 2e-8, true, false},
-                  {"rigid_du_5nm", 100, 0.005, 5e-9, true, false, true},
-                  {"no_mass_scaling", 100, 0.005, 2e-9, false, false}};
-    } else {
-      variants = {{"ref_100_1nm", 100, 0.005, 1e-9, true, true},
-                  {"du_2nm", 100, 0.005, 2e-9, true, false},
-                  {"du_5nm", 100, 0.005, 5e-9, true, false},
-                  {"du_10nm", 100, 0.005, 1e-8, true, false},
-                  {"du_20nm", 100, 0.005, 2e-8, true, false},
-                  {"rate_20mm_du_2nm", 100, 0.02, 2e-9, true, false},
-                  {"rate_1mm_du_2nm", 100, 0.001, 2e-9, true, false},
-                  {"rigid_du_2nm", 100, 0.005, 2e-9, true, false, true},
-                  {"rigid_du_5nm", 100, 0.005, 5e-9, true, false, true},
-                  {"no_mass_scaling", 100, 0.005, 2e-9, false, false},
-                  {"ref_250_2nm", 250, 0.005, 2e-9, true, true},
-                  {"b250_du_5nm", 250, 0.005, 5e-9, true, false},
-                  {"b250_du_10nm", 250, 0.005, 1e-8, true, false}};
-    }
+    const std::vector<variant> variants = variants_for(common.quick);
     std::vector<row> rows;
     rows.reserve(variants.size());  // no reallocation: `ref` stays valid
     const row* ref = nullptr;
@@ -110,85 +193,11 @@ int main(int argc, char** argv) {
         scene = scenes::make_prism(po);
         scene_blocks = v.blocks;
       }
-      row w{v, {}, 0, 0, 0, false};
-      scenes::tension_loading ld;
-      ld.rate = v.rate;
-      ld.step_displacement = v.step_displacement;
-      ld.max_displacement = u_max;
-      ld.stop_at_separation = false;
-      ld.threads = common.threads;
-      ld.label = v.name;
-      if (!v.mass_scaling) {
-        // Not run: estimate its cost from the physical stable step (the ramp is ignored).
-        tessera::solver_options opt;
-        const tessera::prism_solver probe(scene.tess, scene.mesh, scene.block_material, scene.contact, {}, opt);
-        w.r.dt = probe.dt();
-        w.r.steps = static_cast<std::int64_t>(u_max / (v.rate * probe.dt()));
-        w.estimated = true;
-        const real per_step = ref != nullptr && ref->r.steps > 0 ? ref->wall_s / static_cast<real>(ref->r.steps) : 0;
-        w.wall_s = per_step * static_cast<real>(w.r.steps);
-        w.curve_error = 0;
-        std::printf("%-18s not run: physical stable step %.3g s -> %lld steps, about %.0f s\n", v.name.c_str(), w.r.dt,
-                    static_cast<long long>(w.r.steps), w.wall_s);
-        rows.push_back(w);
-        continue;
-      }
-      const tessera::cli::wall_timer timer;
-      w.r = v.rigid ? scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, ld)
-                    : scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
-      w.wall_s = timer.seconds();
-      rows.push_back(w);
+      rows.push_back(run_variant(v, scene, ref, u_max, common.threads));
       if (v.reference) ref = &rows.back();
-      row& last = rows.back();
-      if (ref != nullptr && ref->v.blocks == v.blocks) {
-        last.curve_error = scenes::curve_error_rel(last.r.displacement, last.r.stress, ref->r.displacement, ref->r.stress, u_max);
-        last.peak_difference = (last.r.peak_stress - ref->r.peak_stress) / ref->r.peak_stress;
-      }
-      std::printf("%-18s %8lld steps %7.1f s  dt %.3g s  added mass %5.1fx  peak %.4f MPa  curve error %.4f  peak vs ref %+.4f\n",
-                  v.name.c_str(), static_cast<long long>(last.r.steps), last.wall_s, last.r.dt, last.r.added_mass_ratio,
-                  last.r.peak_stress * 1e-6, last.curve_error, last.peak_difference);
-      std::fflush(stdout);
     }
-
-    // CSV (one row per variant) and the log-log plot, one point series per group of variants.
-    const real f_t = scene.contact.tension.f_T;
-    {
-      tessera::io::atomic_ofstream file(out / "work_precision_tension.csv");
-      std::ostream& os = file.stream();
-      os << "variant,blocks,blocks_model,rate_m_per_s,step_displacement_m,mass_scaling,dt_s,added_mass_ratio,steps,wall_s,"
-            "estimated,peak_Pa,peak_error_rel,peak_vs_reference_rel,curve_error_rel\n";
-      os.precision(6);
-      for (const row& x : rows)
-        os << x.v.name << ',' << x.v.blocks << ',' << (x.v.rigid ? "rigid" : "deformable") << ',' << x.v.rate << ',' << x.v.step_displacement << ','
-           << (x.v.mass_scaling ? 1 : 0) << ',' << x.r.dt << ',' << x.r.added_mass_ratio << ',' << x.r.steps << ','
-           << x.wall_s << ',' << (x.estimated ? 1 : 0) << ',' << x.r.peak_stress << ','
-           << (x.estimated ? 0.0 : (x.r.peak_stress - f_t) / f_t) << ',' << x.peak_difference << ',' << x.curve_error
-           << '\n';
-      file.commit();
-    }
-    tessera::io::plot_spec plot;
-    plot.title = "Direct tension: curve error vs wall time (reference rows and estimates excluded)";
-    plot.xlabel = "wall time (s)";
-    plot.ylabel = "L2 curve error / reference peak";
-    plot.log_x = true;
-    plot.log_y = true;
-    // One point per measured non-reference variant, one series per block model.
-    for (const bool rigid : {false, true}) {
-      const std::string name = rigid ? "work_precision_tension_points_rigid.csv" : "work_precision_tension_points.csv";
-      tessera::io::csv_writer pts(out / name, {"wall_s", "curve_error"});
-      int n = 0;
-      for (const row& x : rows)
-        if (x.v.rigid == rigid && !x.v.reference && !x.estimated && x.curve_error > 0) {
-          pts.row(x.wall_s, x.curve_error);
-          ++n;
-        }
-      pts.commit();
-      if (n > 0)
-        plot.series.push_back({.csv = out / name, .x_column = "wall_s", .y_column = "curve_error",
-                               .title = rigid ? "rigid blocks" : "deformable blocks",
-                               .style = rigid ? "points pt 5 ps 1.5" : "points pt 7 ps 1.5"});
-    }
-    tessera::io::plot_png(out / "work_precision_tension.png", plot);
+    write_table(out / "work_precision_tension.csv", rows, scene.contact.tension.f_T);
+    write_plot(out, rows);
     std::printf("wrote %s\n", (out / "work_precision_tension.csv").string().c_str());
     return 0;
   } catch (const std::exception& e) {
