@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
       rows.push_back(run_variant(v, scene, ref, u_max, common.threads));
       if (v.reference) ref = &rows.back();
     }
-    write_table(out / "work_precision_tension.csv", rows, scene.contact.tension.f_T);
+    write_table(out / "work_precision_tension.csv", rows, scene.f_T);
     write_plot(out, rows);
     std::printf("wrote %s\n", (out / "work_precision_tension.csv").string().c_str());
     return 0;

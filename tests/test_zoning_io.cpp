@@ -23,6 +23,7 @@
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
+#include "tessera/io/json_reader.hpp"
 #include "tessera/io/plot.hpp"
 #include "tessera/io/vtk.hpp"
 
@@ -675,6 +676,57 @@ TEST_CASE("io: summary_json is one flat ordered object", "[io]") {
   // 17 significant digits round-trip a double exactly.
   const double x = 0.1 + 0.2;
   CHECK(std::stod(io::summary_json::number(x)) == x);
+}
+
+TEST_CASE("io: nested summary_json reads back through read_json exactly", "[io]") {
+  io::summary_json recipe, a, b, doc;
+  recipe.set("softening", "power").set("rigid", false);
+  a.set("blocks", 100).set("scale", 0.83042188182091758).set("seeds", std::vector<double>{1, 2});
+  b.set("blocks", 250).set("scale", 1e-300).set("note", "tab\there \"quoted\"");
+  doc.set("format", "f").set("recipe", recipe).set("entries", std::vector<io::summary_json>{a, b});
+  doc.set("empty", std::vector<io::summary_json>{});
+  const fs::path p = scratch("json_nested") / "doc.json";
+  doc.write(p);
+  const io::json_value v = io::read_json(p);
+  CHECK(v.at("format").string() == "f");
+  CHECK(v.at("recipe").at("softening").string() == "power");
+  CHECK_FALSE(v.at("recipe").at("rigid").boolean());
+  const auto& e = v.at("entries").items();
+  REQUIRE(e.size() == 2);
+  CHECK(e[0].at("blocks").integer(1, 1000) == 100);
+  CHECK(e[0].at("scale").number() == 0.83042188182091758);  // 17 digits: the same double
+  CHECK(e[0].at("seeds").items()[1].number() == 2);
+  CHECK(e[1].at("scale").number() == 1e-300);
+  CHECK(e[1].at("note").string() == "tab\there \"quoted\"");
+  CHECK(v.at("empty").items().empty());
+  // Errors name the key path, or the file, line and column.
+  const auto message = [](auto&& f) {
+    try {
+      f();
+    } catch (const io_error& x) {
+      return std::string(x.what());
+    }
+    return std::string("no error");
+  };
+  CHECK(message([&] { (void)e[0].at("missing"); }).find("doc.json: entries[0]: missing key \"missing\"") !=
+        std::string::npos);
+  CHECK(message([&] { (void)e[0].at("blocks").string(); }).find("entries[0].blocks must be a string, got a number") !=
+        std::string::npos);
+  CHECK(message([&] { (void)e[0].at("scale").integer(0, 10); }).find("must be a whole number") != std::string::npos);
+  CHECK(message([] { (void)io::parse_json("{\"a\": 1,\n \"a\": 2}", "x.json"); }) == "x.json:2:2: duplicate key \"a\"");
+  CHECK(message([] { (void)io::parse_json("[1, 2] 3", "x.json"); }) == "x.json:1:8: unexpected text after the JSON value");
+  CHECK(message([] { (void)io::parse_json("{\"a\": [1, 2", "x.json"); }).find("expected ',' or ']'") != std::string::npos);
+  CHECK(message([] { (void)io::parse_json("01", "x.json"); }).find("unexpected text") != std::string::npos);
+  CHECK(message([] { (void)io::parse_json("1e999", "x.json"); }) == "x.json:1:1: number out of range");
+  CHECK(message([] { (void)io::parse_json("-", "x.json"); }).find("malformed number") != std::string::npos);
+  CHECK(message([] { (void)io::parse_json("\"a\\u00e9\"", "x.json"); }).find("beyond ASCII") != std::string::npos);
+  CHECK(message([] { (void)io::parse_json(std::string(100, '[') + std::string(100, ']'), "x.json"); })
+            .find("nesting deeper than 64") != std::string::npos);
+  CHECK(message([] { (void)io::parse_json("", "x.json"); }).find("unexpected end of file") != std::string::npos);
+  CHECK(message([] { (void)io::read_json("/nonexistent/x.json"); }).find("cannot read '/nonexistent/x.json'") !=
+        std::string::npos);
+  CHECK(io::parse_json(" [true, null, -0.5e-3, \"\\u0041\\n\"] ", "x").items()[3].string() == "A\n");
+  CHECK(io::parse_json("[-0.5e-3]", "x").items()[0].number() == -0.5e-3);
 }
 
 TEST_CASE("io: csv writer has a header row and full precision", "[io]") {

@@ -72,6 +72,9 @@ struct tie_options {
   /// Initial cohesion of the concrete contacts c_0 / f_T (the study and DESIGN.md: 2; c_res =
   /// 0.01 c_0 either way).
   real cohesion_ratio = 2;
+  /// Calibrated contact strength and fracture-energy scales (prism_options; 1 = the study verbatim).
+  real strength_scale = 1;
+  real fracture_energy_scale = 1;
   bool bare = false;         ///< unbonded bar, concrete fixed (bare-bar reference run)
   bool rigid = false;        ///< rigid blocks (blocks::rigid; bond hosts are still the zones, no confinement)
 };
@@ -125,6 +128,8 @@ struct tie_scene {
   po.tessellation.min_edge_rel = o.regularize;
   po.tessellation.lloyd_iterations = o.lloyd;
   po.cohesion_ratio = o.cohesion_ratio;
+  po.strength_scale = o.strength_scale;
+  po.fracture_energy_scale = o.fracture_energy_scale;
   t.prism = make_prism(po);
   const vec3 lo = t.prism.box.lo, hi = t.prism.box.hi;
   const vec3 start(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z());
@@ -141,7 +146,7 @@ struct tie_scene {
   h.steel_area = s.area();
   h.concrete_area = t.prism.cross_section() - h.steel_area;
   h.modular_ratio = s.young_modulus / concrete_young;
-  h.cracking_force = t.prism.contact.tension.f_T * (h.concrete_area + h.modular_ratio * h.steel_area);
+  h.cracking_force = t.prism.f_T * (h.concrete_area + h.modular_ratio * h.steel_area);
   h.uncracked_stiffness = (concrete_young * h.concrete_area + s.young_modulus * h.steel_area) / h.length;
   h.bare_bar_stiffness = s.young_modulus * h.steel_area / h.length;
   {

@@ -10,6 +10,7 @@
 //             c_0 = 2 f_T (prism_options::cohesion_ratio), c_res = 0.01 c_0, phi_0 = 35 deg, phi_res = 30 deg, power softening
 //             (alpha = 3) or linear softening
 
+#include <cmath>
 #include <cstdint>
 
 #include "tessera/blocks/linear_elastic_tet.hpp"
@@ -37,6 +38,12 @@ struct prism_options {
   /// Initial cohesion of the contacts c_0 / f_T (the study and DESIGN.md: 2); c_res = 0.01 c_0.
   /// The drivers check it (finite, >= 0) before they create their output folder.
   real cohesion_ratio = 2;
+  /// Calibration (DESIGN.md §5, examples/calibrate): the contact tensile strength and, with it,
+  /// the cohesion are the Table 1 values times strength_scale; the contact fracture energy is
+  /// G_f times fracture_energy_scale. 1 and 1 = the study verbatim. The references the figures
+  /// are checked against (prism_scene::f_T, G_f) stay the macro values.
+  real strength_scale = 1;
+  real fracture_energy_scale = 1;
   /// Regularisation of the random tessellation (Lloyd steps, minimum generator spacing, ...);
   /// the default is a plain Poisson-Voronoi tessellation.
   geometry::tessellation_options tessellation{};
@@ -48,6 +55,8 @@ struct prism_scene {
   geometry::block_mesh mesh;
   zones::linear_elastic_tet::params block_material;
   law::study_tie_law::params contact;      ///< power softening (the study's choice)
+  real f_T = 0;  ///< the concrete's tensile strength (Pa): the reference of the peak, whatever the contacts carry
+  real G_f = 0;  ///< the concrete's fracture energy (J/m^2): the reference of the dissipated energy
   [[nodiscard]] real cross_section() const { return box.size().x() * box.size().y(); }
   [[nodiscard]] real length() const { return box.size().z(); }
 };
@@ -56,7 +65,15 @@ struct prism_scene {
 /// count outside Table 1).
 [[nodiscard]] inline prism_scene make_prism(const prism_options& o) {
   prism_scene s;
+  require(std::isfinite(o.strength_scale) && o.strength_scale > 0, "prism: strength scale = ", o.strength_scale,
+          " must be finite and > 0");
+  require(std::isfinite(o.fracture_energy_scale) && o.fracture_energy_scale > 0, "prism: fracture energy scale = ",
+          o.fracture_energy_scale, " must be finite and > 0");
   s.contact = law::study_prism_params(o.blocks);
+  s.f_T = s.contact.tension.f_T;
+  s.G_f = s.contact.tension.G_f;
+  s.contact.tension.f_T *= o.strength_scale;
+  s.contact.tension.G_f *= o.fracture_energy_scale;
   s.contact.shear.c_0 = o.cohesion_ratio * s.contact.tension.f_T;
   s.contact.shear.c_res = 0.01 * s.contact.shear.c_0;
   s.box.lo = vec3::Zero();

@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "common/calibration.hpp"
 #include "common/cli.hpp"
 #include "common/scenes.hpp"
 #include "direct_tension/tension_test.hpp"
@@ -59,6 +60,8 @@ struct inputs {
   int seeds = 1;
   int lloyd = 0;                  // Lloyd steps of the tessellation
   double regularize = 0;          // short-edge regularization (relative to the mean cell size)
+  std::string params;             // calibrated.json (examples/calibrate); empty = the study verbatim
+  scenes::calibration_entry calibrated;  // its entry for --blocks (scales 1 without --params)
   scenes::tension_loading loading;
 };
 
@@ -81,6 +84,8 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   po.tessellation.lloyd_iterations = in.lloyd;
   po.tessellation.min_edge_rel = in.regularize;
   po.cohesion_ratio = in.cohesion_ratio;
+  po.strength_scale = in.calibrated.strength_scale;
+  po.fracture_energy_scale = in.calibrated.fracture_energy_scale;
   scene = scenes::make_prism(po);
   scene.contact.shear.slip_breaks_tension = in.slip_breaks_tension;
   scenes::tension_loading loading = in.loading;
@@ -104,8 +109,8 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
 }
 
 /// The flags that cannot be checked one at a time (combinations) and those checked again later
-/// inside the library, before anything is written.
-void check_inputs(const inputs& in) {
+/// inside the library, before anything is written; loads --params.
+void check_inputs(inputs& in) {
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
   tessera::require(in.lloyd >= 0, "direct_tension: --lloyd ", in.lloyd, " must be >= 0");
   // geometry::regularize checks this too, but only once the first scene is built, after --out exists.
@@ -121,6 +126,13 @@ void check_inputs(const inputs& in) {
                    "' must be 'decoupled' or 'coupled'");
   tessera::require(in.cohesion == "decoupled" || in.softening == "power",
                    "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
+  if (!in.params.empty()) {
+    tessera::require(in.cohesion == "decoupled", "direct_tension: --params ", in.params,
+                     ": calibrations are fitted with decoupled cohesion, this run uses --cohesion ", in.cohesion);
+    const scenes::calibration_recipe run{in.softening, in.cohesion_ratio, in.loading.step_displacement, in.loading.rate,
+                                         in.rigid};
+    in.calibrated = scenes::load_calibration(in.params, in.blocks, run, "direct_tension");
+  }
 }
 
 /// Contact and zone snapshots at the peak and at the end, and a ParaView time series of both.
@@ -182,7 +194,7 @@ struct fracture_figures {
   std::string fracture_note;
 };
 fracture_figures fracture_of(const inputs& in, const scenes::prism_scene& scene, const scenes::tension_result& r) {
-  const real g_f = scene.contact.tension.G_f;
+  const real g_f = scene.G_f;
   // Fracture energy: tensile dissipation against G_f x (area broken in tension). For power
   // softening a sub-contact pulled to separation dissipates separation_energy = G_f +
   // f_T^2/(2 k_n) - cut-off tail per unit area (+2.3 % for 100 blocks), and sub-contacts off the
@@ -209,7 +221,7 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
                    const tessera::cli::wall_timer& timer) {
   namespace io = tessera::io;
   const auto& r = runs.front();
-  const real f_t = scene.contact.tension.f_T, g_f = scene.contact.tension.G_f, area = scene.cross_section();
+  const real f_t = scene.f_T, g_f = scene.G_f, area = scene.cross_section();
   const double separation_energy = fr.separation_energy, fracture_error = fr.fracture_error, broken_error = fr.broken_error;
   const std::string& fracture_note = fr.fracture_note;
   double peak_min = r.peak_stress, peak_max = r.peak_stress, peak_sum = 0;
@@ -227,6 +239,9 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
       .set("cohesion", in.cohesion)
       .set("slip_breaks_tension", in.slip_breaks_tension)
       .set("cohesion_ratio", in.cohesion_ratio)
+      .set("params", in.params)
+      .set("strength_scale", in.calibrated.strength_scale)
+      .set("fracture_energy_scale", in.calibrated.fracture_energy_scale)
       .set("rigid", in.rigid)
       .set("lloyd_iterations", in.lloyd)
       .set("regularize", in.regularize)
@@ -296,7 +311,7 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
 /// The first seed's figures on stdout, each beside its reference.
 void print_report(const fs::path& out, const scenes::prism_scene& scene, const scenes::tension_result& r,
                   const fracture_figures& fr, const tessera::cli::wall_timer& timer) {
-  const real f_t = scene.contact.tension.f_T, area = scene.cross_section();
+  const real f_t = scene.f_T, area = scene.cross_section();
   const double expected_fracture = fr.expected_fracture, fracture_error = fr.fracture_error;
   std::printf(
       "direct_tension: peak %.4f MPa (f_T %.4f MPa, error %+.2f %%; normal %.3f + shear %.3f MPa over the crack), "
@@ -314,7 +329,7 @@ void print_report(const fs::path& out, const scenes::prism_scene& scene, const s
       timer.seconds(), out.string().c_str());
 }
 
-int run(const inputs& in) {
+int run(inputs& in) {
   namespace io = tessera::io;
   const fs::path out = in.common.out;
   check_inputs(in);
@@ -367,6 +382,9 @@ int main(int argc, char** argv) {
              "(c softens with f_t/f_T; power softening only)",
              "decoupled|coupled").one_of({"decoupled", "coupled"});
   cli.option("--cohesion-ratio", in.cohesion_ratio, "initial cohesion c_0 / f_T (c_res = 0.01 c_0)", "R").greater_than(0);
+  cli.option("--params", in.params,
+             "calibrated.json from examples/calibrate: scale the contact strength (and G_f) by its entry for --blocks",
+             "FILE");
   cli.flag("--slip-breaks-tension", in.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V").greater_than(0);

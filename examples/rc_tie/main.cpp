@@ -60,6 +60,7 @@
 #include <string>
 #include <vector>
 
+#include "common/calibration.hpp"
 #include "common/cli.hpp"
 #include "common/rc_tie_run.hpp"
 #include "tessera/io/atomic_file.hpp"
@@ -83,6 +84,7 @@ struct inputs {
   tessera::scenes::tie_options tie;
   tessera::scenes::tie_loading loading;
   bool write_vtk = true;
+  std::string params;  // calibrated.json (examples/calibrate); empty = the study verbatim
 };
 
 /// Writes the VTK snapshot `tag` of a running tie solver and registers it in the .pvd.
@@ -208,6 +210,9 @@ void write_summary(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("softening", in.loading.softening)
       .set("cohesion", in.loading.cohesion)
       .set("cohesion_ratio", in.tie.cohesion_ratio)
+      .set("params", in.params)
+      .set("strength_scale", in.tie.strength_scale)
+      .set("fracture_energy_scale", in.tie.fracture_energy_scale)
       .set("slip_breaks_tension", in.loading.slip_breaks_tension)
       .set("rigid", in.tie.rigid)
       .set("bare", in.tie.bare)
@@ -229,7 +234,7 @@ void write_summary(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("first_drop_error_rel", rel(r.first_drop_force, hand.cracking_force))
       .set("first_softening_force_N", r.first_softening_force)
       .set("concrete_stress_at_first_crack_Pa", r.concrete_stress_at_first_crack)
-      .set("concrete_stress_at_first_crack_over_f_T", r.concrete_stress_at_first_crack / scene.prism.contact.tension.f_T)
+      .set("concrete_stress_at_first_crack_over_f_T", r.concrete_stress_at_first_crack / scene.prism.f_T)
       .set("softened_subcontacts_at_first_crack", r.softened_at_first_crack)
       .set("initial_stiffness_N_per_m", r.initial_stiffness)
       .set("initial_stiffness_error_rel",
@@ -302,7 +307,7 @@ void print_report(const fs::path& out, const tessera::scenes::tie_scene& scene, 
   std::printf(" m\n  first sub-contact softened at %.2f kN; at first crack the concrete carries %.2f MPa (%.2f f_T) with %lld"
               " of %lld sub-contacts past their peak\n  yield",
               r.first_softening_force * 1e-3, r.concrete_stress_at_first_crack * 1e-6,
-              r.concrete_stress_at_first_crack / scene.prism.contact.tension.f_T, static_cast<long long>(r.softened_at_first_crack),
+              r.concrete_stress_at_first_crack / scene.prism.f_T, static_cast<long long>(r.softened_at_first_crack),
               static_cast<long long>(r.subcontacts));
   std::printf(" %.2f kN (f_y A %.2f kN, error %.2f %%) at %.3f mm, final branch %.2f kN (error %.2f %%); "
               "energy balance error %.2g\n"
@@ -321,6 +326,13 @@ int run(inputs in) {
   in.tie.seed = in.common.seed;
   in.loading.threads = in.common.threads;
   in.loading.progress_label = in.tie.bare ? "rc_tie (bare bar)" : "rc_tie";
+  if (!in.params.empty()) {
+    const tessera::scenes::calibration_recipe recipe{"power", in.tie.cohesion_ratio, in.loading.rate * in.loading.dt,
+                                                     in.loading.rate, in.tie.rigid};
+    const auto e = tessera::scenes::load_calibration(in.params, in.tie.blocks, recipe, "rc_tie");
+    in.tie.strength_scale = e.strength_scale;
+    in.tie.fracture_energy_scale = e.fracture_energy_scale;
+  }
   const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
   const auto& hand = scene.hand;
 
@@ -362,6 +374,9 @@ int main(int argc, char** argv) {
              "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
              "f_t/f_T; power softening, deformable blocks)",
              "decoupled|coupled").one_of({"decoupled", "coupled"});
+  cli.option("--params", in.params,
+             "calibrated.json from examples/calibrate: scale the concrete contacts' strength (and G_f) by its entry for --blocks",
+             "FILE");
   cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R").greater_than(0);
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");

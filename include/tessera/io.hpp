@@ -4,6 +4,7 @@
 #include "io/atomic_file.hpp"
 #include "io/csv.hpp"
 #include "io/json.hpp"
+#include "io/json_reader.hpp"
 #include "io/plot.hpp"
 #include "io/vtk.hpp"
 #include "io/neper.hpp"

@@ -8,7 +8,8 @@
 //
 // Keys keep their insertion order; setting an existing key replaces its value in place.
 // Values: string, floating-point number (17 significant digits; NaN and infinities are written as
-// null, since JSON has no such numbers), integer, bool, array of numbers, array of strings.
+// null, since JSON has no such numbers), integer, bool, array of numbers, array of strings, an
+// object, array of objects. io/json_reader.hpp reads such files back.
 // Not thread-safe per object.
 
 #include <cmath>
@@ -65,6 +66,15 @@ class summary_json {
     return put(key, s + "]");
   }
 
+  /// A nested object (written one key per line, indented under the key).
+  summary_json& set(std::string_view key, const summary_json& object) { return put(key, indented(object, "  ")); }
+  /// An array of objects (each written one key per line, indented under the key).
+  summary_json& set(std::string_view key, const std::vector<summary_json>& objects) {
+    std::string s = "[";
+    for (std::size_t i = 0; i < objects.size(); ++i) s += (i ? ",\n    " : "\n    ") + indented(objects[i], "    ");
+    return put(key, s + (objects.empty() ? "]" : "\n  ]"));
+  }
+
   [[nodiscard]] bool contains(std::string_view key) const { return find(key) != entries_.size(); }
   [[nodiscard]] std::size_t size() const { return entries_.size(); }
 
@@ -109,6 +119,16 @@ class summary_json {
   }
 
  private:
+  // str() of `object` without its final newline, every further line prefixed by `indent`.
+  [[nodiscard]] static std::string indented(const summary_json& object, std::string_view indent) {
+    const std::string text = object.str();
+    std::string out;
+    for (std::size_t i = 0; i + 1 < text.size(); ++i) {
+      out += text[i];
+      if (text[i] == '\n') out += indent;
+    }
+    return out;
+  }
   [[nodiscard]] std::size_t find(std::string_view key) const {
     for (std::size_t i = 0; i < entries_.size(); ++i)
       if (entries_[i].first == key) return i;

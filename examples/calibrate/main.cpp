@@ -1,0 +1,342 @@
+// calibrate: fits the contact strength of the study's prism so that the mean peak of the direct
+// tension test equals the concrete's f_T, and optionally the contact fracture energy so that the
+// mean dissipated energy per cross-section equals G_f (DESIGN.md §5). Writes calibrated.json,
+// which direct_tension and rc_tie load with --params FILE.
+//
+// Why: Voronoi blocks with the study's law peak above f_T (an inclined face peaks at
+// f_T (1 + k_s/k_n tan^2 theta), and the crack is tortuous), by 10-25 % depending on the block
+// count (docs/validation.md). 3DEC and YADE users calibrate the micro-strength against the macro
+// test; this is that step, reproducible and recorded.
+//
+// The fit, per block count N (--blocks 100,250,500):
+//   strength   s scales the contacts' tensile strength and cohesion together (c_0 / f_T stays
+//              --cohesion-ratio). K seeds (--seed, --seed+1, ...) run to just past the peak
+//              (stopped once the stress falls below 0.9 x peak); their mean peak P(s) is driven
+//              to f_T by the secant method on P(s) - f_T, starting from s = 1 and the
+//              proportional step s f_T / P; a step is limited to a factor of 2 (the peak is
+//              nearly proportional to s, so the limit only guards against a wild secant).
+//              Converged when |P/f_T - 1| <= --tolerance.
+//   energy     (--energy) with s fixed, g scales the contacts' G_f; the K seeds run to complete
+//              separation and the mean contact dissipation / cross-section D(g) is driven to
+//              G_f the same way (--energy-tolerance). The peak of those full runs is reported
+//              beside it; a fracture-energy scale moves the peak only slightly.
+//
+// Outputs in --out DIR: calibrated.json (recipe and one entry per block count: scales, seeds,
+// iterations, converged, mean peak and its error, seed spread, energy figures), calibration.csv
+// (every iteration), summary.json (flat: per block count and overall), run.json.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/calibration.hpp"
+#include "common/cli.hpp"
+#include "common/scenes.hpp"
+#include "direct_tension/tension_test.hpp"
+#include "tessera/io/csv.hpp"
+#include "tessera/io/json.hpp"
+#include "tessera/io/run_record.hpp"
+#include "tessera/solver.hpp"
+
+namespace {
+
+using tessera::real;
+namespace fs = std::filesystem;
+namespace scenes = tessera::scenes;
+
+struct inputs {
+  tessera::cli::standard_options common;
+  std::string blocks = "100,250,500";
+  int seeds = 3;
+  bool energy = false;
+  double tolerance = 0.01;         // on the mean peak, relative to f_T
+  double energy_tolerance = 0.03;  // on the mean dissipation per section, relative to G_f
+  int max_iterations = 8;
+  scenes::calibration_recipe recipe;
+  std::vector<int> block_counts;   // parsed from `blocks`
+};
+
+// "100,250,500" -> {100, 250, 500}; each a Table 1 block count, no repeats.
+std::vector<int> parse_block_counts(const std::string& text) {
+  std::vector<int> counts;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    tessera::require(item == "100" || item == "250" || item == "500" || item == "750", "calibrate: --blocks '", text,
+                     "': '", item, "' is not one of 100, 250, 500, 750 (Table 1)");
+    const int n = std::stoi(item);
+    tessera::require(std::find(counts.begin(), counts.end(), n) == counts.end(), "calibrate: --blocks '", text,
+                     "' lists ", n, " twice");
+    counts.push_back(n);
+  }
+  tessera::require(!counts.empty() && text.back() != ',', "calibrate: --blocks '", text,
+                   "' must be a comma-separated list such as 100,250,500");
+  return counts;
+}
+
+// One seed at strength scale s and fracture-energy scale g: to just past the peak, or (full) to
+// separation.
+scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed, real s, real g, bool full) {
+  scenes::prism_options po;
+  po.blocks = blocks;
+  po.seed = seed;
+  po.cohesion_ratio = in.recipe.cohesion_ratio;
+  po.strength_scale = s;
+  po.fracture_energy_scale = g;
+  const scenes::prism_scene scene = scenes::make_prism(po);
+  scenes::tension_loading ld;
+  ld.rate = in.recipe.rate;
+  ld.step_displacement = in.recipe.step_displacement;
+  ld.threads = in.common.threads;
+  ld.stop_at_separation = full;
+  if (!full) {
+    ld.stop_below_peak_ratio = 0.9;
+    ld.max_displacement = 3e-4;
+  }
+  ld.label = tessera::detail::concat("calibrate ", blocks, " blocks seed ", seed, " s ", s);
+  const bool power = in.recipe.softening == "power";
+  if (in.recipe.rigid) {
+    if (power) return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, ld);
+    return scenes::run_direct_tension<
+        tessera::solver<tessera::blocks::rigid, tessera::contact::face_contacts<tessera::law::linear_tie_law>>>(
+        scene, tessera::law::with_linear_softening(scene.contact), ld);
+  }
+  if (power) return scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
+  return scenes::run_direct_tension<tessera::prism_linear_solver>(scene, tessera::law::with_linear_softening(scene.contact),
+                                                                   ld);
+}
+
+// The K seeds at one (s, g): mean and spread of the peak, mean dissipation per cross-section.
+struct ensemble {
+  std::vector<double> peaks;  // Pa
+  double peak_mean = 0, peak_spread = 0, energy_mean = 0;  // Pa, (max - min)/mean, J/m^2
+  std::int64_t steps = 0;
+  bool all_separated = true;
+};
+
+ensemble run_ensemble(const inputs& in, int blocks, real s, real g, bool full, real area) {
+  ensemble e;
+  for (int k = 0; k < in.seeds; ++k) {
+    const scenes::tension_result r =
+        run_seed(in, blocks, in.common.seed + static_cast<std::uint64_t>(k), s, g, full);
+    e.peaks.push_back(r.peak_stress);
+    e.peak_mean += r.peak_stress / in.seeds;
+    e.energy_mean += r.dissipated / area / in.seeds;
+    e.steps += r.steps;
+    e.all_separated = e.all_separated && r.separated;
+  }
+  const auto [lo, hi] = std::minmax_element(e.peaks.begin(), e.peaks.end());
+  e.peak_spread = (*hi - *lo) / e.peak_mean;
+  return e;
+}
+
+// The secant step for f(x) = target on the last two points, limited to a factor of 2.
+real next_scale(real x, real fx, real x_prev, real f_prev, bool have_prev, real target) {
+  real next = x * target / fx;  // proportional step
+  if (have_prev && fx != f_prev) next = x + (target - fx) * (x - x_prev) / (fx - f_prev);
+  return std::clamp(next, 0.5 * x, 2 * x);
+}
+
+struct fit_row {
+  int blocks = 0;
+  std::string phase;
+  int iteration = 0;
+  real s = 1, g = 1;
+  ensemble e;
+  double wall_s = 0;
+};
+
+struct fit_result {
+  int blocks = 0;
+  real s = 1, g = 1;
+  int strength_iterations = 0, energy_iterations = 0;
+  bool converged = false;
+  ensemble last;               // the ensemble at the final scales (full runs with --energy)
+  double peak_error = 0, energy_error = 0;
+};
+
+// Drives measure(x) to `target` by the secant method from x, until |measure/target - 1| <= tol
+// and measure's `acceptable` flag holds; returns whether it converged within max_iterations.
+template <class Measure>
+bool secant_fit(real& x, real target, double tol, int max_iterations, int& iterations, Measure&& measure) {
+  real x_prev = 0, f_prev = 0;
+  for (int it = 1; it <= max_iterations; ++it) {
+    iterations = it;
+    bool acceptable = true;
+    const real fx = measure(x, it, acceptable);
+    if (std::abs(fx / target - 1) <= tol && acceptable) return true;
+    const real next = next_scale(x, fx, x_prev, f_prev, it > 1, target);
+    x_prev = x;
+    f_prev = fx;
+    x = next;
+  }
+  return false;
+}
+
+fit_result fit_block_count(const inputs& in, int blocks, const scenes::prism_scene& reference,
+                           std::vector<fit_row>& rows, std::int64_t& steps) {
+  fit_result f;
+  f.blocks = blocks;
+  const real f_t = reference.f_T, g_f = reference.G_f, area = reference.cross_section();
+  const auto measure = [&](bool full) {
+    return [&, full](real x, int it, bool& acceptable) {
+      const tessera::cli::wall_timer t;
+      (full ? f.g : f.s) = x;
+      const ensemble e = run_ensemble(in, blocks, f.s, f.g, full, area);
+      steps += e.steps;
+      rows.push_back({blocks, full ? "energy" : "strength", it, f.s, f.g, e, t.seconds()});
+      f.last = e;
+      f.peak_error = e.peak_mean / f_t - 1;
+      f.energy_error = e.energy_mean / g_f - 1;
+      acceptable = !full || e.all_separated;
+      if (full)
+        std::printf("calibrate: %d blocks, energy iteration %d: g = %.6f, dissipated %.2f N/m (%+.2f %%), peak %+.2f %%%s\n",
+                    blocks, it, f.g, e.energy_mean, 100 * f.energy_error, 100 * f.peak_error,
+                    e.all_separated ? "" : " (a seed did not separate)");
+      else
+        std::printf("calibrate: %d blocks, strength iteration %d: s = %.6f, mean peak %.4f MPa (%+.2f %%), spread %.1f %%\n",
+                    blocks, it, f.s, e.peak_mean * 1e-6, 100 * f.peak_error, 100 * e.peak_spread);
+      std::fflush(stdout);
+      return full ? e.energy_mean : e.peak_mean;
+    };
+  };
+  real s = f.s, g = f.g;
+  f.converged = secant_fit(s, f_t, in.tolerance, in.max_iterations, f.strength_iterations, measure(false));
+  // f.s and f.g are the last measured scales (measure sets them), whatever secant_fit left in s, g.
+  if (!in.energy || !f.converged) return f;
+  f.converged = secant_fit(g, g_f, in.energy_tolerance, in.max_iterations, f.energy_iterations, measure(true));
+  return f;
+}
+
+void check_inputs(inputs& in) {
+  in.block_counts = parse_block_counts(in.blocks);
+  tessera::require(in.recipe.softening == "power" || in.recipe.softening == "linear", "calibrate: --softening '",
+                   in.recipe.softening, "' must be 'power' or 'linear'");
+  // The loading is checked quasi-static by run_direct_tension itself, before the first step.
+}
+
+void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_result>& fits,
+                   const std::vector<fit_row>& rows, std::int64_t steps, const tessera::cli::wall_timer& timer) {
+  namespace io = tessera::io;
+  {
+    io::csv_writer csv(out / "calibration.csv",
+                       {"blocks", "energy_phase", "iteration", "strength_scale", "fracture_energy_scale", "peak_mean_Pa",
+                        "peak_spread_rel", "dissipated_per_section_J_per_m2", "wall_s"});
+    for (const fit_row& r : rows)
+      csv.row(r.blocks, r.phase == "energy" ? 1 : 0, r.iteration, r.s, r.g, r.e.peak_mean, r.e.peak_spread, r.e.energy_mean, r.wall_s);
+    csv.commit();
+  }
+  io::summary_json recipe;
+  recipe.set("softening", in.recipe.softening)
+      .set("cohesion_ratio", in.recipe.cohesion_ratio)
+      .set("step_displacement_m", in.recipe.step_displacement)
+      .set("rate_m_per_s", in.recipe.rate)
+      .set("rigid", in.recipe.rigid);
+  std::vector<io::summary_json> entries;
+  io::summary_json summary;
+  summary.set("program", "calibrate").set("quick", in.common.quick).set("seed", in.common.seed)
+      .set("seeds", in.seeds).set("energy", in.energy).set("tolerance", in.tolerance)
+      .set("energy_tolerance", in.energy_tolerance).set("softening", in.recipe.softening)
+      .set("cohesion_ratio", in.recipe.cohesion_ratio).set("step_displacement_m", in.recipe.step_displacement)
+      .set("rate_m_per_s", in.recipe.rate).set("rigid", in.recipe.rigid);
+  int converged = 0;
+  double worst_peak = 0;
+  for (const fit_result& f : fits) {
+    std::vector<double> seeds;
+    for (int k = 0; k < in.seeds; ++k) seeds.push_back(static_cast<double>(in.common.seed + static_cast<std::uint64_t>(k)));
+    io::summary_json e;
+    e.set("blocks", f.blocks).set("strength_scale", f.s).set("fracture_energy_scale", f.g).set("seeds", seeds)
+        .set("strength_iterations", f.strength_iterations).set("energy_iterations", f.energy_iterations)
+        .set("converged", f.converged).set("peak_mean_Pa", f.last.peak_mean).set("peak_error_rel", f.peak_error)
+        .set("peak_spread_rel", f.last.peak_spread).set("peaks_Pa", f.last.peaks);
+    if (in.energy) e.set("dissipated_per_section_J_per_m2", f.last.energy_mean).set("energy_error_rel", f.energy_error);
+    entries.push_back(e);
+    const std::string b = "b" + std::to_string(f.blocks) + "_";
+    summary.set(b + "strength_scale", f.s).set(b + "fracture_energy_scale", f.g)
+        .set(b + "peak_error_rel", f.peak_error).set(b + "peak_spread_rel", f.last.peak_spread)
+        .set(b + "iterations", f.strength_iterations + f.energy_iterations).set(b + "converged", f.converged);
+    if (in.energy) summary.set(b + "energy_error_rel", f.energy_error);
+    converged += f.converged ? 1 : 0;
+    worst_peak = std::max(worst_peak, std::abs(f.peak_error));
+  }
+  io::summary_json doc;
+  doc.set("format", scenes::calibration_format).set("recipe", recipe).set("entries", entries);
+  doc.write(out / "calibrated.json");
+  summary.set("block_counts", static_cast<int>(fits.size())).set("converged_count", converged)
+      .set("peak_error_rel_max_abs", worst_peak).set("steps", steps).set("runtime_s", timer.seconds());
+  summary.write(out / "summary.json");
+}
+
+int run(inputs& in) {
+  check_inputs(in);
+  const fs::path out = in.common.out;
+  const tessera::cli::wall_timer timer;
+  std::vector<fit_result> fits;
+  std::vector<fit_row> rows;
+  std::int64_t steps = 0;
+  for (const int blocks : in.block_counts) {
+    scenes::prism_options po;
+    po.blocks = blocks;
+    const scenes::prism_scene reference = scenes::make_prism(po);  // f_T, G_f of the concrete
+    fits.push_back(fit_block_count(in, blocks, reference, rows, steps));
+    tessera::io::ensure_directory(out);  // after the first runs' own checks: bad input leaves no directory
+  }
+  write_outputs(out, in, fits, rows, steps, timer);
+  for (const fit_result& f : fits)
+    std::printf("calibrate: %d blocks: strength scale %.4f, fracture-energy scale %.4f, mean peak %+.2f %% of f_T "
+                "(seed spread %.1f %%)%s, %s\n",
+                f.blocks, f.s, f.g, 100 * f.peak_error, 100 * f.last.peak_spread,
+                in.energy ? tessera::detail::concat(", dissipated ", 100 * f.energy_error, " % from G_f").c_str() : "",
+                f.converged ? "converged" : "NOT converged");
+  std::printf("calibrate: %lld steps, runtime %.1f s; wrote %s\n", static_cast<long long>(steps), timer.seconds(),
+              (out / "calibrated.json").string().c_str());
+  for (const fit_result& f : fits)
+    if (!f.converged) return 3;
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  inputs in;
+  tessera::cli::parser cli(
+      "calibrate",
+      "Fits the contact strength (and with --energy the contact fracture energy) of the study's prism so that the\n"
+      "mean direct-tension peak over K seeds equals f_T = 2.15 MPa (and the dissipated energy G_f x section).\n"
+      "Writes calibrated.json for direct_tension/rc_tie --params. Exit 3 if a block count did not converge.\n"
+      "--quick: 100 blocks, 1 seed, 5 nm per step.");
+  cli.add_standard(in.common);
+  cli.option("--blocks", in.blocks, "comma-separated block counts, each 100, 250, 500 or 750", "LIST");
+  cli.option("--seeds", in.seeds, "seeds per block count (seed, seed+1, ...); the fit is on their mean", "K").within(1, 100);
+  cli.flag("--energy", in.energy, "also fit the contact fracture energy (runs to separation: slower)");
+  cli.option("--tolerance", in.tolerance, "convergence on the mean peak, |P/f_T - 1|", "T").within(1e-4, 0.2);
+  cli.option("--energy-tolerance", in.energy_tolerance, "convergence on the mean dissipation, |D/G_f - 1|", "T")
+      .within(1e-3, 0.5);
+  cli.option("--max-iterations", in.max_iterations, "iterations per fit before giving up", "N").within(1, 50);
+  cli.option("--softening", in.recipe.softening, "tensile softening of the recipe", "power|linear").one_of({"power", "linear"});
+  cli.option("--cohesion-ratio", in.recipe.cohesion_ratio, "c_0 / f_T of the recipe (the study: 2)", "R").greater_than(0);
+  cli.option("--step-displacement", in.recipe.step_displacement, "top displacement per step (m) of the recipe", "DU")
+      .greater_than(0);
+  cli.option("--rate", in.recipe.rate, "top velocity (m/s) of the recipe", "V").greater_than(0);
+  cli.flag("--rigid", in.recipe.rigid, "rigid blocks instead of deformable ones");
+  cli.parse_or_exit(argc, argv);
+  if (in.common.quick) {
+    if (!cli.given("--blocks")) in.blocks = "100";
+    if (!cli.given("--seeds")) in.seeds = 1;
+    if (!cli.given("--step-displacement")) in.recipe.step_displacement = 5e-9;
+  }
+  tessera::io::run_record record(in.common.out, "calibrate", argc, argv);
+  try {
+    const int status = run(in);
+    if (status == 0 || status == 3) record.complete();  // 3: every file written, a fit short of its tolerance
+    return status;
+  } catch (const std::exception& e) {
+    tessera::cli::print_error("calibrate", e);
+    return 1;
+  }
+}

@@ -1,0 +1,132 @@
+#pragma once
+// calibrated.json: the strength (and fracture-energy) scales examples/calibrate fits for a prism
+// recipe, one entry per block count (DESIGN.md §5), and how the drivers load it (--params FILE).
+//
+//   {
+//     "format": "tessera-calibration-1",
+//     "recipe": {"softening": "power", "cohesion_ratio": 2, "step_displacement_m": 2e-09,
+//                "rate_m_per_s": 0.005, "rigid": false},
+//     "entries": [
+//       {"blocks": 100, "strength_scale": 0.91, "fracture_energy_scale": 1, "seeds": [1, 2, 3],
+//        "iterations": 3, "peak_mean_Pa": 2.151e6, "peak_spread_rel": 0.02, ...},
+//       ...
+//     ]
+//   }
+//
+// strength_scale multiplies the contacts' Table 1 tensile strength and with it the cohesion
+// (c_0 = cohesion_ratio x scaled f_T); fracture_energy_scale multiplies the contacts' G_f. The
+// reference values the drivers check against stay the concrete's f_T and G_f. A driver refuses a
+// file whose recipe's law differs from its own (softening, cohesion ratio, rigid blocks): the
+// scales would not mean the same thing; it prints a note when only the step or rate differ.
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/scenes.hpp"
+#include "tessera/core/errors.hpp"
+#include "tessera/io/json.hpp"
+#include "tessera/io/json_reader.hpp"
+
+namespace tessera::scenes {
+
+inline constexpr const char* calibration_format = "tessera-calibration-1";
+/// Scales outside this range are refused on reading: a fit that needs them has gone wrong.
+inline constexpr real min_calibration_scale = 0.1, max_calibration_scale = 10;
+
+struct calibration_recipe {
+  std::string softening = "power";
+  real cohesion_ratio = 2;
+  real step_displacement = 2e-9;  ///< m
+  real rate = 0.005;              ///< m/s
+  bool rigid = false;
+};
+
+struct calibration_entry {
+  int blocks = 100;
+  real strength_scale = 1;
+  real fracture_energy_scale = 1;
+};
+
+struct calibration {
+  calibration_recipe recipe;
+  std::vector<calibration_entry> entries;
+
+  /// The entry for `blocks`; throws invalid_input listing the block counts the file has.
+  [[nodiscard]] const calibration_entry& entry_for(int blocks, const std::string& file) const {
+    std::string have;
+    for (const calibration_entry& e : entries) {
+      if (e.blocks == blocks) return e;
+      have += (have.empty() ? "" : ", ") + std::to_string(e.blocks);
+    }
+    throw invalid_input(tessera::detail::concat(file, " has no entry for ", blocks, " blocks (it has ", have,
+                                                "); run examples/calibrate with --blocks ", blocks));
+  }
+};
+
+namespace calibration_checks {
+inline real scale_in_range(const io::json_value& v) {
+  const real x = v.number();
+  if (!(x >= min_calibration_scale && x <= max_calibration_scale))
+    throw io_error(tessera::detail::concat(v.path(), " = ", x, " must lie in [", min_calibration_scale, ", ",
+                                           max_calibration_scale, "]"));
+  return x;
+}
+}  // namespace calibration_checks
+
+/// Reads and checks calibrated.json (throws io_error naming the file and the field).
+[[nodiscard]] inline calibration read_calibration(const std::filesystem::path& path) {
+  const io::json_value doc = io::read_json(path);
+  if (doc.at("format").string() != calibration_format)
+    throw io_error(tessera::detail::concat(path.string(), ": format '", doc.at("format").string(), "', expected '",
+                                           calibration_format, "'"));
+  calibration c;
+  const io::json_value& r = doc.at("recipe");
+  c.recipe.softening = r.at("softening").string();
+  if (c.recipe.softening != "power" && c.recipe.softening != "linear")
+    throw io_error(tessera::detail::concat(r.at("softening").path(), " = '", c.recipe.softening,
+                                           "' must be 'power' or 'linear'"));
+  c.recipe.cohesion_ratio = r.at("cohesion_ratio").number();
+  c.recipe.step_displacement = r.at("step_displacement_m").number();
+  c.recipe.rate = r.at("rate_m_per_s").number();
+  c.recipe.rigid = r.at("rigid").boolean();
+  for (const auto* v : {&r.at("cohesion_ratio"), &r.at("step_displacement_m"), &r.at("rate_m_per_s")})
+    if (!(v->number() > 0)) throw io_error(tessera::detail::concat(v->path(), " = ", v->number(), " must be > 0"));
+  for (const io::json_value& e : doc.at("entries").items()) {
+    calibration_entry x;
+    x.blocks = static_cast<int>(e.at("blocks").integer(1, 1'000'000));
+    for (const calibration_entry& y : c.entries)
+      if (y.blocks == x.blocks)
+        throw io_error(tessera::detail::concat(e.at("blocks").path(), ": a second entry for ", x.blocks, " blocks"));
+    x.strength_scale = calibration_checks::scale_in_range(e.at("strength_scale"));
+    x.fracture_energy_scale = calibration_checks::scale_in_range(e.at("fracture_energy_scale"));
+    c.entries.push_back(x);
+  }
+  if (c.entries.empty()) throw io_error(tessera::detail::concat(path.string(), ": \"entries\" is empty"));
+  return c;
+}
+
+/// A driver's --params FILE: the entry for its block count, after checking that the file was
+/// fitted with the same law (throws invalid_input naming the mismatch). A different step or
+/// rate is allowed (the scales were fitted at one; the peak moves a few per cent with the step,
+/// docs/validation.md) and printed as a note on stdout.
+[[nodiscard]] inline calibration_entry load_calibration(const std::filesystem::path& file, int blocks,
+                                                        const calibration_recipe& run, const char* program) {
+  const calibration c = read_calibration(file);
+  const std::string f = file.string();
+  require(c.recipe.softening == run.softening, program, ": ", f, " was fitted with ", c.recipe.softening,
+          " softening, this run uses ", run.softening);
+  require(c.recipe.rigid == run.rigid, program, ": ", f, " was fitted with ", c.recipe.rigid ? "rigid" : "deformable",
+          " blocks, this run uses ", run.rigid ? "rigid" : "deformable", " ones");
+  require(std::abs(c.recipe.cohesion_ratio - run.cohesion_ratio) <= 1e-12 * run.cohesion_ratio, program, ": ", f,
+          " was fitted with cohesion ratio ", c.recipe.cohesion_ratio, ", this run uses ", run.cohesion_ratio);
+  const calibration_entry e = c.entry_for(blocks, f);
+  if (c.recipe.step_displacement != run.step_displacement || c.recipe.rate != run.rate)
+    std::printf("%s: note: %s was fitted at %.3g m per step and %.3g m/s; this run uses %.3g m per step and %.3g m/s\n",
+                program, f.c_str(), c.recipe.step_displacement, c.recipe.rate, run.step_displacement, run.rate);
+  return e;
+}
+
+}  // namespace tessera::scenes
