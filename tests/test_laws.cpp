@@ -269,9 +269,10 @@ TEST_CASE("a contact broken in tension carries no tension and compression only o
     CHECK(c.s.sigma_n == 0);
     c.open_to(-1e-7, 10);
     CHECK(c.s.sigma_n == Approx(-k_n * 1e-7).epsilon(1e-9));
-    // Residual cohesion, initial friction (broken in tension, not slipped): c_res + |sigma_n| tan(phi_0).
+    // Residual cohesion and residual friction once broken in tension (DESIGN.md §3), though never
+    // slipped: c_res + |sigma_n| tan(phi_res), phi_res = 30 deg (phi_0 = 35 deg would give 7 % more).
     CHECK(linear_tie_law::shear_strength(c.p, c.s) ==
-          Approx(c.p.shear.c_res + k_n * 1e-7 * std::tan(35 * std::numbers::pi / 180)).epsilon(1e-9));
+          Approx(c.p.shear.c_res + k_n * 1e-7 * std::tan(30 * std::numbers::pi / 180)).epsilon(1e-9));
     c.open_to(1e-7, 10);
     CHECK(c.s.sigma_n == 0);
     CHECK(linear_tie_law::tensile_damage(c.p, c.s) == 1);
@@ -303,7 +304,8 @@ TEST_CASE("a contact broken in tension carries no tension and compression only o
     CHECK(c.s.sigma_n == 0);
     c.open_to(-1e-6, 10);
     CHECK(c.s.sigma_n == Approx(-1e6).epsilon(1e-9));
-    CHECK(dry_joint_law::shear_strength(c.p, c.s) == Approx(p.shear.c_res + 1e6 * std::tan(35 * std::numbers::pi / 180)).epsilon(1e-9));
+    // broken: residual cohesion and residual friction (DESIGN.md §3)
+    CHECK(dry_joint_law::shear_strength(c.p, c.s) == Approx(p.shear.c_res + 1e6 * std::tan(30 * std::numbers::pi / 180)).epsilon(1e-9));
   }
 }
 
@@ -586,7 +588,7 @@ TEST_CASE("an open contact broken in tension carries no shear, closed again, Cou
   CHECK(c.s.sigma_n == 0);
   CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
   CHECK(c.stored() <= stored_before);
-  c.open_to(-1e-7, 10);  // faces overlap: compression, then elastic shear up to c_res + |sigma| tan(phi_0)
+  c.open_to(-1e-7, 10);  // faces overlap: compression, then elastic shear up to c_res + |sigma| tan(phi_res)
   c.step(0, vec3(1e-9, 0, 0), e_z);
   CHECK(c.s.tau.norm() == Approx(c.p.k_s * 1e-9).epsilon(1e-9));
 }
@@ -652,14 +654,14 @@ TEST_CASE("coulomb_coupled: the cohesion softens with f_t/f_T, the normal respon
     CHECK(c.s.tau.norm() == 0);
     CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
   }
-  SECTION("pulled to separation: the same separation energy as the decoupled law, cohesion c_res") {
+  SECTION("pulled to separation: the same separation energy as the decoupled law, c_res and phi_res") {
     const real u_end = 20 * zeta;
     d.open_to(u_end, 20000);
     c.open_to(u_end, 20000);
     REQUIRE(has(coupled_tie_law::status(c.s), contact_status::broken_tension));
     CHECK(c.s.dissipated_tension == d.s.dissipated_tension);
     c.open_to(-1e-7, 10);
-    CHECK(coupled_tie_law::shear_strength(c.p, c.s) == Approx(c_res + k_n * 1e-7 * tan_0).epsilon(1e-9));
+    CHECK(coupled_tie_law::shear_strength(c.p, c.s) == Approx(c_res + k_n * 1e-7 * c.p.shear.phi_res.tan()).epsilon(1e-9));
   }
 }
 

@@ -88,13 +88,13 @@ template <class C, class T>
 
 /// The Coulomb limit max(0, c - sigma_n tan(phi)) lane by lane (T = real or lanes::pack, M its mask
 /// or a bool), the damage state given as the masks slipped and broken (in tension): residual
-/// cohesion and friction once slipped, residual cohesion once broken in tension, otherwise the
-/// cohesion `c_intact` the policy gives and phi_0.
+/// cohesion and friction once slipped or broken in tension (DESIGN.md §3: a broken joint keeps
+/// residual values, as in 3DEC), otherwise the cohesion `c_intact` the policy gives and phi_0.
 template <class Params, class T, class M>
 [[nodiscard, gnu::always_inline]] inline T coulomb_limit_lanes(const Params& p, T sigma_n, M slipped, M broken,
                                                               T c_intact) noexcept {
   const T c = lanes::select(slipped | broken, lanes::splat<T>(p.c_res), c_intact);
-  const T tan_phi = lanes::select(slipped, lanes::splat<T>(p.phi_res.tan()), lanes::splat<T>(p.phi_0.tan()));
+  const T tan_phi = lanes::select(slipped | broken, lanes::splat<T>(p.phi_res.tan()), lanes::splat<T>(p.phi_0.tan()));
   return coulomb_line(c, tan_phi, sigma_n);
 }
 /// coulomb_limit_lanes of one contact in damage state `flags`.
@@ -106,8 +106,8 @@ template <class Params>
 }  // namespace detail
 
 /// Coulomb limit with brittle shear failure and residual strength (study eq. 6, DESIGN.md §3):
-/// intact: c = c_0, phi = phi_0; broken in tension: c = c_res (friction unchanged); slipped (failed in
-/// shear, for good): c = c_res and phi = phi_res. Setting c_res = c_0 and phi_res = phi_0 gives a
+/// intact: c = c_0, phi = phi_0; broken in tension or slipped (failed in shear), for good: c = c_res and
+/// phi = phi_res. Setting c_res = c_0 and phi_res = phi_0 gives a
 /// perfectly plastic Coulomb contact.
 struct coulomb_residual {
   static constexpr bool couples_tension = false;
