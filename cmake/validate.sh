@@ -1,0 +1,182 @@
+#!/usr/bin/env bash
+# Reruns the validation of tessera against the reference study (Pulatsu et al. 2020) and writes
+# its tables: the prism and the tie with the study's parameters verbatim and with the calibrated
+# contact strength (examples/calibrate), the calibration itself, and the tie's sensitivity
+# studies, each figure beside its reference and run time, stamped with the commit.
+#
+#   bash cmake/validate.sh [--quick] [--threads N] [--out DIR] [--resume]
+#
+#   --quick    the reduced scenes (100 blocks, one seed, the drivers' --quick): about 2 min; the
+#              tables go to DIR/validation.md only (the figures of reduced runs are not the
+#              validation)
+#   full       about 40 min on this project's 2-core machine (the progress line estimates the
+#              rest); the tables go to DIR/validation.md and replace the generated section of
+#              docs/validation.md (between its "validate.sh" markers)
+#   --threads  worker threads per run (default 0: the drivers' automatic choice, one per core that
+#              other processes leave idle; OpenMP threads that share a busy core slow a run by
+#              up to 100x, see docs/performance.md)
+#   --out DIR  where every run writes (default results/validation)
+#   --resume   skip a run whose run.json says "complete" (after an interrupted validation)
+#
+# Builds the drivers with the portable `release` preset first (the reference build:
+# docs/performance.md "Reproducibility"). Exit status: non-zero if a build or a run fails; the
+# tables are written only when every run completed.
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+quick=0
+threads=0
+out="$root/results/validation"
+resume=0
+while [[ $# -gt 0 ]]; do
+  case "$1" in
+    --quick) quick=1 ;;
+    --resume) resume=1 ;;
+    --threads)
+      [[ $# -ge 2 && "$2" =~ ^(0|[1-9][0-9]?)$ ]] || { echo "validate: --threads needs an integer in [0, 99], got '${2:-}'" >&2; exit 2; }
+      threads="$2"; shift ;;
+    --out)
+      [[ $# -ge 2 && -n "$2" ]] || { echo "validate: --out needs a directory" >&2; exit 2; }
+      out="$2"; shift ;;
+    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "validate: unknown argument '$1' (see --help)" >&2; exit 2 ;;
+  esac
+  shift
+done
+
+cmake --preset release > /dev/null
+cmake --build --preset release --target direct_tension rc_tie calibrate rc_tie_sensitivity > /dev/null
+bin="$root/build/release/examples"
+mkdir -p "$out"
+cal="$out/calibrate/calibrated.json"
+
+# The runs: name, estimated seconds on this machine (2 threads), command. The estimates only
+# drive the progress line.
+names=(); estimates=(); commands=()
+add() { names+=("$1"); estimates+=("$2"); shift 2; commands+=("$*"); }
+if [[ $quick == 1 ]]; then
+  blocks_list=(100)
+  add prism_verbatim_100 5 "$bin/direct_tension --quick"
+  add tie_verbatim 5 "$bin/rc_tie --quick --no-vtk"
+  add calibrate 12 "$bin/calibrate --quick"
+  add prism_calibrated_100 5 "$bin/direct_tension --quick --seed 2 --params $cal"
+  add tie_calibrated 5 "$bin/rc_tie --quick --no-vtk --params $cal"
+  add sensitivity 60 "$bin/rc_tie_sensitivity --quick"
+else
+  blocks_list=(100 250 500)
+  add prism_verbatim_100 20 "$bin/direct_tension --blocks 100 --seeds 3 --seed 1 --max-displacement 1.2e-4"
+  add prism_verbatim_250 55 "$bin/direct_tension --blocks 250 --seeds 3 --seed 1 --max-displacement 1.2e-4"
+  add prism_verbatim_500 150 "$bin/direct_tension --blocks 500 --seeds 3 --seed 1 --max-displacement 1.2e-4"
+  add prism_separation 25 "$bin/direct_tension --blocks 100"
+  add tie_verbatim 15 "$bin/rc_tie --no-vtk"
+  add calibrate 600 "$bin/calibrate --blocks 100,250,500 --seeds 3"
+  add prism_calibrated_100 20 "$bin/direct_tension --blocks 100 --seeds 3 --seed 4 --max-displacement 1.2e-4 --params $cal"
+  add prism_calibrated_250 55 "$bin/direct_tension --blocks 250 --seeds 3 --seed 4 --max-displacement 1.2e-4 --params $cal"
+  add prism_calibrated_500 150 "$bin/direct_tension --blocks 500 --seeds 3 --seed 4 --max-displacement 1.2e-4 --params $cal"
+  add tie_calibrated 15 "$bin/rc_tie --no-vtk --params $cal"
+  add sensitivity 900 "$bin/rc_tie_sensitivity"
+fi
+
+total=0
+for e in "${estimates[@]}"; do total=$((total + e)); done
+start=$(date +%s)
+done_estimate=0
+for i in "${!names[@]}"; do
+  name="${names[$i]}"
+  dir="$out/$name"
+  elapsed=$(( $(date +%s) - start ))
+  left=$(( total - done_estimate ))
+  printf 'validate: [%d/%d] %s (about %d s; %d s elapsed, about %d s left)\n' \
+    $((i + 1)) ${#names[@]} "$name" "${estimates[$i]}" "$elapsed" "$left"
+  if [[ $resume == 1 ]] && grep -q '"status": "complete"' "$dir/run.json" 2>/dev/null; then
+    echo "validate:   complete in an earlier run, kept"
+  else
+    # shellcheck disable=SC2086  # the command is a word list on purpose
+    if ! ${commands[$i]} --threads "$threads" --out "$dir" > "$out/$name.log" 2>&1; then
+      echo "validate: $name failed; its output is in $out/$name.log" >&2
+      tail -5 "$out/$name.log" >&2
+      exit 1
+    fi
+  fi
+  done_estimate=$((done_estimate + estimates[i]))
+done
+echo "validate: all runs complete in $(( $(date +%s) - start )) s"
+
+# ---- the tables ----
+# summary.json holds one key per line ("key": value,), so awk reads it without a JSON parser.
+get() {  # get FILE KEY -> the value, or "null"
+  awk -v k="\"$2\":" '$1 == k { v = $2; sub(/,$/, "", v); print v; found = 1; exit } END { if (!found) print "null" }' "$1"
+}
+pct() { awk -v x="$1" 'BEGIN { if (x == "null") print "—"; else printf "%+.1f %%", 100 * x }'; }
+num() { awk -v x="$1" -v s="$2" -v f="$3" 'BEGIN { if (x == "null") print "—"; else printf f, x * s }'; }
+commit=$(git -C "$root" rev-parse --short=12 HEAD 2>/dev/null || echo unknown)
+[[ -z "$(git -C "$root" status --porcelain --untracked-files=no 2>/dev/null)" ]] || commit="$commit (with local changes)"
+report="$out/validation.md"
+{
+  echo "Generated by \`bash cmake/validate.sh$([[ $quick == 1 ]] && echo ' --quick')\` at commit $commit on $(date -u +%Y-%m-%d), $([[ $threads == 0 ]] && echo 'automatic threads' || echo "$threads threads"), portable \`release\` build; total $(( $(date +%s) - start )) s."
+  echo
+  echo "**Prism in direct tension**: mean peak over the seeds against f_T = 2.15 MPa (range in brackets); verbatim = the study's parameters, calibrated = \`--params\` on seeds the fit did not use."
+  echo
+  echo "| blocks | parameters | seeds | mean peak | error | range | run time |"
+  echo "|---|---|---|---|---|---|---|"
+  for b in "${blocks_list[@]}"; do
+    for kind in verbatim calibrated; do
+      s="$out/prism_${kind}_$b/summary.json"
+      mean=$(get "$s" peak_stress_mean_Pa); f_t=$(get "$s" f_T_Pa)
+      err=$(awk -v m="$mean" -v f="$f_t" 'BEGIN { print m / f - 1 }')
+      seed=$(get "$s" seed); seeds=$(get "$s" seeds)
+      range="$seed"; [[ $seeds == 1 ]] || range="$seed–$((seed + seeds - 1))"
+      echo "| $b | $kind | $range | $(num "$mean" 1e-6 '%.3f MPa') | $(pct "$err") | $(num "$(get "$s" peak_stress_min_Pa)" 1e-6 '%.3f')–$(num "$(get "$s" peak_stress_max_Pa)" 1e-6 '%.3f') MPa | $(num "$(get "$s" runtime_s)" 1 '%.1f s') |"
+    done
+  done
+  if [[ $quick == 0 ]]; then
+    s="$out/prism_separation/summary.json"
+    echo
+    echo "Run to separation (100 blocks, seed 1, verbatim): peak $(pct "$(get "$s" peak_error_rel)"), tension dissipated against G_f × crack area $(pct "$(get "$s" fracture_energy_error_rel)"), crack area $(num "$(get "$s" crack_area_over_cross_section)" 1 '%.2f') × section, energy balance $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e'), $(num "$(get "$s" runtime_s)" 1 '%.1f s')."
+  fi
+  echo
+  s="$out/calibrate/summary.json"
+  echo "**Calibration** (\`calibrate\`, $(get "$s" seeds) seed(s) per block count, $(num "$(get "$s" step_displacement_m)" 1e9 '%.0f') nm per step): $(num "$(get "$s" runtime_s)" 1 '%.1f s')."
+  echo
+  echo "| blocks | strength scale | iterations | fitted mean peak | seed spread | converged |"
+  echo "|---|---|---|---|---|---|"
+  for b in "${blocks_list[@]}"; do
+    echo "| $b | $(num "$(get "$s" "b${b}_strength_scale")" 1 '%.4f') | $(get "$s" "b${b}_iterations") | $(pct "$(get "$s" "b${b}_peak_error_rel")") | $(num "$(get "$s" "b${b}_peak_spread_rel")" 100 '%.1f %%') | $(get "$s" "b${b}_converged") |"
+  done
+  echo
+  echo "**RC tie** (100 blocks, seed 1; references: N_cr = f_T (A_c + n A_s), shear-lag K0, f_y A):"
+  echo
+  echo "| parameters | first cracking | K0 | load drops | crack sites | yield plateau | run time |"
+  echo "|---|---|---|---|---|---|---|"
+  for kind in verbatim calibrated; do
+    s="$out/tie_$kind/summary.json"
+    echo "| $kind | $(num "$(get "$s" first_crack_force_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(awk -v k="$(get "$s" initial_stiffness_N_per_m)" -v r="$(get "$s" initial_stiffness_shear_lag_N_per_m)" 'BEGIN { print k / r - 1 }')")) | $(get "$s" load_drops) | $(get "$s" crack_sites) | $(num "$(get "$s" yield_force_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_force_error_rel)")) | $(num "$(get "$s" runtime_s)" 1 '%.1f s') |"
+  done
+  echo
+  s="$out/sensitivity/summary.json"
+  echo "**Sensitivity studies** (\`rc_tie_sensitivity$([[ $quick == 1 ]] && echo ' --quick')\`, $(get "$s" runs) runs, $(num "$(get "$s" runtime_s)" 1 '%.0f s')):"
+  echo
+  echo "| run | first cracking | K0 | load drops | yield plateau | curve difference to the baseline |"
+  echo "|---|---|---|---|---|---|"
+  awk -F'"' '/_variant":/ { print $2 }' "$s" | while read -r key; do
+    p="${key%_variant}"
+    echo "| $(get "$s" "$key" | tr -d '"') | $(num "$(get "$s" "${p}_first_crack_force_N")" 1e-3 '%.2f kN') | $(num "$(get "$s" "${p}_initial_stiffness_N_per_m")" 1e-6 '%.1f kN/mm') | $(get "$s" "${p}_load_drops") | $(num "$(get "$s" "${p}_yield_force_N")" 1e-3 '%.2f kN') | $(num "$(get "$s" "${p}_curve_error_vs_baseline_rel")" 100 '%.1f %%') |"
+  done
+} > "$report.tmp"
+mv "$report.tmp" "$report"
+echo "validate: wrote $report"
+
+if [[ $quick == 0 ]]; then
+  doc="$root/docs/validation.md"
+  begin='<!-- validate.sh: generated tables begin -->'
+  end='<!-- validate.sh: generated tables end -->'
+  if ! grep -qF "$begin" "$doc" || ! grep -qF "$end" "$doc"; then
+    echo "validate: $doc has no generated-section markers" >&2
+    exit 1
+  fi
+  awk -v b="$begin" -v e="$end" -v f="$report" '
+    $0 == b { print; while ((getline line < f) > 0) print line; skip = 1; next }
+    $0 == e { skip = 0 }
+    !skip { print }' "$doc" > "$doc.tmp"
+  mv "$doc.tmp" "$doc"
+  echo "validate: replaced the generated section of $doc"
+fi
