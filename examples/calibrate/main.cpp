@@ -102,16 +102,7 @@ scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed
     ld.max_displacement = 3e-4;
   }
   ld.label = tessera::detail::concat("calibrate ", blocks, " blocks seed ", seed, " s ", s);
-  const bool power = in.recipe.softening == "power";
-  if (in.recipe.rigid) {
-    if (power) return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, ld);
-    return scenes::run_direct_tension<
-        tessera::solver<tessera::blocks::rigid, tessera::contact::face_contacts<tessera::law::linear_tie_law>>>(
-        scene, tessera::law::with_linear_softening(scene.contact), ld);
-  }
-  if (power) return scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, ld);
-  return scenes::run_direct_tension<tessera::prism_linear_solver>(scene, tessera::law::with_linear_softening(scene.contact),
-                                                                   ld);
+  return scenes::run_prism_variant(scene, in.recipe.softening, in.recipe.rigid, ld);
 }
 
 // The K seeds at one (s, g): mean and spread of the peak, mean dissipation per cross-section.

@@ -98,14 +98,7 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
     if (in.rigid) return scenes::run_direct_tension<tessera::coupled_rigid_prism_solver>(scene, contact, loading);
     return scenes::run_direct_tension<tessera::coupled_prism_solver>(scene, contact, loading);
   }
-  if (in.rigid) {
-    if (in.softening == "power") return scenes::run_direct_tension<tessera::rigid_prism_solver>(scene, scene.contact, loading);
-    return scenes::run_direct_tension<tessera::solver<tessera::blocks::rigid, tessera::contact::face_contacts<tessera::law::linear_tie_law>>>(
-        scene, tessera::law::with_linear_softening(scene.contact), loading);
-  }
-  if (in.softening == "power") return scenes::run_direct_tension<tessera::prism_solver>(scene, scene.contact, loading);
-  return scenes::run_direct_tension<tessera::prism_linear_solver>(scene, tessera::law::with_linear_softening(scene.contact),
-                                                                   loading);
+  return scenes::run_prism_variant(scene, in.softening, in.rigid, loading);
 }
 
 /// The flags that cannot be checked one at a time (combinations) and those checked again later

@@ -399,4 +399,18 @@ template <class Solver, class LawParams>
   return r;
 }
 
+/// The study's law on deformable or rigid blocks, power or linear softening (`softening` is
+/// "power" or "linear"): the one dispatch direct_tension and calibrate share.
+[[nodiscard]] inline tension_result run_prism_variant(const prism_scene& scene, const std::string& softening, bool rigid,
+                                                      const tension_loading& loading) {
+  const bool power = softening == "power";
+  if (rigid) {
+    if (power) return run_direct_tension<rigid_prism_solver>(scene, scene.contact, loading);
+    return run_direct_tension<solver<blocks::rigid, contact::face_contacts<law::linear_tie_law>>>(
+        scene, law::with_linear_softening(scene.contact), loading);
+  }
+  if (power) return run_direct_tension<prism_solver>(scene, scene.contact, loading);
+  return run_direct_tension<prism_linear_solver>(scene, law::with_linear_softening(scene.contact), loading);
+}
+
 }  // namespace tessera::scenes
