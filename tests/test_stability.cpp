@@ -37,6 +37,7 @@
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/integrator.hpp"
 #include "tessera/io/atomic_file.hpp"
+#include "tessera/io/checkpoint.hpp"
 #include "tessera/reinforcement.hpp"
 #include "tessera/solver.hpp"
 
@@ -1073,4 +1074,196 @@ TEST_CASE("bad input: geometry, seeds, boundary conditions, options, output", "[
                            {"is not writable"});
   std::filesystem::permissions(scratch / "read_only", std::filesystem::perms::owner_all);
   std::filesystem::remove_all(scratch);
+}
+
+// =============================================================================================
+// Checkpoints (io/checkpoint.hpp): a run saved, rebuilt and loaded continues with the same bits
+// as the run that never stopped, for each block model and with bars; files of another model,
+// damaged or truncated files are refused before the model changes.
+// =============================================================================================
+
+namespace {
+
+/// Runs `build()` for `before` steps, saves, runs `after` more; a second `build()` loads the file
+/// and runs `after` steps. Returns both solvers' states for comparison.
+template <class Build>
+auto restarted_pair(Build&& build, std::int64_t before, std::int64_t after, const std::filesystem::path& file) {
+  auto straight = build();
+  straight.run(before);
+  io::save_checkpoint(straight, file, "test");
+  straight.run(after);
+  auto restarted = build();
+  const io::checkpoint_info info = io::load_checkpoint(restarted, file);
+  CHECK(info.description == "test");
+  CHECK(info.format == io::checkpoint_format);
+  CHECK(restarted.step_count() == before);
+  restarted.run(after);
+  return std::pair{std::move(straight), std::move(restarted)};
+}
+
+template <class Solver>
+void check_same_bits(const Solver& a, const Solver& b) {
+  const auto same = [](const auto& x, const auto& y) {
+    return x.size() == y.size() &&
+           std::memcmp(x.data(), y.data(), static_cast<std::size_t>(x.size()) * sizeof(*x.data())) == 0;
+  };
+  CHECK(a.step_count() == b.step_count());
+  const real ta = a.time(), tb = b.time();
+  CHECK(std::memcmp(&ta, &tb, sizeof(real)) == 0);
+  CHECK(same(a.gridpoints().displacement, b.gridpoints().displacement));
+  CHECK(same(a.gridpoints().velocity, b.gridpoints().velocity));
+  CHECK(same(a.gridpoints().reaction, b.gridpoints().reaction));
+  CHECK(same(a.bar_nodes().displacement, b.bar_nodes().displacement));
+  const energy_balance ea = a.energies(), eb = b.energies();
+  CHECK(std::memcmp(&ea, &eb, sizeof(energy_balance)) == 0);
+  idx differing = 0;
+  for (idx i = 0; i < a.contacts().subcontact_count(); ++i) {
+    const auto& sa = a.contacts().state(i);
+    const auto& sb = b.contacts().state(i);
+    differing += (sa.sigma_n != sb.sigma_n || sa.tau != sb.tau || sa.u_soft != sb.u_soft || sa.flags != sb.flags) ? 1 : 0;
+  }
+  CHECK(differing == 0);
+}
+
+/// Sub-contacts past their tensile strength (softening or broken).
+template <class Solver>
+idx damaged_subcontacts(const Solver& s) {
+  idx n = 0;
+  for (idx i = 0; i < s.contacts().subcontact_count(); ++i)
+    n += law::study_tie_law::status(s.contacts().state(i)) != law::contact_status::intact ? 1 : 0;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("checkpoint: a restart continues with the bits of the run that never stopped", "[checkpoint]") {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tessera_test_checkpoint";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.068, 0.068, 0.6)}, 100, 1);
+  const auto mesh = geometry::zone_blocks(tess);
+
+  SECTION("deformable prism pulled through its peak") {
+    // Saved early, continued until cracks form: the softening, breaking and slipping paths and
+    // the warm-started block rotations all run after the restart.
+    const auto build = [&] {
+      solver_options o;
+      o.mass_scaling_dt = 5e-7;
+      prism_solver s(tess, mesh, concrete_block, law::study_prism_params(100), {}, o);
+      s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+      s.prescribe_velocity(s.gridpoints_on_plane(2, 0.6, 1e-9), vec3(0, 0, 0.5));
+      return s;
+    };
+    auto [a, b] = restarted_pair(build, 50, 250, dir / "prism.ckpt");
+    const idx damaged = damaged_subcontacts(a);
+    INFO(damaged << " damaged sub-contacts at the end");
+    CHECK(damaged > 20);
+    check_same_bits(a, b);
+  }
+  SECTION("rigid blocks with a spinning block") {
+    const auto build = [&] {
+      rigid_prism_solver s(tess, mesh, {2400}, law::study_prism_params(100));
+      s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+      s.prescribe_velocity(s.gridpoints_on_plane(2, 0.6, 1e-9), vec3(0, 0, 0.05), bc::components::z);
+      s.blocks().set_velocity(7, vec3(1e-3, 0, 0), vec3(1, -2, 0.5), s.gridpoints());
+      return s;
+    };
+    auto [a, b] = restarted_pair(build, 100, 200, dir / "rigid.ckpt");
+    check_same_bits(a, b);
+  }
+  SECTION("deformable blocks with a bar pulled out on a Coulomb bond") {
+    const auto build = [&] {
+      truss::params bars{reinforcement::pulatsu2020::tie_steel(), reinforcement::coulomb_bond::params{4.0, 1e4, 0.0},
+                         {reinforcement::bar{vec3(0.034, 0.034, 0.05), vec3(0.034, 0.034, 0.55), 40, true}}};
+      solver_options o;
+      o.mass_scaling_dt = 5e-7;
+      tie_solver s(tess, mesh, concrete_block, law::study_prism_params(100), bars, o);
+      s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+      const idx last = s.bar_nodes().size() - 1;
+      bc::prescribe_velocity(s.bar_nodes(), bc::node_group{{last}, "pulled bar end"}, vec3(0, 0, 0.05), bc::components::z);
+      return s;
+    };
+    auto [a, b] = restarted_pair(build, 100, 300, dir / "tie.ckpt");
+    idx slipping = 0;
+    for (idx n = 0; n < a.bar_nodes().size(); ++n) slipping += a.reinforcement().bond(n).has_slipped ? 1 : 0;
+    CHECK(slipping > 0);
+    check_same_bits(a, b);
+    CHECK(std::memcmp(a.bar_nodes().velocity.data(), b.bar_nodes().velocity.data(),
+                      static_cast<std::size_t>(a.bar_nodes().velocity.size()) * sizeof(real)) == 0);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("checkpoint: files of another model, damaged or truncated, are refused before the model changes",
+          "[checkpoint][errors]") {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tessera_test_checkpoint_errors";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.068, 0.068, 0.6)}, 100, 1);
+  const auto mesh = geometry::zone_blocks(tess);
+  solver_options o;
+  o.mass_scaling_dt = 5e-7;
+  prism_solver s(tess, mesh, concrete_block, law::study_prism_params(100), {}, o);
+  s.prescribe_velocity(s.gridpoints_on_plane(2, 0.6, 1e-9), vec3(0, 0, 0.1));
+  s.run(20);
+  const std::filesystem::path good = dir / "good.ckpt";
+  io::save_checkpoint(s, good, "prism");
+  const soa3 before = s.gridpoints().displacement;
+  const auto unchanged = [&] { CHECK((s.gridpoints().displacement.array() == before.array()).all()); };
+  const auto bytes = [](const std::filesystem::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  const auto write = [](const std::filesystem::path& f, const std::string& content) {
+    std::ofstream(f, std::ios::binary) << content;
+  };
+  const std::string file = bytes(good);
+
+  expect_error<io_error>("checkpoint file missing", [&] { io::load_checkpoint(s, dir / "none.ckpt"); },
+                         {"cannot open checkpoint", "none.ckpt"});
+  write(dir / "text.ckpt", "u,F\n0,0\n");
+  expect_error<invalid_input>("checkpoint: not a checkpoint", [&] { io::load_checkpoint(s, dir / "text.ckpt"); },
+                              {"text.ckpt' is not a tessera checkpoint"});
+  write(dir / "short.ckpt", file.substr(0, file.size() / 2));
+  expect_error<invalid_input>("checkpoint truncated", [&] { io::load_checkpoint(s, dir / "short.ckpt"); },
+                              {"short.ckpt'", "truncated"});
+  std::string flipped = file;
+  flipped[file.size() / 2] = static_cast<char>(flipped[file.size() / 2] ^ 0x10);
+  write(dir / "flipped.ckpt", flipped);
+  expect_error<invalid_input>("checkpoint damaged", [&] { io::load_checkpoint(s, dir / "flipped.ckpt"); },
+                              {"flipped.ckpt' fails its integrity check"});
+  unchanged();
+
+  // Another seed: same counts would not catch it, the reference fingerprint does.
+  const auto other = geometry::random_voronoi({vec3::Zero(), vec3(0.068, 0.068, 0.6)}, 100, 2);
+  const auto other_mesh = geometry::zone_blocks(other);
+  prism_solver t(other, other_mesh, concrete_block, law::study_prism_params(100), {}, o);
+  expect_error<invalid_input>("checkpoint of another scene", [&] { io::load_checkpoint(t, good); },
+                              {"good.ckpt' does not fit this model", "gridpoints/count = "});
+  // The same counts, one vertex moved by a micrometre: the reference fingerprint differs.
+  auto moved = tess;
+  moved.vertices[0] += vec3(1e-6, 0, 0);
+  const auto moved_mesh = geometry::zone_blocks(moved);
+  prism_solver m(moved, moved_mesh, concrete_block, law::study_prism_params(100), {}, o);
+  expect_error<invalid_input>("checkpoint of a moved geometry", [&] { io::load_checkpoint(m, good); },
+                              {"gridpoints/reference_fingerprint = "});
+  // Same scene, other options: the time step differs.
+  solver_options faster = o;
+  faster.mass_scaling_dt = 4e-7;
+  prism_solver u(tess, mesh, concrete_block, law::study_prism_params(100), {}, faster);
+  expect_error<invalid_input>("checkpoint of another time step", [&] { io::load_checkpoint(u, good); },
+                              {"solver/dt = 5e-07 in the file but 4e-07 in this model"});
+  // Same gridpoints, other block model: refused at the first block record, nothing copied.
+  rigid_prism_solver r(tess, mesh, {2400}, law::study_prism_params(100), {}, o);
+  r.run(5);
+  const soa3 rigid_before = r.gridpoints().displacement;
+  expect_error<invalid_input>("checkpoint of another block model", [&] { io::load_checkpoint(r, good); },
+                              {"expects 'blocks/rigid/count'", "'blocks/deformable/rotation'"});
+  CHECK((r.gridpoints().displacement.array() == rigid_before.array()).all());
+  CHECK(r.step_count() == 5);
+  // A checkpoint is written atomically: a failed write leaves no file.
+  expect_error<io_error>("checkpoint in a missing directory", [&] { io::save_checkpoint(s, dir / "missing" / "a.ckpt"); },
+                         {"cannot open", "missing/a.ckpt"});
+  CHECK_FALSE(std::filesystem::exists(dir / "missing"));
+  std::filesystem::remove_all(dir);
 }

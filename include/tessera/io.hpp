@@ -9,3 +9,4 @@
 #include "io/vtk.hpp"
 #include "io/neper.hpp"
 #include "io/vtk_contacts.hpp"
+#include "io/checkpoint.hpp"

@@ -35,6 +35,8 @@
 // | b.stored_energy(gridpoints)         | elastic energy stored in the blocks (J)                          |
 // | b.kinetic_energy(gridpoints)        | kinetic energy of the blocks (J), at the half step               |
 // | b.block_count()                     | number of blocks                                                 |
+// | b.checkpoint(ar)       (optional)    | saves or loads the blocks' evolving state (io/checkpoint.hpp);   |
+// |                                     | needed by io::save_checkpoint / load_checkpoint                  |
 
 #include <concepts>
 #include <span>

@@ -218,6 +218,15 @@ class deformable : private detail::zone_geometry {
   /// Global Cauchy stress of every zone at the last accumulate_forces (Pa, Voigt, tension +).
   [[nodiscard]] const zone_stress_matrix& zone_stress() const { return zone_stress_; }
 
+  /// Saves or loads the block rotations (the warm start of the next polar decomposition, so they
+  /// are state: a restart without them would differ in the last bits) and the zone stresses
+  /// (io/checkpoint.hpp).
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    ar.array("blocks/deformable/rotation", rotation_);
+    ar.matrix("blocks/deformable/zone_stress", zone_stress_);
+  }
+
   /// Elastic energy stored in the zones, sum_z V_z W(eps_z) (J), with block rotations of the
   /// CURRENT displacements (the cached ones lag one step behind after the integrator has moved
   /// the gridpoints). Allocates; not for the time step.

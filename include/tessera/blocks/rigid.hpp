@@ -214,6 +214,24 @@ class rigid {
 
   /// Empty: rigid blocks have no zones (reinforcement sees no confinement).
   [[nodiscard]] const zone_stress_matrix& zone_stress() const { return zone_stress_; }
+
+  /// Saves or loads each body's motion (io/checkpoint.hpp): displacement, velocity, angular
+  /// velocity, orientation at the full and half step, rotation matrix, last force, moment and
+  /// reactions. Masses and inertias are rebuilt with the model.
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    ar.same("blocks/rigid/count", static_cast<std::int64_t>(bodies_.size()));
+    ar.members("blocks/rigid/displacement", bodies_, &body::displacement);
+    ar.members("blocks/rigid/velocity", bodies_, &body::velocity);
+    ar.members("blocks/rigid/angular_velocity", bodies_, &body::angular_velocity);
+    ar.members("blocks/rigid/orientation", bodies_, &body::orientation);
+    ar.members("blocks/rigid/half_orientation", bodies_, &body::half_orientation);
+    ar.members("blocks/rigid/rotation", bodies_, &body::rotation);
+    ar.members("blocks/rigid/force", bodies_, &body::force);
+    ar.members("blocks/rigid/moment", bodies_, &body::moment);
+    ar.members("blocks/rigid/reaction_force", bodies_, &body::reaction_force);
+    ar.members("blocks/rigid/reaction_moment", bodies_, &body::reaction_moment);
+  }
   /// Rigid blocks store no elastic energy (J).
   [[nodiscard]] real stored_energy(const node_set& /*gridpoints*/) const { return 0; }
   /// sum_b 1/2 m |v|^2 + 1/2 sum_k I_k w_k^2 (J) at the half step (scaled masses).

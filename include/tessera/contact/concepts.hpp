@@ -35,6 +35,9 @@
 // |                                     | per sub-contact read access: law state, tributary area (m^2),   |
 // |                                     | unit normal A->B, force on node B (N), gridpoints of A and B    |
 // | cc.subcontact_params(i)             | the law parameters sub-contact i is evaluated with              |
+// | c.checkpoint(ar)       (optional)   | saves or loads the sub-contact states from Law::state_fields    |
+// |                                     | (law::checkpoint_states) and whatever else the set evolves      |
+// |                                     | (io/checkpoint.hpp); needed by save/load_checkpoint             |
 
 #include <concepts>
 

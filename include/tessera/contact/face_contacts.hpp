@@ -61,6 +61,7 @@
 #include <concepts>
 #include <cstdint>
 #include <numbers>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -344,6 +345,30 @@ class face_contacts {
   [[nodiscard]] bool face_bonded(index s) const { return bonded_[at(face_param_[at(s)])] != 0; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
   [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
+
+  /// Saves or loads the sub-contact states field by field from the law's declaration
+  /// (law::checkpoint_states: "contacts/state/<field>"), the face normals now and last step and
+  /// the last forces (io/checkpoint.hpp), so a restart is bit-identical.
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    static_assert(law::DeclaresStateFields<Law>, "checkpoints need a law that declares state_fields");
+    const std::size_t n = node_a_.size();
+    ar.same("contacts/subcontacts", static_cast<std::int64_t>(n));
+    law::checkpoint_states<Law>(
+        ar, "contacts/state/", n, [&](std::size_t i) { return state_type(state(static_cast<index>(i))); },
+        [&](std::size_t i, const state_type& s) {
+          if constexpr (packed)
+            state_.reset(i, s, subcontact_params(static_cast<index>(i)));
+          else
+            state_[i] = s;
+        });
+    // The packed columns' current tensile strengths as they are, not re-evaluated: the elastic
+    // pack path advances them with u_soft, and a restart must read the same bits.
+    if constexpr (packed) ar.array("contacts/tensile_strength", state_.f_t);
+    ar.matrix("contacts/normal", normal_);
+    ar.matrix("contacts/previous_normal", previous_normal_);
+    for (int c = 0; c < 3; ++c) ar.array(std::string("contacts/force_a/") + "xyz"[c], force_[static_cast<std::size_t>(c)]);
+  }
 
   // ---- shared faces ----
   [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }

@@ -13,7 +13,9 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 
+#include "hash.hpp"
 #include "types.hpp"
 
 namespace tessera {
@@ -55,6 +57,25 @@ struct node_set {
     stiffness.setZero(n);
     constraint.setZero(n, 3);
     prescribed_velocity.setZero(n, 3);
+  }
+
+  /// Saves or loads the evolving arrays through a checkpoint archive (io/checkpoint.hpp), under
+  /// the names "<prefix>/...": displacement, velocity, reaction, mass (as scaled), constraint
+  /// flags and prescribed velocities. The count and a fingerprint of the reference positions
+  /// must match (a checkpoint of another tessellation is refused); force and stiffness are not
+  /// stored (force is rebuilt every step, stiffness when the model is built).
+  template <class Archive>
+  void checkpoint(Archive& ar, const std::string& prefix) {
+    ar.same(prefix + "/count", static_cast<std::int64_t>(size()));
+    fnv1a fingerprint;
+    fingerprint.add(reference.data(), static_cast<std::size_t>(reference.size()) * sizeof(real));
+    ar.same(prefix + "/reference_fingerprint", static_cast<std::int64_t>(fingerprint.value));
+    ar.matrix(prefix + "/displacement", displacement);
+    ar.matrix(prefix + "/velocity", velocity);
+    ar.matrix(prefix + "/reaction", reaction);
+    ar.matrix(prefix + "/mass", mass);
+    ar.matrix(prefix + "/constraint", constraint);
+    ar.matrix(prefix + "/prescribed_velocity", prescribed_velocity);
   }
 };
 

@@ -29,7 +29,9 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include <utility>
 
@@ -101,6 +103,54 @@ template <class Fields>
   std::size_t column = 0;
   for (const auto& f : fields) column += static_cast<std::size_t>(f.real_columns());
   return column;
+}
+
+/// Saves or loads n states of a law that declares its fields through a checkpoint archive
+/// (io/checkpoint.hpp): one record per declared field, "<prefix><name>" (a vector field's n x 3
+/// components as one record, component-major), read with get(i) -> L::state and, when loading,
+/// written back with set(i, const L::state&). The same declaration as the contact storage and
+/// the VTK arrays, so a new field reaches checkpoints by being declared.
+template <class L, class Archive, class Get, class Set>
+  requires DeclaresStateFields<L>
+void checkpoint_states(Archive& ar, const std::string& prefix, std::size_t n, Get&& get, Set&& set) {
+  using S = typename L::state;
+  using kind = typename state_field<S>::kind;
+  std::vector<S> states(n);
+  if (ar.saving())
+    for (std::size_t i = 0; i < n; ++i) states[i] = get(i);
+  std::vector<real> reals;
+  std::vector<contact_status> flags;
+  for (const auto& f : L::state_fields) {
+    const std::string name = prefix + f.name;
+    if (f.type == kind::flags) {
+      flags.resize(n);
+      if (ar.saving())
+        for (std::size_t i = 0; i < n; ++i) flags[i] = states[i].*f.flags;
+      ar.array(name, flags);
+      if (ar.loading())
+        for (std::size_t i = 0; i < n; ++i) states[i].*f.flags = flags[i];
+      continue;
+    }
+    const std::size_t width = f.type == kind::vector ? 3 : 1;
+    reals.resize(n * width);
+    if (ar.saving())
+      for (std::size_t i = 0; i < n; ++i) {
+        if (f.type == kind::scalar)
+          reals[i] = states[i].*f.scalar;
+        else
+          for (std::size_t c = 0; c < 3; ++c) reals[c * n + i] = (states[i].*f.vector)[static_cast<int>(c)];
+      }
+    ar.array(name, reals);
+    if (ar.loading())
+      for (std::size_t i = 0; i < n; ++i) {
+        if (f.type == kind::scalar)
+          states[i].*f.scalar = reals[i];
+        else
+          for (std::size_t c = 0; c < 3; ++c) (states[i].*f.vector)[static_cast<int>(c)] = reals[c * n + i];
+      }
+  }
+  if (ar.loading())
+    for (std::size_t i = 0; i < n; ++i) set(i, static_cast<const S&>(states[i]));
 }
 
 template <class L>

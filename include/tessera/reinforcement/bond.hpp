@@ -30,6 +30,8 @@
 // length the transfer length is 40 mm and the study's load drops appear (docs/model.md §3).
 
 #include <cmath>
+#include <string>
+#include <vector>
 #include <numbers>
 
 #include "../core/errors.hpp"
@@ -60,6 +62,20 @@ struct coulomb_bond {
     bool slipping = false;    ///< at the Coulomb limit at the last update
     bool has_slipped = false; ///< reached the Coulomb limit at least once
   };
+  // Four reals and two flags (padded to a fifth real): a field added to `state` must be added
+  // to checkpoint_fields.
+  static_assert(sizeof(state) == 5 * sizeof(real), "coulomb_bond::state changed: update checkpoint_fields");
+  /// Every field of `state`, for a checkpoint archive (io/checkpoint.hpp); a field added to
+  /// `state` must be added here.
+  template <class Archive>
+  static void checkpoint_fields(Archive& ar, const std::string& prefix, std::vector<state>& s) {
+    ar.members(prefix + "slip", s, &state::slip);
+    ar.members(prefix + "plastic_slip", s, &state::plastic_slip);
+    ar.members(prefix + "force", s, &state::force);
+    ar.members(prefix + "dissipated", s, &state::dissipated);
+    ar.members(prefix + "slipping", s, &state::slipping);
+    ar.members(prefix + "has_slipped", s, &state::has_slipped);
+  }
 
   static void validate(const params& p) {
     require_positive(p.stiffness_ratio, "coulomb_bond: bond stiffness ratio xi = K_bond / K_axial (-)");

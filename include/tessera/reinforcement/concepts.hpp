@@ -20,6 +20,8 @@
 // |                                     | zone_stress: one Voigt row per zone (Pa, tension +), or empty  |
 // | r.stored_energy()                   | recoverable elastic energy of bars and bond springs (J)        |
 // | r.dissipated_energy()               | energy dissipated by bar yielding and bond slip so far (J)     |
+// | r.checkpoint(ar)       (optional)    | saves or loads bar nodes, element and bond states              |
+// |                                     | (io/checkpoint.hpp); needed by save/load_checkpoint            |
 
 #include <concepts>
 #include <type_traits>

@@ -288,6 +288,18 @@ class embedded_truss {
   [[nodiscard]] real tributary_length(index n) const { return tributary_length_[static_cast<std::size_t>(n)]; }  ///< m
   [[nodiscard]] real bond_stiffness(index n) const { return bond_stiffness_[static_cast<std::size_t>(n)]; }  ///< N/m
 
+  /// Saves or loads the bar nodes, the element states (truss_element::checkpoint_fields), the bond
+  /// states (Bond::checkpoint_fields) and the last transverse gaps and confining stresses
+  /// (io/checkpoint.hpp).
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    nodes_.checkpoint(ar, "bars/nodes");
+    truss_element::checkpoint_fields(ar, "bars/element/", elements_);
+    Bond::checkpoint_fields(ar, "bars/bond/", bonds_);
+    ar.array("bars/transverse_gap", transverse_gap_);
+    ar.array("bars/confining_stress", confining_stress_);
+  }
+
   // ---- recorder accessors (state after the last accumulate_forces) ----
   [[nodiscard]] real axial_force(index e) const { return elements_[static_cast<std::size_t>(e)].axial_force; }  ///< N, tension +
   [[nodiscard]] real plastic_elongation(index e) const { return elements_[static_cast<std::size_t>(e)].plastic_elongation; }  ///< m

@@ -24,6 +24,9 @@ class none {
   void accumulate_forces(node_set&, const zone_stress_matrix&) noexcept {}
   [[nodiscard]] real stored_energy() const { return 0.0; }
   [[nodiscard]] real dissipated_energy() const { return 0.0; }
+  /// Nothing to save (io/checkpoint.hpp).
+  template <class Archive>
+  void checkpoint(Archive&) {}
 
  private:
   node_set nodes_;  ///< always empty

@@ -12,6 +12,8 @@
 // axis is the current chord direction, so the law holds for large rotations of the element.
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "../core/types.hpp"
 #include "detail/plastic_spring.hpp"
@@ -27,6 +29,19 @@ struct truss_element {
     bool yielding = false;          ///< on the yield plateau at the last update
     bool has_yielded = false;       ///< reached the yield force at least once
   };
+  // Three reals and two flags (padded to a fourth real): a field added to `state` must be added
+  // to checkpoint_fields.
+  static_assert(sizeof(state) == 4 * sizeof(real), "truss_element::state changed: update checkpoint_fields");
+  /// Every field of `state`, for a checkpoint archive (io/checkpoint.hpp); a field added to
+  /// `state` must be added here.
+  template <class Archive>
+  static void checkpoint_fields(Archive& ar, const std::string& prefix, std::vector<state>& s) {
+    ar.members(prefix + "axial_force", s, &state::axial_force);
+    ar.members(prefix + "plastic_elongation", s, &state::plastic_elongation);
+    ar.members(prefix + "dissipated", s, &state::dissipated);
+    ar.members(prefix + "yielding", s, &state::yielding);
+    ar.members(prefix + "has_yielded", s, &state::has_yielded);
+  }
 
   /// Cancellation-free elongation e = |d0 + du| - |d0| (m) of a chord with reference vector d0
   /// and relative end displacement du = u_b - u_a: e = (2 d0.du + du.du) / (|d0 + du| + |d0|).

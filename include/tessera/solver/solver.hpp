@@ -314,6 +314,28 @@ class solver {
     return e;
   }
 
+  /// Saves or loads the solver's evolving state through a checkpoint archive (io/checkpoint.hpp:
+  /// io::save_checkpoint, io::load_checkpoint): step, time and the energy accounts, then the
+  /// gridpoints, blocks, contacts and reinforcement, each by its own checkpoint(). The time step
+  /// must be the one the solver was built with (a model built with other options is refused).
+  /// Phase timings are not state and restart from zero.
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    static_assert(requires { blocks_.checkpoint(ar); }, "this block model has no checkpoint(Archive&)");
+    static_assert(requires { contacts_.checkpoint(ar); }, "this contact set has no checkpoint(Archive&)");
+    static_assert(requires { reinforcement_.checkpoint(ar); }, "this reinforcement has no checkpoint(Archive&)");
+    ar.same("solver/dt", dt_);
+    ar.scalar("solver/step", step_);
+    ar.scalar("solver/time", time_);
+    ar.scalar("solver/boundary_work", boundary_work_);
+    ar.scalar("solver/damping_dissipated", damping_dissipated_);
+    ar.scalar("solver/initial_energy", initial_energy_);
+    gridpoints_.checkpoint(ar, "gridpoints");
+    blocks_.checkpoint(ar);
+    contacts_.checkpoint(ar);
+    reinforcement_.checkpoint(ar);
+  }
+
   /// Recomputes nodal stiffness bounds, mass scaling and dt (after changing options or masses).
   void compute_time_step() {
     gridpoints_.stiffness.setZero();
