@@ -103,6 +103,14 @@ class convex_polyhedron {
     return p;
   }
 
+  /// The polyhedron moved rigidly: every vertex x becomes rotation x + translation (rotation
+  /// orthonormal; the face loops stay outward CCW).
+  [[nodiscard]] convex_polyhedron transformed(const mat3& rotation, const vec3& translation) const {
+    convex_polyhedron p = *this;
+    for (vec3& x : p.vertices_) x = rotation * x + translation;
+    return p;
+  }
+
   // ---- topology and geometry access ------------------------------------------------------
   [[nodiscard]] bool empty() const { return face_tags_.empty(); }
   [[nodiscard]] index vertex_count() const { return static_cast<index>(vertices_.size()); }

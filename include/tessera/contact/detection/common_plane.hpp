@@ -1,0 +1,410 @@
+#pragma once
+// Narrow phase of contact detection between two convex polyhedra (DESIGN.md section 4): the
+// contact plane of the pair and the contact patch on it, from which a detecting contact set
+// makes its vertex sub-contacts.
+//
+// Contact plane (common_plane). The plane is the one of largest separation over the separating-
+// axis candidates of two convex polyhedra: the face normals of A, the reversed face normals of B
+// and the cross products of one edge of each. For an axis n (unit, from A to B) the gap is
+//     g(n) = min_{x in B} n.x - max_{x in A} n.x        (m; > 0 apart, < 0 overlapping)
+// and the plane lies halfway, n.x = (max_A + min_B) / 2: 3DEC's common plane (Cundall 1988: the
+// plane maximising the smaller of the two blocks' vertex distances to it) over a finite candidate
+// set, as in Nezami et al.'s fast common plane. The candidates are the face normals of the
+// Minkowski difference B - A, for which the separating axis theorem gives two guarantees:
+//   - the sign of g is exact: g > 0 iff the blocks are disjoint;
+//   - for overlapping blocks, -g is the penetration depth and n its direction (exact).
+// For disjoint blocks g is a lower bound of their distance (equal to it when the closest features
+// are a face and a vertex, edge or face, or two crossing edges; smaller when two vertices or a
+// vertex and an edge are closest, e.g. two cubes corner to corner), so a pair is taken as
+// touching slightly early, never late; the per-point gaps of the patch are exact.
+// Edge pairs are pruned to those whose arcs on the Gauss map cross (the edge pairs that form a
+// face of the Minkowski difference; Gregorius, GDC 2013), which leaves O(E) of the O(E^2) pairs
+// and keeps both guarantees (test_contacts "[detection]" checks them against the unpruned search
+// on 2000 random pairs). Ties within plane_tie_rel x size prefer a face of A, then of B, then an
+// edge pair, so face-face contacts are classified as such under rounding.
+//
+// Contact patch (contact_patch). The vertices of A within `tolerance` of A's supporting plane
+// (n.x >= max_A - tolerance) and those of B within it of B's (n.x <= min_B + tolerance) are
+// projected on the contact plane; their convex hulls are intersected. The patch is a polygon
+// (face-face contact), a segment (edge-face or parallel edges) or a point (vertex-face, crossing
+// edges); its corners are the sub-contact points. Per corner: the normal gap along n between the
+// surfaces of A and B through it (exact for planar faces: the exit of the line from A and its
+// entry into B, from the face planes), and the tributary area (a polygon's area split between
+// its corners through its centroid: half of each of the two triangles (centroid, corner,
+// neighbour) at the corner; zero for a segment or point, for which the caller supplies a nominal
+// area: see docs/model.md). `tolerance` is the contact tolerance of 3DEC (the band in which a
+// vertex counts as touching); it must exceed the tilt of nearly parallel faces over their size,
+// else they read as an edge contact.
+//
+// Cost: common_plane O(F_A V_B + F_B V_A + (E_A + E_B) log + K (V_A + V_B)), K the retained edge
+// pairs; contact_patch O(V_A + V_B + F_A + F_B) per corner. Both allocate only in the returned
+// patch (and in scratch vectors reused through a detection_workspace). Pure functions of their
+// inputs: deterministic, thread-safe with one workspace per thread.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "../../core/errors.hpp"
+#include "../../core/types.hpp"
+#include "../../geometry/convex_polyhedron.hpp"
+
+namespace tessera::contact::detection {
+
+/// Relative size of a tie between two candidate axes' gaps (x the pair's size).
+inline constexpr real plane_tie_rel = 1e-9;
+
+/// Where the contact plane's normal came from.
+enum class plane_source : std::uint8_t { face_a, face_b, edge_edge };
+
+/// The contact plane of a pair: normal (unit, from A to B), offset (n.x = offset on the plane)
+/// and the gap g (m) of the best axis.
+struct contact_plane {
+  vec3 normal = vec3::UnitZ();
+  real offset = 0;
+  real gap = 0;
+  plane_source source = plane_source::face_a;
+  index feature_a = invalid_index;  ///< face of A (face_a), or edge of A (edge_edge)
+  index feature_b = invalid_index;  ///< face of B (face_b), or edge of B (edge_edge)
+};
+
+/// The edges of a convex polyhedron with their two faces: face_left holds the loop u -> v,
+/// face_right the loop v -> u (outward CCW loops).
+struct polyhedron_edges {
+  struct edge {
+    index u, v, face_left, face_right;
+  };
+  std::vector<edge> list;
+};
+
+/// Edges of p from its face loops; throws geometry_error if an edge does not have exactly two
+/// faces (an open or non-manifold polyhedron).
+[[nodiscard]] inline polyhedron_edges edges_of(const geometry::convex_polyhedron& p) {
+  struct half {
+    index lo, hi, face;
+    bool forward;  ///< lo -> hi in the face's loop
+  };
+  std::vector<half> halves;
+  for (index f = 0; f < p.face_count(); ++f) {
+    const auto loop = p.face(f);
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+      const index a = loop[i], b = loop[(i + 1) % loop.size()];
+      halves.push_back({std::min(a, b), std::max(a, b), f, a < b});
+    }
+  }
+  std::sort(halves.begin(), halves.end(),
+            [](const half& x, const half& y) { return std::tie(x.lo, x.hi, x.forward) < std::tie(y.lo, y.hi, y.forward); });
+  polyhedron_edges e;
+  for (std::size_t i = 0; i < halves.size(); i += 2) {
+    const bool pair = i + 1 < halves.size() && halves[i].lo == halves[i + 1].lo && halves[i].hi == halves[i + 1].hi &&
+                      halves[i].forward != halves[i + 1].forward;
+    require<geometry_error>(pair, "detection: edge (", halves[i].lo, ", ", halves[i].hi,
+                            ") of a polyhedron does not have exactly two faces with opposite loops");
+    // halves[i] is the backward one (hi -> lo), halves[i + 1] the forward one (lo -> hi).
+    e.list.push_back({halves[i].lo, halves[i].hi, halves[i + 1].face, halves[i].face});
+  }
+  return e;
+}
+
+namespace detail {
+
+/// max_{x in p} n.x
+[[nodiscard]] inline real support_max(const geometry::convex_polyhedron& p, const vec3& n) {
+  real m = -std::numeric_limits<real>::infinity();
+  for (const vec3& x : p.vertices()) m = std::max(m, n.dot(x));
+  return m;
+}
+/// min_{x in p} n.x
+[[nodiscard]] inline real support_min(const geometry::convex_polyhedron& p, const vec3& n) {
+  real m = std::numeric_limits<real>::infinity();
+  for (const vec3& x : p.vertices()) m = std::min(m, n.dot(x));
+  return m;
+}
+
+/// True when the arc between face normals a, b of an edge of A and the arc between the reversed
+/// face normals c, d of an edge of B cross on the unit sphere: the two edges then form a face of
+/// the Minkowski difference A - B and their cross product is a candidate axis. b_x_a = b x a,
+/// d_x_c = d x c.
+[[nodiscard]] inline bool arcs_cross(const vec3& a, const vec3& b, const vec3& b_x_a, const vec3& c, const vec3& d,
+                                     const vec3& d_x_c) {
+  const real cba = c.dot(b_x_a), dba = d.dot(b_x_a);
+  const real adc = a.dot(d_x_c), bdc = b.dot(d_x_c);
+  return cba * dba < 0 && adc * bdc < 0 && cba * bdc > 0;
+}
+
+}  // namespace detail
+
+/// The contact plane of A and B (see the file comment). `edges_a`, `edges_b`: edges_of(a), (b),
+/// which a caller keeps with its blocks. `prune_edges` false tries every edge pair (the
+/// reference the tests compare with). Throws invalid_input for an empty polyhedron.
+[[nodiscard]] inline contact_plane common_plane(const geometry::convex_polyhedron& a, const polyhedron_edges& edges_a,
+                                                const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
+                                                bool prune_edges = true) {
+  require(!a.empty() && !b.empty(), "detection: common_plane of an empty polyhedron");
+  const real size = std::max(a.extent(), b.extent());
+  const real tie = plane_tie_rel * size;
+  contact_plane best;
+  best.gap = -std::numeric_limits<real>::infinity();
+  real best_a = 0, best_b = 0;
+  const auto consider = [&](const vec3& n, plane_source source, index fa, index fb, real margin) {
+    const real max_a = detail::support_max(a, n), min_b = detail::support_min(b, n);
+    const real g = min_b - max_a;
+    if (g > best.gap + margin) {
+      best = {n, 0, g, source, fa, fb};
+      best_a = max_a;
+      best_b = min_b;
+    }
+  };
+  std::vector<vec3> normals_a(static_cast<std::size_t>(a.face_count())), normals_b(static_cast<std::size_t>(b.face_count()));
+  for (index f = 0; f < a.face_count(); ++f) normals_a[static_cast<std::size_t>(f)] = a.face_normal(f);
+  for (index f = 0; f < b.face_count(); ++f) normals_b[static_cast<std::size_t>(f)] = b.face_normal(f);
+  // Faces first, edges last: a later candidate must beat the best by `tie` to replace it.
+  for (index f = 0; f < a.face_count(); ++f)
+    consider(normals_a[static_cast<std::size_t>(f)], plane_source::face_a, f, invalid_index, tie);
+  for (index f = 0; f < b.face_count(); ++f)
+    consider(-normals_b[static_cast<std::size_t>(f)], plane_source::face_b, invalid_index, f, tie);
+  const vec3 ca = a.centroid();
+  for (std::size_t i = 0; i < edges_a.list.size(); ++i) {
+    const auto& ea = edges_a.list[i];
+    const vec3 da = a.vertex(ea.v) - a.vertex(ea.u);
+    const vec3& na = normals_a[static_cast<std::size_t>(ea.face_left)];
+    const vec3& nb = normals_a[static_cast<std::size_t>(ea.face_right)];
+    const vec3 b_x_a = nb.cross(na);
+    for (std::size_t j = 0; j < edges_b.list.size(); ++j) {
+      const auto& eb = edges_b.list[j];
+      const vec3 c = -normals_b[static_cast<std::size_t>(eb.face_left)];
+      const vec3 d = -normals_b[static_cast<std::size_t>(eb.face_right)];
+      if (prune_edges && !detail::arcs_cross(na, nb, b_x_a, c, d, d.cross(c))) continue;
+      const vec3 db = b.vertex(eb.v) - b.vertex(eb.u);
+      vec3 n = da.cross(db);
+      const real length = n.norm();
+      if (!(length > 1e-9 * da.norm() * db.norm())) continue;  // parallel edges: a face axis covers them
+      n /= length;
+      if (n.dot(a.vertex(ea.u) - ca) < 0) n = -n;  // outward from A at its edge
+      consider(n, plane_source::edge_edge, static_cast<index>(i), static_cast<index>(j), tie);
+    }
+  }
+  best.offset = 0.5 * (best_a + best_b);
+  return best;
+}
+
+/// Overload that builds the edge lists (for one-off queries and tests).
+[[nodiscard]] inline contact_plane common_plane(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b) {
+  return common_plane(a, edges_of(a), b, edges_of(b));
+}
+
+/// Dimension of a contact patch.
+enum class patch_type : std::uint8_t { none, point, segment, polygon };
+
+/// The contact patch of a pair on its contact plane (see the file comment).
+struct contact_patch {
+  patch_type type = patch_type::none;
+  std::vector<vec3> points;  ///< corners on the contact plane (CCW about the normal for a polygon)
+  std::vector<real> gap;     ///< normal gap B - A through each corner (m; < 0 overlapping)
+  std::vector<real> area;    ///< tributary area of each corner (m^2; 0 for a segment or point)
+  real total_area = 0;       ///< area of the polygon (m^2)
+};
+
+namespace detail {
+
+using point2 = Eigen::Matrix<real, 2, 1>;
+[[nodiscard]] inline real cross2(const point2& o, const point2& a, const point2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+/// Convex hull (CCW, Andrew's monotone chain) of points, dropping points within `tol` (m) of the
+/// hull's edges; 1 or 2 points for a degenerate set.
+[[nodiscard]] inline std::vector<point2> hull2(std::vector<point2> p, real tol) {
+  std::sort(p.begin(), p.end(), [](const point2& x, const point2& y) { return x.x() < y.x() || (x.x() == y.x() && x.y() < y.y()); });
+  std::vector<point2> unique;
+  for (const point2& x : p)
+    if (unique.empty() || (x - unique.back()).norm() > tol) unique.push_back(x);
+  if (unique.size() < 3) return unique;
+  std::vector<point2> h(2 * unique.size());
+  std::size_t k = 0;
+  // A point is kept only if it turns left by more than tol x the edge length.
+  const auto turns_left = [&](const point2& o, const point2& a, const point2& b) {
+    return cross2(o, a, b) > tol * (b - o).norm();
+  };
+  for (const point2& x : unique) {
+    while (k >= 2 && !turns_left(h[k - 2], h[k - 1], x)) --k;
+    h[k++] = x;
+  }
+  for (std::size_t i = unique.size() - 1, t = k + 1; i-- > 0;) {
+    while (k >= t && !turns_left(h[k - 2], h[k - 1], unique[i])) --k;
+    h[k++] = unique[i];
+  }
+  h.resize(k - 1);
+  if (h.size() < 3) {  // collinear: the two extreme points
+    const auto [lo, hi] = std::minmax_element(unique.begin(), unique.end(), [](const point2& x, const point2& y) {
+      return x.x() < y.x() || (x.x() == y.x() && x.y() < y.y());
+    });
+    return {*lo, *hi};
+  }
+  return h;
+}
+
+/// Part of convex polygon (CCW, >= 3 corners), segment (2) or point (1) `subject` inside convex
+/// polygon `clip` (CCW, >= 3 corners), by Sutherland-Hodgman against clip's edges.
+[[nodiscard]] inline std::vector<point2> clip_convex(std::vector<point2> subject, const std::vector<point2>& clip, real tol) {
+  const bool closed = subject.size() >= 3;
+  for (std::size_t e = 0; e < clip.size() && !subject.empty(); ++e) {
+    const point2& p = clip[e];
+    const point2& q = clip[(e + 1) % clip.size()];
+    const real len = (q - p).norm();
+    const auto side = [&](const point2& x) { return cross2(p, q, x) / len; };  // > 0 inside
+    std::vector<point2> out;
+    const std::size_t n = subject.size();
+    const std::size_t edges = closed ? n : n - 1;
+    if (n == 1) {
+      if (side(subject[0]) >= -tol) out.push_back(subject[0]);
+      subject = std::move(out);
+      continue;
+    }
+    if (!closed) {
+      const real s0 = side(subject[0]), s1 = side(subject[1]);
+      if (s0 >= -tol && s1 >= -tol) continue;
+      if (s0 < -tol && s1 < -tol) {
+        subject.clear();
+        continue;
+      }
+      const point2 cut = subject[0] + (subject[1] - subject[0]) * (s0 / (s0 - s1));
+      subject = s0 >= -tol ? std::vector<point2>{subject[0], cut} : std::vector<point2>{cut, subject[1]};
+      continue;
+    }
+    for (std::size_t i = 0; i < edges; ++i) {
+      const point2& a = subject[i];
+      const point2& b = subject[(i + 1) % n];
+      const real sa = side(a), sb = side(b);
+      if (sa >= -tol) out.push_back(a);
+      if ((sa >= -tol) != (sb >= -tol)) out.push_back(a + (b - a) * (sa / (sa - sb)));
+    }
+    subject = std::move(out);
+  }
+  return subject;
+}
+
+/// Intersection of two convex 2-D sets given as hulls (1, 2 or >= 3 CCW corners).
+[[nodiscard]] inline std::vector<point2> intersect_hulls(const std::vector<point2>& p, const std::vector<point2>& q, real tol) {
+  if (p.empty() || q.empty()) return {};
+  if (q.size() >= 3) return hull2(clip_convex(p, q, tol), tol);
+  if (p.size() >= 3) return hull2(clip_convex(q, p, tol), tol);
+  // Both segments or points.
+  if (p.size() == 1 || q.size() == 1) {
+    const point2 x = p.size() == 1 ? p[0] : q[0];
+    const std::vector<point2>& s = p.size() == 1 ? q : p;
+    if (s.size() == 1) return (x - s[0]).norm() <= tol ? std::vector<point2>{x} : std::vector<point2>{};
+    const point2 d = s[1] - s[0];
+    const real t = std::clamp((x - s[0]).dot(d) / d.squaredNorm(), real(0), real(1));
+    return (s[0] + t * d - x).norm() <= tol ? std::vector<point2>{x} : std::vector<point2>{};
+  }
+  const point2 d1 = p[1] - p[0], d2 = q[1] - q[0];
+  const real denom = d1.x() * d2.y() - d1.y() * d2.x();
+  const real l1 = d1.norm(), l2 = d2.norm();
+  if (std::abs(denom) <= tol * std::max(l1, l2)) {
+    // Parallel: overlap along the common line, if the lines coincide.
+    const point2 u = d1 / l1;
+    const point2 off = q[0] - p[0];
+    if (std::abs(off.x() * u.y() - off.y() * u.x()) > tol) return {};
+    const real a0 = 0, a1 = l1;
+    const real b0 = off.dot(u), b1 = (q[1] - p[0]).dot(u);
+    const real lo = std::max(a0, std::min(b0, b1)), hi = std::min(a1, std::max(b0, b1));
+    if (hi < lo - tol) return {};
+    if (hi - lo <= tol) return {p[0] + u * (0.5 * (lo + hi))};
+    return {p[0] + u * lo, p[0] + u * hi};
+  }
+  const point2 w = q[0] - p[0];
+  const real t = (w.x() * d2.y() - w.y() * d2.x()) / denom;
+  const real s = (w.x() * d1.y() - w.y() * d1.x()) / denom;
+  const real ta = tol / l1, sa = tol / l2;
+  if (t < -ta || t > 1 + ta || s < -sa || s > 1 + sa) return {};
+  return {p[0] + std::clamp(t, real(0), real(1)) * d1};
+}
+
+/// Parameter t where the line x + t n leaves a convex polyhedron with outward face planes
+/// (normals, offsets): the least bound of the faces facing along n; +inf if none does.
+[[nodiscard]] inline real exit_along(std::span<const vec3> normals, std::span<const real> offsets, const vec3& x,
+                                     const vec3& n) {
+  real t = std::numeric_limits<real>::infinity();
+  for (std::size_t f = 0; f < normals.size(); ++f) {
+    const real c = normals[f].dot(n);
+    if (c > 1e-12) t = std::min(t, (offsets[f] - normals[f].dot(x)) / c);
+  }
+  return t;
+}
+
+}  // namespace detail
+
+/// The contact patch of A and B on `plane` (common_plane's result), with vertices within
+/// `tolerance` (m, > 0) of either block's supporting plane counted as touching. An empty patch
+/// (type none) when the touching sets do not overlap on the plane.
+[[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                                    const contact_plane& plane, real tolerance) {
+  require(std::isfinite(tolerance) && tolerance > 0, "detection: contact tolerance = ", tolerance,
+          " m must be finite and > 0");
+  const vec3 n = plane.normal;
+  // Frame of the plane.
+  const vec3 t1 = (std::abs(n.x()) < 0.9 ? vec3::UnitX() : vec3::UnitY()).cross(n).normalized();
+  const vec3 t2 = n.cross(t1);
+  const auto to2 = [&](const vec3& x) { return detail::point2(t1.dot(x), t2.dot(x)); };
+  const real max_a = detail::support_max(a, n), min_b = detail::support_min(b, n);
+  std::vector<detail::point2> pa, pb;
+  for (const vec3& x : a.vertices())
+    if (n.dot(x) >= max_a - tolerance) pa.push_back(to2(x));
+  for (const vec3& x : b.vertices())
+    if (n.dot(x) <= min_b + tolerance) pb.push_back(to2(x));
+  const real tol2 = 1e-9 * std::max(a.extent(), b.extent());
+  const std::vector<detail::point2> patch =
+      detail::intersect_hulls(detail::hull2(std::move(pa), tol2), detail::hull2(std::move(pb), tol2), tol2);
+
+  contact_patch out;
+  if (patch.empty()) return out;
+  out.type = patch.size() == 1 ? patch_type::point : patch.size() == 2 ? patch_type::segment : patch_type::polygon;
+  std::vector<vec3> normals_a, normals_b;
+  std::vector<real> offsets_a, offsets_b;
+  for (index f = 0; f < a.face_count(); ++f) {
+    normals_a.push_back(a.face_normal(f));
+    offsets_a.push_back(normals_a.back().dot(a.face_centroid(f)));
+  }
+  for (index f = 0; f < b.face_count(); ++f) {
+    normals_b.push_back(b.face_normal(f));
+    offsets_b.push_back(normals_b.back().dot(b.face_centroid(f)));
+  }
+  for (const detail::point2& q : patch) {
+    const vec3 x = plane.offset * n + q.x() * t1 + q.y() * t2;
+    // The line x + t n leaves A at t_a and enters B at t_b (B's entry along n is its exit along -n).
+    const real t_a = detail::exit_along(normals_a, offsets_a, x, n);
+    const real t_b = -detail::exit_along(normals_b, offsets_b, x, -n);
+    out.points.push_back(x);
+    out.gap.push_back(t_b - t_a);
+  }
+  out.area.assign(patch.size(), 0.0);
+  if (out.type == patch_type::polygon) {
+    detail::point2 c = detail::point2::Zero();
+    real twice = 0;
+    for (std::size_t i = 0; i < patch.size(); ++i) {
+      const detail::point2& p = patch[i];
+      const detail::point2& q = patch[(i + 1) % patch.size()];
+      const real w = p.x() * q.y() - q.x() * p.y();
+      twice += w;
+      c += w * (p + q);
+    }
+    c /= 3 * twice;
+    for (std::size_t i = 0; i < patch.size(); ++i) {
+      const std::size_t j = (i + 1) % patch.size();
+      const real tri = 0.5 * detail::cross2(c, patch[i], patch[j]);
+      out.area[i] += 0.5 * tri;
+      out.area[j] += 0.5 * tri;
+      out.total_area += tri;
+    }
+  }
+  return out;
+}
+
+}  // namespace tessera::contact::detection
