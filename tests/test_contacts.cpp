@@ -20,6 +20,7 @@
 #include <random>
 #include <string>
 #include <tessera/analysis.hpp>
+#include <tessera/contact/detection/broad_phase.hpp>
 #include <tessera/contact/detection/common_plane.hpp>
 #include <tessera/contact/face_contacts.hpp>
 #include <tessera/io/vtk_contacts.hpp>
@@ -1409,6 +1410,94 @@ TEST_CASE("detection: the pruned edge-pair search keeps the separation test and 
   CHECK(edge_planes > 100);  // the edge-pair branch is exercised
   CHECK(separated > 200);
   CHECK(separated < 1900);
+}
+
+TEST_CASE("detection broad phase: sweep and prune and the uniform grid give the all-pairs list", "[detection]") {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<real> u(0, 1);
+  std::vector<aabb> boxes;
+  for (int i = 0; i < 600; ++i) {
+    const vec3 lo(u(rng), u(rng), u(rng));
+    const real size = i % 100 == 0 ? 0.3 : 0.02 + 0.05 * u(rng);  // a few large boxes among small ones
+    boxes.push_back({lo, lo + size * vec3(0.5 + u(rng), 0.5 + u(rng), 0.5 + u(rng))});
+  }
+  boxes.push_back({vec3(0.5, 0.5, 0.5), vec3(0.5, 0.5, 0.5)});  // a point box
+  detection::sweep_workspace sw;
+  detection::grid_workspace gw;
+  for (real margin : {0.0, 0.004, 0.05}) {
+    std::vector<detection::block_pair> reference, swept, gridded;
+    detection::all_pairs(boxes, margin, reference);
+    detection::sweep_and_prune(boxes, margin, swept, sw);
+    detection::uniform_grid(boxes, margin, gridded, gw);
+    INFO("margin " << margin << ": " << reference.size() << " pairs");
+    CHECK(reference.size() > 100);
+    CHECK(swept == reference);
+    CHECK(gridded == reference);
+  }
+  // Blocks of a Voronoi tessellation: every pair sharing a face is a candidate at zero margin.
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.3)}, 300, 5);
+  std::vector<aabb> cells(static_cast<std::size_t>(tess.cell_count()));
+  for (index c = 0; c < tess.cell_count(); ++c) cells[static_cast<std::size_t>(c)] = geometry::cell_polyhedron(tess, c).bounds();
+  std::vector<detection::block_pair> pairs;
+  detection::sweep_and_prune(cells, 0, pairs, sw);
+  for (const auto& f : tess.shared_faces)
+    CHECK(std::binary_search(pairs.begin(), pairs.end(), detection::block_pair{f.cell_a, f.cell_b}));
+  const aabb bad{vec3(0, 0, 0), vec3(-1, 0, 0)};
+  CHECK_THROWS_AS(detection::sweep_and_prune(std::span<const aabb>(&bad, 1), 0, pairs, sw), invalid_input);
+  CHECK_THROWS_AS(detection::uniform_grid(boxes, -1, pairs, gw), invalid_input);
+}
+
+TEST_CASE("detection broad phase: with the rebuild margin no pair that comes to touch is missed", "[detection]") {
+  // 400 boxes drift and spin at bounded speeds for `steps` steps; every pair whose boxes overlap
+  // at any step must have been a candidate at the rebuild (margin = rebuild_margin).
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<real> u(-1, 1);
+  const index n = 400, steps = 50;
+  const real dt = 1e-3, v_max = 0.2, omega_max = 5, r = 0.02;
+  std::vector<vec3> centre(n), velocity(n), axis(n);
+  std::vector<real> omega(n);
+  for (index i = 0; i < n; ++i) {
+    centre[static_cast<std::size_t>(i)] = vec3(u(rng), u(rng), u(rng)) * 0.3;
+    velocity[static_cast<std::size_t>(i)] = vec3(u(rng), u(rng), u(rng)).normalized() * v_max;  // at the bounds
+    axis[static_cast<std::size_t>(i)] = vec3(u(rng), u(rng), u(rng)).normalized();
+    omega[static_cast<std::size_t>(i)] = u(rng) < 0 ? -omega_max : omega_max;
+  }
+  // A block: the cube of half-width r / sqrt(3) (vertices at distance r from its centre), turned.
+  const convex_polyhedron cube = convex_polyhedron::box(vec3::Constant(-r / std::sqrt(3.0)), vec3::Constant(r / std::sqrt(3.0)));
+  const auto boxes_at = [&](real t) {
+    std::vector<aabb> b(static_cast<std::size_t>(n));
+    for (index i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      b[k] = cube.transformed(rotation_about(axis[k], omega[k] * t), centre[k] + velocity[k] * t).bounds();
+    }
+    return b;
+  };
+  const real margin = detection::rebuild_margin(v_max, omega_max, r, dt, steps);
+  detection::sweep_workspace w;
+  std::vector<detection::block_pair> candidates, touching;
+  detection::sweep_and_prune(boxes_at(0), margin, candidates, w);
+  // A quarter of the margin is too little: some touching pair is missed (the test can fail).
+  std::vector<detection::block_pair> too_few;
+  detection::sweep_and_prune(boxes_at(0), 0.25 * margin, too_few, w);
+  std::size_t checked = 0, missed_with_less = 0;
+  for (index s = 1; s <= steps; ++s) {
+    detection::sweep_and_prune(boxes_at(static_cast<real>(s) * dt), 0, touching, w);
+    for (const auto& p : touching) {
+      CHECK(std::binary_search(candidates.begin(), candidates.end(), p));
+      missed_with_less += std::binary_search(too_few.begin(), too_few.end(), p) ? 0 : 1;
+    }
+    checked += touching.size();
+  }
+  CHECK(missed_with_less > 0);
+  std::vector<detection::block_pair> later;
+  detection::sweep_and_prune(boxes_at(static_cast<real>(steps) * dt), 0, later, w);
+  std::vector<detection::block_pair> at_start;
+  detection::sweep_and_prune(boxes_at(0), 0, at_start, w);
+  INFO(checked << " touching pairs checked, " << candidates.size() << " candidates");
+  CHECK(later != at_start);  // the motion did change which boxes touch
+  CHECK(checked > 0);
+  CHECK_THROWS_AS(detection::rebuild_margin(-1, 0, 0, dt, steps), invalid_input);
+  CHECK_THROWS_AS(detection::rebuild_margin(1, 0, 0, dt, 0), invalid_input);
 }
 
 }  // namespace tessera::test_detection

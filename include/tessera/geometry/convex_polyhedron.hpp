@@ -103,11 +103,15 @@ class convex_polyhedron {
     return p;
   }
 
-  /// The polyhedron moved rigidly: every vertex x becomes rotation x + translation (rotation
-  /// orthonormal; the face loops stay outward CCW).
-  [[nodiscard]] convex_polyhedron transformed(const mat3& rotation, const vec3& translation) const {
+  /// Every vertex x mapped to map x + translation: a rigid move for a rotation `map`, a scaling
+  /// about a point for a multiple of the identity. `map` must have a positive determinant (the
+  /// face loops stay outward CCW; convexity is kept by any linear map).
+  [[nodiscard]] convex_polyhedron transformed(const mat3& map, const vec3& translation) const {
+    require(map.allFinite() && map.determinant() > 0 && translation.allFinite(),
+            "convex_polyhedron::transformed: the map must be finite with a positive determinant (it is ",
+            map.determinant(), ")");
     convex_polyhedron p = *this;
-    for (vec3& x : p.vertices_) x = rotation * x + translation;
+    for (vec3& x : p.vertices_) x = map * x + translation;
     return p;
   }
 

@@ -127,17 +127,6 @@ namespace detail {
   return m;
 }
 
-/// True when the arc between face normals a, b of an edge of A and the arc between the reversed
-/// face normals c, d of an edge of B cross on the unit sphere: the two edges then form a face of
-/// the Minkowski difference A - B and their cross product is a candidate axis. b_x_a = b x a,
-/// d_x_c = d x c.
-[[nodiscard]] inline bool arcs_cross(const vec3& a, const vec3& b, const vec3& b_x_a, const vec3& c, const vec3& d,
-                                     const vec3& d_x_c) {
-  const real cba = c.dot(b_x_a), dba = d.dot(b_x_a);
-  const real adc = a.dot(d_x_c), bdc = b.dot(d_x_c);
-  return cba * dba < 0 && adc * bdc < 0 && cba * bdc > 0;
-}
-
 }  // namespace detail
 
 /// The contact plane of A and B (see the file comment). `edges_a`, `edges_b`: edges_of(a), (b),
@@ -152,14 +141,18 @@ namespace detail {
   contact_plane best;
   best.gap = -std::numeric_limits<real>::infinity();
   real best_a = 0, best_b = 0;
-  const auto consider = [&](const vec3& n, plane_source source, index fa, index fb, real margin) {
-    const real max_a = detail::support_max(a, n), min_b = detail::support_min(b, n);
+  // Candidate n with A's support value max_a and B's min_b along it.
+  const auto consider_supports = [&](const vec3& n, real max_a, real min_b, plane_source source, index fa, index fb,
+                                     real margin) {
     const real g = min_b - max_a;
     if (g > best.gap + margin) {
       best = {n, 0, g, source, fa, fb};
       best_a = max_a;
       best_b = min_b;
     }
+  };
+  const auto consider = [&](const vec3& n, plane_source source, index fa, index fb, real margin) {
+    consider_supports(n, detail::support_max(a, n), detail::support_min(b, n), source, fa, fb, margin);
   };
   std::vector<vec3> normals_a(static_cast<std::size_t>(a.face_count())), normals_b(static_cast<std::size_t>(b.face_count()));
   for (index f = 0; f < a.face_count(); ++f) normals_a[static_cast<std::size_t>(f)] = a.face_normal(f);
@@ -169,25 +162,68 @@ namespace detail {
     consider(normals_a[static_cast<std::size_t>(f)], plane_source::face_a, f, invalid_index, tie);
   for (index f = 0; f < b.face_count(); ++f)
     consider(-normals_b[static_cast<std::size_t>(f)], plane_source::face_b, invalid_index, f, tie);
-  const vec3 ca = a.centroid();
+  // A point inside A (the vertex mean; the centroid would need a volume integral) to orient the
+  // edge-pair axes outward from A.
+  vec3 ca = vec3::Zero();
+  for (const vec3& x : a.vertices()) ca += x;
+  ca /= static_cast<real>(a.vertex_count());
+  // Per edge of B, the arc of its reversed face normals c, d and d x c as columns (computed once
+  // per call), so the arc test of one edge of A against all of B's runs branch-free over them.
+  thread_local std::vector<real> arcs;
+  thread_local std::vector<index> crossing;
+  const std::size_t nb_edges = edges_b.list.size();
+  arcs.resize(9 * nb_edges);
+  crossing.resize(nb_edges);
+  real* col[9];
+  for (std::size_t k = 0; k < 9; ++k) col[k] = arcs.data() + k * nb_edges;
+  for (std::size_t j = 0; j < nb_edges; ++j) {
+    const auto& eb = edges_b.list[j];
+    const vec3 c = -normals_b[static_cast<std::size_t>(eb.face_left)];
+    const vec3 d = -normals_b[static_cast<std::size_t>(eb.face_right)];
+    const vec3 d_x_c = d.cross(c);
+    for (int k = 0; k < 3; ++k) {
+      col[k][j] = c[k];
+      col[3 + k][j] = d[k];
+      col[6 + k][j] = d_x_c[k];
+    }
+  }
   for (std::size_t i = 0; i < edges_a.list.size(); ++i) {
     const auto& ea = edges_a.list[i];
     const vec3 da = a.vertex(ea.v) - a.vertex(ea.u);
     const vec3& na = normals_a[static_cast<std::size_t>(ea.face_left)];
     const vec3& nb = normals_a[static_cast<std::size_t>(ea.face_right)];
     const vec3 b_x_a = nb.cross(na);
-    for (std::size_t j = 0; j < edges_b.list.size(); ++j) {
+    std::size_t count = 0;
+    if (prune_edges) {
+      // The arc (na, nb) of A's edge and the arc (c, d) of B's reversed normals cross on the unit
+      // sphere iff c, d lie on opposite sides of the plane of (na, nb), na, nb on opposite sides
+      // of that of (c, d), and the crossing is on the near hemisphere (Gregorius, GDC 2013), with
+      // b_x_a = nb x na and d x c; for every edge of B, without branches.
+      for (std::size_t j = 0; j < nb_edges; ++j) {
+        const real cba = col[0][j] * b_x_a.x() + col[1][j] * b_x_a.y() + col[2][j] * b_x_a.z();
+        const real dba = col[3][j] * b_x_a.x() + col[4][j] * b_x_a.y() + col[5][j] * b_x_a.z();
+        const real adc = na.x() * col[6][j] + na.y() * col[7][j] + na.z() * col[8][j];
+        const real bdc = nb.x() * col[6][j] + nb.y() * col[7][j] + nb.z() * col[8][j];
+        crossing[count] = static_cast<index>(j);
+        count += static_cast<std::size_t>((cba * dba < 0) & (adc * bdc < 0) & (cba * bdc > 0));
+      }
+    } else {
+      for (std::size_t j = 0; j < nb_edges; ++j) crossing[count++] = static_cast<index>(j);
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      const auto j = static_cast<std::size_t>(crossing[k]);
       const auto& eb = edges_b.list[j];
-      const vec3 c = -normals_b[static_cast<std::size_t>(eb.face_left)];
-      const vec3 d = -normals_b[static_cast<std::size_t>(eb.face_right)];
-      if (prune_edges && !detail::arcs_cross(na, nb, b_x_a, c, d, d.cross(c))) continue;
       const vec3 db = b.vertex(eb.v) - b.vertex(eb.u);
       vec3 n = da.cross(db);
       const real length = n.norm();
       if (!(length > 1e-9 * da.norm() * db.norm())) continue;  // parallel edges: a face axis covers them
       n /= length;
       if (n.dot(a.vertex(ea.u) - ca) < 0) n = -n;  // outward from A at its edge
-      consider(n, plane_source::edge_edge, static_cast<index>(i), static_cast<index>(j), tie);
+      if (prune_edges)  // the two edges are the supporting features along n: no vertex loop
+        consider_supports(n, n.dot(a.vertex(ea.u)), n.dot(b.vertex(eb.u)), plane_source::edge_edge,
+                          static_cast<index>(i), static_cast<index>(j), tie);
+      else
+        consider(n, plane_source::edge_edge, static_cast<index>(i), static_cast<index>(j), tie);
     }
   }
   best.offset = 0.5 * (best_a + best_b);
