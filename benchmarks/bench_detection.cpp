@@ -1,13 +1,15 @@
 // Contact detection kernels (contact/detection/): the broad phase by sort and sweep and by the
-// uniform grid, and the narrow phase (common plane, then the contact patch of the pairs within
-// the contact tolerance), on the blocks of a random Voronoi tessellation each shrunk by 1 % of
-// its size about its centroid (the blocks "moved apart by 1 %": neighbours face each other across
-// gaps of about 1 % of a block). Arg = number of blocks (1 000, 10 000).
+// uniform grid, the common plane alone, and a whole detection pass (detect.hpp: grid, common
+// plane, patches) on 1 and 2 threads, on the blocks of a random Voronoi tessellation of blocks
+// of about 50 mm, each shrunk by 1 % about its centroid (the blocks "moved apart by 1 %": faces
+// open by 1 % of their two centroids' distances). Margin and contact tolerance: 5 % of a block,
+// which takes in every opened face (test_contacts "detection pass").
+// Args: blocks (1 000, 10 000), threads.
 //
-// Counters: pairs (candidates of the broad phase), subcontacts (patch corners created),
-// time_per_block (broad phase), time_per_pair and time_per_subcontact (narrow phase).
+// Counters: pairs / candidates (of the broad phase), touching pairs, subcontacts (patch corners
+// created), time_per_block (broad phase), time_per_pair, time_per_candidate, time_per_subcontact.
 //
-//   build/bench/benchmarks/bench_detection --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   build/bench/benchmarks/bench_detection --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 
 #include <benchmark/benchmark.h>
 
@@ -18,6 +20,8 @@
 
 #include <tessera/contact/detection/broad_phase.hpp>
 #include <tessera/contact/detection/common_plane.hpp>
+#include <tessera/contact/detection/detect.hpp>
+#include <tessera/core/parallel.hpp>
 #include <tessera/geometry.hpp>
 
 namespace {
@@ -60,7 +64,7 @@ void BM_broad_sweep_and_prune(benchmark::State& state) {
   detection::sweep_workspace w;
   std::vector<detection::block_pair> pairs;
   for (auto _ : state) {
-    detection::sweep_and_prune(s.boxes, 0.02 * s.size, pairs, w);
+    detection::sweep_and_prune(s.boxes, 0.05 * s.size, pairs, w);
     benchmark::DoNotOptimize(pairs.data());
   }
   state.counters["pairs"] = static_cast<double>(pairs.size());
@@ -73,7 +77,7 @@ void BM_broad_uniform_grid(benchmark::State& state) {
   detection::grid_workspace w;
   std::vector<detection::block_pair> pairs;
   for (auto _ : state) {
-    detection::uniform_grid(s.boxes, 0.02 * s.size, pairs, w);
+    detection::uniform_grid(s.boxes, 0.05 * s.size, pairs, w);
     benchmark::DoNotOptimize(pairs.data());
   }
   state.counters["pairs"] = static_cast<double>(pairs.size());
@@ -81,30 +85,28 @@ void BM_broad_uniform_grid(benchmark::State& state) {
                                                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
-void BM_narrow_phase(benchmark::State& state) {
+/// A whole pass (detect.hpp: grid broad phase, common plane, patches), on 1 or 2 threads.
+void BM_detection_pass(benchmark::State& state) {
   const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
-  detection::sweep_workspace w;
-  std::vector<detection::block_pair> pairs;
-  detection::sweep_and_prune(s.boxes, 0.02 * s.size, pairs, w);
-  const real tolerance = 0.02 * s.size;  // the 1 % gaps are inside it
-  std::size_t subcontacts = 0;
+  const int saved = tessera::max_threads();
+  tessera::set_threads(static_cast<int>(state.range(1)));
+  detection::detection_options options;
+  options.margin = 0.05 * s.size;
+  options.tolerance = 0.05 * s.size;  // takes in every face opened by the 1 % shrink (test_contacts)
+  detection::detection_result r;
+  detection::detection_workspace w;
   for (auto _ : state) {
-    subcontacts = 0;
-    for (const auto& p : pairs) {
-      const auto& a = s.blocks[static_cast<std::size_t>(p.a)];
-      const auto& b = s.blocks[static_cast<std::size_t>(p.b)];
-      const auto plane = detection::common_plane(a, s.edges[static_cast<std::size_t>(p.a)], b, s.edges[static_cast<std::size_t>(p.b)]);
-      if (plane.gap > tolerance) continue;
-      subcontacts += detection::contact_patch_of(a, b, plane, tolerance).points.size();
-    }
-    benchmark::DoNotOptimize(subcontacts);
+    detection::detect(s.blocks, s.edges, s.boxes, options, r, w);
+    benchmark::DoNotOptimize(r.point.data());
   }
-  state.counters["pairs"] = static_cast<double>(pairs.size());
-  state.counters["subcontacts"] = static_cast<double>(subcontacts);
-  state.counters["time_per_pair"] = benchmark::Counter(static_cast<double>(pairs.size()),
-                                                       benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  tessera::set_threads(saved);
+  state.counters["candidates"] = static_cast<double>(r.candidates);
+  state.counters["touching"] = static_cast<double>(r.pairs.size());
+  state.counters["subcontacts"] = static_cast<double>(r.point.size());
+  state.counters["time_per_candidate"] = benchmark::Counter(
+      static_cast<double>(r.candidates), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
   state.counters["time_per_subcontact"] = benchmark::Counter(
-      static_cast<double>(subcontacts), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+      static_cast<double>(r.point.size()), benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 /// The common plane alone, every candidate pair.
@@ -112,7 +114,7 @@ void BM_common_plane(benchmark::State& state) {
   const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
   detection::sweep_workspace w;
   std::vector<detection::block_pair> pairs;
-  detection::sweep_and_prune(s.boxes, 0.02 * s.size, pairs, w);
+  detection::sweep_and_prune(s.boxes, 0.05 * s.size, pairs, w);
   for (auto _ : state) {
     real sum = 0;
     for (const auto& p : pairs)
@@ -131,6 +133,6 @@ void BM_common_plane(benchmark::State& state) {
 BENCHMARK(BM_common_plane)->ArgName("blocks")->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_broad_sweep_and_prune)->ArgName("blocks")->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_broad_uniform_grid)->ArgName("blocks")->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_narrow_phase)->ArgName("blocks")->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_detection_pass)->ArgNames({"blocks", "threads"})->Args({1000, 1})->Args({1000, 2})->Args({10000, 1})->Args({10000, 2})->UseRealTime()->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -22,6 +22,7 @@
 #include <tessera/analysis.hpp>
 #include <tessera/contact/detection/broad_phase.hpp>
 #include <tessera/contact/detection/common_plane.hpp>
+#include <tessera/contact/detection/detect.hpp>
 #include <tessera/contact/face_contacts.hpp>
 #include <tessera/io/vtk_contacts.hpp>
 #include <tessera/presets.hpp>
@@ -1498,6 +1499,68 @@ TEST_CASE("detection broad phase: with the rebuild margin no pair that comes to 
   CHECK(checked > 0);
   CHECK_THROWS_AS(detection::rebuild_margin(-1, 0, 0, dt, steps), invalid_input);
   CHECK_THROWS_AS(detection::rebuild_margin(1, 0, 0, dt, 0), invalid_input);
+}
+
+TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1 % is found, same bits on 1 and 2 threads",
+          "[detection]") {
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.15, 0.15, 0.3)}, 300, 9);
+  std::vector<convex_polyhedron> blocks;
+  std::vector<detection::polyhedron_edges> edges;
+  std::vector<aabb> boxes;
+  for (index c = 0; c < tess.cell_count(); ++c) {
+    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
+    blocks.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
+    edges.push_back(detection::edges_of(blocks.back()));
+    boxes.push_back(blocks.back().bounds());
+  }
+  const real size = std::cbrt(0.15 * 0.15 * 0.3 / 300);
+  detection::detection_options options;
+  // Shrinking each side by 1 % opens a face by 1 % of its two centroids' distances to it, up to
+  // about 3 % of the mean size for elongated cells: a 5 % tolerance takes every face in.
+  options.margin = 0.05 * size;
+  options.tolerance = 0.05 * size;
+  const int saved = max_threads();
+  const auto run = [&](int threads) {
+    set_threads(threads);
+    detection::detection_result r;
+    detection::detection_workspace w;
+    detection::detect(blocks, edges, boxes, options, r, w);
+    return r;
+  };
+  const auto one = run(1), two = run(2);
+  set_threads(saved);
+  REQUIRE(one.pairs == two.pairs);
+  REQUIRE(one.point.size() == two.point.size());
+  CHECK(std::memcmp(one.point.data(), two.point.data(), one.point.size() * sizeof(vec3)) == 0);
+  CHECK(std::memcmp(one.area.data(), two.area.data(), one.area.size() * sizeof(real)) == 0);
+  // Every shared face is a touching pair with a polygon patch whose corners are apart by a
+  // positive gap; the patches cover the faces but for the 1 % shrink of each side.
+  real face_area = 0, patch_area = 0;
+  for (const auto& f : tess.shared_faces) {
+    const auto it = std::lower_bound(one.pairs.begin(), one.pairs.end(), detection::block_pair{f.cell_a, f.cell_b});
+    REQUIRE(it != one.pairs.end());
+    REQUIRE(*it == (detection::block_pair{f.cell_a, f.cell_b}));
+    const auto k = static_cast<std::size_t>(it - one.pairs.begin());
+    CHECK(one.type[k] == detection::patch_type::polygon);
+    for (index i = one.first_corner[k]; i < one.first_corner[k + 1]; ++i) {
+      CHECK(one.gap[static_cast<std::size_t>(i)] > 0);
+      // A corner taken from either block's tolerance band (a vertex of a neighbouring face just
+      // off the contact face) is up to one tolerance per block further apart than the plane's gap.
+      CHECK(one.gap[static_cast<std::size_t>(i)] >= one.planes[k].gap - 1e-12);
+      CHECK(one.gap[static_cast<std::size_t>(i)] <= one.planes[k].gap + 2 * options.tolerance);
+      patch_area += one.area[static_cast<std::size_t>(i)];
+    }
+  }
+  for (const auto& f : tess.shared_faces) face_area += geometry::face_area(tess, f.face_a);
+  INFO(one.candidates << " candidates, " << one.pairs.size() << " touching pairs, " << tess.shared_faces.size()
+                      << " shared faces; patch area / face area = " << patch_area / face_area);
+  CHECK(one.pairs.size() >= tess.shared_faces.size());
+  CHECK(patch_area / face_area > 0.95);
+  CHECK(patch_area / face_area < 1.0);
+  detection::detection_result r;
+  detection::detection_workspace w;
+  options.tolerance = 0;
+  CHECK_THROWS_AS(detection::detect(blocks, edges, boxes, options, r, w), invalid_input);
 }
 
 }  // namespace tessera::test_detection

@@ -122,26 +122,48 @@ struct grid_workspace {
   std::vector<std::size_t> starts;
 };
 
-/// The pairs of all_pairs by binning into a uniform grid (see the file comment). Refuses a grid of
-/// more than 64 cells per block (a few huge boxes among many small ones: use sweep_and_prune).
+/// The grid of uniform_grid for `boxes` enlarged by `margin`: its origin, cell size (the largest
+/// enlarged box) and cells per axis.
+struct grid_layout {
+  vec3 lo = vec3::Zero();
+  real cell = 0;
+  std::array<std::int64_t, 3> dims{1, 1, 1};
+  /// Cells in all (as a double: it may exceed any integer type for a degenerate layout).
+  [[nodiscard]] double cells() const {
+    return static_cast<double>(dims[0]) * static_cast<double>(dims[1]) * static_cast<double>(dims[2]);
+  }
+  /// At most 64 cells per block: otherwise a few huge boxes set the cell among many small ones
+  /// and sort and sweep is the better choice.
+  [[nodiscard]] bool suits(std::size_t blocks) const { return cells() <= 64.0 * static_cast<double>(blocks) + 64.0; }
+};
+[[nodiscard]] inline grid_layout layout_grid(std::span<const aabb> boxes, real margin) {
+  grid_layout g;
+  if (boxes.empty()) return g;
+  aabb domain;
+  for (const aabb& b : boxes) {
+    domain.expand(b.lo);
+    domain.expand(b.hi);
+    g.cell = std::max(g.cell, b.size().maxCoeff() + 2 * margin);
+  }
+  g.cell = std::max(g.cell, 1e-12 * std::max(domain.size().maxCoeff(), real(1)));
+  g.lo = domain.lo - vec3::Constant(margin);
+  for (int c = 0; c < 3; ++c)
+    g.dims[static_cast<std::size_t>(c)] = static_cast<std::int64_t>((domain.size()[c] + 2 * margin) / g.cell) + 1;
+  return g;
+}
+
+/// The pairs of all_pairs by binning into a uniform grid (see the file comment). Refuses a layout
+/// that does not suit a grid (grid_layout::suits: use sweep_and_prune).
 inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, grid_workspace& w) {
   detail::require_boxes(boxes, margin, "uniform_grid");
   pairs.clear();
   if (boxes.empty()) return;
-  aabb domain;
-  real cell = 0;
-  for (const aabb& b : boxes) {
-    domain.expand(b.lo);
-    domain.expand(b.hi);
-    cell = std::max(cell, (b.size().maxCoeff()) + 2 * margin);
-  }
-  cell = std::max(cell, 1e-12 * std::max(domain.size().maxCoeff(), real(1)));
-  const vec3 lo = domain.lo - vec3::Constant(margin);
-  std::array<std::int64_t, 3> dims{};
-  for (int c = 0; c < 3; ++c) dims[static_cast<std::size_t>(c)] = static_cast<std::int64_t>((domain.size()[c] + 2 * margin) / cell) + 1;
-  const double total = static_cast<double>(dims[0]) * static_cast<double>(dims[1]) * static_cast<double>(dims[2]);
-  require(total <= 64.0 * static_cast<double>(boxes.size()) + 64.0, "uniform_grid: ", total, " cells for ",
-          boxes.size(), " blocks (cell ", cell, " m set by the largest box): use sweep_and_prune");
+  const grid_layout g = layout_grid(boxes, margin);
+  require(g.suits(boxes.size()), "uniform_grid: ", g.cells(), " cells for ", boxes.size(), " blocks (cell ", g.cell,
+          " m set by the largest box): use sweep_and_prune");
+  const vec3& lo = g.lo;
+  const real cell = g.cell;
+  const auto& dims = g.dims;
   const auto cell_coord = [&](real x, int c) {
     return std::clamp<std::int64_t>(static_cast<std::int64_t>((x - lo[c]) / cell), 0, dims[static_cast<std::size_t>(c)] - 1);
   };

@@ -34,7 +34,9 @@
 // neighbour) at the corner; zero for a segment or point, for which the caller supplies a nominal
 // area: see docs/model.md). `tolerance` is the contact tolerance of 3DEC (the band in which a
 // vertex counts as touching); it must exceed the tilt of nearly parallel faces over their size,
-// else they read as an edge contact.
+// else they read as an edge contact. A vertex of a neighbouring face that lies within the band
+// joins the patch too, so a corner's gap can exceed the plane's by up to one tolerance per block
+// (such a corner carries force only once it closes); no corner's gap is below the plane's.
 //
 // Cost: common_plane O(F_A V_B + F_B V_A + (E_A + E_B) log + K (V_A + V_B)), K the retained edge
 // pairs; contact_patch O(V_A + V_B + F_A + F_B) per corner. Both allocate only in the returned

@@ -1,0 +1,102 @@
+#pragma once
+// One detection pass over a set of convex blocks: the broad phase (uniform grid, or sort and
+// sweep where the grid refuses the layout), then for every candidate pair the common plane and,
+// when its gap is within the contact tolerance, the contact patch (broad_phase.hpp,
+// common_plane.hpp). This is what a detecting contact set runs at each rebuild.
+//
+// Result (detection_result), deterministic for any thread count: the touching pairs in
+// increasing (a, b) order, each with its plane, and their patch corners as one list (pair k owns
+// corners [first_corner[k], first_corner[k + 1])) with point, gap and tributary area.
+// The narrow phase runs in parallel over the candidate pairs (each pair writes its own slot),
+// and the slots are concatenated in pair order.
+//
+// Cost: see docs/performance.md ("Contact detection kernels"). Allocates in the result and the
+// workspace, which keep their capacity between passes.
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "../../core/errors.hpp"
+#include "../../core/parallel.hpp"
+#include "../../core/types.hpp"
+#include "../../geometry/convex_polyhedron.hpp"
+#include "broad_phase.hpp"
+#include "common_plane.hpp"
+
+namespace tessera::contact::detection {
+
+/// Parameters of a detection pass (SI).
+struct detection_options {
+  real margin = 0;     ///< broad-phase enlargement of each box (m): rebuild_margin
+  real tolerance = 0;  ///< contact tolerance (m, > 0): pairs with a gap up to it touch
+};
+
+/// What a pass found (see the file comment).
+struct detection_result {
+  std::vector<block_pair> pairs;       ///< touching pairs, increasing
+  std::vector<contact_plane> planes;   ///< plane of each touching pair
+  std::vector<index> first_corner{0};  ///< CSR over pairs into the corner arrays
+  std::vector<vec3> point;             ///< corner on the contact plane (m)
+  std::vector<real> gap;               ///< normal gap B - A through it (m)
+  std::vector<real> area;              ///< tributary area (m^2; 0 for segment and point patches)
+  std::vector<patch_type> type;        ///< patch type of each touching pair
+  std::size_t candidates = 0;          ///< pairs the broad phase passed on
+};
+
+/// Scratch of a pass, kept between passes.
+struct detection_workspace {
+  grid_workspace grid;
+  sweep_workspace sweep;
+  std::vector<block_pair> candidates;
+  std::vector<contact_plane> planes;
+  std::vector<contact_patch> patches;
+};
+
+/// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
+/// `boxes[i]` = blocks[i].bounds()). Throws invalid_input for mismatched sizes or a bad option.
+inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
+                   std::span<const aabb> boxes, const detection_options& options, detection_result& out,
+                   detection_workspace& w) {
+  require(edges.size() == blocks.size() && boxes.size() == blocks.size(), "detect: ", blocks.size(), " blocks, ",
+          edges.size(), " edge lists and ", boxes.size(), " boxes: give one of each per block");
+  require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
+          " m must be finite and > 0");
+  // The grid unless the layout would need too many cells (a few huge boxes): then sort and sweep.
+  if (layout_grid(boxes, options.margin).suits(boxes.size()))
+    uniform_grid(boxes, options.margin, w.candidates, w.grid);
+  else
+    sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
+  const std::size_t n = w.candidates.size();
+  w.planes.resize(n);
+  w.patches.resize(n);
+  parallel_for(static_cast<std::int64_t>(n), [&](std::int64_t k) {
+    const auto i = static_cast<std::size_t>(k);
+    const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
+    w.planes[i] = common_plane(blocks[a], edges[a], blocks[b], edges[b]);
+    w.patches[i] = w.planes[i].gap <= options.tolerance ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance)
+                                                        : contact_patch{};
+  }, 16);
+  out.candidates = n;
+  out.pairs.clear();
+  out.planes.clear();
+  out.type.clear();
+  out.first_corner.assign(1, 0);
+  out.point.clear();
+  out.gap.clear();
+  out.area.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    const contact_patch& p = w.patches[i];
+    if (p.type == patch_type::none) continue;
+    out.pairs.push_back(w.candidates[i]);
+    out.planes.push_back(w.planes[i]);
+    out.type.push_back(p.type);
+    out.point.insert(out.point.end(), p.points.begin(), p.points.end());
+    out.gap.insert(out.gap.end(), p.gap.begin(), p.gap.end());
+    out.area.insert(out.area.end(), p.area.begin(), p.area.end());
+    out.first_corner.push_back(static_cast<index>(out.point.size()));
+  }
+}
+
+}  // namespace tessera::contact::detection
