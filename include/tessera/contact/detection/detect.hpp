@@ -10,8 +10,9 @@
 // The narrow phase runs in parallel over the candidate pairs (each pair writes its own slot),
 // and the slots are concatenated in pair order.
 //
-// Cost: see docs/performance.md ("Contact detection kernels"). Allocates in the result and the
-// workspace, which keep their capacity between passes.
+// Cost: see docs/performance.md ("Contact detection kernels"). Allocates: each touching pair's
+// patch (three small vectors), and the result and workspace arrays when they grow (they keep
+// their capacity between passes). A pass runs at rebuilds only, never in the step loop.
 
 #include <cmath>
 #include <cstdint>
