@@ -59,12 +59,13 @@ const scene& scene_of(tessera::index n) {
   return *s;
 }
 
-void BM_broad_sweep_and_prune(benchmark::State& state) {
+/// A broad phase run(boxes, margin, pairs) on the scene of state.range(0) blocks.
+template <class Run>
+void broad_phase(benchmark::State& state, Run&& run) {
   const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
-  detection::sweep_workspace w;
   std::vector<detection::block_pair> pairs;
   for (auto _ : state) {
-    detection::sweep_and_prune(s.boxes, 0.05 * s.size, pairs, w);
+    run(s.boxes, 0.05 * s.size, pairs);
     benchmark::DoNotOptimize(pairs.data());
   }
   state.counters["pairs"] = static_cast<double>(pairs.size());
@@ -72,17 +73,14 @@ void BM_broad_sweep_and_prune(benchmark::State& state) {
                                                         benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+void BM_broad_sweep_and_prune(benchmark::State& state) {
+  detection::sweep_workspace w;
+  broad_phase(state, [&](const auto& boxes, real margin, auto& pairs) { detection::sweep_and_prune(boxes, margin, pairs, w); });
+}
+
 void BM_broad_uniform_grid(benchmark::State& state) {
-  const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
   detection::grid_workspace w;
-  std::vector<detection::block_pair> pairs;
-  for (auto _ : state) {
-    detection::uniform_grid(s.boxes, 0.05 * s.size, pairs, w);
-    benchmark::DoNotOptimize(pairs.data());
-  }
-  state.counters["pairs"] = static_cast<double>(pairs.size());
-  state.counters["time_per_block"] = benchmark::Counter(static_cast<double>(s.boxes.size()),
-                                                        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  broad_phase(state, [&](const auto& boxes, real margin, auto& pairs) { detection::uniform_grid(boxes, margin, pairs, w); });
 }
 
 /// A whole pass (detect.hpp: grid broad phase, common plane, patches), on 1 or 2 threads.

@@ -130,42 +130,21 @@ class archive_base {
  public:
   template <class T>
   void array(std::string_view name, std::vector<T>& v) {
-    using F = flat<T>;
-    buffer<typename F::value>().resize(v.size() * F::width);
-    auto& b = buffer<typename F::value>();
-    if (self().saving())
-      for (std::size_t i = 0; i < v.size(); ++i) F::get(v[i], &b[i * F::width]);
-    self().values(name, F::code, b.data(), b.size());
-    if (self().loading())
-      for (std::size_t i = 0; i < v.size(); ++i) F::put(v[i], &b[i * F::width]);
+    elements(name, v.size(), [&](std::size_t i) -> T& { return v[i]; });
   }
   template <class S, class M>
   void members(std::string_view name, std::vector<S>& v, M S::*m) {
-    using F = flat<M>;
-    auto& b = buffer<typename F::value>();
-    b.resize(v.size() * F::width);
-    if (self().saving())
-      for (std::size_t i = 0; i < v.size(); ++i) F::get(v[i].*m, &b[i * F::width]);
-    self().values(name, F::code, b.data(), b.size());
-    if (self().loading())
-      for (std::size_t i = 0; i < v.size(); ++i) F::put(v[i].*m, &b[i * F::width]);
+    elements(name, v.size(), [&](std::size_t i) -> M& { return v[i].*m; });
   }
   /// An Eigen matrix of real or integer coefficients; its size is the model's (not resized).
   template <class M>
   void matrix(std::string_view name, M& m) {
     using T = typename M::Scalar;
     using F = flat<T>;
-    if constexpr (std::is_same_v<T, typename F::value>) {
+    if constexpr (std::is_same_v<T, typename F::value>)
       self().values(name, F::code, m.data(), static_cast<std::size_t>(m.size()));
-    } else {
-      auto& b = buffer<typename F::value>();
-      b.resize(static_cast<std::size_t>(m.size()));
-      if (self().saving())
-        for (std::size_t i = 0; i < b.size(); ++i) F::get(m.data()[i], &b[i]);
-      self().values(name, F::code, b.data(), b.size());
-      if (self().loading())
-        for (std::size_t i = 0; i < b.size(); ++i) F::put(m.data()[i], &b[i]);
-    }
+    else
+      elements(name, static_cast<std::size_t>(m.size()), [&](std::size_t i) -> T& { return m.data()[i]; });
   }
   template <class T>
   void scalar(std::string_view name, T& x) {
@@ -178,6 +157,20 @@ class archive_base {
 
  private:
   Derived& self() { return static_cast<Derived&>(*this); }
+  /// n elements, element(i) -> T&, through the buffer of T's stored type: gathered before a
+  /// save, scattered after a load.
+  template <class Element>
+  void elements(std::string_view name, std::size_t n, Element&& element) {
+    using T = std::remove_reference_t<decltype(element(std::size_t{}))>;
+    using F = flat<T>;
+    auto& b = buffer<typename F::value>();
+    b.resize(n * F::width);
+    if (self().saving())
+      for (std::size_t i = 0; i < n; ++i) F::get(element(i), &b[i * F::width]);
+    self().values(name, F::code, b.data(), b.size());
+    if (self().loading())
+      for (std::size_t i = 0; i < n; ++i) F::put(element(i), &b[i * F::width]);
+  }
   template <class V>
   std::vector<V>& buffer() {
     if constexpr (std::is_same_v<V, real>)

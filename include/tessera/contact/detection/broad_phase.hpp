@@ -152,13 +152,13 @@ struct grid_layout {
   return g;
 }
 
-/// The pairs of all_pairs by binning into a uniform grid (see the file comment). Refuses a layout
-/// that does not suit a grid (grid_layout::suits: use sweep_and_prune).
-inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, grid_workspace& w) {
+/// The pairs of all_pairs by binning into the grid `g` = layout_grid(boxes, margin) (see the file
+/// comment). Refuses a layout that does not suit a grid (grid_layout::suits: use sweep_and_prune).
+inline void uniform_grid(std::span<const aabb> boxes, real margin, const grid_layout& g, std::vector<block_pair>& pairs,
+                         grid_workspace& w) {
   detail::require_boxes(boxes, margin, "uniform_grid");
   pairs.clear();
   if (boxes.empty()) return;
-  const grid_layout g = layout_grid(boxes, margin);
   require(g.suits(boxes.size()), "uniform_grid: ", g.cells(), " cells for ", boxes.size(), " blocks (cell ", g.cell,
           " m set by the largest box): use sweep_and_prune");
   const vec3& lo = g.lo;
@@ -206,6 +206,11 @@ inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<b
     s = e;
   }
   std::sort(pairs.begin(), pairs.end());
+}
+
+/// The same, laying out the grid first.
+inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, grid_workspace& w) {
+  uniform_grid(boxes, margin, layout_grid(boxes, margin), pairs, w);
 }
 
 }  // namespace tessera::contact::detection

@@ -279,12 +279,7 @@ using point2 = Eigen::Matrix<real, 2, 1>;
     h[k++] = unique[i];
   }
   h.resize(k - 1);
-  if (h.size() < 3) {  // collinear: the two extreme points
-    const auto [lo, hi] = std::minmax_element(unique.begin(), unique.end(), [](const point2& x, const point2& y) {
-      return x.x() < y.x() || (x.x() == y.x() && x.y() < y.y());
-    });
-    return {*lo, *hi};
-  }
+  if (h.size() < 3) return {unique.front(), unique.back()};  // collinear: the extremes of the sorted points
   return h;
 }
 
@@ -299,7 +294,6 @@ using point2 = Eigen::Matrix<real, 2, 1>;
     const auto side = [&](const point2& x) { return cross2(p, q, x) / len; };  // > 0 inside
     std::vector<point2> out;
     const std::size_t n = subject.size();
-    const std::size_t edges = closed ? n : n - 1;
     if (n == 1) {
       if (side(subject[0]) >= -tol) out.push_back(subject[0]);
       subject = std::move(out);
@@ -316,7 +310,7 @@ using point2 = Eigen::Matrix<real, 2, 1>;
       subject = s0 >= -tol ? std::vector<point2>{subject[0], cut} : std::vector<point2>{cut, subject[1]};
       continue;
     }
-    for (std::size_t i = 0; i < edges; ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       const point2& a = subject[i];
       const point2& b = subject[(i + 1) % n];
       const real sa = side(a), sb = side(b);
@@ -366,13 +360,12 @@ using point2 = Eigen::Matrix<real, 2, 1>;
 }
 
 /// Parameter t where the line x + t n leaves a convex polyhedron with outward face planes
-/// (normals, offsets): the least bound of the faces facing along n; +inf if none does.
-[[nodiscard]] inline real exit_along(std::span<const vec3> normals, std::span<const real> offsets, const vec3& x,
-                                     const vec3& n) {
+/// `faces`: the least bound of the faces facing along n; +inf if none does.
+[[nodiscard]] inline real exit_along(std::span<const geometry::plane> faces, const vec3& x, const vec3& n) {
   real t = std::numeric_limits<real>::infinity();
-  for (std::size_t f = 0; f < normals.size(); ++f) {
-    const real c = normals[f].dot(n);
-    if (c > 1e-12) t = std::min(t, (offsets[f] - normals[f].dot(x)) / c);
+  for (const geometry::plane& f : faces) {
+    const real c = f.normal.dot(n);
+    if (c > 1e-12) t = std::min(t, (f.offset - f.normal.dot(x)) / c);
   }
   return t;
 }
@@ -404,21 +397,14 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   contact_patch out;
   if (patch.empty()) return out;
   out.type = patch.size() == 1 ? patch_type::point : patch.size() == 2 ? patch_type::segment : patch_type::polygon;
-  std::vector<vec3> normals_a, normals_b;
-  std::vector<real> offsets_a, offsets_b;
-  for (index f = 0; f < a.face_count(); ++f) {
-    normals_a.push_back(a.face_normal(f));
-    offsets_a.push_back(normals_a.back().dot(a.face_centroid(f)));
-  }
-  for (index f = 0; f < b.face_count(); ++f) {
-    normals_b.push_back(b.face_normal(f));
-    offsets_b.push_back(normals_b.back().dot(b.face_centroid(f)));
-  }
+  std::vector<geometry::plane> faces_a, faces_b;
+  for (index f = 0; f < a.face_count(); ++f) faces_a.push_back(a.face_plane(f));
+  for (index f = 0; f < b.face_count(); ++f) faces_b.push_back(b.face_plane(f));
   for (const detail::point2& q : patch) {
     const vec3 x = plane.offset * n + q.x() * t1 + q.y() * t2;
     // The line x + t n leaves A at t_a and enters B at t_b (B's entry along n is its exit along -n).
-    const real t_a = detail::exit_along(normals_a, offsets_a, x, n);
-    const real t_b = -detail::exit_along(normals_b, offsets_b, x, -n);
+    const real t_a = detail::exit_along(faces_a, x, n);
+    const real t_b = -detail::exit_along(faces_b, x, -n);
     out.points.push_back(x);
     out.gap.push_back(t_b - t_a);
   }

@@ -65,8 +65,8 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
           " m must be finite and > 0");
   // The grid unless the layout would need too many cells (a few huge boxes): then sort and sweep.
-  if (layout_grid(boxes, options.margin).suits(boxes.size()))
-    uniform_grid(boxes, options.margin, w.candidates, w.grid);
+  if (const grid_layout g = layout_grid(boxes, options.margin); g.suits(boxes.size()))
+    uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
   const std::size_t n = w.candidates.size();
