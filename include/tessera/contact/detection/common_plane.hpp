@@ -246,8 +246,31 @@ struct contact_patch {
   std::vector<vec3> points;  ///< corners on the contact plane (CCW about the normal for a polygon)
   std::vector<real> gap;     ///< normal gap B - A through each corner (m; < 0 overlapping)
   std::vector<real> area;    ///< tributary area of each corner (m^2; 0 for a segment or point)
+  /// What each corner is, as a corner_label: a vertex of A, a vertex of B, or the crossing of an
+  /// edge of A's touching hull with one of B's (vertex ids local to each polyhedron). A corner
+  /// keeps its label while the blocks move, so a detecting set keys its law state by it.
+  std::vector<std::uint64_t> label;
   real total_area = 0;       ///< area of the polygon (m^2)
 };
+
+/// Labels of patch corners (contact_patch::label): the top two bits give the kind, the rest the
+/// vertex ids (15 bits each, so a polyhedron may have up to 32 767 vertices).
+namespace corner_label {
+inline constexpr int id_bits = 15;
+inline constexpr index max_vertices = (index{1} << id_bits) - 1;
+enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
+[[nodiscard]] constexpr std::uint64_t vertex_a(index v) noexcept { return static_cast<std::uint64_t>(v); }
+[[nodiscard]] constexpr std::uint64_t vertex_b(index v) noexcept {
+  return (std::uint64_t{1} << 62) | static_cast<std::uint64_t>(v);
+}
+/// Crossing of A's hull edge (a0, a1) with B's (b0, b1); each edge's ids in increasing order.
+[[nodiscard]] constexpr std::uint64_t crossing(index a0, index a1, index b0, index b1) noexcept {
+  const auto u = static_cast<std::uint64_t>(std::min(a0, a1)), v = static_cast<std::uint64_t>(std::max(a0, a1));
+  const auto x = static_cast<std::uint64_t>(std::min(b0, b1)), y = static_cast<std::uint64_t>(std::max(b0, b1));
+  return (std::uint64_t{2} << 62) | (u << 45) | (v << 30) | (x << 15) | y;
+}
+[[nodiscard]] constexpr kind kind_of(std::uint64_t label) noexcept { return static_cast<kind>(label >> 62); }
+}  // namespace corner_label
 
 namespace detail {
 
@@ -370,6 +393,57 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   return t;
 }
 
+/// Vertex id of the touching point equal to hull corner h (hull2 keeps input points as they are).
+[[nodiscard]] inline index hull_vertex(const point2& h, const std::vector<point2>& points, const std::vector<index>& ids) {
+  index best = ids.front();
+  real best_d = std::numeric_limits<real>::infinity();
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (const real d = (points[i] - h).squaredNorm(); d < best_d) {
+      best_d = d;
+      best = ids[i];
+    }
+  return best;
+}
+
+/// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
+/// (within 1e-6 of the hull's size); else the crossing of the nearest hull edges of A and B.
+[[nodiscard]] inline std::uint64_t label_corner(const point2& q, const std::vector<point2>& pa, const std::vector<index>& ids_a,
+                                                const std::vector<point2>& hull_a, const std::vector<point2>& pb,
+                                                const std::vector<index>& ids_b, const std::vector<point2>& hull_b) {
+  real size = 0;
+  for (const point2& h : hull_a) size = std::max(size, (h - hull_a.front()).norm());
+  for (const point2& h : hull_b) size = std::max(size, (h - hull_b.front()).norm());
+  const real on = 1e-6 * std::max(size, std::numeric_limits<real>::min());
+  const auto nearest = [&](const std::vector<point2>& pts) {
+    std::size_t best = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i)
+      if ((pts[i] - q).squaredNorm() < (pts[best] - q).squaredNorm()) best = i;
+    return best;
+  };
+  if (const std::size_t i = nearest(pa); (pa[i] - q).norm() <= on) return corner_label::vertex_a(ids_a[i]);
+  if (const std::size_t i = nearest(pb); (pb[i] - q).norm() <= on) return corner_label::vertex_b(ids_b[i]);
+  // The hull edge (i, i + 1) nearest to q; a 1- or 2-point hull is its own edge.
+  const auto nearest_edge = [&](const std::vector<point2>& hull) {
+    std::size_t best = 0;
+    real best_d = std::numeric_limits<real>::infinity();
+    const std::size_t edges = hull.size() >= 3 ? hull.size() : 1;
+    for (std::size_t i = 0; i < edges; ++i) {
+      const point2& p = hull[i];
+      const point2 d = hull[(i + 1) % hull.size()] - p;
+      const real t = d.squaredNorm() > 0 ? std::clamp((q - p).dot(d) / d.squaredNorm(), real(0), real(1)) : real(0);
+      if (const real dist = (p + t * d - q).squaredNorm(); dist < best_d) {
+        best_d = dist;
+        best = i;
+      }
+    }
+    return std::pair{hull[best], hull[(best + 1) % hull.size()]};
+  };
+  const auto [a0, a1] = nearest_edge(hull_a);
+  const auto [b0, b1] = nearest_edge(hull_b);
+  return corner_label::crossing(hull_vertex(a0, pa, ids_a), hull_vertex(a1, pa, ids_a), hull_vertex(b0, pb, ids_b),
+                                hull_vertex(b1, pb, ids_b));
+}
+
 }  // namespace detail
 
 /// The contact patch of A and B on `plane` (common_plane's result), with vertices within
@@ -385,14 +459,24 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   const vec3 t2 = n.cross(t1);
   const auto to2 = [&](const vec3& x) { return detail::point2(t1.dot(x), t2.dot(x)); };
   const real max_a = detail::support_max(a, n), min_b = detail::support_min(b, n);
+  require(a.vertex_count() <= corner_label::max_vertices && b.vertex_count() <= corner_label::max_vertices,
+          "detection: polyhedra of ", a.vertex_count(), " and ", b.vertex_count(), " vertices; at most ",
+          corner_label::max_vertices, " are supported");
   std::vector<detail::point2> pa, pb;
-  for (const vec3& x : a.vertices())
-    if (n.dot(x) >= max_a - tolerance) pa.push_back(to2(x));
-  for (const vec3& x : b.vertices())
-    if (n.dot(x) <= min_b + tolerance) pb.push_back(to2(x));
+  std::vector<index> ids_a, ids_b;  // vertex id of each touching point
+  for (index v = 0; v < a.vertex_count(); ++v)
+    if (n.dot(a.vertex(v)) >= max_a - tolerance) {
+      pa.push_back(to2(a.vertex(v)));
+      ids_a.push_back(v);
+    }
+  for (index v = 0; v < b.vertex_count(); ++v)
+    if (n.dot(b.vertex(v)) <= min_b + tolerance) {
+      pb.push_back(to2(b.vertex(v)));
+      ids_b.push_back(v);
+    }
   const real tol2 = 1e-9 * std::max(a.extent(), b.extent());
-  const std::vector<detail::point2> patch =
-      detail::intersect_hulls(detail::hull2(std::move(pa), tol2), detail::hull2(std::move(pb), tol2), tol2);
+  const std::vector<detail::point2> hull_a = detail::hull2(pa, tol2), hull_b = detail::hull2(pb, tol2);
+  const std::vector<detail::point2> patch = detail::intersect_hulls(hull_a, hull_b, tol2);
 
   contact_patch out;
   if (patch.empty()) return out;
@@ -407,6 +491,7 @@ using point2 = Eigen::Matrix<real, 2, 1>;
     const real t_b = -detail::exit_along(faces_b, x, -n);
     out.points.push_back(x);
     out.gap.push_back(t_b - t_a);
+    out.label.push_back(detail::label_corner(q, pa, ids_a, hull_a, pb, ids_b, hull_b));
   }
   out.area.assign(patch.size(), 0.0);
   if (out.type == patch_type::polygon) {

@@ -42,6 +42,7 @@ struct detection_result {
   std::vector<vec3> point;             ///< corner on the contact plane (m)
   std::vector<real> gap;               ///< normal gap B - A through it (m)
   std::vector<real> area;              ///< tributary area (m^2; 0 for segment and point patches)
+  std::vector<std::uint64_t> label;    ///< what the corner is (corner_label, common_plane.hpp)
   std::vector<patch_type> type;        ///< patch type of each touching pair
   std::size_t candidates = 0;          ///< pairs the broad phase passed on
 };
@@ -87,6 +88,7 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
   out.point.clear();
   out.gap.clear();
   out.area.clear();
+  out.label.clear();
   for (std::size_t i = 0; i < n; ++i) {
     const contact_patch& p = w.patches[i];
     if (p.type == patch_type::none) continue;
@@ -96,6 +98,7 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
     out.point.insert(out.point.end(), p.points.begin(), p.points.end());
     out.gap.insert(out.gap.end(), p.gap.begin(), p.gap.end());
     out.area.insert(out.area.end(), p.area.begin(), p.area.end());
+    out.label.insert(out.label.end(), p.label.begin(), p.label.end());
     out.first_corner.push_back(static_cast<index>(out.point.size()));
   }
 }
