@@ -15,6 +15,8 @@
 //   w    angular velocity (rad/s), half step, in the BODY principal frame (Euler's equations are
 //        diagonal there; angular_velocity(b) returns the world vector R w)
 //   F, M force (N) and moment about the current centroid (N m, world) of the step
+// Gravity (set_gravity, the solver's set_gravity): the weight m0 g of each block, m0 its unscaled
+// mass, is added to F at the centroid (no moment; mass scaling does not change the weight).
 //
 // One step (advance; steps 5-6 of docs/architecture.md):
 //  1. Reduction, fixed order over the block's gridpoints (deterministic, parallel over blocks):
@@ -164,6 +166,7 @@ class rigid {
       mat3 axes = eig.eigenvectors();
       if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
       bd.mass = p.density * mp.volume;
+      bd.weight_mass = bd.mass;
       bd.inertia = eig.eigenvalues();
       require<geometry_error>(bd.inertia.minCoeff() > 0, "rigid blocks: cell ", b, " has principal moments (",
                               bd.inertia.transpose(), ") kg m^2; expected all > 0");
@@ -292,6 +295,25 @@ class rigid {
     return rep;
   }
 
+  // ---- gravity ----
+
+  /// Acceleration of gravity g (m/s^2, world): each block gets its weight m0 g at the centroid
+  /// (m0 its unscaled mass). Throws invalid_input for a non-finite vector.
+  void set_gravity(const vec3& g) {
+    require(g.allFinite(), "rigid blocks: gravity (", g.transpose(), ") m/s^2 is not finite");
+    gravity_ = g;
+  }
+  [[nodiscard]] const vec3& gravity() const { return gravity_; }
+  /// Power of the weights at the half-step velocities, sum_b m0_b g . v_b (W); the solver
+  /// multiplies it by dt for the work of gravity over the step.
+  [[nodiscard]] real gravity_power(const node_set& /*gridpoints*/) const {
+    real p = 0;
+    for (const body& bd : bodies_) p += bd.weight_mass * gravity_.dot(bd.velocity);
+    return p;
+  }
+  /// Unscaled mass m0 of block b (kg), the mass its weight is computed from.
+  [[nodiscard]] real weight_mass(index b) const { return at(b).weight_mass; }
+
   // ---- initial conditions ----
 
   /// Sets the centroid velocity v (m/s) and the angular velocity omega (rad/s, world frame) of
@@ -353,6 +375,7 @@ class rigid {
  private:
   struct body {
     real mass = 0;                                     ///< m (kg, possibly scaled)
+    real weight_mass = 0;                              ///< unscaled m (kg), for the weight
     vec3 inertia = vec3::Zero();                       ///< principal moments I1 <= I2 <= I3 (kg m^2, possibly scaled)
     mat3 axes = mat3::Identity();                      ///< E, principal axes in the reference configuration
     vec3 centroid = vec3::Zero();                      ///< reference centroid c (m)
@@ -418,7 +441,7 @@ class rigid {
         }
       }
     }
-    bd.force = f_sum;
+    bd.force = f_sum + bd.weight_mass * gravity_;
     bd.moment = m_sum;
   }
 
@@ -495,6 +518,7 @@ class rigid {
   }
 
   std::vector<params> materials_;
+  vec3 gravity_ = vec3::Zero();                 ///< acceleration of gravity (m/s^2)
   std::vector<body> bodies_;
   std::vector<block_constraints> constraints_;  ///< per block, rebuilt every step
   std::vector<integrator::step_work> work_;     ///< per block energy increments of the step (summed in block order)

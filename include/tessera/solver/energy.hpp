@@ -1,9 +1,10 @@
 #pragma once
 // Energy bookkeeping of a run (J). The work supplied by the supports must equal the energy
 // held and dissipated in the model:
-//     initial + W_boundary = E_kinetic + E_blocks + E_contacts,stored + D_contacts + D_damping
+//     initial + W_boundary + W_gravity = E_kinetic + E_blocks + E_contacts,stored + D_contacts + D_damping
 //                            + E_bars,stored + D_bars
-// W_boundary (reaction x velocity at prescribed components, trapezoidal) and D_damping (local
+// W_boundary (reaction x velocity at prescribed components, trapezoidal), W_gravity (weight x
+// half-step velocity x dt, exact for a constant force) and D_damping (local
 // damping force x velocity) are accumulated every step inside the integrator loop; the other
 // terms are state functions evaluated on demand. The residual measures the time-discretisation
 // error and any missing physics, so it is the run's first sanity check.
@@ -18,6 +19,7 @@ namespace tessera {
 struct energy_balance {
   real initial = 0;                   ///< kinetic + stored energy when the run started
   real boundary_work = 0;             ///< work of the support reactions (J)
+  real gravity_work = 0;              ///< work of gravity on blocks (J; solver::set_gravity)
   real kinetic = 0;                   ///< 1/2 m v^2 of gridpoints, bar nodes (and rigid bodies)
   real block_elastic = 0;             ///< elastic energy in the zones (1/2 V sigma : eps)
   real contact_stored = 0;            ///< elastic energy in the contact springs
@@ -32,9 +34,11 @@ struct energy_balance {
     return kinetic + block_elastic + contact_stored + contact_dissipated + damping_dissipated + reinforcement_stored +
            reinforcement_dissipated;
   }
-  /// |initial + W - accounted| / max(|initial + W|, tiny): relative energy balance error.
+  /// Energy supplied: initial + W_boundary + W_gravity (J).
+  [[nodiscard]] real supplied() const { return initial + boundary_work + gravity_work; }
+  /// |supplied - accounted| / max(|supplied|, tiny): relative energy balance error.
   [[nodiscard]] real error_rel() const {
-    const real supplied = initial + boundary_work;
+    const real supplied = this->supplied();
     return std::abs(supplied - accounted()) / std::max(std::abs(supplied), 1e-300);
   }
 };

@@ -8,7 +8,8 @@
 // removes every bar call, no_step_checker the checks).
 //
 // One step (docs/architecture.md, study eq. 1):
-//   1. zero gridpoint and bar-node forces
+//   1. zero gridpoint and bar-node forces (gridpoints start from their weights under gravity;
+//      rigid blocks add their weight at the centroid in step 5)
 //   2. blocks: zone forces from the current displacements            -> gridpoints.force
 //   3. contacts: law update from du = (v_b - v_a) dt, forces           -> gridpoints.force
 //   4. reinforcement: axial + bond forces (zone stress = confinement)  -> bar nodes, gridpoints
@@ -88,6 +89,9 @@ template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement
           integrator::Integrator Integrator = integrator::central_difference<integrator::local_damping>,
           class Checker = checks::default_step_checker>
 class solver {
+  static_assert(Blocks::is_rigid || !requires { requires Contacts::requires_rigid_blocks; },
+                "this contact set (e.g. contact::detected_contacts) works with rigid blocks only (blocks::rigid)");
+
  public:
   using blocks_type = Blocks;
   using contact_set_type = Contacts;
@@ -139,6 +143,7 @@ class solver {
     checker_.interval = options.check_interval;
 
     blocks_.build(tess, mesh, std::span<const typename Blocks::params>(materials.list), gridpoints_);
+    if constexpr (!Blocks::is_rigid) weight_mass_ = gridpoints_.mass;  // before any mass scaling
     gridpoint_block_ = mesh.gridpoint_block;
     contacts_ = contact_set_type(tess, mesh, contact_params);
     if constexpr (Reinforcement::enabled) reinforcement_.build(reinforcement_params, mesh, gridpoints_);
@@ -155,13 +160,32 @@ class solver {
     bc::prescribe_velocity(gridpoints_, g, v, c);
   }
 
+  /// Acceleration of gravity g (m/s^2, world; e.g. (0, 0, -9.81)), a body force on every block:
+  /// the lumped weights m0_i g on the gridpoints of deformable blocks, each rigid block's weight at
+  /// its centroid (blocks::rigid::set_gravity); m0 the masses before mass scaling. Its work enters
+  /// the energy balance (energy_balance::gravity_work). Throws invalid_input for a non-finite g.
+  void set_gravity(const vec3& g) {
+    require(g.allFinite(), "solver: gravity (", g.transpose(), ") m/s^2 is not finite");
+    gravity_ = g;
+    if constexpr (Blocks::is_rigid) {
+      blocks_.set_gravity(g);
+    } else {
+      gravity_force_.resize(gridpoints_.size(), 3);
+      for (index i = 0; i < gridpoints_.size(); ++i) gravity_force_.row(i) = weight_mass_[i] * g.transpose();
+    }
+  }
+  [[nodiscard]] const vec3& gravity() const { return gravity_; }
+
   /// Advances the model by one time step (see the file comment). One function on purpose (about
   /// 85 lines): the step order of docs/architecture.md, with its fused parallel region, in one place.
   void step() {
     using clock = std::chrono::steady_clock;
     const auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
     if (step_ == 0) initial_energy_ = stored_and_kinetic();
-    gridpoints_.force.setZero();
+    if (!Blocks::is_rigid && gravity_ != vec3::Zero())
+      gridpoints_.force = gravity_force_;
+    else
+      gridpoints_.force.setZero();
     if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
     if constexpr (requires(Blocks& b, index i) {
                     b.zone_task_count();
@@ -296,6 +320,7 @@ class solver {
     energy_balance e;
     e.initial = step_ == 0 ? stored_and_kinetic() : initial_energy_;
     e.boundary_work = boundary_work_;
+    e.gravity_work = gravity_work_;
     e.damping_dissipated = damping_dissipated_;
     e.kinetic = blocks_.kinetic_energy(gridpoints_);
     e.block_elastic = blocks_.stored_energy(gridpoints_);
@@ -329,6 +354,7 @@ class solver {
     ar.scalar("solver/time", time_);
     ar.scalar("solver/boundary_work", boundary_work_);
     ar.scalar("solver/damping_dissipated", damping_dissipated_);
+    ar.scalar("solver/gravity_work", gravity_work_);
     ar.scalar("solver/initial_energy", initial_energy_);
     gridpoints_.checkpoint(ar, "gridpoints");
     blocks_.checkpoint(ar);
@@ -412,6 +438,18 @@ class solver {
   void finish_step(const integrator::step_work& work) {
     boundary_work_ += work.boundary;
     damping_dissipated_ += work.damping;
+    if (gravity_ != vec3::Zero()) {
+      // Weight x half-step velocity x dt: the exact work of a constant force over the step.
+      if constexpr (Blocks::is_rigid) {
+        gravity_work_ += blocks_.gravity_power(gridpoints_) * dt_;
+      } else {
+        real p = 0;
+        for (index i = 0; i < gridpoints_.size(); ++i)
+          p += (gravity_force_(i, 0) * gridpoints_.velocity(i, 0) + gravity_force_(i, 1) * gridpoints_.velocity(i, 1)) +
+               gravity_force_(i, 2) * gridpoints_.velocity(i, 2);
+        gravity_work_ += p * dt_;
+      }
+    }
     ++step_;
     time_ += dt_;
     if constexpr (Checker::enabled)
@@ -441,7 +479,11 @@ class solver {
   std::int64_t step_ = 0;
   real boundary_work_ = 0;
   real damping_dissipated_ = 0;
+  real gravity_work_ = 0;
   real initial_energy_ = 0;
+  vec3 gravity_ = vec3::Zero();
+  soa3 gravity_force_;               ///< m0_i g per gridpoint (N), deformable blocks
+  Eigen::VectorXd weight_mass_;      ///< gridpoint masses before mass scaling (kg), deformable blocks
   integrator::critical_step critical_;
   phase_times phases_;
   integrator::mass_scaling_report scaling_;

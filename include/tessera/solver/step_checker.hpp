@@ -7,10 +7,10 @@
 //  - a displacement, velocity or force component of a gridpoint or bar node, or the force of a
 //    sub-contact, is not finite; or
 //  - the kinetic energy exceeds the energy supplied by more than a stable scheme allows:
-//        E_kin > growth_factor x (E_initial + |W_boundary|) / (1 - min(q, q_max)) + floor,
+//        E_kin > growth_factor x (E_initial + |W_boundary| + |W_gravity|) / (1 - min(q, q_max)) + floor,
 //        q = (dt/2)^2 max_i k_i/m_i   (over gridpoints and bar nodes).
 //    Why this tolerance: a stable run never holds more energy than it was given (initial kinetic +
-//    stored energy plus the work of the supports), but the solver's kinetic energy is taken at the
+//    stored energy plus the work of the supports and of gravity), but the solver's kinetic energy is taken at the
 //    half step, and for leapfrog a mode u_n = A cos(n theta) conserves E = 1/2 k A^2 (1 - (omega dt/2)^2)
 //    while its half-step kinetic energy peaks at 1/2 k A^2 = E / (1 - (omega dt/2)^2). By Gershgorin
 //    (omega dt/2)^2 <= q, so the bound holds for any stable step; growth_factor = 2 covers the
@@ -96,7 +96,7 @@ struct default_step_checker {
     }
     // 2. Kinetic energy beyond the energy supplied: name the fastest node.
     const auto e = s.energies();
-    const real supplied = e.initial + std::abs(e.boundary_work);
+    const real supplied = e.initial + std::abs(e.boundary_work) + std::abs(e.gravity_work);
     if (e.kinetic <= growth_factor * supplied + floor) return;  // cheap path: q >= 0
     real q = 0;
     for (int set = 0; set < 2; ++set) {
@@ -124,7 +124,7 @@ struct default_step_checker {
     fail(s, is_bar, fastest, false,
          detail::concat("kinetic energy ", e.kinetic, " J exceeds the allowed ", allowed,
                         " J (energy supplied: initial ", e.initial, " J + |boundary work| ", std::abs(e.boundary_work),
-                        " J); the fastest node, at ", speed, " m/s, is "));
+                        " J + |gravity work| ", std::abs(e.gravity_work), " J); the fastest node, at ", speed, " m/s, is "));
   }
 
  private:
