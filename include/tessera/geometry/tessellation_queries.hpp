@@ -15,6 +15,7 @@
 #include <span>
 #include <vector>
 
+#include "../core/errors.hpp"
 #include "../core/types.hpp"
 #include "convex_polyhedron.hpp"
 #include "mass_properties.hpp"
@@ -163,6 +164,36 @@ struct tessellation_report {
     if (!convex) ++r.nonconvex_cells;
   }
   return r;
+}
+
+/// A model of separate convex blocks (not a space-filling tessellation): cell c is blocks[c] with
+/// its own vertices (nothing welded, no shared faces, every face a boundary face tagged
+/// boundary_tag(0)), the domain their bounding box. For scenes whose blocks only meet through
+/// detected contacts (contact::detected_contacts): a block on a base, a stack, a wall. Blocks may
+/// touch or be apart; they must not overlap (not checked). Throws geometry_error for an empty list
+/// or an empty polyhedron.
+[[nodiscard]] inline tessellation separate_blocks(std::span<const convex_polyhedron> blocks) {
+  require<geometry_error>(!blocks.empty(), "separate_blocks: no block given");
+  tessellation t;
+  for (std::size_t c = 0; c < blocks.size(); ++c) {
+    const convex_polyhedron& p = blocks[c];
+    require<geometry_error>(!p.empty() && p.vertex_count() >= 4, "separate_blocks: block ", c, " is empty (",
+                            p.vertex_count(), " vertices)");
+    const auto first = static_cast<index>(t.vertices.size());
+    for (const vec3& x : p.vertices()) {
+      t.vertices.push_back(x);
+      t.domain.expand(x);
+    }
+    for (index f = 0; f < p.face_count(); ++f) {
+      for (index v : p.face(f)) t.face_vertices.push_back(first + v);
+      t.face_offsets.push_back(static_cast<index>(t.face_vertices.size()));
+      t.face_cell.push_back(static_cast<index>(c));
+      t.face_neighbor.push_back(boundary_tag(0));
+      t.face_twin.push_back(invalid_index);
+    }
+    t.cell_face_offsets.push_back(static_cast<index>(t.face_cell.size()));
+  }
+  return t;
 }
 
 }  // namespace tessera::geometry
