@@ -2,6 +2,7 @@
 // Module header for contact/. Owners add their headers here as they land.
 #include "core.hpp"
 #include "contact/concepts.hpp"
+#include "contact/detected_contacts.hpp"
 #include "contact/face_contacts.hpp"
 #include "contact/material_table.hpp"
 #include "contact/kinematics.hpp"

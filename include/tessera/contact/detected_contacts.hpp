@@ -1,0 +1,722 @@
+#pragma once
+// contact::detected_contacts<Law>: a ContactSet (contact/concepts.hpp) whose sub-contacts come from
+// contact detection (detection/detect.hpp), so blocks that separate, slide and meet new neighbours
+// are in contact wherever they touch, not only across the faces they were built with. This
+// version serves rigid blocks (blocks::rigid; the solver refuses deformable blocks at compile
+// time through requires_rigid_blocks). DESIGN.md section 4, docs/model.md "Detected contacts".
+//
+// Rebuilds. At construction and whenever a block vertex has moved more than tolerance / 2 since
+// the last rebuild (or after max_rebuild_interval steps), prepare_step runs a detection pass on
+// the blocks' current geometry: grid broad phase with boxes enlarged by the tolerance, common
+// plane and contact patch of every candidate pair (common_plane.hpp). Guarantee: between
+// rebuilds no vertex moves more than tolerance / 2, so two blocks whose gap was above the
+// tolerance at the last rebuild cannot have closed it: no contact is missed. The check reads
+// every block vertex once per step (no velocity bound to guess).
+//
+// Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a,
+// block b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an
+// edge of B (detection::corner_label). Keys are kept sorted; at a rebuild the new corners are
+// merged with the old ones, so a corner that persists keeps its law state (stresses, slip,
+// damage) and a new one starts in Law::unbonded_state with its opening u_n = its geometric gap
+// at t (a corner found open by g carries force only once g has closed); its first update takes
+// no increment, since the gap already holds the motion up to t. Tributary areas come from the
+// patch polygon; a segment or point patch (a block on its edge or corner) gives each corner the
+// nominal area min over the two blocks of S / (3 V) (S the block's surface area, V its vertex
+// count: a third of a vertex's share of the surface, a quarter of a face for a cube).
+//
+// Kinematics between rebuilds. A sub-contact is a material point p fixed in each block: its
+// affine coordinates w (sum 1) in a frame of four vertex gridpoints of the block, so x(p) =
+// sum_k w_k x_k and v(p) = sum_k w_k v_k exactly for a rigid motion (the secant gridpoint
+// velocities of blocks::rigid are affine in the body coordinates). The pair's unit normal n turns
+// with the feature the plane came from: a face of A (R_a n0), a face of B (-R_b n0), or an edge of
+// each (R_a e_a x R_b e_b), R = the block's rotation from its frame. Then, as for face_contacts
+// (kinematics.hpp), du = (v_b(p) - v_a(p)) dt - (n_prev x n) x (x_b(p) - x_a(p)), split along n,
+// Law::update, and the force area (sigma_n n + tau) on A's side (B gets its opposite), handed to
+// the frame gridpoints with the weights w: resultant and moment about any point are exact.
+//
+// Stable step. add_stiffness_bounds puts on each block's vertex farthest from its centroid the
+// bound 4 k_row A of every contact the block could carry: A = min(S, sum of the other blocks' S)
+// bounds its contact area (x 2 for the nominal areas of corner contacts and overlapping patches),
+// k_row is the row bound of the stiffest material entry (stiffness_bound.hpp). So blocks::rigid's
+// 6-DOF bound (k_t = 4 k_row A, k_r = 4 k_row A r_max^2) holds for any contacts that appear later.
+//
+// Storage and threading: structure of arrays per sub-contact (key, weights, area, state, force),
+// per pair (blocks, normal feature, normals now and last step, parameters), per gridpoint the
+// gather slots. Only a rebuild allocates (arrays grow and keep their capacity; counted in
+// growth_count()); a step between rebuilds allocates nothing. Tasks are runs of pairs; the gather
+// sums each gridpoint's slots in increasing sub-contact order, so results are bit-identical for
+// any thread count. Cost of a rebuild: docs/performance.md "Contact detection kernels".
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../geometry/convex_polyhedron.hpp"
+#include "../geometry/tessellation.hpp"
+#include "../geometry/tessellation_queries.hpp"
+#include "../law/concepts.hpp"
+#include "concepts.hpp"
+#include "detection/detect.hpp"
+#include "face_contacts.hpp"
+#include "kinematics.hpp"
+#include "material_table.hpp"
+#include "stiffness_bound.hpp"
+
+namespace tessera::contact {
+
+template <law::ContactLaw Law>
+class detected_contacts {
+  template <std::integral I>
+  [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
+    return static_cast<std::size_t>(i);
+  }
+  using triple = kinematics::triple;
+
+ public:
+  using law_type = Law;
+  using params_type = typename Law::params;
+  using state_type = typename Law::state;
+  /// The frames of this version assume rigid blocks (see the file comment).
+  static constexpr bool requires_rigid_blocks = true;
+  static_assert(requires(const params_type& p, state_type s) {
+    Law::unbonded_state(p);
+    s.u_n;
+  } && detail::has_dissipation_split<state_type>,
+                "detected_contacts needs a law with Law::unbonded_state and state fields u_n (normal opening, m) "
+                "and dissipated_tension / _shear / _compression");
+
+  /// What the constructor takes.
+  struct params {
+    /// Law parameters per pair of block materials; every detected sub-contact starts unbonded
+    /// (Law::unbonded_state: no tension, no cohesion, residual friction).
+    material_table<params_type> law{};
+    /// Contact tolerance (m, > 0): pairs whose gap is at most this touch, and vertices within it
+    /// of a block's supporting plane form the patch. Typically 1e-3 to 1e-2 of a block's size.
+    real tolerance = 0;
+    /// A rebuild at least every this many steps (>= 1), besides the motion trigger.
+    index max_rebuild_interval = 1000;
+
+    params() = default;
+    params(material_table<params_type> table, real tol, index interval = 1000)
+        : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval) {}
+  };
+
+  detected_contacts() = default;
+
+  /// Reads the blocks of `tess` (cell b = block b) and their vertex gridpoints in `mesh`, picks each
+  /// block's frame and runs the first detection pass on the reference geometry. Throws
+  /// invalid_input for bad parameters, geometry_error when a cell vertex has no gridpoint or a
+  /// block is flat.
+  detected_contacts(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params& p)
+      : options_(p) {
+    require(std::isfinite(p.tolerance) && p.tolerance > 0, "detected_contacts: contact tolerance = ", p.tolerance,
+            " m must be finite and > 0");
+    require(p.max_rebuild_interval >= 1, "detected_contacts: max_rebuild_interval = ", p.max_rebuild_interval,
+            " steps must be >= 1");
+    for (const auto& e : p.law.entries()) {
+      Law::validate(e.params);
+      law_params_.push_back(e.params);
+    }
+    table_ = p.law;
+    const index n_b = mesh.block_count();
+    require<geometry_error>(tess.cell_count() == n_b, "detected_contacts: the tessellation has ", tess.cell_count(),
+                            " cells but the block_mesh ", n_b, " blocks");
+    gridpoint_count_ = mesh.gridpoint_count();
+    reference_.resize(gridpoint_count_, 3);
+    for (index g = 0; g < gridpoint_count_; ++g) reference_.row(g) = mesh.gridpoints[at(g)].transpose();
+    material_.resize(at(n_b));
+    blocks_.resize(at(n_b));
+    shapes_.resize(at(n_b));
+    edges_.resize(at(n_b));
+    real row_max = 0;
+    for (const params_type& q : law_params_) row_max = std::max(row_max, stiffness_row_bound_per_area<Law>(q));
+    for (index b = 0; b < n_b; ++b) {
+      material_[at(b)] = mesh.material(b);
+      build_block(tess, mesh, b);
+    }
+    // A block's contacts cover at most its own surface and at most the others' surfaces.
+    real all_surfaces = 0;
+    for (const block_data& bd : blocks_) all_surfaces += bd.surface;
+    for (block_data& bd : blocks_) bd.stiffness_bound = 4 * row_max * std::min(bd.surface, all_surfaces - bd.surface);
+    current_ = shapes_;
+    boxes_.resize(at(n_b));
+    rebuild(nullptr);
+  }
+
+  // ---- the time step (ContactSet) ----
+
+  /// Rebuilds when a vertex has moved more than tolerance / 2 since the last rebuild or the
+  /// interval is reached (the only call that allocates), else nothing.
+  void prepare_step(const node_set& gridpoints, real /*dt*/) {
+    ++steps_since_rebuild_;
+    real moved2 = 0;
+    const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
+                        gridpoints.displacement.col(2).data()};
+    for (std::size_t k = 0; k < vertex_gridpoints_.size(); ++k) {
+      const auto g = at(vertex_gridpoints_[k]);
+      const real dx = u[0][g] - rebuild_u_(static_cast<index>(k), 0), dy = u[1][g] - rebuild_u_(static_cast<index>(k), 1),
+                 dz = u[2][g] - rebuild_u_(static_cast<index>(k), 2);
+      moved2 = std::max(moved2, (dx * dx + dy * dy) + dz * dz);
+    }
+    const real half = 0.5 * options_.tolerance;
+    if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
+  }
+  [[nodiscard]] index task_count() const { return static_cast<index>(pair_tasks_.size()) - 1; }
+  /// Kinematics, law update and force of the sub-contacts of the pairs of task t.
+  void run_task(index t, const node_set& gridpoints, real dt) noexcept {
+    for (index k = pair_tasks_[at(t)]; k < pair_tasks_[at(t) + 1]; ++k) update_pair(k, gridpoints, dt);
+  }
+  /// Adds the contact force on gridpoint g (N) to gridpoints.force, summed over its slots in
+  /// increasing sub-contact order.
+  void add_force(index g, node_set& gridpoints) const noexcept {
+    const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
+    if (begin == end) return;
+    real fx = 0, fy = 0, fz = 0;
+    for (index e = begin; e < end; ++e) {
+      const auto i = at(slot_subcontact_[at(e)]);
+      const real w = slot_weight_[at(e)];
+      fx += w * force_[0][i];
+      fy += w * force_[1][i];
+      fz += w * force_[2][i];
+    }
+    gridpoints.force(g, 0) += fx;
+    gridpoints.force(g, 1) += fy;
+    gridpoints.force(g, 2) += fz;
+  }
+  /// prepare_step, every task, the gather (the unfused path, which blocks::rigid takes).
+  void update(node_set& gridpoints, real dt) {
+    prepare_step(gridpoints, dt);
+    parallel_for(task_count(), [&](std::int64_t t) { run_task(static_cast<index>(t), gridpoints, dt); }, 1);
+    parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
+                 [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
+  }
+  /// The bound of every contact a block could carry, on its farthest vertex (file comment).
+  void add_stiffness_bounds(node_set& gridpoints) const {
+    require(gridpoints.size() == gridpoint_count_ && gridpoints.stiffness.size() == gridpoint_count_,
+            "detected_contacts::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints, expected ",
+            gridpoint_count_);
+    for (const block_data& b : blocks_) gridpoints.stiffness[b.farthest] += b.stiffness_bound;
+  }
+
+  // ---- sub-contacts ----
+  [[nodiscard]] index size() const { return static_cast<index>(key_label_.size()); }
+  [[nodiscard]] index subcontact_count() const { return size(); }
+  [[nodiscard]] index pair_count() const { return static_cast<index>(pair_a_.size()); }
+  [[nodiscard]] const state_type& state(index i) const { return state_[at(i)]; }
+  [[nodiscard]] real area(index i) const { return area_[at(i)]; }
+  [[nodiscard]] index pair_of(index i) const { return pair_[at(i)]; }
+  /// Unit normal of sub-contact i, A -> B: that of the face its vertex is pushed by (a face of A
+  /// for a vertex of B and the other way round, when the faces are parallel), else the pair's.
+  [[nodiscard]] vec3 normal(index i) const { return normal_[corner_normal_[at(i)]].row(pair_[at(i)]).transpose(); }
+  /// Force on block B's side in the last update (N); A's side received its opposite.
+  [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
+  [[nodiscard]] index block_a(index i) const { return pair_a_[at(pair_[at(i)])]; }
+  [[nodiscard]] index block_b(index i) const { return pair_b_[at(pair_[at(i)])]; }
+  /// First frame gridpoint of block A / B (the force goes to all four of its frame).
+  [[nodiscard]] index node_a(index i) const { return blocks_[at(block_a(i))].frame[0]; }
+  [[nodiscard]] index node_b(index i) const { return blocks_[at(block_b(i))].frame[0]; }
+  /// corner_label of sub-contact i (detection/common_plane.hpp).
+  [[nodiscard]] std::uint64_t label(index i) const { return key_label_[at(i)]; }
+  [[nodiscard]] const params_type& subcontact_params(index i) const { return law_params_[at(pair_param_[at(pair_[at(i)])])]; }
+  /// Current position (m) of the material point of sub-contact i on block A / B.
+  [[nodiscard]] vec3 position_a(index i, const node_set& gp) const { return point(i, true, gp); }
+  [[nodiscard]] vec3 position_b(index i, const node_set& gp) const { return point(i, false, gp); }
+
+  // ---- rebuild statistics ----
+  [[nodiscard]] index rebuild_count() const { return rebuilds_; }
+  /// Rebuilds at which a per-sub-contact or per-pair array had to grow (allocate).
+  [[nodiscard]] index growth_count() const { return growths_; }
+  [[nodiscard]] index peak_subcontacts() const { return peak_subcontacts_; }
+  /// Candidate pairs of the last pass.
+  [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
+  /// Sub-contacts of the last rebuild that kept the state of an earlier one.
+  [[nodiscard]] index kept_last_rebuild() const { return kept_last_; }
+  [[nodiscard]] real tolerance() const { return options_.tolerance; }
+
+  /// Energies of the current sub-contacts plus those that ended at rebuilds (J): an ended
+  /// corner's dissipated energy stays dissipated, and the elastic energy it still held when it was
+  /// dropped is booked as dissipated (under compression), so the energy balance of a run closes.
+  [[nodiscard]] contact_energies energies() const {
+    contact_energies e = retired_;
+    for (index i = 0; i < size(); ++i) {
+      const contact_energies c = energies_of(at(i));
+      e.stored += c.stored;
+      e.dissipated += c.dissipated;
+      e.dissipated_tension += c.dissipated_tension;
+      e.dissipated_shear += c.dissipated_shear;
+      e.dissipated_compression += c.dissipated_compression;
+    }
+    return e;
+  }
+  /// The part of energies() held by sub-contacts that ended at rebuilds (J).
+  [[nodiscard]] const contact_energies& retired_energies() const { return retired_; }
+
+ private:
+  struct block_data {
+    std::array<index, 4> frame{};  ///< vertex gridpoints spanning the block
+    mat3 reference_inverse = mat3::Identity();  ///< [X1-X0 X2-X0 X3-X0]^-1
+    index vertex_begin = 0, vertex_end = 0;     ///< into vertex_gridpoints_ (local vertex order)
+    index farthest = 0;                         ///< vertex gridpoint farthest from the centroid
+    real stiffness_bound = 0;                   ///< N/m, on `farthest`
+    real nominal_area = 0;                      ///< S / (3 V), m^2
+    real surface = 0;                           ///< S, m^2
+  };
+
+  /// Energies of sub-contact i (J).
+  [[nodiscard]] contact_energies energies_of(std::size_t i) const {
+    contact_energies e;
+    const state_type& st = state_[i];
+    const real a = area_[i];
+    e.stored = a * Law::stored_energy(law_params_[at(pair_param_[at(pair_[i])])], st);
+    e.dissipated = a * Law::dissipated_energy(st);
+    if constexpr (detail::has_dissipation_split<state_type>) {
+      e.dissipated_tension = a * st.dissipated_tension;
+      e.dissipated_shear = a * st.dissipated_shear;
+      e.dissipated_compression = a * st.dissipated_compression;
+    }
+    return e;
+  }
+
+  [[nodiscard]] vec3 position(index g, const node_set* gp) const {
+    vec3 x = reference_.row(g).transpose();
+    if (gp != nullptr) x += gp->displacement.row(g).transpose();
+    return x;
+  }
+  [[nodiscard]] vec3 point(index i, bool side_a, const node_set& gp) const {
+    const block_data& b = blocks_[at(side_a ? block_a(i) : block_b(i))];
+    vec3 x = vec3::Zero();
+    for (int k = 0; k < 4; ++k) x += weight_[at(side_a ? k : 4 + k)][at(i)] * position(b.frame[at(k)], &gp);
+    return x;
+  }
+
+  /// Vertex gridpoints, shape, edges, frame and bounds of block b.
+  void build_block(const geometry::tessellation& tess, const geometry::block_mesh& mesh, index b) {
+    // The tessellation vertex -> gridpoint map of this block.
+    std::vector<std::pair<index, index>> vertex_gp;
+    for (index g = mesh.block_gridpoint_offsets[at(b)]; g < mesh.block_gridpoint_offsets[at(b) + 1]; ++g)
+      if (const index v = mesh.gridpoint_vertex[at(g)]; v != invalid_index) vertex_gp.emplace_back(v, g);
+    std::sort(vertex_gp.begin(), vertex_gp.end());
+    block_data& bd = blocks_[at(b)];
+    bd.vertex_begin = static_cast<index>(vertex_gridpoints_.size());
+    // Local vertices in order of first use, as geometry::cell_polyhedron numbers them.
+    std::vector<index> local;
+    for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+      for (index v : tess.face(f))
+        if (std::find(local.begin(), local.end(), v) == local.end()) {
+          local.push_back(v);
+          const auto it = std::lower_bound(vertex_gp.begin(), vertex_gp.end(), std::pair<index, index>{v, index{-1}});
+          require<geometry_error>(it != vertex_gp.end() && it->first == v, "detected_contacts: vertex ", v,
+                                  " of block ", b, " has no gridpoint in the block_mesh");
+          vertex_gridpoints_.push_back(it->second);
+        }
+    bd.vertex_end = static_cast<index>(vertex_gridpoints_.size());
+    shapes_[at(b)] = geometry::cell_polyhedron(tess, b);
+    edges_[at(b)] = detection::edges_of(shapes_[at(b)]);
+    const geometry::convex_polyhedron& s = shapes_[at(b)];
+    // Frame: the first vertex, the farthest from it, the farthest from their line, the farthest
+    // from their plane.
+    const auto gp = [&](index k) { return vertex_gridpoints_[at(bd.vertex_begin + k)]; };
+    const index nv = bd.vertex_end - bd.vertex_begin;
+    const auto arg_max = [&](auto&& score) {
+      index best = 0;
+      for (index k = 1; k < nv; ++k)
+        if (score(s.vertex(k)) > score(s.vertex(best))) best = k;
+      return best;
+    };
+    const vec3 x0 = s.vertex(0);
+    const index k1 = arg_max([&](const vec3& x) { return (x - x0).squaredNorm(); });
+    const vec3 d1 = (s.vertex(k1) - x0).normalized();
+    const index k2 = arg_max([&](const vec3& x) { return (x - x0 - d1 * d1.dot(x - x0)).squaredNorm(); });
+    const vec3 n12 = d1.cross(s.vertex(k2) - x0).normalized();
+    const index k3 = arg_max([&](const vec3& x) { return std::abs(n12.dot(x - x0)); });
+    bd.frame = {gp(0), gp(k1), gp(k2), gp(k3)};
+    mat3 d;
+    d << s.vertex(k1) - x0, s.vertex(k2) - x0, s.vertex(k3) - x0;
+    require<geometry_error>(std::abs(d.determinant()) > 1e-12 * std::pow(s.extent(), 3), "detected_contacts: block ", b,
+                            " is flat (its vertices span no volume)");
+    bd.reference_inverse = d.inverse();
+    // Bounds.
+    const vec3 c = s.centroid();
+    real surface = 0;
+    for (index f = 0; f < s.face_count(); ++f) surface += s.face_area(f);
+    bd.farthest = gp(arg_max([&](const vec3& x) { return (x - c).squaredNorm(); }));
+    bd.surface = surface;
+    bd.nominal_area = surface / (3 * static_cast<real>(nv));
+  }
+
+  /// Rotation of block b from its reference (D_cur D_ref^-1) and the current position of its
+  /// first frame vertex.
+  [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const {
+    const vec3 x0 = position(b.frame[0], gp);
+    mat3 d;
+    d << position(b.frame[1], gp) - x0, position(b.frame[2], gp) - x0, position(b.frame[3], gp) - x0;
+    return d * b.reference_inverse;
+  }
+
+  /// One detection pass on the current geometry and the merge of the sub-contacts (file comment).
+  void rebuild(const node_set* gp) {
+    ++rebuilds_;
+    steps_since_rebuild_ = 0;
+    const std::size_t capacity_before = key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity();
+    const auto n_b = static_cast<index>(blocks_.size());
+    for (index b = 0; b < n_b; ++b) {
+      const block_data& bd = blocks_[at(b)];
+      const mat3 map = rotation(bd, gp);
+      const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
+      current_[at(b)] = shapes_[at(b)].transformed(map, translation);
+      boxes_[at(b)] = current_[at(b)].bounds();
+    }
+    rebuild_u_.resize(static_cast<index>(vertex_gridpoints_.size()), 3);
+    for (std::size_t k = 0; k < vertex_gridpoints_.size(); ++k)
+      for (int c = 0; c < 3; ++c)
+        rebuild_u_(static_cast<index>(k), c) = gp != nullptr ? gp->displacement(vertex_gridpoints_[k], c) : 0.0;
+    detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_);
+
+    // New pairs and their corners, sorted by label within a pair (pairs come increasing).
+    const std::size_t n_pairs = result_.pairs.size();
+    new_pair_a_.clear();
+    new_pair_b_.clear();
+    new_label_.clear();
+    new_corner_.clear();
+    new_area_.clear();
+    new_pair_first_.assign(1, 0);
+    for (std::size_t k = 0; k < n_pairs; ++k) {
+      const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+      order_.clear();
+      for (std::size_t j = first; j < last; ++j) order_.push_back(j);
+      std::sort(order_.begin(), order_.end(), [&](std::size_t x, std::size_t y) {
+        return result_.label[x] < result_.label[y] || (result_.label[x] == result_.label[y] && x < y);
+      });
+      const bool polygon = result_.type[k] == detection::patch_type::polygon;
+      const real nominal = std::min(blocks_[at(result_.pairs[k].a)].nominal_area, blocks_[at(result_.pairs[k].b)].nominal_area);
+      for (std::size_t j : order_) {
+        const real a = polygon ? result_.area[j] : nominal;
+        // A label met twice (a corner within round-off of another) keeps its first point and
+        // takes the other's area.
+        if (new_label_.size() > at(new_pair_first_.back()) && new_label_.back() == result_.label[j]) {
+          if (polygon) new_area_.back() += a;
+          continue;
+        }
+        new_label_.push_back(result_.label[j]);
+        new_corner_.push_back(j);
+        new_area_.push_back(a);
+      }
+      new_pair_a_.push_back(result_.pairs[k].a);
+      new_pair_b_.push_back(result_.pairs[k].b);
+      new_pair_first_.push_back(static_cast<index>(new_label_.size()));
+    }
+    const std::size_t n = new_label_.size();
+
+    // Merge the states: old and new keys are both sorted by (a, b, label).
+    new_state_.resize(n);
+    new_fresh_.assign(n, 0);
+    kept_last_ = 0;
+    kept_old_.assign(key_label_.size(), 0);
+    std::size_t old = 0;
+    const std::size_t n_old = key_label_.size();
+    for (std::size_t k = 0; k < n_pairs; ++k) {
+      const index a = new_pair_a_[k], b = new_pair_b_[k];
+      const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+        const auto before = [&](std::size_t o) {
+          const index oa = pair_a_[at(pair_[o])], ob = pair_b_[at(pair_[o])];
+          return oa < a || (oa == a && (ob < b || (ob == b && key_label_[o] < new_label_[i])));
+        };
+        while (old < n_old && before(old)) ++old;
+        if (old < n_old && pair_a_[at(pair_[old])] == a && pair_b_[at(pair_[old])] == b && key_label_[old] == new_label_[i]) {
+          new_state_[i] = state_[old];
+          kept_old_[old] = 1;
+          ++kept_last_;
+        } else {
+          state_type s = Law::unbonded_state(p);
+          s.u_n = result_.gap[new_corner_[i]];
+          // A zero increment sets the stresses of that opening (compression if it overlaps), so
+          // the energy it holds is in the books from the start.
+          // (The law books that energy as work done on the contact; it was not: undo its entry.)
+          const state_type unbonded = s;
+          Law::update(p, s, 0, vec3::Zero(), result_.planes[k].normal);
+          s.dissipated_tension = unbonded.dissipated_tension;
+          s.dissipated_shear = unbonded.dissipated_shear;
+          s.dissipated_compression = unbonded.dissipated_compression;
+          new_state_[i] = s;
+          new_fresh_[i] = 1;
+        }
+      }
+    }
+    // Sub-contacts that end keep their energy in the books: what they dissipated, and what they
+    // still stored (released when the corner is dropped), as dissipated.
+    for (std::size_t o = 0; o < n_old; ++o) {
+      if (kept_old_[o] != 0) continue;
+      const contact_energies e = energies_of(o);
+      retired_.dissipated += e.dissipated + e.stored;
+      retired_.dissipated_tension += e.dissipated_tension;
+      retired_.dissipated_shear += e.dissipated_shear;
+      retired_.dissipated_compression += e.dissipated_compression + e.stored;
+    }
+    state_.swap(new_state_);
+    fresh_.swap(new_fresh_);
+
+    // Per pair: blocks, parameters, normal feature, normals.
+    pair_a_.assign(new_pair_a_.begin(), new_pair_a_.end());
+    pair_b_.assign(new_pair_b_.begin(), new_pair_b_.end());
+    pair_param_.resize(n_pairs);
+    feature_.resize(n_pairs);
+    feature_a_.resize(n_pairs);
+    feature_b_.resize(n_pairs);
+    side_a_.resize(n_pairs);
+    side_b_.resize(n_pairs);
+    for (soa3& m : normal_) m.resize(static_cast<index>(n_pairs), 3);
+    for (std::size_t k = 0; k < n_pairs; ++k) {
+      const index a = pair_a_[k], b = pair_b_[k];
+      pair_param_[k] = static_cast<index>(table_.entry_index(material_[at(a)], material_[at(b)]));
+      const detection::contact_plane& plane = result_.planes[k];
+      // The feature in each block's reference frame: n = R_a fa (face of A), -R_b fb (face of B),
+      // or +-(R_a ea x R_b eb) (edges), so that n equals the plane's normal now.
+      const mat3 ra = rotation(blocks_[at(a)], gp), rb = rotation(blocks_[at(b)], gp);
+      const vec3 n = plane.normal;
+      if (plane.source == detection::plane_source::edge_edge) {
+        const auto& ea = edges_[at(a)].list[at(plane.feature_a)];
+        const auto& eb = edges_[at(b)].list[at(plane.feature_b)];
+        const vec3 da = shapes_[at(a)].vertex(ea.v) - shapes_[at(a)].vertex(ea.u);
+        const vec3 db = shapes_[at(b)].vertex(eb.v) - shapes_[at(b)].vertex(eb.u);
+        const real sign = (ra * da).cross(rb * db).dot(n) >= 0 ? 1.0 : -1.0;
+        feature_[k] = feature_kind::edges;
+        feature_a_[k] = sign * da;
+        feature_b_[k] = db;
+      } else if (plane.source == detection::plane_source::face_b) {
+        feature_[k] = feature_kind::face_b;
+        feature_b_[k] = -(rb.transpose() * n);  // R is a rotation (rigid blocks): R^-1 = R^T
+        feature_a_[k] = vec3::Zero();
+      } else {
+        feature_[k] = feature_kind::face_a;
+        feature_a_[k] = ra.transpose() * n;
+        feature_b_[k] = vec3::Zero();
+      }
+      // Faces of A and B parallel to the plane (within parallel_cos): a vertex of B is pushed by
+      // A's face, whose normal turns with A, and a vertex of A by B's face.
+      side_a_[k] = side_b_[k] = vec3::Zero();
+      real best_a = parallel_cos, best_b = parallel_cos;
+      for (index f = 0; f < current_[at(a)].face_count(); ++f)
+        if (const vec3 m = current_[at(a)].face_normal(f); m.dot(n) > best_a) {
+          best_a = m.dot(n);
+          side_a_[k] = ra.transpose() * m;
+        }
+      for (index f = 0; f < current_[at(b)].face_count(); ++f)
+        if (const vec3 m = current_[at(b)].face_normal(f); -m.dot(n) > best_b) {
+          best_b = -m.dot(n);
+          side_b_[k] = rb.transpose() * m;
+        }
+      for (int j = 0; j < 3; ++j) {
+        const vec3 nj = j == 0 || (j == 1 ? side_a_[k] : side_b_[k]).squaredNorm() == 0 ? n
+                        : j == 1 ? vec3(ra * side_a_[k]) : vec3(-(rb * side_b_[k]));
+        normal_[at(j)].row(static_cast<index>(k)) = nj.transpose();
+      }
+    }
+
+    // Per sub-contact: pair, area, weights.
+    pair_.resize(n);
+    key_label_.assign(new_label_.begin(), new_label_.end());
+    corner_normal_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto k = at(std::upper_bound(new_pair_first_.begin(), new_pair_first_.end(), static_cast<index>(i)) -
+                        new_pair_first_.begin() - 1);
+      const auto kind = detection::corner_label::kind_of(key_label_[i]);
+      corner_normal_[i] = kind == detection::corner_label::kind::vertex_b && side_a_[k].squaredNorm() > 0   ? 1
+                          : kind == detection::corner_label::kind::vertex_a && side_b_[k].squaredNorm() > 0 ? 2
+                                                                                                              : 0;
+    }
+    area_.resize(n);
+    for (auto& w : weight_) w.resize(n);
+    for (auto& f : force_) f.assign(n, 0.0);
+    for (std::size_t k = 0; k < n_pairs; ++k) {
+      const index a = pair_a_[k], b = pair_b_[k];
+      const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
+      const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+        const std::size_t j = new_corner_[i];
+        pair_[i] = static_cast<index>(k);
+        area_[i] = new_area_[i];
+        const vec3 la = inv_a * (result_.point[j] - xa), lb = inv_b * (result_.point[j] - xb);
+        weight_[0][i] = 1 - la.sum();
+        weight_[4][i] = 1 - lb.sum();
+        for (int c = 0; c < 3; ++c) {
+          weight_[at(1 + c)][i] = la[c];
+          weight_[at(5 + c)][i] = lb[c];
+        }
+      }
+    }
+    // Tasks: runs of pairs with at least task_subcontacts sub-contacts.
+    pair_tasks_.assign(1, 0);
+    for (std::size_t k = 0; k < n_pairs; ++k)
+      if (k + 1 == n_pairs || new_pair_first_[k + 1] - new_pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
+        pair_tasks_.push_back(static_cast<index>(k + 1));
+    pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
+
+    // Gather slots: per frame gridpoint, its (sub-contact, weight) in increasing sub-contact order.
+    slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int side = 0; side < 2; ++side) {
+        const block_data& bd = blocks_[at(side == 0 ? pair_a_[at(pair_[i])] : pair_b_[at(pair_[i])])];
+        for (int k = 0; k < 4; ++k) ++slot_offsets_[at(bd.frame[at(k)]) + 1];
+      }
+    for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
+    slot_subcontact_.resize(at(slot_offsets_.back()));
+    slot_weight_.resize(at(slot_offsets_.back()));
+    fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      for (int side = 0; side < 2; ++side) {
+        const block_data& bd = blocks_[at(side == 0 ? pair_a_[at(pair_[i])] : pair_b_[at(pair_[i])])];
+        for (int k = 0; k < 4; ++k) {
+          const auto e = at(fill_[at(bd.frame[at(k)])]++);
+          slot_subcontact_[e] = static_cast<index>(i);
+          // A's side gets +w f, B's -w f (force_ holds the force on A).
+          slot_weight_[e] = side == 0 ? weight_[at(k)][i] : -weight_[at(4 + k)][i];
+        }
+      }
+    contact_gridpoints_.clear();
+    for (index g = 0; g < gridpoint_count_; ++g)
+      if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
+
+    peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
+    if (key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity() > capacity_before) ++growths_;
+  }
+
+  /// [x1-x0 x2-x0 x3-x0]^-1 of block b's frame now.
+  [[nodiscard]] mat3 frame_inverse(const block_data& b, const node_set* gp) const {
+    const vec3 x0 = position(b.frame[0], gp);
+    mat3 d;
+    d << position(b.frame[1], gp) - x0, position(b.frame[2], gp) - x0, position(b.frame[3], gp) - x0;
+    return d.inverse();
+  }
+
+  /// Normal j of pair k now (0 the plane's feature, 1 A's parallel face, 2 B's), from the
+  /// blocks' rotations; ra, rb their rotations.
+  [[nodiscard]] triple pair_normal(std::size_t k, int j, const mat3& ra, const mat3& rb) const {
+    vec3 n;
+    if (j == 1 && side_a_[k].squaredNorm() > 0) {
+      n = ra * side_a_[k];
+    } else if (j == 2 && side_b_[k].squaredNorm() > 0) {
+      n = -(rb * side_b_[k]);
+    } else {
+      switch (feature_[k]) {
+        case feature_kind::face_a: n = ra * feature_a_[k]; break;
+        case feature_kind::face_b: n = -(rb * feature_b_[k]); break;
+        default: n = (ra * feature_a_[k]).cross(rb * feature_b_[k]);
+      }
+    }
+    const real len = n.norm();
+    const auto row = static_cast<index>(k);
+    if (!(len > 0)) return {normal_[at(j)](row, 0), normal_[at(j)](row, 1), normal_[at(j)](row, 2)};
+    return {n.x() / len, n.y() / len, n.z() / len};
+  }
+
+  void update_pair(index pk, const node_set& gp, real dt) noexcept {
+    const auto k = at(pk);
+    const auto row = static_cast<index>(pk);
+    const mat3 ra = rotation(blocks_[at(pair_a_[k])], &gp), rb = rotation(blocks_[at(pair_b_[k])], &gp);
+    std::array<triple, 3> normals, tilts;
+    for (int j = 0; j < 3; ++j) {
+      soa3& m = normal_[at(j)];
+      const triple n_prev{m(row, 0), m(row, 1), m(row, 2)};
+      const triple n = pair_normal(k, j, ra, rb);
+      m(row, 0) = n.x;
+      m(row, 1) = n.y;
+      m(row, 2) = n.z;
+      normals[at(j)] = n;
+      tilts[at(j)] = kinematics::tilt(n_prev, n);
+    }
+    const params_type& p = law_params_[at(pair_param_[k])];
+    const block_data& ba = blocks_[at(pair_a_[k])];
+    const block_data& bb = blocks_[at(pair_b_[k])];
+    const real* u[3] = {gp.displacement.col(0).data(), gp.displacement.col(1).data(), gp.displacement.col(2).data()};
+    const real* v[3] = {gp.velocity.col(0).data(), gp.velocity.col(1).data(), gp.velocity.col(2).data()};
+    const real* x[3] = {reference_.col(0).data(), reference_.col(1).data(), reference_.col(2).data()};
+    for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+      const triple& n = normals[corner_normal_[i]];
+      const triple& tilt = tilts[corner_normal_[i]];
+      const vec3 normal(n.x, n.y, n.z);
+      real gap[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+      for (int s = 0; s < 4; ++s) {
+        const auto ga = at(ba.frame[at(s)]), gb = at(bb.frame[at(s)]);
+        const real wa = weight_[at(s)][i], wb = weight_[at(4 + s)][i];
+        for (int c = 0; c < 3; ++c) {
+          gap[c] += wb * (x[c][gb] + u[c][gb]) - wa * (x[c][ga] + u[c][ga]);
+          dv[c] += wb * v[c][gb] - wa * v[c][ga];
+        }
+      }
+      // A corner created at this step's rebuild already holds its gap at t: no increment.
+      const real step = fresh_[i] != 0 ? real(0) : dt;
+      fresh_[i] = 0;
+      const auto [du_n, du_s] = kinematics::split(
+          kinematics::relative_increment({dv[0] * step / dt, dv[1] * step / dt, dv[2] * step / dt},
+                                         {gap[0] * step / dt, gap[1] * step / dt, gap[2] * step / dt}, tilt, dt),
+          n);
+      state_type& st = state_[i];
+      Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
+      const vec3 traction = st.sigma_n * normal + vec3(st.tau);
+      for (int c = 0; c < 3; ++c) force_[at(c)][i] = area_[i] * traction[c];
+    }
+  }
+
+  enum class feature_kind : std::uint8_t { face_a, face_b, edges };
+  static constexpr index task_subcontacts = 64;
+  /// Faces within about 0.8 deg of the contact plane count as parallel to it.
+  static constexpr real parallel_cos = 1 - 1e-4;
+
+  params options_;
+  material_table<params_type> table_;
+  std::vector<params_type> law_params_;
+  std::vector<int> material_;
+  index gridpoint_count_ = 0;
+  soa3 reference_;                                 ///< reference gridpoint positions (m)
+  std::vector<block_data> blocks_;
+  std::vector<index> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
+  std::vector<geometry::convex_polyhedron> shapes_, current_;  ///< reference and current geometry
+  std::vector<detection::polyhedron_edges> edges_;
+  std::vector<aabb> boxes_;
+  soa3 rebuild_u_;                                 ///< vertex displacements at the last rebuild
+  index steps_since_rebuild_ = 0;
+  detection::detection_result result_;
+  detection::detection_workspace workspace_;
+  // per pair
+  std::vector<index> pair_a_, pair_b_, pair_param_, pair_first_{0}, pair_tasks_{0};
+  std::vector<feature_kind> feature_;
+  std::vector<vec3> feature_a_, feature_b_;
+  std::array<soa3, 3> normal_;                     ///< per pair: the plane's, A's parallel face's, B's (now)
+  std::vector<vec3> side_a_, side_b_;              ///< A's / B's face parallel to the plane, body frame (0: none)
+  std::vector<std::uint8_t> corner_normal_;        ///< which of the pair's normals a sub-contact uses
+  // per sub-contact (sorted by (a, b, label))
+  std::vector<index> pair_;
+  std::vector<std::uint64_t> key_label_;
+  std::vector<real> area_;
+  std::vector<state_type> state_;
+  std::vector<std::uint8_t> fresh_;                ///< created at the last rebuild, not yet updated
+  std::array<std::vector<real>, 8> weight_;        ///< affine weights, A's frame 0-3, B's 4-7
+  std::array<std::vector<real>, 3> force_;         ///< force on A's side (N)
+  // gather
+  std::vector<index> slot_offsets_{0}, slot_subcontact_, contact_gridpoints_, fill_;
+  std::vector<real> slot_weight_;
+  // rebuild scratch
+  std::vector<index> new_pair_a_, new_pair_b_, new_pair_first_;
+  std::vector<std::uint64_t> new_label_;
+  std::vector<std::size_t> new_corner_, order_;
+  std::vector<real> new_area_;
+  std::vector<state_type> new_state_;
+  std::vector<std::uint8_t> new_fresh_, kept_old_;
+  contact_energies retired_;                       ///< energies of the sub-contacts that ended
+  // statistics
+  index rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0;
+};
+
+}  // namespace tessera::contact
