@@ -305,3 +305,30 @@ tessera_add_refusal_test(refuse_direct_tension_params_blocks direct_tension
 tessera_add_refusal_test(refuse_direct_tension_params_law direct_tension
   "was fitted with power softening, this run uses linear"
   --threads 1 --quick --softening linear --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_quick.json)
+
+# Contact detection with rigid blocks (examples/verification, quick durations, each under a second):
+# the four closed-form problems on both sides of their boundaries. Measured errors are in
+# docs/validation.md "Contact detection".
+tessera_add_example_test(verification NAME example_verification_incline_stick_quick
+  ARGS --quick --threads 1 --case incline --angle-deg 20 --friction-deg 30
+  FILES curve.csv blocks_final.vtu
+  CHECKS "pass STREQUAL ON" "measured LESS 1e-6" "subcontacts EQUAL 4")
+tessera_add_example_test(verification NAME example_verification_incline_slide_quick
+  ARGS --quick --threads 1 --case incline --angle-deg 40 --friction-deg 30
+  CHECKS "pass STREQUAL ON" "error_rel LESS 1e-3" "error_rel GREATER -1e-3" "energy_error_rel LESS 1e-3")
+tessera_add_example_test(verification NAME example_verification_topple_stable_quick
+  ARGS --quick --threads 1 --case topple --aspect 0.5 --friction-deg 40 --angle-deg 25
+  CHECKS "pass STREQUAL ON" "mode STREQUAL stable")
+tessera_add_example_test(verification NAME example_verification_topple_quick
+  ARGS --quick --threads 1 --case topple --aspect 0.5 --friction-deg 40 --angle-deg 28.5
+  CHECKS "pass STREQUAL ON" "mode STREQUAL topple")
+tessera_add_example_test(verification NAME example_verification_stack_quick
+  ARGS --quick --threads 1 --case stack --blocks 5
+  CHECKS "pass STREQUAL ON" "error_rel LESS 1e-6" "error_rel GREATER -1e-6" "drift_m LESS 1e-9")
+tessera_add_example_test(verification NAME example_verification_drop_quick
+  ARGS --quick --threads 1 --case drop
+  CHECKS "pass STREQUAL ON" "error_rel LESS 0.01" "error_rel GREATER -0.01")
+tessera_add_refusal_test(refuse_verification_case verification
+  "--case: invalid value 'reclose'" --threads 1 --case reclose)
+tessera_add_refusal_test(refuse_verification_angle verification
+  "--angle-deg" --threads 1 --case incline --angle-deg 95)

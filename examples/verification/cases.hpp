@@ -1,0 +1,284 @@
+#pragma once
+// The verification problems of contact detection (3DEC's verification set; issue #17), as
+// functions the driver (main.cpp) and the tests (tests/test_rigid.cpp "[verification]") share.
+// Every case is rigid blocks under gravity on a fixed base, with detected contacts of a
+// frictional joint (no tension, no cohesion, friction angle phi):
+//   incline  a cube on a plane at angle theta (gravity turned by theta, the scene stays level),
+//            undamped: sticks for theta < phi, else slides with a = g (sin theta - cos theta tan phi)
+//   topple   a block of width b (along the slope) and height h on the incline, theta < phi:
+//            topples iff tan theta > b / h
+//   stack    a column of cubes settling on the base with local damping: the base carries the
+//            total weight, the column does not drift
+//   drop     a cube dropped on the base comes to rest with overlap W / (k_n A)
+// The block rests on the level base at its static overlap from the start, and the incline is
+// tilted to theta over the first ramp_s (0.1 s, half-cosine), as on a tilting table: a sudden
+// tilt would start the undamped block rocking on its friction moment (e.g. theta 40, phi 30 deg),
+// which is a different problem. The acceleration is fitted over the second half of the run.
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <Eigen/Dense>
+
+#include "tessera/tessera.hpp"
+
+namespace tessera::verification {
+
+using joint_law = law::cohesive_frictional<law::no_tension, law::elastic_compression, law::coulomb_residual>;
+using contacts = contact::detected_contacts<joint_law>;
+using undamped = integrator::central_difference<integrator::no_damping>;
+using damped = integrator::central_difference<integrator::local_damping>;
+
+/// Inputs of every case (SI; angles in degrees).
+struct inputs {
+  std::string which = "incline";
+  real angle_deg = 20;      ///< incline angle theta
+  real friction_deg = 30;   ///< joint friction angle phi
+  real aspect = 1;          ///< topple: width / height b / h
+  real size = 0.5;          ///< block edge (m); topple: the height h
+  int blocks = 5;           ///< stack: blocks in the column
+  real damping = -1;        ///< local damping gamma; < 0: the case's default (0 incline/topple, 0.8 stack/drop)
+  real duration = -1;       ///< simulated time (s); < 0: the case's default
+  real drop_height = 0.01;  ///< drop: initial gap (m)
+  real k_n = 1e11;          ///< joint normal stiffness (Pa/m); k_s = k_n
+  real density = 2400;      ///< kg/m^3
+  real tolerance = 1e-3;    ///< contact tolerance (m)
+  bool quick = false;       ///< shorter runs (tests)
+};
+
+/// What a case measured.
+struct result {
+  std::string which;
+  real measured = 0, reference = 0, error_rel = 0, tolerance = 0;
+  std::string quantity, unit;  ///< what measured/reference are
+  std::string mode, expected_mode;  ///< topple: topple / slide / stable
+  bool pass = false;
+  real drift_m = 0;  ///< stack: motion of the top block over the second half of the run
+  real energy_error_rel = 0;
+  index steps = 0, rebuilds = 0, growths = 0, subcontacts = 0;
+  real dt = 0;
+  std::vector<double> t, x, z, rotation;  ///< curve: top (moving) block's centroid displacement and tilt
+  geometry::tessellation final_blocks;    ///< block geometry at the end (for VTK)
+};
+
+constexpr real g = 9.81;
+constexpr real ramp_s = 0.1;  ///< incline and topple: time over which the tilt grows to theta (s)
+
+/// The joint of every case.
+[[nodiscard]] inline joint_law::params joint(const inputs& in) {
+  joint_law::params p;
+  p.k_n = in.k_n;
+  p.k_s = in.k_n;
+  p.shear.phi_0 = law::friction_angle::from_degrees(in.friction_deg);
+  p.shear.phi_res = p.shear.phi_0;
+  return p;
+}
+
+/// The tessellation with every vertex moved by its gridpoint's displacement.
+[[nodiscard]] inline geometry::tessellation moved(const geometry::tessellation& tess, const geometry::block_mesh& mesh,
+                                                 const node_set& gp) {
+  geometry::tessellation t = tess;
+  for (index i = 0; i < mesh.gridpoint_count(); ++i)
+    if (const index v = mesh.gridpoint_vertex[static_cast<std::size_t>(i)]; v != invalid_index)
+      t.vertices[static_cast<std::size_t>(v)] = mesh.gridpoints[static_cast<std::size_t>(i)] + gp.displacement.row(i).transpose();
+  return t;
+}
+
+/// Checks the inputs; throws invalid_input naming the value.
+inline void validate(const inputs& in) {
+  const auto positive = [](real v, const char* what) {
+    require(std::isfinite(v) && v > 0, "verification: ", what, " = ", v, " must be finite and > 0");
+  };
+  require(in.which == "incline" || in.which == "topple" || in.which == "stack" || in.which == "drop",
+          "verification: unknown case '", in.which, "' (incline, topple, stack, drop)");
+  require(std::isfinite(in.angle_deg) && in.angle_deg >= 0 && in.angle_deg < 90, "verification: --angle-deg = ",
+          in.angle_deg, " must lie in [0, 90)");
+  require(std::isfinite(in.friction_deg) && in.friction_deg >= 0 && in.friction_deg < 90,
+          "verification: --friction-deg = ", in.friction_deg, " must lie in [0, 90)");
+  positive(in.aspect, "--aspect (b/h)");
+  require(in.aspect <= 20, "verification: --aspect = ", in.aspect, " must be <= 20");
+  positive(in.size, "--size (m)");
+  positive(in.k_n, "--kn (Pa/m)");
+  require(in.k_n <= 1e14, "verification: --kn = ", in.k_n, " Pa/m must be <= 1e14");
+  positive(in.density, "density (kg/m^3)");
+  positive(in.tolerance, "--tolerance (m)");
+  require(in.tolerance < 0.1 * in.size, "verification: --tolerance = ", in.tolerance, " m must be below a tenth of the block (",
+          0.1 * in.size, " m)");
+  require(in.blocks >= 1 && in.blocks <= 200, "verification: --blocks = ", in.blocks, " must lie in [1, 200]");
+  require(in.damping < 0 || (in.damping <= 1 && std::isfinite(in.damping)), "verification: --damping = ", in.damping,
+          " must lie in [0, 1] (or be negative for the case's default)");
+  require(in.duration < 0 || (in.duration > 0 && in.duration <= 100), "verification: --duration = ", in.duration,
+          " s must lie in (0, 100]");
+  require(std::isfinite(in.drop_height) && in.drop_height >= 0 && in.drop_height <= in.size,
+          "verification: --drop-height = ", in.drop_height, " m must lie in [0, block size]");
+}
+
+namespace detail {
+
+/// Runs a scene of `cells` (cell 0 the base, fixed) under gravity `gravity` for `duration` s with
+/// local damping gamma (0: undamped), recording the last block's motion.
+/// `gravity(t)` is the acceleration of gravity at time t (m/s^2).
+using gravity_field = std::function<vec3(real)>;
+template <class Integrator>
+result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron>& cells, const gravity_field& gravity,
+                 real gamma, real duration);
+inline result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron>& cells,
+                        const gravity_field& gravity, real gamma, real duration) {
+  return gamma > 0 ? run_scene<damped>(in, cells, gravity, gamma, duration)
+                   : run_scene<undamped>(in, cells, gravity, gamma, duration);
+}
+template <class Integrator>
+result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron>& cells, const gravity_field& gravity,
+                 real gamma, real duration) {
+  const geometry::tessellation tess = geometry::separate_blocks(cells);
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  solver_options options;
+  if (gamma > 0) options.damping_gamma = gamma;
+  using solver_type = solver<blocks::rigid, contacts, reinforcement::none, Integrator>;
+  solver_type s(tess, mesh, blocks::rigid::params{in.density}, contacts::params(joint(in), in.tolerance), {}, options);
+  s.set_gravity(gravity(0));
+  s.fix(s.gridpoints_on_plane(2, cells.front().bounds().lo.z(), 1e-9));
+  result r;
+  r.which = in.which;
+  r.dt = s.dt();
+  const index top = s.blocks().block_count() - 1;
+  const real step_count = std::ceil(duration / s.dt());
+  require(step_count <= 2e8, "verification: ", duration, " s at the stable step ", s.dt(), " s would take ", step_count,
+          " steps (over 2e8, hours of run time): shorten --duration or lower --kn");
+  const auto steps = static_cast<index>(step_count);
+  const index every = std::max<index>(1, steps / 2000);
+  vec3 top_at_half = vec3::Zero();
+  for (index k = 1; k <= steps; ++k) {
+    if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
+    s.step();
+    if (k == steps / 2) top_at_half = s.blocks().displacement(top);
+    if (k % every == 0 || k == steps) {
+      const mat3 rot = s.blocks().rotation(top);
+      r.t.push_back(s.time());
+      r.x.push_back(s.blocks().displacement(top).x());
+      r.z.push_back(s.blocks().displacement(top).z());
+      r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));  // tilt about y (down the slope: +)
+    }
+  }
+  r.steps = steps;
+  r.drift_m = (s.blocks().displacement(top) - top_at_half).norm();
+  r.rebuilds = s.contacts().rebuild_count();
+  r.growths = s.contacts().growth_count();
+  r.subcontacts = s.contacts().subcontact_count();
+  r.energy_error_rel = s.energies().error_rel();
+  r.final_blocks = moved(tess, mesh, s.gridpoints());
+  if (in.which == "stack") {
+    real weight = 0;
+    for (index b = 0; b < s.blocks().block_count(); ++b) weight += s.blocks().weight_mass(b) * g;
+    r.measured = s.blocks().reaction_force(0).z();
+    r.reference = weight;
+  }
+  if (in.which == "drop") {
+    // Overlap of the block's bottom below the base's top.
+    r.measured = -(cells[1].bounds().lo.z() + s.blocks().displacement(1).z() - cells[0].bounds().hi.z());
+    const real area = in.size * in.size;
+    r.reference = s.blocks().weight_mass(1) * g / (in.k_n * area);
+  }
+  return r;
+}
+
+/// Least-squares a in x = c0 + c1 t + a t^2 / 2 over the second half of the curve.
+[[nodiscard]] inline real fitted_acceleration(const result& r) {
+  const std::size_t n = r.t.size(), first = n / 2;
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(n - first), 3);
+  Eigen::VectorXd y(static_cast<Eigen::Index>(n - first));
+  for (std::size_t k = first; k < n; ++k) {
+    const auto row = static_cast<Eigen::Index>(k - first);
+    a(row, 0) = 1;
+    a(row, 1) = r.t[k];
+    a(row, 2) = 0.5 * r.t[k] * r.t[k];
+    y(row) = r.x[k];
+  }
+  return a.colPivHouseholderQr().solve(y)(2);
+}
+
+}  // namespace detail
+
+/// Runs one case (validate(in) first).
+[[nodiscard]] inline result run(const inputs& in) {
+  validate(in);
+  const real theta = in.angle_deg * std::numbers::pi / 180, phi = in.friction_deg * std::numbers::pi / 180;
+  const real s = in.size;
+  const auto base = [&](real half_length) {
+    return geometry::convex_polyhedron::box({-half_length, -s, -0.5 * s}, {half_length, s, 0});
+  };
+  if (in.which == "incline" || in.which == "topple") {
+    const real h = s, b = in.which == "topple" ? in.aspect * h : s, d = s;
+    const real weight = in.density * b * h * d * g;
+    const real overlap = weight / (in.k_n * b * d);  // static on the level base
+    const real duration = in.duration > 0 ? in.duration : in.quick ? 0.4 : 1.0;
+    // Long enough for the slide at any angle: x = a T^2 / 2 with a <= g.
+    const real half_length = 0.5 * g * duration * duration + 2 * (b + h);
+    const std::vector<geometry::convex_polyhedron> cells{
+        base(half_length), geometry::convex_polyhedron::box({-b / 2, -d / 2, -overlap}, {b / 2, d / 2, h - overlap})};
+    const auto gravity = [theta](real t) {
+      const real tilt = t < ramp_s ? theta * 0.5 * (1 - std::cos(std::numbers::pi * t / ramp_s)) : theta;
+      return vec3(g * std::sin(tilt), 0, -g * std::cos(tilt));
+    };
+    result r = detail::run_scene(in, cells, gravity, std::max<real>(in.damping, 0), duration);
+    if (in.which == "incline") {
+      if (theta < phi) {
+        r.quantity = "slip after the run";
+        r.unit = "m";
+        r.measured = std::abs(r.x.back());
+        r.reference = 0;
+        r.tolerance = 1e-6;
+        r.error_rel = r.measured / s;
+        r.pass = r.measured < r.tolerance;
+      } else {
+        r.quantity = "acceleration down the slope";
+        r.unit = "m/s^2";
+        r.measured = detail::fitted_acceleration(r);
+        r.reference = g * (std::sin(theta) - std::cos(theta) * std::tan(phi));
+        r.tolerance = 0.01;
+        r.error_rel = r.reference != 0 ? (r.measured - r.reference) / r.reference : r.measured;
+        r.pass = std::abs(r.error_rel) < r.tolerance;
+      }
+    } else {
+      r.quantity = "tilt of the block after the run";
+      r.unit = "rad";
+      r.measured = r.rotation.back();
+      r.reference = std::atan(b / h);  // the tilt at which its centroid passes over the edge
+      r.expected_mode = std::tan(theta) > b / h ? "topple" : theta > phi ? "slide" : "stable";
+      r.mode = std::abs(r.measured) > 0.01 ? "topple" : std::abs(r.x.back()) > 1e-3 ? "slide" : "stable";
+      r.error_rel = r.mode == r.expected_mode ? 0 : 1;
+      r.pass = r.mode == r.expected_mode;
+    }
+    return r;
+  }
+  if (in.which == "stack") {
+    std::vector<geometry::convex_polyhedron> cells{base(s)};
+    for (int k = 0; k < in.blocks; ++k)
+      cells.push_back(geometry::convex_polyhedron::box({-s / 2, -s / 2, k * s}, {s / 2, s / 2, (k + 1) * s}));
+    const real duration = in.duration > 0 ? in.duration : in.quick ? 0.2 : 1.0;
+    result r = detail::run_scene(in, cells, [](real) { return vec3(0, 0, -g); }, in.damping >= 0 ? in.damping : 0.8, duration);
+    r.quantity = "vertical reaction of the base";
+    r.unit = "N";
+    r.tolerance = 1e-6;
+    r.error_rel = (r.measured - r.reference) / r.reference;
+    r.pass = std::abs(r.error_rel) < r.tolerance;
+    return r;
+  }
+  // drop
+  const std::vector<geometry::convex_polyhedron> cells{
+      base(s), geometry::convex_polyhedron::box({-s / 2, -s / 2, in.drop_height}, {s / 2, s / 2, in.drop_height + s})};
+  const real duration = in.duration > 0 ? in.duration : in.quick ? 0.3 : 1.0;
+  result r = detail::run_scene(in, cells, [](real) { return vec3(0, 0, -g); }, in.damping >= 0 ? in.damping : 0.8, duration);
+  r.quantity = "overlap at rest";
+  r.unit = "m";
+  r.tolerance = 0.01;
+  r.error_rel = (r.measured - r.reference) / r.reference;
+  r.pass = std::abs(r.error_rel) < r.tolerance;
+  return r;
+}
+
+}  // namespace tessera::verification
