@@ -549,7 +549,7 @@ TEST_CASE("detected contacts: a dropped block comes to rest with overlap W / (k_
   CHECK(r.energy_error_rel < 1e-6);
 }
 
-TEST_CASE("detected contacts: bit-identical for 1 and 2 threads; bad parameters refused", "[rigid][detected][determinism]") {
+TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters refused", "[rigid][detected][determinism]") {
   // 30 Voronoi blocks of a cube, each shrunk 2 % about its centroid so they start apart, released
   // under a tilted 10 g onto the fixed bottom layer: contacts form, slide and open between blocks
   // that were not neighbours (stiffness 1e8 Pa/m so 4 000 steps are 0.1 s).
@@ -584,7 +584,9 @@ TEST_CASE("detected contacts: bit-identical for 1 and 2 threads; bad parameters 
   CHECK(std::get<0>(one).cwiseAbs().maxCoeff() > 5e-3);
   CHECK(std::get<2>(one) > 5 * std::get<4>(one));
   CHECK(std::get<5>(one) > 0);
-  CHECK(std::get<6>(one) < 0.05);  // measured 1.4 %: areas of persisting corners change at rebuilds
+  // measured 0.56 % (the rebuild exchange booked): during impacts the balance, read with
+  // half-step velocities, swings by O((omega dt)^2)
+  CHECK(std::get<6>(one) < 0.02);
   CHECK((std::get<0>(one).array() == std::get<0>(two).array()).all());
   CHECK(std::get<1>(one) == std::get<1>(two));
   CHECK(std::get<2>(one) == std::get<2>(two));

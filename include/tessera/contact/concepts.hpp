@@ -57,6 +57,9 @@ struct contact_energies {
   real dissipated_shear = 0;        ///< by Coulomb slip and shear failure (dissipated_shear)
   real dissipated_compression = 0;  ///< by compressive plasticity (dissipated_compression)
   real dissipated = 0;              ///< all mechanisms, area x Law::dissipated_energy
+  /// Energy put into the springs (+) or taken out (-) when a detecting set re-discretises its
+  /// patches at rebuilds (new corners, changed tributary areas, dropped corners); 0 for a fixed set.
+  real rebuild_exchange = 0;
 };
 
 template <class C>

@@ -328,6 +328,7 @@ class solver {
     e.contact_stored = c.stored;
     e.contact_dissipated = c.dissipated;
     e.contact_dissipated_tension = c.dissipated_tension;
+    e.contact_rebuild_exchange = c.rebuild_exchange;
     if constexpr (Reinforcement::enabled) {
       const node_set& bars = reinforcement_.nodes();
       e.kinetic += deterministic_sum(bars.size(), [&](std::int64_t i) {

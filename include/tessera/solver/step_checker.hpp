@@ -96,7 +96,8 @@ struct default_step_checker {
     }
     // 2. Kinetic energy beyond the energy supplied: name the fastest node.
     const auto e = s.energies();
-    const real supplied = e.initial + std::abs(e.boundary_work) + std::abs(e.gravity_work);
+    const real supplied =
+        e.initial + std::abs(e.boundary_work) + std::abs(e.gravity_work) + std::abs(e.contact_rebuild_exchange);
     if (e.kinetic <= growth_factor * supplied + floor) return;  // cheap path: q >= 0
     real q = 0;
     for (int set = 0; set < 2; ++set) {
