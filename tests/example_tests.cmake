@@ -332,3 +332,14 @@ tessera_add_refusal_test(refuse_verification_case verification
   "--case: invalid value 'reclose'" --threads 1 --case reclose)
 tessera_add_refusal_test(refuse_verification_angle verification
   "--angle-deg" --threads 1 --case incline --angle-deg 95)
+# The rubble scene, 100 blocks for 0.1 s: the cube lands on the floor (its top comes down), contacts
+# form between blocks that started apart, the energy balance closes with the rebuild exchange booked.
+tessera_add_example_test(rubble
+  ARGS --quick --threads 1
+  FILES curve.csv rubble.pvd blocks_0000.vtu
+  CHECKS "blocks EQUAL 100"
+         "subcontacts GREATER 1500"
+         "rebuilds GREATER 5"
+         "top_z_end_m LESS 0.96"
+         "energy_error_rel LESS 0.03")
+tessera_add_refusal_test(refuse_rubble_gap rubble "--gap: value '0.5' must be <= 0.2" --threads 1 --gap 0.5)
