@@ -341,5 +341,5 @@ tessera_add_example_test(rubble
          "subcontacts GREATER 1500"
          "rebuilds GREATER 5"
          "top_z_end_m LESS 0.96"
-         "energy_error_rel LESS 0.03")
+         "energy_error_rel LESS 0.005")
 tessera_add_refusal_test(refuse_rubble_gap rubble "--gap: value '0.5' must be <= 0.2" --threads 1 --gap 0.5)

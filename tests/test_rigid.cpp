@@ -584,9 +584,9 @@ TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters 
   CHECK(std::get<0>(one).cwiseAbs().maxCoeff() > 5e-3);
   CHECK(std::get<2>(one) > 5 * std::get<4>(one));
   CHECK(std::get<5>(one) > 0);
-  // measured 0.56 % (the rebuild exchange booked): during impacts the balance, read with
-  // half-step velocities, swings by O((omega dt)^2)
-  CHECK(std::get<6>(one) < 0.02);
+  // Energy balance with the rebuild exchange booked: measured 2.7e-5 (1.4 % before rebuilds kept
+  // dissipated energy and force across changes of tributary area).
+  CHECK(std::get<6>(one) < 1e-3);
   CHECK((std::get<0>(one).array() == std::get<0>(two).array()).all());
   CHECK(std::get<1>(one) == std::get<1>(two));
   CHECK(std::get<2>(one) == std::get<2>(two));

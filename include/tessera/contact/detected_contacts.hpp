@@ -18,8 +18,12 @@
 // edge of B (detection::corner_label). Keys are kept sorted; at a rebuild the new corners are
 // merged with the old ones, so a corner that persists keeps its law state (stresses, slip,
 // damage) and a new one starts in Law::unbonded_state with its opening u_n = its geometric gap
-// at t (a corner found open by g carries force only once g has closed); its first update takes
-// no increment, since the gap already holds the motion up to t. Tributary areas come from the
+// at t (a corner found open by g carries force only once g has closed; after construction a
+// corner born overlapped starts at u_n = 0); its first update takes no increment, since the gap
+// already holds the motion up to t. A persisting corner whose tributary area changes keeps its
+// dissipated energy (the per-area fields rescaled) and, if the area grows, its force
+// (Law::scale_stresses): a rebuild can take elastic energy out of the springs, never put it in.
+// What it takes is booked as the rebuild exchange (energies()). Tributary areas come from the
 // patch polygon; a segment or point patch (a block on its edge or corner) gives each corner the
 // nominal area min over the two blocks of S / (3 V) (S the block's surface area, V its vertex
 // count: a third of a vertex's share of the surface, a quarter of a face for a cube).
@@ -91,10 +95,11 @@ class detected_contacts {
   static constexpr bool requires_rigid_blocks = true;
   static_assert(requires(const params_type& p, state_type s) {
     Law::unbonded_state(p);
+    Law::scale_stresses(p, s, real{});
     s.u_n;
   } && detail::has_dissipation_split<state_type>,
-                "detected_contacts needs a law with Law::unbonded_state and state fields u_n (normal opening, m) "
-                "and dissipated_tension / _shear / _compression");
+                "detected_contacts needs a law with Law::unbonded_state, Law::scale_stresses and state fields u_n "
+                "(normal opening, m) and dissipated_tension / _shear / _compression");
 
   /// What the constructor takes.
   struct params {
@@ -440,11 +445,28 @@ class detected_contacts {
         while (old < n_old && before(old)) ++old;
         if (old < n_old && pair_a_[at(pair_[old])] == a && pair_b_[at(pair_[old])] == b && key_label_[old] == new_label_[i]) {
           new_state_[i] = state_[old];
+          // A tributary area that grows keeps the corner's force (stresses scaled down), one that
+          // shrinks keeps its stresses: either way the spring's energy can only drop, so a
+          // rebuild never feeds energy into the scene.
+          // The energy it dissipated (per area in the state) stays what it was.
+          if (const real a_old = area_[old]; new_area_[i] != a_old) {
+            state_type& st = new_state_[i];
+            const real r = a_old / new_area_[i];
+            if (r < 1) Law::scale_stresses(p, st, r);
+            st.dissipated_tension *= r;
+            st.dissipated_shear *= r;
+            st.dissipated_compression *= r;
+          }
           kept_old_[old] = 1;
           ++kept_last_;
         } else {
           state_type s = Law::unbonded_state(p);
-          s.u_n = result_.gap[new_corner_[i]];
+          // At construction a corner takes its gap (a scene may start in contact, e.g. at its
+          // static overlap: that energy is the run's initial energy). Later a corner that is
+          // born overlapped (a new crossing of two edges inside a loaded patch) starts at zero
+          // opening: its overlap is the neighbours' share, and a spring born compressed would
+          // inject energy that no force supplied.
+          s.u_n = gp == nullptr ? result_.gap[new_corner_[i]] : std::max<real>(result_.gap[new_corner_[i]], 0);
           // A zero increment sets the stresses of that opening (compression if it overlaps), so
           // the energy it holds is in the books from the start.
           // (The law books that energy as work done on the contact; it was not: undo its entry.)
@@ -596,6 +618,7 @@ class detected_contacts {
     if (key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity() > capacity_before) ++growths_;
     if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
   }
+
   /// Elastic energy of the current sub-contacts (J), summed in sub-contact order.
   [[nodiscard]] real stored_energy() const {
     real e = 0;

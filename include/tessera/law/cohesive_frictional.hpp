@@ -155,6 +155,18 @@ struct cohesive_frictional {
     return s;
   }
 
+  /// Scales the stresses by r in (0, 1]: contact::detected_contacts keeps a sub-contact's force
+  /// when a rebuild grows its tributary area by 1/r. tau times r; in compression sigma_n times r
+  /// and the closure with it (sigma_n = k_n (u_n - u_p) below the cap); in tension unchanged
+  /// (detected sub-contacts carry none). The stored energy per area drops by r^2 or stays.
+  static void scale_stresses(const params& p, state& s, real r) noexcept {
+    s.tau *= r;
+    if (s.sigma_n < 0) {
+      s.sigma_n *= r;
+      s.u_n = s.u_p + s.sigma_n / p.k_n;
+    }
+  }
+
   [[nodiscard]] static real normal_stiffness(const params& p) noexcept { return p.k_n; }
   [[nodiscard]] static real shear_stiffness(const params& p) noexcept { return p.k_s; }
 
