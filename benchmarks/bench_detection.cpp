@@ -5,6 +5,8 @@
 // open by 1 % of their two centroids' distances). Margin and contact tolerance: 5 % of a block,
 // which takes in every opened face (test_contacts "detection pass").
 // Args: blocks (1 000, 10 000), threads.
+// Last, a whole solver step of 1 000 rigid blocks with fixed face contacts and with detected
+// contacts (at the default rebuild policy, and with a pass forced every step): see below.
 //
 // Counters: pairs / candidates (of the broad phase), touching pairs, subcontacts (patch corners
 // created), time_per_block (broad phase), time_per_pair, time_per_candidate, time_per_subcontact.
@@ -18,11 +20,15 @@
 #include <memory>
 #include <vector>
 
+#include <tessera/contact/detected_contacts.hpp>
 #include <tessera/contact/detection/broad_phase.hpp>
 #include <tessera/contact/detection/common_plane.hpp>
 #include <tessera/contact/detection/detect.hpp>
 #include <tessera/core/parallel.hpp>
 #include <tessera/geometry.hpp>
+#include <tessera/solver/solver.hpp>
+
+#include "verification/cases.hpp"
 
 namespace {
 
@@ -126,8 +132,70 @@ void BM_common_plane(benchmark::State& state) {
                                                        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
+// ---- a solver step with and without detection (issue: detection adds under 50 % per step) ----
+// The 1 000 blocks of scene_of(1000) unshrunk (their shared faces touch), rigid, under gravity,
+// the blocks touching z = 0 fixed, the verification joint (k_n = k_s = 1e11 Pa/m, phi 30 deg):
+//   fixed     contact::face_contacts: the tessellation's shared faces, one sub-contact per face vertex
+//   detected  contact::detected_contacts on separate_blocks(cells), tolerance 1 % of a block: the
+//             same faces found by detection (polygon patches), rebuilt at the default policy
+//   rebuild   detected, a rebuild forced every step (max_rebuild_interval 1): the cost of a pass
+// Counters: subcontacts, rebuilds (during the timed steps), time per step.
+struct step_scene {
+  geometry::tessellation tess, separate;
+  geometry::block_mesh mesh, separate_mesh;
+};
+const step_scene& step_scene_of() {
+  static const step_scene s = [] {
+    step_scene r;
+    const real side = 0.05 * std::cbrt(1000.0);
+    r.tess = geometry::random_voronoi({vec3::Zero(), vec3::Constant(side)}, 1000, 1);
+    std::vector<geometry::convex_polyhedron> cells;
+    for (tessera::index c = 0; c < r.tess.cell_count(); ++c) cells.push_back(geometry::cell_polyhedron(r.tess, c));
+    r.separate = geometry::separate_blocks(cells);
+    r.mesh = geometry::zone_blocks(r.tess);
+    r.separate_mesh = geometry::zone_blocks(r.separate);
+    return r;
+  }();
+  return s;
+}
+template <class Solver>
+void time_steps(benchmark::State& state, Solver& s) {
+  s.set_gravity(vec3(0, 0, -9.81));
+  s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+  s.run(10);
+  for (auto _ : state) s.step();
+  state.counters["time_per_step"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+void BM_step_fixed_contacts(benchmark::State& state) {
+  const step_scene& sc = step_scene_of();
+  const int saved = tessera::max_threads();
+  tessera::set_threads(static_cast<int>(state.range(0)));
+  namespace ver = tessera::verification;
+  tessera::solver<tessera::blocks::rigid, tessera::contact::face_contacts<ver::joint_law>> s(sc.tess, sc.mesh, {2400},
+                                                                                             ver::joint({}));
+  time_steps(state, s);
+  state.counters["subcontacts"] = static_cast<double>(s.contacts().subcontact_count());
+  tessera::set_threads(saved);
+}
+void BM_step_detected_contacts(benchmark::State& state) {
+  const step_scene& sc = step_scene_of();
+  const int saved = tessera::max_threads();
+  tessera::set_threads(static_cast<int>(state.range(0)));
+  namespace ver = tessera::verification;
+  const tessera::index interval = state.range(1) > 0 ? state.range(1) : 1000;
+  ver::contacts::params p(ver::joint({}), 0.01 * 0.05, interval);
+  tessera::solver<tessera::blocks::rigid, ver::contacts> s(sc.separate, sc.separate_mesh, {2400}, p);
+  const tessera::index before = s.contacts().rebuild_count();
+  time_steps(state, s);
+  state.counters["subcontacts"] = static_cast<double>(s.contacts().subcontact_count());
+  state.counters["rebuilds"] = static_cast<double>(s.contacts().rebuild_count() - before);
+  tessera::set_threads(saved);
+}
+
 }  // namespace
 
+BENCHMARK(BM_step_fixed_contacts)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_step_detected_contacts)->ArgNames({"threads", "interval"})->Args({1, 0})->Args({2, 0})->Args({1, 1})->Args({2, 1})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_common_plane)->ArgName("blocks")->Arg(1000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_broad_sweep_and_prune)->ArgName("blocks")->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_broad_uniform_grid)->ArgName("blocks")->Arg(1000)->Arg(10000)->Unit(benchmark::kMillisecond);

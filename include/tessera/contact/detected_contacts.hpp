@@ -142,6 +142,7 @@ class detected_contacts {
     for (index g = 0; g < gridpoint_count_; ++g) reference_.row(g) = mesh.gridpoints[at(g)].transpose();
     material_.resize(at(n_b));
     blocks_.resize(at(n_b));
+    motion_.resize(at(n_b));
     shapes_.resize(at(n_b));
     edges_.resize(at(n_b));
     real row_max = 0;
@@ -176,6 +177,10 @@ class detected_contacts {
     }
     const real half = 0.5 * options_.tolerance;
     if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
+    // Each block's affine motion once per step (the pairs read it, rather than gathering the
+    // four frame gridpoints of both blocks at every corner).
+    parallel_for(static_cast<std::int64_t>(blocks_.size()),
+                 [&](std::int64_t b) { motion_[at(b)] = motion_of(blocks_[at(b)], gridpoints); }, 64);
   }
   [[nodiscard]] index task_count() const { return static_cast<index>(pair_tasks_.size()) - 1; }
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t.
@@ -364,6 +369,23 @@ class detected_contacts {
 
   /// Rotation of block b from its reference (D_cur D_ref^-1) and the current position of its
   /// first frame vertex.
+  /// A block's frame now: x(p) = x0 + d l, v(p) = v0 + dv l for the local coordinates l of a
+  /// point (its weights 1..3), and the rotation d D^-1 from the reference frame D.
+  struct block_motion {
+    vec3 x0 = vec3::Zero(), v0 = vec3::Zero();
+    mat3 d = mat3::Identity(), dv = mat3::Zero(), rotation = mat3::Identity();
+  };
+  [[nodiscard]] block_motion motion_of(const block_data& b, const node_set& gp) const {
+    block_motion m;
+    m.x0 = position(b.frame[0], &gp);
+    m.v0 = gp.velocity.row(b.frame[0]).transpose();
+    for (int k = 1; k < 4; ++k) {
+      m.d.col(k - 1) = position(b.frame[at(k)], &gp) - m.x0;
+      m.dv.col(k - 1) = gp.velocity.row(b.frame[at(k)]).transpose() - m.v0;
+    }
+    m.rotation = m.d * b.reference_inverse;
+    return m;
+  }
   [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const {
     const vec3 x0 = position(b.frame[0], gp);
     mat3 d;
@@ -658,7 +680,10 @@ class detected_contacts {
   void update_pair(index pk, const node_set& gp, real dt) noexcept {
     const auto k = at(pk);
     const auto row = static_cast<index>(pk);
-    const mat3 ra = rotation(blocks_[at(pair_a_[k])], &gp), rb = rotation(blocks_[at(pair_b_[k])], &gp);
+    const block_motion& ma = motion_[at(pair_a_[k])];
+    const block_motion& mb = motion_[at(pair_b_[k])];
+    const mat3& ra = ma.rotation;
+    const mat3& rb = mb.rotation;
     std::array<triple, 3> normals, tilts;
     for (int j = 0; j < 3; ++j) {
       soa3& m = normal_[at(j)];
@@ -671,24 +696,15 @@ class detected_contacts {
       tilts[at(j)] = kinematics::tilt(n_prev, n);
     }
     const params_type& p = law_params_[at(pair_param_[k])];
-    const block_data& ba = blocks_[at(pair_a_[k])];
-    const block_data& bb = blocks_[at(pair_b_[k])];
-    const real* u[3] = {gp.displacement.col(0).data(), gp.displacement.col(1).data(), gp.displacement.col(2).data()};
-    const real* v[3] = {gp.velocity.col(0).data(), gp.velocity.col(1).data(), gp.velocity.col(2).data()};
-    const real* x[3] = {reference_.col(0).data(), reference_.col(1).data(), reference_.col(2).data()};
+    // The two bodies' points relative to A's frame origin: x_b(p) - x_a(p) and v_b(p) - v_a(p).
+    const vec3 dx0 = mb.x0 - ma.x0, dv0 = mb.v0 - ma.v0;
     for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
       const triple& n = normals[corner_normal_[i]];
       const triple& tilt = tilts[corner_normal_[i]];
       const vec3 normal(n.x, n.y, n.z);
-      real gap[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
-      for (int s = 0; s < 4; ++s) {
-        const auto ga = at(ba.frame[at(s)]), gb = at(bb.frame[at(s)]);
-        const real wa = weight_[at(s)][i], wb = weight_[at(4 + s)][i];
-        for (int c = 0; c < 3; ++c) {
-          gap[c] += wb * (x[c][gb] + u[c][gb]) - wa * (x[c][ga] + u[c][ga]);
-          dv[c] += wb * v[c][gb] - wa * v[c][ga];
-        }
-      }
+      const vec3 la(weight_[1][i], weight_[2][i], weight_[3][i]), lb(weight_[5][i], weight_[6][i], weight_[7][i]);
+      const vec3 g = dx0 + mb.d * lb - ma.d * la, w = dv0 + mb.dv * lb - ma.dv * la;
+      const real gap[3] = {g.x(), g.y(), g.z()}, dv[3] = {w.x(), w.y(), w.z()};
       // A corner created at this step's rebuild already holds its gap at t: no increment.
       const real step = fresh_[i] != 0 ? real(0) : dt;
       fresh_[i] = 0;
@@ -715,6 +731,7 @@ class detected_contacts {
   index gridpoint_count_ = 0;
   soa3 reference_;                                 ///< reference gridpoint positions (m)
   std::vector<block_data> blocks_;
+  std::vector<block_motion> motion_;  ///< per block, this step (prepare_step)
   std::vector<index> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
   std::vector<geometry::convex_polyhedron> shapes_, current_;  ///< reference and current geometry
   std::vector<detection::polyhedron_edges> edges_;
