@@ -1382,7 +1382,7 @@ TEST_CASE("detection: the pruned edge-pair search keeps the separation test and 
     const vec3 axis = vec3(u(rng), u(rng), u(rng)).normalized();
     return p.transformed(rotation_about(axis, std::numbers::pi * u(rng)), vec3::Zero());
   };
-  int edge_planes = 0, separated = 0;
+  int edge_planes = 0, separated = 0, polygons = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     const convex_polyhedron a = random_block();
     const convex_polyhedron b0 = random_block();
@@ -1406,7 +1406,22 @@ TEST_CASE("detection: the pruned edge-pair search keeps the separation test and 
     // Every vertex of A is on or below the plane's A side and every vertex of B above its B side.
     for (const vec3& x : a.vertices()) CHECK(pruned.normal.dot(x) <= pruned.offset - 0.5 * pruned.gap + 1e-12);
     for (const vec3& x : b.vertices()) CHECK(pruned.normal.dot(x) >= pruned.offset + 0.5 * pruned.gap - 1e-12);
+    // The patch in a wide band (random polygons, some of them slivers): every tributary area is
+    // >= 0 and they sum to the patch area (a centroid fan split slivers into huge +- areas).
+    if (pruned.gap < 0.02) {
+      const auto patch = detection::contact_patch_of(a, b, pruned, 0.05);
+      real sum = 0;
+      for (const real area : patch.area) {
+        CHECK(area >= 0);
+        sum += area;
+      }
+      CHECK(sum == Approx(patch.total_area).margin(1e-14));
+      CHECK(patch.total_area <= 1.0);  // at most the largest face, 1 x 0.8 m
+      polygons += patch.type == detection::patch_type::polygon ? 1 : 0;
+    }
   }
+  INFO(polygons << " polygon patches");
+  CHECK(polygons > 100);
   INFO(edge_planes << " edge-edge planes, " << separated << " separated pairs");
   CHECK(edge_planes > 100);  // the edge-pair branch is exercised
   CHECK(separated > 200);

@@ -432,7 +432,9 @@ class detected_contacts {
       const bool polygon = result_.type[k] == detection::patch_type::polygon;
       const real nominal = std::min(blocks_[at(result_.pairs[k].a)].nominal_area, blocks_[at(result_.pairs[k].b)].nominal_area);
       for (std::size_t j : order_) {
-        const real a = polygon ? result_.area[j] : nominal;
+        // A sliver polygon's corner keeps a floor of 1e-6 of the nominal area, so that areas stay
+        // > 0 and the ratios of a rebuild (below) stay finite.
+        const real a = polygon ? std::max(result_.area[j], 1e-6 * nominal) : nominal;
         // A label met twice (a corner within round-off of another) keeps its first point and
         // takes the other's area.
         if (new_label_.size() > at(new_pair_first_.back()) && new_label_.back() == result_.label[j]) {

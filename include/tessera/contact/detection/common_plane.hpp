@@ -30,8 +30,8 @@
 // edges); its corners are the sub-contact points. Per corner: the normal gap along n between the
 // surfaces of A and B through it (exact for planar faces: the exit of the line from A and its
 // entry into B, from the face planes), and the tributary area (a polygon's area split between
-// its corners through its centroid: half of each of the two triangles (centroid, corner,
-// neighbour) at the corner; zero for a segment or point, for which the caller supplies a nominal
+// its corners through the mean of its corners: half of each of the two triangles (mean, corner,
+// neighbour) at the corner, >= 0 however thin the polygon; zero for a segment or point, for which the caller supplies a nominal
 // area: see docs/model.md). `tolerance` is the contact tolerance of 3DEC (the band in which a
 // vertex counts as touching); it must exceed the tilt of nearly parallel faces over their size,
 // else they read as an edge contact. A vertex of a neighbouring face that lies within the band
@@ -495,19 +495,19 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   }
   out.area.assign(patch.size(), 0.0);
   if (out.type == patch_type::polygon) {
+    // Fan from the mean of the corners: it lies inside a convex polygon however thin, so every
+    // triangle has the polygon's orientation and every tributary area is >= 0. (The area
+    // centroid divides by the area: for a sliver it lands far outside and splits a near-zero
+    // area into huge areas of both signs.)
     detail::point2 c = detail::point2::Zero();
-    real twice = 0;
-    for (std::size_t i = 0; i < patch.size(); ++i) {
-      const detail::point2& p = patch[i];
-      const detail::point2& q = patch[(i + 1) % patch.size()];
-      const real w = p.x() * q.y() - q.x() * p.y();
-      twice += w;
-      c += w * (p + q);
-    }
-    c /= 3 * twice;
+    for (const detail::point2& p : patch) c += p;
+    c /= static_cast<real>(patch.size());
+    real signed_total = 0;
+    for (std::size_t i = 0; i < patch.size(); ++i) signed_total += detail::cross2(c, patch[i], patch[(i + 1) % patch.size()]);
+    const real orientation = signed_total < 0 ? -1.0 : 1.0;
     for (std::size_t i = 0; i < patch.size(); ++i) {
       const std::size_t j = (i + 1) % patch.size();
-      const real tri = 0.5 * detail::cross2(c, patch[i], patch[j]);
+      const real tri = std::max<real>(0, 0.5 * orientation * detail::cross2(c, patch[i], patch[j]));
       out.area[i] += 0.5 * tri;
       out.area[j] += 0.5 * tri;
       out.total_area += tri;
