@@ -7,7 +7,8 @@
 //   summary.json   the scene, steps, dt, rebuilds, storage growths, sub-contacts (final, peak),
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
 //                  height and spread, runtime_s
-//   curve.csv      t_s, kinetic_J, subcontacts, rebuilds, top_z_m (highest block centroid)
+//   curve.csv      t_s, kinetic_J, contact_stored_J, rebuild_exchange_J, subcontacts, rebuilds,
+//                  top_z_m (highest block centroid)
 //   blocks_NNNN.vtu + rubble.pvd   the blocks at --frames instants (unless --no-vtk)
 // Exit status 0 when the run finished, 1 on an error, 2 on bad flags.
 
@@ -102,7 +103,7 @@ int run(const inputs& in) {
   const std::filesystem::path out = in.common.out;
   io::ensure_directory(out);
   io::vtk::pvd_collection pvd;
-  std::vector<double> t, kinetic, subs, rebuilds, top;
+  std::vector<double> t, kinetic, stored, exchange, subs, rebuilds, top;
   const index every = std::max<index>(1, steps / 500), frame_every = std::max<index>(1, steps / in.frames);
   const auto top_z = [&] {
     real z = -1e300;
@@ -122,7 +123,10 @@ int run(const inputs& in) {
     s.step();
     if (k % every == 0 || k == steps) {
       t.push_back(s.time());
-      kinetic.push_back(s.energies().kinetic);
+      const energy_balance e = s.energies();
+      kinetic.push_back(e.kinetic);
+      stored.push_back(e.contact_stored);
+      exchange.push_back(e.contact_rebuild_exchange);
       subs.push_back(static_cast<double>(s.contacts().subcontact_count()));
       rebuilds.push_back(static_cast<double>(s.contacts().rebuild_count()));
       top.push_back(top_z());
@@ -137,8 +141,9 @@ int run(const inputs& in) {
     const vec3 x = cells[static_cast<std::size_t>(b)].centroid() + s.blocks().displacement(b);
     spread = std::max({spread, -x.x(), x.x() - in.size, -x.y(), x.y() - in.size});
   }
-  io::write_csv(out / "curve.csv", {"t_s", "kinetic_J", "subcontacts", "rebuilds", "top_z_m"},
-                {t, kinetic, subs, rebuilds, top});
+  io::write_csv(out / "curve.csv",
+                {"t_s", "kinetic_J", "contact_stored_J", "rebuild_exchange_J", "subcontacts", "rebuilds", "top_z_m"},
+                {t, kinetic, stored, exchange, subs, rebuilds, top});
   if (in.vtk) pvd.write(out / "rubble.pvd");
   io::summary_json j;
   j.set("example", "rubble")
