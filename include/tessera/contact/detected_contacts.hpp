@@ -163,7 +163,8 @@ class detected_contacts {
   // ---- the time step (ContactSet) ----
 
   /// Rebuilds when a vertex has moved more than tolerance / 2 since the last rebuild or the
-  /// interval is reached (the only call that allocates), else nothing.
+  /// interval is reached (the only call that allocates), then takes each block's motion for
+  /// the step.
   void prepare_step(const node_set& gridpoints, real /*dt*/) {
     ++steps_since_rebuild_;
     real moved2 = 0;
