@@ -10,6 +10,8 @@
 //   stack    a column of cubes settling on the base with local damping: the base carries the
 //            total weight, the column does not drift
 //   drop     a cube dropped on the base comes to rest with overlap W / (k_n A)
+//   reclose  the study's prism cracked in tension, pushed back and pulled again (reclose.hpp):
+//            compression at the intact stiffness within 2 %, no tension regained
 // The block rests on the level base at its static overlap from the start, and the incline is
 // tilted to theta over the first ramp_s (0.1 s, half-cosine), as on a tilting table: a sudden
 // tilt would start the undamped block rocking on its friction moment (e.g. theta 40, phi 30 deg),
@@ -25,6 +27,7 @@
 #include <Eigen/Dense>
 
 #include "tessera/tessera.hpp"
+#include "verification/reclose.hpp"
 
 namespace tessera::verification {
 
@@ -62,6 +65,9 @@ struct result {
   index steps = 0, rebuilds = 0, growths = 0, subcontacts = 0;
   real dt = 0;
   std::vector<double> t, x, z, rotation;  ///< curve: top (moving) block's centroid displacement and tilt
+  // reclose: the path (top displacement m, axial stress Pa) and its figures (Pa)
+  std::vector<double> u, stress;
+  real peak = 0, stress_at_reversal = 0, max_stress_after_closure = 0;
   geometry::tessellation final_blocks;    ///< block geometry at the end (for VTK)
 };
 
@@ -93,8 +99,9 @@ inline void validate(const inputs& in) {
   const auto positive = [](real v, const char* what) {
     require(std::isfinite(v) && v > 0, "verification: ", what, " = ", v, " must be finite and > 0");
   };
-  require(in.which == "incline" || in.which == "topple" || in.which == "stack" || in.which == "drop",
-          "verification: unknown case '", in.which, "' (incline, topple, stack, drop)");
+  require(in.which == "incline" || in.which == "topple" || in.which == "stack" || in.which == "drop" ||
+              in.which == "reclose",
+          "verification: unknown case '", in.which, "' (incline, topple, stack, drop, reclose)");
   require(std::isfinite(in.angle_deg) && in.angle_deg >= 0 && in.angle_deg < 90, "verification: --angle-deg = ",
           in.angle_deg, " must lie in [0, 90)");
   require(std::isfinite(in.friction_deg) && in.friction_deg >= 0 && in.friction_deg < 90,
@@ -206,6 +213,28 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
 /// Runs one case (validate(in) first).
 [[nodiscard]] inline result run(const inputs& in) {
   validate(in);
+  if (in.which == "reclose") {
+    const reclose_result c = run_reclose(in.quick);
+    result r;
+    r.which = in.which;
+    r.quantity = "stiffness in compression after the crack closed";
+    r.unit = "Pa/m";
+    r.measured = c.compressive_slope;
+    r.reference = c.tensile_slope;  // the intact prism's, on the first pull
+    r.error_rel = c.compressive_slope / c.tensile_slope - 1;
+    r.tolerance = 0.02;
+    // and no tension regained: the re-pull never carries more than the crack did at the push
+    r.pass = std::abs(r.error_rel) <= r.tolerance && c.max_stress_after_closure <= c.stress_at_reversal;
+    r.peak = c.peak;
+    r.stress_at_reversal = c.stress_at_reversal;
+    r.max_stress_after_closure = c.max_stress_after_closure;
+    r.u = c.u;
+    r.stress = c.stress;
+    r.steps = c.steps;
+    r.dt = c.dt;
+    r.energy_error_rel = c.energy_error_rel;
+    return r;
+  }
   const real theta = in.angle_deg * std::numbers::pi / 180, phi = in.friction_deg * std::numbers::pi / 180;
   const real s = in.size;
   const auto base = [&](real half_length) {
