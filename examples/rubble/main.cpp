@@ -6,7 +6,7 @@
 // Outputs in --out (default results/rubble):
 //   summary.json   the scene, steps, dt, rebuilds, storage growths, sub-contacts (final, peak),
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
-//                  height and spread, runtime_s
+//                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s)
 //   curve.csv      t_s, kinetic_J, contact_stored_J, rebuild_exchange_J, subcontacts, rebuilds,
 //                  top_z_m (highest block centroid)
 //   blocks_NNNN.vtu + rubble.pvd   the blocks at --frames instants (unless --no-vtk)
@@ -173,6 +173,7 @@ int run(const inputs& in) {
       .set("top_z_end_m", top_z())
       .set("spread_m", spread)
       .set("threads", max_threads())
+      .set("rebuild_s", s.contacts().rebuild_seconds())
       .set("runtime_s", runtime_s);
   j.write(out / "summary.json");
   std::printf("rubble: %d blocks, %lld steps of %.3g s, %lld rebuilds (%.1f steps each), %lld sub-contacts (peak %lld)\n",
@@ -180,7 +181,8 @@ int run(const inputs& in) {
               static_cast<double>(steps) / std::max<index>(1, s.contacts().rebuild_count()),
               static_cast<long long>(s.contacts().subcontact_count()),
               static_cast<long long>(s.contacts().peak_subcontacts()));
-  std::printf("  highest centroid %.4g m, spread beyond the cube %.4g m, runtime_s %.2f\n", top_z(), spread, runtime_s);
+  std::printf("  highest centroid %.4g m, spread beyond the cube %.4g m, runtime_s %.2f (rebuilds %.2f s)\n", top_z(),
+              spread, runtime_s, s.contacts().rebuild_seconds());
   std::printf("  gravity work %.4g J, rebuild exchange %.3g J, energy balance error %.2g\n", s.energies().gravity_work,
               s.energies().contact_rebuild_exchange, s.energies().error_rel());
   std::printf("  wrote %s/{summary.json, curve.csv%s}\n", out.string().c_str(), in.vtk ? ", rubble.pvd, blocks_*.vtu" : "");

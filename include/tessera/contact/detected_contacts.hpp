@@ -53,6 +53,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -249,6 +250,9 @@ class detected_contacts {
   /// Rebuilds at which a per-sub-contact or per-pair array had to grow (allocate).
   [[nodiscard]] index growth_count() const { return growths_; }
   [[nodiscard]] index peak_subcontacts() const { return peak_subcontacts_; }
+  /// Wall time spent in rebuilds so far, the construction's included (s; for reports, never
+  /// for results).
+  [[nodiscard]] double rebuild_seconds() const { return rebuild_seconds_; }
   /// Candidate pairs of the last pass.
   [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
   /// Sub-contacts of the last rebuild that kept the state of an earlier one.
@@ -396,6 +400,7 @@ class detected_contacts {
 
   /// One detection pass on the current geometry and the merge of the sub-contacts (file comment).
   void rebuild(const node_set* gp) {
+    const auto started = std::chrono::steady_clock::now();
     // The springs' energy before and after (the construction's pass sets the initial energy).
     const real stored_before = gp != nullptr ? stored_energy() : 0.0;
     ++rebuilds_;
@@ -642,6 +647,7 @@ class detected_contacts {
     peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
     if (key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity() > capacity_before) ++growths_;
     if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
+    rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   }
 
   /// Elastic energy of the current sub-contacts (J), summed in sub-contact order.
@@ -771,6 +777,7 @@ class detected_contacts {
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
   index rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0;
+  double rebuild_seconds_ = 0;
 };
 
 }  // namespace tessera::contact
