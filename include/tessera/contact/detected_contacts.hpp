@@ -185,9 +185,10 @@ class detected_contacts {
                  [&](std::int64_t b) { motion_[at(b)] = motion_of(blocks_[at(b)], gridpoints); }, 64);
   }
   [[nodiscard]] index task_count() const { return static_cast<index>(pair_tasks_.size()) - 1; }
-  /// Kinematics, law update and force of the sub-contacts of the pairs of task t.
-  void run_task(index t, const node_set& gridpoints, real dt) noexcept {
-    for (index k = pair_tasks_[at(t)]; k < pair_tasks_[at(t) + 1]; ++k) update_pair(k, gridpoints, dt);
+  /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
+  /// motion was read from the gridpoints in prepare_step).
+  void run_task(index t, const node_set& /*gridpoints*/, real dt) noexcept {
+    for (index k = pair_tasks_[at(t)]; k < pair_tasks_[at(t) + 1]; ++k) update_pair(k, dt);
   }
   /// Adds the contact force on gridpoint g (N) to gridpoints.force, summed over its slots in
   /// increasing sub-contact order.
@@ -372,8 +373,20 @@ class detected_contacts {
     bd.nominal_area = surface / (3 * static_cast<real>(nv));
   }
 
-  /// Rotation of block b from its reference (D_cur D_ref^-1) and the current position of its
-  /// first frame vertex.
+  /// Block b's frame now, [x1-x0 x2-x0 x3-x0] (reference positions when gp is null).
+  [[nodiscard]] mat3 frame_matrix(const block_data& b, const node_set* gp) const {
+    const vec3 x0 = position(b.frame[0], gp);
+    mat3 d;
+    d << position(b.frame[1], gp) - x0, position(b.frame[2], gp) - x0, position(b.frame[3], gp) - x0;
+    return d;
+  }
+  /// Rotation of block b from its reference frame D: d D^-1.
+  [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const {
+    return frame_matrix(b, gp) * b.reference_inverse;
+  }
+  /// d^-1 of block b's frame now: a point's local coordinates are d^-1 (x - x0).
+  [[nodiscard]] mat3 frame_inverse(const block_data& b, const node_set* gp) const { return frame_matrix(b, gp).inverse(); }
+
   /// A block's frame now: x(p) = x0 + d l, v(p) = v0 + dv l for the local coordinates l of a
   /// point (its weights 1..3), and the rotation d D^-1 from the reference frame D.
   struct block_motion {
@@ -383,19 +396,11 @@ class detected_contacts {
   [[nodiscard]] block_motion motion_of(const block_data& b, const node_set& gp) const {
     block_motion m;
     m.x0 = position(b.frame[0], &gp);
+    m.d = frame_matrix(b, &gp);
     m.v0 = gp.velocity.row(b.frame[0]).transpose();
-    for (int k = 1; k < 4; ++k) {
-      m.d.col(k - 1) = position(b.frame[at(k)], &gp) - m.x0;
-      m.dv.col(k - 1) = gp.velocity.row(b.frame[at(k)]).transpose() - m.v0;
-    }
+    for (int k = 1; k < 4; ++k) m.dv.col(k - 1) = gp.velocity.row(b.frame[at(k)]).transpose() - m.v0;
     m.rotation = m.d * b.reference_inverse;
     return m;
-  }
-  [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const {
-    const vec3 x0 = position(b.frame[0], gp);
-    mat3 d;
-    d << position(b.frame[1], gp) - x0, position(b.frame[2], gp) - x0, position(b.frame[3], gp) - x0;
-    return d * b.reference_inverse;
   }
 
   /// One detection pass on the current geometry and the merge of the sub-contacts (file comment).
@@ -657,14 +662,6 @@ class detected_contacts {
     return e;
   }
 
-  /// [x1-x0 x2-x0 x3-x0]^-1 of block b's frame now.
-  [[nodiscard]] mat3 frame_inverse(const block_data& b, const node_set* gp) const {
-    const vec3 x0 = position(b.frame[0], gp);
-    mat3 d;
-    d << position(b.frame[1], gp) - x0, position(b.frame[2], gp) - x0, position(b.frame[3], gp) - x0;
-    return d.inverse();
-  }
-
   /// Normal j of pair k now (0 the plane's feature, 1 A's parallel face, 2 B's), from the
   /// blocks' rotations; ra, rb their rotations.
   [[nodiscard]] triple pair_normal(std::size_t k, int j, const mat3& ra, const mat3& rb) const {
@@ -686,7 +683,7 @@ class detected_contacts {
     return {n.x() / len, n.y() / len, n.z() / len};
   }
 
-  void update_pair(index pk, const node_set& gp, real dt) noexcept {
+  void update_pair(index pk, real dt) noexcept {
     const auto k = at(pk);
     const auto row = static_cast<index>(pk);
     const block_motion& ma = motion_[at(pair_a_[k])];

@@ -444,11 +444,11 @@ class solver {
       if constexpr (Blocks::is_rigid) {
         gravity_work_ += blocks_.gravity_power(gridpoints_) * dt_;
       } else {
-        real p = 0;
-        for (index i = 0; i < gridpoints_.size(); ++i)
-          p += (gravity_force_(i, 0) * gridpoints_.velocity(i, 0) + gravity_force_(i, 1) * gridpoints_.velocity(i, 1)) +
-               gravity_force_(i, 2) * gridpoints_.velocity(i, 2);
-        gravity_work_ += p * dt_;
+        gravity_work_ += deterministic_sum(gridpoints_.size(), [&](std::int64_t i) {
+                           return (gravity_force_(i, 0) * gridpoints_.velocity(i, 0) +
+                                   gravity_force_(i, 1) * gridpoints_.velocity(i, 1)) +
+                                  gravity_force_(i, 2) * gridpoints_.velocity(i, 2);
+                         }) * dt_;
       }
     }
     ++step_;

@@ -7,7 +7,7 @@
 //  - a displacement, velocity or force component of a gridpoint or bar node, or the force of a
 //    sub-contact, is not finite; or
 //  - the kinetic energy exceeds the energy supplied by more than a stable scheme allows:
-//        E_kin > growth_factor x (E_initial + |W_boundary| + |W_gravity|) / (1 - min(q, q_max)) + floor,
+//        E_kin > growth_factor x (E_initial + |W_boundary| + |W_gravity| + |E_rebuild|) / (1 - min(q, q_max)) + floor,
 //        q = (dt/2)^2 max_i k_i/m_i   (over gridpoints and bar nodes).
 //    Why this tolerance: a stable run never holds more energy than it was given (initial kinetic +
 //    stored energy plus the work of the supports and of gravity), but the solver's kinetic energy is taken at the
@@ -122,10 +122,14 @@ struct default_step_checker {
         }
       }
     }
+    // The terms of `supplied`; gravity and the rebuild exchange only when a run has them.
+    std::string terms = detail::concat("initial ", e.initial, " J + |boundary work| ", std::abs(e.boundary_work), " J");
+    if (e.gravity_work != 0) terms += detail::concat(" + |gravity work| ", std::abs(e.gravity_work), " J");
+    if (e.contact_rebuild_exchange != 0)
+      terms += detail::concat(" + |rebuild exchange| ", std::abs(e.contact_rebuild_exchange), " J");
     fail(s, is_bar, fastest, false,
-         detail::concat("kinetic energy ", e.kinetic, " J exceeds the allowed ", allowed,
-                        " J (energy supplied: initial ", e.initial, " J + |boundary work| ", std::abs(e.boundary_work),
-                        " J + |gravity work| ", std::abs(e.gravity_work), " J); the fastest node, at ", speed, " m/s, is "));
+         detail::concat("kinetic energy ", e.kinetic, " J exceeds the allowed ", allowed, " J (energy supplied: ", terms,
+                        "); the fastest node, at ", speed, " m/s, is "));
   }
 
  private:

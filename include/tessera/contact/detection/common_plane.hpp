@@ -31,8 +31,8 @@
 // surfaces of A and B through it (exact for planar faces: the exit of the line from A and its
 // entry into B, from the face planes), and the tributary area (a polygon's area split between
 // its corners through the mean of its corners: half of each of the two triangles (mean, corner,
-// neighbour) at the corner, >= 0 however thin the polygon; zero for a segment or point, for which the caller supplies a nominal
-// area: see docs/model.md). `tolerance` is the contact tolerance of 3DEC (the band in which a
+// neighbour) at the corner, >= 0 however thin the polygon; zero for a segment or point, for
+// which the caller supplies a nominal area: see docs/model.md). `tolerance` is the contact tolerance of 3DEC (the band in which a
 // vertex counts as touching); it must exceed the tilt of nearly parallel faces over their size,
 // else they read as an edge contact. A vertex of a neighbouring face that lies within the band
 // joins the patch too, so a corner's gap can exceed the plane's by up to one tolerance per block
@@ -393,16 +393,16 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   return t;
 }
 
+/// Index of the point nearest to q (the first of equals).
+[[nodiscard]] inline std::size_t nearest_point(const point2& q, const std::vector<point2>& points) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if ((points[i] - q).squaredNorm() < (points[best] - q).squaredNorm()) best = i;
+  return best;
+}
 /// Vertex id of the touching point equal to hull corner h (hull2 keeps input points as they are).
 [[nodiscard]] inline index hull_vertex(const point2& h, const std::vector<point2>& points, const std::vector<index>& ids) {
-  index best = ids.front();
-  real best_d = std::numeric_limits<real>::infinity();
-  for (std::size_t i = 0; i < points.size(); ++i)
-    if (const real d = (points[i] - h).squaredNorm(); d < best_d) {
-      best_d = d;
-      best = ids[i];
-    }
-  return best;
+  return ids[nearest_point(h, points)];
 }
 
 /// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
@@ -414,14 +414,8 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   for (const point2& h : hull_a) size = std::max(size, (h - hull_a.front()).norm());
   for (const point2& h : hull_b) size = std::max(size, (h - hull_b.front()).norm());
   const real on = 1e-6 * std::max(size, std::numeric_limits<real>::min());
-  const auto nearest = [&](const std::vector<point2>& pts) {
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < pts.size(); ++i)
-      if ((pts[i] - q).squaredNorm() < (pts[best] - q).squaredNorm()) best = i;
-    return best;
-  };
-  if (const std::size_t i = nearest(pa); (pa[i] - q).norm() <= on) return corner_label::vertex_a(ids_a[i]);
-  if (const std::size_t i = nearest(pb); (pb[i] - q).norm() <= on) return corner_label::vertex_b(ids_b[i]);
+  if (const std::size_t i = nearest_point(q, pa); (pa[i] - q).norm() <= on) return corner_label::vertex_a(ids_a[i]);
+  if (const std::size_t i = nearest_point(q, pb); (pb[i] - q).norm() <= on) return corner_label::vertex_b(ids_b[i]);
   // The hull edge (i, i + 1) nearest to q; a 1- or 2-point hull is its own edge.
   const auto nearest_edge = [&](const std::vector<point2>& hull) {
     std::size_t best = 0;
