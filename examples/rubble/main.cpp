@@ -213,9 +213,9 @@ int main(int argc, char** argv) {
   cli.flag("--no-vtk", no_vtk, "write no VTK files");
   cli.parse_or_exit(argc, argv);
   in.vtk = !no_vtk;
-  if (in.common.quick) {
-    in.blocks = std::min(in.blocks, 100);
-    in.duration = std::min(in.duration, 0.1);
+  if (in.common.quick) {  // reduced run; a value given on the command line is kept
+    if (!cli.given("--blocks")) in.blocks = 100;
+    if (!cli.given("--duration")) in.duration = 0.1;
   }
   io::run_record record(in.common.out, "rubble", argc, argv);
   try {
