@@ -398,6 +398,34 @@ TEST_CASE("zoning: refinement keeps volumes, twins and pairing", "[zoning]") {
   }
 }
 
+TEST_CASE("zoning: faces refined, interior coned (refine_interior = false)", "[zoning]") {
+  for (const tessellation& t : {box_grid(2, 2, 2), slanted_split()}) {
+    geometry::zoning_options layered, coned;
+    layered.target_edge_length = coned.target_edge_length = 0.2;
+    coned.refine_interior = false;
+    const block_mesh m = geometry::zone_blocks(t, coned);
+    const block_mesh l = geometry::zone_blocks(t, layered);
+    check_mesh_invariants(t, m);
+    // The faces are those of the layered zoning (same face nodes, so the same contact points) ...
+    CHECK(m.face_nodes.size() == l.face_nodes.size());
+    CHECK(m.face_triangles.size() == l.face_triangles.size());
+    // ... and every surface triangle is one zone on the centroid: zones = face triangles, the
+    // gridpoints the surface nodes plus one centroid per block.
+    CHECK(m.zone_count() == static_cast<idx>(m.face_triangles.size()));
+    CHECK(m.zone_count() < l.zone_count());
+    std::size_t surface_nodes = 0;
+    for (idx b = 0; b < t.cell_count(); ++b) {
+      std::set<idx> nodes;
+      for (idx f = t.first_face(b); f < t.end_face(b); ++f)
+        for (idx k = m.face_node_offsets[f]; k < m.face_node_offsets[f + 1]; ++k)
+          nodes.insert(m.face_nodes[static_cast<std::size_t>(k)]);
+      surface_nodes += nodes.size();
+    }
+    CHECK(m.gridpoint_count() == static_cast<idx>(surface_nodes) + t.cell_count());
+    CHECK(geometry::quality(m).min_zone_volume > 0);
+  }
+}
+
 TEST_CASE("zoning: random Voronoi tessellation of the study's prism", "[zoning][voronoi]") {
   aabb prism;
   prism.lo = vec3::Zero();
@@ -847,9 +875,12 @@ TEST_CASE("io: gnuplot plot never fails the run", "[io][plot]") {
   spec.series.push_back({dir / "model.csv", "u", "F", "model", "lines lw 2", 1e3, 1e-3});
   spec.series.push_back({dir / "ref.csv", "u", "F", "reference", "lines dt 2", 1e3, 1e-3});
   spec.series.push_back({dir / "ref.csv", "u", "missing", "bad column", "lines", 1, 1});
+  spec.preamble = {"set size ratio -1"};
+  spec.variable_sizes.push_back({0, "F", 2.0});  // point size from column F (3rd), times 2
   const bool drawn = io::plot_png(dir / "curve.png", spec);
   CHECK(fs::exists(dir / "curve.gp"));
-  CHECK(read_text(dir / "curve.gp").find("skip 1 using ($1*(1000)):($2*(0.001))") != std::string::npos);
+  CHECK(read_text(dir / "curve.gp").find("skip 1 using ($1*(1000)):($2*(0.001)):($2*(2))") != std::string::npos);
+  CHECK(read_text(dir / "curve.gp").find("\nset size ratio -1\n") != std::string::npos);
   if (io::detail::gnuplot_available()) {
     CHECK(drawn);
     CHECK(fs::file_size(dir / "curve.png") > 1000);

@@ -45,6 +45,16 @@ struct plot_spec {
   int height_px = 700;
   bool log_x = false;  ///< logarithmic x axis (every x value must be > 0)
   bool log_y = false;  ///< logarithmic y axis (every y value must be > 0)
+  /// Extra gnuplot commands after the axis labels (ranges, aspect ratio, outline objects).
+  std::vector<std::string> preamble{};
+  /// Point sizes from a third CSV column (times scale) for series `series`, whose style then
+  /// reads "points ... ps variable" (a crack map drawn by width, say).
+  struct variable_size {
+    std::size_t series = 0;
+    std::string column;
+    double scale = 1.0;
+  };
+  std::vector<variable_size> variable_sizes{};
 };
 
 namespace detail {
@@ -105,17 +115,31 @@ inline bool plot_png(const std::filesystem::path& png, const plot_spec& spec) no
        << "set grid\nset key top left noenhanced\n";
     if (spec.log_x) gp << "set logscale x\n";
     if (spec.log_y) gp << "set logscale y\n";
+    for (const std::string& line : spec.preamble) gp << line << "\n";
     std::vector<std::string> curves;
-    for (const plot_series& s : spec.series) {
+    for (std::size_t k = 0; k < spec.series.size(); ++k) {
+      const plot_series& s = spec.series[k];
+      std::string size_column;
+      double size_scale = 1.0;
+      for (const auto& v : spec.variable_sizes)
+        if (v.series == k) size_column = v.column, size_scale = v.scale;
       const int xc = detail::csv_column(s.csv, s.x_column), yc = detail::csv_column(s.csv, s.y_column);
       if (xc == 0 || yc == 0) {
         std::cerr << "tessera: plot " << png.string() << ": skipping series '" << s.title << "': " << s.csv.string()
                   << " has no column '" << (xc == 0 ? s.x_column : s.y_column) << "'\n";
         continue;
       }
+      const int sc = size_column.empty() ? 0 : detail::csv_column(s.csv, size_column);
+      if (!size_column.empty() && sc == 0) {
+        std::cerr << "tessera: plot " << png.string() << ": skipping series '" << s.title << "': " << s.csv.string()
+                  << " has no column '" << size_column << "'\n";
+        continue;
+      }
       std::ostringstream c;
       c << detail::gp_quote(s.csv.string()) << " skip 1 using ($" << xc << "*(" << s.x_scale << ")):($" << yc << "*("
-        << s.y_scale << ")) with " << s.style << " title " << detail::gp_quote(s.title.empty() ? s.y_column : s.title);
+        << s.y_scale << "))";
+      if (sc > 0) c << ":($" << sc << "*(" << size_scale << "))";
+      c << " with " << s.style << " title " << detail::gp_quote(s.title.empty() ? s.y_column : s.title);
       curves.push_back(c.str());
     }
     if (curves.empty()) {
