@@ -63,13 +63,12 @@
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
 #include "common/rc_tie_run.hpp"
+#include "common/snapshots.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/run_record.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/plot.hpp"
-#include "tessera/io/vtk.hpp"
-#include "tessera/io/vtk_contacts.hpp"
 
 namespace {
 
@@ -77,7 +76,6 @@ using tessera::index;
 using tessera::real;
 using tessera::vec3;
 namespace fs = std::filesystem;
-namespace vtk = tessera::io::vtk;
 
 struct inputs {
   tessera::cli::standard_options common;
@@ -85,53 +83,6 @@ struct inputs {
   tessera::scenes::tie_loading loading;
   bool write_vtk = true;
   std::string params;  // calibrated.json (examples/calibrate); empty = the study verbatim
-};
-
-/// Writes the VTK snapshot `tag` of a running tie solver and registers it in the .pvd.
-class snapshot_writer {
- public:
-  snapshot_writer(fs::path dir, const tessera::scenes::tie_scene& scene, bool enabled)
-      : dir_(std::move(dir)), scene_(&scene), enabled_(enabled) {}
-
-  template <class Solver>
-  void operator()(const Solver& s, const std::string& tag) {
-    if (!enabled_) return;
-    tessera::io::ensure_directory(dir_);
-    const real t = s.time();
-    // Sub-contacts as points with every declared state field; the bar as lines (io/vtk_contacts.hpp).
-    contacts_.take(s.contacts(), s.gridpoints());
-    write(contacts_, tag + "_contacts.vtp", t, 1);
-    vtk::write_bar_vtp(dir_ / (tag + "_bar.vtp"), s.reinforcement());
-    pvd_.add(t, dir_ / (tag + "_bar.vtp"), 2);
-    // Zones with displacement and stress (empty for rigid blocks).
-    {
-      std::vector<vtk::sym_tensor> stress;
-      const auto& zs = s.blocks().zone_stress();
-      for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back({zs(z, 0), zs(z, 1), zs(z, 2), zs(z, 5), zs(z, 3), zs(z, 4)});
-      vtk::zone_fields fields;
-      fields.displacement = &s.gridpoints().displacement;
-      fields.stress = stress;
-      const fs::path file = dir_ / (tag + "_zones.vtu");
-      vtk::write_zones_vtu(file, scene_->prism.mesh, fields, vtk::format::binary);
-      pvd_.add(t, file, 0);
-    }
-    pvd_.write(dir_ / "tie.pvd");
-    tags_.push_back(tag);
-  }
-  [[nodiscard]] const std::vector<std::string>& tags() const { return tags_; }
-
- private:
-  template <class Data>
-  void write(const Data& d, const std::string& name, real t, int part) {
-    d.write(dir_ / name, vtk::format::binary);
-    pvd_.add(t, dir_ / name, part);
-  }
-  fs::path dir_;
-  const tessera::scenes::tie_scene* scene_;
-  bool enabled_;
-  vtk::pvd_collection pvd_;
-  vtk::contact_snapshot contacts_;  ///< reused between snapshots
-  std::vector<std::string> tags_;
 };
 
 /// |value - reference| / |reference|.
@@ -336,7 +287,7 @@ int run(inputs in) {
   const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
   const auto& hand = scene.hand;
 
-  snapshot_writer snapshots(out, scene, in.write_vtk && !in.tie.bare);
+  tessera::scenes::bar_snapshots snapshots(out, scene.prism.mesh, "tie.pvd", in.write_vtk && !in.tie.bare);
   const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
   io::ensure_directory(out);  // after the run's own checks (quasi-static rate, stable step) passed
 
