@@ -350,3 +350,23 @@ tessera_add_example_test(rubble
          "top_z_end_m LESS 0.96"
          "energy_error_rel LESS 0.005")
 tessera_add_refusal_test(refuse_rubble_gap rubble "--gap: value '0.5' must be <= 0.2" --threads 1 --gap 0.5)
+# ---- rc_beam: the study's RC beam in four-point bending (issue #18), quick: 60 blocks with 50 mm
+# face zoning to a little past first cracking (about 10 s). Checks: a vertical (flexural) crack
+# first, inside the constant-moment zone; first cracking against the hand value at the flexural
+# tensile strength (fib MC2010; the f_T-based M_cr is 1.5x lower, examples/rc_beam/beam.hpp);
+# the energy balance. ----
+tessera_add_example_test(rc_beam
+  ARGS --quick --threads 2
+  FILES curve.csv cracks.csv hand.csv
+  CHECKS "provisional_geometry STREQUAL ON"
+         "first_crack_in_moment_zone STREQUAL ON"
+         "vertical_cracks_first STREQUAL ON"
+         "first_crack_angle_deg LESS 35"
+         "first_crack_flexural_error_rel LESS 0.25"
+         "first_crack_flexural_error_rel GREATER -0.25"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
+tessera_add_refusal_test(refuse_rc_beam_blocks rc_beam "--blocks: value '600' must be" --threads 1 --blocks 600)
+tessera_add_refusal_test(refuse_rc_beam_rate rc_beam "is not quasi-static" --threads 1 --quick --rate 1)
+tessera_add_refusal_test(refuse_rc_beam_zone_edge rc_beam "would need about" --threads 1 --zone-edge 1e-4)
+tessera_add_refusal_test(refuse_rc_beam_depth rc_beam "effective depth d = 0.2 m must be below h" --threads 1 --depth 0.2)

@@ -1,0 +1,220 @@
+#pragma once
+// The reference study's RC beam in four-point bending (Pulatsu et al. 2020, Sec. 4; DESIGN.md §6):
+// the half-symmetric scene, its hand values, one run and the crack analysis of a beam. Used by
+// examples/rc_beam.
+//
+//   geometry  half beam, x along the span from the beam end (0) to the symmetry face (L_h =
+//             overhang + shear span + half the constant-moment zone), y up from the soffit, z
+//             across the width. Default: Walraven's series-A1 beam as DESIGN.md decides it,
+//             PROVISIONAL (the study's Figure 16 is not in its text): b = 200, h = 150,
+//             d = 125 mm, support 100 mm from the end, shear span a = 375 mm, constant-moment zone
+//             500 mm (L_h = 725 mm), 50 mm plates at support and load
+//   blocks    --blocks random Voronoi blocks (250 / 500), their faces refined to a 30 mm target
+//             edge so that faces carry gridpoints inside them (about 16 contact points over the
+//             depth; the study: at least ten), semi-rigid: 10 E = 250 GPa, nu = 0.2, 2400 kg/m^3
+//   contacts  study_beam_params: k_n 500 / 625 GPa/m, k_s = k_n / 2.4, f_T 2.5 MPa, c = 2 f_T,
+//             phi 35 deg, G_f 60 N/m, linear softening, plastic cap f_c = 35 MPa (--compression
+//             elastic: no cap)
+//   bars      4 Ø8 (201 mm^2) at y = h - d, evenly across the width, from x = end cover to the
+//             symmetry face; 210 GPa, 440 MPa; about four trusses per block along the bar; bond
+//             xi = 4 per unit length, c_bond = 1e9 N/m
+//   supports  symmetry face x = L_h: every gridpoint and the bars' last nodes held in x (rollers);
+//             support: soffit gridpoints under the support plate held in y and z (a rigid plate on
+//             a roller: free in x); load: top gridpoints under the loading plate driven down at
+//             --rate (half-cosine ramp), free in x and z. The study drove the nodes under the
+//             plate the same way ("nodes are subjected to a fixed velocity boundary condition ...
+//             the reaction forces are recorded from upper nodes", Sec. 4); steel plates as blocks
+//             of their own would need contact detection on deformable blocks (issue #17).
+//   measured  total load P = 2 x the force on the loading plate's gridpoints (both half-spans);
+//             mid-span deflection = mean y displacement (down +) of the soffit gridpoints on the
+//             symmetry face.
+//
+// Quasi-static check (beam_quasi_static_index): during one period T_1 of the beam's first
+// bending mode with the mass-scaled masses, T_1 = 2 pi sqrt(M (1 + added) / (2 K_0)) (M the whole
+// beam's mass, half of it modal, K_0 the hand stiffness), the plate travels v T_1; the elastic
+// deflection at first cracking is P_cr / K_0. Refused above quasi_static_limit (2), as the ties.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/phase_report.hpp"
+#include "common/quasi_static.hpp"
+#include "common/scenes.hpp"
+#include "tessera/analysis.hpp"
+#include "tessera/blocks/linear_elastic_tet.hpp"
+#include "tessera/core/errors.hpp"
+#include "tessera/geometry/voronoi.hpp"
+#include "tessera/geometry/zoning.hpp"
+#include "tessera/presets.hpp"
+#include "tessera/reinforcement/embedded_truss.hpp"
+#include "tessera/solver.hpp"
+
+namespace tessera::scenes {
+
+using beam_bar = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
+template <class Law>
+using beam_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>, beam_bar>;
+
+struct beam_options {
+  int blocks = 250;              ///< 250 or 500 (study Table 3 stiffnesses)
+  std::uint64_t seed = 1;
+  real width = 0.2;              ///< b (m)
+  real height = 0.15;            ///< h (m)
+  real effective_depth = 0.125;  ///< d (m): bars at y = h - d
+  real overhang = 0.1;           ///< beam end to support axis (m)
+  real shear_span = 0.375;       ///< support axis to load axis, a (m)
+  real moment_zone = 0.5;        ///< between the two load axes (m); the half model holds half of it
+  real plate = 0.05;             ///< plate length along the span, support and load (m)
+  int bars = 4;                  ///< bars across the width
+  real bar_diameter = 0.008;     ///< m
+  real end_cover = 0.02;         ///< bars start this far from the beam end (m)
+  real trusses_per_block = 4;    ///< truss elements per mean block size along the bar
+  /// Zoning target edge (m): faces are refined until no edge is longer (the interior is not:
+  /// zoning_options::refine_interior = false), and every face gridpoint is a contact point. 0 =
+  /// h / 5 = 30 mm, which puts the median sub-contact spacing (the square root of its tributary
+  /// area) at 9 mm, about 16 contact points over the depth (the study: at least ten).
+  real zone_edge = 0;
+  real regularize = 0;           ///< short-edge regularisation of the Voronoi cells (0 = plain)
+  std::string compression = "plastic";  ///< "plastic" (cap at f_c, the study) or "elastic"
+  [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
+  [[nodiscard]] real support_x() const { return overhang; }
+  [[nodiscard]] real load_x() const { return overhang + shear_span; }
+};
+
+inline constexpr real beam_concrete_young = 25e9;  ///< E (study Sec. 4)
+inline constexpr real beam_steel_young = 210e9;
+inline constexpr real beam_steel_yield = 440e6;
+
+/// Closed-form references of the default beam (elastic beam theory, total load P on two plates).
+struct beam_hand_checks {
+  real span = 0;                 ///< L, between the support axes (m)
+  real steel_area = 0;           ///< A_s (m^2)
+  real modular_ratio = 0;        ///< n = E_s / E_c
+  real uncracked_inertia = 0;    ///< I of the transformed uncracked section (m^4)
+  real uncracked_centroid = 0;   ///< its centroid below the top face (m)
+  /// First cracking: M_cr = f_T I / (h - y_c), P_cr = 2 M_cr / a (N).
+  real first_crack_load = 0;
+  /// The same with the flexural tensile strength of a beam of depth h instead of f_T (fib Model
+  /// Code 2010, eq. 5.1-8: f_ct,fl = f_T (1 + 0.06 h^0.7) / (0.06 h^0.7), h in mm; 1.50 f_T for
+  /// h = 150 mm): a softening material cracks through its tension zone only after the extreme
+  /// fibre has passed f_T, the more so the shallower the beam (N).
+  real flexural_crack_load = 0;
+  /// P / delta_mid of the uncracked beam, bending plus shear (kappa = 5/6, G = E / 2.4):
+  /// delta = (P/2) a (3 L^2 - 4 a^2) / (24 E I) + (P/2) a / (kappa G b h) (N/m).
+  real initial_stiffness = 0;
+  real lever_arm = 0;            ///< z = d - x/3 of the cracked elastic section (m)
+  real yield_load = 0;           ///< P_y = 2 A_s f_y z / a (N)
+  /// Shear capacity without stirrups, P = 2 V_c with V_c = 0.15 k (100 rho f_c)^(1/3) b d
+  /// (Eurocode 2's form, mean-value coefficient 0.15, k = min(2, 1 + sqrt(200 / d_mm))) (N).
+  real shear_capacity_load = 0;
+  real mean_block_size = 0;      ///< (V / N)^(1/3) (m)
+};
+
+struct beam_scene {
+  aabb box;
+  geometry::tessellation tess;
+  geometry::block_mesh mesh;
+  zones::linear_elastic_tet::params block_material;
+  presets::study_beam_law::params contact;
+  beam_bar::params bar;
+  beam_hand_checks hand;
+  beam_options options;
+  index elements_per_bar = 0;
+};
+
+[[nodiscard]] inline beam_hand_checks beam_hand(const beam_options& o, const presets::study_beam_law::params& c) {
+  beam_hand_checks h;
+  const real b = o.width, hh = o.height, d = o.effective_depth, a = o.shear_span;
+  h.span = 2 * (o.half_length() - o.overhang);
+  h.steel_area = o.bars * std::numbers::pi * o.bar_diameter * o.bar_diameter / 4;
+  h.modular_ratio = beam_steel_young / beam_concrete_young;
+  const real n = h.modular_ratio, as = h.steel_area;
+  const real area = b * hh + (n - 1) * as;
+  const real yc = (b * hh * hh / 2 + (n - 1) * as * d) / area;
+  h.uncracked_centroid = yc;
+  h.uncracked_inertia = b * hh * hh * hh / 12 + b * hh * (hh / 2 - yc) * (hh / 2 - yc) + (n - 1) * as * (d - yc) * (d - yc);
+  h.first_crack_load = 2 * c.tension.f_T * h.uncracked_inertia / (hh - yc) / a;
+  const real depth_term = 0.06 * std::pow(hh * 1e3, 0.7);
+  h.flexural_crack_load = h.first_crack_load * (1 + depth_term) / depth_term;
+  const real L = h.span, E = beam_concrete_young, G = E / (2 * 1.2);
+  const real compliance = 0.5 * a * (3 * L * L - 4 * a * a) / (24 * E * h.uncracked_inertia) + 0.5 * a / (5.0 / 6.0 * G * b * hh);
+  h.initial_stiffness = 1 / compliance;
+  const real rho = as / (b * d);
+  const real x = d * (-n * rho + std::sqrt(n * rho * n * rho + 2 * n * rho));
+  h.lever_arm = d - x / 3;
+  h.yield_load = 2 * as * beam_steel_yield * h.lever_arm / a;
+  const real d_mm = d * 1e3, k = std::min(2.0, 1 + std::sqrt(200 / d_mm));
+  const real vc_mpa = 0.15 * k * std::cbrt(100 * rho * c.compression.f_c * 1e-6);
+  h.shear_capacity_load = 2 * vc_mpa * 1e6 * b * d;
+  h.mean_block_size = std::cbrt(o.half_length() * hh * b / o.blocks);
+  return h;
+}
+
+/// Builds the beam. Throws invalid_input naming a bad option.
+[[nodiscard]] inline beam_scene make_beam(const beam_options& o) {
+  require(o.blocks == 250 || o.blocks == 500 || o.blocks < 250,
+          "rc_beam: blocks = ", o.blocks, " must be 250 or 500 (the study's Table 3), or fewer for a quick run");
+  require(o.blocks >= 8, "rc_beam: blocks = ", o.blocks, " must be >= 8");
+  for (const auto& [v, name] : {std::pair{o.width, "--width"}, {o.height, "--height"}, {o.effective_depth, "--depth"},
+                                {o.overhang, "--overhang"}, {o.shear_span, "--shear-span"},
+                                {o.moment_zone, "--moment-zone"}, {o.plate, "--plate"},
+                                {o.bar_diameter, "--bar-diameter"}, {o.trusses_per_block, "--trusses-per-block"}})
+    require(std::isfinite(v) && v > 0, "rc_beam: ", name, " = ", v, " must be finite and > 0");
+  require(o.effective_depth < o.height, "rc_beam: effective depth d = ", o.effective_depth, " m must be below h = ",
+          o.height, " m");
+  require(o.height - o.effective_depth > o.bar_diameter / 2, "rc_beam: the bars (d = ", o.effective_depth,
+          " m, diameter ", o.bar_diameter, " m) stick out of the soffit");
+  require(o.plate < 2 * o.overhang && o.plate < o.moment_zone, "rc_beam: plate length ", o.plate,
+          " m must be below twice the overhang (", o.overhang, " m) and the constant-moment zone (", o.moment_zone,
+          " m)");
+  require(o.bars >= 1 && o.bars * o.bar_diameter < o.width, "rc_beam: ", o.bars, " bars of ", o.bar_diameter,
+          " m do not fit in the width ", o.width, " m");
+  require(std::isfinite(o.end_cover) && o.end_cover >= 0 && o.end_cover < o.support_x(), "rc_beam: --end-cover ",
+          o.end_cover, " m must lie in [0, overhang = ", o.overhang, " m)");
+  require(std::isfinite(o.zone_edge) && o.zone_edge >= 0, "rc_beam: --zone-edge ", o.zone_edge, " must be >= 0");
+  require(o.compression == "plastic" || o.compression == "elastic", "rc_beam: --compression '", o.compression,
+          "' must be plastic or elastic");
+  {
+    // Zones grow as the square of 1 / edge (surface refinement): measured 29 082 zones for 250
+    // blocks at 30 mm, 103 106 at 15 mm; about 1 kB per zone with its gridpoints and contacts.
+    const real edge = o.zone_edge > 0 ? o.zone_edge : o.height / 5;
+    const real volume = o.half_length() * o.height * o.width;
+    const real zones = 29082 * (0.03 / edge) * (0.03 / edge) * (volume / 0.02175) * std::cbrt(o.blocks / 250.0);
+    require(zones <= 5e6, "rc_beam: --zone-edge ", edge, " m would need about ", zones, " zones (~", zones * 1e-6,
+            " GB); the limit is 5e6 zones: use a zone edge >= ", edge * std::sqrt(zones / 5e6), " m");
+  }
+  beam_scene s;
+  s.options = o;
+  s.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
+  s.hand = beam_hand(o, s.contact);
+  s.box.lo = vec3::Zero();
+  s.box.hi = vec3(o.half_length(), o.height, o.width);
+  geometry::tessellation_options to;
+  to.min_edge_rel = o.regularize;
+  s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed, to);
+  geometry::zoning_options z;
+  z.target_edge_length = o.zone_edge > 0 ? o.zone_edge : o.height / 5;
+  z.refine_interior = false;
+  s.mesh = geometry::zone_blocks(s.tess, z);
+  s.block_material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};
+  s.bar.steel = reinforcement::steel{beam_steel_young, beam_steel_yield, 7850.0, o.bar_diameter};
+  s.bar.bond = presets::tie_bond();
+  const real bar_length = o.half_length() - o.end_cover;
+  s.elements_per_bar = std::max<index>(2, std::llround(o.trusses_per_block * bar_length / s.hand.mean_block_size));
+  for (int i = 0; i < o.bars; ++i) {
+    const real zc = o.width * (2 * i + 1) / (2.0 * o.bars);
+    const real y = o.height - o.effective_depth;
+    s.bar.bars.push_back(reinforcement::bar{vec3(o.end_cover, y, zc), vec3(o.half_length(), y, zc), s.elements_per_bar, true});
+  }
+  return s;
+}
+
+}  // namespace tessera::scenes

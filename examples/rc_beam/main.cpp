@@ -1,0 +1,346 @@
+// rc_beam: the reference study's reinforced-concrete beam in four-point bending (Pulatsu et al.
+// 2020, Sec. 4, Figures 16-18; DESIGN.md §6): flexural cracks in the constant-moment zone, yield
+// of the bars, failure by diagonal tension. The default geometry is PROVISIONAL (DESIGN.md §6:
+// the study's dimension figure is not in its text; Walraven's series-A1 beam is assumed) and every
+// output says so. The scene, the supports and the crack analysis: rc_beam/beam.hpp and
+// rc_beam/beam_run.hpp.
+//
+// Outputs in --out DIR:
+//   curve.csv     midspan_deflection_m, load_N (total load P, both half-spans: twice the half
+//                 model's support reaction), smoothed_load_N (over 0.02 mm of deflection),
+//                 plate_load_N (twice the force on the loading plate: larger by the local damping's
+//                 drag, beam_run.hpp), load_point_deflection_m
+//   curve.png     load against mid-span deflection with the hand first-cracking, yield and shear
+//                 capacity loads
+//   cracks.csv    cracked sub-contacts (past their tensile peak) at the end: x_m, y_m, width_m
+//                 (the separation of their two gridpoints), point_size; cracks.png the side view of
+//                 the beam with them drawn by width
+//   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
+//   summary.json  provisional_geometry, inputs, hand values, first_crack_load_N, initial stiffness,
+//                 yield, peak, cracks, failure mode, energy balance, sizes, runtime_s
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/cli.hpp"
+#include "common/snapshots.hpp"
+#include "rc_beam/beam_run.hpp"
+#include "tessera/io/csv.hpp"
+#include "tessera/io/json.hpp"
+#include "tessera/io/plot.hpp"
+#include "tessera/io/run_record.hpp"
+
+namespace {
+
+using tessera::index;
+using tessera::real;
+namespace fs = std::filesystem;
+
+struct inputs {
+  tessera::cli::standard_options common;
+  tessera::scenes::beam_options beam;
+  tessera::scenes::beam_loading loading;
+  bool write_vtk = true;
+};
+
+/// The beam's VTK snapshots (common/snapshots.hpp), and the cracked sub-contacts at the end.
+class snapshot_writer {
+ public:
+  snapshot_writer(fs::path dir, const tessera::scenes::beam_scene& scene, bool enabled)
+      : vtk_(std::move(dir), scene.mesh, "beam.pvd", enabled) {}
+  template <class Solver>
+  void operator()(const Solver& s, const std::string& tag) {
+    vtk_(s, tag);
+    if (tag == "end") final_contacts(s);
+  }
+  /// Softened sub-contacts at the end (side view) and their opening (m).
+  std::vector<real> crack_x, crack_y, crack_w;
+
+ private:
+  template <class Solver>
+  void final_contacts(const Solver& s) {
+    const auto& c = s.contacts();
+    const auto& gp = s.gridpoints();
+    for (index i = 0; i < c.size(); ++i) {
+      const real w = (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm();
+      if (!tessera::analysis::crack_graph::past_peak(c.state(i).flags)) continue;
+      const tessera::vec3 p = c.position(i, gp);
+      crack_x.push_back(p.x()), crack_y.push_back(p.y()), crack_w.push_back(w);
+    }
+  }
+  tessera::scenes::bar_snapshots vtk_;
+};
+
+double rel(double value, double reference) { return (value - reference) / reference; }
+
+void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes::beam_scene& scene,
+                   const tessera::scenes::beam_result& r, const snapshot_writer& snaps,
+                   const tessera::cli::wall_timer& timer) {
+  namespace io = tessera::io;
+  const auto& h = scene.hand;
+  const auto& o = scene.options;
+  io::write_csv(out / "curve.csv",
+                {"midspan_deflection_m", "load_N", "smoothed_load_N", "plate_load_N", "load_point_deflection_m"},
+                {r.deflection, r.load, r.smoothed_load, r.plate_load, r.load_point_deflection});
+  {
+    const real d_end = std::max(r.deflection.empty() ? 0.0 : r.deflection.back(), 1e-3);
+    std::vector<real> x{0, d_end}, pcr{h.first_crack_load, h.first_crack_load},
+        pfl{h.flexural_crack_load, h.flexural_crack_load}, py{h.yield_load, h.yield_load},
+        pv{h.shear_capacity_load, h.shear_capacity_load}, k0x{0, std::min(d_end, 1.5 * h.yield_load / h.initial_stiffness)};
+    std::vector<real> k0y{0, k0x[1] * h.initial_stiffness};
+    io::write_csv(out / "hand.csv", {"deflection_m", "first_crack_N", "flexural_crack_N", "yield_N", "shear_capacity_N"},
+                  {x, pcr, pfl, py, pv});
+    io::write_csv(out / "hand_stiffness.csv", {"deflection_m", "load_N"}, {k0x, k0y});
+  }
+  io::plot_spec plot;
+  plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.blocks, " blocks, seed ", o.seed, ", ",
+                                       o.compression, " compression");
+  plot.xlabel = "mid-span deflection (mm)";
+  plot.ylabel = "total load P (kN)";
+  plot.series.push_back({.csv = out / "curve.csv", .x_column = "midspan_deflection_m", .y_column = "load_N",
+                         .title = "tessera, P = 2 x support reaction", .style = "lines lw 1 lc rgb '#b0b0b0'", .x_scale = 1e3,
+                         .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "curve.csv", .x_column = "midspan_deflection_m", .y_column = "smoothed_load_N",
+                         .title = "tessera, smoothed", .x_scale = 1e3, .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "hand_stiffness.csv", .x_column = "deflection_m", .y_column = "load_N",
+                         .title = "uncracked, hand", .style = "lines dt 3", .x_scale = 1e3, .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "first_crack_N",
+                         .title = "first cracking at f_T, hand", .style = "lines dt 2", .x_scale = 1e3, .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "flexural_crack_N",
+                         .title = "first cracking at the flexural strength (MC2010), hand", .style = "lines dt 2",
+                         .x_scale = 1e3, .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "yield_N",
+                         .title = "yield A_s f_y z, hand", .style = "lines dt 2", .x_scale = 1e3, .y_scale = 1e-3});
+  plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "shear_capacity_N",
+                         .title = "shear capacity (EC2 form), hand", .style = "lines dt 4", .x_scale = 1e3,
+                         .y_scale = 1e-3});
+  io::plot_png(out / "curve.png", plot);
+
+  real w_max = 0;
+  for (real w : snaps.crack_w) w_max = std::max(w_max, w);
+  std::vector<real> point_size;
+  for (real w : snaps.crack_w) point_size.push_back(0.25 + 2.5 * (w_max > 0 ? w / w_max : 0));
+  io::write_csv(out / "cracks.csv", {"x_m", "y_m", "width_m", "point_size"},
+                {snaps.crack_x, snaps.crack_y, snaps.crack_w, point_size});
+  io::plot_spec cp;
+  cp.title = tessera::detail::concat("cracked contacts at the end (side view; point size grows with the opening, largest ",
+                                     w_max * 1e3, " mm), ", o.blocks, " blocks");
+  cp.xlabel = "x along the span from the beam end (mm); symmetry face on the right";
+  cp.ylabel = "y (mm)";
+  cp.width_px = 1400;
+  cp.height_px = 520;
+  const real L = o.half_length();
+  cp.preamble = {tessera::detail::concat("set size ratio -1"),
+                 tessera::detail::concat("set xrange [-5:", L * 1e3 + 5, "]"),
+                 tessera::detail::concat("set yrange [-25:", o.height * 1e3 + 25, "]"),
+                 tessera::detail::concat("set object 1 rect from 0,0 to ", L * 1e3, ",", o.height * 1e3,
+                                         " fs empty border lc rgb 'gray40'"),
+                 tessera::detail::concat("set object 2 rect from ", (o.support_x() - o.plate / 2) * 1e3, ",-8 to ",
+                                         (o.support_x() + o.plate / 2) * 1e3, ",0 fs solid 0.6 lc rgb 'gray20'"),
+                 tessera::detail::concat("set object 3 rect from ", (o.load_x() - o.plate / 2) * 1e3, ",",
+                                         o.height * 1e3, " to ", (o.load_x() + o.plate / 2) * 1e3, ",",
+                                         o.height * 1e3 + 8, " fs solid 0.6 lc rgb 'gray20'"),
+                 "set key off"};
+  cp.series.push_back({.csv = out / "cracks.csv", .x_column = "x_m", .y_column = "y_m", .title = "opened",
+                       .style = "points pt 7 ps variable lc rgb 'red'", .x_scale = 1e3, .y_scale = 1e3});
+  cp.variable_sizes.push_back({0, "point_size", 1.0});
+  io::plot_png(out / "cracks.png", cp);
+
+  std::vector<real> crack_x, crack_angle, crack_width, crack_top;
+  for (const auto& c : r.final_cracks)
+    crack_x.push_back(c.x), crack_angle.push_back(c.angle_deg), crack_width.push_back(c.width), crack_top.push_back(c.y_max);
+  io::summary_json js;
+  js.set("example", "rc_beam")
+      .set("provisional_geometry", true)
+      .set("plates", std::string("rigid, hinged: the gridpoints under each plate move as one plate turning about its axis"))
+      .set("blocks", o.blocks)
+      .set("seed", o.seed)
+      .set("compression", o.compression)
+      .set("width_m", o.width)
+      .set("height_m", o.height)
+      .set("effective_depth_m", o.effective_depth)
+      .set("shear_span_m", o.shear_span)
+      .set("moment_zone_m", o.moment_zone)
+      .set("overhang_m", o.overhang)
+      .set("plate_m", o.plate)
+      .set("bars", o.bars)
+      .set("bar_diameter_m", o.bar_diameter)
+      .set("half_length_m", L)
+      .set("span_m", h.span)
+      .set("rate_m_per_s", in.loading.rate)
+      .set("quick", in.common.quick)
+      .set("threads", tessera::max_threads())
+      .set("zone_edge_m", o.zone_edge > 0 ? o.zone_edge : o.height / 5)
+      .set("contact_points_over_depth", r.contact_points_over_depth)
+      .set("trusses_per_block", r.trusses_per_block)
+      .set("truss_elements_per_bar", scene.elements_per_bar)
+      .set("subcontacts", r.subcontacts)
+      .set("study_subcontacts", o.blocks == 500 ? 55228 : 27274)
+      .set("zones", r.zones)
+      .set("gridpoints", r.gridpoints)
+      .set("hand_first_crack_load_N", h.first_crack_load)
+      .set("first_crack_load_N", r.first_crack_load)
+      .set("first_crack_error_rel", rel(r.first_crack_load, h.first_crack_load))
+      .set("hand_flexural_crack_load_N", h.flexural_crack_load)
+      .set("first_crack_flexural_error_rel", rel(r.first_crack_load, h.flexural_crack_load))
+      .set("first_crack_deflection_m", r.first_crack_deflection)
+      .set("soffit_peak_stress_Pa", r.soffit_peak_stress)
+      .set("developed_crack_load_N", r.developed_crack_load)
+      .set("developed_crack_deflection_m", r.developed_crack_deflection)
+      .set("first_crack_x_m", r.first_crack_x)
+      .set("first_crack_angle_deg", r.first_crack_angle_deg)
+      .set("first_crack_in_moment_zone", r.first_crack_x >= o.load_x() - 0.5 * h.mean_block_size)
+      .set("first_inclined_crack_load_N", r.first_inclined_crack_load)
+      .set("first_inclined_crack_deflection_m", r.first_inclined_crack_deflection)
+      .set("first_inclined_crack_x_m", r.first_inclined_crack_x)
+      .set("vertical_cracks_first", r.developed_crack_load > 0 && !r.inclined_before_vertical)
+      .set("hand_initial_stiffness_N_per_m", h.initial_stiffness)
+      .set("initial_stiffness_N_per_m", r.initial_stiffness)
+      .set("initial_stiffness_error_rel", rel(r.initial_stiffness, h.initial_stiffness))
+      .set("hand_yield_load_N", h.yield_load)
+      .set("lever_arm_m", h.lever_arm)
+      .set("steel_yielded", r.steel_yielded)
+      .set("yield_load_N", r.yield_load)
+      .set("yield_error_rel", r.steel_yielded ? rel(r.yield_load, h.yield_load) : 0.0)
+      .set("yield_deflection_m", r.yield_deflection)
+      .set("hand_shear_capacity_load_N", h.shear_capacity_load)
+      .set("peak_load_N", r.peak_load)
+      .set("peak_deflection_m", r.peak_deflection)
+      .set("flexural_cracks", r.flexural_cracks)
+      .set("flexural_crack_positions_m", r.flexural_crack_positions)
+      .set("mean_crack_spacing_m", r.mean_crack_spacing)
+      .set("study_crack_spacing_m", 0.09)
+      .set("cracks", static_cast<std::int64_t>(r.final_cracks.size()))
+      .set("crack_positions_m", crack_x)
+      .set("crack_angles_deg", crack_angle)
+      .set("crack_widths_m", crack_width)
+      .set("crack_tops_m", crack_top)
+      .set("failure_mode", r.failure_mode)
+      .set("widest_crack_x_m", r.widest.x)
+      .set("widest_crack_angle_deg", r.widest.angle_deg)
+      .set("widest_crack_width_m", r.widest.width)
+      .set("end_deflection_m", r.deflection.empty() ? 0.0 : r.deflection.back())
+      .set("boundary_work_J", r.boundary_work)
+      .set("contact_dissipated_J", r.contact_dissipated)
+      .set("tension_dissipated_J", r.tension_dissipated)
+      .set("compression_dissipated_J", r.compression_dissipated)
+      .set("damping_dissipated_J", r.damping_dissipated)
+      .set("energy_balance_error_rel", r.energy_balance_error)
+      .set("quasi_static_index", r.quasi_static_index)
+      .set("ramp_s", r.ramp_time)
+      .set("dt_s", r.dt)
+      .set("added_mass_ratio", r.added_mass_ratio)
+      .set("steps", r.steps)
+      .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
+      .set("runtime_s", timer.seconds());
+  tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
+  js.write(out / "summary.json");
+
+  char yield_buf[160];
+  if (r.steel_yielded)
+    std::snprintf(yield_buf, sizeof yield_buf, "yield at %.2f kN (hand A_s f_y z %.2f, %+.1f %%)", r.yield_load * 1e-3,
+                  h.yield_load * 1e-3, 100 * rel(r.yield_load, h.yield_load));
+  else
+    std::snprintf(yield_buf, sizeof yield_buf, "bars not yielded (hand A_s f_y z %.2f kN)", h.yield_load * 1e-3);
+  const std::string yield_text = yield_buf;
+  std::printf(
+      "rc_beam (PROVISIONAL geometry): %d blocks, %lld sub-contacts (study %d), %.1f contact points over the depth,"
+      " %.1f trusses per block\n"
+      "  first crack %.2f kN (hand: f_T %.2f, %+.1f %%; flexural strength %.2f, %+.1f %%); h/4 deep %.2f kN at x = %.0f mm,"
+      " %.0f deg;"
+      " K0 %.1f kN/mm (hand %.1f, %+.1f %%)\n"
+      "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN)\n"
+      "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
+      " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
+      "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
+      o.blocks, static_cast<long long>(r.subcontacts), o.blocks == 500 ? 55228 : 27274, r.contact_points_over_depth,
+      r.trusses_per_block, r.first_crack_load * 1e-3, h.first_crack_load * 1e-3,
+      100 * rel(r.first_crack_load, h.first_crack_load), h.flexural_crack_load * 1e-3,
+      100 * rel(r.first_crack_load, h.flexural_crack_load), r.developed_crack_load * 1e-3, r.first_crack_x * 1e3,
+      r.first_crack_angle_deg,
+      r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
+      yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
+      h.shear_capacity_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
+      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, r.energy_balance_error, r.dt, r.added_mass_ratio,
+      r.quasi_static_index, static_cast<long long>(r.steps), timer.seconds(), out.string().c_str());
+}
+
+int run(inputs in) {
+  const fs::path out = in.common.out;
+  const tessera::cli::wall_timer timer;
+  in.beam.seed = in.common.seed;
+  in.loading.threads = in.common.threads;
+  const tessera::scenes::beam_scene scene = tessera::scenes::make_beam(in.beam);
+  snapshot_writer snaps(out, scene, in.write_vtk);
+  const tessera::scenes::beam_result r = tessera::scenes::run_beam(scene, in.loading, snaps);
+  tessera::io::ensure_directory(out);
+  write_outputs(out, in, scene, r, snaps, timer);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  inputs in;
+  tessera::cli::parser cli(
+      "rc_beam",
+      "Reinforced-concrete beam without stirrups in four-point bending, half-symmetric (Pulatsu et al. 2020, Sec. 4):\n"
+      "flexural cracks, yield of the bars, diagonal tension. Default geometry PROVISIONAL (DESIGN.md 6): Walraven's\n"
+      "series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm, constant-moment zone 500 mm, 4 x 8 mm bars.\n"
+      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.");
+  cli.add_standard(in.common);
+  bool no_vtk = false;
+  auto& b = in.beam;
+  auto& l = in.loading;
+  l.added_mass_ratio = 20;  // quasi-static index 0.63 at 5 mm/s (beam.hpp)
+  cli.option("--blocks", b.blocks, "Voronoi blocks of the half beam: 250 or 500 (the study's), or 8..249 for a coarse run "
+             "with the 250-block contacts", "N").within(8, 500);
+  cli.option("--compression", b.compression, "contact law in compression: plastic (cap at f_c = 35 MPa) or elastic",
+             "plastic|elastic").one_of({"plastic", "elastic"});
+  cli.option("--width", b.width, "beam width b (m)", "M").greater_than(0);
+  cli.option("--height", b.height, "beam depth h (m)", "M").greater_than(0);
+  cli.option("--depth", b.effective_depth, "effective depth d (m): bars at h - d above the soffit", "M").greater_than(0);
+  cli.option("--overhang", b.overhang, "beam end to support axis (m)", "M").greater_than(0);
+  cli.option("--shear-span", b.shear_span, "support axis to load axis a (m)", "M").greater_than(0);
+  cli.option("--moment-zone", b.moment_zone, "length of the constant-moment zone, whole beam (m)", "M").greater_than(0);
+  cli.option("--plate", b.plate, "support and loading plate length along the span (m)", "M").greater_than(0);
+  cli.option("--bars", b.bars, "bars across the width", "N").within(1, 100);
+  cli.option("--bar-diameter", b.bar_diameter, "bar diameter (m)", "M").greater_than(0);
+  cli.option("--end-cover", b.end_cover, "distance from the beam end to the bar ends (m)", "M").at_least(0);
+  cli.option("--trusses-per-block", b.trusses_per_block, "truss elements per mean block size along a bar", "K").greater_than(0);
+  cli.option("--zone-edge", b.zone_edge, "target edge of the faces' zoning (m): every face gridpoint is a contact point; 0 = h/5", "M").at_least(0);
+  cli.option("--regularize", b.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off)", "REL")
+      .within(0, tessera::geometry::max_regularization);
+  cli.option("--rate", l.rate, "loading plate velocity (m/s)", "V").greater_than(0);
+  cli.option("--ramp", l.ramp_time, "half-cosine ramp of the plate velocity (s); -1 = the period of the first bending mode", "T").at_least(-1);
+  cli.option("--added-mass", l.added_mass_ratio, "mass scaling to the step at which R x the original mass is added", "R").at_least(0);
+  cli.option("--dt", l.dt, "instead of --added-mass: mass-scaled time step (s); 0 = use --added-mass", "DT").at_least(0);
+  cli.option("--max-deflection", l.max_deflection, "stop at this mid-span deflection (m)", "U").greater_than(0);
+  cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak", "R").within(0.01, 0.99);
+  cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
+  cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
+  cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
+  cli.parse_or_exit(argc, argv);
+  in.write_vtk = !no_vtk;
+  if (in.common.quick) {
+    // CTest: a coarse beam to first cracking and a little past it.
+    if (!cli.given("--blocks")) b.blocks = 60;
+    if (!cli.given("--zone-edge")) b.zone_edge = 0.05;
+    if (!cli.given("--max-deflection")) l.max_deflection = 2e-3;
+    l.first_crack_only = 2;
+  }
+  tessera::io::run_record record(in.common.out, "rc_beam", argc, argv);
+  try {
+    const int status = run(in);
+    if (status == 0) record.complete();
+    return status;
+  } catch (const std::exception& e) {
+    tessera::cli::print_error("rc_beam", e);
+    return 1;
+  }
+}
