@@ -19,15 +19,17 @@
 //             symmetry face; 210 GPa, 440 MPa; about four trusses per block along the bar; bond
 //             xi = 4 per unit length, c_bond = 1e9 N/m
 //   supports  symmetry face x = L_h: every gridpoint and the bars' last nodes held in x (rollers);
-//             support: soffit gridpoints under the support plate held in y and z (a rigid plate on
-//             a roller: free in x); load: top gridpoints under the loading plate driven down at
-//             --rate (half-cosine ramp), free in x and z. The study drove the nodes under the
-//             plate the same way ("nodes are subjected to a fixed velocity boundary condition ...
-//             the reaction forces are recorded from upper nodes", Sec. 4); steel plates as blocks
-//             of their own would need contact detection on deformable blocks (issue #17).
-//   measured  total load P = 2 x the force on the loading plate's gridpoints (both half-spans);
-//             mid-span deflection = mean y displacement (down +) of the soffit gridpoints on the
-//             symmetry face.
+//             support plate: the soffit gridpoints under it held in z and moved in y as one rigid
+//             plate hinged at the support axis (free in x: a roller bearing); loading plate: the
+//             top gridpoints under it moved as one rigid plate hinged at the load axis, the axis
+//             driven down at --rate after a half-cosine ramp (beam_run.hpp hinged_plate). The
+//             study drove the nodes under the plate ("nodes are subjected to a fixed velocity
+//             boundary condition ... the reaction forces are recorded from upper nodes", Sec. 4);
+//             steel plates as blocks of their own would need contact detection on deformable
+//             blocks (issue #17).
+//   measured  total load P = 2 x the support reaction (both half-spans; beam_run.hpp says why not
+//             the plate force); mid-span deflection = mean y displacement (down +) of the soffit
+//             gridpoints on the symmetry face.
 //
 // Quasi-static check (beam_quasi_static_index): during one period T_1 of the beam's first
 // bending mode with the mass-scaled masses, T_1 = 2 pi sqrt(M (1 + added) / (2 K_0)) (M the whole
