@@ -89,6 +89,8 @@ struct beam_options {
   [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
   [[nodiscard]] real support_x() const { return overhang; }
   [[nodiscard]] real load_x() const { return overhang + shear_span; }
+  /// The zoning target edge in effect: zone_edge, or h / 5 when it is 0.
+  [[nodiscard]] real face_zone_edge() const { return zone_edge > 0 ? zone_edge : height / 5; }
 };
 
 inline constexpr real beam_concrete_young = 25e9;  ///< E (study Sec. 4)
@@ -187,7 +189,7 @@ struct beam_scene {
   {
     // Zones grow as the square of 1 / edge (surface refinement): measured 29 082 zones for 250
     // blocks at 30 mm, 103 106 at 15 mm; about 1 kB per zone with its gridpoints and contacts.
-    const real edge = o.zone_edge > 0 ? o.zone_edge : o.height / 5;
+    const real edge = o.face_zone_edge();
     const real volume = o.half_length() * o.height * o.width;
     const real zones = 29082 * (0.03 / edge) * (0.03 / edge) * (volume / 0.02175) * std::cbrt(o.blocks / 250.0);
     require(zones <= 5e6, "rc_beam: --zone-edge ", edge, " m would need about ", zones, " zones (~", zones * 1e-6,
@@ -203,7 +205,7 @@ struct beam_scene {
   to.min_edge_rel = o.regularize;
   s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed, to);
   geometry::zoning_options z;
-  z.target_edge_length = o.zone_edge > 0 ? o.zone_edge : o.height / 5;
+  z.target_edge_length = o.face_zone_edge();
   z.refine_interior = false;
   s.mesh = geometry::zone_blocks(s.tess, z);
   s.block_material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};

@@ -52,6 +52,25 @@ struct beam_crack {
   [[nodiscard]] bool vertical() const { return angle_deg < 35; }
 };
 
+/// Opening of sub-contact i: the separation of its two gridpoints, opening and slip (m).
+template <class Contacts>
+[[nodiscard]] real subcontact_opening(const Contacts& c, const node_set& gp, index i) {
+  return (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm();
+}
+
+/// Weighted least-squares line x(y) through points of a crack; its angle from the vertical.
+struct crack_line_fit {
+  double sw = 0, sx = 0, sy = 0, sxy = 0, syy = 0;
+  void add(double w, const vec3& p) {
+    sw += w, sx += w * p.x(), sy += w * p.y(), sxy += w * p.x() * p.y(), syy += w * p.y() * p.y();
+  }
+  /// Degrees from the vertical; 90 when the points lie at one height.
+  [[nodiscard]] real angle_deg() const {
+    const double my = sy / sw, var_y = syy / sw - my * my, cov = sxy / sw - (sx / sw) * my;
+    return var_y > 0 ? std::atan(std::abs(cov / var_y)) * 180 / std::numbers::pi : 90;
+  }
+};
+
 /// Crack analysis of a beam (see the file comment). Built once from the contact set; evaluate()
 /// allocates its report (not for the step loop).
 class beam_cracks {
@@ -84,7 +103,7 @@ class beam_cracks {
   /// Cracks whose sub-contacts are softened, and separated by w_open if w_open > 0.
   template <class Contacts>
   [[nodiscard]] std::vector<beam_crack> evaluate(const Contacts& c, const node_set& gp, real w_open) const {
-    const auto jump = [&](index i) { return (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm(); };
+    const auto jump = [&](index i) { return subcontact_opening(c, gp, i); };
     std::vector<char> cracked(faces_.size(), 0);
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       real a = 0;
@@ -112,23 +131,21 @@ class beam_cracks {
     std::vector<beam_crack> out;
     for (const auto& [root, list] : groups) {
       beam_crack cr;
-      double sw = 0, sx = 0, sy = 0, sxy = 0, syy = 0;
+      crack_line_fit fit;
       cr.y_min = height_;
       cr.y_max = 0;
       for (std::size_t k : list) {
         cr.area += faces_[k].area;
         for (index i = faces_[k].first; i < faces_[k].end; ++i) {
           const vec3 p = c.position(i, gp);
-          const double w = c.area(i);
-          sw += w, sx += w * p.x(), sy += w * p.y(), sxy += w * p.x() * p.y(), syy += w * p.y() * p.y();
+          fit.add(c.area(i), p);
           cr.y_min = std::min(cr.y_min, p.y());
           cr.y_max = std::max(cr.y_max, p.y());
           cr.width = std::max(cr.width, jump(i));
         }
       }
-      if (cr.y_max - cr.y_min < 0.25 * height_ || sw <= 0) continue;
-      const double my = sy / sw, var_y = syy / sw - my * my, cov = sxy / sw - (sx / sw) * my;
-      cr.angle_deg = var_y > 0 ? std::atan(std::abs(cov / var_y)) * 180 / std::numbers::pi : 90;
+      if (cr.y_max - cr.y_min < 0.25 * height_ || fit.sw <= 0) continue;
+      cr.angle_deg = fit.angle_deg();
       double lw = 0, lx = 0;
       const real low = cr.y_min + (cr.y_max - cr.y_min) / 3;
       for (std::size_t k : list)
@@ -136,7 +153,7 @@ class beam_cracks {
           const vec3 p = c.position(i, gp);
           if (p.y() <= low) lw += c.area(i), lx += c.area(i) * p.x();
         }
-      cr.x = lw > 0 ? lx / lw : sx / sw;
+      cr.x = lw > 0 ? lx / lw : fit.sx / fit.sw;
       out.push_back(cr);
     }
     std::sort(out.begin(), out.end(), [](const beam_crack& p, const beam_crack& q) { return p.x < q.x; });
@@ -215,11 +232,15 @@ struct beam_result {
   double runtime_s = 0;
 };
 
+/// T_1 of the beam's first bending mode with masses scaled by (1 + added) (beam.hpp file comment).
+[[nodiscard]] inline real beam_first_mode_period(const beam_scene& s, real added) {
+  const real mass = 2 * s.box.volume() * s.block_material.density;  // whole beam, half of it modal
+  return 2 * std::numbers::pi * std::sqrt(mass * (1 + added) / (2 * s.hand.initial_stiffness));
+}
+
 /// q of the beam (beam.hpp file comment).
 [[nodiscard]] inline real beam_quasi_static_index(const beam_scene& s, real rate, real added) {
-  const real mass = 2 * s.box.volume() * s.block_material.density;  // whole beam
-  const real period = 2 * std::numbers::pi * std::sqrt(mass * (1 + added) / (2 * s.hand.initial_stiffness));
-  return rate * period / (s.hand.first_crack_load / s.hand.initial_stiffness);
+  return rate * beam_first_mode_period(s, added) / (s.hand.first_crack_load / s.hand.initial_stiffness);
 }
 
 /// Gridpoints within [x0, x1] on the plane y = value.
@@ -248,7 +269,7 @@ template <class Contacts>
   for (index i = 0; i < c.size(); ++i) x_max = std::max(x_max, c.position(i, gp).x());
   const auto bins = static_cast<std::size_t>(x_max / bin) + 1;
   std::vector<real> opening(bins, 0);
-  const auto jump = [&](index i) { return (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm(); };
+  const auto jump = [&](index i) { return subcontact_opening(c, gp, i); };
   for (index i = 0; i < c.size(); ++i) {
     const vec3 p = c.position(i, gp);
     if (p.y() > height / 3 || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
@@ -266,22 +287,19 @@ template <class Contacts>
     beam_crack cr;
     cr.x = (static_cast<real>(k) + 0.5) * bin;
     cr.width = opening[k];
-    double sw = 0, sx = 0, sy = 0, sxy = 0, syy = 0;
+    crack_line_fit fit;
     cr.y_min = height;
     for (index i = 0; i < c.size(); ++i) {
       const vec3 p = c.position(i, gp);
       if (std::abs(p.x() - cr.x) > 1.5 * cell || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
       const real w = jump(i);
       if (w < 0.3 * cr.width) continue;
-      sw += w, sx += w * p.x(), sy += w * p.y(), sxy += w * p.x() * p.y(), syy += w * p.y() * p.y();
+      fit.add(w, p);
       cr.y_min = std::min(cr.y_min, p.y());
       cr.y_max = std::max(cr.y_max, p.y());
       cr.area += c.area(i);
     }
-    if (sw > 0) {
-      const double my = sy / sw, var_y = syy / sw - my * my, cov = sxy / sw - (sx / sw) * my;
-      cr.angle_deg = var_y > 0 ? std::atan(std::abs(cov / var_y)) * 180 / std::numbers::pi : 90;
-    }
+    if (fit.sw > 0) cr.angle_deg = fit.angle_deg();
     out.push_back(cr);
   }
   return out;
@@ -377,10 +395,7 @@ template <class Law, class OnEvent>
     if (std::abs(gp.reference(i, 0) - L) <= tol && std::abs(gp.reference(i, 1)) <= tol) midspan.push_back(i);
   require(!midspan.empty(), "rc_beam: no soffit gridpoint on the symmetry face");
 
-  const real period = 2 * std::numbers::pi *
-                      std::sqrt(2 * scene.box.volume() * scene.block_material.density * (1 + r.added_mass_ratio) /
-                                (2 * hand.initial_stiffness));
-  const real ramp = loading.ramp_time >= 0 ? loading.ramp_time : period;
+  const real ramp = loading.ramp_time >= 0 ? loading.ramp_time : beam_first_mode_period(scene, r.added_mass_ratio);
   r.ramp_time = ramp;
   const auto drive = [&](const solver_type& sv) {
     const real t = sv.time() + 0.5 * sv.dt();

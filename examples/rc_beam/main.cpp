@@ -67,7 +67,7 @@ class snapshot_writer {
     const auto& c = s.contacts();
     const auto& gp = s.gridpoints();
     for (index i = 0; i < c.size(); ++i) {
-      const real w = (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm();
+      const real w = tessera::scenes::subcontact_opening(c, gp, i);
       if (!tessera::analysis::crack_graph::past_peak(c.state(i).flags)) continue;
       const tessera::vec3 p = c.position(i, gp);
       crack_x.push_back(p.x()), crack_y.push_back(p.y()), crack_w.push_back(w);
@@ -175,7 +175,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("rate_m_per_s", in.loading.rate)
       .set("quick", in.common.quick)
       .set("threads", tessera::max_threads())
-      .set("zone_edge_m", o.zone_edge > 0 ? o.zone_edge : o.height / 5)
+      .set("zone_edge_m", o.face_zone_edge())
       .set("contact_points_over_depth", r.contact_points_over_depth)
       .set("trusses_per_block", r.trusses_per_block)
       .set("truss_elements_per_bar", scene.elements_per_bar)
