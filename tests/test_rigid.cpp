@@ -6,6 +6,8 @@
 #include "support/hand_meshes.hpp"
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <numbers>
 #include <limits>
 #include <tuple>
@@ -19,6 +21,7 @@
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/integrator.hpp"
+#include "tessera/io/checkpoint.hpp"
 #include "tessera/solver.hpp"
 #include "verification/cases.hpp"
 
@@ -549,27 +552,43 @@ TEST_CASE("detected contacts: a dropped block comes to rest with overlap W / (k_
   CHECK(r.energy_error_rel < 1e-6);
 }
 
-TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters refused", "[rigid][detected][determinism]") {
-  // 30 Voronoi blocks of a cube, each shrunk 2 % about its centroid so they start apart, released
-  // under a tilted 10 g onto the fixed bottom layer: contacts form, slide and open between blocks
-  // that were not neighbours (stiffness 1e8 Pa/m so 4 000 steps are 0.1 s).
+namespace {
+/// 30 Voronoi blocks of a 0.3 m cube, each shrunk 2 % about its centroid so they start apart.
+geometry::tessellation separated_voronoi_cube() {
   const auto voronoi = geometry::random_voronoi({vec3::Zero(), vec3(0.3, 0.3, 0.3)}, 30, 5);
   std::vector<geometry::convex_polyhedron> cells;
   for (tessera::index c = 0; c < voronoi.cell_count(); ++c) {
     const auto cell = geometry::cell_polyhedron(voronoi, c);
     cells.push_back(cell.transformed(0.98 * mat3::Identity(), 0.02 * cell.centroid()));
   }
-  const auto tess = geometry::separate_blocks(cells);
+  return geometry::separate_blocks(cells);
+}
+/// Those blocks released under a tilted 10 g onto the fixed bottom layer (stiffness 1e8 Pa/m).
+solver<blocks::rigid, verification::contacts> falling_blocks(const geometry::tessellation& tess,
+                                                             const geometry::block_mesh& mesh, int threads,
+                                                             real tolerance = 1e-3) {
+  verification::inputs in;
+  in.k_n = 1e8;
+  solver_options opt;
+  opt.threads = threads;
+  solver<blocks::rigid, verification::contacts> s(tess, mesh, {2400},
+                                                  verification::contacts::params(verification::joint(in), tolerance), {},
+                                                  opt);
+  s.set_gravity(vec3(30, 10, -98.1));
+  s.fix(s.gridpoints_on_plane(2, 0, 0.02));  // the blocks touching the floor
+  return s;
+}
+}  // namespace
+
+TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters refused", "[rigid][detected][determinism]") {
+  // The falling blocks: contacts form, slide and open between blocks that were not neighbours
+  // (4 000 steps are 0.1 s).
+  const auto tess = separated_voronoi_cube();
   const auto mesh = geometry::zone_blocks(tess);
   verification::inputs in;
   in.k_n = 1e8;
-  const verification::contacts::params p(verification::joint(in), 1e-3);
   const auto run = [&](int threads) {
-    solver_options opt;
-    opt.threads = threads;
-    solver<blocks::rigid, verification::contacts> s(tess, mesh, {2400}, p, {}, opt);
-    s.set_gravity(vec3(30, 10, -98.1));
-    s.fix(s.gridpoints_on_plane(2, 0, 0.02));  // the blocks touching the floor
+    auto s = falling_blocks(tess, mesh, threads);
     s.run(400);
     const tessera::index initial = s.contacts().subcontact_count();
     s.run(3600);
@@ -602,4 +621,69 @@ TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters 
   auto bad = verification::joint(in);
   bad.k_n = -1;
   refused(verification::contacts::params(bad, 1e-3));
+}
+
+TEST_CASE("detected contacts: a checkpoint between rebuilds restarts with the same bits", "[rigid][detected][checkpoint]") {
+  // Saved after 1 500 steps of the falling blocks (contacts have formed and rebuilt), continued
+  // 1 500 steps: the restart must rebuild at the same steps, with the sub-contacts' sizes, keys
+  // and states of the run that never stopped.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tessera_test_detected_checkpoint";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto tess = separated_voronoi_cube();
+  const auto mesh = geometry::zone_blocks(tess);
+  auto straight = falling_blocks(tess, mesh, 2);
+  straight.run(1500);
+  const tessera::index rebuilds_at_save = straight.contacts().rebuild_count();
+  const tessera::index subcontacts_at_save = straight.contacts().subcontact_count();
+  io::save_checkpoint(straight, dir / "falling.ckpt", "falling blocks");
+  straight.run(1500);
+  INFO(rebuilds_at_save << " rebuilds and " << subcontacts_at_save << " sub-contacts at the save; "
+       << straight.contacts().rebuild_count() << " and " << straight.contacts().subcontact_count() << " at the end");
+  CHECK(rebuilds_at_save > 5);
+  CHECK(straight.contacts().rebuild_count() > rebuilds_at_save);
+  CHECK(straight.contacts().subcontact_count() != subcontacts_at_save);
+
+  auto restarted = falling_blocks(tess, mesh, 1);  // a fresh scene has other sub-contacts: the load resizes
+  CHECK(restarted.contacts().subcontact_count() != subcontacts_at_save);
+  io::load_checkpoint(restarted, dir / "falling.ckpt");
+  CHECK(restarted.contacts().subcontact_count() == subcontacts_at_save);
+  restarted.run(1500);
+  const auto& a = straight;
+  const auto& b = restarted;
+  CHECK(a.step_count() == b.step_count());
+  CHECK((a.gridpoints().displacement.array() == b.gridpoints().displacement.array()).all());
+  CHECK((a.gridpoints().velocity.array() == b.gridpoints().velocity.array()).all());
+  const energy_balance ea = a.energies(), eb = b.energies();
+  CHECK(std::memcmp(&ea, &eb, sizeof(energy_balance)) == 0);
+  REQUIRE(a.contacts().subcontact_count() == b.contacts().subcontact_count());
+  CHECK(a.contacts().rebuild_count() == b.contacts().rebuild_count());
+  tessera::index differing = 0;
+  for (tessera::index i = 0; i < a.contacts().subcontact_count(); ++i) {
+    const auto &sa = a.contacts().state(i), &sb = b.contacts().state(i);
+    differing += (a.contacts().label(i) != b.contacts().label(i) || sa.sigma_n != sb.sigma_n || sa.tau != sb.tau ||
+                  sa.u_n != sb.u_n || a.contacts().area(i) != b.contacts().area(i))
+                     ? 1
+                     : 0;
+  }
+  CHECK(differing == 0);
+
+  // The file of a scene with another contact tolerance is refused before anything changes.
+  auto other = falling_blocks(tess, mesh, 1, 2e-3);
+  const tessera::index before = other.contacts().subcontact_count();
+  CHECK_THROWS_WITH(io::load_checkpoint(other, dir / "falling.ckpt"), Catch::Contains("detected/tolerance"));
+  CHECK(other.contacts().subcontact_count() == before);
+  // A size record larger than any file could hold is refused before anything is sized by it.
+  {
+    io::checkpoint_writer w(dir / "size.ckpt", "size");
+    std::int64_t huge = std::int64_t{1} << 40;
+    w.count("detected/subcontacts", huge);
+    w.commit();
+  }
+  io::checkpoint_reader r(dir / "size.ckpt");
+  r.rewind(false);
+  std::int64_t n = 0;
+  CHECK_THROWS_WITH(r.count("detected/subcontacts", n),
+                    Catch::Contains("has size 1099511627776 in 'detected/subcontacts', impossible in a file of"));
+  std::filesystem::remove_all(dir);
 }

@@ -44,6 +44,10 @@
 // k_row is the row bound of the stiffest material entry (stiffness_bound.hpp). So blocks::rigid's
 // 6-DOF bound (k_t = 4 k_row A, k_r = 4 k_row A r_max^2) holds for any contacts that appear later.
 //
+// Checkpoints: checkpoint(Archive&) saves the sub-contacts, pairs and gather slots with their
+// sizes, the rebuild trigger's state and the books, so a restarted run rebuilds at the same steps
+// with the same bits (io/checkpoint.hpp).
+//
 // Storage and threading: structure of arrays per sub-contact (key, weights, area, state, force),
 // per pair (blocks, normal feature, normals now and last step, parameters), per gridpoint the
 // gather slots. Only a rebuild allocates (arrays grow and keep their capacity; counted in
@@ -58,6 +62,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -279,6 +284,93 @@ class detected_contacts {
   }
   /// The part of energies() held by sub-contacts that ended at rebuilds, and the rebuild exchange (J).
   [[nodiscard]] const contact_energies& retired_energies() const { return retired_; }
+
+  /// Saves or loads everything a rebuild and a step read (io/checkpoint.hpp): the sub-contacts
+  /// (keys, pairs, areas, affine weights, law states field by field, forces, fresh flags), the
+  /// pairs (blocks, parameters, normal features, normals now), the gather slots, the vertex
+  /// displacements of the last rebuild and the steps since it, the energies of the sub-contacts
+  /// that ended and the rebuild statistics. Their sizes change during a run, so the file gives
+  /// them (ar.count) and a load resizes; the model's own (block count, tolerance, rebuild
+  /// interval) must match. So a restart rebuilds at the same steps and is bit-identical.
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    static_assert(law::DeclaresStateFields<Law>, "checkpoints need a law that declares state_fields");
+    ar.same("detected/blocks", static_cast<std::int64_t>(blocks_.size()));
+    ar.same("detected/gridpoints", static_cast<std::int64_t>(gridpoint_count_));
+    ar.same("detected/tolerance", options_.tolerance);
+    ar.same("detected/max_rebuild_interval", static_cast<std::int64_t>(options_.max_rebuild_interval));
+    std::int64_t n_pairs = pair_count(), n = size(), n_tasks = static_cast<std::int64_t>(pair_tasks_.size()),
+                 n_slots = static_cast<std::int64_t>(slot_subcontact_.size()),
+                 n_touched = static_cast<std::int64_t>(contact_gridpoints_.size());
+    ar.count("detected/pairs", n_pairs);
+    ar.count("detected/subcontacts", n);
+    ar.count("detected/tasks", n_tasks);
+    ar.count("detected/slots", n_slots);
+    ar.count("detected/contact_gridpoints", n_touched);
+    // Variable-size arrays: the dry pass checks the records against the file's sizes on scratch
+    // arrays; the copy pass resizes the model's.
+    const auto sized = [&](const std::string& name, auto& v, std::int64_t count) {
+      using V = std::remove_reference_t<decltype(v)>;
+      constexpr bool rows = std::is_same_v<V, soa3>;  // n x 3 matrices: count rows
+      const auto pass = [&](V& x) {
+        if constexpr (rows) {
+          x.resize(static_cast<index>(count), 3);
+          ar.matrix(name, x);
+        } else {
+          x.resize(static_cast<std::size_t>(count));
+          ar.array(name, x);
+        }
+      };
+      if (ar.saving() || ar.loading()) {
+        pass(v);
+      } else {
+        V dry;
+        pass(dry);
+      }
+    };
+    // per pair
+    sized("detected/pair/a", pair_a_, n_pairs);
+    sized("detected/pair/b", pair_b_, n_pairs);
+    sized("detected/pair/param", pair_param_, n_pairs);
+    sized("detected/pair/first", pair_first_, n_pairs + 1);
+    sized("detected/pair/tasks", pair_tasks_, n_tasks);
+    sized("detected/pair/feature", feature_, n_pairs);
+    sized("detected/pair/feature_a", feature_a_, n_pairs);
+    sized("detected/pair/feature_b", feature_b_, n_pairs);
+    sized("detected/pair/side_a", side_a_, n_pairs);
+    sized("detected/pair/side_b", side_b_, n_pairs);
+    for (int j = 0; j < 3; ++j) sized("detected/pair/normal/" + std::to_string(j), normal_[at(j)], n_pairs);
+    // per sub-contact
+    sized("detected/subcontact/pair", pair_, n);
+    sized("detected/subcontact/label", key_label_, n);
+    sized("detected/subcontact/normal", corner_normal_, n);
+    sized("detected/subcontact/area", area_, n);
+    sized("detected/subcontact/fresh", fresh_, n);
+    for (int k = 0; k < 8; ++k) sized("detected/subcontact/weight/" + std::to_string(k), weight_[at(k)], n);
+    for (int c = 0; c < 3; ++c) sized(std::string("detected/subcontact/force_a/") + "xyz"[c], force_[at(c)], n);
+    if (ar.loading()) state_.resize(static_cast<std::size_t>(n));
+    law::checkpoint_states<Law>(
+        ar, "detected/state/", static_cast<std::size_t>(n), [&](std::size_t i) { return state_[i]; },
+        [&](std::size_t i, const state_type& st) { state_[i] = st; });
+    // gather
+    sized("detected/gather/offsets", slot_offsets_, gridpoint_count_ + 1);
+    sized("detected/gather/subcontact", slot_subcontact_, n_slots);
+    sized("detected/gather/weight", slot_weight_, n_slots);
+    sized("detected/gather/gridpoints", contact_gridpoints_, n_touched);
+    // rebuild trigger, books, statistics
+    ar.matrix("detected/rebuild_displacement", rebuild_u_);
+    ar.scalar("detected/steps_since_rebuild", steps_since_rebuild_);
+    ar.scalar("detected/retired/stored", retired_.stored);
+    ar.scalar("detected/retired/dissipated", retired_.dissipated);
+    ar.scalar("detected/retired/dissipated_tension", retired_.dissipated_tension);
+    ar.scalar("detected/retired/dissipated_shear", retired_.dissipated_shear);
+    ar.scalar("detected/retired/dissipated_compression", retired_.dissipated_compression);
+    ar.scalar("detected/retired/rebuild_exchange", retired_.rebuild_exchange);
+    ar.scalar("detected/rebuilds", rebuilds_);
+    ar.scalar("detected/growths", growths_);
+    ar.scalar("detected/peak_subcontacts", peak_subcontacts_);
+    ar.scalar("detected/kept_last_rebuild", kept_last_);
+  }
 
  private:
   struct block_data {

@@ -23,6 +23,10 @@
 //   ar.matrix(name, M& m)                     an Eigen matrix's coefficients (sizes fixed by the model)
 //   ar.scalar(name, T& x)                     one value
 //   ar.same(name, value)                      saves value; on load requires the stored one to equal it
+//   ar.count(name, std::int64_t& n)           a size the model takes from the file (state whose size
+//                                             changes during a run, as detected contacts'): saves n;
+//                                             on load sets n in both passes, so the dry run can check
+//                                             the records that follow against it
 //   ar.saving(), ar.loading()                 which pass this is (both false in the dry-run pass)
 // A load runs the model's checkpoint() twice: a dry run that checks every record's name, type
 // and length against the model without touching it, then the pass that copies. So a file of
@@ -219,6 +223,8 @@ class checkpoint_writer : public detail::ckpt::archive_base<checkpoint_writer> {
   void same(std::string_view name, T value) {
     scalar(name, value);
   }
+  /// Saves the size n (loads give it back in both passes).
+  void count(std::string_view name, std::int64_t& n) { values(name, type_code::i64, &n, 1); }
   /// Writes the end record and moves the file into place.
   void commit() {
     const std::array<std::uint64_t, 2> end{records_, hash_.value};
@@ -287,6 +293,15 @@ class checkpoint_reader : public detail::ckpt::archive_base<checkpoint_reader> {
     require(std::memcmp(&stored, &mine, sizeof(stored)) == 0, "checkpoint '", file_, "' does not fit this model: ",
             name, " = ", +stored, " in the file but ", +mine,
             " in this model (rebuild the scene exactly as the run that wrote it: tessellation, parameters, options)");
+  }
+  /// The stored size `name`, in both passes (the dry run checks what follows against it).
+  void count(std::string_view name, std::int64_t& n) {
+    const record& r = expect(name, type_code::i64, 1);
+    std::memcpy(&n, data_.data() + r.offset, sizeof(n));
+    // Every value takes at least a byte of the file: a larger size is damage, refused before
+    // anything is sized by it.
+    require(n >= 0 && static_cast<std::uint64_t>(n) <= data_.size(), "checkpoint '", file_, "' has size ", n, " in '",
+            name, "', impossible in a file of ", data_.size(), " bytes: damaged");
   }
   /// Requires every data record to have been read (after a pass).
   void finish() const {
