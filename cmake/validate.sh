@@ -4,15 +4,18 @@
 # contact strength (examples/calibrate), the calibration itself, and the tie's sensitivity
 # studies, each figure beside its reference and run time, stamped with the commit.
 #
-#   bash cmake/validate.sh [--quick] [--threads N] [--out DIR] [--resume]
+#   bash cmake/validate.sh [--quick] [--threads N] [--beam-seeds N] [--out DIR] [--resume]
 #
 #   --quick    the reduced scenes (100 blocks, one seed, the drivers' --quick): about 2 min; the
 #              tables go to DIR/validation.md only (the figures of reduced runs are not the
 #              validation)
-#   full       about 75 min (2367 s measured without the beam, which adds about 35 min) on this
-#              project's 2-core machine (the progress line estimates the
-#              rest); the tables go to DIR/validation.md and replace the generated section of
-#              docs/validation.md (between its "validate.sh" markers)
+#   full       about 2 h (2367 s measured without the beam; the beam adds about 50 min with one
+#              seed: 250 and 500 blocks and the 250-block beam with elastic compression) on this
+#              project's 2-core machine (the progress line estimates the rest); the tables go to
+#              DIR/validation.md and replace the generated section of docs/validation.md (between
+#              its "validate.sh" markers)
+#   --beam-seeds N  seeds 1..N of the 250- and 500-block beams (default 1; each further seed adds
+#              about 35 min); the beam table gives each seed and the band
 #   --threads  worker threads per run (default 0: the drivers' automatic choice, one per core that
 #              other processes leave idle; OpenMP threads that share a busy core slow a run by
 #              up to 100x, see docs/performance.md)
@@ -28,6 +31,7 @@ quick=0
 threads=0
 out="$root/results/validation"
 resume=0
+beam_seeds=1
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --quick) quick=1 ;;
@@ -35,10 +39,13 @@ while [[ $# -gt 0 ]]; do
     --threads)
       [[ $# -ge 2 && "$2" =~ ^(0|[1-9][0-9]?)$ ]] || { echo "validate: --threads needs an integer in [0, 99], got '${2:-}'" >&2; exit 2; }
       threads="$2"; shift ;;
+    --beam-seeds)
+      [[ $# -ge 2 && "$2" =~ ^[1-9]$ ]] || { echo "validate: --beam-seeds needs an integer in [1, 9], got '${2:-}'" >&2; exit 2; }
+      beam_seeds="$2"; shift ;;
     --out)
       [[ $# -ge 2 && -n "$2" ]] || { echo "validate: --out needs a directory" >&2; exit 2; }
       out="$2"; shift ;;
-    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "validate: unknown argument '$1' (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -63,7 +70,7 @@ if [[ $quick == 1 ]]; then
   add tie_calibrated 5 "$bin/rc_tie --quick --no-vtk --params $cal"
   add sensitivity 60 "$bin/rc_tie_sensitivity --quick"
   beam_list=(quick)
-  add beam_quick 15 "$bin/rc_beam --quick --no-vtk"
+  add beam_quick 8 "$bin/rc_beam --quick --no-vtk"
 else
   blocks_list=(100 250 500)
   add prism_verbatim_100 25 "$bin/direct_tension --blocks 100 --seeds 3 --seed 1 --max-displacement 1.2e-4"
@@ -77,9 +84,15 @@ else
   add prism_calibrated_500 220 "$bin/direct_tension --blocks 500 --seeds 3 --seed 4 --max-displacement 1.2e-4 --params $cal"
   add tie_calibrated 20 "$bin/rc_tie --no-vtk --params $cal"
   add sensitivity 870 "$bin/rc_tie_sensitivity"
-  beam_list=(250 500)
-  add beam_250 800 "$bin/rc_beam --blocks 250 --no-vtk"
-  add beam_500 1300 "$bin/rc_beam --blocks 500 --no-vtk"
+  beam_list=()
+  for b in 250 500; do
+    for ((k = 1; k <= beam_seeds; ++k)); do
+      beam_list+=("${b}_s$k")
+      add "beam_${b}_s$k" $([[ $b == 250 ]] && echo 800 || echo 1300) "$bin/rc_beam --blocks $b --seed $k --no-vtk"
+    done
+  done
+  beam_list+=(250_elastic)
+  add beam_250_elastic 800 "$bin/rc_beam --blocks 250 --seed 1 --compression elastic --no-vtk"
 fi
 
 total=0
@@ -159,14 +172,30 @@ report="$out/validation.md"
     echo "| $kind | $(num "$(get "$s" first_crack_force_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(awk -v k="$(get "$s" initial_stiffness_N_per_m)" -v r="$(get "$s" initial_stiffness_shear_lag_N_per_m)" 'BEGIN { print k / r - 1 }')")) | $(get "$s" load_drops) | $(get "$s" crack_sites) | $(num "$(get "$s" yield_force_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_force_error_rel)")) | $(num "$(get "$s" runtime_s)" 1 '%.1f s') |"
   done
   echo
-  echo "**RC beam** (provisional geometry, seed 1, to 6 mm or --quick; references: first cracking at the flexural strength (MC2010) and at f_T, uncracked K0 with shear, A_s f_y z, the study's 90 mm crack spacing):"
+  echo "**RC beam** (provisional geometry, to 6 mm or --quick; references: first cracking at the flexural strength (MC2010) and at f_T, uncracked K0 with shear, A_s f_y z, the study's 90 mm crack spacing):"
   echo
-  echo "| blocks | first cracking | K0 | yield | peak | flexural cracks | spacing | failure | energy balance | run time |"
-  echo "|---|---|---|---|---|---|---|---|---|---|"
+  echo "| blocks | seed | compression | first cracking | K0 | yield | peak | flexural cracks | spacing | failure | energy balance | run time |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
   for b in "${beam_list[@]}"; do
     s="$out/beam_$b/summary.json"
-    echo "| $(get "$s" blocks) | $(num "$(get "$s" first_crack_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_flexural_error_rel)"); at f_T $(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(get "$s" initial_stiffness_error_rel)")) | $([[ $(get "$s" steel_yielded) == true ]] && echo "$(num "$(get "$s" yield_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_error_rel)"))" || echo "not yielded") | $(num "$(get "$s" peak_load_N)" 1e-3 '%.2f kN') | $(get "$s" flexural_cracks) | $(num "$(get "$s" mean_crack_spacing_m)" 1e3 '%.0f mm') | $(get "$s" failure_mode | tr -d '"') | $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e') | $(num "$(get "$s" runtime_s)" 1 '%.0f s') |"
+    echo "| $(get "$s" blocks) | $(get "$s" seed) | $(get "$s" compression | tr -d '"') | $(num "$(get "$s" first_crack_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_flexural_error_rel)"); at f_T $(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(get "$s" initial_stiffness_error_rel)")) | $([[ $(get "$s" steel_yielded) == true ]] && echo "$(num "$(get "$s" yield_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_error_rel)"))" || echo "not yielded") | $(num "$(get "$s" peak_load_N)" 1e-3 '%.2f kN') | $(get "$s" flexural_cracks) | $(num "$(get "$s" mean_crack_spacing_m)" 1e3 '%.0f mm') | $(get "$s" failure_mode | tr -d '"') | $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e') | $(num "$(get "$s" runtime_s)" 1 '%.0f s') |"
   done
+  if [[ $quick == 0 && $beam_seeds -gt 1 ]]; then
+    # The seed band of each block count: min-max of each figure over seeds 1..N.
+    band() {  # band BLOCKS KEY SCALE FORMAT
+      for ((k = 1; k <= beam_seeds; ++k)); do get "$out/beam_${1}_s$k/summary.json" "$2"; done |
+        awk -v s="$3" -v f="$4" '$1 != "null" { v = $1 * s; if (n++ == 0 || v < lo) lo = v; if (n == 1 || v > hi) hi = v }
+          END { if (n == 0) print "—"; else printf f "–" f, lo, hi }'
+    }
+    echo
+    echo "Seed band (seeds 1–$beam_seeds, min–max):"
+    echo
+    echo "| blocks | first cracking | K0 | yield | peak | flexural cracks | spacing | run time |"
+    echo "|---|---|---|---|---|---|---|---|"
+    for b in 250 500; do
+      echo "| $b | $(band $b first_crack_load_N 1e-3 '%.2f') kN | $(band $b initial_stiffness_N_per_m 1e-6 '%.1f') kN/mm | $(band $b yield_load_N 1e-3 '%.2f') kN | $(band $b peak_load_N 1e-3 '%.2f') kN | $(band $b flexural_cracks 1 '%.0f') | $(band $b mean_crack_spacing_m 1e3 '%.0f') mm | $(band $b runtime_s 1 '%.0f') s |"
+    done
+  fi
   echo
   s="$out/sensitivity/summary.json"
   echo "**Sensitivity studies** (\`rc_tie_sensitivity$([[ $quick == 1 ]] && echo ' --quick')\`, $(get "$s" runs) runs, $(num "$(get "$s" runtime_s)" 1 '%.0f s')):"
