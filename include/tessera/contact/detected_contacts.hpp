@@ -44,8 +44,8 @@
 // k_row is the row bound of the stiffest material entry (stiffness_bound.hpp). So blocks::rigid's
 // 6-DOF bound (k_t = 4 k_row A, k_r = 4 k_row A r_max^2) holds for any contacts that appear later.
 //
-// Checkpoints: checkpoint(Archive&) saves the sub-contacts, pairs and gather slots with their
-// sizes, the rebuild trigger's state and the books, so a restarted run rebuilds at the same steps
+// Checkpoints: checkpoint(Archive&) saves the sub-contacts and pairs with their sizes (the
+// tasks and gather slots are derived again on load), the rebuild trigger's state and the books, so a restarted run rebuilds at the same steps
 // with the same bits (io/checkpoint.hpp).
 //
 // Storage and threading: structure of arrays per sub-contact (key, weights, area, state, force),
@@ -287,9 +287,9 @@ class detected_contacts {
 
   /// Saves or loads everything a rebuild and a step read (io/checkpoint.hpp): the sub-contacts
   /// (keys, pairs, areas, affine weights, law states field by field, forces, fresh flags), the
-  /// pairs (blocks, parameters, normal features, normals now), the gather slots, the vertex
-  /// displacements of the last rebuild and the steps since it, the energies of the sub-contacts
-  /// that ended and the rebuild statistics. Their sizes change during a run, so the file gives
+  /// pairs (blocks, parameters, normal features, normals now; the tasks and gather slots are
+  /// derived from them again on load), the vertex displacements of the last rebuild and the
+  /// steps since it, the energies of the sub-contacts that ended and the rebuild statistics. Their sizes change during a run, so the file gives
   /// them (ar.count) and a load resizes; the model's own (block count, tolerance, rebuild
   /// interval) must match. So a restart rebuilds at the same steps and is bit-identical.
   template <class Archive>
@@ -299,14 +299,9 @@ class detected_contacts {
     ar.same("detected/gridpoints", static_cast<std::int64_t>(gridpoint_count_));
     ar.same("detected/tolerance", options_.tolerance);
     ar.same("detected/max_rebuild_interval", static_cast<std::int64_t>(options_.max_rebuild_interval));
-    std::int64_t n_pairs = pair_count(), n = size(), n_tasks = static_cast<std::int64_t>(pair_tasks_.size()),
-                 n_slots = static_cast<std::int64_t>(slot_subcontact_.size()),
-                 n_touched = static_cast<std::int64_t>(contact_gridpoints_.size());
+    std::int64_t n_pairs = pair_count(), n = size();
     ar.count("detected/pairs", n_pairs);
     ar.count("detected/subcontacts", n);
-    ar.count("detected/tasks", n_tasks);
-    ar.count("detected/slots", n_slots);
-    ar.count("detected/contact_gridpoints", n_touched);
     // Variable-size arrays: the dry pass checks the records against the file's sizes on scratch
     // arrays; the copy pass resizes the model's.
     const auto sized = [&](const std::string& name, auto& v, std::int64_t count) {
@@ -333,7 +328,6 @@ class detected_contacts {
     sized("detected/pair/b", pair_b_, n_pairs);
     sized("detected/pair/param", pair_param_, n_pairs);
     sized("detected/pair/first", pair_first_, n_pairs + 1);
-    sized("detected/pair/tasks", pair_tasks_, n_tasks);
     sized("detected/pair/feature", feature_, n_pairs);
     sized("detected/pair/feature_a", feature_a_, n_pairs);
     sized("detected/pair/feature_b", feature_b_, n_pairs);
@@ -352,11 +346,6 @@ class detected_contacts {
     law::checkpoint_states<Law>(
         ar, "detected/state/", static_cast<std::size_t>(n), [&](std::size_t i) { return state_[i]; },
         [&](std::size_t i, const state_type& st) { state_[i] = st; });
-    // gather
-    sized("detected/gather/offsets", slot_offsets_, gridpoint_count_ + 1);
-    sized("detected/gather/subcontact", slot_subcontact_, n_slots);
-    sized("detected/gather/weight", slot_weight_, n_slots);
-    sized("detected/gather/gridpoints", contact_gridpoints_, n_touched);
     // rebuild trigger, books, statistics
     ar.matrix("detected/rebuild_displacement", rebuild_u_);
     ar.scalar("detected/steps_since_rebuild", steps_since_rebuild_);
@@ -370,6 +359,8 @@ class detected_contacts {
     ar.scalar("detected/growths", growths_);
     ar.scalar("detected/peak_subcontacts", peak_subcontacts_);
     ar.scalar("detected/kept_last_rebuild", kept_last_);
+    // Tasks and gather slots follow from the pairs and weights.
+    if (ar.loading()) index_subcontacts();
   }
 
  private:
@@ -709,12 +700,23 @@ class detected_contacts {
         }
       }
     }
-    // Tasks: runs of pairs with at least task_subcontacts sub-contacts.
+    pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
+    index_subcontacts();
+
+    peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
+    if (key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity() > capacity_before) ++growths_;
+    if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
+    rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  }
+
+  /// Tasks (runs of pairs with at least task_subcontacts sub-contacts) and gather slots, from the
+  /// pairs' first sub-contacts and the sub-contacts' pairs and weights: after a rebuild or a load.
+  void index_subcontacts() {
+    const std::size_t n_pairs = pair_a_.size(), n = pair_.size();
     pair_tasks_.assign(1, 0);
     for (std::size_t k = 0; k < n_pairs; ++k)
-      if (k + 1 == n_pairs || new_pair_first_[k + 1] - new_pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
+      if (k + 1 == n_pairs || pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
         pair_tasks_.push_back(static_cast<index>(k + 1));
-    pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
 
     // Gather slots: per frame gridpoint, its (sub-contact, weight) in increasing sub-contact order.
     slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
@@ -740,11 +742,6 @@ class detected_contacts {
     contact_gridpoints_.clear();
     for (index g = 0; g < gridpoint_count_; ++g)
       if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
-
-    peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
-    if (key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity() > capacity_before) ++growths_;
-    if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
-    rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   }
 
   /// Elastic energy of the current sub-contacts (J), summed in sub-contact order.
