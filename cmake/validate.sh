@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
 # Reruns the validation of tessera against the reference study (Pulatsu et al. 2020) and writes
 # its tables: the prism and the tie with the study's parameters verbatim and with the calibrated
-# contact strength (examples/calibrate), the calibration itself, and the tie's sensitivity
-# studies, each figure beside its reference and run time, stamped with the commit.
+# contact strength (examples/calibrate), the calibration itself, the tie's sensitivity studies,
+# the beam, and error against run time (benchmarks/work_precision_figures: prism and tie at
+# several steps and rates on five seeds), each figure beside its reference and run time, stamped
+# with the commit.
 #
 #   bash cmake/validate.sh [--quick] [--threads N] [--beam-seeds N] [--out DIR] [--resume]
 #
 #   --quick    the reduced scenes (100 blocks, one seed, the drivers' --quick): about 2 min; the
 #              tables go to DIR/validation.md only (the figures of reduced runs are not the
 #              validation)
-#   full       about 2 h (2367 s measured without the beam; the beam adds about 50 min with one
-#              seed: 250 and 500 blocks and the 250-block beam with elastic compression) on this
+#   full       about 2.5 h (2367 s measured without the beam and the work-precision runs; the
+#              beam adds about 50 min with one seed: 250 and 500 blocks and the 250-block beam
+#              with elastic compression; the work-precision runs about 20 min) on this
 #              project's 2-core machine (the progress line estimates the rest); the tables go to
 #              DIR/validation.md and replace the generated section of docs/validation.md (between
 #              its "validate.sh" markers)
@@ -23,7 +26,8 @@
 #   --resume   skip a run whose run.json says "complete" (after an interrupted validation)
 #
 # Builds the drivers with the portable `release` preset first (the reference build:
-# docs/performance.md "Reproducibility"). Exit status: non-zero if a build or a run fails; the
+# docs/performance.md "Reproducibility"), and work_precision_figures with `bench-portable` (the
+# same flags, with the benchmark directory). Exit status: non-zero if a build or a run fails; the
 # tables are written only when every run completed.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -53,7 +57,10 @@ done
 
 cmake --preset release > /dev/null
 cmake --build --preset release --target direct_tension rc_tie calibrate rc_tie_sensitivity rc_beam > /dev/null
+cmake --preset bench-portable > /dev/null
+cmake --build --preset bench-portable --target work_precision_figures > /dev/null
 bin="$root/build/release/examples"
+wp="$root/build/bench-portable/benchmarks/work_precision_figures"
 mkdir -p "$out"
 cal="$out/calibrate/calibrated.json"
 
@@ -71,6 +78,8 @@ if [[ $quick == 1 ]]; then
   add sensitivity 60 "$bin/rc_tie_sensitivity --quick"
   beam_list=(quick)
   add beam_quick 8 "$bin/rc_beam --quick --no-vtk"
+  add work_precision_prism 15 "$wp --scene prism --quick"
+  add work_precision_tie 20 "$wp --scene tie --quick"
 else
   blocks_list=(100 250 500)
   add prism_verbatim_100 25 "$bin/direct_tension --blocks 100 --seeds 3 --seed 1 --max-displacement 1.2e-4"
@@ -93,6 +102,8 @@ else
   done
   beam_list+=(250_elastic)
   add beam_250_elastic 800 "$bin/rc_beam --blocks 250 --seed 1 --compression elastic --no-vtk"
+  add work_precision_prism 500 "$wp --scene prism"
+  add work_precision_tie 460 "$wp --scene tie"
 fi
 
 total=0
@@ -196,6 +207,14 @@ report="$out/validation.md"
       echo "| $b | $(band $b first_crack_load_N 1e-3 '%.2f') kN | $(band $b initial_stiffness_N_per_m 1e-6 '%.1f') kN/mm | $(band $b yield_load_N 1e-3 '%.2f') kN | $(band $b peak_load_N 1e-3 '%.2f') kN | $(band $b flexural_cracks 1 '%.0f') | $(band $b mean_crack_spacing_m 1e3 '%.0f') mm | $(band $b runtime_s 1 '%.0f') s |"
     done
   fi
+  for scene in prism tie; do
+    echo
+    echo "**Error against run time, $scene** (\`work_precision_figures --scene $scene$([[ $quick == 1 ]] && echo ' --quick')\`; DESIGN.md §7):"
+    echo
+    cat "$out/work_precision_$scene/table.md"
+    echo
+    cat "$out/work_precision_$scene/figures.md"
+  done
   echo
   s="$out/sensitivity/summary.json"
   echo "**Sensitivity studies** (\`rc_tie_sensitivity$([[ $quick == 1 ]] && echo ' --quick')\`, $(get "$s" runs) runs, $(num "$(get "$s" runtime_s)" 1 '%.0f s')):"
