@@ -55,7 +55,7 @@ namespace scenes = tessera::scenes;
 struct inputs {
   tessera::cli::standard_options common;
   std::string blocks = "100,250,500";
-  int seeds = 3;
+  int seeds = 6;  // 3 left the 250-block prism at -6.4 % on unseen seeds, 6 at -2.3 % (docs/validation.md)
   bool energy = false;
   double tolerance = 0.01;         // on the mean peak, relative to f_T
   double energy_tolerance = 0.03;  // on the mean dissipation per section, relative to G_f
@@ -327,7 +327,9 @@ int main(int argc, char** argv) {
       "--quick: 100 blocks, 1 seed, 5 nm per step.");
   cli.add_standard(in.common);
   cli.option("--blocks", in.blocks, "comma-separated block counts, each 100, 250, 500 or 750", "LIST");
-  cli.option("--seeds", in.seeds, "seeds per block count (seed, seed+1, ...); the fit is on their mean", "K").within(1, 100);
+  cli.option("--seeds", in.seeds,
+             "seeds per block count (seed, seed+1, ...); the fit is on their mean (6 keeps unseen seeds within 5 % of f_T)",
+             "K").within(1, 100);
   cli.flag("--energy", in.energy, "also fit the contact fracture energy (runs to separation: slower)");
   cli.option("--tolerance", in.tolerance, "convergence on the mean peak, |P/f_T - 1|", "T").within(1e-4, 0.2);
   cli.option("--energy-tolerance", in.energy_tolerance, "convergence on the mean dissipation, |D/G_f - 1|", "T")
