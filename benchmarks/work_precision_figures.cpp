@@ -19,7 +19,8 @@
 // DIR/work_precision_figures.png (|error against converged| of every figure and the curve
 // distance against run time, log-log, with the seed band as a line), and DIR/run.json.
 //
-//   work_precision_figures --scene prism|tie [--seeds K] [--blocks N] [--seed S] [--threads N] [--out DIR] [--quick]
+//   work_precision_figures --scene prism|tie [--seeds K] [--blocks N] [--settings LIST] [--seed S] [--threads N]
+//                          [--out DIR] [--quick]
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -259,6 +260,28 @@ std::string value_text(real v, const figure& f) {
 
 namespace {
 
+/// Keeps the converged setting and those named in the comma-separated `list`; throws
+/// invalid_input naming an unknown name (before any run).
+void select_settings(scene_def& d, const std::string& list) {
+  std::vector<setting> kept{d.settings.front()};
+  std::size_t from = 0;
+  while (from <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', from), list.size());
+    const std::string name = list.substr(from, comma - from);
+    from = comma + 1;
+    if (name.empty() || name == d.settings.front().name) continue;
+    const auto it = std::find_if(d.settings.begin(), d.settings.end(), [&](const setting& s) { return s.name == name; });
+    if (it == d.settings.end()) {
+      std::string names;
+      for (const setting& s : d.settings) names += (names.empty() ? "" : ", ") + s.name;
+      throw tessera::invalid_input(tessera::detail::concat("--settings: '", name, "' is not a setting of this scene (",
+                                                           names, ")"));
+    }
+    kept.push_back(*it);
+  }
+  d.settings = std::move(kept);
+}
+
 /// The runs of every setting, and for each setting the reason it was refused (empty: it ran).
 struct all_runs {
   std::vector<std::vector<run_output>> runs;
@@ -456,14 +479,20 @@ int main(int argc, char** argv) {
   cli.option("--scene", scene, "scene").one_of({"prism", "tie"});
   cli.option("--seeds", seeds, "seeds per setting (seed, seed+1, ...)", "K").within(1, 100);
   cli.option("--blocks", blocks, "number of blocks", "N").one_of_numbers({100, 250, 500});
+  std::string only;
+  cli.option("--settings", only,
+             "comma-separated names of the settings to run besides the converged one (empty = all; the names are "
+             "printed in table.md)",
+             "LIST");
   cli.parse_or_exit(argc, argv);
   if (common.quick && !cli.given("--seeds")) seeds = 2;
   // run.json: "running" when the output directory is made, "complete" after the last table,
   // "interrupted" on SIGINT/SIGTERM (cmake/validate.sh --resume reads it).
   tessera::io::run_record record(common.out, "work_precision_figures", argc, argv);
   try {
-    const scene_def d = scene == "prism" ? prism_def(blocks, common.quick, common.threads)
-                                         : tie_def(blocks, common.quick, common.threads);
+    scene_def d = scene == "prism" ? prism_def(blocks, common.quick, common.threads)
+                                   : tie_def(blocks, common.quick, common.threads);
+    if (!only.empty()) select_settings(d, only);
     const fs::path out = common.out;
     tessera::io::ensure_directory(out);
     std::printf("%s: %zu settings x %d seeds\n", d.title.c_str(), d.settings.size(), seeds);
