@@ -11,14 +11,13 @@
 #   --quick    the reduced scenes (100 blocks, one seed, the drivers' --quick): about 2 min; the
 #              tables go to DIR/validation.md only (the figures of reduced runs are not the
 #              validation)
-#   full       about 2.5 h (2367 s measured without the beam and the work-precision runs; the
-#              beam adds about 50 min with one seed: 250 and 500 blocks and the 250-block beam
-#              with elastic compression; the work-precision runs about 20 min) on this
+#   full       about 1.5 h (5024 s measured at 23c75be with 2 threads: the beam's three runs
+#              42 min of it, the calibration 14 min, the work-precision runs 15 min) on this
 #              project's 2-core machine (the progress line estimates the rest); the tables go to
 #              DIR/validation.md and replace the generated section of docs/validation.md (between
 #              its "validate.sh" markers)
 #   --beam-seeds N  seeds 1..N of the 250- and 500-block beams (default 1; each further seed adds
-#              about 35 min); the beam table gives each seed and the band
+#              about 30 min); the beam table gives each seed and the band
 #   --threads  worker threads per run (default 0: the drivers' automatic choice, one per core that
 #              other processes leave idle; OpenMP threads that share a busy core slow a run by
 #              up to 100x, see docs/performance.md)
@@ -82,28 +81,28 @@ if [[ $quick == 1 ]]; then
   add work_precision_tie 20 "$wp --scene tie --quick"
 else
   blocks_list=(100 250 500)
-  add prism_verbatim_100 25 "$bin/direct_tension --blocks 100 --seeds 3 --seed 1 --max-displacement 1.2e-4"
-  add prism_verbatim_250 90 "$bin/direct_tension --blocks 250 --seeds 3 --seed 1 --max-displacement 1.2e-4"
-  add prism_verbatim_500 190 "$bin/direct_tension --blocks 500 --seeds 3 --seed 1 --max-displacement 1.2e-4"
-  add prism_separation 30 "$bin/direct_tension --blocks 100"
-  add tie_verbatim 20 "$bin/rc_tie --no-vtk"
-  add calibrate 780 "$bin/calibrate --blocks 100,250,500 --seeds 6"
-  add prism_calibrated_100 25 "$bin/direct_tension --blocks 100 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
-  add prism_calibrated_250 75 "$bin/direct_tension --blocks 250 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
-  add prism_calibrated_500 220 "$bin/direct_tension --blocks 500 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
-  add tie_calibrated 20 "$bin/rc_tie --no-vtk --params $cal"
-  add sensitivity 870 "$bin/rc_tie_sensitivity"
+  add prism_verbatim_100 15 "$bin/direct_tension --blocks 100 --seeds 3 --seed 1 --max-displacement 1.2e-4"
+  add prism_verbatim_250 50 "$bin/direct_tension --blocks 250 --seeds 3 --seed 1 --max-displacement 1.2e-4"
+  add prism_verbatim_500 110 "$bin/direct_tension --blocks 500 --seeds 3 --seed 1 --max-displacement 1.2e-4"
+  add prism_separation 20 "$bin/direct_tension --blocks 100"
+  add tie_verbatim 12 "$bin/rc_tie --no-vtk"
+  add calibrate 830 "$bin/calibrate --blocks 100,250,500 --seeds 6"
+  add prism_calibrated_100 13 "$bin/direct_tension --blocks 100 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
+  add prism_calibrated_250 40 "$bin/direct_tension --blocks 250 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
+  add prism_calibrated_500 95 "$bin/direct_tension --blocks 500 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
+  add tie_calibrated 12 "$bin/rc_tie --no-vtk --params $cal"
+  add sensitivity 440 "$bin/rc_tie_sensitivity"
   beam_list=()
   for b in 250 500; do
     for ((k = 1; k <= beam_seeds; ++k)); do
       beam_list+=("${b}_s$k")
-      add "beam_${b}_s$k" $([[ $b == 250 ]] && echo 800 || echo 1300) "$bin/rc_beam --blocks $b --seed $k --no-vtk"
+      add "beam_${b}_s$k" $([[ $b == 250 ]] && echo 730 || echo 1100) "$bin/rc_beam --blocks $b --seed $k --no-vtk"
     done
   done
   beam_list+=(250_elastic)
-  add beam_250_elastic 800 "$bin/rc_beam --blocks 250 --seed 1 --compression elastic --no-vtk"
-  add work_precision_prism 500 "$wp --scene prism"
-  add work_precision_tie 460 "$wp --scene tie"
+  add beam_250_elastic 700 "$bin/rc_beam --blocks 250 --seed 1 --compression elastic --no-vtk"
+  add work_precision_prism 440 "$wp --scene prism"
+  add work_precision_tie 440 "$wp --scene tie"
 fi
 
 total=0
