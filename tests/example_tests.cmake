@@ -346,8 +346,19 @@ tessera_add_example_test(verification NAME example_verification_reclose_quick
   FILES curve.csv
   CHECKS "pass STREQUAL ON" "error_rel LESS 0.02" "error_rel GREATER -0.02" "energy_error_rel LESS 1e-3"
   TIMEOUT 300)
+# bond: a bonded cube fails in shear and slides on its broken face (the hand-over of a bonded face
+# to detected contacts with its residual state); failure force and acceleration within 1 %.
+tessera_add_example_test(verification NAME example_verification_bond_quick
+  ARGS --quick --threads 1 --case bond --angle-deg 40 --friction-deg 30
+  FILES curve.csv blocks_final.vtu
+  CHECKS "pass STREQUAL ON" "error_rel LESS 0.01" "error_rel GREATER -0.01" "acceleration_error LESS 0.01"
+         "acceleration_error GREATER -0.01" "bonded_at_start EQUAL 4" "kept_last_rebuild EQUAL 4")
 tessera_add_refusal_test(refuse_verification_case verification
   "--case: invalid value 'slide'" --threads 1 --case slide)
+tessera_add_refusal_test(refuse_verification_cohesion verification
+  "--cohesion" --threads 1 --case bond --cohesion -5)
+tessera_add_refusal_test(refuse_verification_bond_tilt verification
+  "never breaks the bond" --threads 1 --case bond --angle-deg 10)
 tessera_add_refusal_test(refuse_verification_angle verification
   "--angle-deg" --threads 1 --case incline --angle-deg 95)
 # The rubble scene, 100 blocks for 0.1 s: the cube lands on the floor (its top comes down), contacts

@@ -136,6 +136,41 @@ TEST_CASE("a virgin contact loads elastically to exactly f_T at u_n = eta", "[la
   CHECK(linear_tie_law::tensile_damage(c.p, c.s) > 0);
 }
 
+TEST_CASE("scale_stresses keeps the force of an elastic contact whose area grows, not of a softening one",
+          "[laws][tension]") {
+  // detected_contacts (params::bond_faces) scales a bonded corner's stresses by r = A_old / A_new
+  // when a rebuild grows its tributary area: on the elastic branches the opening follows.
+  contact_driver<linear_tie_law> c(linear_tie_params());
+  const real eta = eta_of(c.p);
+  SECTION("intact in tension: sigma_n and the opening scale by r, still on the elastic line") {
+    c.open_to(0.5 * eta, 10);
+    c.slide_by(vec3(1e-7, 0, 0), 10);
+    const real sigma = c.s.sigma_n, tau = c.s.tau.norm(), stored = c.stored();
+    linear_tie_law::scale_stresses(c.p, c.s, 0.5);
+    CHECK(c.s.sigma_n == Approx(0.5 * sigma).epsilon(1e-14));
+    CHECK(c.s.tau.norm() == Approx(0.5 * tau).epsilon(1e-14));
+    CHECK(c.s.u_n == Approx(c.s.u_p + c.s.sigma_n / c.p.k_n).epsilon(1e-14));
+    CHECK(c.stored() == Approx(0.25 * stored).epsilon(1e-12));  // energy per area by r^2
+    c.step(0);  // a zero increment keeps the scaled stress: the state is consistent
+    CHECK(c.s.sigma_n == Approx(0.5 * sigma).epsilon(1e-12));
+  }
+  SECTION("softening: the tension stays on the envelope") {
+    c.open_to(2 * eta, 50);
+    REQUIRE(has(linear_tie_law::status(c.s), contact_status::softening));
+    const real sigma = c.s.sigma_n, u_n = c.s.u_n;
+    linear_tie_law::scale_stresses(c.p, c.s, 0.5);
+    CHECK(c.s.sigma_n == sigma);
+    CHECK(c.s.u_n == u_n);
+  }
+  SECTION("compression: sigma_n and the closure scale by r") {
+    c.open_to(-eta, 10);
+    const real sigma = c.s.sigma_n;
+    linear_tie_law::scale_stresses(c.p, c.s, 0.25);
+    CHECK(c.s.sigma_n == Approx(0.25 * sigma).epsilon(1e-14));
+    CHECK(c.s.u_n == Approx(c.s.u_p + c.s.sigma_n / c.p.k_n).epsilon(1e-14));
+  }
+}
+
 TEST_CASE("monotonic opening follows the softening envelope f_t(u_n) of study eq. 5", "[laws][tension]") {
   SECTION("linear: f_T/2 midway between eta and zeta, u_p = u_n - sigma/k_n") {
     contact_driver<linear_tie_law> c(linear_tie_params());

@@ -552,6 +552,31 @@ TEST_CASE("detected contacts: a dropped block comes to rest with overlap W / (k_
   CHECK(r.energy_error_rel < 1e-6);
 }
 
+TEST_CASE("detected contacts: a bonded face fails in shear, then slides on with its residual state",
+          "[rigid][detected][verification]") {
+  // The bond case: a cube bonded (bond_faces) on a base, tilted to 40 deg. Reference: the bond
+  // (shear strength c_0, no friction) fails at c_0 b^2; the broken face (friction 30 deg, no
+  // cohesion) is then an incline, a = g (sin 40 - cos 40 tan 30), through hundreds of rebuilds.
+  verification::inputs in = verification_case("bond");
+  in.angle_deg = 40;
+  in.friction_deg = 30;
+  const auto r = verification::run(in);
+  INFO("failure at " << r.measured << " N, reference " << r.reference << " N; then a = " << r.acceleration
+                     << " m/s^2 against " << r.acceleration_reference << "; " << r.rebuilds << " rebuilds, slid "
+                     << r.slide_m << " m");
+  CHECK(r.bonded_at_start == 4);  // the four corners of the cube's bottom face
+  CHECK(std::abs(r.error_rel) < 0.01);
+  CHECK(std::abs(r.acceleration_error) < 0.01);
+  CHECK(r.acceleration_reference == Approx(1.96702).epsilon(1e-5));
+  CHECK(r.rebuilds > 50);
+  CHECK(r.kept_last_rebuild == 4);  // the broken corners keep their state to the end
+  CHECK(r.energy_error_rel < 1e-3);
+  CHECK(r.pass);
+  // A tilt that cannot break the bond is refused (c_0 b^2 = 750 N against a weight of 2 943 N).
+  in.angle_deg = 10;
+  CHECK_THROWS_AS(verification::run(in), invalid_input);
+}
+
 namespace {
 /// 30 Voronoi blocks of a 0.3 m cube, each shrunk 2 % about its centroid so they start apart.
 geometry::tessellation separated_voronoi_cube() {
@@ -589,6 +614,7 @@ TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters 
   in.k_n = 1e8;
   const auto run = [&](int threads) {
     auto s = falling_blocks(tess, mesh, threads);
+    CHECK(s.contacts().bonded_at_start() == 0);  // bond_faces is off by default
     s.run(400);
     const tessera::index initial = s.contacts().subcontact_count();
     s.run(3600);

@@ -12,6 +12,11 @@
 //   drop     a cube dropped on the base comes to rest with overlap W / (k_n A)
 //   reclose  the study's prism cracked in tension, pushed back and pulled again (reclose.hpp):
 //            compression at the intact stiffness within 2 %, no tension regained
+//   bond     a cube bonded to the base (detected contacts with bond_faces: the face starts
+//            intact, shear strength c_0), tilted: the bond fails at a shear force of c_0 A, and
+//            the broken face, carried through every rebuild with its state, is a frictional
+//            incline from then on (a = g (sin theta - cos theta tan phi), no cohesion regained);
+//            both within 1 %
 // The block rests on the level base at its static overlap from the start, and the incline is
 // tilted to theta over the first ramp_s (0.1 s, half-cosine), as on a tilting table: a sudden
 // tilt would start the undamped block rocking on its friction moment (e.g. theta 40, phi 30 deg),
@@ -50,6 +55,7 @@ struct inputs {
   real k_n = 1e11;          ///< joint normal stiffness (Pa/m); k_s = k_n
   real density = 2400;      ///< kg/m^3
   real tolerance = 1e-3;    ///< contact tolerance (m)
+  real cohesion = 3000;     ///< bond: cohesion c_0 of the bonded face (Pa); broken: friction alone
   bool quick = false;       ///< shorter runs (tests)
 };
 
@@ -68,6 +74,13 @@ struct result {
   // reclose: the path (top displacement m, axial stress Pa) and its figures (Pa)
   std::vector<double> u, stress;
   real peak = 0, stress_at_reversal = 0, max_stress_after_closure = 0;
+  // bond: the shear force on the cube along the curve (N); the acceleration after the failure
+  // (m/s^2) against the incline's, its error (relative to the reference, or to g when the block
+  // should stick); the slide (m); the sub-contacts that started bonded and those that kept their
+  // state at the last rebuild. peak: the shear force at failure; stress_at_reversal: the tilt then (rad)
+  std::vector<double> force;
+  real acceleration = 0, acceleration_reference = 0, acceleration_error = 0, slide_m = 0;
+  index bonded_at_start = 0, kept_last_rebuild = 0;
   geometry::tessellation final_blocks;    ///< block geometry at the end (for VTK)
 };
 
@@ -100,8 +113,10 @@ inline void validate(const inputs& in) {
     require(std::isfinite(v) && v > 0, "verification: ", what, " = ", v, " must be finite and > 0");
   };
   require(in.which == "incline" || in.which == "topple" || in.which == "stack" || in.which == "drop" ||
-              in.which == "reclose",
-          "verification: unknown case '", in.which, "' (incline, topple, stack, drop, reclose)");
+              in.which == "reclose" || in.which == "bond",
+          "verification: unknown case '", in.which, "' (incline, topple, stack, drop, reclose, bond)");
+  require(std::isfinite(in.cohesion) && in.cohesion > 0 && in.cohesion <= 1e8, "verification: --cohesion = ",
+          in.cohesion, " Pa must lie in (0, 1e8]");
   require(std::isfinite(in.angle_deg) && in.angle_deg >= 0 && in.angle_deg < 90, "verification: --angle-deg = ",
           in.angle_deg, " must lie in [0, 90)");
   require(std::isfinite(in.friction_deg) && in.friction_deg >= 0 && in.friction_deg < 90,
@@ -122,6 +137,13 @@ inline void validate(const inputs& in) {
           " s must lie in (0, 100]");
   require(std::isfinite(in.drop_height) && in.drop_height >= 0 && in.drop_height <= in.size,
           "verification: --drop-height = ", in.drop_height, " m must lie in [0, block size]");
+  if (in.which == "bond") {
+    const real weight = in.density * in.size * in.size * in.size * g, failure_force = in.cohesion * in.size * in.size;
+    require(weight * std::sin(in.angle_deg * std::numbers::pi / 180) > 1.05 * failure_force,
+            "verification: --angle-deg = ", in.angle_deg, " never breaks the bond: it fails at a tilt of ",
+            std::asin(std::min<real>(1, failure_force / weight)) * 180 / std::numbers::pi, " deg (c_0 b^2 = ",
+            failure_force, " N against a weight of ", weight, " N); tilt further (5 % margin) or lower --cohesion");
+  }
 }
 
 namespace detail {
@@ -208,6 +230,104 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
   return a.colPivHouseholderQr().solve(y)(2);
 }
 
+/// The bond case (file comment): a cube of edge b bonded (bond_faces) on a long fixed base; the
+/// bond's shear strength is its cohesion c_0 alone (phi_0 = 0), the broken face's is friction
+/// alone (c_res = 0, phi_res = --friction-deg). Gravity turns linearly to theta = --angle-deg over
+/// the first quarter of the run and stays; undamped. The bond fails when the shear force reaches
+/// c_0 b^2 (tilt theta* = asin(c_0 b^2 / W)); from then on the cube is a block on an incline
+/// (sticks while theta <= phi, else slides with a = g (sin theta - cos theta tan phi)), with its
+/// four broken corners carried through every rebuild.
+inline result run_bond(const inputs& in) {
+  using law_type = law::cohesive_frictional<law::linear_softening, law::elastic_compression, law::coulomb_residual>;
+  using bonded = contact::detected_contacts<law_type>;
+  const real b = in.size, c0 = in.cohesion;
+  const real theta = in.angle_deg * std::numbers::pi / 180, phi = in.friction_deg * std::numbers::pi / 180;
+  const real weight = in.density * b * b * b * g;
+  const real failure_force = c0 * b * b;
+  const real duration = in.duration > 0 ? in.duration : in.quick ? 0.4 : 1.0, ramp = duration / 4;
+  const real half_length = 0.5 * g * duration * duration + 2 * b;
+  const real overlap = weight / (in.k_n * b * b);  // static on the level base, as for the incline
+  const std::vector<geometry::convex_polyhedron> cells{
+      geometry::convex_polyhedron::box({-half_length, -b, -0.5 * b}, {half_length, b, 0}),
+      geometry::convex_polyhedron::box({-b / 2, -b / 2, -overlap}, {b / 2, b / 2, b - overlap})};
+  const geometry::tessellation tess = geometry::separate_blocks(cells);
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  law_type::params p;
+  p.k_n = in.k_n;
+  p.k_s = in.k_n;
+  p.tension.f_T = c0;
+  p.tension.G_f = c0 * b * 1e-3;  // the face stays compressed: never reached
+  p.shear.c_0 = c0;
+  p.shear.c_res = 0;
+  p.shear.phi_0 = law::friction_angle::from_degrees(0);
+  p.shear.phi_res = law::friction_angle::from_degrees(in.friction_deg);
+  solver<blocks::rigid, bonded, reinforcement::none, undamped> s(tess, mesh, blocks::rigid::params{in.density},
+                                                                 bonded::params(p, in.tolerance, 1000, true));
+  s.fix(s.gridpoints_on_plane(2, -0.5 * b, 1e-9 * b));
+  const real step_count = std::ceil(duration / s.dt());
+  require(step_count <= 2e8, "verification: ", duration, " s at the stable step ", s.dt(), " s would take ", step_count,
+          " steps (over 2e8): shorten --duration or lower --kn");
+  const auto steps = static_cast<index>(step_count);
+  result r;
+  r.which = in.which;
+  r.dt = s.dt();
+  r.bonded_at_start = s.contacts().bonded_at_start();
+  // The contact force on the cube along the slope (x; the scene stays level, gravity turns).
+  const auto shear_force = [&] {
+    real f = 0;
+    for (index i = 0; i < s.contacts().subcontact_count(); ++i) f += s.contacts().force(i).x();
+    return -f;
+  };
+  const auto failed = [&] {
+    for (index i = 0; i < s.contacts().subcontact_count(); ++i)
+      if (s.contacts().state(i).flags != law::contact_status::intact) return true;
+    return false;
+  };
+  const index every = std::max<index>(1, steps / 2000);
+  bool broken = false;
+  real force_before = 0;
+  for (index k = 1; k <= steps; ++k) {
+    const real tilt = theta * std::min<real>(1, s.time() / ramp);
+    s.set_gravity(vec3(g * std::sin(tilt), 0, -g * std::cos(tilt)));
+    s.step();
+    if (!broken && failed()) {
+      broken = true;
+      r.peak = force_before;  // the last shear force the intact bond carried
+      r.stress_at_reversal = tilt;
+    }
+    force_before = shear_force();
+    if (k % every == 0 || k == steps) {
+      r.t.push_back(s.time());
+      r.x.push_back(s.blocks().displacement(1).x());
+      r.z.push_back(s.blocks().displacement(1).z());
+      const mat3 rot = s.blocks().rotation(1);
+      r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));
+      r.force.push_back(force_before);
+    }
+  }
+  r.steps = steps;
+  r.slide_m = s.blocks().displacement(1).x();
+  r.quantity = "shear force at which the bond failed";
+  r.unit = "N";
+  r.measured = r.peak;
+  r.reference = failure_force;
+  r.error_rel = r.peak / failure_force - 1;
+  r.tolerance = 0.01;
+  // After the failure: the block on an incline with the broken face's friction.
+  r.acceleration = fitted_acceleration(r);
+  r.acceleration_reference = theta > phi ? g * (std::sin(theta) - std::cos(theta) * std::tan(phi)) : 0;
+  r.acceleration_error = (r.acceleration - r.acceleration_reference) / (theta > phi ? r.acceleration_reference : g);
+  r.pass = broken && std::abs(r.error_rel) <= r.tolerance && std::abs(r.acceleration_error) <= r.tolerance;
+  r.rebuilds = s.contacts().rebuild_count();
+  r.growths = s.contacts().growth_count();
+  r.subcontacts = s.contacts().subcontact_count();
+  r.kept_last_rebuild = s.contacts().kept_last_rebuild();
+  r.energy_error_rel = s.energies().error_rel();
+  r.final_blocks = moved(tess, mesh, s.gridpoints());
+  return r;
+}
+
+
 }  // namespace detail
 
 /// Runs one case (validate(in) first).
@@ -235,6 +355,7 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
     r.energy_error_rel = c.energy_error_rel;
     return r;
   }
+  if (in.which == "bond") return detail::run_bond(in);
   const real theta = in.angle_deg * std::numbers::pi / 180, phi = in.friction_deg * std::numbers::pi / 180;
   const real s = in.size;
   const auto base = [&](real half_length) {

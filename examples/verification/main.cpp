@@ -1,12 +1,16 @@
 // verification: the contact-detection verification problems (examples/verification/cases.hpp):
 // a block on an incline that sticks or slides, a block that topples or not, a settling stack and
-// a dropped block, each against its closed-form answer; and a cracked prism that recloses.
+// a dropped block, each against its closed-form answer; a cracked prism that recloses; and a
+// bonded cube that fails in shear and slides on its broken face.
 //
 // Outputs in --out (default results/verification):
 //   summary.json  case, inputs, measured, reference, error_rel, tolerance, pass, mode (topple),
 //                 drift_m (stack), peak_Pa / stress_at_reversal_Pa / max_stress_after_closure_Pa
-//                 (reclose), energy_error_rel, steps, rebuilds, subcontacts, runtime_s
-//   curve.csv     t_s, x_m, z_m, tilt_rad of the moving (top) block; reclose: u_m, stress_Pa
+//                 (reclose), failure_tilt_deg / acceleration / acceleration_reference /
+//                 acceleration_error / slide_m / bonded_at_start / kept_last_rebuild (bond),
+//                 energy_error_rel, steps, rebuilds, subcontacts, runtime_s
+//   curve.csv     t_s, x_m, z_m, tilt_rad of the moving (top) block; reclose: u_m, stress_Pa;
+//                 bond: t_s, x_m, force_N (the shear force on the cube)
 //   blocks_final.vtu   the blocks at the end (ParaView; not for reclose)
 // Exit status 0 when the case ran (pass or not: the summary says), 1 on an error, 2 on bad flags.
 
@@ -42,6 +46,9 @@ int run(const inputs& in) {
 
   if (r.which == "reclose") {
     io::write_csv(out / "curve.csv", {"u_m", "stress_Pa"}, {r.u, r.stress});
+  } else if (r.which == "bond") {
+    io::write_csv(out / "curve.csv", {"t_s", "x_m", "force_N"}, {r.t, r.x, r.force});
+    io::vtk::write_blocks_vtu(out / "blocks_final.vtu", r.final_blocks);
   } else {
     io::write_csv(out / "curve.csv", {"t_s", "x_m", "z_m", "tilt_rad"}, {r.t, r.x, r.z, r.rotation});
     io::vtk::write_blocks_vtu(out / "blocks_final.vtu", r.final_blocks);
@@ -68,6 +75,15 @@ int run(const inputs& in) {
       .set("pass", r.pass);
   if (r.which == "topple") s.set("mode", r.mode).set("expected_mode", r.expected_mode);
   if (r.which == "stack") s.set("drift_m", r.drift_m);
+  if (r.which == "bond")
+    s.set("cohesion_Pa", in.scene.cohesion)
+        .set("failure_tilt_deg", r.stress_at_reversal * 180 / 3.14159265358979323846)
+        .set("acceleration", r.acceleration)
+        .set("acceleration_reference", r.acceleration_reference)
+        .set("acceleration_error", r.acceleration_error)
+        .set("slide_m", r.slide_m)
+        .set("bonded_at_start", static_cast<std::int64_t>(r.bonded_at_start))
+        .set("kept_last_rebuild", static_cast<std::int64_t>(r.kept_last_rebuild));
   if (r.which == "reclose")
     s.set("peak_Pa", r.peak)
         .set("stress_at_reversal_Pa", r.stress_at_reversal)
@@ -85,6 +101,12 @@ int run(const inputs& in) {
               r.pass ? "pass" : "FAIL");
   if (r.which == "topple") std::printf("  mode %s, expected %s\n", r.mode.c_str(), r.expected_mode.c_str());
   if (r.which == "stack") std::printf("  drift of the top block over the second half %.3g m\n", r.drift_m);
+  if (r.which == "bond")
+    std::printf("  %lld sub-contacts started bonded, failed at a tilt of %.4g deg; then a = %.6g m/s^2 against %.6g "
+                "(error %.3g), slid %.4g m; %lld kept their state at the last rebuild\n",
+                static_cast<long long>(r.bonded_at_start), r.stress_at_reversal * 180 / 3.14159265358979323846,
+                r.acceleration, r.acceleration_reference, r.acceleration_error, r.slide_m,
+                static_cast<long long>(r.kept_last_rebuild));
   if (r.which == "reclose")
     std::printf("  peak %.4g MPa; the push began at %.4g MPa, the re-pull reached %.4g MPa (no tension regained)\n",
                 r.peak * 1e-6, r.stress_at_reversal * 1e-6, r.max_stress_after_closure * 1e-6);
@@ -114,9 +136,12 @@ int main(int argc, char** argv) {
                            "  drop     a cube dropped --drop-height on a base: overlap at rest = W/(k_n A) within 1 %\n"
                            "  reclose  the study's 100-block prism cracked in tension, pushed back into compression\n"
                            "           and pulled again: compression at the intact stiffness within 2 %, no tension\n"
-                           "           regained (the crack closes on its own faces; the other flags do not apply)");
+                           "           regained (the crack closes on its own faces; the other flags do not apply)\n"
+                           "  bond     a cube bonded to the base (shear strength --cohesion c_0), tilted to --angle-deg:\n"
+                           "           the bond fails at c_0 A within 1 %, then the broken face is an incline with\n"
+                           "           --friction-deg (no cohesion regained): a within 1 % (or sticks)");
   cli.add_standard(in.common);
-  cli.option("--case", in.scene.which, "verification problem", "NAME").one_of({"incline", "topple", "stack", "drop", "reclose"});
+  cli.option("--case", in.scene.which, "verification problem", "NAME").one_of({"incline", "topple", "stack", "drop", "reclose", "bond"});
   cli.option("--angle-deg", in.scene.angle_deg, "incline angle theta (deg)", "DEG").within(0, 89.9);
   cli.option("--friction-deg", in.scene.friction_deg, "joint friction angle phi (deg)", "DEG").within(0, 89.9);
   cli.option("--aspect", in.scene.aspect, "topple: block width / height b/h", "R").greater_than(0).at_most(20);
@@ -129,8 +154,17 @@ int main(int argc, char** argv) {
   cli.option("--drop-height", in.scene.drop_height, "drop: initial gap under the cube (m)", "M").at_least(0);
   cli.option("--kn", in.scene.k_n, "joint normal stiffness k_n = k_s (Pa/m)", "K").greater_than(0).at_most(1e14);
   cli.option("--tolerance", in.scene.tolerance, "contact tolerance (m)", "M").greater_than(0);
+  cli.option("--cohesion", in.scene.cohesion, "bond: cohesion c_0 of the bonded face (Pa)", "PA")
+      .greater_than(0)
+      .at_most(1e8);
   cli.parse_or_exit(argc, argv);
   in.scene.quick = in.common.quick;
+  try {
+    ver::validate(in.scene);  // before run.json or anything else is written
+  } catch (const std::exception& e) {
+    tessera::cli::print_error("verification", e);
+    return 1;
+  }
   tessera::io::run_record record(in.common.out, "verification", argc, argv);
   try {
     const int status = run(in);

@@ -28,6 +28,13 @@
 // nominal area min over the two blocks of S / (3 V) (S the block's surface area, V its vertex
 // count: a third of a vertex's share of the surface, a quarter of a face for a cube).
 //
+// Bonded faces (params::bond_faces): at construction the corners of a face-to-face patch whose
+// faces coincide, between a material pair the table declares bonded, start intact (state_type{})
+// instead: the faces a tessellation's blocks start on are bonded, and a bonded face that breaks
+// keeps its residual state through the rebuilds for as long as its corners persist (the
+// hand-over of a broken face to detected contacts: its crack can slide onto new neighbours,
+// close and reopen). scale_stresses keeps a grown corner's force in tension too until it softens.
+//
 // Kinematics between rebuilds. A sub-contact is a material point p fixed in each block: its
 // affine coordinates w (sum 1) in a frame of four vertex gridpoints of the block, so x(p) =
 // sum_k w_k x_k and v(p) = sum_k w_k v_k exactly for a rigid motion (the secant gridpoint
@@ -109,19 +116,31 @@ class detected_contacts {
 
   /// What the constructor takes.
   struct params {
-    /// Law parameters per pair of block materials; every detected sub-contact starts unbonded
-    /// (Law::unbonded_state: no tension, no cohesion, residual friction).
+    /// Law parameters per pair of block materials. A detected sub-contact starts unbonded
+    /// (Law::unbonded_state: no tension, no cohesion, residual friction) unless bond_faces says
+    /// otherwise.
     material_table<params_type> law{};
     /// Contact tolerance (m, > 0): pairs whose gap is at most this touch, and vertices within it
     /// of a block's supporting plane form the patch. Typically 1e-3 to 1e-2 of a block's size.
     real tolerance = 0;
     /// A rebuild at least every this many steps (>= 1), besides the motion trigger.
     index max_rebuild_interval = 1000;
+    /// true: at construction, the corners of every face-to-face patch whose faces coincide (each
+    /// corner's |gap| <= bond_gap_fraction x tolerance) between a material pair the table
+    /// declares bonded start intact (state_type{}: the law's tensile strength and cohesion), as
+    /// face_contacts bonds a tessellation's faces. Such a bonded face, once broken, keeps its
+    /// residual state through every rebuild, so the crack can open, slide onto new neighbours,
+    /// close and reopen. Corners born later start unbonded. false: every corner starts unbonded.
+    bool bond_faces = false;
 
     params() = default;
-    params(material_table<params_type> table, real tol, index interval = 1000)
-        : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval) {}
+    params(material_table<params_type> table, real tol, index interval = 1000, bool bond = false)
+        : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval), bond_faces(bond) {}
   };
+  /// A corner found at construction is bonded (params::bond_faces) when its gap is within this
+  /// fraction of the tolerance: the two faces coincide, as the faces of a tessellation split into
+  /// separate blocks do (geometry::separate_blocks), up to round-off.
+  static constexpr real bond_gap_fraction = 1e-3;
 
   detected_contacts() = default;
 
@@ -264,6 +283,8 @@ class detected_contacts {
   /// Sub-contacts of the last rebuild that kept the state of an earlier one.
   [[nodiscard]] index kept_last_rebuild() const { return kept_last_; }
   [[nodiscard]] real tolerance() const { return options_.tolerance; }
+  /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
+  [[nodiscard]] index bonded_at_start() const { return bonded_at_start_; }
 
   /// Energies of the current sub-contacts plus what those that ended at rebuilds dissipated (J),
   /// and the rebuild exchange: the change of the springs' elastic energy at each rebuild after
@@ -578,7 +599,13 @@ class detected_contacts {
           kept_old_[old] = 1;
           ++kept_last_;
         } else {
-          state_type s = Law::unbonded_state(p);
+          // params::bond_faces: at construction, the coinciding faces of a bonded material pair.
+          const bool bonded = gp == nullptr && options_.bond_faces &&
+                              result_.type[k] == detection::patch_type::polygon &&
+                              table_.get(material_[at(a)], material_[at(b)]).bonded &&
+                              std::abs(result_.gap[new_corner_[i]]) <= bond_gap_fraction * options_.tolerance;
+          state_type s = bonded ? state_type{} : Law::unbonded_state(p);
+          if (bonded) ++bonded_at_start_;
           // At construction a corner takes its gap (a scene may start in contact, e.g. at its
           // static overlap: that energy is the run's initial energy). Later a corner that is
           // born overlapped (a new crossing of two edges inside a loaded patch) starts at zero
@@ -862,7 +889,7 @@ class detected_contacts {
   std::vector<std::uint8_t> new_fresh_, kept_old_;
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
-  index rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0;
+  index rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0;
   double rebuild_seconds_ = 0;
 };
 

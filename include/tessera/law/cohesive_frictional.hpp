@@ -156,12 +156,16 @@ struct cohesive_frictional {
   }
 
   /// Scales the stresses by r in (0, 1]: contact::detected_contacts keeps a sub-contact's force
-  /// when a rebuild grows its tributary area by 1/r. tau times r; in compression sigma_n times r
-  /// and the closure with it (sigma_n = k_n (u_n - u_p) below the cap); in tension unchanged
-  /// (detected sub-contacts carry none). The stored energy per area drops by r^2 or stays.
+  /// when a rebuild grows its tributary area by 1/r. tau times r; in compression, and in tension
+  /// while the contact has not started to soften (a bonded face, detected_contacts'
+  /// params::bond_faces), sigma_n times r and the opening with it (sigma_n = k_n (u_n - u_p) on
+  /// those branches); a softening contact keeps its tension, which lies on its envelope. The
+  /// stored energy per area drops by r^2, or stays for a softening contact.
   static void scale_stresses(const params& p, state& s, real r) noexcept {
     s.tau *= r;
-    if (s.sigma_n < 0) {
+    const bool elastic_tension = s.sigma_n > 0 && !has(s.flags, contact_status::softening) &&
+                                 !has(s.flags, contact_status::broken_tension);
+    if (s.sigma_n < 0 || elastic_tension) {
       s.sigma_n *= r;
       s.u_n = s.u_p + s.sigma_n / p.k_n;
     }
