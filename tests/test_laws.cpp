@@ -426,6 +426,31 @@ TEST_CASE("Coulomb shear with brittle failure onto the residual limit", "[laws][
   }
 }
 
+TEST_CASE("a first slip onto a residual limit above the trial keeps the stress: no energy created",
+          "[laws][shear][energy]") {
+  // A bond whose shear strength is cohesion alone (phi_0 = 0) and a frictional crack (c_res = 0,
+  // phi_res = 30 deg): under compression the residual limit sigma_c tan 30 exceeds c_0, so at the
+  // first slip the stress must stay where the trial put it (it was scaled up to the residual
+  // limit before, booking negative dissipation: examples/verification --case bond from gap 0).
+  linear_tie_law::params p = linear_tie_params();
+  p.shear.c_0 = 3e3;
+  p.shear.c_res = 0;
+  p.shear.phi_0 = friction_angle::from_degrees(0);
+  p.shear.phi_res = friction_angle::from_degrees(30);
+  contact_driver<linear_tie_law> c(p);
+  const real sigma_c = 2e4;  // residual limit 11.5 kPa > c_0
+  c.open_by(-sigma_c / p.k_n, 10);
+  c.slide_by(e_x * (1.01 * p.shear.c_0 / p.k_s), 20);
+  CHECK(has(linear_tie_law::status(c.s), contact_status::slipped));
+  CHECK(c.s.tau.x() <= 1.01 * p.shear.c_0 * (1 + 1e-12));  // not raised to sigma_c tan 30
+  CHECK(c.dissipated() >= -1e-12);
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-9));
+  // Sliding on, it reaches and follows the residual limit.
+  c.slide_by(e_x * (2 * sigma_c / p.k_s), 200);
+  CHECK(c.s.tau.x() == Approx(sigma_c * std::tan(std::numbers::pi / 6)).epsilon(1e-9));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-9));
+}
+
 TEST_CASE("plastic_cap limits compression to -f_c with the plastic work as dissipation", "[laws][compression]") {
   contact_driver<study_beam_law> c(beam_params());
   const real k_n = c.p.k_n, f_c = c.p.compression.f_c, f_T = c.p.tension.f_T, G_f = c.p.tension.G_f;

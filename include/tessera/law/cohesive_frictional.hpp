@@ -332,7 +332,10 @@ struct cohesive_frictional {
     }
     const M limited = open | (beyond & slipped);
     if (lanes::any(limited)) [[unlikely]] {
-      const T scale = tau_max / lanes::sqrt(trial_sq);
+      // Never above 1: at a first slip the residual limit can exceed the trial (phi_res > phi_0
+      // under compression), and scaling the stress up would create energy; the stress then stays.
+      const T ratio = tau_max / lanes::sqrt(trial_sq);
+      const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
       c0 = lanes::select(open, T{}, lanes::select(beyond, c0 * scale, c0));
       c1 = lanes::select(open, T{}, lanes::select(beyond, c1 * scale, c1));
       c2 = lanes::select(open, T{}, lanes::select(beyond, c2 * scale, c2));
