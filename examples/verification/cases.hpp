@@ -107,6 +107,10 @@ constexpr real ramp_s = 0.1;  ///< incline and topple: time over which the tilt 
   return t;
 }
 
+/// bond: the cube's weight W = rho b^3 g and the bond's failure force c_0 b^2 (N).
+[[nodiscard]] inline real bond_weight(const inputs& in) { return in.density * in.size * in.size * in.size * g; }
+[[nodiscard]] inline real bond_failure_force(const inputs& in) { return in.cohesion * in.size * in.size; }
+
 /// Checks the inputs; throws invalid_input naming the value.
 inline void validate(const inputs& in) {
   const auto positive = [](real v, const char* what) {
@@ -138,7 +142,7 @@ inline void validate(const inputs& in) {
   require(std::isfinite(in.drop_height) && in.drop_height >= 0 && in.drop_height <= in.size,
           "verification: --drop-height = ", in.drop_height, " m must lie in [0, block size]");
   if (in.which == "bond") {
-    const real weight = in.density * in.size * in.size * in.size * g, failure_force = in.cohesion * in.size * in.size;
+    const real weight = bond_weight(in), failure_force = bond_failure_force(in);
     require(weight * std::sin(in.angle_deg * std::numbers::pi / 180) > 1.05 * failure_force,
             "verification: --angle-deg = ", in.angle_deg, " never breaks the bond: it fails at a tilt of ",
             std::asin(std::min<real>(1, failure_force / weight)) * 180 / std::numbers::pi, " deg (c_0 b^2 = ",
@@ -160,6 +164,33 @@ inline result run_scene(const inputs& in, const std::vector<geometry::convex_pol
   return gamma > 0 ? run_scene<damped>(in, cells, gravity, gamma, duration)
                    : run_scene<undamped>(in, cells, gravity, gamma, duration);
 }
+/// Steps for `duration` s at the stable step dt; throws invalid_input past 2e8 (hours of run time).
+inline index step_count(real duration, real dt) {
+  const real n = std::ceil(duration / dt);
+  require(n <= 2e8, "verification: ", duration, " s at the stable step ", dt, " s would take ", n,
+          " steps (over 2e8, hours of run time): shorten --duration or lower --kn");
+  return static_cast<index>(n);
+}
+/// Appends one curve sample of block b: time, x and z displacement, tilt about y (down the slope: +).
+template <class Solver>
+void record_motion(result& r, const Solver& s, index b) {
+  const mat3 rot = s.blocks().rotation(b);
+  r.t.push_back(s.time());
+  r.x.push_back(s.blocks().displacement(b).x());
+  r.z.push_back(s.blocks().displacement(b).z());
+  r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));
+}
+/// The run's closing figures: step and contact statistics, energy balance, final geometry.
+template <class Solver>
+void record_end(result& r, const Solver& s, index steps, const geometry::tessellation& tess,
+                const geometry::block_mesh& mesh) {
+  r.steps = steps;
+  r.rebuilds = s.contacts().rebuild_count();
+  r.growths = s.contacts().growth_count();
+  r.subcontacts = s.contacts().subcontact_count();
+  r.energy_error_rel = s.energies().error_rel();
+  r.final_blocks = moved(tess, mesh, s.gridpoints());
+}
 template <class Integrator>
 result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron>& cells, const gravity_field& gravity,
                  real gamma, real duration) {
@@ -175,31 +206,17 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
   r.which = in.which;
   r.dt = s.dt();
   const index top = s.blocks().block_count() - 1;
-  const real step_count = std::ceil(duration / s.dt());
-  require(step_count <= 2e8, "verification: ", duration, " s at the stable step ", s.dt(), " s would take ", step_count,
-          " steps (over 2e8, hours of run time): shorten --duration or lower --kn");
-  const auto steps = static_cast<index>(step_count);
+  const index steps = step_count(duration, s.dt());
   const index every = std::max<index>(1, steps / 2000);
   vec3 top_at_half = vec3::Zero();
   for (index k = 1; k <= steps; ++k) {
     if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
     s.step();
     if (k == steps / 2) top_at_half = s.blocks().displacement(top);
-    if (k % every == 0 || k == steps) {
-      const mat3 rot = s.blocks().rotation(top);
-      r.t.push_back(s.time());
-      r.x.push_back(s.blocks().displacement(top).x());
-      r.z.push_back(s.blocks().displacement(top).z());
-      r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));  // tilt about y (down the slope: +)
-    }
+    if (k % every == 0 || k == steps) record_motion(r, s, top);
   }
-  r.steps = steps;
+  record_end(r, s, steps, tess, mesh);
   r.drift_m = (s.blocks().displacement(top) - top_at_half).norm();
-  r.rebuilds = s.contacts().rebuild_count();
-  r.growths = s.contacts().growth_count();
-  r.subcontacts = s.contacts().subcontact_count();
-  r.energy_error_rel = s.energies().error_rel();
-  r.final_blocks = moved(tess, mesh, s.gridpoints());
   if (in.which == "stack") {
     real weight = 0;
     for (index b = 0; b < s.blocks().block_count(); ++b) weight += s.blocks().weight_mass(b) * g;
@@ -242,8 +259,7 @@ inline result run_bond(const inputs& in) {
   using bonded = contact::detected_contacts<law_type>;
   const real b = in.size, c0 = in.cohesion;
   const real theta = in.angle_deg * std::numbers::pi / 180, phi = in.friction_deg * std::numbers::pi / 180;
-  const real weight = in.density * b * b * b * g;
-  const real failure_force = c0 * b * b;
+  const real weight = bond_weight(in), failure_force = bond_failure_force(in);
   const real duration = in.duration > 0 ? in.duration : in.quick ? 0.4 : 1.0, ramp = duration / 4;
   const real half_length = 0.5 * g * duration * duration + 2 * b;
   const real overlap = weight / (in.k_n * b * b);  // static on the level base, as for the incline
@@ -264,10 +280,7 @@ inline result run_bond(const inputs& in) {
   solver<blocks::rigid, bonded, reinforcement::none, undamped> s(tess, mesh, blocks::rigid::params{in.density},
                                                                  bonded::params(p, in.tolerance, 1000, true));
   s.fix(s.gridpoints_on_plane(2, -0.5 * b, 1e-9 * b));
-  const real step_count = std::ceil(duration / s.dt());
-  require(step_count <= 2e8, "verification: ", duration, " s at the stable step ", s.dt(), " s would take ", step_count,
-          " steps (over 2e8): shorten --duration or lower --kn");
-  const auto steps = static_cast<index>(step_count);
+  const index steps = step_count(duration, s.dt());
   result r;
   r.which = in.which;
   r.dt = s.dt();
@@ -297,15 +310,11 @@ inline result run_bond(const inputs& in) {
     }
     force_before = shear_force();
     if (k % every == 0 || k == steps) {
-      r.t.push_back(s.time());
-      r.x.push_back(s.blocks().displacement(1).x());
-      r.z.push_back(s.blocks().displacement(1).z());
-      const mat3 rot = s.blocks().rotation(1);
-      r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));
+      record_motion(r, s, 1);
       r.force.push_back(force_before);
     }
   }
-  r.steps = steps;
+  record_end(r, s, steps, tess, mesh);
   r.slide_m = s.blocks().displacement(1).x();
   r.quantity = "shear force at which the bond failed";
   r.unit = "N";
@@ -318,12 +327,7 @@ inline result run_bond(const inputs& in) {
   r.acceleration_reference = theta > phi ? g * (std::sin(theta) - std::cos(theta) * std::tan(phi)) : 0;
   r.acceleration_error = (r.acceleration - r.acceleration_reference) / (theta > phi ? r.acceleration_reference : g);
   r.pass = broken && std::abs(r.error_rel) <= r.tolerance && std::abs(r.acceleration_error) <= r.tolerance;
-  r.rebuilds = s.contacts().rebuild_count();
-  r.growths = s.contacts().growth_count();
-  r.subcontacts = s.contacts().subcontact_count();
   r.kept_last_rebuild = s.contacts().kept_last_rebuild();
-  r.energy_error_rel = s.energies().error_rel();
-  r.final_blocks = moved(tess, mesh, s.gridpoints());
   return r;
 }
 
