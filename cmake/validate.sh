@@ -11,8 +11,10 @@
 #   --quick    the reduced scenes (100 blocks, one seed, the drivers' --quick): about 2 min; the
 #              tables go to DIR/validation.md only (the figures of reduced runs are not the
 #              validation)
-#   full       about 1.5 h (5024 s measured at 23c75be with 2 threads: the beam's three runs
-#              42 min of it, the calibration 14 min, the work-precision runs 15 min) on this
+#   full       about 2.3 h (5024 s measured at 23c75be with 2 threads before the beam's
+#              calibration and its two calibrated runs, about 43 min more, were added: the
+#              beam's five runs 73 min of it, the two calibrations 26 min, the work-precision
+#              runs 15 min) on this
 #              project's 2-core machine (the progress line estimates the rest); the tables go to
 #              DIR/validation.md and replace the generated section of docs/validation.md (between
 #              its "validate.sh" markers)
@@ -62,6 +64,7 @@ bin="$root/build/release/examples"
 wp="$root/build/bench-portable/benchmarks/work_precision_figures"
 mkdir -p "$out"
 cal="$out/calibrate/calibrated.json"
+cal_beam="$out/calibrate_beam/calibrated.json"
 
 # The runs: name, estimated seconds on this machine (2 threads), command. The estimates only
 # drive the progress line.
@@ -77,6 +80,9 @@ if [[ $quick == 1 ]]; then
   add sensitivity 60 "$bin/rc_tie_sensitivity --quick"
   beam_list=(quick)
   add beam_quick 8 "$bin/rc_beam --quick --no-vtk"
+  add calibrate_beam 5 "$bin/calibrate --quick --material beam"
+  beam_list+=(quick_calibrated)
+  add beam_quick_calibrated 8 "$bin/rc_beam --quick --no-vtk --params $cal_beam"
   add work_precision_prism 15 "$wp --scene prism --quick"
   add work_precision_tie 20 "$wp --scene tie --quick"
 else
@@ -101,6 +107,11 @@ else
   done
   beam_list+=(250_elastic)
   add beam_250_elastic 700 "$bin/rc_beam --blocks 250 --seed 1 --compression elastic --no-vtk"
+  add calibrate_beam 700 "$bin/calibrate --material beam --blocks 250,500 --seeds 3"
+  for b in 250 500; do
+    beam_list+=("${b}_calibrated")
+    add "beam_${b}_calibrated" $([[ $b == 250 ]] && echo 730 || echo 1100) "$bin/rc_beam --blocks $b --seed 1 --no-vtk --params $cal_beam"
+  done
   add work_precision_prism 440 "$wp --scene prism"
   add work_precision_tie 440 "$wp --scene tie"
 fi
@@ -165,13 +176,17 @@ report="$out/validation.md"
   fi
   echo
   s="$out/calibrate/summary.json"
-  echo "**Calibration** (\`calibrate\`, $(get "$s" seeds) seed(s) per block count, $(num "$(get "$s" step_displacement_m)" 1e9 '%.0f') nm per step): $(num "$(get "$s" runtime_s)" 1 '%.1f s')."
+  echo "**Calibration** (\`calibrate\`, $(get "$s" seeds) seed(s) per block count, $(num "$(get "$s" step_displacement_m)" 1e9 '%.0f') nm per step): $(num "$(get "$s" runtime_s)" 1 '%.1f s'); the beam's (\`calibrate --material beam\`, the beam's concrete on a 150 mm square prism with the beam's block size, $(get "$out/calibrate_beam/summary.json" seeds) seed(s)): $(num "$(get "$out/calibrate_beam/summary.json" runtime_s)" 1 '%.1f s')."
   echo
-  echo "| blocks | strength scale | iterations | fitted mean peak | seed spread | converged |"
-  echo "|---|---|---|---|---|---|"
-  for b in "${blocks_list[@]}"; do
-    echo "| $b | $(num "$(get "$s" "b${b}_strength_scale")" 1 '%.4f') | $(get "$s" "b${b}_iterations") | $(pct "$(get "$s" "b${b}_peak_error_rel")") | $(num "$(get "$s" "b${b}_peak_spread_rel")" 100 '%.1f %%') | $(get "$s" "b${b}_converged") |"
-  done
+  echo "| material | blocks | prism blocks | strength scale | iterations | fitted mean peak | seed spread | converged |"
+  echo "|---|---|---|---|---|---|---|---|"
+  cal_row() {  # cal_row MATERIAL SUMMARY BLOCKS
+    local pb; pb=$(get "$2" "b${3}_prism_blocks"); [[ $pb == null ]] && pb=$3  # a prism calibration from before the field
+    echo "| $1 | $3 | $pb | $(num "$(get "$2" "b${3}_strength_scale")" 1 '%.4f') | $(get "$2" "b${3}_iterations") | $(pct "$(get "$2" "b${3}_peak_error_rel")") | $(num "$(get "$2" "b${3}_peak_spread_rel")" 100 '%.1f %%') | $(get "$2" "b${3}_converged") |"
+  }
+  for b in "${blocks_list[@]}"; do cal_row prism "$s" "$b"; done
+  if [[ $quick == 1 ]]; then beam_cal_blocks=(60); else beam_cal_blocks=(250 500); fi
+  for b in "${beam_cal_blocks[@]}"; do cal_row beam "$out/calibrate_beam/summary.json" "$b"; done
   echo
   echo "**RC tie** (100 blocks, seed 1; references: N_cr = f_T (A_c + n A_s), shear-lag K0, f_y A):"
   echo
@@ -184,11 +199,13 @@ report="$out/validation.md"
   echo
   echo "**RC beam** (provisional geometry, to 6 mm or --quick; references: first cracking at the flexural strength (MC2010) and at f_T, uncracked K0 with shear, A_s f_y z, the study's 90 mm crack spacing):"
   echo
-  echo "| blocks | seed | compression | first cracking | K0 | yield | peak | flexural cracks | spacing | failure | energy balance | run time |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| blocks | seed | compression | parameters | first cracking | K0 | yield | peak | flexural cracks | spacing | failure | energy balance | run time |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
   for b in "${beam_list[@]}"; do
     s="$out/beam_$b/summary.json"
-    echo "| $(get "$s" blocks) | $(get "$s" seed) | $(get "$s" compression | tr -d '"') | $(num "$(get "$s" first_crack_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_flexural_error_rel)"); at f_T $(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(get "$s" initial_stiffness_error_rel)")) | $([[ $(get "$s" steel_yielded) == true ]] && echo "$(num "$(get "$s" yield_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_error_rel)"))" || echo "not yielded") | $(num "$(get "$s" peak_load_N)" 1e-3 '%.2f kN') | $(get "$s" flexural_cracks) | $(num "$(get "$s" mean_crack_spacing_m)" 1e3 '%.0f mm') | $(get "$s" failure_mode | tr -d '"') | $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e') | $(num "$(get "$s" runtime_s)" 1 '%.0f s') |"
+    params=$(get "$s" parameters | tr -d '"'); [[ $params == null ]] && params=verbatim  # runs from before the field
+    [[ $params == calibrated ]] && params="calibrated (× $(num "$(get "$s" strength_scale)" 1 '%.3f'))"
+    echo "| $(get "$s" blocks) | $(get "$s" seed) | $(get "$s" compression | tr -d '"') | $params | $(num "$(get "$s" first_crack_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_flexural_error_rel)"); at f_T $(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(get "$s" initial_stiffness_error_rel)")) | $([[ $(get "$s" steel_yielded) == true ]] && echo "$(num "$(get "$s" yield_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_error_rel)"))" || echo "not yielded") | $(num "$(get "$s" peak_load_N)" 1e-3 '%.2f kN') | $(get "$s" flexural_cracks) | $(num "$(get "$s" mean_crack_spacing_m)" 1e3 '%.0f mm') | $(get "$s" failure_mode | tr -d '"') | $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e') | $(num "$(get "$s" runtime_s)" 1 '%.0f s') |"
   done
   if [[ $quick == 0 && $beam_seeds -gt 1 ]]; then
     # The seed band of each block count: min-max of each figure over seeds 1..N.

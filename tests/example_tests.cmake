@@ -392,3 +392,40 @@ tessera_add_refusal_test(refuse_rc_beam_blocks rc_beam "--blocks: value '600' mu
 tessera_add_refusal_test(refuse_rc_beam_rate rc_beam "is not quasi-static" --threads 1 --quick --rate 1)
 tessera_add_refusal_test(refuse_rc_beam_zone_edge rc_beam "would need about" --threads 1 --zone-edge 1e-4)
 tessera_add_refusal_test(refuse_rc_beam_depth rc_beam "effective depth d = 0.2 m must be below h" --threads 1 --depth 0.2)
+# The beam's calibration (calibrate --material beam): the quick recipe (60 beam blocks, 50 mm face
+# zoning, as rc_beam --quick) fits on a 37-block 150 x 150 x 600 mm prism of the beam's concrete,
+# which peaks +3.5 % above f_T = 2.5 MPa with the study's contacts; the secant converges in 3
+# iterations to s = 0.942 (about 5 s). rc_beam --quick then loads the scale it wrote
+# (tests/data/calibrated_beam_quick.json; regenerate with
+#   calibrate --quick --material beam --seed 1 --out DIR && cp DIR/calibrated.json tests/data/calibrated_beam_quick.json)
+# and its first vertical crack h/4 deep comes at a lower load than with the study's contacts
+# (14.4 kN against 15.5 kN measured).
+tessera_add_example_test(calibrate NAME example_calibrate_beam_quick
+  ARGS --quick --material beam --seed 1 --threads 1
+  FILES calibrated.json calibration.csv
+  CHECKS "converged_count EQUAL 1"
+         "peak_error_rel_max_abs LESS 0.01"
+         "b60_prism_blocks EQUAL 37"
+         "b60_strength_scale GREATER 0.9"
+         "b60_strength_scale LESS 0.98"
+  TIMEOUT 300)
+tessera_add_example_test(rc_beam NAME example_rc_beam_params_quick
+  ARGS --quick --threads 2 --no-vtk --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_beam_quick.json
+  FILES curve.csv
+  CHECKS "parameters STREQUAL calibrated"
+         "strength_scale GREATER 0.9"
+         "strength_scale LESS 0.98"
+         "developed_crack_load_N LESS 15.0e3"
+         "vertical_cracks_first STREQUAL ON"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
+tessera_add_refusal_test(refuse_rc_beam_params_prism rc_beam
+  "was fitted on the prism recipe, this run needs the beam recipe"
+  --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_quick.json)
+tessera_add_refusal_test(refuse_rc_beam_params_zoning rc_beam
+  "was fitted with a face zoning edge of 0.05 m, this run uses 0.03 m"
+  --threads 1 --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_beam_quick.json)
+tessera_add_refusal_test(refuse_calibrate_beam_softening calibrate
+  "--material beam uses the beam's linear softening, got --softening power" --threads 1 --material beam --softening power)
+tessera_add_refusal_test(refuse_calibrate_beam_blocks calibrate
+  "'300' is not a beam block count" --threads 1 --material beam --blocks 300)

@@ -23,6 +23,14 @@
 //              strength is fitted again and the two alternate, at most 4 rounds, until one set
 //              of full runs meets both tolerances; otherwise the entry is not converged.
 //
+// Materials (--material): prism = the study's prism concrete (Table 1 contacts on the 68 x 68 x
+// 600 mm prism; block counts 100, 250, 500, 750; loaded by direct_tension and rc_tie); beam = the
+// beam's concrete (study_beam_params, linear softening, the beam's face zoning) on the prism of
+// rc_beam/beam.hpp make_beam_prism, a 150 x 150 x 600 mm prism with the beam's mean cell volume
+// (block counts are the beam's: 250 -> 155 prism blocks, 500 -> 310); loaded by rc_beam. The
+// scale is a property of the law and of the block and sub-contact sizes, so each material and
+// block count has its own.
+//
 // Outputs in --out DIR: calibrated.json (recipe and one entry per block count: scales, seeds,
 // iterations, converged, mean peak and its error, seed spread, energy figures), calibration.csv
 // (every iteration), summary.json (flat: per block count and overall), run.json.
@@ -41,6 +49,7 @@
 #include "common/cli.hpp"
 #include "common/scenes.hpp"
 #include "direct_tension/tension_test.hpp"
+#include "rc_beam/beam.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/run_record.hpp"
@@ -64,14 +73,23 @@ struct inputs {
   std::vector<int> block_counts;   // parsed from `blocks`
 };
 
-// "100,250,500" -> {100, 250, 500}; each a Table 1 block count, no repeats.
-std::vector<int> parse_block_counts(const std::string& text) {
+// "100,250,500" -> {100, 250, 500}; no repeats. Prism: each a Table 1 block count; beam: a block
+// count rc_beam accepts (250, 500, or 8..249 for a coarse beam).
+std::vector<int> parse_block_counts(const std::string& text, const std::string& material) {
   std::vector<int> counts;
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) {
-    tessera::require(item == "100" || item == "250" || item == "500" || item == "750", "calibrate: --blocks '", text,
-                     "': '", item, "' is not one of 100, 250, 500, 750 (Table 1)");
+    if (material == "prism") {
+      tessera::require(item == "100" || item == "250" || item == "500" || item == "750", "calibrate: --blocks '", text,
+                       "': '", item, "' is not one of 100, 250, 500, 750 (Table 1)");
+    } else {
+      const bool digits = !item.empty() && item.size() <= 3 &&
+                          std::all_of(item.begin(), item.end(), [](char c) { return c >= '0' && c <= '9'; });
+      const int v = digits ? std::stoi(item) : -1;
+      tessera::require(v == 250 || v == 500 || (v >= 8 && v < 250), "calibrate: --blocks '", text, "': '", item,
+                       "' is not a beam block count (250, 500, or 8..249 for a coarse beam)");
+    }
     const int n = std::stoi(item);
     tessera::require(std::find(counts.begin(), counts.end(), n) == counts.end(), "calibrate: --blocks '", text,
                      "' lists ", n, " twice");
@@ -84,14 +102,39 @@ std::vector<int> parse_block_counts(const std::string& text) {
 
 // One seed at strength scale s and fracture-energy scale g: to just past the peak, or (full) to
 // separation.
-scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed, real s, real g, bool full) {
+// The beam's contacts (linear softening, plastic cap) on deformable blocks, without bars.
+using beam_prism_solver = tessera::solver<tessera::blocks::deformable<tessera::zones::linear_elastic_tet>,
+                                         tessera::presets::bonded_faces<tessera::presets::study_beam_law>>;
+
+// The beam recipe's prism for `blocks` beam blocks (make_beam_prism), at the recipe's zoning.
+scenes::beam_prism_scene beam_prism(const inputs& in, int blocks, std::uint64_t seed, real s, real g) {
+  scenes::beam_options bo;
+  bo.blocks = blocks;
+  bo.seed = seed;
+  bo.zone_edge = in.recipe.zone_edge;
+  bo.strength_scale = s;
+  bo.fracture_energy_scale = g;
+  return scenes::make_beam_prism(bo);
+}
+
+// The study prism recipe's options for `blocks` blocks.
+scenes::prism_options prism_options_for(const inputs& in, int blocks, std::uint64_t seed, real s, real g) {
   scenes::prism_options po;
   po.blocks = blocks;
   po.seed = seed;
   po.cohesion_ratio = in.recipe.cohesion_ratio;
   po.strength_scale = s;
   po.fracture_energy_scale = g;
-  const scenes::prism_scene scene = scenes::make_prism(po);
+  return po;
+}
+
+// The reference prism of a block count: the concrete's f_T, G_f and the cross-section.
+scenes::prism_scene reference_prism(const inputs& in, int blocks) {
+  if (in.recipe.material == "beam") return beam_prism(in, blocks, in.common.seed, 1, 1).prism;
+  return scenes::make_prism(prism_options_for(in, blocks, in.common.seed, 1, 1));
+}
+
+scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed, real s, real g, bool full) {
   scenes::tension_loading ld;
   ld.rate = in.recipe.rate;
   ld.step_displacement = in.recipe.step_displacement;
@@ -101,7 +144,12 @@ scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed
     ld.stop_below_peak_ratio = 0.9;
     ld.max_displacement = 3e-4;
   }
-  ld.label = tessera::detail::concat("calibrate ", blocks, " blocks seed ", seed, " s ", s);
+  ld.label = tessera::detail::concat("calibrate ", in.recipe.material, " ", blocks, " blocks seed ", seed, " s ", s);
+  if (in.recipe.material == "beam") {
+    const scenes::beam_prism_scene b = beam_prism(in, blocks, seed, s, g);
+    return scenes::run_direct_tension<beam_prism_solver>(b.prism, b.contact, ld);
+  }
+  const scenes::prism_scene scene = scenes::make_prism(prism_options_for(in, blocks, seed, s, g));
   return scenes::run_prism_variant(scene, in.recipe.softening, in.recipe.rigid, ld);
 }
 
@@ -147,6 +195,7 @@ struct fit_row {
 
 struct fit_result {
   int blocks = 0;
+  int prism_blocks = 0;  // Voronoi blocks of the prism fitted on (the beam recipe's differ from `blocks`)
   real s = 1, g = 1;
   int strength_iterations = 0, energy_iterations = 0;
   bool converged = false;
@@ -229,9 +278,24 @@ fit_result fit_block_count(const inputs& in, int blocks, const scenes::prism_sce
 }
 
 void check_inputs(inputs& in) {
-  in.block_counts = parse_block_counts(in.blocks);
+  tessera::require(in.recipe.material == "prism" || in.recipe.material == "beam", "calibrate: --material '",
+                   in.recipe.material, "' must be 'prism' or 'beam'");
+  in.block_counts = parse_block_counts(in.blocks, in.recipe.material);
   tessera::require(in.recipe.softening == "power" || in.recipe.softening == "linear", "calibrate: --softening '",
                    in.recipe.softening, "' must be 'power' or 'linear'");
+  if (in.recipe.material == "beam") {
+    // The recipe must be the law rc_beam runs: study_beam_params (linear softening, c_0 = 2 f_T)
+    // on deformable blocks.
+    tessera::require(in.recipe.softening == "linear", "calibrate: --material beam uses the beam's linear softening, got "
+                     "--softening ", in.recipe.softening);
+    tessera::require(!in.recipe.rigid, "calibrate: --material beam has deformable blocks (rc_beam has no rigid ones); "
+                     "drop --rigid");
+    tessera::require(in.recipe.cohesion_ratio == 2, "calibrate: --material beam: rc_beam's contacts have c_0 = 2 f_T, "
+                     "got --cohesion-ratio ", in.recipe.cohesion_ratio);
+  } else {
+    tessera::require(in.recipe.zone_edge == 0, "calibrate: --zone-edge ", in.recipe.zone_edge,
+                     " applies to --material beam only (the prism has one zone per face triangle)");
+  }
   // The loading is checked quasi-static by run_direct_tension itself, before the first step.
 }
 
@@ -247,18 +311,21 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
     csv.commit();
   }
   io::summary_json recipe;
-  recipe.set("softening", in.recipe.softening)
+  recipe.set("material", in.recipe.material)
+      .set("softening", in.recipe.softening)
       .set("cohesion_ratio", in.recipe.cohesion_ratio)
       .set("step_displacement_m", in.recipe.step_displacement)
       .set("rate_m_per_s", in.recipe.rate)
-      .set("rigid", in.recipe.rigid);
+      .set("rigid", in.recipe.rigid)
+      .set("zone_edge_m", in.recipe.zone_edge);
   std::vector<io::summary_json> entries;
   io::summary_json summary;
   summary.set("program", "calibrate").set("quick", in.common.quick).set("seed", in.common.seed)
       .set("seeds", in.seeds).set("energy", in.energy).set("tolerance", in.tolerance)
       .set("energy_tolerance", in.energy_tolerance).set("softening", in.recipe.softening)
       .set("cohesion_ratio", in.recipe.cohesion_ratio).set("step_displacement_m", in.recipe.step_displacement)
-      .set("rate_m_per_s", in.recipe.rate).set("rigid", in.recipe.rigid);
+      .set("rate_m_per_s", in.recipe.rate).set("rigid", in.recipe.rigid).set("material", in.recipe.material)
+      .set("zone_edge_m", in.recipe.zone_edge);
   int converged = 0;
   double worst_peak = 0;
   for (const fit_result& f : fits) {
@@ -268,13 +335,15 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
     e.set("blocks", f.blocks).set("strength_scale", f.s).set("fracture_energy_scale", f.g).set("seeds", seeds)
         .set("strength_iterations", f.strength_iterations).set("energy_iterations", f.energy_iterations)
         .set("converged", f.converged).set("peak_mean_Pa", f.last.peak_mean).set("peak_error_rel", f.peak_error)
-        .set("peak_spread_rel", f.last.peak_spread).set("peaks_Pa", f.last.peaks);
+        .set("peak_spread_rel", f.last.peak_spread).set("peaks_Pa", f.last.peaks)
+        .set("prism_blocks", f.prism_blocks);
     if (in.energy) e.set("dissipated_per_section_J_per_m2", f.last.energy_mean).set("energy_error_rel", f.energy_error);
     entries.push_back(e);
     const std::string b = "b" + std::to_string(f.blocks) + "_";
     summary.set(b + "strength_scale", f.s).set(b + "fracture_energy_scale", f.g)
         .set(b + "peak_error_rel", f.peak_error).set(b + "peak_spread_rel", f.last.peak_spread)
-        .set(b + "iterations", f.strength_iterations + f.energy_iterations).set(b + "converged", f.converged);
+        .set(b + "iterations", f.strength_iterations + f.energy_iterations).set(b + "converged", f.converged)
+        .set(b + "prism_blocks", f.prism_blocks);
     if (in.energy) summary.set(b + "energy_error_rel", f.energy_error);
     converged += f.converged ? 1 : 0;
     worst_peak = std::max(worst_peak, std::abs(f.peak_error));
@@ -295,17 +364,16 @@ int run(inputs& in) {
   std::vector<fit_row> rows;
   std::int64_t steps = 0;
   for (const int blocks : in.block_counts) {
-    scenes::prism_options po;
-    po.blocks = blocks;
-    const scenes::prism_scene reference = scenes::make_prism(po);  // f_T, G_f of the concrete
+    const scenes::prism_scene reference = reference_prism(in, blocks);  // f_T, G_f of the concrete
     fits.push_back(fit_block_count(in, blocks, reference, rows, steps));
+    fits.back().prism_blocks = static_cast<int>(reference.tess.cell_count());
     tessera::io::ensure_directory(out);  // after the first runs' own checks: bad input leaves no directory
   }
   write_outputs(out, in, fits, rows, steps, timer);
   for (const fit_result& f : fits)
-    std::printf("calibrate: %d blocks: strength scale %.4f, fracture-energy scale %.4f, mean peak %+.2f %% of f_T "
+    std::printf("calibrate: %s %d blocks: strength scale %.4f, fracture-energy scale %.4f, mean peak %+.2f %% of f_T "
                 "(seed spread %.1f %%)%s, %s\n",
-                f.blocks, f.s, f.g, 100 * f.peak_error, 100 * f.last.peak_spread,
+                in.recipe.material.c_str(), f.blocks, f.s, f.g, 100 * f.peak_error, 100 * f.last.peak_spread,
                 in.energy ? tessera::detail::concat(", dissipated ", 100 * f.energy_error, " % from G_f").c_str() : "",
                 f.converged ? "converged" : "NOT converged");
   std::printf("calibrate: %lld steps, runtime %.1f s; wrote %s\n", static_cast<long long>(steps), timer.seconds(),
@@ -321,12 +389,18 @@ int main(int argc, char** argv) {
   inputs in;
   tessera::cli::parser cli(
       "calibrate",
-      "Fits the contact strength (and with --energy the contact fracture energy) of the study's prism so that the\n"
-      "mean direct-tension peak over K seeds equals f_T = 2.15 MPa (and the dissipated energy G_f x section).\n"
-      "Writes calibrated.json for direct_tension/rc_tie --params. Exit 3 if a block count did not converge.\n"
-      "--quick: 100 blocks, 1 seed, 5 nm per step.");
+      "Fits the contact strength (and with --energy the contact fracture energy) of a prism in direct tension so that\n"
+      "the mean peak over K seeds equals the concrete's f_T (and the dissipated energy G_f x section).\n"
+      "--material prism: the study's prism (f_T = 2.15 MPa), for direct_tension/rc_tie --params; --material beam: the\n"
+      "beam's concrete (f_T = 2.5 MPa, linear softening) on a 150 x 150 x 600 mm prism with the beam's block size,\n"
+      "for rc_beam --params. Writes calibrated.json. Exit 3 if a block count did not converge.\n"
+      "--quick: prism 100 blocks (beam: 60 blocks, 50 mm zoning, as rc_beam --quick), 1 seed, 5 nm per step.");
   cli.add_standard(in.common);
-  cli.option("--blocks", in.blocks, "comma-separated block counts, each 100, 250, 500 or 750", "LIST");
+  cli.option("--material", in.recipe.material, "the concrete and prism of the recipe (the file comment)", "prism|beam")
+      .one_of({"prism", "beam"});
+  cli.option("--blocks", in.blocks,
+             "comma-separated block counts: prism 100, 250, 500 or 750 (default 100,250,500); beam 250, 500 or 8..249 "
+             "(default 250,500)", "LIST");
   cli.option("--seeds", in.seeds,
              "seeds per block count (seed, seed+1, ...); the fit is on their mean (6 keeps unseen seeds within 5 % of f_T)",
              "K").within(1, 100);
@@ -335,18 +409,29 @@ int main(int argc, char** argv) {
   cli.option("--energy-tolerance", in.energy_tolerance, "convergence on the mean dissipation, |D/G_f - 1|", "T")
       .within(1e-3, 0.5);
   cli.option("--max-iterations", in.max_iterations, "iterations per fit before giving up", "N").within(1, 50);
-  cli.option("--softening", in.recipe.softening, "tensile softening of the recipe", "power|linear").one_of({"power", "linear"});
+  cli.option("--softening", in.recipe.softening, "tensile softening of the recipe (beam: linear, the default there)",
+             "power|linear").one_of({"power", "linear"});
+  cli.option("--zone-edge", in.recipe.zone_edge,
+             "beam only: target face edge of the zoning (m), as rc_beam --zone-edge; 0 = h/5 = 0.03", "M").within(0, 1);
   cli.option("--cohesion-ratio", in.recipe.cohesion_ratio, "c_0 / f_T of the recipe (the study: 2)", "R").greater_than(0);
   cli.option("--step-displacement", in.recipe.step_displacement, "top displacement per step (m) of the recipe", "DU")
       .greater_than(0);
   cli.option("--rate", in.recipe.rate, "top velocity (m/s) of the recipe", "V").greater_than(0);
   cli.flag("--rigid", in.recipe.rigid, "rigid blocks instead of deformable ones");
   cli.parse_or_exit(argc, argv);
+  const bool beam = in.recipe.material == "beam";
+  if (beam) {
+    if (!cli.given("--blocks")) in.blocks = "250,500";
+    if (!cli.given("--softening")) in.recipe.softening = "linear";
+  }
   if (in.common.quick) {
-    if (!cli.given("--blocks")) in.blocks = "100";
+    if (!cli.given("--blocks")) in.blocks = beam ? "60" : "100";
+    if (beam && !cli.given("--zone-edge")) in.recipe.zone_edge = 0.05;  // rc_beam --quick's zoning
     if (!cli.given("--seeds")) in.seeds = 1;
     if (!cli.given("--step-displacement")) in.recipe.step_displacement = 5e-9;
   }
+  // The beam's zoning in effect (rc_beam: 0 = h/5), recorded in the recipe and matched on loading.
+  if (beam && in.recipe.zone_edge == 0) in.recipe.zone_edge = tessera::scenes::beam_options{}.face_zone_edge();
   tessera::io::run_record record(in.common.out, "calibrate", argc, argv);
   try {
     const int status = run(in);

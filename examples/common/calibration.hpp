@@ -4,8 +4,9 @@
 //
 //   {
 //     "format": "tessera-calibration-1",
-//     "recipe": {"softening": "power", "cohesion_ratio": 2, "step_displacement_m": 2e-09,
-//                "rate_m_per_s": 0.005, "rigid": false},
+//     "recipe": {"material": "prism", "softening": "power", "cohesion_ratio": 2,
+//                "step_displacement_m": 2e-09, "rate_m_per_s": 0.005, "rigid": false,
+//                "zone_edge_m": 0},
 //     "entries": [
 //       {"blocks": 100, "strength_scale": 0.91, "fracture_energy_scale": 1, "seeds": [1, 2, 3],
 //        "iterations": 3, "peak_mean_Pa": 2.151e6, "peak_spread_rel": 0.02, ...},
@@ -18,6 +19,13 @@
 // reference values the drivers check against stay the concrete's f_T and G_f. A driver refuses a
 // file whose recipe's law differs from its own (softening, cohesion ratio, rigid blocks): the
 // scales would not mean the same thing; it prints a note when only the step or rate differ.
+//
+// material: "prism" = the study's prism concrete (Table 1 contacts, 100-750 blocks; direct_tension,
+// rc_tie), "beam" = the beam's concrete (study_beam_params, fitted on the beam-recipe prism of
+// rc_beam/beam.hpp make_beam_prism; entries keyed by the beam's block count; rc_beam). zone_edge_m:
+// the zoning's target face edge the fit used (0 = one zone per face triangle, the prism's), which
+// sets the sub-contacts' density; a driver refuses a file fitted at another. Files written before
+// these two fields existed are read as "prism" and 0.
 
 #include <cmath>
 #include <cstdio>
@@ -37,11 +45,13 @@ inline constexpr const char* calibration_format = "tessera-calibration-1";
 inline constexpr real min_calibration_scale = 0.1, max_calibration_scale = 10;
 
 struct calibration_recipe {
-  std::string softening = "power";
+  std::string softening = "power";  ///< "power" or "linear"
   real cohesion_ratio = 2;
   real step_displacement = 2e-9;  ///< m
   real rate = 0.005;              ///< m/s
   bool rigid = false;
+  std::string material = "prism";   ///< "prism" or "beam" (the file comment)
+  real zone_edge = 0;               ///< m; 0 = one zone per face triangle
 };
 
 struct calibration_entry {
@@ -92,6 +102,16 @@ inline real scale_in_range(const io::json_value& v) {
   c.recipe.step_displacement = r.at("step_displacement_m").number();
   c.recipe.rate = r.at("rate_m_per_s").number();
   c.recipe.rigid = r.at("rigid").boolean();
+  if (const io::json_value* m = r.find("material")) {
+    c.recipe.material = m->string();
+    if (c.recipe.material != "prism" && c.recipe.material != "beam")
+      throw io_error(tessera::detail::concat(m->path(), " = '", c.recipe.material, "' must be 'prism' or 'beam'"));
+  }
+  if (const io::json_value* z = r.find("zone_edge_m")) {
+    c.recipe.zone_edge = z->number();
+    if (!(c.recipe.zone_edge >= 0 && c.recipe.zone_edge <= 1))
+      throw io_error(tessera::detail::concat(z->path(), " = ", c.recipe.zone_edge, " must lie in [0, 1] m"));
+  }
   for (const auto* v : {&r.at("cohesion_ratio"), &r.at("step_displacement_m"), &r.at("rate_m_per_s")})
     if (!(v->number() > 0)) throw io_error(tessera::detail::concat(v->path(), " = ", v->number(), " must be > 0"));
   for (const io::json_value& e : doc.at("entries").items()) {
@@ -111,19 +131,27 @@ inline real scale_in_range(const io::json_value& v) {
 /// A driver's --params FILE: the entry for its block count, after checking that the file was
 /// fitted with the same law (throws invalid_input naming the mismatch). A different step or
 /// rate is allowed (the scales were fitted at one; the peak moves a few per cent with the step,
-/// docs/validation.md) and printed as a note on stdout.
+/// docs/validation.md) and printed as a note on stdout; run.step_displacement = 0 says the run's
+/// step is set later (by its mass scaling), and the note gives the fitted step only.
 [[nodiscard]] inline calibration_entry load_calibration(const std::filesystem::path& file, int blocks,
                                                         const calibration_recipe& run, const char* program) {
   const calibration c = read_calibration(file);
   const std::string f = file.string();
+  require(c.recipe.material == run.material, program, ": ", f, " was fitted on the ", c.recipe.material,
+          " recipe, this run needs the ", run.material, " recipe (examples/calibrate --material ", run.material, ")");
   require(c.recipe.softening == run.softening, program, ": ", f, " was fitted with ", c.recipe.softening,
           " softening, this run uses ", run.softening);
   require(c.recipe.rigid == run.rigid, program, ": ", f, " was fitted with ", c.recipe.rigid ? "rigid" : "deformable",
           " blocks, this run uses ", run.rigid ? "rigid" : "deformable", " ones");
   require(std::abs(c.recipe.cohesion_ratio - run.cohesion_ratio) <= 1e-12 * run.cohesion_ratio, program, ": ", f,
           " was fitted with cohesion ratio ", c.recipe.cohesion_ratio, ", this run uses ", run.cohesion_ratio);
+  require(std::abs(c.recipe.zone_edge - run.zone_edge) <= 1e-12 * std::max(run.zone_edge, real(1e-3)), program, ": ", f,
+          " was fitted with a face zoning edge of ", c.recipe.zone_edge, " m, this run uses ", run.zone_edge, " m");
   const calibration_entry e = c.entry_for(blocks, f);
-  if (c.recipe.step_displacement != run.step_displacement || c.recipe.rate != run.rate)
+  if (run.step_displacement == 0)
+    std::printf("%s: note: %s was fitted at %.3g m per step and %.3g m/s\n", program, f.c_str(),
+                c.recipe.step_displacement, c.recipe.rate);
+  else if (c.recipe.step_displacement != run.step_displacement || c.recipe.rate != run.rate)
     std::printf("%s: note: %s was fitted at %.3g m per step and %.3g m/s; this run uses %.3g m per step and %.3g m/s\n",
                 program, f.c_str(), c.recipe.step_displacement, c.recipe.rate, run.step_displacement, run.rate);
   return e;

@@ -57,6 +57,7 @@ struct prism_scene {
   law::study_tie_law::params contact;      ///< power softening (the study's choice)
   real f_T = 0;  ///< the concrete's tensile strength (Pa): the reference of the peak, whatever the contacts carry
   real G_f = 0;  ///< the concrete's fracture energy (J/m^2): the reference of the dissipated energy
+  real young = concrete_young;  ///< the concrete's E (Pa): wave transit and quasi-static check of the pull
   [[nodiscard]] real cross_section() const { return box.size().x() * box.size().y(); }
   [[nodiscard]] real length() const { return box.size().z(); }
 };

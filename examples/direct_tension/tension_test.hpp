@@ -305,9 +305,9 @@ template <class Solver, class LawParams>
   tension_result r;
   const real total_mass = s.mass_scaling().original_mass + s.mass_scaling().added_mass;
   const real mass = total_mass > 0 ? total_mass : s.gridpoints().mass.sum();
-  r.transit_time = length * std::sqrt(mass / (length * area) / concrete_young);
+  r.transit_time = length * std::sqrt(mass / (length * area) / scene.young);
   r.ramp_time = in.ramp_transits * r.transit_time;
-  require_quasi_static("direct_tension", in.rate, length, concrete_young, concrete_density,
+  require_quasi_static("direct_tension", in.rate, length, scene.young, concrete_density,
                        s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0,
                        f_t);
   // v(t) = v0 (1 - cos(pi t / T_r)) / 2 over the ramp, and on the tail (from t_tail) the same

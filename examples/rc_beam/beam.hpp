@@ -86,6 +86,12 @@ struct beam_options {
   real zone_edge = 0;
   real regularize = 0;           ///< short-edge regularisation of the Voronoi cells (0 = plain)
   std::string compression = "plastic";  ///< "plastic" (cap at f_c, the study) or "elastic"
+  /// Calibration (examples/calibrate --material beam, rc_beam --params): the contacts' tensile
+  /// strength and with it the cohesion (c_0 = 2 x the scaled f_T) are study_beam_params' times
+  /// strength_scale, their G_f times fracture_energy_scale; 1 and 1 = the study verbatim. The
+  /// hand values and the first-cracking event stay at the concrete's f_T.
+  real strength_scale = 1;
+  real fracture_energy_scale = 1;
   [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
   [[nodiscard]] real support_x() const { return overhang; }
   [[nodiscard]] real load_x() const { return overhang + shear_span; }
@@ -127,7 +133,8 @@ struct beam_scene {
   geometry::tessellation tess;
   geometry::block_mesh mesh;
   zones::linear_elastic_tet::params block_material;
-  presets::study_beam_law::params contact;
+  presets::study_beam_law::params contact;  ///< after calibration (beam_options::strength_scale)
+  real f_T = 0;  ///< the concrete's tensile strength (Pa): hand values and the first-cracking event
   beam_bar::params bar;
   beam_hand_checks hand;
   beam_options options;
@@ -162,6 +169,40 @@ struct beam_scene {
   return h;
 }
 
+/// Refuses a face zoning of `volume` (m^3) in `blocks` blocks that would exhaust memory. Zones grow
+/// as the square of 1 / edge (surface refinement): measured 29 082 zones for 250 blocks at 30 mm,
+/// 103 106 at 15 mm; about 1 kB per zone with its gridpoints and contacts.
+inline void require_zone_budget(const beam_options& o, real volume, int blocks, const char* program) {
+  const real edge = o.face_zone_edge();
+  const real zones = 29082 * (0.03 / edge) * (0.03 / edge) * (volume / 0.02175) * std::cbrt(blocks / 250.0);
+  require(zones <= 5e6, program, ": --zone-edge ", edge, " m would need about ", zones, " zones (~", zones * 1e-6,
+          " GB); the limit is 5e6 zones: use a zone edge >= ", edge * std::sqrt(zones / 5e6), " m");
+}
+
+/// The beam's concrete in `box`: `blocks` Voronoi blocks (seed and regularisation of `o`), their
+/// faces zoned to the beam's face edge with the interior left coarse, semi-rigid zones of 10 E.
+inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options& o, geometry::tessellation& tess,
+                                 geometry::block_mesh& mesh, zones::linear_elastic_tet::params& material) {
+  geometry::tessellation_options to;
+  to.min_edge_rel = o.regularize;
+  tess = geometry::random_voronoi(box, blocks, o.seed, to);
+  geometry::zoning_options z;
+  z.target_edge_length = o.face_zone_edge();
+  z.refine_interior = false;
+  mesh = geometry::zone_blocks(tess, z);
+  material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};
+}
+
+/// Calibration scales on the beam's contacts: f_T x s, c_0 = 2 f_T (study_beam_params' ratio)
+/// and c_res = 0.01 c_0 follow it, G_f x g.
+inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real g) {
+  const real ratio = c.shear.c_0 / c.tension.f_T, residual = c.shear.c_res / c.shear.c_0;
+  c.tension.f_T *= s;
+  c.tension.G_f *= g;
+  c.shear.c_0 = ratio * c.tension.f_T;
+  c.shear.c_res = residual * c.shear.c_0;
+}
+
 /// Builds the beam. Throws invalid_input naming a bad option.
 [[nodiscard]] inline beam_scene make_beam(const beam_options& o) {
   require(o.blocks == 250 || o.blocks == 500 || o.blocks < 250,
@@ -186,29 +227,20 @@ struct beam_scene {
   require(std::isfinite(o.zone_edge) && o.zone_edge >= 0, "rc_beam: --zone-edge ", o.zone_edge, " must be >= 0");
   require(o.compression == "plastic" || o.compression == "elastic", "rc_beam: --compression '", o.compression,
           "' must be plastic or elastic");
-  {
-    // Zones grow as the square of 1 / edge (surface refinement): measured 29 082 zones for 250
-    // blocks at 30 mm, 103 106 at 15 mm; about 1 kB per zone with its gridpoints and contacts.
-    const real edge = o.face_zone_edge();
-    const real volume = o.half_length() * o.height * o.width;
-    const real zones = 29082 * (0.03 / edge) * (0.03 / edge) * (volume / 0.02175) * std::cbrt(o.blocks / 250.0);
-    require(zones <= 5e6, "rc_beam: --zone-edge ", edge, " m would need about ", zones, " zones (~", zones * 1e-6,
-            " GB); the limit is 5e6 zones: use a zone edge >= ", edge * std::sqrt(zones / 5e6), " m");
-  }
+  require_zone_budget(o, o.half_length() * o.height * o.width, o.blocks, "rc_beam");
   beam_scene s;
   s.options = o;
+  require(std::isfinite(o.strength_scale) && o.strength_scale > 0 && std::isfinite(o.fracture_energy_scale) &&
+              o.fracture_energy_scale > 0,
+          "rc_beam: strength scale ", o.strength_scale, " and fracture-energy scale ", o.fracture_energy_scale,
+          " must be finite and > 0");
   s.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
+  s.f_T = s.contact.tension.f_T;
   s.hand = beam_hand(o, s.contact);
+  scale_beam_contacts(s.contact, o.strength_scale, o.fracture_energy_scale);
   s.box.lo = vec3::Zero();
   s.box.hi = vec3(o.half_length(), o.height, o.width);
-  geometry::tessellation_options to;
-  to.min_edge_rel = o.regularize;
-  s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed, to);
-  geometry::zoning_options z;
-  z.target_edge_length = o.face_zone_edge();
-  z.refine_interior = false;
-  s.mesh = geometry::zone_blocks(s.tess, z);
-  s.block_material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};
+  beam_concrete_blocks(s.box, o.blocks, o, s.tess, s.mesh, s.block_material);
   s.bar.steel = reinforcement::steel{beam_steel_young, beam_steel_yield, 7850.0, o.bar_diameter};
   s.bar.bond = presets::tie_bond();
   const real bar_length = o.half_length() - o.end_cover;
@@ -219,6 +251,42 @@ struct beam_scene {
     s.bar.bars.push_back(reinforcement::bar{vec3(o.end_cover, y, zc), vec3(o.half_length(), y, zc), s.elements_per_bar, true});
   }
   return s;
+}
+
+/// The prism examples/calibrate --material beam fits the beam's contacts on (DESIGN.md §5): the
+/// beam's concrete (study_beam_params for options.blocks, semi-rigid zones of 10 E, the faces zoned
+/// to the beam's face edge with the interior left coarse) in a square prism of the beam's depth h
+/// on a side and 4 h long, pulled along its length like the study's prism. It holds as many
+/// Voronoi blocks as give the beam's mean cell volume (half-beam volume / options.blocks): 155 for
+/// the default 250-block beam, 310 for 500, so the blocks, their faces and the sub-contacts on
+/// them have the beam's sizes. The prism's own contacts field is not used: the law is `contact`.
+struct beam_prism_scene {
+  prism_scene prism;                        ///< geometry, zoning, block material, references f_T, G_f, E
+  presets::study_beam_law::params contact;  ///< the beam's contacts, scaled
+  int prism_blocks = 0;
+};
+
+[[nodiscard]] inline beam_prism_scene make_beam_prism(const beam_options& o) {
+  require(o.blocks >= 8 && o.blocks <= 500, "calibrate: beam blocks = ", o.blocks, " must lie in [8, 500]");
+  require(std::isfinite(o.strength_scale) && o.strength_scale > 0 && std::isfinite(o.fracture_energy_scale) &&
+              o.fracture_energy_scale > 0,
+          "calibrate: strength scale ", o.strength_scale, " and fracture-energy scale ", o.fracture_energy_scale,
+          " must be finite and > 0");
+  beam_prism_scene b;
+  b.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
+  prism_scene& p = b.prism;
+  p.f_T = b.contact.tension.f_T;
+  p.G_f = b.contact.tension.G_f;
+  p.young = beam_concrete_young;
+  scale_beam_contacts(b.contact, o.strength_scale, o.fracture_energy_scale);
+  const real h = o.height;
+  p.box.lo = vec3::Zero();
+  p.box.hi = vec3(h, h, 4 * h);
+  const real cell_volume = o.half_length() * o.height * o.width / o.blocks;
+  b.prism_blocks = static_cast<int>(std::max<long>(8, std::lround(p.box.volume() / cell_volume)));
+  require_zone_budget(o, p.box.volume(), b.prism_blocks, "calibrate");
+  beam_concrete_blocks(p.box, b.prism_blocks, o, p.tess, p.mesh, p.block_material);
+  return b;
 }
 
 }  // namespace tessera::scenes

@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "common/calibration.hpp"
 #include "common/cli.hpp"
 #include "common/snapshots.hpp"
 #include "rc_beam/beam_run.hpp"
@@ -46,6 +47,7 @@ struct inputs {
   tessera::scenes::beam_options beam;
   tessera::scenes::beam_loading loading;
   bool write_vtk = true;
+  std::string params;  ///< --params FILE (calibrate --material beam), empty = the study verbatim
 };
 
 /// The beam's VTK snapshots (common/snapshots.hpp), and the cracked sub-contacts at the end.
@@ -99,7 +101,8 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   }
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.blocks, " blocks, seed ", o.seed, ", ",
-                                       o.compression, " compression");
+                                       o.compression, " compression",
+                                       in.params.empty() ? "" : tessera::detail::concat(", strength x ", o.strength_scale));
   plot.xlabel = "mid-span deflection (mm)";
   plot.ylabel = "total load P (kN)";
   plot.series.push_back({.csv = out / "curve.csv", .x_column = "midspan_deflection_m", .y_column = "load_N",
@@ -161,6 +164,10 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("blocks", o.blocks)
       .set("seed", o.seed)
       .set("compression", o.compression)
+      .set("parameters", in.params.empty() ? "verbatim" : "calibrated")
+      .set("params_file", in.params)
+      .set("strength_scale", o.strength_scale)
+      .set("fracture_energy_scale", o.fracture_energy_scale)
       .set("width_m", o.width)
       .set("height_m", o.height)
       .set("effective_depth_m", o.effective_depth)
@@ -249,7 +256,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
     std::snprintf(yield_buf, sizeof yield_buf, "bars not yielded (hand A_s f_y z %.2f kN)", h.yield_load * 1e-3);
   const std::string yield_text = yield_buf;
   std::printf(
-      "rc_beam (PROVISIONAL geometry): %d blocks, %lld sub-contacts (study %d), %.1f contact points over the depth,"
+      "rc_beam (PROVISIONAL geometry): %d blocks%s, %lld sub-contacts (study %d), %.1f contact points over the depth,"
       " %.1f trusses per block\n"
       "  first crack %.2f kN (hand: f_T %.2f, %+.1f %%; flexural strength %.2f, %+.1f %%); h/4 deep %.2f kN at x = %.0f mm,"
       " %.0f deg;"
@@ -258,7 +265,8 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
       " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
-      o.blocks, static_cast<long long>(r.subcontacts), o.blocks == 500 ? 55228 : 27274, r.contact_points_over_depth,
+      o.blocks, in.params.empty() ? "" : tessera::detail::concat(" (contact strength x ", o.strength_scale, ")").c_str(),
+      static_cast<long long>(r.subcontacts), o.blocks == 500 ? 55228 : 27274, r.contact_points_over_depth,
       r.trusses_per_block, r.first_crack_load * 1e-3, h.first_crack_load * 1e-3,
       100 * rel(r.first_crack_load, h.first_crack_load), h.flexural_crack_load * 1e-3,
       100 * rel(r.first_crack_load, h.flexural_crack_load), r.developed_crack_load * 1e-3, r.first_crack_x * 1e3,
@@ -275,6 +283,19 @@ int run(inputs in) {
   const tessera::cli::wall_timer timer;
   in.beam.seed = in.common.seed;
   in.loading.threads = in.common.threads;
+  if (!in.params.empty()) {
+    // The beam recipe's law; the step is set later by the mass scaling (0: the note gives the fitted one).
+    tessera::scenes::calibration_recipe recipe;
+    recipe.softening = "linear";
+    recipe.cohesion_ratio = 2;
+    recipe.step_displacement = 0;
+    recipe.rate = in.loading.rate;
+    recipe.material = "beam";
+    recipe.zone_edge = in.beam.face_zone_edge();
+    const auto e = tessera::scenes::load_calibration(in.params, in.beam.blocks, recipe, "rc_beam");
+    in.beam.strength_scale = e.strength_scale;
+    in.beam.fracture_energy_scale = e.fracture_energy_scale;
+  }
   const tessera::scenes::beam_scene scene = tessera::scenes::make_beam(in.beam);
   snapshot_writer snaps(out, scene, in.write_vtk);
   const tessera::scenes::beam_result r = tessera::scenes::run_beam(scene, in.loading, snaps);
@@ -324,6 +345,9 @@ int main(int argc, char** argv) {
   cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak", "R").within(0.01, 0.99);
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
+  cli.option("--params", in.params,
+             "calibrated contact strength: calibrated.json of calibrate --material beam (its entry for --blocks; the "
+             "zoning must match); default: the study's parameters verbatim", "FILE");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
   cli.parse_or_exit(argc, argv);
   in.write_vtk = !no_vtk;
