@@ -276,12 +276,8 @@ std::string value_text(real v, const figure& f) {
 /// invalid_input naming an unknown name (before any run).
 void select_settings(scene_def& d, const std::string& list) {
   std::vector<setting> kept{d.settings.front()};
-  std::size_t from = 0;
-  while (from <= list.size()) {
-    const std::size_t comma = std::min(list.find(',', from), list.size());
-    const std::string name = list.substr(from, comma - from);
-    from = comma + 1;
-    if (name.empty() || name == d.settings.front().name) continue;
+  for (const std::string& name : tessera::cli::split_list(list, "--settings")) {
+    if (name == d.settings.front().name) continue;
     const auto it = std::find_if(d.settings.begin(), d.settings.end(), [&](const setting& s) { return s.name == name; });
     if (it == d.settings.end()) {
       std::string names;

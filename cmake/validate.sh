@@ -116,8 +116,16 @@ else
   add work_precision_tie 440 "$wp --scene tie"
 fi
 
+# With --resume, a run whose run.json says "complete" is kept; the estimate counts the others.
+kept=()
 total=0
-for e in "${estimates[@]}"; do total=$((total + e)); done
+for i in "${!names[@]}"; do
+  if [[ $resume == 1 ]] && grep -q '"status": "complete"' "$out/${names[$i]}/run.json" 2>/dev/null; then
+    kept+=(1)
+  else
+    kept+=(0); total=$((total + estimates[i]))
+  fi
+done
 start=$(date +%s)
 done_estimate=0
 for i in "${!names[@]}"; do
@@ -127,8 +135,9 @@ for i in "${!names[@]}"; do
   left=$(( total - done_estimate ))
   printf 'validate: [%d/%d] %s (about %d s; %d s elapsed, about %d s left)\n' \
     $((i + 1)) ${#names[@]} "$name" "${estimates[$i]}" "$elapsed" "$left"
-  if [[ $resume == 1 ]] && grep -q '"status": "complete"' "$dir/run.json" 2>/dev/null; then
+  if [[ ${kept[$i]} == 1 ]]; then
     echo "validate:   complete in an earlier run, kept"
+    continue
   else
     # shellcheck disable=SC2086  # the command is a word list on purpose
     if ! ${commands[$i]} --threads "$threads" --out "$dir" > "$out/$name.log" 2>&1; then

@@ -250,6 +250,11 @@ tessera_add_refusal_test(refuse_rc_tie_softening rc_tie "--softening: invalid va
 tessera_add_refusal_test(refuse_tessellate_edge tessellate "--edge 1e-05 m .* zones, an estimated .* GiB \\(limit 8 GiB\\)"
   --edge 1e-5)
 tessera_add_refusal_test(refuse_rc_tie_sensitivity_studies rc_tie_sensitivity "unknown study 'foo'" --studies foo)
+# Lists (cli::split_list, shared by calibrate --blocks, rc_tie_sensitivity --studies and
+# work_precision_figures --settings): an empty item or a repeat is refused, not skipped or run twice.
+tessera_add_refusal_test(refuse_rc_tie_sensitivity_studies_empty rc_tie_sensitivity
+  "--studies 'xi,' must be a comma-separated list without empty items" --studies xi,)
+tessera_add_refusal_test(refuse_calibrate_blocks_repeat calibrate "--blocks '100,100' lists '100' twice" --threads 1 --blocks 100,100)
 if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
   # An empty --out is refused by the parser (no --out is appended here: the empty one is the input).
   add_test(NAME refuse_rc_tie_empty_out COMMAND $<TARGET_FILE:rc_tie> --quick --out "")
@@ -398,8 +403,9 @@ tessera_add_refusal_test(refuse_rc_beam_depth rc_beam "effective depth d = 0.2 m
 # iterations to s = 0.942 (about 5 s). rc_beam --quick then loads the scale it wrote
 # (tests/data/calibrated_beam_quick.json; regenerate with
 #   calibrate --quick --material beam --seed 1 --out DIR && cp DIR/calibrated.json tests/data/calibrated_beam_quick.json)
-# and its first vertical crack h/4 deep comes at a lower load than with the study's contacts
-# (14.4 kN against 15.5 kN measured).
+# and it cracks at lower loads than with the study's contacts: first cracking (the soffit's mean
+# stress at the contacts' strength) 14.09 kN against 15.11 kN, the first crack h/4 deep 14.41 kN
+# against 15.46 kN (measured).
 tessera_add_example_test(calibrate NAME example_calibrate_beam_quick
   ARGS --quick --material beam --seed 1 --threads 1
   FILES calibrated.json calibration.csv
@@ -415,6 +421,7 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_params_quick
   CHECKS "parameters STREQUAL calibrated"
          "strength_scale GREATER 0.9"
          "strength_scale LESS 0.98"
+         "first_crack_load_N LESS 15.0e3"
          "developed_crack_load_N LESS 15.0e3"
          "vertical_cracks_first STREQUAL ON"
          "energy_balance_error_rel LESS 1e-3"

@@ -954,6 +954,17 @@ TEST_CASE("cli: errors name the flag and the value", "[cli]") {
   REQUIRE_THROWS_AS(parse(p, {"--blocks", "99999999999"}), cli::usage_error);
 }
 
+TEST_CASE("cli: split_list keeps the order and refuses empty items and repeats", "[cli]") {
+  CHECK(cli::split_list("100", "x") == std::vector<std::string>{"100"});
+  CHECK(cli::split_list("xi,cbond,rate", "x") == std::vector<std::string>{"xi", "cbond", "rate"});
+  for (const char* bad : {"", ",", "a,", ",a", "a,,b"})
+    REQUIRE_THROWS_WITH(cli::split_list(bad, "calibrate: --blocks"),
+                        Catch::Contains("calibrate: --blocks '" + std::string(bad) + "'") &&
+                            Catch::Contains("without empty items"));
+  REQUIRE_THROWS_WITH(cli::split_list("250,500,250", "--blocks"), Catch::Contains("lists '250' twice"));
+  REQUIRE_THROWS_AS(cli::split_list("a,a", "--blocks"), tessera::invalid_input);
+}
+
 TEST_CASE("cli: strict syntax, finite reals, ranges, known words, non-empty --out, bounded --threads", "[cli]") {
   driver_options o;
   auto p = make_parser(o);

@@ -41,7 +41,6 @@
 #include <exception>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -73,19 +72,16 @@ struct inputs {
   std::vector<int> block_counts;   // parsed from `blocks`
 };
 
-// "100,250,500" -> {100, 250, 500}; no repeats. Prism: each a Table 1 block count; beam: a block
+// "100,250,500" -> {100, 250, 500} (cli::split_list: no empty item, no repeat). Prism: each a Table 1 block count; beam: a block
 // count rc_beam accepts (250, 500, or 8..249 for a coarse beam).
 std::vector<int> parse_block_counts(const std::string& text, const std::string& material) {
   std::vector<int> counts;
-  std::stringstream ss(text);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
+  for (const std::string& item : tessera::cli::split_list(text, "calibrate: --blocks")) {
     if (material == "prism") {
       tessera::require(item == "100" || item == "250" || item == "500" || item == "750", "calibrate: --blocks '", text,
                        "': '", item, "' is not one of 100, 250, 500, 750 (Table 1)");
     } else {
-      const bool digits = !item.empty() && item.size() <= 3 &&
-                          std::all_of(item.begin(), item.end(), [](char c) { return c >= '0' && c <= '9'; });
+      const bool digits = item.size() <= 3 && std::all_of(item.begin(), item.end(), [](char c) { return c >= '0' && c <= '9'; });
       const int v = digits ? std::stoi(item) : -1;
       tessera::require(v == 250 || v == 500 || (v >= 8 && v < 250), "calibrate: --blocks '", text, "': '", item,
                        "' is not a beam block count (250, 500, or 8..249 for a coarse beam)");
@@ -95,8 +91,6 @@ std::vector<int> parse_block_counts(const std::string& text, const std::string& 
                      "' lists ", n, " twice");
     counts.push_back(n);
   }
-  tessera::require(!counts.empty() && text.back() != ',', "calibrate: --blocks '", text,
-                   "' must be a comma-separated list such as 100,250,500");
   return counts;
 }
 

@@ -37,6 +37,8 @@
 
 #include <unistd.h>
 
+#include "tessera/core/errors.hpp"
+
 namespace tessera::cli {
 
 /// Bad command line: unknown option, missing or malformed value. what() names the option and value.
@@ -157,6 +159,24 @@ inline int auto_threads(const std::string& program) {
 inline void print_error(const std::string& program, const std::exception& e) {
   const std::string message = e.what(), prefix = program + ": ";
   std::cerr << (message.rfind(prefix, 0) == 0 ? message : prefix + message) << '\n';
+}
+
+/// A comma-separated flag value ("100,250,500") split into its items. Throws invalid_input naming
+/// `what` (say "calibrate: --blocks") and the text for an empty list, an empty item (a leading,
+/// trailing or doubled comma) or an item given twice: the drivers' one rule for lists.
+[[nodiscard]] inline std::vector<std::string> split_list(const std::string& text, const std::string& what) {
+  std::vector<std::string> items;
+  std::size_t from = 0;
+  while (true) {
+    const std::size_t comma = std::min(text.find(',', from), text.size());
+    std::string item = text.substr(from, comma - from);
+    require(!item.empty(), what, " '", text, "' must be a comma-separated list without empty items, such as a,b,c");
+    require(std::find(items.begin(), items.end(), item) == items.end(), what, " '", text, "' lists '", item,
+            "' twice");
+    items.push_back(std::move(item));
+    if (comma == text.size()) return items;
+    from = comma + 1;
+  }
 }
 
 /// Options every example driver has (DESIGN.md §5).

@@ -89,7 +89,7 @@ struct beam_options {
   /// Calibration (examples/calibrate --material beam, rc_beam --params): the contacts' tensile
   /// strength and with it the cohesion (c_0 = 2 x the scaled f_T) are study_beam_params' times
   /// strength_scale, their G_f times fracture_energy_scale; 1 and 1 = the study verbatim. The
-  /// hand values and the first-cracking event stay at the concrete's f_T.
+  /// hand values stay at the concrete's f_T.
   real strength_scale = 1;
   real fracture_energy_scale = 1;
   [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
@@ -134,7 +134,6 @@ struct beam_scene {
   geometry::block_mesh mesh;
   zones::linear_elastic_tet::params block_material;
   presets::study_beam_law::params contact;  ///< after calibration (beam_options::strength_scale)
-  real f_T = 0;  ///< the concrete's tensile strength (Pa): hand values and the first-cracking event
   beam_bar::params bar;
   beam_hand_checks hand;
   beam_options options;
@@ -235,8 +234,7 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
           "rc_beam: strength scale ", o.strength_scale, " and fracture-energy scale ", o.fracture_energy_scale,
           " must be finite and > 0");
   s.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
-  s.f_T = s.contact.tension.f_T;
-  s.hand = beam_hand(o, s.contact);
+  s.hand = beam_hand(o, s.contact);  // at the concrete's f_T, before the calibration scales
   scale_beam_contacts(s.contact, o.strength_scale, o.fracture_energy_scale);
   s.box.lo = vec3::Zero();
   s.box.hi = vec3(o.half_length(), o.height, o.width);

@@ -297,12 +297,7 @@ std::string trends(const study& s) {
 /// The studies named by --studies (xi and cbond alone with --quick); throws invalid_input when
 /// none is left.
 std::vector<study> chosen_studies(const inputs& in) {
-  std::vector<std::string> names;
-  {
-    std::stringstream ss(in.studies);
-    for (std::string item; std::getline(ss, item, ',');)
-      if (!item.empty()) names.push_back(item);
-  }
+  std::vector<std::string> names = tessera::cli::split_list(in.studies, "rc_tie_sensitivity: --studies");
   if (in.common.quick) names.erase(std::remove_if(names.begin(), names.end(), [](const std::string& n) {
                                      return n != "xi" && n != "cbond";
                                    }), names.end());
