@@ -11,13 +11,12 @@
 #   --quick    the reduced scenes (100 blocks, one seed, the drivers' --quick): about 2 min; the
 #              tables go to DIR/validation.md only (the figures of reduced runs are not the
 #              validation)
-#   full       about 2.3 h (5024 s measured at 23c75be with 2 threads before the beam's
-#              calibration and its two calibrated runs, about 43 min more, were added: the
-#              beam's five runs 73 min of it, the two calibrations 26 min, the work-precision
-#              runs 15 min) on this
-#              project's 2-core machine (the progress line estimates the rest); the tables go to
-#              DIR/validation.md and replace the generated section of docs/validation.md (between
-#              its "validate.sh" markers)
+#   full       about 2.1 h (5024 s measured at 23c75be with 2 threads, and 2633 s at 22896da
+#              for the beam's calibration and its two calibrated runs added since: the beam's
+#              five runs 74 min of it, the two calibrations 26 min, the work-precision runs
+#              15 min) on this project's 2-core machine (the progress line estimates the
+#              rest); the tables go to DIR/validation.md and replace the generated section of
+#              docs/validation.md (between its "validate.sh" markers)
 #   --beam-seeds N  seeds 1..N of the 250- and 500-block beams (default 1; each further seed adds
 #              about 30 min); the beam table gives each seed and the band
 #   --threads  worker threads per run (default 0: the drivers' automatic choice, one per core that
@@ -107,10 +106,10 @@ else
   done
   beam_list+=(250_elastic)
   add beam_250_elastic 700 "$bin/rc_beam --blocks 250 --seed 1 --compression elastic --no-vtk"
-  add calibrate_beam 700 "$bin/calibrate --material beam --blocks 250,500 --seeds 3"
+  add calibrate_beam 720 "$bin/calibrate --material beam --blocks 250,500 --seeds 3"
   for b in 250 500; do
     beam_list+=("${b}_calibrated")
-    add "beam_${b}_calibrated" $([[ $b == 250 ]] && echo 730 || echo 1100) "$bin/rc_beam --blocks $b --seed 1 --no-vtk --params $cal_beam"
+    add "beam_${b}_calibrated" $([[ $b == 250 ]] && echo 780 || echo 1140) "$bin/rc_beam --blocks $b --seed 1 --no-vtk --params $cal_beam"
   done
   add work_precision_prism 440 "$wp --scene prism"
   add work_precision_tie 440 "$wp --scene tie"

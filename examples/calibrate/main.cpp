@@ -72,8 +72,8 @@ struct inputs {
   std::vector<int> block_counts;   // parsed from `blocks`
 };
 
-// "100,250,500" -> {100, 250, 500} (cli::split_list: no empty item, no repeat). Prism: each a Table 1 block count; beam: a block
-// count rc_beam accepts (250, 500, or 8..249 for a coarse beam).
+// "100,250,500" -> {100, 250, 500} (cli::split_list: no empty item, no repeat). Prism: each a
+// Table 1 block count; beam: a block count rc_beam accepts (250, 500, or 8..249 for a coarse beam).
 std::vector<int> parse_block_counts(const std::string& text, const std::string& material) {
   std::vector<int> counts;
   for (const std::string& item : tessera::cli::split_list(text, "calibrate: --blocks")) {
@@ -94,8 +94,6 @@ std::vector<int> parse_block_counts(const std::string& text, const std::string& 
   return counts;
 }
 
-// One seed at strength scale s and fracture-energy scale g: to just past the peak, or (full) to
-// separation.
 // The beam's contacts (linear softening, plastic cap) on deformable blocks, without bars.
 using beam_prism_solver = tessera::solver<tessera::blocks::deformable<tessera::zones::linear_elastic_tet>,
                                          tessera::presets::bonded_faces<tessera::presets::study_beam_law>>;
@@ -128,6 +126,8 @@ scenes::prism_scene reference_prism(const inputs& in, int blocks) {
   return scenes::make_prism(prism_options_for(in, blocks, in.common.seed, 1, 1));
 }
 
+// One seed at strength scale s and fracture-energy scale g: to just past the peak, or (full) to
+// separation.
 scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed, real s, real g, bool full) {
   scenes::tension_loading ld;
   ld.rate = in.recipe.rate;
@@ -390,11 +390,12 @@ int main(int argc, char** argv) {
       "for rc_beam --params. Writes calibrated.json. Exit 3 if a block count did not converge.\n"
       "--quick: prism 100 blocks (beam: 60 blocks, 50 mm zoning, as rc_beam --quick), 1 seed, 5 nm per step.");
   cli.add_standard(in.common);
-  cli.option("--material", in.recipe.material, "the concrete and prism of the recipe (the file comment)", "prism|beam")
+  cli.option("--material", in.recipe.material, "prism: the study's prism concrete (for direct_tension, rc_tie); beam: the beam's concrete on a prism of the "
+             "beam's block size (for rc_beam)", "prism|beam")
       .one_of({"prism", "beam"});
   cli.option("--blocks", in.blocks,
-             "comma-separated block counts: prism 100, 250, 500 or 750 (default 100,250,500); beam 250, 500 or 8..249 "
-             "(default 250,500)", "LIST");
+             "comma-separated block counts: prism 100, 250, 500 or 750; beam 250, 500 or 8..249 (with --material "
+             "beam the default is 250,500)", "LIST");
   cli.option("--seeds", in.seeds,
              "seeds per block count (seed, seed+1, ...); the fit is on their mean (6 keeps unseen seeds within 5 % of f_T)",
              "K").within(1, 100);
