@@ -432,6 +432,9 @@ tessera_add_refusal_test(refuse_rc_beam_params_prism rc_beam
 tessera_add_refusal_test(refuse_rc_beam_params_zoning rc_beam
   "was fitted with a face zoning edge of 0.05 m, this run uses 0.03 m"
   --threads 1 --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_beam_quick.json)
+tessera_add_refusal_test(refuse_rc_beam_params_geometry rc_beam
+  "was fitted with the blocks of a half beam of 0.02175 m\\^3 \\(the default dimensions\\), this beam is 0.0271875 m\\^3"
+  --threads 1 --quick --width 0.25 --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_beam_quick.json)
 tessera_add_refusal_test(refuse_calibrate_beam_softening calibrate
   "--material beam uses the beam's linear softening, got --softening power" --threads 1 --material beam --softening power)
 tessera_add_refusal_test(refuse_calibrate_beam_blocks calibrate

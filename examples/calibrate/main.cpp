@@ -311,7 +311,8 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
       .set("step_displacement_m", in.recipe.step_displacement)
       .set("rate_m_per_s", in.recipe.rate)
       .set("rigid", in.recipe.rigid)
-      .set("zone_edge_m", in.recipe.zone_edge);
+      .set("zone_edge_m", in.recipe.zone_edge)
+      .set("beam_volume_m3", in.recipe.beam_volume);
   std::vector<io::summary_json> entries;
   io::summary_json summary;
   summary.set("program", "calibrate").set("quick", in.common.quick).set("seed", in.common.seed)
@@ -427,6 +428,7 @@ int main(int argc, char** argv) {
   }
   // The beam's zoning in effect (rc_beam: 0 = h/5), recorded in the recipe and matched on loading.
   if (beam && in.recipe.zone_edge == 0) in.recipe.zone_edge = tessera::scenes::beam_options{}.face_zone_edge();
+  if (beam) in.recipe.beam_volume = tessera::scenes::beam_options{}.half_volume();  // make_beam_prism's cell volume
   tessera::io::run_record record(in.common.out, "calibrate", argc, argv);
   try {
     const int status = run(in);

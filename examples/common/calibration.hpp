@@ -6,7 +6,7 @@
 //     "format": "tessera-calibration-1",
 //     "recipe": {"material": "prism", "softening": "power", "cohesion_ratio": 2,
 //                "step_displacement_m": 2e-09, "rate_m_per_s": 0.005, "rigid": false,
-//                "zone_edge_m": 0},
+//                "zone_edge_m": 0, "beam_volume_m3": 0},
 //     "entries": [
 //       {"blocks": 100, "strength_scale": 0.91, "fracture_energy_scale": 1, "seeds": [1, 2, 3],
 //        "iterations": 3, "peak_mean_Pa": 2.151e6, "peak_spread_rel": 0.02, ...},
@@ -24,8 +24,10 @@
 // rc_tie), "beam" = the beam's concrete (study_beam_params, fitted on the beam-recipe prism of
 // rc_beam/beam.hpp make_beam_prism; entries keyed by the beam's block count; rc_beam). zone_edge_m:
 // the zoning's target face edge the fit used (0 = one zone per face triangle, the prism's), which
-// sets the sub-contacts' density; a driver refuses a file fitted at another. Files written before
-// these two fields existed are read as "prism" and 0.
+// sets the sub-contacts' density; a driver refuses a file fitted at another. beam_volume_m3: the
+// beam recipe's half-beam volume (the default beam's dimensions), whose cell volume the prism's
+// blocks have; rc_beam refuses a file fitted for another (0 = not recorded, the prism's). Files
+// written before these fields existed are read as "prism", 0 and 0.
 
 #include <cmath>
 #include <cstdio>
@@ -52,6 +54,7 @@ struct calibration_recipe {
   bool rigid = false;
   std::string material = "prism";   ///< "prism" or "beam" (the file comment)
   real zone_edge = 0;               ///< m; 0 = one zone per face triangle
+  real beam_volume = 0;             ///< m^3; beam recipe: the half beam's volume, 0 = not recorded
 };
 
 struct calibration_entry {
@@ -112,6 +115,11 @@ inline real scale_in_range(const io::json_value& v) {
     if (!(c.recipe.zone_edge >= 0 && c.recipe.zone_edge <= 1))
       throw io_error(tessera::detail::concat(z->path(), " = ", c.recipe.zone_edge, " must lie in [0, 1] m"));
   }
+  if (const io::json_value* v = r.find("beam_volume_m3")) {
+    c.recipe.beam_volume = v->number();
+    if (!(c.recipe.beam_volume >= 0 && c.recipe.beam_volume <= 1e3))
+      throw io_error(tessera::detail::concat(v->path(), " = ", c.recipe.beam_volume, " must lie in [0, 1000] m^3"));
+  }
   for (const auto* v : {&r.at("cohesion_ratio"), &r.at("step_displacement_m"), &r.at("rate_m_per_s")})
     if (!(v->number() > 0)) throw io_error(tessera::detail::concat(v->path(), " = ", v->number(), " must be > 0"));
   for (const io::json_value& e : doc.at("entries").items()) {
@@ -147,6 +155,11 @@ inline real scale_in_range(const io::json_value& v) {
           " was fitted with cohesion ratio ", c.recipe.cohesion_ratio, ", this run uses ", run.cohesion_ratio);
   require(std::abs(c.recipe.zone_edge - run.zone_edge) <= 1e-12 * std::max(run.zone_edge, real(1e-3)), program, ": ", f,
           " was fitted with a face zoning edge of ", c.recipe.zone_edge, " m, this run uses ", run.zone_edge, " m");
+  require(c.recipe.beam_volume == 0 || run.beam_volume == 0 ||
+              std::abs(c.recipe.beam_volume - run.beam_volume) <= 1e-9 * run.beam_volume,
+          program, ": ", f, " was fitted with the blocks of a half beam of ", c.recipe.beam_volume,
+          " m^3 (the default dimensions), this beam is ", run.beam_volume,
+          " m^3: its blocks have another size; calibrate has no geometry flags yet");
   const calibration_entry e = c.entry_for(blocks, f);
   if (run.step_displacement == 0)
     std::printf("%s: note: %s was fitted at %.3g m per step and %.3g m/s\n", program, f.c_str(),

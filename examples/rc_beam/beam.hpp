@@ -93,6 +93,8 @@ struct beam_options {
   real strength_scale = 1;
   real fracture_energy_scale = 1;
   [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
+  /// The half beam's volume (m^3).
+  [[nodiscard]] real half_volume() const { return half_length() * height * width; }
   [[nodiscard]] real support_x() const { return overhang; }
   [[nodiscard]] real load_x() const { return overhang + shear_span; }
   /// The zoning target edge in effect: zone_edge, or h / 5 when it is 0.
@@ -164,7 +166,7 @@ struct beam_scene {
   const real d_mm = d * 1e3, k = std::min(2.0, 1 + std::sqrt(200 / d_mm));
   const real vc_mpa = 0.15 * k * std::cbrt(100 * rho * c.compression.f_c * 1e-6);
   h.shear_capacity_load = 2 * vc_mpa * 1e6 * b * d;
-  h.mean_block_size = std::cbrt(o.half_length() * hh * b / o.blocks);
+  h.mean_block_size = std::cbrt(o.half_volume() / o.blocks);
   return h;
 }
 
@@ -226,7 +228,7 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   require(std::isfinite(o.zone_edge) && o.zone_edge >= 0, "rc_beam: --zone-edge ", o.zone_edge, " must be >= 0");
   require(o.compression == "plastic" || o.compression == "elastic", "rc_beam: --compression '", o.compression,
           "' must be plastic or elastic");
-  require_zone_budget(o, o.half_length() * o.height * o.width, o.blocks, "rc_beam");
+  require_zone_budget(o, o.half_volume(), o.blocks, "rc_beam");
   beam_scene s;
   s.options = o;
   require(std::isfinite(o.strength_scale) && o.strength_scale > 0 && std::isfinite(o.fracture_energy_scale) &&
@@ -280,7 +282,7 @@ struct beam_prism_scene {
   const real h = o.height;
   p.box.lo = vec3::Zero();
   p.box.hi = vec3(h, h, 4 * h);
-  const real cell_volume = o.half_length() * o.height * o.width / o.blocks;
+  const real cell_volume = o.half_volume() / o.blocks;
   b.prism_blocks = static_cast<int>(std::max<long>(8, std::lround(p.box.volume() / cell_volume)));
   require_zone_budget(o, p.box.volume(), b.prism_blocks, "calibrate");
   beam_concrete_blocks(p.box, b.prism_blocks, o, p.tess, p.mesh, p.block_material);

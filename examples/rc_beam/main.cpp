@@ -292,6 +292,7 @@ int run(inputs in) {
     recipe.rate = in.loading.rate;
     recipe.material = "beam";
     recipe.zone_edge = in.beam.face_zone_edge();
+    recipe.beam_volume = in.beam.half_volume();
     const auto e = tessera::scenes::load_calibration(in.params, in.beam.blocks, recipe, "rc_beam");
     in.beam.strength_scale = e.strength_scale;
     in.beam.fracture_energy_scale = e.fracture_energy_scale;
