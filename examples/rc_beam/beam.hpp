@@ -194,6 +194,14 @@ inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options
   material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};
 }
 
+/// Refuses a strength or fracture-energy scale that is not finite and positive, naming `program`.
+inline void require_calibration_scales(const beam_options& o, const char* program) {
+  require(std::isfinite(o.strength_scale) && o.strength_scale > 0 && std::isfinite(o.fracture_energy_scale) &&
+              o.fracture_energy_scale > 0,
+          program, ": strength scale ", o.strength_scale, " and fracture-energy scale ", o.fracture_energy_scale,
+          " must be finite and > 0");
+}
+
 /// Calibration scales on the beam's contacts: f_T x s, c_0 = 2 f_T (study_beam_params' ratio)
 /// and c_res = 0.01 c_0 follow it, G_f x g.
 inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real g) {
@@ -231,10 +239,7 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   require_zone_budget(o, o.half_volume(), o.blocks, "rc_beam");
   beam_scene s;
   s.options = o;
-  require(std::isfinite(o.strength_scale) && o.strength_scale > 0 && std::isfinite(o.fracture_energy_scale) &&
-              o.fracture_energy_scale > 0,
-          "rc_beam: strength scale ", o.strength_scale, " and fracture-energy scale ", o.fracture_energy_scale,
-          " must be finite and > 0");
+  require_calibration_scales(o, "rc_beam");
   s.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
   s.hand = beam_hand(o, s.contact);  // at the concrete's f_T, before the calibration scales
   scale_beam_contacts(s.contact, o.strength_scale, o.fracture_energy_scale);
@@ -263,15 +268,11 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
 struct beam_prism_scene {
   prism_scene prism;                        ///< geometry, zoning, block material, references f_T, G_f, E
   presets::study_beam_law::params contact;  ///< the beam's contacts, scaled
-  int prism_blocks = 0;
 };
 
 [[nodiscard]] inline beam_prism_scene make_beam_prism(const beam_options& o) {
   require(o.blocks >= 8 && o.blocks <= 500, "calibrate: beam blocks = ", o.blocks, " must lie in [8, 500]");
-  require(std::isfinite(o.strength_scale) && o.strength_scale > 0 && std::isfinite(o.fracture_energy_scale) &&
-              o.fracture_energy_scale > 0,
-          "calibrate: strength scale ", o.strength_scale, " and fracture-energy scale ", o.fracture_energy_scale,
-          " must be finite and > 0");
+  require_calibration_scales(o, "calibrate");
   beam_prism_scene b;
   b.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
   prism_scene& p = b.prism;
@@ -283,9 +284,9 @@ struct beam_prism_scene {
   p.box.lo = vec3::Zero();
   p.box.hi = vec3(h, h, 4 * h);
   const real cell_volume = o.half_volume() / o.blocks;
-  b.prism_blocks = static_cast<int>(std::max<long>(8, std::lround(p.box.volume() / cell_volume)));
-  require_zone_budget(o, p.box.volume(), b.prism_blocks, "calibrate");
-  beam_concrete_blocks(p.box, b.prism_blocks, o, p.tess, p.mesh, p.block_material);
+  const int prism_blocks = static_cast<int>(std::max<long>(8, std::lround(p.box.volume() / cell_volume)));
+  require_zone_budget(o, p.box.volume(), prism_blocks, "calibrate");
+  beam_concrete_blocks(p.box, prism_blocks, o, p.tess, p.mesh, p.block_material);
   return b;
 }
 
