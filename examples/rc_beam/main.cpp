@@ -348,7 +348,7 @@ int main(int argc, char** argv) {
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
              "calibrated contact strength: calibrated.json of calibrate --material beam (its entry for --blocks; the "
-             "zoning must match); default: the study's parameters verbatim", "FILE");
+             "zoning and the beam's dimensions must match); default: the study's parameters verbatim", "FILE");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
   cli.parse_or_exit(argc, argv);
   in.write_vtk = !no_vtk;
