@@ -358,6 +358,20 @@ tessera_add_example_test(verification NAME example_verification_bond_quick
   FILES curve.csv blocks_final.vtu
   CHECKS "pass STREQUAL ON" "error_rel LESS 0.01" "error_rel GREATER -0.01" "acceleration_error LESS 0.01"
          "acceleration_error GREATER -0.01" "bonded_at_start EQUAL 4" "kept_last_rebuild EQUAL 4")
+# The same problems with deformable blocks (--deformable: elastic zones, detected contacts at the
+# surface gridpoints; docs/model.md "Deformable blocks"): the slide and the drop, under a second each.
+tessera_add_example_test(verification NAME example_verification_deformable_slide_quick
+  ARGS --quick --threads 2 --case incline --angle-deg 40 --friction-deg 30 --deformable --duration 0.25
+  FILES curve.csv blocks_final.vtu
+  CHECKS "pass STREQUAL ON" "error_rel LESS 0.01" "error_rel GREATER -0.01" "block_model STREQUAL deformable"
+         "subcontacts EQUAL 5")
+tessera_add_example_test(verification NAME example_verification_deformable_drop_quick
+  ARGS --quick --threads 1 --case drop --deformable
+  CHECKS "pass STREQUAL ON" "error_rel LESS 0.01" "error_rel GREATER -0.01" "energy_error_rel LESS 1e-6")
+tessera_add_refusal_test(refuse_verification_deformable_bond verification
+  "--deformable applies to incline, topple, stack and drop, not to bond" --threads 1 --case bond --angle-deg 40 --deformable)
+tessera_add_refusal_test(refuse_verification_zone_edge verification
+  "--zone-edge = 0.001 m must lie in" --threads 1 --case drop --deformable --zone-edge 0.001)
 tessera_add_refusal_test(refuse_verification_case verification
   "--case: invalid value 'slide'" --threads 1 --case slide)
 tessera_add_refusal_test(refuse_verification_cohesion verification

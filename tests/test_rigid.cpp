@@ -713,3 +713,147 @@ TEST_CASE("detected contacts: a checkpoint between rebuilds restarts with the sa
                     Catch::Contains("has size 1099511627776 in 'detected/subcontacts', impossible in a file of"));
   std::filesystem::remove_all(dir);
 }
+
+// ---- contact detection with deformable blocks (detected_contacts::params::deformable_blocks) ----
+
+TEST_CASE("detected contacts on deformable blocks: the verification cases against their closed forms",
+          "[deformable][detected][verification]") {
+  // The same scenes with elastic tetrahedral zones (E 30 GPa, zone edge = block edge); a
+  // face-to-face patch puts its sub-contacts at the surface gridpoints of the face inside the
+  // other (the cube's bottom face: 4 corners and the centre). Figures measured at the commit that
+  // added them, quick forms.
+  verification::inputs in = verification_case("incline");
+  in.deformable = true;
+  SECTION("incline, theta 40 > phi 30 deg, undamped: a within 1 % (measured +0.17 % over 0.4 s)") {
+    in.angle_deg = 40;
+    in.duration = 0.25;  // the tilt ramps over 0.1 s; a is fitted over the second half
+    const auto r = verification::run(in);
+    INFO("a = " << r.measured << " m/s^2, reference " << r.reference);
+    CHECK(std::abs(r.error_rel) < 0.01);
+    CHECK(r.rebuilds > 50);
+    CHECK(r.subcontacts == 5);
+    CHECK(r.energy_error_rel < 1e-3);
+  }
+  SECTION("incline, theta 20 < phi 30 deg, damped: the slip stays below 1e-6 m (measured 3.4e-7 over 0.4 s)") {
+    in.angle_deg = 20;
+    in.duration = 0.25;
+    const auto r = verification::run(in);
+    CHECK(r.measured < 1e-6);
+    CHECK(r.pass);
+  }
+  SECTION("stack: the fixed gridpoints carry every gridpoint's weight within 1e-6, no drift") {
+    in.which = "stack";
+    in.blocks = 3;
+    const auto r = verification::run(in);
+    INFO("reaction " << r.measured << " N, weight " << r.reference << " N");
+    CHECK(std::abs(r.error_rel) < 1e-6);
+    CHECK(r.drift_m < 1e-9);
+    CHECK(r.subcontacts == 15);  // five gridpoints under each of the three cubes
+  }
+  SECTION("drop: the contacts' mean closure is W / (k_n A) within 1 %") {
+    in.which = "drop";
+    const auto r = verification::run(in);
+    INFO("closure " << r.measured << " m, reference " << r.reference << " m");
+    CHECK(std::abs(r.error_rel) < 0.01);
+    CHECK(r.energy_error_rel < 1e-6);
+  }
+  SECTION("topple, b/h 0.3 at 20 deg (tan 20 = 0.36 > 0.3) topples; b/h 0.45 stays") {
+    in.which = "topple";
+    in.angle_deg = 20;
+    in.aspect = 0.3;
+    const auto above = verification::run(in);
+    in.aspect = 0.45;
+    const auto below = verification::run(in);
+    CHECK(above.mode == "topple");
+    CHECK(below.mode == "stable");
+  }
+  SECTION("--deformable is refused where it does not apply") {
+    in.which = "bond";
+    CHECK_THROWS_WITH(verification::validate(in), Catch::Contains("--deformable applies to incline"));
+    in.which = "drop";
+    in.zone_edge = 1e-4;
+    CHECK_THROWS_WITH(verification::validate(in), Catch::Contains("--zone-edge = 0.0001"));
+  }
+}
+
+TEST_CASE("detected contacts on deformable blocks: falling Voronoi blocks, same bits on 1 and 2 threads",
+          "[deformable][detected][determinism]") {
+  // The falling blocks of the rigid test, each block zoned (vertices and centroid) and elastic.
+  using elastic = blocks::deformable<zones::linear_elastic_tet>;
+  const auto tess = separated_voronoi_cube();
+  const auto mesh = geometry::zone_blocks(tess);
+  verification::inputs in;
+  in.k_n = 1e8;
+  auto params = verification::contacts::params(verification::joint(in), 1e-3);
+  params.deformable_blocks = true;
+  const auto run = [&](int threads) {
+    solver_options opt;
+    opt.threads = threads;
+    solver<elastic, verification::contacts> s(tess, mesh, elastic::params{1e9, 0.2, 2400}, params, {}, opt);
+    s.set_gravity(vec3(30, 10, -98.1));
+    s.fix(s.gridpoints_on_plane(2, 0, 0.02));
+    s.run(400);
+    const tessera::index initial = s.contacts().subcontact_count();
+    s.run(23600);  // 0.02 s at dt 8.5e-7 s (the zones' step)
+    // The widest distance between a sub-contact's two material points (its opening and slip).
+    real worst = 0;
+    for (tessera::index i = 0; i < s.contacts().subcontact_count(); ++i) {
+      const vec3 xa = s.contacts().position_a(i, s.gridpoints()), xb = s.contacts().position_b(i, s.gridpoints());
+      worst = std::max(worst, (xb - xa).norm());
+    }
+    return std::tuple{s.gridpoints().displacement, s.energies().error_rel(), s.contacts().subcontact_count(), initial,
+                      s.contacts().rebuild_count(), worst, s.contacts().max_deviation()};
+  };
+  const int before = max_threads();
+  const auto one = run(1);
+  const auto two = run(2);
+  set_threads(before);
+  INFO("sub-contacts " << std::get<3>(one) << " -> " << std::get<2>(one) << ", rebuilds " << std::get<4>(one)
+                       << ", energy " << std::get<1>(one) << ", widest point pair " << std::get<5>(one)
+                       << " m, deviation " << std::get<6>(one) << " m");
+  // measured: 26 sub-contacts after 400 steps, 200 after 24 000 (25 rebuilds), 4.1 mm moved,
+  // energy balance 4.0e-5, deviation from the affine fits 1.1e-5 m
+  CHECK(std::get<0>(one).cwiseAbs().maxCoeff() > 2e-3);
+  CHECK(std::get<2>(one) > 4 * std::get<3>(one));
+  CHECK(std::get<4>(one) > 10);
+  CHECK(std::get<1>(one) < 1e-3);
+  // A sub-contact's two material points stay within the contact tolerance of each other.
+  CHECK(std::get<5>(one) < 2e-3);
+  CHECK(std::get<6>(one) <= 0.25e-3);
+  CHECK((std::get<0>(one).array() == std::get<0>(two).array()).all());
+  CHECK(std::get<2>(one) == std::get<2>(two));
+
+  // A checkpoint between rebuilds (io/checkpoint.hpp): the zoned sub-contacts' gridpoints and
+  // weights come back, and the restart keeps the bits of the run that never stopped.
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "tessera_test_detected_deformable";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto scene = [&] {
+    solver_options opt;
+    opt.threads = 1;
+    solver<elastic, verification::contacts> s(tess, mesh, elastic::params{1e9, 0.2, 2400}, params, {}, opt);
+    s.set_gravity(vec3(30, 10, -98.1));
+    s.fix(s.gridpoints_on_plane(2, 0, 0.02));
+    return s;
+  };
+  auto straight = scene();
+  straight.run(8000);
+  io::save_checkpoint(straight, dir / "falling.ckpt");
+  const tessera::index rebuilds_at_save = straight.contacts().rebuild_count();
+  straight.run(4000);
+  CHECK(straight.contacts().rebuild_count() > rebuilds_at_save);
+  auto restarted = scene();
+  io::load_checkpoint(restarted, dir / "falling.ckpt");
+  restarted.run(4000);
+  CHECK(straight.contacts().rebuild_count() == restarted.contacts().rebuild_count());
+  CHECK((straight.gridpoints().displacement.array() == restarted.gridpoints().displacement.array()).all());
+  CHECK(straight.contacts().subcontact_count() == restarted.contacts().subcontact_count());
+  std::filesystem::remove_all(dir);
+
+  // The contact set must be told the block kind.
+  CHECK_THROWS_WITH((solver<elastic, verification::contacts>(tess, mesh, elastic::params{1e9, 0.2, 2400},
+                                                             verification::contacts::params(verification::joint(in), 1e-3))),
+                    Catch::Contains("deformable_blocks = 0 does not match the block model (deformable)"));
+  CHECK_THROWS_WITH((solver<blocks::rigid, verification::contacts>(tess, mesh, {2400}, params)),
+                    Catch::Contains("deformable_blocks = 1 does not match the block model (rigid)"));
+}

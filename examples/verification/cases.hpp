@@ -17,6 +17,12 @@
 //            the broken face, carried through every rebuild with its state, is a frictional
 //            incline from then on (a = g (sin theta - cos theta tan phi), no cohesion regained);
 //            both within 1 %
+// With `deformable` (--deformable) incline, topple, stack and drop run the same scenes with
+// deformable blocks (blocks::deformable, linear elastic tetrahedral zones of edge zone_edge, Young's
+// modulus young): detected contacts place their points in zones and put a face-to-face patch's
+// sub-contacts at surface gridpoints (contact/detected_contacts.hpp). The closed forms are the
+// same; drop reads the overlap as the contacts' mean closure (area-weighted -u_n), since the
+// faces themselves deform.
 // The block rests on the level base at its static overlap from the start, and the incline is
 // tilted to theta over the first ramp_s (0.1 s, half-cosine), as on a tilting table: a sudden
 // tilt would start the undamped block rocking on its friction moment (e.g. theta 40, phi 30 deg),
@@ -27,6 +33,7 @@
 #include <functional>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -49,13 +56,16 @@ struct inputs {
   real aspect = 1;          ///< topple: width / height b / h
   real size = 0.5;          ///< block edge (m); topple: the height h
   int blocks = 5;           ///< stack: blocks in the column
-  real damping = -1;        ///< local damping gamma; < 0: the case's default (0 incline/topple, 0.8 stack/drop)
+  real damping = -1;        ///< local damping gamma; < 0: the case's default (0 incline/topple, 0.8 stack/drop and a deformable sticking incline)
   real duration = -1;       ///< simulated time (s); < 0: the case's default
   real drop_height = 0.01;  ///< drop: initial gap (m)
   real k_n = 1e11;          ///< joint normal stiffness (Pa/m); k_s = k_n
   real density = 2400;      ///< kg/m^3
   real tolerance = 1e-3;    ///< contact tolerance (m)
   real cohesion = 3000;     ///< bond: cohesion c_0 of the bonded face (Pa); broken: friction alone
+  bool deformable = false;  ///< incline, topple, stack, drop: deformable blocks instead of rigid ones
+  real young = 30e9;        ///< deformable: Young's modulus (Pa); Poisson's ratio 0.2
+  real zone_edge = -1;      ///< deformable: target zone edge (m); < 0: the block edge
   bool quick = false;       ///< shorter runs (tests)
 };
 
@@ -141,6 +151,16 @@ inline void validate(const inputs& in) {
           " s must lie in (0, 100]");
   require(std::isfinite(in.drop_height) && in.drop_height >= 0 && in.drop_height <= in.size,
           "verification: --drop-height = ", in.drop_height, " m must lie in [0, block size]");
+  require(!in.deformable || (in.which != "reclose" && in.which != "bond"), "verification: --deformable applies to incline, topple, stack and drop, not to ",
+          in.which, in.which == "reclose" ? " (its prism is deformable already)" : " (the bonded cube is rigid)");
+  require(!in.deformable || (in.which != "incline" && in.which != "topple") || in.duration <= 2,
+          "verification: --duration = ", in.duration, " s of a deformable ", in.which,
+          " must be at most 2 s (its zoned base grows with the slide)");
+  require(std::isfinite(in.young) && in.young > 0 && in.young <= 1e13, "verification: --young = ", in.young,
+          " Pa must lie in (0, 1e13]");
+  require(in.zone_edge < 0 || (std::isfinite(in.zone_edge) && in.zone_edge >= in.size / 20 && in.zone_edge <= in.size),
+          "verification: --zone-edge = ", in.zone_edge, " m must lie in [", in.size / 20, ", ", in.size,
+          "] (a twentieth of the block to the block; finer would take millions of zones) or be negative for the block edge");
   if (in.which == "bond") {
     const real weight = bond_weight(in), failure_force = bond_failure_force(in);
     require(weight * std::sin(in.angle_deg * std::numbers::pi / 180) > 1.05 * failure_force,
@@ -180,6 +200,21 @@ void record_motion(result& r, const Solver& s, index b) {
   r.z.push_back(s.blocks().displacement(b).z());
   r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));
 }
+/// Steps s through `duration` s (gravity(t) while t <= ramp_s), calling record() about 2 000 times
+/// and at the end; returns the step count and top() (the moving block's displacement) at mid-run.
+template <class Solver, class Top, class Record>
+std::pair<index, vec3> step_through(Solver& s, real duration, const gravity_field& gravity, Top&& top, Record&& record) {
+  const index steps = step_count(duration, s.dt());
+  const index every = std::max<index>(1, steps / 2000);
+  vec3 at_half = vec3::Zero();
+  for (index k = 1; k <= steps; ++k) {
+    if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
+    s.step();
+    if (k == steps / 2) at_half = top();
+    if (k % every == 0 || k == steps) record();
+  }
+  return {steps, at_half};
+}
 /// The run's closing figures: step and contact statistics, energy balance, final geometry.
 template <class Solver>
 void record_end(result& r, const Solver& s, index steps, const geometry::tessellation& tess,
@@ -191,9 +226,78 @@ void record_end(result& r, const Solver& s, index steps, const geometry::tessell
   r.energy_error_rel = s.energies().error_rel();
   r.final_blocks = moved(tess, mesh, s.gridpoints());
 }
+/// The scene of run_scene with deformable blocks (file comment).
+template <class Integrator>
+result run_scene_deformable(const inputs& in, const std::vector<geometry::convex_polyhedron>& cells,
+                            const gravity_field& gravity, real gamma, real duration) {
+  using elastic = blocks::deformable<zones::linear_elastic_tet>;
+  const geometry::tessellation tess = geometry::separate_blocks(cells);
+  geometry::zoning_options zoning;
+  zoning.target_edge_length = in.zone_edge > 0 ? in.zone_edge : in.size;
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess, zoning);
+  solver_options options;
+  if (gamma > 0) options.damping_gamma = gamma;
+  contacts::params cp(joint(in), in.tolerance);
+  cp.deformable_blocks = true;
+  solver<elastic, contacts, reinforcement::none, Integrator> s(tess, mesh, elastic::params{in.young, 0.2, in.density},
+                                                               cp, {}, options);
+  s.set_gravity(gravity(0));
+  s.fix(s.gridpoints_on_plane(2, cells.front().bounds().lo.z(), 1e-9));
+  result r;
+  r.which = in.which;
+  r.dt = s.dt();
+  const index top = static_cast<index>(cells.size()) - 1;
+  // A block's motion: the mass-weighted mean displacement of its gridpoints, its co-rotational
+  // rotation for the tilt.
+  const auto displacement = [&](index b) {
+    vec3 u = vec3::Zero();
+    real m = 0;
+    for (index i = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+         i < mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1]; ++i) {
+      u += s.gridpoints().mass[i] * s.gridpoints().displacement.row(i).transpose();
+      m += s.gridpoints().mass[i];
+    }
+    return vec3(u / m);
+  };
+  const auto [steps, top_at_half] = step_through(s, duration, gravity, [&] { return displacement(top); }, [&] {
+    const mat3& rot = s.blocks().rotation(top);
+    const vec3 u = displacement(top);
+    r.t.push_back(s.time());
+    r.x.push_back(u.x());
+    r.z.push_back(u.z());
+    r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));
+  });
+  record_end(r, s, steps, tess, mesh);
+  r.drift_m = (displacement(top) - top_at_half).norm();
+  if (in.which == "stack") {
+    // Every gridpoint's weight (no mass scaling here) against the fixed gridpoints' reactions.
+    real weight = 0, reaction = 0;
+    for (index i = 0; i < s.gridpoints().size(); ++i) {
+      weight += s.gridpoints().mass[i] * g;
+      reaction += s.gridpoints().reaction(i, 2);
+    }
+    r.measured = reaction;
+    r.reference = weight;
+  }
+  if (in.which == "drop") {
+    // The contacts' mean closure, -sum a u_n / sum a, against W / (k_n A) (the faces deform, so
+    // there is no one overlap of the blocks' geometry).
+    real closure = 0, area = 0, mass = 0;
+    for (index i = 0; i < s.contacts().subcontact_count(); ++i) {
+      closure -= s.contacts().area(i) * s.contacts().state(i).u_n;
+      area += s.contacts().area(i);
+    }
+    for (index i = mesh.block_gridpoint_offsets[1]; i < mesh.block_gridpoint_offsets[2]; ++i) mass += s.gridpoints().mass[i];
+    r.measured = closure / area;
+    r.reference = mass * g / (in.k_n * in.size * in.size);
+  }
+  return r;
+}
+
 template <class Integrator>
 result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron>& cells, const gravity_field& gravity,
                  real gamma, real duration) {
+  if (in.deformable) return run_scene_deformable<Integrator>(in, cells, gravity, gamma, duration);
   const geometry::tessellation tess = geometry::separate_blocks(cells);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   solver_options options;
@@ -206,15 +310,8 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
   r.which = in.which;
   r.dt = s.dt();
   const index top = s.blocks().block_count() - 1;
-  const index steps = step_count(duration, s.dt());
-  const index every = std::max<index>(1, steps / 2000);
-  vec3 top_at_half = vec3::Zero();
-  for (index k = 1; k <= steps; ++k) {
-    if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
-    s.step();
-    if (k == steps / 2) top_at_half = s.blocks().displacement(top);
-    if (k % every == 0 || k == steps) record_motion(r, s, top);
-  }
+  const auto [steps, top_at_half] = step_through(
+      s, duration, gravity, [&] { return s.blocks().displacement(top); }, [&] { record_motion(r, s, top); });
   record_end(r, s, steps, tess, mesh);
   r.drift_m = (s.blocks().displacement(top) - top_at_half).norm();
   if (in.which == "stack") {
@@ -362,23 +459,37 @@ inline result run_bond(const inputs& in) {
   if (in.which == "bond") return detail::run_bond(in);
   const real theta = in.angle_deg * std::numbers::pi / 180, phi = in.friction_deg * std::numbers::pi / 180;
   const real s = in.size;
+  // Deformable blocks: a base as deep as the block and no longer than the slide needs (a <= g sin
+  // theta), so its zones stay few and well shaped.
   const auto base = [&](real half_length) {
-    return geometry::convex_polyhedron::box({-half_length, -s, -0.5 * s}, {half_length, s, 0});
+    return geometry::convex_polyhedron::box({-half_length, in.deformable ? -0.75 * s : -s, in.deformable ? -s : -0.5 * s},
+                                            {half_length, in.deformable ? 0.75 * s : s, 0});
   };
   if (in.which == "incline" || in.which == "topple") {
     const real h = s, b = in.which == "topple" ? in.aspect * h : s, d = s;
     const real weight = in.density * b * h * d * g;
     const real overlap = weight / (in.k_n * b * d);  // static on the level base
-    const real duration = in.duration > 0 ? in.duration : in.quick ? 0.4 : 1.0;
+    // Deformable: 0.4 s (0.25 s quick), since the base must be as long as the slide and its
+    // zones grow with it (1 s at theta 40 deg: a base of 7.8 m).
+    const real duration = in.duration > 0 ? in.duration
+                          : in.deformable ? (in.quick ? 0.25 : 0.4)
+                          : in.quick      ? 0.4
+                                          : 1.0;
     // Long enough for the slide at any angle: x = a T^2 / 2 with a <= g.
-    const real half_length = 0.5 * g * duration * duration + 2 * (b + h);
+    const real half_length = in.deformable ? 0.5 * g * std::sin(theta) * duration * duration + 0.75 * (b + h)
+                                           : 0.5 * g * duration * duration + 2 * (b + h);
     const std::vector<geometry::convex_polyhedron> cells{
         base(half_length), geometry::convex_polyhedron::box({-b / 2, -d / 2, -overlap}, {b / 2, d / 2, h - overlap})};
     const auto gravity = [theta](real t) {
       const real tilt = t < ramp_s ? theta * 0.5 * (1 - std::cos(std::numbers::pi * t / ramp_s)) : theta;
       return vec3(g * std::sin(tilt), 0, -g * std::cos(tilt));
     };
-    result r = detail::run_scene(in, cells, gravity, std::max<real>(in.damping, 0), duration);
+    // A deformable block set down at the rigid static overlap vibrates: undamped, its chatter
+    // walks a sticking block down the slope (0.5 mm in 0.4 s at theta 20, phi 30 deg). Sticking
+    // is a static question, so the deformable sticking incline takes local damping by default.
+    const bool sticks = in.which == "incline" && theta < phi;
+    const real gamma = in.damping >= 0 ? in.damping : in.deformable && sticks ? 0.8 : 0;
+    result r = detail::run_scene(in, cells, gravity, gamma, duration);
     if (in.which == "incline") {
       if (theta < phi) {
         r.quantity = "slip after the run";

@@ -1,10 +1,12 @@
 // verification: the contact-detection verification problems (examples/verification/cases.hpp):
 // a block on an incline that sticks or slides, a block that topples or not, a settling stack and
 // a dropped block, each against its closed-form answer; a cracked prism that recloses; and a
-// bonded cube that fails in shear and slides on its broken face.
+// bonded cube that fails in shear and slides on its broken face. --deformable runs the first four
+// with deformable blocks (elastic zones; cases.hpp).
 //
 // Outputs in --out (default results/verification):
-//   summary.json  case, inputs, measured, reference, error_rel, tolerance, pass, mode (topple),
+//   summary.json  case, inputs (block_model; young_Pa, zone_edge_m with --deformable), measured,
+//                 reference, error_rel, tolerance, pass, mode (topple),
 //                 drift_m (stack), peak_Pa / stress_at_reversal_Pa / max_stress_after_closure_Pa
 //                 (reclose), failure_tilt_deg / acceleration / acceleration_reference /
 //                 acceleration_error / slide_m / bonded_at_start / kept_last_rebuild (bond),
@@ -65,6 +67,9 @@ int run(const inputs& in) {
         .set("blocks", in.scene.blocks)
         .set("k_n_Pa_per_m", in.scene.k_n)
         .set("tolerance_m", in.scene.tolerance);
+    if (r.which != "bond") s.set("block_model", in.scene.deformable ? "deformable" : "rigid");
+    if (in.scene.deformable)
+      s.set("young_Pa", in.scene.young).set("zone_edge_m", in.scene.zone_edge > 0 ? in.scene.zone_edge : in.scene.size);
   }
   s.set("quantity", r.quantity)
       .set("unit", r.unit)
@@ -128,7 +133,8 @@ int main(int argc, char** argv) {
   inputs in;
   tessera::cli::parser cli("verification",
                            "Verification problems of contacts that open, slide and meet again (rigid blocks under gravity\n"
-                           "with detected contacts; reclose: the deformable prism on its own faces):\n"
+                           "with detected contacts, or deformable ones with --deformable; reclose: the deformable prism on\n"
+                           "its own faces):\n"
                            "  incline  a cube on a plane at --angle-deg with --friction-deg, undamped: sticks\n"
                            "           (slip < 1e-6 m) or slides with a = g (sin t - cos t tan phi) within 1 %\n"
                            "  topple   a block of width/height --aspect on the incline: topples iff tan t > b/h\n"
@@ -148,12 +154,19 @@ int main(int argc, char** argv) {
   cli.option("--size", in.scene.size, "block edge (m); topple: the height h", "M").greater_than(0).at_most(100);
   cli.option("--blocks", in.scene.blocks, "stack: number of blocks in the column", "N").within(1, 200);
   cli.option("--damping", in.scene.damping,
-             "local damping gamma in [0, 1]; -1 = the case's default (0 incline/topple, 0.8 stack/drop)", "G")
+             "local damping gamma in [0, 1]; -1 = the case's default (0 incline/topple; 0.8 stack/drop and the\n"
+             "                      deformable incline below the friction angle)", "G")
       .within(-1, 1);
-  cli.option("--duration", in.scene.duration, "simulated time (s); -1 = the case's default", "S").within(-1, 100);
+  cli.option("--duration", in.scene.duration, "simulated time (s); -1 = the case's default (deformable incline/topple: 0.4 s, at most 2)", "S").within(-1, 100);
   cli.option("--drop-height", in.scene.drop_height, "drop: initial gap under the cube (m)", "M").at_least(0);
   cli.option("--kn", in.scene.k_n, "joint normal stiffness k_n = k_s (Pa/m)", "K").greater_than(0).at_most(1e14);
   cli.option("--tolerance", in.scene.tolerance, "contact tolerance (m)", "M").greater_than(0);
+  cli.flag("--deformable", in.scene.deformable,
+           "incline, topple, stack, drop: deformable blocks (elastic tetrahedral zones) instead of rigid ones");
+  cli.option("--young", in.scene.young, "deformable: Young's modulus of the blocks (Pa; Poisson's ratio 0.2)", "PA")
+      .greater_than(0)
+      .at_most(1e13);
+  cli.option("--zone-edge", in.scene.zone_edge, "deformable: target zone edge (m); -1 = the block edge", "M");
   cli.option("--cohesion", in.scene.cohesion, "bond: cohesion c_0 of the bonded face (Pa)", "PA")
       .greater_than(0)
       .at_most(1e8);

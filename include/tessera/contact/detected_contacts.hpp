@@ -1,9 +1,10 @@
 #pragma once
 // contact::detected_contacts<Law>: a ContactSet (contact/concepts.hpp) whose sub-contacts come from
 // contact detection (detection/detect.hpp), so blocks that separate, slide and meet new neighbours
-// are in contact wherever they touch, not only across the faces they were built with. This
-// version serves rigid blocks (blocks::rigid; the solver refuses deformable blocks at compile
-// time through requires_rigid_blocks). DESIGN.md section 4, docs/model.md "Detected contacts".
+// are in contact wherever they touch, not only across the faces they were built with. It serves
+// rigid blocks (blocks::rigid) and, with params::deformable_blocks, deformable ones
+// (blocks::deformable; "Deformable blocks" below; the solver checks the flag against its block
+// model). DESIGN.md section 4, docs/model.md "Detected contacts".
 //
 // Rebuilds. At construction and whenever a block vertex has moved more than tolerance / 2 since
 // the last rebuild (or after max_rebuild_interval steps), prepare_step runs a detection pass on
@@ -50,6 +51,27 @@
 // bounds its contact area (x 2 for the nominal areas of corner contacts and overlapping patches),
 // k_row is the row bound of the stiffest material entry (stiffness_bound.hpp). So blocks::rigid's
 // 6-DOF bound (k_t = 4 k_row A, k_r = 4 k_row A r_max^2) holds for any contacts that appear later.
+//
+// Deformable blocks (params::deformable_blocks). Detection reads each block's affine fit: the map
+// F = d D^-1 of its frame (four vertex gridpoints) applied to its reference polyhedron, so the
+// shapes stay convex with planar faces. A rebuild measures how far every surface gridpoint lies
+// from its block's fit (max_deviation()) and refuses a block farther than a quarter of the
+// tolerance (geometry_error: raise the tolerance); the trigger then reads every surface gridpoint
+// and fires at tolerance / 2 - deviation, so the guarantee above holds for the real surfaces. A
+// face-to-face patch puts its sub-contacts at surface gridpoints (block_mesh::face_nodes) rather
+// than at its corners, as 3DEC does for zoned blocks: those of A's faces that face the plane and
+// lie within tolerance / 2 of the patch, or those of B's, whichever side's tributary areas
+// (block_mesh::face_node_area) sum closer to the patch area (a small face on a large one: the
+// small face's), each labelled by its gridpoint and with its area scaled so that the patch's
+// areas sum to the patch area; a side needs three such gridpoints, else the patch keeps its
+// corners. Each material point is the gridpoint itself on its own side and, on the other, the
+// surface zone holding it (largest smallest barycentric weight): four gridpoints and their
+// weights, fixed between rebuilds, so a point moves with the zone's linear field exactly and its
+// force goes to those gridpoints. Corners of segment and point patches are located in both
+// blocks' zones the same way. Face normals turn with F^-T, edges with F. Stable step: every
+// surface gridpoint g carries 4 k_row (a_g + 2 T_g + 2 a_max), a_g its own tributary area, T_g the
+// surface area of the zones around it (where other blocks' points can land), a_max the largest
+// tributary or nominal area in the scene.
 //
 // Checkpoints: checkpoint(Archive&) saves the sub-contacts and pairs with their sizes (the
 // tasks and gather slots are derived again on load), the rebuild trigger's state and the books, so a restarted run rebuilds at the same steps
@@ -104,8 +126,6 @@ class detected_contacts {
   using law_type = Law;
   using params_type = typename Law::params;
   using state_type = typename Law::state;
-  /// The frames of this version assume rigid blocks (see the file comment).
-  static constexpr bool requires_rigid_blocks = true;
   static_assert(requires(const params_type& p, state_type s) {
     Law::unbonded_state(p);
     Law::scale_stresses(p, s, real{});
@@ -132,10 +152,19 @@ class detected_contacts {
     /// residual state through every rebuild, so the crack can open, slide onto new neighbours,
     /// close and reopen. Corners born later start unbonded. false: every corner starts unbonded.
     bool bond_faces = false;
+    /// true for blocks::deformable (the solver checks that it matches its block model): a
+    /// sub-contact's material point is located in a surface zone of each block (its four
+    /// gridpoints, barycentric weights), a face-to-face patch puts its sub-contacts at the surface
+    /// gridpoints of the side with more of them inside the patch, detection reads each block's
+    /// affine fit and the stable step a bound per surface gridpoint (file comment, "Deformable
+    /// blocks"). false: rigid blocks (blocks::rigid), one frame per block.
+    bool deformable_blocks = false;
 
     params() = default;
-    params(material_table<params_type> table, real tol, index interval = 1000, bool bond = false)
-        : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval), bond_faces(bond) {}
+    params(material_table<params_type> table, real tol, index interval = 1000, bool bond = false,
+           bool deformable = false)
+        : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval), bond_faces(bond),
+          deformable_blocks(deformable) {}
   };
   /// A corner found at construction is bonded (params::bond_faces) when its gap is within this
   /// fraction of the tolerance: the two faces coincide, as the faces of a tessellation split into
@@ -180,6 +209,11 @@ class detected_contacts {
     real all_surfaces = 0;
     for (const block_data& bd : blocks_) all_surfaces += bd.surface;
     for (block_data& bd : blocks_) bd.stiffness_bound = 4 * row_max * std::min(bd.surface, all_surfaces - bd.surface);
+    if (options_.deformable_blocks) {
+      build_surfaces(tess, mesh, row_max);
+    } else {
+      watch_gridpoints_ = vertex_gridpoints_;
+    }
     current_ = shapes_;
     boxes_.resize(at(n_b));
     rebuild(nullptr);
@@ -195,13 +229,15 @@ class detected_contacts {
     real moved2 = 0;
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
-    for (std::size_t k = 0; k < vertex_gridpoints_.size(); ++k) {
-      const auto g = at(vertex_gridpoints_[k]);
+    for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k) {
+      const auto g = at(watch_gridpoints_[k]);
       const real dx = u[0][g] - rebuild_u_(static_cast<index>(k), 0), dy = u[1][g] - rebuild_u_(static_cast<index>(k), 1),
                  dz = u[2][g] - rebuild_u_(static_cast<index>(k), 2);
       moved2 = std::max(moved2, (dx * dx + dy * dy) + dz * dz);
     }
-    const real half = 0.5 * options_.tolerance;
+    // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
+    // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
+    const real half = 0.5 * options_.tolerance - max_deviation_;
     if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
     // Each block's affine motion once per step (the pairs read it, rather than gathering the
     // four frame gridpoints of both blocks at every corner).
@@ -211,8 +247,12 @@ class detected_contacts {
   [[nodiscard]] index task_count() const { return static_cast<index>(pair_tasks_.size()) - 1; }
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
   /// motion was read from the gridpoints in prepare_step).
-  void run_task(index t, const node_set& /*gridpoints*/, real dt) noexcept {
-    for (index k = pair_tasks_[at(t)]; k < pair_tasks_[at(t) + 1]; ++k) update_pair(k, dt);
+  void run_task(index t, const node_set& gridpoints, real dt) noexcept {
+    for (index k = pair_tasks_[at(t)]; k < pair_tasks_[at(t) + 1]; ++k)
+      if (options_.deformable_blocks)
+        update_pair_zoned(k, dt, gridpoints);
+      else
+        update_pair(k, dt);
   }
   /// Adds the contact force on gridpoint g (N) to gridpoints.force, summed over its slots in
   /// increasing sub-contact order.
@@ -243,8 +283,17 @@ class detected_contacts {
     require(gridpoints.size() == gridpoint_count_ && gridpoints.stiffness.size() == gridpoint_count_,
             "detected_contacts::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints, expected ",
             gridpoint_count_);
+    if (options_.deformable_blocks) {
+      for (index g = 0; g < gridpoint_count_; ++g) gridpoints.stiffness[g] += gridpoint_bound_[at(g)];
+      return;
+    }
     for (const block_data& b : blocks_) gridpoints.stiffness[b.farthest] += b.stiffness_bound;
   }
+  /// params::deformable_blocks.
+  [[nodiscard]] bool deformable_blocks() const { return options_.deformable_blocks; }
+  /// Deformable blocks: the largest distance (m) of a surface gridpoint from its block's affine
+  /// fit at the last rebuild (the geometry detection read); 0 for rigid blocks.
+  [[nodiscard]] real max_deviation() const { return max_deviation_; }
 
   // ---- sub-contacts ----
   [[nodiscard]] index size() const { return static_cast<index>(key_label_.size()); }
@@ -260,9 +309,14 @@ class detected_contacts {
   [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
   [[nodiscard]] index block_a(index i) const { return pair_a_[at(pair_[at(i)])]; }
   [[nodiscard]] index block_b(index i) const { return pair_b_[at(pair_[at(i)])]; }
-  /// First frame gridpoint of block A / B (the force goes to all four of its frame).
-  [[nodiscard]] index node_a(index i) const { return blocks_[at(block_a(i))].frame[0]; }
-  [[nodiscard]] index node_b(index i) const { return blocks_[at(block_b(i))].frame[0]; }
+  /// First gridpoint of sub-contact i's material point on block A / B (its frame's for rigid
+  /// blocks, its zone's or its own gridpoint for deformable ones; the force goes to all four).
+  [[nodiscard]] index node_a(index i) const {
+    return options_.deformable_blocks ? node_[0][at(i)] : blocks_[at(block_a(i))].frame[0];
+  }
+  [[nodiscard]] index node_b(index i) const {
+    return options_.deformable_blocks ? node_[4][at(i)] : blocks_[at(block_b(i))].frame[0];
+  }
   /// corner_label of sub-contact i (detection/common_plane.hpp).
   [[nodiscard]] std::uint64_t label(index i) const { return key_label_[at(i)]; }
   [[nodiscard]] const params_type& subcontact_params(index i) const { return law_params_[at(pair_param_[at(pair_[at(i)])])]; }
@@ -363,6 +417,10 @@ class detected_contacts {
     sized("detected/subcontact/fresh", fresh_, n);
     for (int k = 0; k < 8; ++k) sized("detected/subcontact/weight/" + std::to_string(k), weight_[at(k)], n);
     for (int c = 0; c < 3; ++c) sized(std::string("detected/subcontact/force_a/") + "xyz"[c], force_[at(c)], n);
+    if (options_.deformable_blocks) {
+      for (int k = 0; k < 8; ++k) sized("detected/subcontact/gridpoint/" + std::to_string(k), node_[at(k)], n);
+      ar.scalar("detected/max_deviation", max_deviation_);
+    }
     if (ar.loading()) state_.resize(static_cast<std::size_t>(n));
     law::checkpoint_states<Law>(
         ar, "detected/state/", static_cast<std::size_t>(n), [&](std::size_t i) { return state_[i]; },
@@ -393,7 +451,234 @@ class detected_contacts {
     real stiffness_bound = 0;                   ///< N/m, on `farthest`
     real nominal_area = 0;                      ///< S / (3 V), m^2
     real surface = 0;                           ///< S, m^2
+    // deformable blocks only
+    index watch_begin = 0, watch_end = 0;  ///< its surface gridpoints, into watch_gridpoints_
+    index zone_begin = 0, zone_end = 0;    ///< its surface zones, into surface_zones_
+    index face_begin = 0;                  ///< its first tessellation face (local face f = face_begin + f)
   };
+
+  /// A gridpoint sub-contact of a deformable patch (collect_nodes).
+  struct node_contact {
+    std::uint64_t label = 0;
+    index gridpoint = 0;
+    real area = 0, gap = 0;
+  };
+  /// Label of a gridpoint sub-contact: kind 3 (beside corner_label's 0-2), bit 61 the side (B).
+  [[nodiscard]] static constexpr std::uint64_t node_label(index g, bool side_b) noexcept {
+    return (std::uint64_t{3} << 62) | (side_b ? std::uint64_t{1} << 61 : 0) | static_cast<std::uint64_t>(g);
+  }
+
+  /// Deformable blocks: surface gridpoints, surface zones and the per-gridpoint stiffness bounds
+  /// (file comment, "Deformable blocks").
+  void build_surfaces(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real row_max) {
+    const index n_faces = static_cast<index>(mesh.face_node_offsets.size()) - 1;
+    require<geometry_error>(n_faces == static_cast<index>(tess.face_cell.size()) &&
+                                mesh.face_node_area.size() == mesh.face_nodes.size() &&
+                                static_cast<index>(mesh.face_triangle_offsets.size()) == n_faces + 1,
+                            "detected_contacts: the block_mesh has surface nodes for ", n_faces, " faces, the tessellation ",
+                            tess.face_cell.size(), " (zone the blocks with geometry::zone_blocks)");
+    face_node_offsets_ = mesh.face_node_offsets;
+    face_nodes_ = mesh.face_nodes;
+    face_node_area_ = mesh.face_node_area;
+    zones_ = mesh.zones;
+    std::vector<real> own(at(gridpoint_count_), 0.0), around(at(gridpoint_count_), 0.0);
+    std::vector<std::uint8_t> on_surface(at(gridpoint_count_), 0);
+    real a_max = 0;
+    for (real a : face_node_area_) a_max = std::max(a_max, a);
+    for (const block_data& bd : blocks_) a_max = std::max(a_max, bd.nominal_area);
+    std::vector<index> nodes;
+    std::vector<real> zone_area;
+    for (index b = 0; b < static_cast<index>(blocks_.size()); ++b) {
+      block_data& bd = blocks_[at(b)];
+      bd.face_begin = tess.first_face(b);
+      nodes.clear();
+      for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+        for (index e = face_node_offsets_[at(f)]; e < face_node_offsets_[at(f) + 1]; ++e) {
+          nodes.push_back(face_nodes_[at(e)]);
+          own[at(face_nodes_[at(e)])] += face_node_area_[at(e)];
+        }
+      std::sort(nodes.begin(), nodes.end());
+      nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+      bd.watch_begin = static_cast<index>(watch_gridpoints_.size());
+      watch_gridpoints_.insert(watch_gridpoints_.end(), nodes.begin(), nodes.end());
+      bd.watch_end = static_cast<index>(watch_gridpoints_.size());
+      // The zone of each surface triangle (the one holding its three gridpoints) and the area of
+      // the surface it carries.
+      const index z0 = mesh.block_zone_offsets[at(b)], z1 = mesh.block_zone_offsets[at(b) + 1];
+      zone_area.assign(at(z1 - z0), 0.0);
+      for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+        for (index t = mesh.face_triangle_offsets[at(f)]; t < mesh.face_triangle_offsets[at(f) + 1]; ++t) {
+          const auto& tri = mesh.face_triangles[at(t)];
+          index found = invalid_index;
+          for (index z = z0; z < z1 && found == invalid_index; ++z) {
+            const auto& zn = zones_[at(z)];
+            const auto has = [&](index g) { return std::find(zn.begin(), zn.end(), g) != zn.end(); };
+            if (has(tri[0]) && has(tri[1]) && has(tri[2])) found = z;
+          }
+          require<geometry_error>(found != invalid_index, "detected_contacts: surface triangle ", t, " of block ", b,
+                                  " belongs to none of its zones");
+          const vec3 x0 = reference_.row(tri[0]).transpose();
+          zone_area[at(found - z0)] += 0.5 * (vec3(reference_.row(tri[1]).transpose()) - x0)
+                                                 .cross(vec3(reference_.row(tri[2]).transpose()) - x0)
+                                                 .norm();
+        }
+      bd.zone_begin = static_cast<index>(surface_zones_.size());
+      for (index z = z0; z < z1; ++z)
+        if (zone_area[at(z - z0)] > 0) {
+          surface_zones_.push_back(z);
+          for (index g : zones_[at(z)]) {
+            around[at(g)] += zone_area[at(z - z0)];
+            on_surface[at(g)] = 1;
+          }
+        }
+      bd.zone_end = static_cast<index>(surface_zones_.size());
+      require<geometry_error>(bd.zone_end > bd.zone_begin, "detected_contacts: block ", b, " has no surface zones");
+    }
+    // Gridpoint g carries its own gridpoint sub-contacts (area own) and the material points that
+    // land in its surface zones (at most the surface they carry, plus the largest tributary area
+    // of a gridpoint or corner straddling their edge, on either side): 4 k_row x that area.
+    gridpoint_bound_.assign(at(gridpoint_count_), 0.0);
+    for (index g = 0; g < gridpoint_count_; ++g)
+      if (on_surface[at(g)] != 0) gridpoint_bound_[at(g)] = 4 * row_max * (own[at(g)] + 2 * around[at(g)] + 2 * a_max);
+  }
+
+  /// Deformable blocks: the surface zone of block b holding x (the largest smallest barycentric
+  /// weight, so a point just outside the surface takes the zone below it) and x's weights in it.
+  void locate(index b, const vec3& x, const node_set* gp, std::array<index, 4>& nodes, std::array<real, 4>& w) const {
+    const block_data& bd = blocks_[at(b)];
+    real best = -std::numeric_limits<real>::infinity();
+    for (index s = bd.zone_begin; s < bd.zone_end; ++s) {
+      const auto& zn = zones_[at(surface_zones_[at(s)])];
+      const vec3 x0 = position(zn[0], gp);
+      mat3 d;
+      d << position(zn[1], gp) - x0, position(zn[2], gp) - x0, position(zn[3], gp) - x0;
+      const vec3 l = d.inverse() * (x - x0);
+      const real smallest = std::min({1 - l.sum(), l.x(), l.y(), l.z()});
+      if (smallest > best) {
+        best = smallest;
+        nodes = zn;
+        w = {1 - l.sum(), l.x(), l.y(), l.z()};
+      }
+    }
+  }
+
+  /// Deformable blocks: the gridpoints and weights of sub-contact i of pair (a, b): a gridpoint
+  /// sub-contact is its own gridpoint on its side and located in the other block's zones; a corner
+  /// is located in both.
+  void place_zoned(std::size_t i, index a, index b, const node_set* gp) {
+    std::array<index, 4> na{}, nb{};
+    std::array<real, 4> wa{}, wb{};
+    const std::uint64_t label = key_label_[i];
+    const bool node = (label >> 62) == 3;
+    const bool node_side_b = node && ((label >> 61) & 1U) != 0;
+    const auto own = [&](std::array<index, 4>& nodes, std::array<real, 4>& w) {
+      nodes = {static_cast<index>(label & ((std::uint64_t{1} << 61) - 1)), invalid_index, invalid_index, invalid_index};
+      w = {1, 0, 0, 0};
+    };
+    if (node && !node_side_b)
+      own(na, wa);
+    else
+      locate(a, new_point_[i], gp, na, wa);
+    if (node && node_side_b)
+      own(nb, wb);
+    else
+      locate(b, new_point_[i], gp, nb, wb);
+    for (int k = 0; k < 4; ++k) {
+      node_[at(k)][i] = na[at(k)];
+      node_[at(4 + k)][i] = nb[at(k)];
+      weight_[at(k)][i] = wa[at(k)];
+      weight_[at(4 + k)][i] = wb[at(k)];
+    }
+  }
+
+  /// Deformable blocks, polygon patch of pair k: the surface gridpoints on A's faces that face the
+  /// plane (within parallel_cos) and lie inside the patch, and those on B's; keeps in
+  /// node_scratch_, sorted by label, the side with more (A on a tie), each with its tributary
+  /// area (block_mesh::face_node_area) and gap to the other block. false (the patch keeps its
+  /// corners) when neither side has three.
+  bool collect_nodes(std::size_t k, const node_set* gp) {
+    const vec3 n = result_.planes[k].normal;
+    const vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+    const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+    using point2 = Eigen::Matrix<real, 2, 1>;
+    polygon_.clear();
+    point2 centre = point2::Zero();
+    for (std::size_t j = first; j < last; ++j) {
+      polygon_.emplace_back(t1.dot(result_.point[j]), t2.dot(result_.point[j]));
+      centre += polygon_.back();
+    }
+    centre /= static_cast<real>(polygon_.size());
+    std::sort(polygon_.begin(), polygon_.end(), [&](const point2& p, const point2& q) {
+      return std::atan2(p.y() - centre.y(), p.x() - centre.x()) < std::atan2(q.y() - centre.y(), q.x() - centre.x());
+    });
+    real extent = 0;
+    for (const point2& p : polygon_) extent = std::max(extent, (p - centre).norm());
+    // A gridpoint counts when it lies within half the tolerance of the patch: the patch comes
+    // from the affine fits, from which a face's own gridpoints (its edge ones among them) may
+    // stand off by max_deviation_.
+    const real eps = std::max(1e-6 * extent, 0.5 * options_.tolerance);
+    const auto inside = [&](const point2& q) {
+      for (std::size_t e = 0; e < polygon_.size(); ++e) {
+        const point2& p0 = polygon_[e];
+        const point2& p1 = polygon_[(e + 1) % polygon_.size()];
+        const real cross = (p1.x() - p0.x()) * (q.y() - p0.y()) - (p1.y() - p0.y()) * (q.x() - p0.x());
+        if (cross < -eps * (p1 - p0).norm()) return false;  // farther than eps outside edge e
+      }
+      return true;
+    };
+    const index a = result_.pairs[k].a, b = result_.pairs[k].b;
+    std::array<std::vector<node_contact>*, 2> found{&node_scratch_, &node_other_};
+    for (int side = 0; side < 2; ++side) {
+      std::vector<node_contact>& out = *found[at(side)];
+      out.clear();
+      const index self = side == 0 ? a : b, other = side == 0 ? b : a;
+      const real sign = side == 0 ? 1.0 : -1.0;
+      // The other block's extreme along -sign n: its face that the patch lies on.
+      real support = sign * std::numeric_limits<real>::infinity();
+      for (const vec3& v : current_[at(other)].vertices())
+        support = side == 0 ? std::min(support, n.dot(v)) : std::max(support, n.dot(v));
+      const geometry::convex_polyhedron& shape = current_[at(self)];
+      for (index f = 0; f < shape.face_count(); ++f) {
+        if (sign * shape.face_normal(f).dot(n) <= parallel_cos) continue;
+        const index tf = blocks_[at(self)].face_begin + f;
+        for (index e = face_node_offsets_[at(tf)]; e < face_node_offsets_[at(tf) + 1]; ++e) {
+          const index g = face_nodes_[at(e)];
+          const vec3 x = position(g, gp);
+          if (!inside(point2(t1.dot(x), t2.dot(x)))) continue;
+          out.push_back({node_label(g, side == 1), g, face_node_area_[at(e)], sign * (support - n.dot(x))});
+        }
+      }
+    }
+    // The side whose gridpoints' tributary areas cover the patch best: the face that lies inside
+    // the other (a small block on a large one) has areas summing to the patch's, while the large
+    // face's gridpoints on the patch edge carry areas reaching beyond it. A side needs three
+    // gridpoints; on a tie, A. Its areas are then scaled to sum to the patch's area.
+    real patch_area = 0;
+    for (std::size_t e = 0; e < polygon_.size(); ++e) {
+      const point2& p0 = polygon_[e];
+      const point2& p1 = polygon_[(e + 1) % polygon_.size()];
+      patch_area += 0.5 * (p0.x() * p1.y() - p1.x() * p0.y());
+    }
+    const auto misfit = [&](const std::vector<node_contact>& side) {
+      if (side.size() < 3) return std::numeric_limits<real>::infinity();
+      real sum = 0;
+      for (const node_contact& c : side) sum += c.area;
+      return std::abs(sum - patch_area);
+    };
+    if (misfit(node_other_) < misfit(node_scratch_)) node_scratch_.swap(node_other_);
+    if (node_scratch_.size() < 3 || !(patch_area > 0)) return false;
+    real covered = 0;
+    for (const node_contact& c : node_scratch_) covered += c.area;
+    for (node_contact& c : node_scratch_) c.area *= patch_area / covered;
+    std::sort(node_scratch_.begin(), node_scratch_.end(),
+              [](const node_contact& x, const node_contact& y) { return x.label < y.label; });
+    // A gridpoint on two faces that both face the plane cannot occur (convex, parallel_cos), but
+    // keep labels unique whatever the input.
+    node_scratch_.erase(std::unique(node_scratch_.begin(), node_scratch_.end(),
+                                    [](const node_contact& x, const node_contact& y) { return x.label == y.label; }),
+                        node_scratch_.end());
+    return true;
+  }
 
   /// Energies of sub-contact i (J).
   [[nodiscard]] contact_energies energies_of(std::size_t i) const {
@@ -418,7 +703,11 @@ class detected_contacts {
   [[nodiscard]] vec3 point(index i, bool side_a, const node_set& gp) const {
     const block_data& b = blocks_[at(side_a ? block_a(i) : block_b(i))];
     vec3 x = vec3::Zero();
-    for (int k = 0; k < 4; ++k) x += weight_[at(side_a ? k : 4 + k)][at(i)] * position(b.frame[at(k)], &gp);
+    for (int k = 0; k < 4; ++k) {
+      const int slot = side_a ? k : 4 + k;
+      const index g = options_.deformable_blocks ? node_[at(slot)][at(i)] : b.frame[at(k)];
+      if (g != invalid_index) x += weight_[at(slot)][at(i)] * position(g, &gp);
+    }
     return x;
   }
 
@@ -493,9 +782,12 @@ class detected_contacts {
 
   /// A block's frame now: x(p) = x0 + d l, v(p) = v0 + dv l for the local coordinates l of a
   /// point (its weights 1..3), and the rotation d D^-1 from the reference frame D.
+  /// For a deformable block `rotation` is the affine fit's gradient F = d D^-1 and normal_map
+  /// F^-T (a face normal in the reference frame maps to F^-T n0, normalised); for a rigid one
+  /// both are its rotation.
   struct block_motion {
     vec3 x0 = vec3::Zero(), v0 = vec3::Zero();
-    mat3 d = mat3::Identity(), dv = mat3::Zero(), rotation = mat3::Identity();
+    mat3 d = mat3::Identity(), dv = mat3::Zero(), rotation = mat3::Identity(), normal_map = mat3::Identity();
   };
   [[nodiscard]] block_motion motion_of(const block_data& b, const node_set& gp) const {
     block_motion m;
@@ -504,6 +796,7 @@ class detected_contacts {
     m.v0 = gp.velocity.row(b.frame[0]).transpose();
     for (int k = 1; k < 4; ++k) m.dv.col(k - 1) = gp.velocity.row(b.frame[at(k)]).transpose() - m.v0;
     m.rotation = m.d * b.reference_inverse;
+    m.normal_map = options_.deformable_blocks ? mat3(m.rotation.inverse().transpose()) : m.rotation;
     return m;
   }
 
@@ -516,17 +809,34 @@ class detected_contacts {
     steps_since_rebuild_ = 0;
     const std::size_t capacity_before = key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity();
     const auto n_b = static_cast<index>(blocks_.size());
+    real deviation = 0;
     for (index b = 0; b < n_b; ++b) {
       const block_data& bd = blocks_[at(b)];
       const mat3 map = rotation(bd, gp);
       const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
       current_[at(b)] = shapes_[at(b)].transformed(map, translation);
       boxes_[at(b)] = current_[at(b)].bounds();
+      // A deformable block is detected by its affine fit (the frame's map of its reference
+      // shape): how far its surface gridpoints are from it.
+      if (options_.deformable_blocks)
+        for (index w = bd.watch_begin; w < bd.watch_end; ++w) {
+          const index g = watch_gridpoints_[at(w)];
+          const vec3 fit = map * reference_.row(g).transpose() + translation;
+          deviation = std::max(deviation, (position(g, gp) - fit).norm());
+        }
     }
-    rebuild_u_.resize(static_cast<index>(vertex_gridpoints_.size()), 3);
-    for (std::size_t k = 0; k < vertex_gridpoints_.size(); ++k)
+    if (options_.deformable_blocks) {
+      require<geometry_error>(deviation <= max_deviation_fraction * options_.tolerance,
+                              "detected_contacts: a deformable block's surface lies ", deviation,
+                              " m from its affine fit, more than ", max_deviation_fraction,
+                              " x the contact tolerance (", options_.tolerance,
+                              " m); detection reads the fit, so raise the tolerance (or stiffen the blocks)");
+      max_deviation_ = deviation;
+    }
+    rebuild_u_.resize(static_cast<index>(watch_gridpoints_.size()), 3);
+    for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k)
       for (int c = 0; c < 3; ++c)
-        rebuild_u_(static_cast<index>(k), c) = gp != nullptr ? gp->displacement(vertex_gridpoints_[k], c) : 0.0;
+        rebuild_u_(static_cast<index>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
     detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_);
 
     // New pairs and their corners, sorted by label within a pair (pairs come increasing).
@@ -536,9 +846,25 @@ class detected_contacts {
     new_label_.clear();
     new_corner_.clear();
     new_area_.clear();
+    new_point_.clear();
+    new_gap_.clear();
     new_pair_first_.assign(1, 0);
     for (std::size_t k = 0; k < n_pairs; ++k) {
       const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+      // Deformable blocks: a face-to-face patch's sub-contacts at surface gridpoints.
+      if (options_.deformable_blocks && result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
+        for (const node_contact& c : node_scratch_) {
+          new_label_.push_back(c.label);
+          new_corner_.push_back(first);  // unused for a gridpoint sub-contact
+          new_area_.push_back(c.area);
+          new_point_.push_back(position(c.gridpoint, gp));
+          new_gap_.push_back(c.gap);
+        }
+        new_pair_a_.push_back(result_.pairs[k].a);
+        new_pair_b_.push_back(result_.pairs[k].b);
+        new_pair_first_.push_back(static_cast<index>(new_label_.size()));
+        continue;
+      }
       order_.clear();
       for (std::size_t j = first; j < last; ++j) order_.push_back(j);
       std::sort(order_.begin(), order_.end(), [&](std::size_t x, std::size_t y) {
@@ -559,6 +885,8 @@ class detected_contacts {
         new_label_.push_back(result_.label[j]);
         new_corner_.push_back(j);
         new_area_.push_back(a);
+        new_point_.push_back(result_.point[j]);
+        new_gap_.push_back(result_.gap[j]);
       }
       new_pair_a_.push_back(result_.pairs[k].a);
       new_pair_b_.push_back(result_.pairs[k].b);
@@ -603,7 +931,7 @@ class detected_contacts {
           const bool bonded = gp == nullptr && options_.bond_faces &&
                               result_.type[k] == detection::patch_type::polygon &&
                               table_.get(material_[at(a)], material_[at(b)]).bonded &&
-                              std::abs(result_.gap[new_corner_[i]]) <= bond_gap_fraction * options_.tolerance;
+                              std::abs(new_gap_[i]) <= bond_gap_fraction * options_.tolerance;
           state_type s = bonded ? state_type{} : Law::unbonded_state(p);
           if (bonded) ++bonded_at_start_;
           // At construction a corner takes its gap (a scene may start in contact, e.g. at its
@@ -611,7 +939,7 @@ class detected_contacts {
           // born overlapped (a new crossing of two edges inside a loaded patch) starts at zero
           // opening: its overlap is the neighbours' share, and a spring born compressed would
           // inject energy that no force supplied.
-          s.u_n = gp == nullptr ? result_.gap[new_corner_[i]] : std::max<real>(result_.gap[new_corner_[i]], 0);
+          s.u_n = gp == nullptr ? new_gap_[i] : std::max<real>(new_gap_[i], 0);
           // A zero increment sets the stresses of that opening (compression if it overlaps), so
           // the energy it holds is in the books from the start.
           // (The law books that energy as work done on the contact; it was not: undo its entry.)
@@ -688,9 +1016,12 @@ class detected_contacts {
           best_b = -m.dot(n);
           side_b_[k] = rb.transpose() * m;
         }
+      // Face normals map through R (rigid) or F^-T (deformable: n0 = F^T n above).
+      const mat3 na = options_.deformable_blocks ? mat3(ra.inverse().transpose()) : ra;
+      const mat3 nb = options_.deformable_blocks ? mat3(rb.inverse().transpose()) : rb;
       for (int j = 0; j < 3; ++j) {
         const vec3 nj = j == 0 || (j == 1 ? side_a_[k] : side_b_[k]).squaredNorm() == 0 ? n
-                        : j == 1 ? vec3(ra * side_a_[k]) : vec3(-(rb * side_b_[k]));
+                        : j == 1 ? vec3(na * side_a_[k]) : vec3(-(nb * side_b_[k]));
         normal_[at(j)].row(static_cast<index>(k)) = nj.transpose();
       }
     }
@@ -702,23 +1033,34 @@ class detected_contacts {
     for (std::size_t i = 0; i < n; ++i) {
       const auto k = at(std::upper_bound(new_pair_first_.begin(), new_pair_first_.end(), static_cast<index>(i)) -
                         new_pair_first_.begin() - 1);
-      const auto kind = detection::corner_label::kind_of(key_label_[i]);
-      corner_normal_[i] = kind == detection::corner_label::kind::vertex_b && side_a_[k].squaredNorm() > 0   ? 1
-                          : kind == detection::corner_label::kind::vertex_a && side_b_[k].squaredNorm() > 0 ? 2
-                                                                                                              : 0;
+      // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
+      const std::uint64_t label = key_label_[i];
+      const bool node = (label >> 62) == 3, node_b = node && ((label >> 61) & 1U) != 0;
+      const auto kind = detection::corner_label::kind_of(label);
+      const bool of_b = node ? node_b : kind == detection::corner_label::kind::vertex_b;
+      const bool of_a = node ? !node_b : kind == detection::corner_label::kind::vertex_a;
+      corner_normal_[i] = of_b && side_a_[k].squaredNorm() > 0 ? 1 : of_a && side_b_[k].squaredNorm() > 0 ? 2 : 0;
     }
     area_.resize(n);
     for (auto& w : weight_) w.resize(n);
     for (auto& f : force_) f.assign(n, 0.0);
-    for (std::size_t k = 0; k < n_pairs; ++k) {
+    if (options_.deformable_blocks) {
+      for (auto& v : node_) v.resize(n);
+      for (std::size_t k = 0; k < n_pairs; ++k)
+        for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+          pair_[i] = static_cast<index>(k);
+          area_[i] = new_area_[i];
+          place_zoned(i, pair_a_[k], pair_b_[k], gp);
+        }
+    }
+    for (std::size_t k = 0; k < n_pairs && !options_.deformable_blocks; ++k) {
       const index a = pair_a_[k], b = pair_b_[k];
       const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
       const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
       for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        const std::size_t j = new_corner_[i];
         pair_[i] = static_cast<index>(k);
         area_[i] = new_area_[i];
-        const vec3 la = inv_a * (result_.point[j] - xa), lb = inv_b * (result_.point[j] - xb);
+        const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
         weight_[0][i] = 1 - la.sum();
         weight_[4][i] = 1 - lb.sum();
         for (int c = 0; c < 3; ++c) {
@@ -747,24 +1089,27 @@ class detected_contacts {
 
     // Gather slots: per frame gridpoint, its (sub-contact, weight) in increasing sub-contact order.
     slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
+    // The gridpoint of slot k (0-3 A's, 4-7 B's) of sub-contact i; invalid_index: none.
+    const auto slot_gridpoint = [&](std::size_t i, int k) {
+      if (options_.deformable_blocks) return node_[at(k)][i];
+      const block_data& bd = blocks_[at(k < 4 ? pair_a_[at(pair_[i])] : pair_b_[at(pair_[i])])];
+      return bd.frame[at(k % 4)];
+    };
     for (std::size_t i = 0; i < n; ++i)
-      for (int side = 0; side < 2; ++side) {
-        const block_data& bd = blocks_[at(side == 0 ? pair_a_[at(pair_[i])] : pair_b_[at(pair_[i])])];
-        for (int k = 0; k < 4; ++k) ++slot_offsets_[at(bd.frame[at(k)]) + 1];
-      }
+      for (int k = 0; k < 8; ++k)
+        if (const index g = slot_gridpoint(i, k); g != invalid_index) ++slot_offsets_[at(g) + 1];
     for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
     slot_subcontact_.resize(at(slot_offsets_.back()));
     slot_weight_.resize(at(slot_offsets_.back()));
     fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
     for (std::size_t i = 0; i < n; ++i)
-      for (int side = 0; side < 2; ++side) {
-        const block_data& bd = blocks_[at(side == 0 ? pair_a_[at(pair_[i])] : pair_b_[at(pair_[i])])];
-        for (int k = 0; k < 4; ++k) {
-          const auto e = at(fill_[at(bd.frame[at(k)])]++);
-          slot_subcontact_[e] = static_cast<index>(i);
-          // A's side gets +w f, B's -w f (force_ holds the force on A).
-          slot_weight_[e] = side == 0 ? weight_[at(k)][i] : -weight_[at(4 + k)][i];
-        }
+      for (int k = 0; k < 8; ++k) {
+        const index g = slot_gridpoint(i, k);
+        if (g == invalid_index) continue;
+        const auto e = at(fill_[at(g)]++);
+        slot_subcontact_[e] = static_cast<index>(i);
+        // A's side gets +w f, B's -w f (force_ holds the force on A).
+        slot_weight_[e] = k < 4 ? weight_[at(k)][i] : -weight_[at(k)][i];
       }
     contact_gridpoints_.clear();
     for (index g = 0; g < gridpoint_count_; ++g)
@@ -779,18 +1124,18 @@ class detected_contacts {
   }
 
   /// Normal j of pair k now (0 the plane's feature, 1 A's parallel face, 2 B's), from the
-  /// blocks' rotations; ra, rb their rotations.
-  [[nodiscard]] triple pair_normal(std::size_t k, int j, const mat3& ra, const mat3& rb) const {
+  /// blocks' motions: face normals through normal_map, edges through rotation.
+  [[nodiscard]] triple pair_normal(std::size_t k, int j, const block_motion& ma, const block_motion& mb) const {
     vec3 n;
     if (j == 1 && side_a_[k].squaredNorm() > 0) {
-      n = ra * side_a_[k];
+      n = ma.normal_map * side_a_[k];
     } else if (j == 2 && side_b_[k].squaredNorm() > 0) {
-      n = -(rb * side_b_[k]);
+      n = -(mb.normal_map * side_b_[k]);
     } else {
       switch (feature_[k]) {
-        case feature_kind::face_a: n = ra * feature_a_[k]; break;
-        case feature_kind::face_b: n = -(rb * feature_b_[k]); break;
-        default: n = (ra * feature_a_[k]).cross(rb * feature_b_[k]);
+        case feature_kind::face_a: n = ma.normal_map * feature_a_[k]; break;
+        case feature_kind::face_b: n = -(mb.normal_map * feature_b_[k]); break;
+        default: n = (ma.rotation * feature_a_[k]).cross(mb.rotation * feature_b_[k]);
       }
     }
     const real len = n.norm();
@@ -799,24 +1144,63 @@ class detected_contacts {
     return {n.x() / len, n.y() / len, n.z() / len};
   }
 
-  void update_pair(index pk, real dt) noexcept {
-    const auto k = at(pk);
-    const auto row = static_cast<index>(pk);
+  /// The pair's three normals now (stored for the next step) and their tilts since the last.
+  void turn_normals(std::size_t k, std::array<triple, 3>& normals, std::array<triple, 3>& tilts) noexcept {
+    const auto row = static_cast<index>(k);
     const block_motion& ma = motion_[at(pair_a_[k])];
     const block_motion& mb = motion_[at(pair_b_[k])];
-    const mat3& ra = ma.rotation;
-    const mat3& rb = mb.rotation;
-    std::array<triple, 3> normals, tilts;
     for (int j = 0; j < 3; ++j) {
       soa3& m = normal_[at(j)];
       const triple n_prev{m(row, 0), m(row, 1), m(row, 2)};
-      const triple n = pair_normal(k, j, ra, rb);
+      const triple n = pair_normal(k, j, ma, mb);
       m(row, 0) = n.x;
       m(row, 1) = n.y;
       m(row, 2) = n.z;
       normals[at(j)] = n;
       tilts[at(j)] = kinematics::tilt(n_prev, n);
     }
+  }
+
+  /// update_pair for deformable blocks: each material point is its four gridpoints' weighted sum
+  /// (a zone's barycentric interpolation, or one surface gridpoint), read from the gridpoints.
+  void update_pair_zoned(index pk, real dt, const node_set& gp) noexcept {
+    const auto k = at(pk);
+    std::array<triple, 3> normals, tilts;
+    turn_normals(k, normals, tilts);
+    const params_type& p = law_params_[at(pair_param_[k])];
+    for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+      real gap[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+      for (int slot = 0; slot < 8; ++slot) {
+        const index g = node_[at(slot)][i];
+        if (g == invalid_index) continue;
+        const real w = slot < 4 ? -weight_[at(slot)][i] : weight_[at(slot)][i];
+        for (int c = 0; c < 3; ++c) {
+          gap[c] += w * (reference_(g, c) + gp.displacement(g, c));
+          dv[c] += w * gp.velocity(g, c);
+        }
+      }
+      const triple& n = normals[corner_normal_[i]];
+      const vec3 normal(n.x, n.y, n.z);
+      const real step = fresh_[i] != 0 ? real(0) : dt;
+      fresh_[i] = 0;
+      const auto [du_n, du_s] = kinematics::split(
+          kinematics::relative_increment({dv[0] * step / dt, dv[1] * step / dt, dv[2] * step / dt},
+                                         {gap[0] * step / dt, gap[1] * step / dt, gap[2] * step / dt},
+                                         tilts[corner_normal_[i]], dt),
+          n);
+      state_type& st = state_[i];
+      Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
+      const vec3 traction = st.sigma_n * normal + vec3(st.tau);
+      for (int c = 0; c < 3; ++c) force_[at(c)][i] = area_[i] * traction[c];
+    }
+  }
+
+  void update_pair(index pk, real dt) noexcept {
+    const auto k = at(pk);
+    std::array<triple, 3> normals, tilts;
+    turn_normals(k, normals, tilts);
+    const block_motion& ma = motion_[at(pair_a_[k])];
+    const block_motion& mb = motion_[at(pair_b_[k])];
     const params_type& p = law_params_[at(pair_param_[k])];
     // The two bodies' points relative to A's frame origin: x_b(p) - x_a(p) and v_b(p) - v_a(p).
     const vec3 dx0 = mb.x0 - ma.x0, dv0 = mb.v0 - ma.v0;
@@ -843,6 +1227,9 @@ class detected_contacts {
 
   enum class feature_kind : std::uint8_t { face_a, face_b, edges };
   static constexpr index task_subcontacts = 64;
+  /// Deformable blocks: the largest distance of a surface gridpoint from its block's affine fit
+  /// that a rebuild accepts, as a fraction of the tolerance (the trigger keeps it in reserve).
+  static constexpr real max_deviation_fraction = 0.25;
   /// Faces within about 0.8 deg of the contact plane count as parallel to it.
   static constexpr real parallel_cos = 1 - 1e-4;
 
@@ -855,6 +1242,15 @@ class detected_contacts {
   std::vector<block_data> blocks_;
   std::vector<block_motion> motion_;  ///< per block, this step (prepare_step)
   std::vector<index> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
+  std::vector<index> watch_gridpoints_;  ///< gridpoints the rebuild trigger reads (rigid: the vertices; deformable: the surface)
+  // deformable blocks only
+  std::vector<index> face_node_offsets_, face_nodes_, surface_zones_;
+  std::vector<real> face_node_area_, gridpoint_bound_;
+  std::vector<std::array<index, 4>> zones_;
+  real max_deviation_ = 0;
+  std::array<std::vector<index>, 8> node_;  ///< per sub-contact, the gridpoints of the weights (invalid_index: none)
+  std::vector<node_contact> node_scratch_, node_other_;
+  std::vector<Eigen::Matrix<real, 2, 1>> polygon_;
   std::vector<geometry::convex_polyhedron> shapes_, current_;  ///< reference and current geometry
   std::vector<detection::polyhedron_edges> edges_;
   std::vector<aabb> boxes_;
@@ -884,7 +1280,8 @@ class detected_contacts {
   std::vector<index> new_pair_a_, new_pair_b_, new_pair_first_;
   std::vector<std::uint64_t> new_label_;
   std::vector<std::size_t> new_corner_, order_;
-  std::vector<real> new_area_;
+  std::vector<real> new_area_, new_gap_;
+  std::vector<vec3> new_point_;
   std::vector<state_type> new_state_;
   std::vector<std::uint8_t> new_fresh_, kept_old_;
   contact_energies retired_;                       ///< energies of the sub-contacts that ended

@@ -89,9 +89,6 @@ template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement
           integrator::Integrator Integrator = integrator::central_difference<integrator::local_damping>,
           class Checker = checks::default_step_checker>
 class solver {
-  static_assert(Blocks::is_rigid || !requires { requires Contacts::requires_rigid_blocks; },
-                "this contact set (e.g. contact::detected_contacts) works with rigid blocks only (blocks::rigid)");
-
  public:
   using blocks_type = Blocks;
   using contact_set_type = Contacts;
@@ -146,6 +143,12 @@ class solver {
     if constexpr (!Blocks::is_rigid) weight_mass_ = gridpoints_.mass;  // before any mass scaling
     gridpoint_block_ = mesh.gridpoint_block;
     contacts_ = contact_set_type(tess, mesh, contact_params);
+    // A contact set that places its points by block kind (contact::detected_contacts) must be
+    // told which kind it serves.
+    if constexpr (requires { contacts_.deformable_blocks(); })
+      require(contacts_.deformable_blocks() == !Blocks::is_rigid, "solver: the contact set's deformable_blocks = ",
+              contacts_.deformable_blocks(), " does not match the block model (", Blocks::is_rigid ? "rigid" : "deformable",
+              "); set contact params deformable_blocks = ", !Blocks::is_rigid);
     if constexpr (Reinforcement::enabled) reinforcement_.build(reinforcement_params, mesh, gridpoints_);
     compute_time_step();
   }
