@@ -9,7 +9,8 @@
 //     it carried when the push began (the crack does not heal).
 // The crack closes on the tessellation's own faces (contact::face_contacts keeps each broken
 // face's state), which checks closure, not the hand-over of broken faces to detected contacts
-// (a crack that slides onto new neighbours): that needs detection on deformable blocks.
+// (a crack that slides onto new neighbours; the same prism on bonded detected contacts:
+// tests/test_rigid.cpp "[prism]").
 
 #include <algorithm>
 #include <cmath>

@@ -62,7 +62,7 @@
 // than at its corners, as 3DEC does for zoned blocks: those of A's faces that face the plane and
 // lie within tolerance / 2 of the patch, or those of B's, whichever side's tributary areas
 // (block_mesh::face_node_area) sum closer to the patch area (a small face on a large one: the
-// small face's), each labelled by its gridpoint and with its area scaled so that the patch's
+// small face's; the side of the last rebuild while it fits within 5 %), each labelled by its gridpoint and with its area scaled so that the patch's
 // areas sum to the patch area; a side needs three such gridpoints, else the patch keeps its
 // corners. Each material point is the gridpoint itself on its own side and, on the other, the
 // surface zone holding it (largest smallest barycentric weight): four gridpoints and their
@@ -591,6 +591,26 @@ class detected_contacts {
     }
   }
 
+  /// The side whose gridpoints pair (a, b) used at the last rebuild: 0 A, 1 B, -1 corners or no
+  /// such pair (reads the old pairs, before the rebuild replaces them).
+  [[nodiscard]] int previous_node_side(index a, index b) const {
+    const auto n_old = static_cast<std::ptrdiff_t>(pair_a_.size());
+    std::ptrdiff_t lo = 0, hi = n_old;
+    while (lo < hi) {  // first old pair >= (a, b)
+      const std::ptrdiff_t mid = (lo + hi) / 2;
+      const auto m = static_cast<std::size_t>(mid);
+      if (pair_a_[m] < a || (pair_a_[m] == a && pair_b_[m] < b))
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    const auto k = static_cast<std::size_t>(lo);
+    if (lo == n_old || pair_a_[k] != a || pair_b_[k] != b || pair_first_[k + 1] == pair_first_[k]) return -1;
+    const std::uint64_t label = key_label_[at(pair_first_[k])];
+    if ((label >> 62) != 3) return -1;
+    return ((label >> 61) & 1U) != 0 ? 1 : 0;
+  }
+
   /// Deformable blocks, polygon patch of pair k: the surface gridpoints on A's faces that face the
   /// plane (within parallel_cos) and lie inside the patch, and those on B's; keeps in
   /// node_scratch_, sorted by label, the side with more (A on a tie), each with its tributary
@@ -665,7 +685,16 @@ class detected_contacts {
       for (const node_contact& c : side) sum += c.area;
       return std::abs(sum - patch_area);
     };
-    if (misfit(node_other_) < misfit(node_scratch_)) node_scratch_.swap(node_other_);
+    // Keep the side the pair used at the last rebuild while it still fits within 5 % of the patch
+    // area of the other: on coinciding faces both sides fit to round-off, and a flip would drop
+    // every sub-contact's state (a bonded face would come back unbonded). Else the better fit,
+    // A unless B is better by more than round-off.
+    const real fit_a = misfit(node_scratch_), fit_b = misfit(node_other_), slack = 0.05 * patch_area;
+    const int previous = previous_node_side(a, b);
+    const bool use_b = previous == 1 && std::isfinite(fit_b)   ? fit_b <= fit_a + slack
+                       : previous == 0 && std::isfinite(fit_a) ? fit_a > fit_b + slack
+                                                               : fit_b < fit_a - 1e-9 * patch_area;
+    if (use_b) node_scratch_.swap(node_other_);
     if (node_scratch_.size() < 3 || !(patch_area > 0)) return false;
     real covered = 0;
     for (const node_contact& c : node_scratch_) covered += c.area;
