@@ -62,9 +62,9 @@
 // than at its corners, as 3DEC does for zoned blocks: those of A's faces that face the plane and
 // lie within tolerance / 2 of the patch, or those of B's, whichever side's tributary areas
 // (block_mesh::face_node_area) sum closer to the patch area (a small face on a large one: the
-// small face's; the side of the last rebuild while it fits within 5 %), each labelled by its gridpoint and with its area scaled so that the patch's
-// areas sum to the patch area; a side needs three such gridpoints, else the patch keeps its
-// corners. Each material point is the gridpoint itself on its own side and, on the other, the
+// small face's; the side of the last rebuild while it fits within 5 %), each labelled by its
+// gridpoint, their areas scaled to sum to the patch area; a side needs three such gridpoints,
+// else the patch keeps its corners. Each material point is the gridpoint itself on its own side and, on the other, the
 // surface zone holding it (largest smallest barycentric weight): four gridpoints and their
 // weights, fixed between rebuilds, so a point moves with the zone's linear field exactly and its
 // force goes to those gridpoints. Corners of segment and point patches are located in both
@@ -155,7 +155,7 @@ class detected_contacts {
     /// true for blocks::deformable (the solver checks that it matches its block model): a
     /// sub-contact's material point is located in a surface zone of each block (its four
     /// gridpoints, barycentric weights), a face-to-face patch puts its sub-contacts at the surface
-    /// gridpoints of the side with more of them inside the patch, detection reads each block's
+    /// gridpoints of the side whose tributary areas fit the patch, detection reads each block's
     /// affine fit and the stable step a bound per surface gridpoint (file comment, "Deformable
     /// blocks"). false: rigid blocks (blocks::rigid), one frame per block.
     bool deformable_blocks = false;
@@ -613,9 +613,9 @@ class detected_contacts {
 
   /// Deformable blocks, polygon patch of pair k: the surface gridpoints on A's faces that face the
   /// plane (within parallel_cos) and lie inside the patch, and those on B's; keeps in
-  /// node_scratch_, sorted by label, the side with more (A on a tie), each with its tributary
-  /// area (block_mesh::face_node_area) and gap to the other block. false (the patch keeps its
-  /// corners) when neither side has three.
+  /// node_scratch_, sorted by label, the side whose tributary areas (block_mesh::face_node_area)
+  /// fit the patch area (below), each with its area scaled and its gap to the other block. false
+  /// (the patch keeps its corners) when the side has fewer than three.
   bool collect_nodes(std::size_t k, const node_set* gp) {
     const vec3 n = result_.planes[k].normal;
     const vec3 t1 = n.unitOrthogonal(), t2 = n.cross(t1);
