@@ -101,8 +101,8 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_coupled_quic
          "energy_balance_error_rel LESS 0.01"
   TIMEOUT 300)
 
-# The same reduced run on rounder cells (--lloyd 10: ten Lloyd steps of the tessellation; README
-# "Rounder blocks"). This is the issue's acceptance tolerance, peak within 5 % of f_T, which the
+# The same reduced run on rounder cells (--lloyd 10: ten Lloyd steps of the tessellation;
+# docs/model.md, section 1). This is the issue's acceptance tolerance, peak within 5 % of f_T, which the
 # 100-block prism meets on such cells. Measured (quick, seeds 1-3): +1.0, -0.7, -0.3 %, shear part
 # over the crack 0.43 MPa for seed 1 (plain Voronoi 0.89); full runs, seeds 1-5: -4.2...+0.8 %.
 tessera_add_example_test(direct_tension NAME example_direct_tension_lloyd_quick
@@ -115,7 +115,7 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_lloyd_quick
   TIMEOUT 300)
 # The same reduced run with the cohesion calibrated to c_0 = 1.2 f_T (--cohesion-ratio 1.2; the
 # study and the default: 2): the issue's tolerance, peak within 5 % of f_T, which this cohesion
-# meets for 100, 250 and 500 blocks (README "Known gaps": full runs -1.5...+2.2 %). Measured
+# meets for 100, 250 and 500 blocks (docs/validation.md "Plain prism": full runs -1.5...+2.2 %). Measured
 # (quick, seed 1): -1.3 %, shear part over the crack 0.28 MPa (c_0 = 2 f_T: +13.2 %, 0.89 MPa).
 tessera_add_example_test(direct_tension NAME example_direct_tension_calibrated_cohesion_quick
   ARGS --quick --seed 1 --threads 1 --cohesion-ratio 1.2
@@ -126,7 +126,7 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_calibrated_c
          "energy_balance_error_rel LESS 0.01"
   TIMEOUT 300)
 # The same reduced run on regularised cells (--regularize 0.2: edges shorter than 0.2 x the mean
-# cell size collapsed, as Neper does; README "Regularised cells"). Measured (quick, seed 1): 1526
+# cell size collapsed, as Neper does; docs/model.md, section 1). Measured (quick, seed 1): 1526
 # sub-contacts and 2010 zones (plain 2079 and 3004), peak +8.1 % (plain +13.2 %), 2.6 s. The checks
 # pin that the flag reaches the tessellation and that the peak stays between the two.
 tessera_add_example_test(direct_tension NAME example_direct_tension_regularized_quick
@@ -146,9 +146,9 @@ tessera_add_example_test(direct_tension NAME example_direct_tension_regularized_
 # drops, 2 fully opened through-cracks (2 crack sites; 4 softened), yield plateau 21.4 kN (f_y A = 20.1 kN,
 # +6.5 %; final branch +7.1 %; yield = sustained plastic flow of the bar), energy balance error
 # 5.2e-5; the first sub-contact softens at 4.7 kN and at the first crack the concrete carries
-# 1.33 f_T with 835 sub-contacts past their peak (README "Why first cracking reads high"). The
+# 1.33 f_T with 835 sub-contacts past their peak (docs/validation.md "RC tie"). The
 # acceptance tolerances of issue 4 (first cracking within 10 %, yield within 2 %) are NOT met yet
-# (README, "RC tie"), so the checks below are the tolerances the model meets today.
+# (docs/validation.md "Known gaps"), so the checks below are the tolerances the model meets today.
 tessera_add_example_test(rc_tie
   ARGS --quick --seed 1 --threads 1
   FILES curve.csv bare_bar.csv tie.pvd yield_contacts.vtp yield_bar.vtp yield_zones.vtu
