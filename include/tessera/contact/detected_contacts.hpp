@@ -873,7 +873,6 @@ class detected_contacts {
     new_pair_a_.clear();
     new_pair_b_.clear();
     new_label_.clear();
-    new_corner_.clear();
     new_area_.clear();
     new_point_.clear();
     new_gap_.clear();
@@ -884,7 +883,6 @@ class detected_contacts {
       if (options_.deformable_blocks && result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
         for (const node_contact& c : node_scratch_) {
           new_label_.push_back(c.label);
-          new_corner_.push_back(first);  // unused for a gridpoint sub-contact
           new_area_.push_back(c.area);
           new_point_.push_back(position(c.gridpoint, gp));
           new_gap_.push_back(c.gap);
@@ -912,7 +910,6 @@ class detected_contacts {
           continue;
         }
         new_label_.push_back(result_.label[j]);
-        new_corner_.push_back(j);
         new_area_.push_back(a);
         new_point_.push_back(result_.point[j]);
         new_gap_.push_back(result_.gap[j]);
@@ -1308,7 +1305,7 @@ class detected_contacts {
   // rebuild scratch
   std::vector<index> new_pair_a_, new_pair_b_, new_pair_first_;
   std::vector<std::uint64_t> new_label_;
-  std::vector<std::size_t> new_corner_, order_;
+  std::vector<std::size_t> order_;
   std::vector<real> new_area_, new_gap_;
   std::vector<vec3> new_point_;
   std::vector<state_type> new_state_;
