@@ -1572,6 +1572,22 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
   CHECK(one.pairs.size() >= tess.shared_faces.size());
   CHECK(patch_area / face_area > 0.95);
   CHECK(patch_area / face_area < 1.0);
+  // The pass computes each block's face planes once and hands them to every pair: the planes
+  // and corners are those of the one-off functions, which compute them per call, to the bit.
+  for (std::size_t k = 0; k < one.pairs.size(); k += 7) {
+    const auto a = static_cast<std::size_t>(one.pairs[k].a), b = static_cast<std::size_t>(one.pairs[k].b);
+    const auto plane = detection::common_plane(blocks[a], edges[a], blocks[b], edges[b]);
+    CHECK(std::memcmp(&plane.normal, &one.planes[k].normal, sizeof(vec3)) == 0);
+    CHECK(plane.gap == one.planes[k].gap);
+    const auto patch = detection::contact_patch_of(blocks[a], blocks[b], plane, options.tolerance);
+    REQUIRE(static_cast<index>(patch.points.size()) == one.first_corner[k + 1] - one.first_corner[k]);
+    CHECK(std::memcmp(patch.points.data(), one.point.data() + one.first_corner[k], patch.points.size() * sizeof(vec3)) == 0);
+  }
+  {
+    std::vector<geometry::plane> faces_0;
+    detection::append_face_planes(blocks[0], faces_0);
+    CHECK_THROWS_AS(detection::common_plane(blocks[0], edges[0], faces_0, blocks[1], edges[1], {}), invalid_input);
+  }
   detection::detection_result r;
   detection::detection_workspace w;
   options.tolerance = 0;

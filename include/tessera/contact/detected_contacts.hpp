@@ -44,7 +44,8 @@
 // each (R_a e_a x R_b e_b), R = the block's rotation from its frame. Then, as for face_contacts
 // (kinematics.hpp), du = (v_b(p) - v_a(p)) dt - (n_prev x n) x (x_b(p) - x_a(p)), split along n,
 // Law::update, and the force area (sigma_n n + tau) on A's side (B gets its opposite), handed to
-// the frame gridpoints with the weights w: resultant and moment about any point are exact.
+// the frame gridpoints with the weights w: resultant and moment about any point are exact. Each
+// pair sums its sub-contacts' shares per frame gridpoint (eight sums), which the gather reads.
 //
 // Stable step. add_stiffness_bounds puts on each block's vertex farthest from its centroid the
 // bound 4 k_row A of every contact the block could carry: A = min(S, sum of the other blocks' S)
@@ -78,11 +79,13 @@
 // with the same bits (io/checkpoint.hpp).
 //
 // Storage and threading: structure of arrays per sub-contact (key, weights, area, state, force),
-// per pair (blocks, normal feature, normals now and last step, parameters), per gridpoint the
-// gather slots. Only a rebuild allocates (arrays grow and keep their capacity; counted in
-// growth_count()); a step between rebuilds allocates nothing. Tasks are runs of pairs; the gather
-// sums each gridpoint's slots in increasing sub-contact order, so results are bit-identical for
-// any thread count. Cost of a rebuild: docs/performance.md "Contact detection kernels".
+// per pair (blocks, normal feature, normals now and last step, parameters; rigid blocks: the
+// eight frame-gridpoint sums), per gridpoint the gather slots. Only a rebuild allocates (arrays
+// grow and keep their capacity; counted in growth_count()); a step between rebuilds allocates
+// nothing. Tasks are runs of pairs; a pair sums its sub-contacts in order and the gather sums each
+// gridpoint's slots in increasing pair order (deformable blocks: sub-contact order), so results
+// are bit-identical for any thread count. Cost of a step and of a rebuild: docs/performance.md
+// "Contact detection kernels".
 
 #include <algorithm>
 #include <array>
@@ -197,6 +200,7 @@ class detected_contacts {
     material_.resize(at(n_b));
     blocks_.resize(at(n_b));
     motion_.resize(at(n_b));
+    moved_.resize(at(n_b));
     shapes_.resize(at(n_b));
     edges_.resize(at(n_b));
     real row_max = 0;
@@ -213,6 +217,10 @@ class detected_contacts {
       build_surfaces(tess, mesh, row_max);
     } else {
       watch_gridpoints_ = vertex_gridpoints_;
+      for (block_data& bd : blocks_) {
+        bd.watch_begin = bd.vertex_begin;
+        bd.watch_end = bd.vertex_end;
+      }
     }
     current_ = shapes_;
     boxes_.resize(at(n_b));
@@ -226,46 +234,71 @@ class detected_contacts {
   /// the step.
   void prepare_step(const node_set& gridpoints, real /*dt*/) {
     ++steps_since_rebuild_;
-    real moved2 = 0;
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
-    for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k) {
-      const auto g = at(watch_gridpoints_[k]);
-      const real dx = u[0][g] - rebuild_u_(static_cast<index>(k), 0), dy = u[1][g] - rebuild_u_(static_cast<index>(k), 1),
-                 dz = u[2][g] - rebuild_u_(static_cast<index>(k), 2);
-      moved2 = std::max(moved2, (dx * dx + dy * dy) + dz * dz);
-    }
+    // Per block, in one parallel loop: its affine motion this step (the pairs read it, rather
+    // than gathering the four frame gridpoints of both blocks at every corner) and how far its
+    // watched gridpoints moved since the last rebuild (a rebuild leaves the motion as it is).
+    parallel_for(
+        static_cast<std::int64_t>(blocks_.size()),
+        [&](std::int64_t b) {
+          const block_data& bd = blocks_[at(b)];
+          motion_[at(b)] = motion_of(bd, gridpoints);
+          real m2 = 0;
+          for (index k = bd.watch_begin; k < bd.watch_end; ++k) {
+            const auto g = at(watch_gridpoints_[at(k)]);
+            const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1), dz = u[2][g] - rebuild_u_(k, 2);
+            m2 = std::max(m2, (dx * dx + dy * dy) + dz * dz);
+          }
+          moved_[at(b)] = m2;
+        },
+        64);
+    const real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
     // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
     // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
     const real half = 0.5 * options_.tolerance - max_deviation_;
     if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
-    // Each block's affine motion once per step (the pairs read it, rather than gathering the
-    // four frame gridpoints of both blocks at every corner).
-    parallel_for(static_cast<std::int64_t>(blocks_.size()),
-                 [&](std::int64_t b) { motion_[at(b)] = motion_of(blocks_[at(b)], gridpoints); }, 64);
   }
   [[nodiscard]] index task_count() const { return static_cast<index>(pair_tasks_.size()) - 1; }
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
   /// motion was read from the gridpoints in prepare_step).
   void run_task(index t, const node_set& gridpoints, real dt) noexcept {
-    for (index k = pair_tasks_[at(t)]; k < pair_tasks_[at(t) + 1]; ++k)
-      if (options_.deformable_blocks)
-        update_pair_zoned(k, dt, gridpoints);
-      else
-        update_pair(k, dt);
+    // In runs of up to normal_batch pairs: first every pair's normals, then the sub-contacts.
+    // (Each normal is a chain of dependent operations, a square root and divisions; computed
+    // pair by pair ahead of its own sub-contacts they stalled the step: 10 % of it in perf.)
+    std::array<std::array<triple, 3>, normal_batch> normals, tilts;
+    for (index k0 = pair_tasks_[at(t)]; k0 < pair_tasks_[at(t) + 1]; k0 += normal_batch) {
+      const index k1 = std::min<index>(k0 + normal_batch, pair_tasks_[at(t) + 1]);
+      for (index k = k0; k < k1; ++k) turn_normals(at(k), normals[at(k - k0)], tilts[at(k - k0)]);
+      for (index k = k0; k < k1; ++k)
+        if (options_.deformable_blocks)
+          update_pair_zoned(k, dt, gridpoints, normals[at(k - k0)], tilts[at(k - k0)]);
+        else
+          update_pair(k, dt, normals[at(k - k0)], tilts[at(k - k0)]);
+    }
   }
   /// Adds the contact force on gridpoint g (N) to gridpoints.force, summed over its slots in
-  /// increasing sub-contact order.
+  /// increasing order: rigid blocks, the pairs' frame-gridpoint sums (pair_force_, in pair
+  /// order); deformable blocks, the weighted sub-contact forces (in sub-contact order).
   void add_force(index g, node_set& gridpoints) const noexcept {
     const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
     if (begin == end) return;
     real fx = 0, fy = 0, fz = 0;
-    for (index e = begin; e < end; ++e) {
-      const auto i = at(slot_subcontact_[at(e)]);
-      const real w = slot_weight_[at(e)];
-      fx += w * force_[0][i];
-      fy += w * force_[1][i];
-      fz += w * force_[2][i];
+    if (!options_.deformable_blocks) {
+      for (index e = begin; e < end; ++e) {
+        const real* f = pair_force_.data() + slot_source_[at(e)];
+        fx += f[0];
+        fy += f[1];
+        fz += f[2];
+      }
+    } else {
+      for (index e = begin; e < end; ++e) {
+        const auto i = at(slot_source_[at(e)]);
+        const real w = slot_weight_[at(e)];
+        fx += w * force_[0][i];
+        fy += w * force_[1][i];
+        fz += w * force_[2][i];
+      }
     }
     gridpoints.force(g, 0) += fx;
     gridpoints.force(g, 1) += fy;
@@ -452,7 +485,7 @@ class detected_contacts {
     real nominal_area = 0;                      ///< S / (3 V), m^2
     real surface = 0;                           ///< S, m^2
     // deformable blocks only
-    index watch_begin = 0, watch_end = 0;  ///< its surface gridpoints, into watch_gridpoints_
+    index watch_begin = 0, watch_end = 0;  ///< its watched gridpoints (rigid: vertices; deformable: surface)
     index zone_begin = 0, zone_end = 0;    ///< its surface zones, into surface_zones_
     index face_begin = 0;                  ///< its first tessellation face (local face f = face_begin + f)
   };
@@ -657,9 +690,9 @@ class detected_contacts {
       real support = sign * std::numeric_limits<real>::infinity();
       for (const vec3& v : current_[at(other)].vertices())
         support = side == 0 ? std::min(support, n.dot(v)) : std::max(support, n.dot(v));
-      const geometry::convex_polyhedron& shape = current_[at(self)];
-      for (index f = 0; f < shape.face_count(); ++f) {
-        if (sign * shape.face_normal(f).dot(n) <= parallel_cos) continue;
+      const auto faces = workspace_.faces_of(at(self));  // this pass's face planes
+      for (index f = 0; f < static_cast<index>(faces.size()); ++f) {
+        if (sign * faces[at(f)].normal.dot(n) <= parallel_cos) continue;
         const index tf = blocks_[at(self)].face_begin + f;
         for (index e = face_node_offsets_[at(tf)]; e < face_node_offsets_[at(tf) + 1]; ++e) {
           const index g = face_nodes_[at(e)];
@@ -836,7 +869,7 @@ class detected_contacts {
     const real stored_before = gp != nullptr ? stored_energy() : 0.0;
     ++rebuilds_;
     steps_since_rebuild_ = 0;
-    const std::size_t capacity_before = key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity();
+    const std::size_t capacity_before = key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity();
     const auto n_b = static_cast<index>(blocks_.size());
     real deviation = 0;
     for (index b = 0; b < n_b; ++b) {
@@ -1032,13 +1065,15 @@ class detected_contacts {
       // A's face, whose normal turns with A, and a vertex of A by B's face.
       side_a_[k] = side_b_[k] = vec3::Zero();
       real best_a = parallel_cos, best_b = parallel_cos;
-      for (index f = 0; f < current_[at(a)].face_count(); ++f)
-        if (const vec3 m = current_[at(a)].face_normal(f); m.dot(n) > best_a) {
+      // (The face normals of this pass's planes: workspace_.faces_of, face_normal to the bit.)
+      const auto faces_a = workspace_.faces_of(at(a)), faces_b = workspace_.faces_of(at(b));
+      for (const geometry::plane& fa : faces_a)
+        if (const vec3& m = fa.normal; m.dot(n) > best_a) {
           best_a = m.dot(n);
           side_a_[k] = ra.transpose() * m;
         }
-      for (index f = 0; f < current_[at(b)].face_count(); ++f)
-        if (const vec3 m = current_[at(b)].face_normal(f); -m.dot(n) > best_b) {
+      for (const geometry::plane& fb : faces_b)
+        if (const vec3& m = fb.normal; -m.dot(n) > best_b) {
           best_b = -m.dot(n);
           side_b_[k] = rb.transpose() * m;
         }
@@ -1046,8 +1081,7 @@ class detected_contacts {
       const mat3 na = options_.deformable_blocks ? mat3(ra.inverse().transpose()) : ra;
       const mat3 nb = options_.deformable_blocks ? mat3(rb.inverse().transpose()) : rb;
       for (int j = 0; j < 3; ++j) {
-        const vec3 nj = j == 0 || (j == 1 ? side_a_[k] : side_b_[k]).squaredNorm() == 0 ? n
-                        : j == 1 ? vec3(na * side_a_[k]) : vec3(-(nb * side_b_[k]));
+        const vec3 nj = j == 0 || normal_is_plane(k, j) ? n : j == 1 ? vec3(na * side_a_[k]) : vec3(-(nb * side_b_[k]));
         normal_[at(j)].row(static_cast<index>(k)) = nj.transpose();
       }
     }
@@ -1099,7 +1133,7 @@ class detected_contacts {
     index_subcontacts();
 
     peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
-    if (key_label_.capacity() + pair_a_.capacity() + slot_subcontact_.capacity() > capacity_before) ++growths_;
+    if (key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() > capacity_before) ++growths_;
     if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
     rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   }
@@ -1113,19 +1147,35 @@ class detected_contacts {
       if (k + 1 == n_pairs || pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
         pair_tasks_.push_back(static_cast<index>(k + 1));
 
-    // Gather slots: per frame gridpoint, its (sub-contact, weight) in increasing sub-contact order.
+    // Gather slots. Rigid blocks: per frame gridpoint, the offset of its sum in pair_force_ for
+    // each pair of its block, in pair order. Deformable blocks: per gridpoint, its (sub-contact,
+    // weight) in increasing sub-contact order.
     slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
+    if (!options_.deformable_blocks) {
+      pair_force_.assign(24 * n_pairs, 0.0);
+      const auto frame_gridpoint = [&](std::size_t k, int s) {
+        return blocks_[at(s < 4 ? pair_a_[k] : pair_b_[k])].frame[at(s % 4)];
+      };
+      for (std::size_t k = 0; k < n_pairs; ++k)
+        for (int s = 0; s < 8; ++s) ++slot_offsets_[at(frame_gridpoint(k, s)) + 1];
+      for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
+      slot_source_.resize(at(slot_offsets_.back()));
+      slot_weight_.clear();
+      fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
+      for (std::size_t k = 0; k < n_pairs; ++k)
+        for (int s = 0; s < 8; ++s) slot_source_[at(fill_[at(frame_gridpoint(k, s))]++)] = static_cast<index>(24 * k + 3 * at(s));
+      contact_gridpoints_.clear();
+      for (index g = 0; g < gridpoint_count_; ++g)
+        if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
+      return;
+    }
     // The gridpoint of slot k (0-3 A's, 4-7 B's) of sub-contact i; invalid_index: none.
-    const auto slot_gridpoint = [&](std::size_t i, int k) {
-      if (options_.deformable_blocks) return node_[at(k)][i];
-      const block_data& bd = blocks_[at(k < 4 ? pair_a_[at(pair_[i])] : pair_b_[at(pair_[i])])];
-      return bd.frame[at(k % 4)];
-    };
+    const auto slot_gridpoint = [&](std::size_t i, int k) { return node_[at(k)][i]; };
     for (std::size_t i = 0; i < n; ++i)
       for (int k = 0; k < 8; ++k)
         if (const index g = slot_gridpoint(i, k); g != invalid_index) ++slot_offsets_[at(g) + 1];
     for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
-    slot_subcontact_.resize(at(slot_offsets_.back()));
+    slot_source_.resize(at(slot_offsets_.back()));
     slot_weight_.resize(at(slot_offsets_.back()));
     fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
     for (std::size_t i = 0; i < n; ++i)
@@ -1133,7 +1183,7 @@ class detected_contacts {
         const index g = slot_gridpoint(i, k);
         if (g == invalid_index) continue;
         const auto e = at(fill_[at(g)]++);
-        slot_subcontact_[e] = static_cast<index>(i);
+        slot_source_[e] = static_cast<index>(i);
         // A's side gets +w f, B's -w f (force_ holds the force on A).
         slot_weight_[e] = k < 4 ? weight_[at(k)][i] : -weight_[at(k)][i];
       }
@@ -1170,6 +1220,15 @@ class detected_contacts {
     return {n.x() / len, n.y() / len, n.z() / len};
   }
 
+  /// Whether normal j (1 or 2) of pair k is the plane's normal to the bit: the pair has no face
+  /// parallel to the plane on that side (pair_normal takes the feature's branch), or the
+  /// parallel face is the plane's own feature (a face pair: the same body-frame vector through
+  /// the same map). The rebuild starts such a normal from the plane's.
+  [[nodiscard]] bool normal_is_plane(std::size_t k, int j) const noexcept {
+    if (j == 1) return side_a_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_a && side_a_[k] == feature_a_[k]);
+    return side_b_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_b && side_b_[k] == feature_b_[k]);
+  }
+
   /// The pair's three normals now (stored for the next step) and their tilts since the last.
   void turn_normals(std::size_t k, std::array<triple, 3>& normals, std::array<triple, 3>& tilts) noexcept {
     const auto row = static_cast<index>(k);
@@ -1177,6 +1236,15 @@ class detected_contacts {
     const block_motion& mb = motion_[at(pair_b_[k])];
     for (int j = 0; j < 3; ++j) {
       soa3& m = normal_[at(j)];
+      // A normal that is the plane's to the bit (normal_is_plane's) is copied, not computed again.
+      if (j > 0 && normal_is_plane(k, j)) {
+        m(row, 0) = normals[0].x;
+        m(row, 1) = normals[0].y;
+        m(row, 2) = normals[0].z;
+        normals[at(j)] = normals[0];
+        tilts[at(j)] = tilts[0];
+        continue;
+      }
       const triple n_prev{m(row, 0), m(row, 1), m(row, 2)};
       const triple n = pair_normal(k, j, ma, mb);
       m(row, 0) = n.x;
@@ -1189,10 +1257,9 @@ class detected_contacts {
 
   /// update_pair for deformable blocks: each material point is its four gridpoints' weighted sum
   /// (a zone's barycentric interpolation, or one surface gridpoint), read from the gridpoints.
-  void update_pair_zoned(index pk, real dt, const node_set& gp) noexcept {
+  void update_pair_zoned(index pk, real dt, const node_set& gp, const std::array<triple, 3>& normals,
+                         const std::array<triple, 3>& tilts) noexcept {
     const auto k = at(pk);
-    std::array<triple, 3> normals, tilts;
-    turn_normals(k, normals, tilts);
     const params_type& p = law_params_[at(pair_param_[k])];
     for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
       real gap[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
@@ -1205,54 +1272,67 @@ class detected_contacts {
           dv[c] += w * gp.velocity(g, c);
         }
       }
-      const triple& n = normals[corner_normal_[i]];
-      const vec3 normal(n.x, n.y, n.z);
-      const real step = fresh_[i] != 0 ? real(0) : dt;
-      fresh_[i] = 0;
-      const auto [du_n, du_s] = kinematics::split(
-          kinematics::relative_increment({dv[0] * step / dt, dv[1] * step / dt, dv[2] * step / dt},
-                                         {gap[0] * step / dt, gap[1] * step / dt, gap[2] * step / dt},
-                                         tilts[corner_normal_[i]], dt),
-          n);
-      state_type& st = state_[i];
-      Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
-      const vec3 traction = st.sigma_n * normal + vec3(st.tau);
-      for (int c = 0; c < 3; ++c) force_[at(c)][i] = area_[i] * traction[c];
+      advance(i, p, {dv[0], dv[1], dv[2]}, {gap[0], gap[1], gap[2]}, normals[corner_normal_[i]],
+              tilts[corner_normal_[i]], dt);
     }
   }
 
-  void update_pair(index pk, real dt) noexcept {
+  /// The sub-contacts of pair pk (rigid blocks), with the pair's normals and tilts this step.
+  void update_pair(index pk, real dt, const std::array<triple, 3>& normals, const std::array<triple, 3>& tilts) noexcept {
     const auto k = at(pk);
-    std::array<triple, 3> normals, tilts;
-    turn_normals(k, normals, tilts);
     const block_motion& ma = motion_[at(pair_a_[k])];
     const block_motion& mb = motion_[at(pair_b_[k])];
     const params_type& p = law_params_[at(pair_param_[k])];
     // The two bodies' points relative to A's frame origin: x_b(p) - x_a(p) and v_b(p) - v_a(p).
     const vec3 dx0 = mb.x0 - ma.x0, dv0 = mb.v0 - ma.v0;
+    // The force on each frame gridpoint of the two blocks, summed here over the pair's
+    // sub-contacts (the gather then reads 8 sums per pair, not 8 weights per sub-contact).
+    real sum[24] = {};
     for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
       const triple& n = normals[corner_normal_[i]];
       const triple& tilt = tilts[corner_normal_[i]];
-      const vec3 normal(n.x, n.y, n.z);
       const vec3 la(weight_[1][i], weight_[2][i], weight_[3][i]), lb(weight_[5][i], weight_[6][i], weight_[7][i]);
       const vec3 g = dx0 + mb.d * lb - ma.d * la, w = dv0 + mb.dv * lb - ma.dv * la;
-      const real gap[3] = {g.x(), g.y(), g.z()}, dv[3] = {w.x(), w.y(), w.z()};
-      // A corner created at this step's rebuild already holds its gap at t: no increment.
-      const real step = fresh_[i] != 0 ? real(0) : dt;
-      fresh_[i] = 0;
-      const auto [du_n, du_s] = kinematics::split(
-          kinematics::relative_increment({dv[0] * step / dt, dv[1] * step / dt, dv[2] * step / dt},
-                                         {gap[0] * step / dt, gap[1] * step / dt, gap[2] * step / dt}, tilt, dt),
-          n);
-      state_type& st = state_[i];
-      Law::update(p, st, du_n, vec3(du_s.x, du_s.y, du_s.z), normal);
-      const vec3 traction = st.sigma_n * normal + vec3(st.tau);
-      for (int c = 0; c < 3; ++c) force_[at(c)][i] = area_[i] * traction[c];
+      const triple f = advance(i, p, {w.x(), w.y(), w.z()}, {g.x(), g.y(), g.z()}, n, tilt, dt);
+      for (int s = 0; s < 8; ++s) {
+        const real ws = s < 4 ? weight_[at(s)][i] : -weight_[at(s)][i];
+        sum[3 * s] += ws * f.x;
+        sum[3 * s + 1] += ws * f.y;
+        sum[3 * s + 2] += ws * f.z;
+      }
     }
+    std::copy(std::begin(sum), std::end(sum), pair_force_.begin() + static_cast<std::ptrdiff_t>(24 * k));
+  }
+
+  /// The law step and force of sub-contact i from its relative velocity dv (m/s) and gap (m),
+  /// the normal n and the tilt of its plane. A sub-contact created at this step's rebuild
+  /// already holds its gap at t: its increment is zero. The law advances a copy of the state
+  /// kept in registers, so the traction is not read back from state_[i] right after the law
+  /// stored it (perf annotate showed that load stalled on store forwarding: a 32-byte store read
+  /// by a 16-byte load at offset 8; the step time did not move measurably, the law's division
+  /// took the stall's place).
+  /// Returns the force on A's side (N), also stored in force_.
+  [[gnu::always_inline]] triple advance(std::size_t i, const params_type& p, const triple& dv, const triple& gap,
+                                        const triple& n, const triple& tilt, real dt) noexcept {
+    const vec3 normal(n.x, n.y, n.z);
+    kinematics::normal_split s{0, {0, 0, 0}};
+    if (fresh_[i] == 0) [[likely]]
+      s = kinematics::split(kinematics::relative_increment(dv, gap, tilt, dt), n);
+    fresh_[i] = 0;
+    state_type st = state_[i];
+    Law::update(p, st, s.du_n, vec3(s.du_s.x, s.du_s.y, s.du_s.z), normal);
+    state_[i] = st;
+    const vec3 traction = st.sigma_n * normal + vec3(st.tau);
+    const triple f{area_[i] * traction[0], area_[i] * traction[1], area_[i] * traction[2]};
+    force_[0][i] = f.x;
+    force_[1][i] = f.y;
+    force_[2][i] = f.z;
+    return f;
   }
 
   enum class feature_kind : std::uint8_t { face_a, face_b, edges };
   static constexpr index task_subcontacts = 64;
+  static constexpr index normal_batch = 16;  ///< pairs whose normals run_task computes ahead
   /// Deformable blocks: the largest distance of a surface gridpoint from its block's affine fit
   /// that a rebuild accepts, as a fraction of the tolerance (the trigger keeps it in reserve).
   static constexpr real max_deviation_fraction = 0.25;
@@ -1267,6 +1347,7 @@ class detected_contacts {
   soa3 reference_;                                 ///< reference gridpoint positions (m)
   std::vector<block_data> blocks_;
   std::vector<block_motion> motion_;  ///< per block, this step (prepare_step)
+  std::vector<real> moved_;           ///< per block, its watched gridpoints' largest squared move since the rebuild (m^2)
   std::vector<index> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
   std::vector<index> watch_gridpoints_;  ///< gridpoints the rebuild trigger reads (rigid: the vertices; deformable: the surface)
   // deformable blocks only
@@ -1300,8 +1381,12 @@ class detected_contacts {
   std::array<std::vector<real>, 8> weight_;        ///< affine weights, A's frame 0-3, B's 4-7
   std::array<std::vector<real>, 3> force_;         ///< force on A's side (N)
   // gather
-  std::vector<index> slot_offsets_{0}, slot_subcontact_, contact_gridpoints_, fill_;
-  std::vector<real> slot_weight_;
+  // slot_source_: rigid blocks, an offset into pair_force_; deformable, a sub-contact
+  std::vector<index> slot_offsets_{0}, slot_source_, contact_gridpoints_, fill_;
+  std::vector<real> slot_weight_;  ///< deformable blocks: the weight of the slot's sub-contact
+  /// Rigid blocks, per pair: the forces on A's four frame gridpoints (w f) then B's (-w f),
+  /// summed over its sub-contacts in order (N; 24 per pair).
+  std::vector<real> pair_force_;
   // rebuild scratch
   std::vector<index> new_pair_a_, new_pair_b_, new_pair_first_;
   std::vector<std::uint64_t> new_label_;

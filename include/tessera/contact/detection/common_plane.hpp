@@ -131,13 +131,24 @@ namespace detail {
 
 }  // namespace detail
 
+/// Appends p's outward face planes, face by face (face_plane), to `out`: what a detection pass
+/// computes once per block (detect.hpp) instead of once per candidate pair.
+inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector<geometry::plane>& out) {
+  for (index f = 0; f < p.face_count(); ++f) out.push_back(p.face_plane(f));
+}
+
 /// The contact plane of A and B (see the file comment). `edges_a`, `edges_b`: edges_of(a), (b),
-/// which a caller keeps with its blocks. `prune_edges` false tries every edge pair (the
-/// reference the tests compare with). Throws invalid_input for an empty polyhedron.
+/// which a caller keeps with its blocks; `faces_a`, `faces_b`: their face planes
+/// (append_face_planes). `prune_edges` false tries every edge pair (the reference the tests
+/// compare with). Throws invalid_input for an empty polyhedron or a face list of another size.
 [[nodiscard]] inline contact_plane common_plane(const geometry::convex_polyhedron& a, const polyhedron_edges& edges_a,
+                                                std::span<const geometry::plane> faces_a,
                                                 const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
-                                                bool prune_edges = true) {
+                                                std::span<const geometry::plane> faces_b, bool prune_edges = true) {
   require(!a.empty() && !b.empty(), "detection: common_plane of an empty polyhedron");
+  require(faces_a.size() == static_cast<std::size_t>(a.face_count()) && faces_b.size() == static_cast<std::size_t>(b.face_count()),
+          "detection: common_plane given ", faces_a.size(), " and ", faces_b.size(), " face planes for polyhedra of ",
+          a.face_count(), " and ", b.face_count(), " faces");
   const real size = std::max(a.extent(), b.extent());
   const real tie = plane_tie_rel * size;
   contact_plane best;
@@ -156,14 +167,13 @@ namespace detail {
   const auto consider = [&](const vec3& n, plane_source source, index fa, index fb, real margin) {
     consider_supports(n, detail::support_max(a, n), detail::support_min(b, n), source, fa, fb, margin);
   };
-  std::vector<vec3> normals_a(static_cast<std::size_t>(a.face_count())), normals_b(static_cast<std::size_t>(b.face_count()));
-  for (index f = 0; f < a.face_count(); ++f) normals_a[static_cast<std::size_t>(f)] = a.face_normal(f);
-  for (index f = 0; f < b.face_count(); ++f) normals_b[static_cast<std::size_t>(f)] = b.face_normal(f);
+  const auto normal_a = [&](index f) -> const vec3& { return faces_a[static_cast<std::size_t>(f)].normal; };
+  const auto normal_b = [&](index f) -> const vec3& { return faces_b[static_cast<std::size_t>(f)].normal; };
   // Faces first, edges last: a later candidate must beat the best by `tie` to replace it.
   for (index f = 0; f < a.face_count(); ++f)
-    consider(normals_a[static_cast<std::size_t>(f)], plane_source::face_a, f, invalid_index, tie);
+    consider(normal_a(f), plane_source::face_a, f, invalid_index, tie);
   for (index f = 0; f < b.face_count(); ++f)
-    consider(-normals_b[static_cast<std::size_t>(f)], plane_source::face_b, invalid_index, f, tie);
+    consider(-normal_b(f), plane_source::face_b, invalid_index, f, tie);
   // A point inside A (the vertex mean; the centroid would need a volume integral) to orient the
   // edge-pair axes outward from A.
   vec3 ca = vec3::Zero();
@@ -180,8 +190,8 @@ namespace detail {
   for (std::size_t k = 0; k < 9; ++k) col[k] = arcs.data() + k * nb_edges;
   for (std::size_t j = 0; j < nb_edges; ++j) {
     const auto& eb = edges_b.list[j];
-    const vec3 c = -normals_b[static_cast<std::size_t>(eb.face_left)];
-    const vec3 d = -normals_b[static_cast<std::size_t>(eb.face_right)];
+    const vec3 c = -normal_b(eb.face_left);
+    const vec3 d = -normal_b(eb.face_right);
     const vec3 d_x_c = d.cross(c);
     for (int k = 0; k < 3; ++k) {
       col[k][j] = c[k];
@@ -192,8 +202,8 @@ namespace detail {
   for (std::size_t i = 0; i < edges_a.list.size(); ++i) {
     const auto& ea = edges_a.list[i];
     const vec3 da = a.vertex(ea.v) - a.vertex(ea.u);
-    const vec3& na = normals_a[static_cast<std::size_t>(ea.face_left)];
-    const vec3& nb = normals_a[static_cast<std::size_t>(ea.face_right)];
+    const vec3& na = normal_a(ea.face_left);
+    const vec3& nb = normal_a(ea.face_right);
     const vec3 b_x_a = nb.cross(na);
     std::size_t count = 0;
     if (prune_edges) {
@@ -232,7 +242,17 @@ namespace detail {
   return best;
 }
 
-/// Overload that builds the edge lists (for one-off queries and tests).
+/// Overload that computes the face planes.
+[[nodiscard]] inline contact_plane common_plane(const geometry::convex_polyhedron& a, const polyhedron_edges& edges_a,
+                                                const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
+                                                bool prune_edges = true) {
+  std::vector<geometry::plane> faces_a, faces_b;
+  append_face_planes(a, faces_a);
+  append_face_planes(b, faces_b);
+  return common_plane(a, edges_a, faces_a, b, edges_b, faces_b, prune_edges);
+}
+
+/// Overload that builds the edge lists and face planes (for one-off queries and tests).
 [[nodiscard]] inline contact_plane common_plane(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b) {
   return common_plane(a, edges_of(a), b, edges_of(b));
 }
@@ -442,9 +462,12 @@ using point2 = Eigen::Matrix<real, 2, 1>;
 
 /// The contact patch of A and B on `plane` (common_plane's result), with vertices within
 /// `tolerance` (m, > 0) of either block's supporting plane counted as touching. An empty patch
-/// (type none) when the touching sets do not overlap on the plane.
+/// (type none) when the touching sets do not overlap on the plane. `faces_a`, `faces_b`: the
+/// blocks' face planes (append_face_planes).
 [[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
-                                                    const contact_plane& plane, real tolerance) {
+                                                    const contact_plane& plane, real tolerance,
+                                                    std::span<const geometry::plane> faces_a,
+                                                    std::span<const geometry::plane> faces_b) {
   require(std::isfinite(tolerance) && tolerance > 0, "detection: contact tolerance = ", tolerance,
           " m must be finite and > 0");
   const vec3 n = plane.normal;
@@ -475,9 +498,6 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   contact_patch out;
   if (patch.empty()) return out;
   out.type = patch.size() == 1 ? patch_type::point : patch.size() == 2 ? patch_type::segment : patch_type::polygon;
-  std::vector<geometry::plane> faces_a, faces_b;
-  for (index f = 0; f < a.face_count(); ++f) faces_a.push_back(a.face_plane(f));
-  for (index f = 0; f < b.face_count(); ++f) faces_b.push_back(b.face_plane(f));
   for (const detail::point2& q : patch) {
     const vec3 x = plane.offset * n + q.x() * t1 + q.y() * t2;
     // The line x + t n leaves A at t_a and enters B at t_b (B's entry along n is its exit along -n).
@@ -508,6 +528,15 @@ using point2 = Eigen::Matrix<real, 2, 1>;
     }
   }
   return out;
+}
+
+/// Overload that computes the face planes (for one-off queries and tests).
+[[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                                    const contact_plane& plane, real tolerance) {
+  std::vector<geometry::plane> faces_a, faces_b;
+  append_face_planes(a, faces_a);
+  append_face_planes(b, faces_b);
+  return contact_patch_of(a, b, plane, tolerance, faces_a, faces_b);
 }
 
 }  // namespace tessera::contact::detection

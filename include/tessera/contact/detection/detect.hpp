@@ -54,6 +54,13 @@ struct detection_workspace {
   std::vector<block_pair> candidates;
   std::vector<contact_plane> planes;
   std::vector<contact_patch> patches;
+  std::vector<index> face_first{0};         ///< CSR over blocks into faces
+  std::vector<geometry::plane> faces;       ///< every block's face planes (append_face_planes), this pass
+  /// Block b's face planes as the last pass computed them.
+  [[nodiscard]] std::span<const geometry::plane> faces_of(std::size_t b) const {
+    const auto first = static_cast<std::size_t>(face_first[b]), last = static_cast<std::size_t>(face_first[b + 1]);
+    return std::span<const geometry::plane>(faces).subspan(first, last - first);
+  }
 };
 
 /// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
@@ -70,15 +77,27 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
     uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
+  // Every block's face planes, once per pass (the pairs read them, rather than each candidate
+  // pair computing both blocks' normals again).
+  w.face_first.assign(1, 0);
+  for (const geometry::convex_polyhedron& p : blocks) w.face_first.push_back(w.face_first.back() + p.face_count());
+  w.faces.resize(static_cast<std::size_t>(w.face_first.back()));
+  parallel_for(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {
+    const auto b = static_cast<std::size_t>(k);
+    for (index f = 0; f < blocks[b].face_count(); ++f)
+      w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
+  }, 64);
   const std::size_t n = w.candidates.size();
   w.planes.resize(n);
   w.patches.resize(n);
   parallel_for(static_cast<std::int64_t>(n), [&](std::int64_t k) {
     const auto i = static_cast<std::size_t>(k);
     const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
-    w.planes[i] = common_plane(blocks[a], edges[a], blocks[b], edges[b]);
-    w.patches[i] = w.planes[i].gap <= options.tolerance ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance)
-                                                        : contact_patch{};
+    const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
+    w.planes[i] = common_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b);
+    w.patches[i] = w.planes[i].gap <= options.tolerance
+                       ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
+                       : contact_patch{};
   }, 16);
   out.candidates = n;
   out.pairs.clear();
