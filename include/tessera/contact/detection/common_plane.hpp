@@ -183,9 +183,11 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
   // per call), so the arc test of one edge of A against all of B's runs branch-free over them.
   thread_local std::vector<real> arcs;
   thread_local std::vector<index> crossing;
+  thread_local std::vector<std::uint8_t> crosses;
   const std::size_t nb_edges = edges_b.list.size();
   arcs.resize(9 * nb_edges);
   crossing.resize(nb_edges);
+  crosses.resize(nb_edges);
   real* col[9];
   for (std::size_t k = 0; k < 9; ++k) col[k] = arcs.data() + k * nb_edges;
   for (std::size_t j = 0; j < nb_edges; ++j) {
@@ -210,14 +212,22 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
       // The arc (na, nb) of A's edge and the arc (c, d) of B's reversed normals cross on the unit
       // sphere iff c, d lie on opposite sides of the plane of (na, nb), na, nb on opposite sides
       // of that of (c, d), and the crossing is on the near hemisphere (Gregorius, GDC 2013), with
-      // b_x_a = nb x na and d x c; for every edge of B, without branches.
+      // b_x_a = nb x na and d x c; for every edge of B, without branches: the test in one loop
+      // (which the compiler vectorises), the list of crossing edges in a second (the compacting
+      // store in the same loop kept the test scalar).
+      std::uint8_t* const hit = crosses.data();
+      const real bx = b_x_a.x(), by = b_x_a.y(), bz = b_x_a.z();
+      const real nax = na.x(), nay = na.y(), naz = na.z(), nbx = nb.x(), nby = nb.y(), nbz = nb.z();
       for (std::size_t j = 0; j < nb_edges; ++j) {
-        const real cba = col[0][j] * b_x_a.x() + col[1][j] * b_x_a.y() + col[2][j] * b_x_a.z();
-        const real dba = col[3][j] * b_x_a.x() + col[4][j] * b_x_a.y() + col[5][j] * b_x_a.z();
-        const real adc = na.x() * col[6][j] + na.y() * col[7][j] + na.z() * col[8][j];
-        const real bdc = nb.x() * col[6][j] + nb.y() * col[7][j] + nb.z() * col[8][j];
+        const real cba = col[0][j] * bx + col[1][j] * by + col[2][j] * bz;
+        const real dba = col[3][j] * bx + col[4][j] * by + col[5][j] * bz;
+        const real adc = nax * col[6][j] + nay * col[7][j] + naz * col[8][j];
+        const real bdc = nbx * col[6][j] + nby * col[7][j] + nbz * col[8][j];
+        hit[j] = static_cast<std::uint8_t>((cba * dba < 0) & (adc * bdc < 0) & (cba * bdc > 0));
+      }
+      for (std::size_t j = 0; j < nb_edges; ++j) {
         crossing[count] = static_cast<index>(j);
-        count += static_cast<std::size_t>((cba * dba < 0) & (adc * bdc < 0) & (cba * bdc > 0));
+        count += hit[j];
       }
     } else {
       for (std::size_t j = 0; j < nb_edges; ++j) crossing[count++] = static_cast<index>(j);
