@@ -1587,6 +1587,8 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
     std::vector<geometry::plane> faces_0;
     detection::append_face_planes(blocks[0], faces_0);
     CHECK_THROWS_AS(detection::common_plane(blocks[0], edges[0], faces_0, blocks[1], edges[1], {}), invalid_input);
+    CHECK_THROWS_AS(detection::contact_patch_of(blocks[0], blocks[1], one.planes[0], options.tolerance, faces_0, {}),
+                    invalid_input);
   }
   detection::detection_result r;
   detection::detection_workspace w;

@@ -264,8 +264,9 @@ class detected_contacts {
   /// motion was read from the gridpoints in prepare_step).
   void run_task(index t, const node_set& gridpoints, real dt) noexcept {
     // In runs of up to normal_batch pairs: first every pair's normals, then the sub-contacts.
-    // (Each normal is a chain of dependent operations, a square root and divisions; computed
-    // pair by pair ahead of its own sub-contacts they stalled the step: 10 % of it in perf.)
+    // (Each normal is a chain of dependent operations through a square root and divisions;
+    // computed ahead, the chains of several pairs overlap instead of each holding up its own
+    // pair's sub-contacts.)
     std::array<std::array<triple, 3>, normal_batch> normals, tilts;
     for (index k0 = pair_tasks_[at(t)]; k0 < pair_tasks_[at(t) + 1]; k0 += normal_batch) {
       const index k1 = std::min<index>(k0 + normal_batch, pair_tasks_[at(t) + 1]);
@@ -869,7 +870,7 @@ class detected_contacts {
     const real stored_before = gp != nullptr ? stored_energy() : 0.0;
     ++rebuilds_;
     steps_since_rebuild_ = 0;
-    const std::size_t capacity_before = key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity();
+    const std::size_t capacity_before = storage_capacity();
     const auto n_b = static_cast<index>(blocks_.size());
     real deviation = 0;
     for (index b = 0; b < n_b; ++b) {
@@ -1133,7 +1134,7 @@ class detected_contacts {
     index_subcontacts();
 
     peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
-    if (key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() > capacity_before) ++growths_;
+    if (storage_capacity() > capacity_before) ++growths_;
     if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
     rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   }
@@ -1190,6 +1191,12 @@ class detected_contacts {
     contact_gridpoints_.clear();
     for (index g = 0; g < gridpoint_count_; ++g)
       if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
+  }
+
+  /// Capacity of the arrays a rebuild grows with the sub-contacts, pairs and gather slots (the
+  /// growth count compares it before and after).
+  [[nodiscard]] std::size_t storage_capacity() const noexcept {
+    return key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() + pair_force_.capacity();
   }
 
   /// Elastic energy of the current sub-contacts (J), summed in sub-contact order.

@@ -473,13 +473,16 @@ using point2 = Eigen::Matrix<real, 2, 1>;
 /// The contact patch of A and B on `plane` (common_plane's result), with vertices within
 /// `tolerance` (m, > 0) of either block's supporting plane counted as touching. An empty patch
 /// (type none) when the touching sets do not overlap on the plane. `faces_a`, `faces_b`: the
-/// blocks' face planes (append_face_planes).
+/// blocks' face planes (append_face_planes); a list of another size is refused.
 [[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
                                                     const contact_plane& plane, real tolerance,
                                                     std::span<const geometry::plane> faces_a,
                                                     std::span<const geometry::plane> faces_b) {
   require(std::isfinite(tolerance) && tolerance > 0, "detection: contact tolerance = ", tolerance,
           " m must be finite and > 0");
+  require(faces_a.size() == static_cast<std::size_t>(a.face_count()) && faces_b.size() == static_cast<std::size_t>(b.face_count()),
+          "detection: contact_patch_of given ", faces_a.size(), " and ", faces_b.size(), " face planes for polyhedra of ",
+          a.face_count(), " and ", b.face_count(), " faces");
   const vec3 n = plane.normal;
   // Frame of the plane.
   const vec3 t1 = (std::abs(n.x()) < 0.9 ? vec3::UnitX() : vec3::UnitY()).cross(n).normalized();
