@@ -116,17 +116,22 @@ struct polyhedron_edges {
 
 namespace detail {
 
-/// max_{x in p} n.x
+/// max_{x in p} n.x, in four running maxima rather than one chain of dependent ones (common
+/// plane 64.9 -> 61.0 ms over bench_detection's 11 927 pairs; a maximum is exact, so the order
+/// does not change the value).
 [[nodiscard]] inline real support_max(const geometry::convex_polyhedron& p, const vec3& n) {
-  real m = -std::numeric_limits<real>::infinity();
-  for (const vec3& x : p.vertices()) m = std::max(m, n.dot(x));
-  return m;
+  constexpr real lowest = -std::numeric_limits<real>::infinity();
+  real m[4] = {lowest, lowest, lowest, lowest};
+  const std::vector<vec3>& x = p.vertices();
+  std::size_t i = 0;
+  for (; i + 4 <= x.size(); i += 4)
+    for (std::size_t k = 0; k < 4; ++k) m[k] = std::max(m[k], n.dot(x[i + k]));
+  for (; i < x.size(); ++i) m[0] = std::max(m[0], n.dot(x[i]));
+  return std::max(std::max(m[0], m[1]), std::max(m[2], m[3]));
 }
-/// min_{x in p} n.x
+/// min_{x in p} n.x (as support_max).
 [[nodiscard]] inline real support_min(const geometry::convex_polyhedron& p, const vec3& n) {
-  real m = std::numeric_limits<real>::infinity();
-  for (const vec3& x : p.vertices()) m = std::min(m, n.dot(x));
-  return m;
+  return -support_max(p, -n);
 }
 
 }  // namespace detail
