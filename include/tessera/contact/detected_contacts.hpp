@@ -65,11 +65,11 @@
 // (block_mesh::face_node_area) sum closer to the patch area (a small face on a large one: the
 // small face's; the side of the last rebuild while it fits within 5 %), each labelled by its
 // gridpoint, their areas scaled to sum to the patch area; a side needs three such gridpoints,
-// else the patch keeps its corners. Each material point is the gridpoint itself on its own side and, on the other, the
-// surface zone holding it (largest smallest barycentric weight): four gridpoints and their
-// weights, fixed between rebuilds, so a point moves with the zone's linear field exactly and its
-// force goes to those gridpoints. Corners of segment and point patches are located in both
-// blocks' zones the same way. Face normals turn with F^-T, edges with F. Stable step: every
+// else the patch keeps its corners. Each material point is the gridpoint itself on its own side
+// and, on the other, the surface zone holding it (largest smallest barycentric weight): four
+// gridpoints and their weights, fixed between rebuilds, so a point moves with the zone's linear
+// field exactly and its force goes to those gridpoints. Corners of segment and point patches are
+// located in both blocks' zones the same way. Face normals turn with F^-T, edges with F. Stable step: every
 // surface gridpoint g carries 4 k_row (a_g + 2 T_g + 2 a_max), a_g its own tributary area, T_g the
 // surface area of the zones around it (where other blocks' points can land), a_max the largest
 // tributary or nominal area in the scene.
@@ -485,8 +485,8 @@ class detected_contacts {
     real stiffness_bound = 0;                   ///< N/m, on `farthest`
     real nominal_area = 0;                      ///< S / (3 V), m^2
     real surface = 0;                           ///< S, m^2
-    // deformable blocks only
     index watch_begin = 0, watch_end = 0;  ///< its watched gridpoints (rigid: vertices; deformable: surface)
+    // deformable blocks only
     index zone_begin = 0, zone_end = 0;    ///< its surface zones, into surface_zones_
     index face_begin = 0;                  ///< its first tessellation face (local face f = face_begin + f)
   };
@@ -497,9 +497,15 @@ class detected_contacts {
     index gridpoint = 0;
     real area = 0, gap = 0;
   };
-  /// Label of a gridpoint sub-contact: kind 3 (beside corner_label's 0-2), bit 61 the side (B).
+  /// Label of a gridpoint sub-contact: kind 3 (beside corner_label's 0-2), bit 61 the side (B),
+  /// the gridpoint below; and its three readers.
   [[nodiscard]] static constexpr std::uint64_t node_label(index g, bool side_b) noexcept {
     return (std::uint64_t{3} << 62) | (side_b ? std::uint64_t{1} << 61 : 0) | static_cast<std::uint64_t>(g);
+  }
+  [[nodiscard]] static constexpr bool is_node_label(std::uint64_t label) noexcept { return (label >> 62) == 3; }
+  [[nodiscard]] static constexpr bool node_label_side_b(std::uint64_t label) noexcept { return ((label >> 61) & 1U) != 0; }
+  [[nodiscard]] static constexpr index node_label_gridpoint(std::uint64_t label) noexcept {
+    return static_cast<index>(label & ((std::uint64_t{1} << 61) - 1));
   }
 
   /// Deformable blocks: surface gridpoints, surface zones and the per-gridpoint stiffness bounds
@@ -603,10 +609,10 @@ class detected_contacts {
     std::array<index, 4> na{}, nb{};
     std::array<real, 4> wa{}, wb{};
     const std::uint64_t label = key_label_[i];
-    const bool node = (label >> 62) == 3;
-    const bool node_side_b = node && ((label >> 61) & 1U) != 0;
+    const bool node = is_node_label(label);
+    const bool node_side_b = node && node_label_side_b(label);
     const auto own = [&](std::array<index, 4>& nodes, std::array<real, 4>& w) {
-      nodes = {static_cast<index>(label & ((std::uint64_t{1} << 61) - 1)), invalid_index, invalid_index, invalid_index};
+      nodes = {node_label_gridpoint(label), invalid_index, invalid_index, invalid_index};
       w = {1, 0, 0, 0};
     };
     if (node && !node_side_b)
@@ -641,8 +647,8 @@ class detected_contacts {
     const auto k = static_cast<std::size_t>(lo);
     if (lo == n_old || pair_a_[k] != a || pair_b_[k] != b || pair_first_[k + 1] == pair_first_[k]) return -1;
     const std::uint64_t label = key_label_[at(pair_first_[k])];
-    if ((label >> 62) != 3) return -1;
-    return ((label >> 61) & 1U) != 0 ? 1 : 0;
+    if (!is_node_label(label)) return -1;
+    return node_label_side_b(label) ? 1 : 0;
   }
 
   /// Deformable blocks, polygon patch of pair k: the surface gridpoints on A's faces that face the
@@ -688,9 +694,8 @@ class detected_contacts {
       const index self = side == 0 ? a : b, other = side == 0 ? b : a;
       const real sign = side == 0 ? 1.0 : -1.0;
       // The other block's extreme along -sign n: its face that the patch lies on.
-      real support = sign * std::numeric_limits<real>::infinity();
-      for (const vec3& v : current_[at(other)].vertices())
-        support = side == 0 ? std::min(support, n.dot(v)) : std::max(support, n.dot(v));
+      const real support = side == 0 ? detection::detail::support_min(current_[at(other)], n)
+                                     : detection::detail::support_max(current_[at(other)], n);
       const auto faces = workspace_.faces_of(at(self));  // this pass's face planes
       for (index f = 0; f < static_cast<index>(faces.size()); ++f) {
         if (sign * faces[at(f)].normal.dot(n) <= parallel_cos) continue;
@@ -1096,7 +1101,7 @@ class detected_contacts {
                         new_pair_first_.begin() - 1);
       // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
       const std::uint64_t label = key_label_[i];
-      const bool node = (label >> 62) == 3, node_b = node && ((label >> 61) & 1U) != 0;
+      const bool node = is_node_label(label), node_b = node && node_label_side_b(label);
       const auto kind = detection::corner_label::kind_of(label);
       const bool of_b = node ? node_b : kind == detection::corner_label::kind::vertex_b;
       const bool of_a = node ? !node_b : kind == detection::corner_label::kind::vertex_a;
@@ -1113,20 +1118,21 @@ class detected_contacts {
           area_[i] = new_area_[i];
           place_zoned(i, pair_a_[k], pair_b_[k], gp);
         }
-    }
-    for (std::size_t k = 0; k < n_pairs && !options_.deformable_blocks; ++k) {
-      const index a = pair_a_[k], b = pair_b_[k];
-      const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
-      const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
-      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        pair_[i] = static_cast<index>(k);
-        area_[i] = new_area_[i];
-        const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
-        weight_[0][i] = 1 - la.sum();
-        weight_[4][i] = 1 - lb.sum();
-        for (int c = 0; c < 3; ++c) {
-          weight_[at(1 + c)][i] = la[c];
-          weight_[at(5 + c)][i] = lb[c];
+    } else {
+      for (std::size_t k = 0; k < n_pairs; ++k) {
+        const index a = pair_a_[k], b = pair_b_[k];
+        const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
+        const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
+        for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+          pair_[i] = static_cast<index>(k);
+          area_[i] = new_area_[i];
+          const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
+          weight_[0][i] = 1 - la.sum();
+          weight_[4][i] = 1 - lb.sum();
+          for (int c = 0; c < 3; ++c) {
+            weight_[at(1 + c)][i] = la[c];
+            weight_[at(5 + c)][i] = lb[c];
+          }
         }
       }
     }
@@ -1148,46 +1154,37 @@ class detected_contacts {
       if (k + 1 == n_pairs || pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
         pair_tasks_.push_back(static_cast<index>(k + 1));
 
-    // Gather slots. Rigid blocks: per frame gridpoint, the offset of its sum in pair_force_ for
-    // each pair of its block, in pair order. Deformable blocks: per gridpoint, its (sub-contact,
-    // weight) in increasing sub-contact order.
+    // Gather slots, by a counting sort over slot (item, s), s = 0-7 (A's four, then B's four), so
+    // that each gridpoint's slots come in increasing item order. Rigid blocks: the items are the
+    // pairs, slot s the offset of the pair's sum for its block's frame gridpoint s % 4 in
+    // pair_force_. Deformable blocks: the items are the sub-contacts, slot s gridpoint node_[s]
+    // (none: invalid_index) with its weight (A's +w, B's -w: force_ holds the force on A).
+    const bool rigid = !options_.deformable_blocks;
+    const std::size_t items = rigid ? n_pairs : n;
+    const auto slot_gridpoint = [&](std::size_t item, int s) {
+      return rigid ? blocks_[at(s < 4 ? pair_a_[item] : pair_b_[item])].frame[at(s % 4)] : node_[at(s)][item];
+    };
     slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
-    if (!options_.deformable_blocks) {
-      pair_force_.assign(24 * n_pairs, 0.0);
-      const auto frame_gridpoint = [&](std::size_t k, int s) {
-        return blocks_[at(s < 4 ? pair_a_[k] : pair_b_[k])].frame[at(s % 4)];
-      };
-      for (std::size_t k = 0; k < n_pairs; ++k)
-        for (int s = 0; s < 8; ++s) ++slot_offsets_[at(frame_gridpoint(k, s)) + 1];
-      for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
-      slot_source_.resize(at(slot_offsets_.back()));
-      slot_weight_.clear();
-      fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
-      for (std::size_t k = 0; k < n_pairs; ++k)
-        for (int s = 0; s < 8; ++s) slot_source_[at(fill_[at(frame_gridpoint(k, s))]++)] = static_cast<index>(24 * k + 3 * at(s));
-      contact_gridpoints_.clear();
-      for (index g = 0; g < gridpoint_count_; ++g)
-        if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
-      return;
-    }
-    // The gridpoint of slot k (0-3 A's, 4-7 B's) of sub-contact i; invalid_index: none.
-    const auto slot_gridpoint = [&](std::size_t i, int k) { return node_[at(k)][i]; };
-    for (std::size_t i = 0; i < n; ++i)
-      for (int k = 0; k < 8; ++k)
-        if (const index g = slot_gridpoint(i, k); g != invalid_index) ++slot_offsets_[at(g) + 1];
+    for (std::size_t item = 0; item < items; ++item)
+      for (int s = 0; s < 8; ++s)
+        if (const index g = slot_gridpoint(item, s); g != invalid_index) ++slot_offsets_[at(g) + 1];
     for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
     slot_source_.resize(at(slot_offsets_.back()));
-    slot_weight_.resize(at(slot_offsets_.back()));
+    slot_weight_.resize(rigid ? 0 : at(slot_offsets_.back()));
     fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
-    for (std::size_t i = 0; i < n; ++i)
-      for (int k = 0; k < 8; ++k) {
-        const index g = slot_gridpoint(i, k);
+    for (std::size_t item = 0; item < items; ++item)
+      for (int s = 0; s < 8; ++s) {
+        const index g = slot_gridpoint(item, s);
         if (g == invalid_index) continue;
         const auto e = at(fill_[at(g)]++);
-        slot_source_[e] = static_cast<index>(i);
-        // A's side gets +w f, B's -w f (force_ holds the force on A).
-        slot_weight_[e] = k < 4 ? weight_[at(k)][i] : -weight_[at(k)][i];
+        if (rigid) {
+          slot_source_[e] = static_cast<index>(24 * item + 3 * at(s));
+        } else {
+          slot_source_[e] = static_cast<index>(item);
+          slot_weight_[e] = s < 4 ? weight_[at(s)][item] : -weight_[at(s)][item];
+        }
       }
+    if (rigid) pair_force_.assign(24 * n_pairs, 0.0);
     contact_gridpoints_.clear();
     for (index g = 0; g < gridpoint_count_; ++g)
       if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
