@@ -243,8 +243,9 @@ tessera_add_refusal_test(refuse_rc_tie_elements rc_tie "--elements: value '10000
 tessera_add_refusal_test(refuse_rc_tie_threads rc_tie "--threads: value '1000' must be <= 256" --threads 1000)
 tessera_add_refusal_test(refuse_rc_tie_threads_negative rc_tie "--threads: value '-1' must be >= 0" --threads -1)
 tessera_add_refusal_test(refuse_rc_tie_hex rc_tie "--seed: invalid value '0x10'" --seed 0x10)
-tessera_add_refusal_test(refuse_rc_tie_blocks rc_tie "--blocks: value '123' must be one of 100, 250, 500, 750"
-  --blocks 123)
+tessera_add_refusal_test(refuse_rc_tie_blocks rc_tie "--blocks: value '1000000' must be <= 200000"
+  --blocks 1000000)
+tessera_add_refusal_test(refuse_rc_tie_blocks_few rc_tie "--blocks: value '10' must be >= 20" --blocks 10)
 tessera_add_refusal_test(refuse_rc_tie_softening rc_tie "--softening: invalid value 'foo' \\(expected power or linear\\)"
   --softening foo)
 tessera_add_refusal_test(refuse_tessellate_edge tessellate "--edge 1e-05 m .* zones, an estimated .* GiB \\(limit 8 GiB\\)"

@@ -679,6 +679,32 @@ TEST_CASE("study_beam_params: Table 3 of the study, k_s from nu = 0.2", "[law]")
   REQUIRE_THROWS_WITH(study_beam_params(100), Catch::Contains("blocks = 100"));
 }
 
+TEST_CASE("scaled_prism_params: Table 1's rows, and between them k proportional to blocks^(1/3)", "[law]") {
+  // The rows themselves, bit for bit.
+  for (const int n : {100, 250, 500, 750}) {
+    CHECK(scaled_prism_params(n).k_n == study_prism_params(n).k_n);
+    CHECK(scaled_prism_params(n).k_s == study_prism_params(n).k_s);
+  }
+  // The cube-root law from the 100-block row reproduces the other rows within 1 % (the study's
+  // stiffness is inversely proportional to the cell size): this is what justifies extrapolating.
+  const auto p100 = study_prism_params(100);
+  for (const int n : {250, 500, 750}) {
+    const real scale = std::cbrt(n / 100.0);
+    CHECK(std::abs(p100.k_n * scale / study_prism_params(n).k_n - 1) < 0.01);
+    CHECK(std::abs(p100.k_s * scale / study_prism_params(n).k_s - 1) < 0.01);
+  }
+  // Another count: the law, everything else the 100-block row.
+  const auto p10k = scaled_prism_params(10000);
+  CHECK(p10k.k_n == Approx(1160e9 * std::cbrt(100.0)).epsilon(1e-14));
+  CHECK(p10k.k_s == Approx(482e9 * std::cbrt(100.0)).epsilon(1e-14));
+  CHECK(p10k.tension.f_T == p100.tension.f_T);
+  CHECK(p10k.tension.G_f == p100.tension.G_f);
+  CHECK(p10k.shear.c_0 == p100.shear.c_0);
+  CHECK_NOTHROW(study_tie_law::validate(p10k));
+  REQUIRE_THROWS_WITH(scaled_prism_params(1), Catch::Contains("blocks = 1 must be >= 2"));
+  REQUIRE_THROWS_WITH(study_prism_params(123), Catch::Contains("blocks = 123"));
+}
+
 TEST_CASE("coulomb_coupled: the cohesion softens with f_t/f_T, the normal response is unchanged", "[laws][shear]") {
   const auto decoupled_p = study_prism_params(100);
   const auto coupled_p = with_coupled_cohesion(decoupled_p);

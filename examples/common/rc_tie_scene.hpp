@@ -55,7 +55,9 @@ using tie_solver = solver<Blocks, presets::bonded_faces<Law>, tie_bar>;
 using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
 
 struct tie_options {
-  int blocks = 100;          ///< 100, 250, 500 or 750 (Table 1 contact stiffnesses)
+  /// 100, 250, 500 or 750 take Table 1's contact stiffnesses; any other count from 20 to
+  /// max_tie_blocks takes them scaled as blocks^(1/3) (law::scaled_prism_params)
+  int blocks = 100;
   std::uint64_t seed = 1;    ///< tessellation seed
   index elements = 96;       ///< truss elements along the bar
   real xi = 4;               ///< bond stiffness ratio K_bond / K_axial (study eq. 9)
@@ -111,9 +113,18 @@ struct tie_scene {
   tie_options options;
 };
 
+/// The largest tie make_tie builds, and its memory: about tie_bytes_per_block per block all-in
+/// (zones, gridpoints, sub-contacts, the tessellation; measured on the 10 000-block tie,
+/// docs/performance.md), so max_tie_blocks needs about 9 GB of this machine's 24 GiB.
+inline constexpr int max_tie_blocks = 200000;
+inline constexpr double tie_bytes_per_block = 45e3;
+
 /// Builds the tie: the prism of scenes.hpp (Voronoi, zoning, Table 1 contacts) and the bar on its
 /// axis with the study's steel and bond. Throws invalid_input naming a bad option.
 [[nodiscard]] inline tie_scene make_tie(const tie_options& o) {
+  require(o.blocks >= 20 && o.blocks <= max_tie_blocks, "rc_tie: blocks = ", o.blocks, " must be in [20, ",
+          max_tie_blocks, "]: ", o.blocks, " blocks would need about ", o.blocks * tie_bytes_per_block / 1e9,
+          " GB (", tie_bytes_per_block / 1e3, " kB per block)");
   require(o.elements >= 1, "rc_tie: truss elements = ", o.elements, " must be >= 1");
   require_positive(o.xi, "rc_tie: bond stiffness ratio xi");
   require_positive(o.c_bond, "rc_tie: bond cohesion c_bond (N/m)");

@@ -18,6 +18,8 @@
 // names the examples and tests have always used (tessera::law::study_tie_law,
 // tessera::prism_solver, tessera::reinforcement::pulatsu2020::tie_steel, ...).
 
+#include <cmath>
+
 #include "../blocks/deformable.hpp"
 #include "../blocks/linear_elastic_tet.hpp"
 #include "../blocks/rigid.hpp"
@@ -74,6 +76,22 @@ static_assert(law::ContactLaw<coupled_tie_law>);
   }
   throw invalid_input(tessera::detail::concat("study_prism_params: blocks = ", blocks,
                                               " is not a block count of the study's Table 1 (100, 250, 500, 750)"));
+}
+
+/// Table 1's stiffnesses carried to any block count: the row itself for 100, 250, 500 and 750
+/// blocks, else the 100-block row times (blocks / 100)^(1/3). The study's rows follow that law to
+/// within 1 % (k_n and k_s inversely proportional to the mean cell size, i.e. one macroscopic
+/// modulus whatever the block size), so this is the stiffness the study would have chosen; it is
+/// not a value the study gives. Everything else as study_prism_params. Throws invalid_input for
+/// blocks < 2.
+[[nodiscard]] inline study_tie_law::params scaled_prism_params(int blocks) {
+  require<invalid_input>(blocks >= 2, "scaled_prism_params: blocks = ", blocks, " must be >= 2");
+  if (blocks == 100 || blocks == 250 || blocks == 500 || blocks == 750) return study_prism_params(blocks);
+  study_tie_law::params p = study_prism_params(100);
+  const real scale = std::cbrt(static_cast<real>(blocks) / 100);
+  p.k_n *= scale;
+  p.k_s *= scale;
+  return p;
 }
 
 /// The same contact with linear instead of power softening (study Sec. 3.2, Fig. 10): identical
@@ -173,6 +191,7 @@ using coupled_rigid_prism_solver = solver<blocks::rigid, bonded_faces<coupled_ti
 namespace tessera::law {
 using presets::coupled_tie_law;
 using presets::linear_tie_law;
+using presets::scaled_prism_params;
 using presets::study_beam_law;
 using presets::study_beam_params;
 using presets::study_prism_params;
