@@ -681,7 +681,9 @@ TEST_CASE("study_beam_params: Table 3 of the study, k_s from nu = 0.2", "[law]")
 
 TEST_CASE("scaled_prism_params: Table 1's rows, and between them k proportional to blocks^(1/3)", "[law]") {
   // The rows themselves, bit for bit.
+  CHECK_FALSE(in_table1(150));
   for (const int n : {100, 250, 500, 750}) {
+    CHECK(in_table1(n));
     CHECK(scaled_prism_params(n).k_n == study_prism_params(n).k_n);
     CHECK(scaled_prism_params(n).k_s == study_prism_params(n).k_s);
   }

@@ -151,10 +151,7 @@ void write_summary(const fs::path& out, const inputs& in, const tessera::scenes:
   io::summary_json js;
   js.set("example", "rc_tie")
       .set("blocks", in.tie.blocks)
-      .set("contact_stiffness", std::string(in.tie.blocks == 100 || in.tie.blocks == 250 || in.tie.blocks == 500 ||
-                                                    in.tie.blocks == 750
-                                                ? "table1"
-                                                : "table1_scaled_cbrt"))
+      .set("contact_stiffness", std::string(tessera::law::in_table1(in.tie.blocks) ? "table1" : "table1_scaled_cbrt"))
       .set("k_n_Pa_per_m", scene.prism.contact.k_n)
       .set("seed", in.tie.seed)
       .set("elements", in.tie.elements)

@@ -1,7 +1,8 @@
 #pragma once
 // presets/pulatsu2020.hpp: the reference study's data (Pulatsu et al., "Numerical modeling of the
 // tension stiffening in reinforced concrete members via discontinuum models", Comp. Part. Mech.
-// 2020; DESIGN.md §6): its named contact laws, Table 1 (prism and tie contacts), the tie's
+// 2020; DESIGN.md §6): its named contact laws, Table 1 (prism and tie contacts; scaled_prism_params
+// carries it to other block counts), the tie's
 // steel and bond (Sec. 3.1), the beam's contacts (Sec. 4, Table 3), the regularisation the
 // examples offer, and named solvers composed from them. Generic rooms (core, geometry, blocks,
 // contact, law, reinforcement, integrator, solver, io, analysis) never include this header.
@@ -83,10 +84,13 @@ static_assert(law::ContactLaw<coupled_tie_law>);
 /// within 1 % (k_n and k_s inversely proportional to the mean cell size, i.e. one macroscopic
 /// modulus whatever the block size), so this is the stiffness the study would have chosen; it is
 /// not a value the study gives. Everything else as study_prism_params. Throws invalid_input for
-/// blocks < 2.
+/// blocks < 2. in_table1(n): whether n is one of Table 1's block counts.
+[[nodiscard]] constexpr bool in_table1(int blocks) noexcept {
+  return blocks == 100 || blocks == 250 || blocks == 500 || blocks == 750;
+}
 [[nodiscard]] inline study_tie_law::params scaled_prism_params(int blocks) {
   require<invalid_input>(blocks >= 2, "scaled_prism_params: blocks = ", blocks, " must be >= 2");
-  if (blocks == 100 || blocks == 250 || blocks == 500 || blocks == 750) return study_prism_params(blocks);
+  if (in_table1(blocks)) return study_prism_params(blocks);
   study_tie_law::params p = study_prism_params(100);
   const real scale = std::cbrt(static_cast<real>(blocks) / 100);
   p.k_n *= scale;
@@ -190,6 +194,7 @@ using coupled_rigid_prism_solver = solver<blocks::rigid, bonded_faces<coupled_ti
 // ---- the names examples and tests have always used ----
 namespace tessera::law {
 using presets::coupled_tie_law;
+using presets::in_table1;
 using presets::linear_tie_law;
 using presets::scaled_prism_params;
 using presets::study_beam_law;
