@@ -403,7 +403,10 @@ tessera_add_example_test(rubble
          "subcontacts GREATER 1500"
          "rebuilds GREATER 5"
          "top_z_end_m LESS 0.96"
-         "energy_error_rel LESS 0.005")
+         "energy_error_rel LESS 0.005"
+         "mean_subcontacts GREATER 1000"
+         "ns_per_subcontact_step GREATER 0"
+         "ns_per_subcontact_step_without_rebuilds GREATER 0")
 tessera_add_refusal_test(refuse_rubble_gap rubble "--gap: value '0.5' must be <= 0.2" --threads 1 --gap 0.5)
 # ---- rc_beam: the study's RC beam in four-point bending (issue #18), quick: 60 blocks with 50 mm
 # face zoning to a little past first cracking (7.7 s on 2 threads in a fresh-clone CI run). Checks:

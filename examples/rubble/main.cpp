@@ -6,7 +6,9 @@
 // Outputs in --out (default results/rubble):
 //   summary.json   the scene, steps, dt, rebuilds, storage growths, sub-contacts (final, peak),
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
-//                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s)
+//                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s),
+//                  the phase split and ns_per_subcontact_step (common/phase_report.hpp; over the
+//                  mean sub-contact count, with and without the rebuilds)
 //   curve.csv      t_s, kinetic_J, contact_stored_J, rebuild_exchange_J, subcontacts, rebuilds,
 //                  top_z_m (highest block centroid)
 //   blocks_NNNN.vtu + rubble.pvd   the blocks at --frames instants (unless --no-vtk)
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/phase_report.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/run_record.hpp"
@@ -119,8 +122,10 @@ int run(const inputs& in) {
     pvd.add(s.time(), out / name);
   };
   snapshot(0);
+  double subcontact_steps = 0;  // sum over the steps of the sub-contacts the step updated
   for (index k = 1; k <= steps; ++k) {
     s.step();
+    subcontact_steps += static_cast<double>(s.contacts().subcontact_count());
     if (k % every == 0 || k == steps) {
       t.push_back(s.time());
       const energy_balance e = s.energies();
@@ -175,6 +180,14 @@ int run(const inputs& in) {
       .set("threads", max_threads())
       .set("rebuild_s", s.contacts().rebuild_seconds())
       .set("runtime_s", runtime_s);
+  // Per-entity cost (common/phase_report.hpp) over the mean sub-contact count; the contact phase
+  // includes the rebuilds, so the per-step cost without them is given beside.
+  const double mean_subcontacts = steps > 0 ? subcontact_steps / static_cast<double>(steps) : 0.0;
+  tessera::scenes::set_phase_figures(j, s.phases(), 0, static_cast<index>(std::llround(mean_subcontacts)),
+                                     static_cast<std::int64_t>(steps));
+  j.set("mean_subcontacts", mean_subcontacts)
+      .set("ns_per_subcontact_step_without_rebuilds",
+           subcontact_steps > 0 ? (s.phases().contacts - s.contacts().rebuild_seconds()) * 1e9 / subcontact_steps : 0.0);
   j.write(out / "summary.json");
   std::printf("rubble: %d blocks, %lld steps of %.3g s, %lld rebuilds (%.1f steps each), %lld sub-contacts (peak %lld)\n",
               in.blocks, static_cast<long long>(steps), s.dt(), static_cast<long long>(s.contacts().rebuild_count()),
