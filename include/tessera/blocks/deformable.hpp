@@ -120,7 +120,37 @@ class deformable : private detail::zone_geometry {
                               " belongs to no zone (zero mass); every gridpoint must be a zone corner");
     rotation_.assign(static_cast<std::size_t>(n_b), mat3::Identity());
     corner_force_.setZero(n_z, 12);
-    zone_stress_.setZero(n_z, 6);
+    local_stress_.setZero(n_z, 6);
+    watched_stress_.setZero(n_z, 6);
+    watched_.assign(static_cast<std::size_t>(n_z), 0);
+    watch_offsets_.assign(static_cast<std::size_t>(n_b) + 1, 0);
+    watch_zones_.clear();
+  }
+
+  /// Zones whose global stress every step keeps ready (the bars' host zones, set by the solver):
+  /// each zone task forms them right after its zones' stresses (add_zone_forces), in parallel,
+  /// so zone_stress_rows().row(z) of a watched zone is a read. Other zones' global stress is
+  /// formed when asked. Throws invalid_input for a zone outside [0, zone_count()).
+  void watch_zone_stress(const std::vector<index>& zones) {
+    std::vector<std::uint8_t> watched(static_cast<std::size_t>(zone_count()), 0);
+    for (const index z : zones) {
+      require<invalid_input>(z >= 0 && z < zone_count(), "deformable blocks: watched zone ", z, " is not a zone (",
+                             zone_count(), " zones)");
+      watched[at(z)] = 1;
+    }
+    const index n_b = block_count();
+    std::vector<index> offsets(static_cast<std::size_t>(n_b) + 1, 0), list;
+    for (index z = 0; z < zone_count(); ++z)
+      if (watched[at(z)] != 0) ++offsets[at(zone_block_[at(z)]) + 1];
+    for (index b = 0; b < n_b; ++b) offsets[at(b) + 1] += offsets[at(b)];
+    list.resize(static_cast<std::size_t>(offsets.back()));
+    std::vector<index> fill(offsets.begin(), offsets.end() - 1);
+    for (index z = 0; z < zone_count(); ++z)
+      if (watched[at(z)] != 0) list[at(fill[at(zone_block_[at(z)])]++)] = z;  // increasing zone order per block
+    watched_ = std::move(watched);
+    watch_offsets_ = std::move(offsets);
+    watch_zones_ = std::move(list);
+    for (const index z : watch_zones_) watched_stress_.row(z) = global_stress(z);
   }
 
   /// Step 2: computes block rotations, zone strains and stresses from the current displacements
@@ -157,6 +187,8 @@ class deformable : private detail::zone_geometry {
     const typename Zone::constants& constants = constants_[at(block_material_[b])];
     for (index k = task_run_offsets_[at(t)]; k < task_run_offsets_[at(t) + 1]; ++k)
       zone_kernel(constants, u, at(task_runs_[at(k)]));
+    for (index w = watch_offsets_[b]; w < watch_offsets_[b + 1]; ++w)  // this block's watched zones
+      watched_stress_.row(watch_zones_[at(w)]) = global_stress(watch_zones_[at(w)]);
     const real* const f = corner_force_.data();
     const std::ptrdiff_t n_z = zone_count();
     real* const force[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(),
@@ -215,16 +247,60 @@ class deformable : private detail::zone_geometry {
     integ.advance(gridpoints, dt, work);
   }
 
-  /// Global Cauchy stress of every zone at the last accumulate_forces (Pa, Voigt, tension +).
-  [[nodiscard]] const zone_stress_matrix& zone_stress() const { return zone_stress_; }
+  /// Global Cauchy stress of zone z at the last accumulate_forces (Pa, Voigt xx yy zz yz zx xy,
+  /// tension +): R_b sigma' R_b^T from the block-frame stress sigma' the zone kernel keeps,
+  /// written with the expressions the kernel used when it stored the global stress itself (the
+  /// same bits).
+  [[nodiscard]] Eigen::Matrix<real, 1, 6> global_stress(index z) const noexcept {
+    const mat3& rot = rotation_[at(zone_block_[at(z)])];
+    const real r00 = rot(0, 0), r01 = rot(0, 1), r02 = rot(0, 2);
+    const real r10 = rot(1, 0), r11 = rot(1, 1), r12 = rot(1, 2);
+    const real r20 = rot(2, 0), r21 = rot(2, 1), r22 = rot(2, 2);
+    const real sxx = local_stress_(z, 0), syy = local_stress_(z, 1), szz = local_stress_(z, 2);
+    const real syz = local_stress_(z, 3), szx = local_stress_(z, 4), sxy = local_stress_(z, 5);
+    // P = R sigma', then Sigma = P R^T.
+    const real p00 = r00 * sxx + r01 * sxy + r02 * szx, p01 = r00 * sxy + r01 * syy + r02 * syz,
+               p02 = r00 * szx + r01 * syz + r02 * szz;
+    const real p10 = r10 * sxx + r11 * sxy + r12 * szx, p11 = r10 * sxy + r11 * syy + r12 * syz,
+               p12 = r10 * szx + r11 * syz + r12 * szz;
+    const real p20 = r20 * sxx + r21 * sxy + r22 * szx, p21 = r20 * sxy + r21 * syy + r22 * syz,
+               p22 = r20 * szx + r21 * syz + r22 * szz;
+    Eigen::Matrix<real, 1, 6> sigma;
+    sigma << p00 * r00 + p01 * r01 + p02 * r02, p10 * r10 + p11 * r11 + p12 * r12,
+        p20 * r20 + p21 * r21 + p22 * r22, p10 * r20 + p11 * r21 + p12 * r22, p20 * r00 + p21 * r01 + p22 * r02,
+        p00 * r10 + p01 * r11 + p02 * r12;
+    return sigma;
+  }
+  /// Global Cauchy stress of every zone at the last accumulate_forces (Pa, Voigt, tension +), one
+  /// row per zone, assembled on each call (a value: O(zones) per call, so take it once rather
+  /// than once per zone).
+  [[nodiscard]] zone_stress_matrix zone_stress() const {
+    zone_stress_matrix sigma(zone_count(), 6);
+    for (index z = 0; z < zone_count(); ++z) sigma.row(z) = global_stress(z);
+    return sigma;
+  }
+  /// The zone stresses as rows (rows(), row(z)), what the bars read each step for their host
+  /// zones' confinement: a watched zone's row is the one its zone task formed, any other is
+  /// formed on the call. Valid until the next step.
+  struct stress_rows {
+    const deformable* model = nullptr;
+    [[nodiscard]] index rows() const noexcept { return model->zone_count(); }
+    [[nodiscard]] Eigen::Matrix<real, 1, 6> row(index z) const noexcept {
+      return model->watched_[at(z)] != 0 ? Eigen::Matrix<real, 1, 6>(model->watched_stress_.row(z))
+                                          : model->global_stress(z);
+    }
+  };
+  [[nodiscard]] stress_rows zone_stress_rows() const noexcept { return stress_rows{this}; }
 
   /// Saves or loads the block rotations (the warm start of the next polar decomposition, so they
-  /// are state: a restart without them would differ in the last bits) and the zone stresses
-  /// (io/checkpoint.hpp).
+  /// are state: a restart without them would differ in the last bits) and the zones' block-frame
+  /// stresses (io/checkpoint.hpp).
   template <class Archive>
   void checkpoint(Archive& ar) {
     ar.array("blocks/deformable/rotation", rotation_);
-    ar.matrix("blocks/deformable/zone_stress", zone_stress_);
+    ar.matrix("blocks/deformable/local_stress", local_stress_);
+    if (ar.loading())  // the watched zones' global stresses follow from what was loaded
+      for (const index z : watch_zones_) watched_stress_.row(z) = global_stress(z);
   }
 
   /// Elastic energy stored in the zones, sum_z V_z W(eps_z) (J), with block rotations of the
@@ -340,10 +416,10 @@ class deformable : private detail::zone_geometry {
   }
 
   /// Zone forces and stresses of the zones of run r (consecutive zones of one block b), written
-  /// to corner_force_ and zone_stress_. Per zone, with g_a = grad N_a (g_0 = -(g_1 + g_2 + g_3)):
+  /// to corner_force_ and local_stress_. Per zone, with g_a = grad N_a (g_0 = -(g_1 + g_2 + g_3)):
   ///     H = sum_{a=0..3} u_a (x) g_a,   M = R^T H,
   ///     eps = sym(M) + sym(R^T) - 1 (Voigt, engineering shears; sym(R^T) - 1 once per run),
-  ///     sigma' = Zone::stress(eps),   P = R sigma',   Sigma = P R^T,
+  ///     sigma' = Zone::stress(eps) (kept),   P = R sigma'   (Sigma = P R^T: global_stress),
   ///     f_a = -V P g_a (a = 1..3),   f_0 = -(f_1 + f_2 + f_3).
   /// Scalar straight-line code over structure-of-arrays zone data, so the loop over the zones
   /// of a run vectorises (omp simd; the results of a zone do not depend on which thread or
@@ -372,7 +448,7 @@ class deformable : private detail::zone_geometry {
     const real* const vol = volume_.data();
     const std::ptrdiff_t n_z = zone_count();
     real* const f = corner_force_.data();  // column 3 a + i: component i of corner a, over zones
-    real* const sig = zone_stress_.data();  // column k: Voigt component k, over zones
+    real* const sig = local_stress_.data();  // column k: Voigt component k of sigma', over zones
     const auto zone = [&](index z) __attribute__((always_inline)) {
       const index i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
       const real u0x = ux[i0], u0y = uy[i0], u0z = uz[i0];
@@ -412,13 +488,15 @@ class deformable : private detail::zone_geometry {
                  p12 = r10 * szx + r11 * syz + r12 * szz;
       const real p20 = r20 * sxx + r21 * sxy + r22 * szx, p21 = r20 * sxy + r21 * syy + r22 * syz,
                  p22 = r20 * szx + r21 * syz + r22 * szz;
-      // Global Cauchy stress Sigma = P R^T.
-      sig[0 * n_z + z] = p00 * r00 + p01 * r01 + p02 * r02;
-      sig[1 * n_z + z] = p10 * r10 + p11 * r11 + p12 * r12;
-      sig[2 * n_z + z] = p20 * r20 + p21 * r21 + p22 * r22;
-      sig[3 * n_z + z] = p10 * r20 + p11 * r21 + p12 * r22;
-      sig[4 * n_z + z] = p20 * r00 + p21 * r01 + p22 * r02;
-      sig[5 * n_z + z] = p00 * r10 + p01 * r11 + p02 * r12;
+      // The block-frame stress is kept; the global Sigma = P R^T is formed by the zone task for
+      // the watched zones and on demand for the others (global_stress): most zones never need
+      // it, and forming it in every zone cost 7.5 % of the zone update (docs/performance.md).
+      sig[0 * n_z + z] = sxx;
+      sig[1 * n_z + z] = syy;
+      sig[2 * n_z + z] = szz;
+      sig[3 * n_z + z] = syz;
+      sig[4 * n_z + z] = szx;
+      sig[5 * n_z + z] = sxy;
       // Corner forces f_a = -V P g_a, f_0 = -(f_1 + f_2 + f_3).
       const real mv = -vol[z];
       const real m00 = mv * p00, m01 = mv * p01, m02 = mv * p02;
@@ -476,7 +554,11 @@ TESSERA_PRAGMA_SIMD
   std::vector<int> block_material_;                 ///< material id of each block
   std::vector<mat3> rotation_;                      ///< R_b, warm start of the next polar decomposition
   Eigen::Matrix<real, Eigen::Dynamic, 12> corner_force_;  ///< row z: the 4 corner forces of zone z (N), column 3 a + i
-  zone_stress_matrix zone_stress_;                  ///< global Cauchy stress per zone (Pa)
+  zone_stress_matrix local_stress_;                 ///< block-frame Cauchy stress sigma' per zone (Pa, Voigt)
+  zone_stress_matrix watched_stress_;               ///< global stress of the watched zones (other rows unused)
+  std::vector<std::uint8_t> watched_;               ///< per zone: 1 if its global stress is kept each step
+  std::vector<index> watch_offsets_;                ///< per block: its watched zones in watch_zones_
+  std::vector<index> watch_zones_;                  ///< watched zones, block by block
 };
 
 }  // namespace tessera::blocks

@@ -159,8 +159,10 @@ class embedded_truss {
   /// Step 4 of the step order: adds the axial forces to the bar nodes and the bond forces to the
   /// bar nodes and their host gridpoints (N), from the current displacements; advances the plastic
   /// histories. zone_stress: one Voigt row (xx, yy, zz, yz, zx, xy; Pa, tension +) per zone of the
-  /// mesh given to build(), or empty (no confinement).
-  void accumulate_forces(node_set& gridpoints, const zone_stress_matrix& zone_stress) noexcept {
+  /// mesh given to build(), or empty (no confinement): a zone_stress_matrix, or anything with
+  /// rows() and row(z) (blocks::deformable::stress_rows).
+  template <class ZoneStress = zone_stress_matrix>
+  void accumulate_forces(node_set& gridpoints, const ZoneStress& zone_stress) noexcept {
     compute_forces(gridpoints, zone_stress);
     add_host_forces(0, gridpoints.size(), gridpoints);
   }
@@ -172,7 +174,8 @@ class embedded_truss {
   /// Axial and bond forces on the bar nodes (added to nodes().force), plastic and bond
   /// histories advanced; the bond force on each node's host point is kept for add_host_forces.
   /// Reads gridpoints' displacements only.
-  void compute_forces(const node_set& gridpoints, const zone_stress_matrix& zone_stress) noexcept {
+  template <class ZoneStress = zone_stress_matrix>
+  void compute_forces(const node_set& gridpoints, const ZoneStress& zone_stress) noexcept {
     const soa3& u = nodes_.displacement;
     soa3& f = nodes_.force;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
@@ -284,6 +287,12 @@ class embedded_truss {
   /// Host of node n (zone = invalid_index on an unbonded bar).
   [[nodiscard]] const host_point& host(index n) const { return hosts_[static_cast<std::size_t>(n)]; }
   [[nodiscard]] bool bonded(index n) const { return hosts_[static_cast<std::size_t>(n)].zone != invalid_index; }
+  /// The host zone of every bonded node, in node order: the zones whose stress the bars read.
+  [[nodiscard]] std::vector<index> host_zones() const {
+    std::vector<index> zones;
+    for (const index n : bonded_nodes_) zones.push_back(hosts_[static_cast<std::size_t>(n)].zone);
+    return zones;
+  }
   [[nodiscard]] vec3 tangent(index n) const { return tangent_.row(n).transpose(); }  ///< reference unit axis
   [[nodiscard]] real tributary_length(index n) const { return tributary_length_[static_cast<std::size_t>(n)]; }  ///< m
   [[nodiscard]] real bond_stiffness(index n) const { return bond_stiffness_[static_cast<std::size_t>(n)]; }  ///< N/m

@@ -149,7 +149,12 @@ class solver {
       require(contacts_.deformable_blocks() == !Blocks::is_rigid, "solver: the contact set's deformable_blocks = ",
               contacts_.deformable_blocks(), " does not match the block model (", Blocks::is_rigid ? "rigid" : "deformable",
               "); set contact params deformable_blocks = ", !Blocks::is_rigid);
-    if constexpr (Reinforcement::enabled) reinforcement_.build(reinforcement_params, mesh, gridpoints_);
+    if constexpr (Reinforcement::enabled) {
+      reinforcement_.build(reinforcement_params, mesh, gridpoints_);
+      // The zones whose stress the bars read every step get it formed inside the zone tasks.
+      if constexpr (requires { blocks_.watch_zone_stress(reinforcement_.host_zones()); })
+        blocks_.watch_zone_stress(reinforcement_.host_zones());
+    }
     compute_time_step();
   }
 
@@ -222,12 +227,12 @@ class solver {
       // first (they read displacements and this step's zone stresses), host shares in the gather.
       // (Without a fused integrator the bars keep accumulate_forces below.)
       constexpr bool split_bars = fused_integrator && Reinforcement::enabled && requires(Reinforcement& rf, index i) {
-        rf.compute_forces(gridpoints_, blocks_.zone_stress());
+        rf.compute_forces(gridpoints_, stress_for_bars());
         rf.add_host_forces(i, i, gridpoints_);
       };
       if constexpr (split_bars) {
         const auto bars = clock::now();
-        reinforcement_.compute_forces(gridpoints_, blocks_.zone_stress());
+        reinforcement_.compute_forces(gridpoints_, stress_for_bars());
         phases_.bars += since(bars);
       }
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
@@ -262,7 +267,7 @@ class solver {
     }
     if constexpr (Reinforcement::enabled) {
       const auto bars = clock::now();
-      reinforcement_.accumulate_forces(gridpoints_, blocks_.zone_stress());
+      reinforcement_.accumulate_forces(gridpoints_, stress_for_bars());
       phases_.bars += since(bars);
     }
     const auto integration = clock::now();
@@ -439,6 +444,16 @@ class solver {
   }
 
   /// Step 7: energy increments, time, step checker.
+  /// The zone stresses the bars read for their confinement: the block model's rows where it
+  /// offers them (deformable: the bars' host zones are formed by the zone tasks), else its
+  /// zone_stress().
+  [[nodiscard]] decltype(auto) stress_for_bars() const {
+    if constexpr (requires { blocks_.zone_stress_rows(); })
+      return blocks_.zone_stress_rows();
+    else
+      return (blocks_.zone_stress());
+  }
+
   void finish_step(const integrator::step_work& work) {
     boundary_work_ += work.boundary;
     damping_dissipated_ += work.damping;
