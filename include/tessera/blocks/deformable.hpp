@@ -256,15 +256,13 @@ class deformable : private detail::zone_geometry {
     const real r00 = rot(0, 0), r01 = rot(0, 1), r02 = rot(0, 2);
     const real r10 = rot(1, 0), r11 = rot(1, 1), r12 = rot(1, 2);
     const real r20 = rot(2, 0), r21 = rot(2, 1), r22 = rot(2, 2);
-    const real sxx = local_stress_(z, 0), syy = local_stress_(z, 1), szz = local_stress_(z, 2);
-    const real syz = local_stress_(z, 3), szx = local_stress_(z, 4), sxy = local_stress_(z, 5);
-    // P = R sigma', then Sigma = P R^T.
-    const real p00 = r00 * sxx + r01 * sxy + r02 * szx, p01 = r00 * sxy + r01 * syy + r02 * syz,
-               p02 = r00 * szx + r01 * syz + r02 * szz;
-    const real p10 = r10 * sxx + r11 * sxy + r12 * szx, p11 = r10 * sxy + r11 * syy + r12 * syz,
-               p12 = r10 * szx + r11 * syz + r12 * szz;
-    const real p20 = r20 * sxx + r21 * sxy + r22 * szx, p21 = r20 * sxy + r21 * syy + r22 * syz,
-               p22 = r20 * szx + r21 * syz + r22 * szz;
+    const real rm[9] = {r00, r01, r02, r10, r11, r12, r20, r21, r22};
+    const real s[6] = {local_stress_(z, 0), local_stress_(z, 1), local_stress_(z, 2),
+                       local_stress_(z, 3), local_stress_(z, 4), local_stress_(z, 5)};
+    real pm[9];
+    rotate_stress(rm, s, pm);  // P = R sigma', as in the kernel; then Sigma = P R^T
+    const real p00 = pm[0], p01 = pm[1], p02 = pm[2], p10 = pm[3], p11 = pm[4], p12 = pm[5], p20 = pm[6],
+               p21 = pm[7], p22 = pm[8];
     Eigen::Matrix<real, 1, 6> sigma;
     sigma << p00 * r00 + p01 * r01 + p02 * r02, p10 * r10 + p11 * r11 + p12 * r12,
         p20 * r20 + p21 * r21 + p22 * r22, p10 * r20 + p11 * r21 + p12 * r22, p20 * r00 + p21 * r01 + p22 * r02,
@@ -415,6 +413,19 @@ class deformable : private detail::zone_geometry {
     }
   }
 
+  /// P = R sigma' (row i: global component, column k: block frame; r = R row by row, s = sigma'
+  /// in Voigt order xx yy zz yz zx xy), for the zone kernel's corner forces and for
+  /// global_stress: one set of expressions, so the global stress formed on demand is the one the
+  /// kernel's forces used, to the bit.
+  [[gnu::always_inline]] static inline void rotate_stress(const real (&r)[9], const real (&s)[6],
+                                                          real (&p)[9]) noexcept {
+    for (int i = 0; i < 3; ++i) {
+      p[3 * i + 0] = r[3 * i] * s[0] + r[3 * i + 1] * s[5] + r[3 * i + 2] * s[4];
+      p[3 * i + 1] = r[3 * i] * s[5] + r[3 * i + 1] * s[1] + r[3 * i + 2] * s[3];
+      p[3 * i + 2] = r[3 * i] * s[4] + r[3 * i + 1] * s[3] + r[3 * i + 2] * s[2];
+    }
+  }
+
   /// Zone forces and stresses of the zones of run r (consecutive zones of one block b), written
   /// to corner_force_ and local_stress_. Per zone, with g_a = grad N_a (g_0 = -(g_1 + g_2 + g_3)):
   ///     H = sum_{a=0..3} u_a (x) g_a,   M = R^T H,
@@ -434,6 +445,7 @@ class deformable : private detail::zone_geometry {
     const real r20 = rot(2, 0), r21 = rot(2, 1), r22 = rot(2, 2);
     // sym(R^T) - 1 in Voigt form (engineering shears).
     const real q0 = r00 - 1, q1 = r11 - 1, q2 = r22 - 1, q3 = r12 + r21, q4 = r20 + r02, q5 = r01 + r10;
+    const real rm[9] = {r00, r01, r02, r10, r11, r12, r20, r21, r22};
     const real* const ux = u[0];
     const real* const uy = u[1];
     const real* const uz = u[2];
@@ -481,13 +493,10 @@ class deformable : private detail::zone_geometry {
       real s[6];
       zone_stress(p, eps, s);
       const real sxx = s[0], syy = s[1], szz = s[2], syz = s[3], szx = s[4], sxy = s[5];
-      // P = R sigma' (row i: global component, column k: local).
-      const real p00 = r00 * sxx + r01 * sxy + r02 * szx, p01 = r00 * sxy + r01 * syy + r02 * syz,
-                 p02 = r00 * szx + r01 * syz + r02 * szz;
-      const real p10 = r10 * sxx + r11 * sxy + r12 * szx, p11 = r10 * sxy + r11 * syy + r12 * syz,
-                 p12 = r10 * szx + r11 * syz + r12 * szz;
-      const real p20 = r20 * sxx + r21 * sxy + r22 * szx, p21 = r20 * sxy + r21 * syy + r22 * syz,
-                 p22 = r20 * szx + r21 * syz + r22 * szz;
+      real pm[9];
+      rotate_stress(rm, s, pm);  // P = R sigma'
+      const real p00 = pm[0], p01 = pm[1], p02 = pm[2], p10 = pm[3], p11 = pm[4], p12 = pm[5], p20 = pm[6],
+                 p21 = pm[7], p22 = pm[8];
       // The block-frame stress is kept; the global Sigma = P R^T is formed by the zone task for
       // the watched zones and on demand for the others (global_stress): most zones never need
       // it, and forming it in every zone cost 7.5 % of the zone update (docs/performance.md).
