@@ -121,6 +121,33 @@ int check_interior_equilibrium(const node_set& gp, real tol) {
 }
 }  // namespace
 
+TEST_CASE("watched zones: the stress a zone task forms is the one formed on demand, bit for bit", "[mechanics][zones]") {
+  // The bars read their host zones' global stress from the zone tasks (watch_zone_stress); any
+  // other zone's is formed on the call. Both must be the same numbers, in a rotated block too.
+  const auto mesh = kuhn_cube(0.1);
+  blocks::deformable<zones::linear_elastic_tet> b;
+  node_set gp;
+  b.build(geometry::tessellation{}, mesh, concrete_block, gp);
+  b.watch_zone_stress({4, 1, 4});  // a repeated zone counts once
+  mat3 e;
+  e << 1.0e-4, 0.3e-4, -0.2e-4, 0.3e-4, -0.5e-4, 0.7e-4, -0.2e-4, 0.7e-4, 2.0e-4;
+  const mat3 q = Eigen::AngleAxis<real>(0.7, vec3(1, 2, 3).normalized()).toRotationMatrix();
+  impose(gp, q, e);
+  b.accumulate_forces(gp);
+  const zone_stress_matrix all = b.zone_stress();
+  const auto rows = b.zone_stress_rows();
+  REQUIRE(rows.rows() == 6);
+  for (idx z = 0; z < 6; ++z) {
+    INFO("zone " << z);
+    CHECK((rows.row(z) - all.row(z)).cwiseAbs().maxCoeff() == 0);
+    CHECK((rows.row(z) - b.global_stress(z)).cwiseAbs().maxCoeff() == 0);
+  }
+  // The rotated block carries the rotated Hooke stress q sigma q^T.
+  const mat3 expected = q * from_voigt(hooke(concrete_block, e)) * q.transpose();
+  CHECK((from_voigt(all.row(1).transpose()) - expected).cwiseAbs().maxCoeff() <= 1e-9 * expected.cwiseAbs().maxCoeff());
+  REQUIRE_THROWS_WITH(b.watch_zone_stress({6}), Catch::Contains("watched zone 6 is not a zone (6 zones)"));
+}
+
 TEST_CASE("patch test: uniform strain gives Hooke's stress and interior equilibrium", "[mechanics][zones]") {
   mat3 e;
   e << 1.0e-4, 0.3e-4, -0.2e-4, 0.3e-4, -0.5e-4, 0.7e-4, -0.2e-4, 0.7e-4, 2.0e-4;

@@ -121,10 +121,10 @@ class deformable : private detail::zone_geometry {
     rotation_.assign(static_cast<std::size_t>(n_b), mat3::Identity());
     corner_force_.setZero(n_z, 12);
     local_stress_.setZero(n_z, 6);
-    watched_stress_.setZero(n_z, 6);
-    watched_.assign(static_cast<std::size_t>(n_z), 0);
+    watch_slot_.assign(static_cast<std::size_t>(n_z), invalid_index);
     watch_offsets_.assign(static_cast<std::size_t>(n_b) + 1, 0);
     watch_zones_.clear();
+    watched_stress_.resize(0, 6);
   }
 
   /// Zones whose global stress every step keeps ready (the bars' host zones, set by the solver):
@@ -132,25 +132,24 @@ class deformable : private detail::zone_geometry {
   /// so zone_stress_rows().row(z) of a watched zone is a read. Other zones' global stress is
   /// formed when asked. Throws invalid_input for a zone outside [0, zone_count()).
   void watch_zone_stress(const std::vector<index>& zones) {
-    std::vector<std::uint8_t> watched(static_cast<std::size_t>(zone_count()), 0);
+    std::vector<index> slot(static_cast<std::size_t>(zone_count()), invalid_index);
     for (const index z : zones) {
       require<invalid_input>(z >= 0 && z < zone_count(), "deformable blocks: watched zone ", z, " is not a zone (",
                              zone_count(), " zones)");
-      watched[at(z)] = 1;
+      slot[at(z)] = 0;  // watched; its slot is set below
     }
-    const index n_b = block_count();
-    std::vector<index> offsets(static_cast<std::size_t>(n_b) + 1, 0), list;
-    for (index z = 0; z < zone_count(); ++z)
-      if (watched[at(z)] != 0) ++offsets[at(zone_block_[at(z)]) + 1];
-    for (index b = 0; b < n_b; ++b) offsets[at(b) + 1] += offsets[at(b)];
-    list.resize(static_cast<std::size_t>(offsets.back()));
-    std::vector<index> fill(offsets.begin(), offsets.end() - 1);
-    for (index z = 0; z < zone_count(); ++z)
-      if (watched[at(z)] != 0) list[at(fill[at(zone_block_[at(z)])]++)] = z;  // increasing zone order per block
-    watched_ = std::move(watched);
-    watch_offsets_ = std::move(offsets);
-    watch_zones_ = std::move(list);
-    for (const index z : watch_zones_) watched_stress_.row(z) = global_stress(z);
+    // The watched zones by block, in increasing zone order within a block (core/csr.hpp).
+    auto watched = [&](auto&& emit) {
+      for (index z = 0; z < zone_count(); ++z)
+        if (slot[at(z)] != invalid_index) emit(zone_block_[at(z)], [&, z](index w) { watch_zones_[at(w)] = z; });
+    };
+    watch_offsets_ = csr_offsets(block_count(), watched);
+    watch_zones_.resize(static_cast<std::size_t>(watch_offsets_.back()));
+    csr_fill(watch_offsets_, watched);
+    for (index w = 0; w < static_cast<index>(watch_zones_.size()); ++w) slot[at(watch_zones_[at(w)])] = w;
+    watch_slot_ = std::move(slot);
+    watched_stress_.resize(static_cast<index>(watch_zones_.size()), 6);
+    form_watched_stress(0, static_cast<index>(watch_zones_.size()));
   }
 
   /// Step 2: computes block rotations, zone strains and stresses from the current displacements
@@ -187,8 +186,7 @@ class deformable : private detail::zone_geometry {
     const typename Zone::constants& constants = constants_[at(block_material_[b])];
     for (index k = task_run_offsets_[at(t)]; k < task_run_offsets_[at(t) + 1]; ++k)
       zone_kernel(constants, u, at(task_runs_[at(k)]));
-    for (index w = watch_offsets_[b]; w < watch_offsets_[b + 1]; ++w)  // this block's watched zones
-      watched_stress_.row(watch_zones_[at(w)]) = global_stress(watch_zones_[at(w)]);
+    form_watched_stress(watch_offsets_[b], watch_offsets_[b + 1]);  // this block's watched zones
     const real* const f = corner_force_.data();
     const std::ptrdiff_t n_z = zone_count();
     real* const force[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(),
@@ -284,8 +282,8 @@ class deformable : private detail::zone_geometry {
     const deformable* model = nullptr;
     [[nodiscard]] index rows() const noexcept { return model->zone_count(); }
     [[nodiscard]] Eigen::Matrix<real, 1, 6> row(index z) const noexcept {
-      return model->watched_[at(z)] != 0 ? Eigen::Matrix<real, 1, 6>(model->watched_stress_.row(z))
-                                          : model->global_stress(z);
+      const index w = model->watch_slot_[at(z)];
+      return w != invalid_index ? Eigen::Matrix<real, 1, 6>(model->watched_stress_.row(w)) : model->global_stress(z);
     }
   };
   [[nodiscard]] stress_rows zone_stress_rows() const noexcept { return stress_rows{this}; }
@@ -297,8 +295,7 @@ class deformable : private detail::zone_geometry {
   void checkpoint(Archive& ar) {
     ar.array("blocks/deformable/rotation", rotation_);
     ar.matrix("blocks/deformable/local_stress", local_stress_);
-    if (ar.loading())  // the watched zones' global stresses follow from what was loaded
-      for (const index z : watch_zones_) watched_stress_.row(z) = global_stress(z);
+    if (ar.loading()) form_watched_stress(0, static_cast<index>(watch_zones_.size()));  // from what was loaded
   }
 
   /// Elastic energy stored in the zones, sum_z V_z W(eps_z) (J), with block rotations of the
@@ -413,6 +410,11 @@ class deformable : private detail::zone_geometry {
     }
   }
 
+  /// Global stress of the watched zones watch_zones_[w], w in [w0, w1), into watched_stress_ row w.
+  void form_watched_stress(index w0, index w1) noexcept {
+    for (index w = w0; w < w1; ++w) watched_stress_.row(w) = global_stress(watch_zones_[at(w)]);
+  }
+
   /// P = R sigma' (row i: global component, column k: block frame; r = R row by row, s = sigma'
   /// in Voigt order xx yy zz yz zx xy), for the zone kernel's corner forces and for
   /// global_stress: one set of expressions, so the global stress formed on demand is the one the
@@ -492,7 +494,6 @@ class deformable : private detail::zone_geometry {
       const real eps[6] = {q0 + mxx, q1 + myy, q2 + mzz, q3 + (myz + mzy), q4 + (mzx + mxz), q5 + (mxy + myx)};
       real s[6];
       zone_stress(p, eps, s);
-      const real sxx = s[0], syy = s[1], szz = s[2], syz = s[3], szx = s[4], sxy = s[5];
       real pm[9];
       rotate_stress(rm, s, pm);  // P = R sigma'
       const real p00 = pm[0], p01 = pm[1], p02 = pm[2], p10 = pm[3], p11 = pm[4], p12 = pm[5], p20 = pm[6],
@@ -500,12 +501,7 @@ class deformable : private detail::zone_geometry {
       // The block-frame stress is kept; the global Sigma = P R^T is formed by the zone task for
       // the watched zones and on demand for the others (global_stress): most zones never need
       // it, and forming it in every zone cost 7.5 % of the zone update (docs/performance.md).
-      sig[0 * n_z + z] = sxx;
-      sig[1 * n_z + z] = syy;
-      sig[2 * n_z + z] = szz;
-      sig[3 * n_z + z] = syz;
-      sig[4 * n_z + z] = szx;
-      sig[5 * n_z + z] = sxy;
+      for (int k = 0; k < 6; ++k) sig[k * n_z + z] = s[k];
       // Corner forces f_a = -V P g_a, f_0 = -(f_1 + f_2 + f_3).
       const real mv = -vol[z];
       const real m00 = mv * p00, m01 = mv * p01, m02 = mv * p02;
@@ -564,10 +560,10 @@ TESSERA_PRAGMA_SIMD
   std::vector<mat3> rotation_;                      ///< R_b, warm start of the next polar decomposition
   Eigen::Matrix<real, Eigen::Dynamic, 12> corner_force_;  ///< row z: the 4 corner forces of zone z (N), column 3 a + i
   zone_stress_matrix local_stress_;                 ///< block-frame Cauchy stress sigma' per zone (Pa, Voigt)
-  zone_stress_matrix watched_stress_;               ///< global stress of the watched zones (other rows unused)
-  std::vector<std::uint8_t> watched_;               ///< per zone: 1 if its global stress is kept each step
   std::vector<index> watch_offsets_;                ///< per block: its watched zones in watch_zones_
   std::vector<index> watch_zones_;                  ///< watched zones, block by block
+  std::vector<index> watch_slot_;                   ///< per zone: its place in watch_zones_, or invalid_index
+  zone_stress_matrix watched_stress_;               ///< row w: global stress of zone watch_zones_[w] (Pa)
 };
 
 }  // namespace tessera::blocks
