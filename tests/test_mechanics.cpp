@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -841,7 +842,9 @@ TEST_CASE("gravity on deformable blocks: a settled column puts its weight on the
           "[solver][gravity]") {
   // Three 50 mm concrete cubes bonded in a column on a fixed base, mass-scaled, local damping:
   // once at rest the base reaction is the weight from the unscaled masses (scaling adds inertia,
-  // not weight), and the work of gravity is in the energy balance.
+  // not weight), and the work of gravity is in the energy balance. Out of balance: at the first
+  // step nothing is strained, so each free gridpoint's unbalanced force is its weight, and those
+  // weights plus the base's reaction are the column's weight; once settled they vanish.
   const real a = 0.05;
   const auto tess = test::box_column(vec3::Zero(), vec3(a, a, a), 3);
   const auto mesh = geometry::zone_blocks(tess);
@@ -854,8 +857,17 @@ TEST_CASE("gravity on deformable blocks: a settled column puts its weight on the
   const auto base = s.gridpoints_on_plane(2, 0, 1e-9);
   s.fix(base);
   s.set_gravity(vec3(0, 0, -9.81));
-  s.run(20000);
   const real weight = 2400 * 3 * a * a * a * 9.81;
+  s.run(1);
+  const out_of_balance first = s.unbalanced_force();
+  CHECK(first.nodes == mesh.gridpoint_count() - base.size());
+  CHECK(first.mean_force * static_cast<real>(first.nodes) + recorders::reaction_sum(s.gridpoints(), base).z() ==
+        Approx(weight).epsilon(1e-12));
+  s.run(19999);
+  const out_of_balance settled = s.unbalanced_force();
+  INFO("settled: largest unbalanced force " << settled.max_force << " N against a weight of " << weight << " N");
+  CHECK(settled.max_force < 1e-6 * weight);
+  CHECK(settled.max_force < 1e-3 * first.max_force);
   const real reaction = recorders::reaction_sum(s.gridpoints(), base).z();
   INFO("reaction " << reaction << " N, weight " << weight << " N");
   CHECK(reaction == Approx(weight).epsilon(1e-6));
@@ -863,6 +875,43 @@ TEST_CASE("gravity on deformable blocks: a settled column puts its weight on the
   CHECK(e.gravity_work > 0);
   CHECK(e.error_rel() < 1e-3);
   CHECK_THROWS_AS(s.set_gravity(vec3(0, 0, std::numeric_limits<real>::quiet_NaN())), invalid_input);
+}
+
+TEST_CASE("out of balance: free components only, prescribed ones left out", "[solver][balance]") {
+  // Hand values on a node set: (3, 4, 0) free -> 5; (1, 2, 2) with z prescribed -> sqrt(5); a node
+  // with every component prescribed is left out.
+  node_set n;
+  n.resize(3);
+  n.force.row(0) << 3, 4, 0;
+  n.force.row(1) << 1, 2, 2;
+  n.force.row(2) << 7, 7, 7;
+  n.constraint(1, 2) = static_cast<std::uint8_t>(dof_constraint::prescribed);
+  n.constraint.row(2).setConstant(static_cast<std::uint8_t>(dof_constraint::prescribed));
+  const out_of_balance hand = unbalanced_force(n);
+  CHECK(hand.nodes == 2);
+  CHECK(hand.max_node == 0);
+  CHECK(hand.max_force == 5);
+  CHECK(hand.mean_force == Approx((5 + std::sqrt(5.0)) / 2).epsilon(1e-15));
+}
+
+TEST_CASE("adaptive rate: out of balance drops to the slowest factor at once, quiet samples grow it to the fastest",
+          "[solver][balance]") {
+  adaptive_rate rate({.min_factor = 0.5, .max_factor = 2, .low = 0.01, .high = 0.02, .growth = 1.5});
+  CHECK(rate.factor() == 1);
+  CHECK(rate.update(0.005) == 1.5);   // quiet: grows
+  CHECK(rate.update(0.005) == 2);     // capped at the fastest
+  CHECK(rate.update(0.015) == 2);     // between the bands: held
+  CHECK(rate.update(0.03) == 0.5);    // out of balance: the slowest at once
+  CHECK(rate.update(std::numeric_limits<real>::quiet_NaN()) == 0.5);  // NaN counts as out of balance
+  CHECK(rate.update(0) == 0.75);
+  CHECK(adaptive_rate().update(1e9) == 1);  // the default is a fixed rate
+  using p = adaptive_rate::params;
+  CHECK_THROWS_AS(adaptive_rate(p{.min_factor = 0}), invalid_input);
+  CHECK_THROWS_AS(adaptive_rate(p{.min_factor = 1.5, .max_factor = 2}), invalid_input);
+  CHECK_THROWS_AS(adaptive_rate(p{.max_factor = 0.9}), invalid_input);
+  CHECK_THROWS_AS(adaptive_rate(p{.max_factor = 2, .growth = 1}), invalid_input);
+  CHECK_THROWS_AS(adaptive_rate(p{.low = 0.02, .high = 0.02}), invalid_input);
+  CHECK_THROWS_AS(adaptive_rate(p{.low = 0.01, .high = std::numeric_limits<real>::infinity()}), invalid_input);
 }
 
 TEST_CASE("zone tasks split at any block give the bits of accumulate_forces, parallel_range_pair covers each index once",

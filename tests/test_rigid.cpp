@@ -605,6 +605,31 @@ solver<blocks::rigid, verification::contacts> falling_blocks(const geometry::tes
 }
 }  // namespace
 
+TEST_CASE("out of balance of rigid blocks: a released block's unbalanced force is its weight", "[rigid][balance]") {
+  // The falling blocks at their first step: no block touches another (each shrunk by 2 %), so a
+  // free block is pulled by its weight alone, m g with the unscaled mass; the blocks on the floor
+  // are held and left out.
+  const auto tess = separated_voronoi_cube();
+  const auto mesh = geometry::zone_blocks(tess);
+  auto s = falling_blocks(tess, mesh, 1);
+  s.run(1);
+  const real g = vec3(30, 10, -98.1).norm();
+  real sum = 0, largest = 0;
+  tessera::index free = 0;
+  for (tessera::index b = 0; b < s.blocks().block_count(); ++b) {
+    if (s.blocks().translation_prescribed(b, 0)) continue;
+    sum += s.blocks().weight_mass(b) * g;
+    largest = std::max(largest, s.blocks().weight_mass(b) * g);
+    ++free;
+  }
+  const out_of_balance ob = s.unbalanced_force();
+  REQUIRE(free > 0);
+  REQUIRE(free < s.blocks().block_count());  // some blocks are held
+  CHECK(ob.nodes == free);
+  CHECK(ob.max_force == Approx(largest).epsilon(1e-12));
+  CHECK(ob.mean_force * static_cast<real>(ob.nodes) == Approx(sum).epsilon(1e-12));
+}
+
 TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters refused", "[rigid][detected][determinism]") {
   // The falling blocks: contacts form, slide and open between blocks that were not neighbours
   // (4 000 steps are 0.1 s).

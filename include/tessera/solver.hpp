@@ -1,6 +1,7 @@
 #pragma once
 // Module header for solver/. Owners add their headers here as they land.
 #include "core.hpp"
+#include "solver/balance.hpp"
 #include "solver/boundary.hpp"
 #include "solver/energy.hpp"
 #include "solver/recorders.hpp"

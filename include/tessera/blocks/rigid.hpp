@@ -362,6 +362,10 @@ class rigid {
   [[nodiscard]] mat3 rotation(index b) const { return at(b).rotation * at(b).axes.transpose(); }
   [[nodiscard]] const vec3& force(index b) const { return at(b).force; }    ///< F of the last step (N)
   [[nodiscard]] const vec3& moment(index b) const { return at(b).moment; }  ///< M about c, last step (N m, world)
+  /// True when a gridpoint of block b prescribed world translation component c in the last step.
+  [[nodiscard]] bool translation_prescribed(index b, int c) const {
+    return constraints_[static_cast<std::size_t>(b)].count[static_cast<std::size_t>(c)] > 0;
+  }
   /// Support reaction on the block, last step (N, world); zero in unprescribed components.
   [[nodiscard]] const vec3& reaction_force(index b) const { return at(b).reaction_force; }
   /// Support moment about the centroid holding a constrained block's rotation, last step (N m, world).

@@ -51,6 +51,7 @@
 #include "../integrator/timestep.hpp"
 #include "../reinforcement/concepts.hpp"
 #include "../reinforcement/none.hpp"
+#include "balance.hpp"
 #include "boundary.hpp"
 #include "energy.hpp"
 #include "step_checker.hpp"
@@ -322,6 +323,38 @@ class solver {
   [[nodiscard]] const solver_options& options() const { return options_; }
   /// Time spent in each phase of the steps so far (see phase_times).
   [[nodiscard]] const phase_times& phases() const { return phases_; }
+
+  /// Unbalanced force of the last step over free components (solver/balance.hpp): of the
+  /// gridpoints (deformable blocks) or of the blocks' translations (rigid blocks: the block force
+  /// with the weight, moments left out), then of the bar nodes (max_node counts on from the
+  /// gridpoints or blocks). O(nodes); the same for any thread count.
+  [[nodiscard]] out_of_balance unbalanced_force() const {
+    out_of_balance b;
+    if constexpr (Blocks::is_rigid) {
+      for (index k = 0; k < blocks_.block_count(); ++k) {
+        real sq = 0;
+        bool any = false;
+        for (int c = 0; c < 3; ++c)
+          if (!blocks_.translation_prescribed(k, c)) {
+            sq += blocks_.force(k)[c] * blocks_.force(k)[c];
+            any = true;
+          }
+        if (any) b.add_magnitude(std::sqrt(sq), k);
+      }
+    } else {
+      for (index i = 0; i < gridpoints_.size(); ++i) b.add(gridpoints_, i);
+    }
+    if constexpr (Reinforcement::enabled) {
+      const index offset = Blocks::is_rigid ? blocks_.block_count() : gridpoints_.size();
+      const node_set& bars = reinforcement_.nodes();
+      for (index i = 0; i < bars.size(); ++i) {
+        out_of_balance one;
+        one.add(bars, i);
+        if (one.nodes > 0) b.add_magnitude(one.max_force, offset + i);
+      }
+    }
+    return b;
+  }
 
   /// All energy terms now (J); O(zones + sub-contacts + nodes).
   [[nodiscard]] energy_balance energies() const {
