@@ -53,10 +53,12 @@ namespace sc = tessera::scenes;
 constexpr real nan = std::numeric_limits<real>::quiet_NaN();
 
 /// One accuracy setting. Prism: step = top displacement per step (m), tail = tail speed-up;
-/// tie: step = mass-scaling target dt (s), tail unused.
+/// tie: step = mass-scaling target dt (s), tail unused, and the out-of-balance rate control
+/// (solver/balance.hpp; min_factor = max_factor = 1: the fixed rate).
 struct setting {
   std::string name;
   real step = 0, rate = 0, tail = 1;
+  real min_factor = 1, max_factor = 1;
 };
 
 /// A figure that converges: its name, unit scale for printing, and hand value (NaN: none).
@@ -144,7 +146,11 @@ scene_def tie_def(int blocks, bool quick, int threads) {
     d.settings = {{"dt_1us_rate_2.5mm", 1e-6, 0.0025}, {"dt_1us_rate_5mm", 1e-6, 0.005},
                   {"dt_2us_rate_5mm", 2e-6, 0.005},   {"dt_2us_rate_10mm", 2e-6, 0.01},
                   {"dt_4us_rate_5mm", 4e-6, 0.005},   {"dt_4us_rate_10mm", 4e-6, 0.01},
-                  {"dt_8us_rate_10mm", 8e-6, 0.01}};
+                  {"dt_8us_rate_10mm", 8e-6, 0.01},
+                  {"dt_2us_rate_2.5mm", 2e-6, 0.0025},
+                  {"dt_2us_rate_5mm_balance_0.5", 2e-6, 0.005, 1, 0.5, 1},
+                  {"dt_2us_rate_5mm_balance_0.5_2", 2e-6, 0.005, 1, 0.5, 2},
+                  {"dt_2us_rate_5mm_balance_0.25", 2e-6, 0.005, 1, 0.25, 1}};
   sc::tie_options to;
   to.blocks = blocks;
   const sc::tie_hand_checks hand = sc::make_tie(to).hand;
@@ -164,6 +170,8 @@ scene_def tie_def(int blocks, bool quick, int threads) {
     sc::tie_loading ld;
     ld.dt = s.step;
     ld.rate = s.rate;
+    ld.rate_control.min_factor = s.min_factor;
+    ld.rate_control.max_factor = s.max_factor;
     ld.threads = threads;
     ld.progress_label = tessera::detail::concat("tie ", s.name, " seed ", seed);
     const sc::tie_result r = sc::run_tie(scene, ld);

@@ -196,6 +196,21 @@ tessera_add_example_test(rc_tie NAME example_rc_tie_scaled_blocks_quick
          "initial_stiffness_shear_lag_error_rel GREATER -0.15"
          "energy_balance_error_rel LESS 0.01"
   TIMEOUT 300)
+# The out-of-balance rate control (tessera/solver/balance.hpp): the quick tie with the rate free
+# to fall to half and rise to twice --rate. Measured (quick, seed 1, to 0.3 mm, 13 400 steps): at
+# this coarse setting the ratio (largest nodal unbalanced force / N_cr) hovers at 0.001-0.003 on
+# the elastic branch, so the rate rises (to 1.06x) and falls back; from just before the first
+# peak (14.3 kN) it is 0.004-0.03 and the rate stays at half; mean factor 0.579. A fixed rate
+# gives a mean factor of 1, a control that never recovered 0.5.
+tessera_add_example_test(rc_tie NAME example_rc_tie_rate_control_quick
+  ARGS --quick --seed 1 --threads 1 --no-vtk --max-elongation 3e-4 --min-rate-factor 0.5 --max-rate-factor 2
+  FILES curve.csv
+  CHECKS "mean_rate_factor GREATER 0.55"
+         "mean_rate_factor LESS 0.65"
+         "max_unbalanced_ratio GREATER 0.01"
+         "max_rate_factor GREATER 1.99"
+         "energy_balance_error_rel LESS 0.01"
+  TIMEOUT 300)
 # ---- rc_tie_sensitivity: the Sec. 3.2 studies, reduced set (xi 2 and 4; c_bond 1e9 and 1e4 N/m;
 # 100 blocks, dt 4e-6 s, 5 mm/s; 4 runs, about 45 s on one thread) ----
 # The study's trends with numbers. Measured (quick, seed 1): K0 66.5 kN/mm for xi = 2 and 82.4 for
@@ -251,6 +266,14 @@ tessera_add_refusal_test(refuse_rc_tie_dt_not_quasi_static rc_tie "loading rate 
   --quick --threads 1 --no-vtk --dt 1)
 tessera_add_refusal_test(refuse_rc_tie_rate rc_tie "loading rate 1000000 m/s .* is not quasi-static.*use a rate <="
   --quick --threads 1 --no-vtk --rate 1e6)
+tessera_add_refusal_test(refuse_rc_tie_rate_control_fast rc_tie
+  "fastest rate of the out-of-balance control.*loading rate 1 m/s .* is not quasi-static"
+  --quick --threads 1 --no-vtk --max-rate-factor 100)
+tessera_add_refusal_test(refuse_rc_tie_rate_control_bands rc_tie
+  "adaptive rate: ratios low 0.01 and high 0.005 must satisfy 0 < low < high"
+  --quick --threads 1 --no-vtk --balance-low 0.01 --balance-high 0.005)
+tessera_add_refusal_test(refuse_rc_tie_min_rate_factor rc_tie "--min-rate-factor: value '0' must be > 0"
+  --min-rate-factor 0)
 tessera_add_refusal_test(refuse_rc_tie_elements rc_tie "--elements: value '1000000000' must be <= 100000"
   --elements 1000000000)
 tessera_add_refusal_test(refuse_rc_tie_threads rc_tie "--threads: value '1000' must be <= 256" --threads 1000)

@@ -92,6 +92,7 @@ class tie_recorder {
     r_.force.push_back(f);
     r_.pulled_force.push_back(bar.reaction(ends_.last, 2));
     record_concrete(sv, f);
+    r_.unbalanced_ratio.push_back(sv.unbalanced_force().max_force / scene_.hand.cracking_force);
     r_.max_imbalance = std::max(r_.max_imbalance, std::abs(r_.pulled_force.back() - f) / scene_.hand.yield_force);
     max_force_ = std::max(max_force_, f);
     if (!r_.yielded && r_.elongation.size() % 4 == 0) {
@@ -262,9 +263,15 @@ template <class Blocks, class Law, class OnEvent>
   opt.threads = loading.threads;
   opt.damping_gamma = loading.damping_gamma;
   solver_type s(scene.prism.tess, scene.prism.mesh, scene.prism.block_material, law_params, scene.bar, opt);
+  const adaptive_rate::params& rc = loading.rate_control;
+  adaptive_rate control(rc);  // refuses bad factors and ratios
   if (!scene.options.bare) {
+    // The fastest rate the control may reach must be quasi-static too.
     const auto& ms = s.mass_scaling();
-    require_quasi_static("rc_tie", loading.rate, scene.hand.length, concrete_young, concrete_density,
+    const std::string who = rc.max_factor > 1 ? "rc_tie (the fastest rate of the out-of-balance control, "
+                                                "--max-rate-factor x --rate)"
+                                              : "rc_tie";
+    require_quasi_static(who.c_str(), loading.rate * rc.max_factor, scene.hand.length, concrete_young, concrete_density,
                          ms.original_mass > 0 ? ms.added_mass / ms.original_mass : 0, law_params.tension.f_T);
   }
   const tie_ends ends = hold_tie_ends(s, scene);
@@ -278,24 +285,34 @@ template <class Blocks, class Law, class OnEvent>
     if (t >= ramp) return loading.rate;
     return 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
   };
+  real factor = 1;         // set at the samples, after the ramp
+  double factor_steps = 0;  // sum over the steps of the factor in force
   const auto pull = [&](const solver_type& sv) {
-    if (sv.time() <= ramp + sv.dt()) {
-      const real v = pull_velocity(sv.time() + 0.5 * sv.dt());
-      bar.prescribed_velocity(ends.last, 2) = pulled_share * v;
-      if (loading.symmetric) bar.prescribed_velocity(ends.first, 2) = -(1 - pulled_share) * v;
-    }
+    factor_steps += factor;
+    const real v = factor * pull_velocity(sv.time() + 0.5 * sv.dt());
+    bar.prescribed_velocity(ends.last, 2) = pulled_share * v;
+    if (loading.symmetric) bar.prescribed_velocity(ends.first, 2) = -(1 - pulled_share) * v;
   };
 
   tie_recorder<solver_type> recorder(s, scene, loading, ends);
   bool done = false;
   s.run_until([&](const solver_type&) { return done; }, std::int64_t{1} << 40, pull,
-              recorders::every(loading.sample, [&](const solver_type& sv) { done = recorder.sample(sv, on_event); }));
+              recorders::every(loading.sample, [&](const solver_type& sv) {
+                done = recorder.sample(sv, on_event);
+                tie_result& rr = recorder.result();
+                if (sv.time() > ramp) {
+                  factor = control.update(rr.unbalanced_ratio.back());
+                  rr.max_unbalanced_ratio = std::max(rr.max_unbalanced_ratio, rr.unbalanced_ratio.back());
+                }
+                rr.rate_factor.push_back(factor);
+              }));
   recorder.finish_progress();
   on_event(std::as_const(s), std::string("end"));
 
   tie_result& r = recorder.result();
   read_tie_curve(r, scene.hand, recorder.yield_sample());
   read_tie_state(r, s, scene, law_params, recorder.graph());
+  r.mean_rate_factor = r.steps > 0 ? factor_steps / static_cast<double>(r.steps) : 1;
   r.runtime_s = timer.seconds();
   return std::move(r);
 }

@@ -180,6 +180,11 @@ inline constexpr double tie_bytes_per_block = 45e3;
 /// Loading and run control of one tie run.
 struct tie_loading {
   real rate = 5e-3;             ///< elongation rate of the bar (m/s)
+  /// Out-of-balance rate control (tessera/solver/balance.hpp) on the ratio of the largest nodal
+  /// unbalanced force to N_cr, sampled every `sample` steps after the ramp: min_factor x rate as
+  /// soon as it exceeds `high`, growing by `growth` a sample up to max_factor x rate while it is
+  /// under `low`. min = max = 1: the fixed rate.
+  adaptive_rate::params rate_control{.min_factor = 1, .max_factor = 1, .low = 0.0015, .high = 0.002, .growth = 1.02};
   /// true: the bar ends move at -rate/2 and +rate/2 (the study's setup up to a rigid translation);
   /// false: first bar node fixed, last pulled at rate (the study's setup verbatim). Local damping
   /// (F_d = gamma |F| sgn(v)) is not Galilean invariant: with one end fixed the concrete, free
@@ -226,6 +231,11 @@ struct tie_result {
   /// force there) / A_c, i.e. the concrete's share of the load where the bond has handed it over.
   std::vector<real> concrete_stress;
   std::vector<index> softened_subcontacts;  ///< sub-contacts past their tensile peak, per sample
+  /// Out-of-balance ratio per sample: the largest nodal unbalanced force over N_cr (balance.hpp).
+  std::vector<real> unbalanced_ratio;
+  std::vector<real> rate_factor;  ///< factor on the rate from the sample on (tie_loading::rate_control)
+  real max_unbalanced_ratio = 0;  ///< over the samples after the ramp
+  real mean_rate_factor = 0;      ///< the factor on the rate averaged over the steps (1: the fixed rate)
   real max_imbalance = 0;               ///< max |pulled_force - force| / f_y A over the run
   std::vector<analysis::load_drop> drops;         ///< before the first yield
   analysis::crack_report cracks;                  ///< fully opened through-cracks at the end of the run

@@ -11,7 +11,11 @@
 //             --cbond (N/m)
 //   supports  bar ends pulled apart along z at -/+ --rate/2 (--fixed-end: first node fixed, last
 //             pulled at --rate, the study verbatim) after a half-cosine ramp of --ramp s;
-//             concrete end gridpoints on rollers (x, y fixed, z free)
+//             concrete end gridpoints on rollers (x, y fixed, z free). With --min-rate-factor or
+//             --max-rate-factor the rate follows the out-of-balance ratio (largest nodal
+//             unbalanced force / N_cr, tessera/solver/balance.hpp): --min-rate-factor x --rate
+//             while it is over --balance-high, rising by --rate-growth a sample to
+//             --max-rate-factor x --rate while it is under --balance-low
 //   solver    central differences, local damping 0.8, masses scaled to the step --dt
 //   stop      --post-yield x the elongation at which the tie yields past it (yield: the bar flows
 //             plastically, rc_tie_run.hpp), or at --max-elongation
@@ -19,7 +23,8 @@
 // Outputs in --out DIR:
 //   curve.csv        elongation_m, force_N (force = tension at the fixed bar end), pulled_end_force_N,
 //                    concrete_stress_Pa (the concrete's mean axial stress over the middle two
-//                    thirds), softened_subcontacts (past their tensile peak)
+//                    thirds), softened_subcontacts (past their tensile peak), unbalanced_ratio
+//                    (largest nodal unbalanced force / N_cr), rate_factor (on --rate, from then on)
 //   bare_bar.csv     the bare bar, elastic-perfectly plastic (closed form) on the same range
 //   curve.png        both curves (gnuplot)
 //   <tag>_contacts.vtp, <tag>_bar.vtp, <tag>_zones.vtu for tag = drop1, drop2, ..., yield, end:
@@ -110,8 +115,11 @@ void write_curves(const fs::path& out, const inputs& in, const tessera::scenes::
                   const sampled_curve& bare) {
   namespace io = tessera::io;
   std::vector<real> softened(r.softened_subcontacts.begin(), r.softened_subcontacts.end());
-  io::write_csv(out / "curve.csv", {"elongation_m", "force_N", "pulled_end_force_N", "concrete_stress_Pa", "softened_subcontacts"},
-                {r.elongation, r.force, r.pulled_force, r.concrete_stress, softened});
+  io::write_csv(out / "curve.csv",
+                {"elongation_m", "force_N", "pulled_end_force_N", "concrete_stress_Pa", "softened_subcontacts",
+                 "unbalanced_ratio", "rate_factor"},
+                {r.elongation, r.force, r.pulled_force, r.concrete_stress, softened, r.unbalanced_ratio,
+                 r.rate_factor});
   io::write_csv(out / "bare_bar.csv", {"elongation_m", "force_N"}, {bare.u, bare.f});
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC tie, ", in.tie.blocks, " blocks, ", in.tie.elements, " elements, xi ",
@@ -171,6 +179,13 @@ void write_summary(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("rigid", in.tie.rigid)
       .set("bare", in.tie.bare)
       .set("rate_m_per_s", in.loading.rate)
+      .set("min_rate_factor", in.loading.rate_control.min_factor)
+      .set("max_rate_factor", in.loading.rate_control.max_factor)
+      .set("balance_low", in.loading.rate_control.low)
+      .set("balance_high", in.loading.rate_control.high)
+      .set("rate_growth", in.loading.rate_control.growth)
+      .set("mean_rate_factor", r.mean_rate_factor)
+      .set("max_unbalanced_ratio", r.max_unbalanced_ratio)
       .set("ramp_s", in.loading.ramp_time)
       .set("quick", in.common.quick)
       .set("threads", tessera::max_threads())
@@ -338,6 +353,20 @@ int main(int argc, char** argv) {
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V").greater_than(0);
+  cli.option("--min-rate-factor", in.loading.rate_control.min_factor,
+             "out-of-balance rate control: the rate drops to F x --rate as soon as the largest nodal unbalanced "
+             "force exceeds --balance-high x N_cr (1 = never slower than --rate)",
+             "F").greater_than(0).at_most(1);
+  cli.option("--max-rate-factor", in.loading.rate_control.max_factor,
+             "out-of-balance rate control: the rate may rise to F x --rate while that force stays under "
+             "--balance-low x N_cr (1 = never faster than --rate)",
+             "F").at_least(1);
+  cli.option("--balance-low", in.loading.rate_control.low, "out-of-balance ratio under which the rate grows", "R")
+      .greater_than(0);
+  cli.option("--balance-high", in.loading.rate_control.high, "out-of-balance ratio over which the rate drops", "R")
+      .greater_than(0);
+  cli.option("--rate-growth", in.loading.rate_control.growth, "factor on the rate per sample under --balance-low",
+             "G").greater_than(1);
   cli.flag("--fixed-end", fixed_end, "first bar node fixed, last pulled at --rate (default: both ends pulled at -/+ rate/2)");
   cli.option("--bond-basis", bond_basis, "bond stiffness xi K_axial per unit bar length (3DEC, default) or per node", "length|node").one_of({"length", "node"});
   cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T").at_least(0);
