@@ -46,7 +46,9 @@
 //                    branching crack adds a separated piece but no crossing) and their positions,
 //                    softened_cracks,
 //                    yield_force_N and its error vs f_y A, final_force_N (where the final branch
-//                    ends) and its error vs f_y A, energy balance error, sizes, steps, runtime_s
+//                    ends) and its error vs f_y A, the rate control's settings with
+//                    mean_rate_factor and max_unbalanced_ratio, energy balance error, sizes,
+//                    steps, runtime_s
 // Definitions: load drop, initial stiffness and through-crack in tessera/analysis/ (curves.hpp,
 // cracks.hpp), first cracking and yield force in examples/common/rc_tie_run.hpp.
 //
