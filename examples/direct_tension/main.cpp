@@ -14,7 +14,7 @@
 //             the stop criterion are explained in direct_tension/tension_test.hpp
 //
 // Outputs in --out DIR: curve.csv (top displacement m, mean axial stress from the top and the
-// bottom reactions Pa), contacts_{peak,end}.vtp (sub-contacts with status, damage and every field
+// bottom reactions Pa, the largest nodal unbalanced force over f_T A), contacts_{peak,end}.vtp (sub-contacts with status, damage and every field
 // the law declares), zones_{peak,end}.vtu (zones with displacement and stress), direct_tension.pvd
 // (both instants), curve.png, summary.json. With --seeds K > 1: curve_seed<S>.csv per
 // tessellation and envelope.csv (min/max stress over the seeds on a common displacement grid,
@@ -147,8 +147,8 @@ void write_fields(const fs::path& out, const scenes::prism_scene& scene, const s
 void write_curves(const fs::path& out, const inputs& in, const std::vector<scenes::tension_result>& runs) {
   namespace io = tessera::io;
   const auto& r = runs.front();
-  io::write_csv(out / "curve.csv", {"displacement_m", "stress_Pa", "stress_top_Pa", "stress_bottom_Pa"},
-                {r.displacement, r.stress, r.stress_top, r.stress_bottom});
+  io::write_csv(out / "curve.csv", {"displacement_m", "stress_Pa", "stress_top_Pa", "stress_bottom_Pa", "unbalanced_ratio"},
+                {r.displacement, r.stress, r.stress_top, r.stress_bottom, r.unbalanced_ratio});
   io::plot_spec plot;
   plot.title = tessera::detail::concat("Direct tension, ", in.blocks, " blocks, ", in.softening, " softening, ",
                                        in.loading.rate * 1e3, " mm/s");

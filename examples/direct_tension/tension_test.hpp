@@ -119,6 +119,8 @@ struct tension_snapshot {
 struct tension_result {
   std::vector<real> displacement;                       ///< top displacement (m)
   std::vector<real> stress, stress_top, stress_bottom;  ///< axial stress: mean, from the top, from the bottom reaction (Pa)
+  /// Largest nodal unbalanced force over f_T x cross-section, per sample (solver/balance.hpp).
+  std::vector<real> unbalanced_ratio;
   real peak_stress = 0, peak_displacement = 0, initial_modulus = 0, residual_stress = 0;
   // energies (J)
   real boundary_work = 0, damping = 0, kinetic = 0, stored = 0;
@@ -352,6 +354,7 @@ template <class Solver, class LawParams>
     r.stress.push_back(sigma);
     r.stress_top.push_back(r_top / area);
     r.stress_bottom.push_back(-r_bottom / area);
+    r.unbalanced_ratio.push_back(sv.unbalanced_force().max_force / (f_t * area));
     if (sigma > r.peak_stress) {
       r.peak_stress = sigma;
       r.peak_displacement = u;
