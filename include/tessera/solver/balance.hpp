@@ -5,10 +5,10 @@
 // step: the zone, contact, bar and body forces before damping (node_set::force after a step;
 // prescribed components carry reactions instead and are left out). In a quasi-static loading at a
 // steady rate it is small against the forces the supports carry; a contact that softens, a crack
-// that opens or a sudden change of the loading rate throws it up. 3DEC and FLAC stop a solve when
-// the ratio of the mean unbalanced force to the mean applied force falls below a tolerance; here
-// the ratio (of the largest nodal unbalanced force to a reference force the caller chooses, e.g.
-// the load on the supports) sets how fast the loading may go:
+// that opens or a sudden change of the loading rate throws it up. 3DEC and FLAC call a model in
+// equilibrium when the ratio of the unbalanced force to the applied forces falls below a
+// tolerance; here the ratio (of the largest nodal unbalanced force to a reference force the
+// caller chooses, e.g. the load a crack section carries) sets how fast the loading may go:
 //
 //   adaptive_rate   factor f in [min_factor, max_factor] (min <= 1 <= max) on a base rate,
 //                   starting at 1. At each sample: ratio above `high` -> f = min_factor at once
@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
@@ -40,7 +41,7 @@ struct out_of_balance {
   index max_node = -1;   ///< the node of max_force (-1 when none is free)
   index nodes = 0;       ///< nodes with at least one free component
 
-  /// Adds node i of `n` with force components f (prescribed components skipped).
+  /// Adds node i of `n` (its force over the free components; none free: skipped).
   void add(const node_set& n, index i) {
     constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
     real sq = 0;
