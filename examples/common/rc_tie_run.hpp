@@ -268,8 +268,8 @@ template <class Blocks, class Law, class OnEvent>
   if (!scene.options.bare) {
     // The fastest rate the control may reach must be quasi-static too.
     const auto& ms = s.mass_scaling();
-    const std::string who = rc.max_factor > 1 ? "rc_tie (the fastest rate of the out-of-balance control, "
-                                                "--max-rate-factor x --rate)"
+    const std::string who = rc.max_factor > 1 ? "rc_tie: the fastest rate of the out-of-balance control "
+                                                "(--max-rate-factor x --rate)"
                                               : "rc_tie";
     require_quasi_static(who.c_str(), loading.rate * rc.max_factor, scene.hand.length, concrete_young, concrete_density,
                          ms.original_mass > 0 ? ms.added_mass / ms.original_mass : 0, law_params.tension.f_T);
