@@ -285,9 +285,9 @@ template <class Blocks, class Law, class OnEvent>
     if (t >= ramp) return loading.rate;
     return 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
   };
-  real factor = 1;         // set at the samples, after the ramp
-  double factor_steps = 0;  // sum over the steps of the factor in force
+  double factor_steps = 0;  // sum over the steps of the factor in force (control.factor(), set at the samples)
   const auto pull = [&](const solver_type& sv) {
+    const real factor = control.factor();
     factor_steps += factor;
     const real v = factor * pull_velocity(sv.time() + 0.5 * sv.dt());
     bar.prescribed_velocity(ends.last, 2) = pulled_share * v;
@@ -301,10 +301,10 @@ template <class Blocks, class Law, class OnEvent>
                 done = recorder.sample(sv, on_event);
                 tie_result& rr = recorder.result();
                 if (sv.time() > ramp) {
-                  factor = control.update(rr.unbalanced_ratio.back());
+                  control.update(rr.unbalanced_ratio.back());
                   rr.max_unbalanced_ratio = std::max(rr.max_unbalanced_ratio, rr.unbalanced_ratio.back());
                 }
-                rr.rate_factor.push_back(factor);
+                rr.rate_factor.push_back(control.factor());
               }));
   recorder.finish_progress();
   on_event(std::as_const(s), std::string("end"));

@@ -41,18 +41,24 @@ struct out_of_balance {
   index max_node = -1;   ///< the node of max_force (-1 when none is free)
   index nodes = 0;       ///< nodes with at least one free component
 
-  /// Adds node i of `n` (its force over the free components; none free: skipped).
-  void add(const node_set& n, index i) {
+  /// Adds node i of `n` under the label `node` (default i): its force over the free components;
+  /// none free: skipped.
+  void add(const node_set& n, index i, index node = -1) {
     constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
+    add_free(node < 0 ? i : node, [&](int c) { return n.constraint(i, c) == free; },
+             [&](int c) { return n.force(i, c); });
+  }
+  /// Adds the magnitude of force(c) over the components c with is_free(c); none free: skipped.
+  template <class IsFree, class Force>
+  void add_free(index node, IsFree&& is_free, Force&& force) {
     real sq = 0;
     bool any = false;
     for (int c = 0; c < 3; ++c)
-      if (n.constraint(i, c) == free) {
-        sq += n.force(i, c) * n.force(i, c);
+      if (is_free(c)) {
+        sq += force(c) * force(c);
         any = true;
       }
-    if (!any) return;
-    add_magnitude(std::sqrt(sq), i);
+    if (any) add_magnitude(std::sqrt(sq), node);
   }
   /// Adds one node's unbalanced force magnitude (N).
   void add_magnitude(real f, index node) {
@@ -105,7 +111,6 @@ class adaptive_rate {
     return factor_;
   }
   [[nodiscard]] real factor() const { return factor_; }
-  [[nodiscard]] const params& settings() const { return p_; }
 
  private:
   params p_{};

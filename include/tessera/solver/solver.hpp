@@ -331,27 +331,16 @@ class solver {
   [[nodiscard]] out_of_balance unbalanced_force() const {
     out_of_balance b;
     if constexpr (Blocks::is_rigid) {
-      for (index k = 0; k < blocks_.block_count(); ++k) {
-        real sq = 0;
-        bool any = false;
-        for (int c = 0; c < 3; ++c)
-          if (!blocks_.translation_prescribed(k, c)) {
-            sq += blocks_.force(k)[c] * blocks_.force(k)[c];
-            any = true;
-          }
-        if (any) b.add_magnitude(std::sqrt(sq), k);
-      }
+      for (index k = 0; k < blocks_.block_count(); ++k)
+        b.add_free(k, [&](int c) { return !blocks_.translation_prescribed(k, c); },
+                   [&](int c) { return blocks_.force(k)[c]; });
     } else {
       for (index i = 0; i < gridpoints_.size(); ++i) b.add(gridpoints_, i);
     }
     if constexpr (Reinforcement::enabled) {
       const index offset = Blocks::is_rigid ? blocks_.block_count() : gridpoints_.size();
       const node_set& bars = reinforcement_.nodes();
-      for (index i = 0; i < bars.size(); ++i) {
-        out_of_balance one;
-        one.add(bars, i);
-        if (one.nodes > 0) b.add_magnitude(one.max_force, offset + i);
-      }
+      for (index i = 0; i < bars.size(); ++i) b.add(bars, i, offset + i);
     }
     return b;
   }
