@@ -218,18 +218,38 @@ struct setting_result {
   /// Per figure: (mean - converged mean) / |converged mean| over the seeds where both runs give
   /// the figure (a figure undefined for a seed, e.g. no separation, drops that seed on both sides).
   std::vector<real> vs_converged;
+  std::vector<real> vs_converged_se;  ///< its paired standard error (paired_error)
 };
 
-/// The paired error of setting s's figure f against the converged setting (runs[0]).
-real paired_error(const std::vector<std::vector<run_output>>& runs, std::size_t s, std::size_t f) {
+/// The paired error of setting s's figure f against the converged setting (runs[0]), and its
+/// standard error: with d_k = (v_k - c_k) / |mean c| over the n seeds where both runs give the
+/// figure, the error is the mean of d_k (= (sum v - sum c) / |sum c|) and its standard error
+/// sd(d) / sqrt(n) (NaN with fewer than two seeds). Pairing by seed takes the tessellation's
+/// share out of the seed-to-seed spread; what is left is how far one setting's cracking path
+/// wanders from the other's on the same blocks, so an error under about two standard errors is
+/// not resolved by K seeds.
+struct paired {
+  real error = nan, standard_error = nan;
+};
+
+paired paired_error(const std::vector<std::vector<run_output>>& runs, std::size_t s, std::size_t f) {
   double sum = 0, sum_conv = 0;
-  int n = 0;
+  std::vector<real> diff;
   for (std::size_t k = 0; k < std::min(runs[s].size(), runs[0].size()); ++k) {
     const real v = runs[s][k].values[f], c = runs[0][k].values[f];
-    if (std::isfinite(v) && std::isfinite(c)) sum += v, sum_conv += c, ++n;
+    if (std::isfinite(v) && std::isfinite(c)) sum += v, sum_conv += c, diff.push_back(v - c);
   }
-  if (n == 0 || sum_conv == 0) return nan;
-  return (sum - sum_conv) / std::abs(sum_conv);
+  paired p;
+  if (diff.empty() || sum_conv == 0) return p;
+  const double n = static_cast<double>(diff.size()), scale = std::abs(sum_conv) / n;
+  p.error = (sum - sum_conv) / std::abs(sum_conv);
+  if (diff.size() > 1) {
+    const double mean = (sum - sum_conv) / n;
+    double ss = 0;
+    for (real x : diff) ss += (x - mean) * (x - mean);
+    p.standard_error = std::sqrt(ss / (n - 1)) / std::sqrt(n) / scale;
+  }
+  return p;
 }
 
 std::vector<real> mean_of_curves(const std::vector<std::vector<real>>& curves) {
@@ -362,7 +382,9 @@ real reduce(const scene_def& d, const std::vector<std::vector<run_output>>& runs
       std::vector<real> v;
       for (const run_output& o : runs[s]) v.push_back(o.values[f]);
       r.figures.push_back(stats_of(v));
-      r.vs_converged.push_back(paired_error(runs, s, f));
+      const paired p = paired_error(runs, s, f);
+      r.vs_converged.push_back(p.error);
+      r.vs_converged_se.push_back(p.standard_error);
     }
     for (const run_output& o : runs[s]) {
       r.runtime_s += o.runtime_s / static_cast<double>(runs[s].size());
@@ -384,7 +406,7 @@ void write_tables(const scene_def& d, const std::vector<setting_result>& res, re
   std::ostream& c = csv.stream();
   c.precision(10);
   c << "setting,step,rate_m_per_s,tail_speedup,steps,runtime_s";
-  for (const figure& f : d.figures) c << ',' << f.name << "_mean," << f.name << "_sd," << f.name << "_vs_converged_rel," << f.name << "_vs_hand_rel";
+  for (const figure& f : d.figures) c << ',' << f.name << "_mean," << f.name << "_sd," << f.name << "_vs_converged_rel," << f.name << "_vs_converged_se_rel," << f.name << "_vs_hand_rel";
   c << ",mean_curve_distance_rel,seed_band_rel\n";
   tessera::io::atomic_ofstream md(out / "table.md");
   std::ostream& m = md.stream();
@@ -403,15 +425,19 @@ void write_tables(const scene_def& d, const std::vector<setting_result>& res, re
     m << head;
     for (std::size_t f = 0; f < nf; ++f) {
       const real conv = r.vs_converged[f];
-      c << ',' << r.figures[f].mean << ',' << r.figures[f].sd << ',' << conv << ',' << rel(r.figures[f].mean, d.figures[f].hand);
-      m << value_text(r.figures[f].mean, d.figures[f]) << (s == 0 ? "" : " (" + percent(conv) + ")");
+      const real se = r.vs_converged_se[f];
+      c << ',' << r.figures[f].mean << ',' << r.figures[f].sd << ',' << conv << ',' << se << ','
+        << rel(r.figures[f].mean, d.figures[f].hand);
+      m << value_text(r.figures[f].mean, d.figures[f])
+        << (s == 0 ? "" : " (" + percent(conv) + (std::isfinite(se) ? " ± " + magnitude(se) : "") + ")");
       if (r.figures[f].n > 0 && r.figures[f].n < seeds) m << " [" << r.figures[f].n << " of " << seeds << " seeds]";
       m << " | ";
     }
     c << ',' << r.curve_distance << ',' << band << '\n';
     m << (s == 0 ? "—" : magnitude(r.curve_distance)) << " |\n";
   }
-  m << "\nMeans over " << seeds << " seeds; in brackets the difference from the converged mean. Mean-curve distance: RMS "
+  m << "\nMeans over " << seeds << " seeds; in brackets the difference from the converged mean ± its paired standard error "
+       "(seed by seed differences: an error under about two of them is not resolved by these seeds). Mean-curve distance: RMS "
        "difference from the converged mean curve over the common range, relative to "
     << d.curve_scale_name << "; the seed band (RMS of the seed-to-seed standard deviation at the converged setting) is "
     << magnitude(band) << ".\n";
