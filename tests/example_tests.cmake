@@ -459,7 +459,9 @@ tessera_add_refusal_test(refuse_rc_beam_depth rc_beam "effective depth d = 0.2 m
 #   calibrate --quick --material beam --seed 1 --out DIR && cp DIR/calibrated.json tests/data/calibrated_beam_quick.json)
 # and it cracks at lower loads than with the study's contacts: first cracking (the soffit's mean
 # stress at the contacts' strength) 14.09 kN against 15.11 kN, the first crack h/4 deep 14.41 kN
-# against 15.46 kN (measured).
+# against 15.46 kN (measured). The fit also records the prism's initial modulus, 31.25 GPa (the
+# contacts' k_n on these coarse blocks; the concrete's E is 25 GPa), and rc_beam scales the hand
+# stiffness to it: 44.89 x 31.25 / 25 = 56.11 kN/mm.
 tessera_add_example_test(calibrate NAME example_calibrate_beam_quick
   ARGS --quick --material beam --seed 1 --threads 1
   FILES calibrated.json calibration.csv
@@ -468,6 +470,8 @@ tessera_add_example_test(calibrate NAME example_calibrate_beam_quick
          "b60_prism_blocks EQUAL 37"
          "b60_strength_scale GREATER 0.9"
          "b60_strength_scale LESS 0.98"
+         "b60_initial_modulus_Pa GREATER 2.9e10"
+         "b60_initial_modulus_Pa LESS 3.4e10"
   TIMEOUT 300)
 tessera_add_example_test(rc_beam NAME example_rc_beam_params_quick
   ARGS --quick --threads 2 --no-vtk --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_beam_quick.json
@@ -475,6 +479,10 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_params_quick
   CHECKS "parameters STREQUAL calibrated"
          "strength_scale GREATER 0.9"
          "strength_scale LESS 0.98"
+         "model_young_Pa GREATER 3.12e10"
+         "model_young_Pa LESS 3.13e10"
+         "hand_initial_stiffness_model_modulus_N_per_m GREATER 5.60e7"
+         "hand_initial_stiffness_model_modulus_N_per_m LESS 5.62e7"
          "first_crack_load_N LESS 15.0e3"
          "developed_crack_load_N LESS 15.0e3"
          "vertical_cracks_first STREQUAL ON"
@@ -483,6 +491,9 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_params_quick
 tessera_add_refusal_test(refuse_rc_beam_params_prism rc_beam
   "was fitted on the prism recipe, this run needs the beam recipe"
   --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_quick.json)
+tessera_add_refusal_test(refuse_rc_beam_params_modulus rc_beam
+  "entries\\[0\\].initial_modulus_mean_Pa = -1 must lie in \\[1e6, 1e13\\] Pa"
+  --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_bad_modulus.json)
 tessera_add_refusal_test(refuse_rc_beam_params_zoning rc_beam
   "was fitted with a face zoning edge of 0.05 m, this run uses 0.03 m"
   --threads 1 --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_beam_quick.json)

@@ -151,6 +151,9 @@ scenes::tension_result run_seed(const inputs& in, int blocks, std::uint64_t seed
 struct ensemble {
   std::vector<double> peaks;  // Pa
   double peak_mean = 0, peak_spread = 0, energy_mean = 0;  // Pa, (max - min)/mean, J/m^2
+  /// Mean initial modulus of the seeds' pulls (Pa; tension_test.hpp initial_modulus): the
+  /// stiffness the contacts' k_n gives the recipe's blocks, which rc_beam's hand stiffness can use.
+  double modulus_mean = 0;
   std::int64_t steps = 0;
   bool all_separated = true;
 };
@@ -163,6 +166,7 @@ ensemble run_ensemble(const inputs& in, int blocks, real s, real g, bool full, r
     e.peaks.push_back(r.peak_stress);
     e.peak_mean += r.peak_stress / in.seeds;
     e.energy_mean += r.dissipated / area / in.seeds;
+    e.modulus_mean += r.initial_modulus / in.seeds;
     e.steps += r.steps;
     e.all_separated = e.all_separated && r.separated;
   }
@@ -299,9 +303,10 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
   {
     io::csv_writer csv(out / "calibration.csv",
                        {"blocks", "energy_phase", "iteration", "strength_scale", "fracture_energy_scale", "peak_mean_Pa",
-                        "peak_spread_rel", "dissipated_per_section_J_per_m2", "wall_s"});
+                        "peak_spread_rel", "dissipated_per_section_J_per_m2", "initial_modulus_mean_Pa", "wall_s"});
     for (const fit_row& r : rows)
-      csv.row(r.blocks, r.phase == "energy" ? 1 : 0, r.iteration, r.s, r.g, r.e.peak_mean, r.e.peak_spread, r.e.energy_mean, r.wall_s);
+      csv.row(r.blocks, r.phase == "energy" ? 1 : 0, r.iteration, r.s, r.g, r.e.peak_mean, r.e.peak_spread, r.e.energy_mean,
+              r.e.modulus_mean, r.wall_s);
     csv.commit();
   }
   io::summary_json recipe;
@@ -331,14 +336,14 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
         .set("strength_iterations", f.strength_iterations).set("energy_iterations", f.energy_iterations)
         .set("converged", f.converged).set("peak_mean_Pa", f.last.peak_mean).set("peak_error_rel", f.peak_error)
         .set("peak_spread_rel", f.last.peak_spread).set("peaks_Pa", f.last.peaks)
-        .set("prism_blocks", f.prism_blocks);
+        .set("prism_blocks", f.prism_blocks).set("initial_modulus_mean_Pa", f.last.modulus_mean);
     if (in.energy) e.set("dissipated_per_section_J_per_m2", f.last.energy_mean).set("energy_error_rel", f.energy_error);
     entries.push_back(e);
     const std::string b = "b" + std::to_string(f.blocks) + "_";
     summary.set(b + "strength_scale", f.s).set(b + "fracture_energy_scale", f.g)
         .set(b + "peak_error_rel", f.peak_error).set(b + "peak_spread_rel", f.last.peak_spread)
         .set(b + "iterations", f.strength_iterations + f.energy_iterations).set(b + "converged", f.converged)
-        .set(b + "prism_blocks", f.prism_blocks);
+        .set(b + "prism_blocks", f.prism_blocks).set(b + "initial_modulus_Pa", f.last.modulus_mean);
     if (in.energy) summary.set(b + "energy_error_rel", f.energy_error);
     converged += f.converged ? 1 : 0;
     worst_peak = std::max(worst_peak, std::abs(f.peak_error));

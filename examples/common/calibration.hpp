@@ -9,14 +9,17 @@
 //                "zone_edge_m": 0, "beam_volume_m3": 0},
 //     "entries": [
 //       {"blocks": 100, "strength_scale": 0.91, "fracture_energy_scale": 1, "seeds": [1, 2, 3],
-//        "iterations": 3, "peak_mean_Pa": 2.151e6, "peak_spread_rel": 0.02, ...},
+//        "iterations": 3, "peak_mean_Pa": 2.151e6, "peak_spread_rel": 0.02,
+//        "initial_modulus_mean_Pa": 2.9e10, ...},
 //       ...
 //     ]
 //   }
 //
 // strength_scale multiplies the contacts' Table 1 tensile strength and with it the cohesion
-// (c_0 = cohesion_ratio x scaled f_T); fracture_energy_scale multiplies the contacts' G_f. The
-// reference values the drivers check against stay the concrete's f_T and G_f. A driver refuses a
+// (c_0 = cohesion_ratio x scaled f_T); fracture_energy_scale multiplies the contacts' G_f;
+// initial_modulus_mean_Pa (optional) is the mean initial modulus of the fit's last pulls, the
+// stiffness the contacts' k_n gives these blocks (rc_beam's hand stiffness at the model's own
+// modulus). The reference values the drivers check against stay the concrete's f_T and G_f. A driver refuses a
 // file whose recipe's law differs from its own (softening, cohesion ratio, rigid blocks): the
 // scales would not mean the same thing; it prints a note when only the step or rate differ.
 //
@@ -61,6 +64,9 @@ struct calibration_entry {
   int blocks = 100;
   real strength_scale = 1;
   real fracture_energy_scale = 1;
+  /// The recipe prism's mean initial modulus at the fitted scales (Pa; 0 = not recorded, files
+  /// written before it existed): the modulus the contacts' stiffness gives these blocks.
+  real initial_modulus = 0;
 };
 
 struct calibration {
@@ -130,6 +136,11 @@ inline real scale_in_range(const io::json_value& v) {
         throw io_error(tessera::detail::concat(e.at("blocks").path(), ": a second entry for ", x.blocks, " blocks"));
     x.strength_scale = calibration_checks::scale_in_range(e.at("strength_scale"));
     x.fracture_energy_scale = calibration_checks::scale_in_range(e.at("fracture_energy_scale"));
+    if (const io::json_value* m = e.find("initial_modulus_mean_Pa")) {
+      x.initial_modulus = m->number();
+      if (!(x.initial_modulus >= 1e6 && x.initial_modulus <= 1e13))
+        throw io_error(tessera::detail::concat(m->path(), " = ", x.initial_modulus, " must lie in [1e6, 1e13] Pa"));
+    }
     c.entries.push_back(x);
   }
   if (c.entries.empty()) throw io_error(tessera::detail::concat(path.string(), ": \"entries\" is empty"));

@@ -17,7 +17,10 @@
 //                 the beam with them drawn by width
 //   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
 //   summary.json  provisional_geometry, inputs, hand values, first_crack_load_N, initial stiffness,
-//                 yield, peak, cracks, failure mode, energy balance, sizes, runtime_s
+//                 yield, peak, cracks, failure mode, energy balance, sizes, runtime_s; with a
+//                 --params file that records it, model_young_Pa (the modulus calibrate measured on
+//                 the recipe prism) and the hand stiffness at it
+//                 (hand_initial_stiffness_model_modulus_N_per_m, initial_stiffness_model_modulus_error_rel)
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -48,6 +51,9 @@ struct inputs {
   tessera::scenes::beam_loading loading;
   bool write_vtk = true;
   std::string params;  ///< --params FILE (calibrate --material beam), empty = the study verbatim
+  /// The modulus the contacts give the beam's blocks, from the --params entry (calibrate measures
+  /// it on the recipe prism); 0 = not known (no --params, or a file written before it was recorded).
+  real model_young = 0;
 };
 
 /// The beam's VTK snapshots (common/snapshots.hpp), and the cracked sub-contacts at the end.
@@ -208,8 +214,15 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("vertical_cracks_first", r.developed_crack_load > 0 && !r.inclined_before_vertical)
       .set("hand_initial_stiffness_N_per_m", h.initial_stiffness)
       .set("initial_stiffness_N_per_m", r.initial_stiffness)
-      .set("initial_stiffness_error_rel", rel(r.initial_stiffness, h.initial_stiffness))
-      .set("hand_yield_load_N", h.yield_load)
+      .set("initial_stiffness_error_rel", rel(r.initial_stiffness, h.initial_stiffness));
+  if (in.model_young > 0) {
+    // The hand stiffness is proportional to E (bending and shear, G = E / 2.4).
+    const real k_model = h.initial_stiffness * in.model_young / tessera::scenes::beam_concrete_young;
+    js.set("model_young_Pa", in.model_young)
+        .set("hand_initial_stiffness_model_modulus_N_per_m", k_model)
+        .set("initial_stiffness_model_modulus_error_rel", rel(r.initial_stiffness, k_model));
+  }
+  js.set("hand_yield_load_N", h.yield_load)
       .set("lever_arm_m", h.lever_arm)
       .set("steel_yielded", r.steel_yielded)
       .set("yield_load_N", r.yield_load)
@@ -296,6 +309,7 @@ int run(inputs in) {
     const auto e = tessera::scenes::load_calibration(in.params, in.beam.blocks, recipe, "rc_beam");
     in.beam.strength_scale = e.strength_scale;
     in.beam.fracture_energy_scale = e.fracture_energy_scale;
+    in.model_young = e.initial_modulus;
   }
   const tessera::scenes::beam_scene scene = tessera::scenes::make_beam(in.beam);
   snapshot_writer snaps(out, scene, in.write_vtk);
