@@ -14,8 +14,9 @@
 #   full       about 2.1 h (5024 s measured at 23c75be with 2 threads, and 2633 s at 22896da
 #              for the beam's calibration and its two calibrated runs added since: the beam's
 #              five runs 74 min of it, the two calibrations 26 min, the work-precision runs
-#              15 min) on this project's 2-core machine (the progress line estimates the
-#              rest); the tables go to DIR/validation.md and replace the generated section of
+#              15 min) on this project's 2-core machine, plus about 15 min since the tie's
+#              step went from 2 to 1 us (the sensitivity studies took 1296 s at 1 us on
+#              2026-11-27; the progress line estimates the rest); the tables go to DIR/validation.md and replace the generated section of
 #              docs/validation.md (between its "validate.sh" markers)
 #   --beam-seeds N  seeds 1..N of the 250- and 500-block beams (default 1; each further seed adds
 #              about 30 min); the beam table gives each seed and the band
@@ -90,13 +91,13 @@ else
   add prism_verbatim_250 50 "$bin/direct_tension --blocks 250 --seeds 3 --seed 1 --max-displacement 1.2e-4"
   add prism_verbatim_500 110 "$bin/direct_tension --blocks 500 --seeds 3 --seed 1 --max-displacement 1.2e-4"
   add prism_separation 20 "$bin/direct_tension --blocks 100"
-  add tie_verbatim 12 "$bin/rc_tie --no-vtk"
+  add tie_verbatim 25 "$bin/rc_tie --no-vtk"
   add calibrate 830 "$bin/calibrate --blocks 100,250,500 --seeds 6"
   add prism_calibrated_100 13 "$bin/direct_tension --blocks 100 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
   add prism_calibrated_250 40 "$bin/direct_tension --blocks 250 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
   add prism_calibrated_500 95 "$bin/direct_tension --blocks 500 --seeds 3 --seed 7 --max-displacement 1.2e-4 --params $cal"
-  add tie_calibrated 12 "$bin/rc_tie --no-vtk --params $cal"
-  add sensitivity 440 "$bin/rc_tie_sensitivity"
+  add tie_calibrated 25 "$bin/rc_tie --no-vtk --params $cal"
+  add sensitivity 1300 "$bin/rc_tie_sensitivity"
   beam_list=()
   for b in 250 500; do
     for ((k = 1; k <= beam_seeds; ++k)); do

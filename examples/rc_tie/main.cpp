@@ -374,12 +374,12 @@ int main(int argc, char** argv) {
   cli.option("--ramp", in.loading.ramp_time, "half-cosine ramp time of the pull velocity (s)", "T").at_least(0);
   std::string dt_text = "auto";
   cli.option("--dt", dt_text,
-             "mass-scaled time step (s); auto = 2e-6 x (100/blocks)^0.55 (2, 1.2, 0.83 us for 100, 250, 500 "
-             "blocks: about the same added mass, ~70x); 0 = stable step of the unscaled masses",
+             "mass-scaled time step (s); auto = 1e-6 x (100/blocks)^0.55 (1, 0.60, 0.41 us for 100, 250, 500 "
+             "blocks: about the same added mass, 16x for seed 1); 0 = stable step of the unscaled masses",
              "DT|auto");
   cli.option("--added-mass", in.loading.added_mass_ratio,
              "instead of --dt: the mass-scaled step at which the added mass is R x the original mass (0 = off; "
-             "deformable blocks; the 100-block default step adds 68.7x)",
+             "deformable blocks; the 100-block default step adds 16.4x on seed 1)",
              "R").at_least(0);
   cli.option("--max-elongation", in.loading.max_elongation, "stop at this elongation (m) at the latest", "U").greater_than(0);
   cli.option("--post-yield", in.loading.post_yield, "after first yield at u_y, stop at (1 + this) u_y", "R").greater_than(0);
