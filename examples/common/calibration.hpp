@@ -19,9 +19,10 @@
 // (c_0 = cohesion_ratio x scaled f_T); fracture_energy_scale multiplies the contacts' G_f;
 // initial_modulus_mean_Pa (optional) is the mean initial modulus of the fit's last pulls, the
 // stiffness the contacts' k_n gives these blocks (rc_beam's hand stiffness at the model's own
-// modulus). The reference values the drivers check against stay the concrete's f_T and G_f. A driver refuses a
-// file whose recipe's law differs from its own (softening, cohesion ratio, rigid blocks): the
-// scales would not mean the same thing; it prints a note when only the step or rate differ.
+// modulus). The reference values the drivers check against stay the concrete's f_T and G_f. A
+// driver refuses a file whose recipe's law differs from its own (softening, cohesion ratio, rigid
+// blocks): the scales would not mean the same thing; it prints a note when only the step or rate
+// differ.
 //
 // material: "prism" = the study's prism concrete (Table 1 contacts, 100-750 blocks; direct_tension,
 // rc_tie), "beam" = the beam's concrete (study_beam_params, fitted on the beam-recipe prism of
