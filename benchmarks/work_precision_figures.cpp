@@ -243,12 +243,7 @@ paired paired_error(const std::vector<std::vector<run_output>>& runs, std::size_
   if (diff.empty() || sum_conv == 0) return p;
   const double n = static_cast<double>(diff.size()), scale = std::abs(sum_conv) / n;
   p.error = (sum - sum_conv) / std::abs(sum_conv);
-  if (diff.size() > 1) {
-    const double mean = (sum - sum_conv) / n;
-    double ss = 0;
-    for (real x : diff) ss += (x - mean) * (x - mean);
-    p.standard_error = std::sqrt(ss / (n - 1)) / std::sqrt(n) / scale;
-  }
+  if (diff.size() > 1) p.standard_error = stats_of(diff).sd / std::sqrt(n) / scale;
   return p;
 }
 
