@@ -17,6 +17,7 @@
 #include <Eigen/Dense>
 
 #include "tessera/blocks.hpp"
+#include "tessera/contact/platen.hpp"
 #include "tessera/integrator.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
@@ -837,6 +838,93 @@ struct rotated_voronoi_blocks {
     }
   }
 };
+
+// A rigid platen (contact/platen.hpp) on a column of three 50 mm cubes whose base is fixed, its
+// contact the never-bonded plate-concrete pair of the law (k_n 300 GPa/m, friction only):
+// pressed, the column answers with the series stiffness of three cubes, two bonded faces and the
+// platen's contact; sheared under that load, the platen slides at tan(phi_res) x the normal
+// force; lifted, it leaves the column with no force. The applied forces' work closes the balance.
+TEST_CASE("rigid platen: series stiffness in compression, Coulomb sliding, no tension, the balance closes",
+          "[mechanics][solver][platen]") {
+  const real a = 0.05, area = a * a;
+  const auto tess = test::box_column(vec3::Zero(), vec3(a, a, a), 3);
+  const auto mesh = geometry::zone_blocks(tess);
+  const zones::linear_elastic_tet::params concrete{30e9, 0.0, 2400};
+  const auto concrete_concrete = law::study_prism_params(100);
+  auto plate = concrete_concrete;
+  plate.k_n = 300e9;
+  plate.k_s = 120e9;
+  plate.shear.c_res = 0;
+  using column_solver = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<law::study_tie_law>>;
+  solver_options opt;
+  opt.mass_scaling_dt = 2e-6;
+  column_solver s(tess, mesh, {concrete}, concrete_concrete, {}, opt);
+  s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+  const contact::platen_geometry top{vec3(a / 2, a / 2, 3 * a), vec3(0, 0, -1), vec3(1, 0, 0), 0.6 * a, 0.6 * a};
+  contact::rigid_platen<law::study_tie_law> platen(mesh, top, {}, plate);
+  CHECK(platen.total_area() == Approx(area).epsilon(1e-12));
+  // Half the footprint: half the face, whatever the triangulation.
+  contact::platen_geometry half = top;
+  half.half_u = a / 4;
+  CHECK(contact::rigid_platen<law::study_tie_law>(mesh, half, {}, plate).total_area() == Approx(area / 2).epsilon(1e-12));
+  const real dt_before = s.dt();
+  platen.attach(s);
+  CHECK(s.dt() == dt_before);  // mass scaling keeps its step: the platen's springs add mass, not steps
+  const auto run = [&](const vec3& v, int steps) {
+    platen.set_velocity(v);
+    for (int k = 0; k < steps; ++k) {
+      platen.update(s);
+      s.step();
+    }
+  };
+  run(vec3(0, 0, -0.002), 2500);  // 10 um down (dt = 2 us)
+  run(vec3::Zero(), 20000);
+  const real pressed = platen.force().z();
+  const real shortening = -platen.displacement().z();
+  REQUIRE(s.dt() == 2e-6);
+  REQUIRE(shortening == Approx(1e-5).epsilon(1e-9));
+  const real compliance = 3 * a / (concrete.young * area) + 2 / (concrete_concrete.k_n * area) + 1 / (plate.k_n * area);
+  INFO("F = " << pressed << " N over " << shortening << " m");
+  CHECK(pressed / shortening == Approx(1 / compliance).epsilon(0.01));
+  CHECK(platen.in_contact() == platen.size());
+  CHECK(s.energies().applied_work > 0);
+  CHECK(s.energies().error_rel() < 1e-3);
+
+  // 0.4 mm along x under the load: the column bends (its tip stiffness 3 E I / L^3 = 14 kN/mm),
+  // then the platen slides over it.
+  run(vec3(0.01, 0, 0), 20000);
+  const vec3 sliding = platen.force();
+  INFO("sliding: F = (" << sliding.transpose() << ") N");
+  CHECK(std::hypot(sliding.x(), sliding.y()) == Approx(plate.shear.phi_res.tan() * sliding.z()).epsilon(1e-3));
+  {
+    const auto e = s.energies();
+    INFO("applied work " << e.applied_work << " J, damping " << e.damping_dissipated << " J, stored "
+                         << e.block_elastic + e.contact_stored << " J");
+    CHECK(e.error_rel() < 1e-3);
+  }
+  CHECK(platen.force().z() > 0.5 * pressed);
+  CHECK(platen.dissipated_energy() > 0);
+
+  run(vec3(0, 0, 0.004), 2500);  // 20 um up: twice the shortening
+  run(vec3::Zero(), 20000);
+  CHECK(platen.in_contact() == 0);
+  CHECK(platen.force().norm() == 0);
+  CHECK(platen.stored_energy() == 0);
+  {
+    const auto e = s.energies();
+    INFO("applied work " << e.applied_work << " J, damping " << e.damping_dissipated << " J, stored "
+                         << e.block_elastic + e.contact_stored << " J");
+    CHECK(e.error_rel() < 1e-3);
+  }
+
+  // Refused: a plane the mesh has no face on, and a normal that is not a unit vector.
+  contact::platen_geometry off = top;
+  off.point.z() = 4 * a;
+  CHECK_THROWS_AS(contact::rigid_platen<law::study_tie_law>(mesh, off, {}, plate), invalid_input);
+  contact::platen_geometry bent = top;
+  bent.normal = vec3(0, 0, -2);
+  CHECK_THROWS_AS(contact::rigid_platen<law::study_tie_law>(mesh, bent, {}, plate), invalid_input);
+}
 
 TEST_CASE("gravity on deformable blocks: a settled column puts its weight on the base, the balance closes",
           "[solver][gravity]") {

@@ -31,6 +31,7 @@
 #include <Eigen/Dense>
 
 #include "tessera/blocks.hpp"
+#include "tessera/contact/platen.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/geometry.hpp"
 #include "tessera/geometry/voronoi.hpp"
@@ -976,6 +977,31 @@ TEST_CASE("bad input: materials, contact law, steel and bond", "[errors]") {
                               {"bar 0: end points"});
   expect_error<invalid_input>("bar with zero elements", with_bars([](truss::params& b) { b.bars[0].elements = 0; }),
                               {"bar 0: number of truss elements = 0"});
+
+  // A rigid platen (contact/platen.hpp) on a 50 mm cube, and the solver's applied forces.
+  const auto cube = cube_column(1, 0.05);
+  const auto cube_mesh = geometry::zone_blocks(cube);
+  const auto plate = law::study_prism_params(100);
+  const contact::platen_geometry top{vec3(0.025, 0.025, 0.05), vec3(0, 0, -1), vec3(1, 0, 0), 0.03, 0.03};
+  using platen = contact::rigid_platen<law::study_tie_law>;
+  contact::platen_geometry off = top;
+  off.point.z() = 0.07;
+  expect_error<invalid_input>("platen plane with no face of the mesh", [&] { (void)platen(cube_mesh, off, {}, plate); },
+                              {"no surface triangle of the mesh lies on the plane through (0.025, 0.025, 0.07)"});
+  contact::platen_geometry skew = top;
+  skew.axis_u = vec3(1, 0, 1);
+  expect_error<invalid_input>("platen axes not orthogonal unit vectors", [&] { (void)platen(cube_mesh, skew, {}, plate); },
+                              {"must be orthogonal unit vectors"});
+  contact::platen_motion massless;
+  massless.mass = 0;
+  expect_error<invalid_input>("platen mass zero", [&] { (void)platen(cube_mesh, top, massless, plate); },
+                              {"rigid_platen: mass 0 kg"});
+  solver<deformable_blocks, contact::face_contacts<law::study_tie_law>> cube_solver(cube, cube_mesh, concrete_block, plate);
+  const std::vector<idx> node{0};
+  const std::vector<real> negative{-1};
+  expect_error<invalid_input>("applied-force stiffness negative",
+                              [&] { cube_solver.register_applied_forces(node, negative); },
+                              {"applied-force stiffness -1 N/m on gridpoint 0"});
 }
 
 TEST_CASE("bad input: geometry, seeds, boundary conditions, options, output", "[errors]") {

@@ -19,14 +19,16 @@
 //             symmetry face; 210 GPa, 440 MPa; about four trusses per block along the bar; bond
 //             xi = 4 per unit length, c_bond = 1e9 N/m
 //   supports  symmetry face x = L_h: every gridpoint and the bars' last nodes held in x (rollers);
-//             support plate: the soffit gridpoints under it held in z and moved in y as one rigid
-//             plate hinged at the support axis (free in x: a roller bearing); loading plate: the
-//             top gridpoints under it moved as one rigid plate hinged at the load axis, the axis
-//             driven down at --rate after a half-cosine ramp (beam_run.hpp hinged_plate). The
-//             study drove the nodes under the plate ("nodes are subjected to a fixed velocity
-//             boundary condition ... the reaction forces are recorded from upper nodes", Sec. 4);
-//             steel plates as blocks of their own would need contact detection on deformable
-//             blocks (issue #17).
+//             plates (--plates contact, the default): two rigid steel plates, 50 x 200 x 20 mm
+//             (--plate, --plate-thickness), each a contact::rigid_platen hinged at its axis (free
+//             to turn about z and to roll in x, held in z) and touching the concrete through the
+//             plate-concrete pair: the beam's k_n and k_s, friction at phi_0 = 35 deg, no
+//             cohesion, never bonded, so a plate edge lifts off where the concrete pulls away.
+//             The support plate's axis is held, the loading plate's driven down at --rate after a
+//             half-cosine ramp. --plates tied: the gridpoints under each plate moved as one rigid
+//             plate hinged at its axis (beam_run.hpp hinged_plate), the support's held in z: what
+//             the study did ("nodes are subjected to a fixed velocity boundary condition ... the
+//             reaction forces are recorded from upper nodes", Sec. 4).
 //   measured  total load P = 2 x the support reaction (both half-spans; beam_run.hpp says why not
 //             the plate force); mid-span deflection = mean y displacement (down +) of the soffit
 //             gridpoints on the symmetry face.
@@ -75,6 +77,11 @@ struct beam_options {
   real shear_span = 0.375;       ///< support axis to load axis, a (m)
   real moment_zone = 0.5;        ///< between the two load axes (m); the half model holds half of it
   real plate = 0.05;             ///< plate length along the span, support and load (m)
+  /// "contact": steel plates of their own (contact::rigid_platen) touching the concrete through
+  /// the plate-concrete pair (the beam's k_n, k_s, friction at phi_0, never bonded); "tied": the
+  /// gridpoints under each plate moved as one hinged plate (beam_run.hpp hinged_plate).
+  std::string plates = "contact";
+  real plate_thickness = 0.02;   ///< steel plate thickness (m): its mass and inertia ("contact")
   int bars = 4;                  ///< bars across the width
   real bar_diameter = 0.008;     ///< m
   real end_cover = 0.02;         ///< bars start this far from the beam end (m)
@@ -220,7 +227,8 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   for (const auto& [v, name] : {std::pair{o.width, "--width"}, {o.height, "--height"}, {o.effective_depth, "--depth"},
                                 {o.overhang, "--overhang"}, {o.shear_span, "--shear-span"},
                                 {o.moment_zone, "--moment-zone"}, {o.plate, "--plate"},
-                                {o.bar_diameter, "--bar-diameter"}, {o.trusses_per_block, "--trusses-per-block"}})
+                                {o.bar_diameter, "--bar-diameter"}, {o.trusses_per_block, "--trusses-per-block"},
+                                {o.plate_thickness, "--plate-thickness"}})
     require(std::isfinite(v) && v > 0, "rc_beam: ", name, " = ", v, " must be finite and > 0");
   require(o.effective_depth < o.height, "rc_beam: effective depth d = ", o.effective_depth, " m must be below h = ",
           o.height, " m");
@@ -236,6 +244,7 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   require(std::isfinite(o.zone_edge) && o.zone_edge >= 0, "rc_beam: --zone-edge ", o.zone_edge, " must be >= 0");
   require(o.compression == "plastic" || o.compression == "elastic", "rc_beam: --compression '", o.compression,
           "' must be plastic or elastic");
+  require(o.plates == "contact" || o.plates == "tied", "rc_beam: --plates '", o.plates, "' must be contact or tied");
   require_zone_budget(o, o.half_volume(), o.blocks, "rc_beam");
   beam_scene s;
   s.options = o;

@@ -31,15 +31,18 @@
 // oscillate).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "rc_beam/beam.hpp"
+#include "tessera/contact/platen.hpp"
 
 namespace tessera::scenes {
 
@@ -189,6 +192,11 @@ struct beam_loading {
 };
 
 struct beam_result {
+  /// --plates contact: the support and loading plates' sub-contacts, those in contact at the end,
+  /// their rotations (rad) and the mass added to the two plates for the step (kg)
+  std::array<std::size_t, 2> plate_subcontacts{}, plate_in_contact{};
+  std::array<real, 2> plate_rotation{};
+  real plate_added_mass = 0;
   /// load = P = 2 x the support reaction; plate_load = 2 x the force on the loading plate
   std::vector<real> deflection, load, plate_load, load_point_deflection;
   /// load averaged over the last beam_loading::smoothing of deflection: the plate force carries the
@@ -224,6 +232,7 @@ struct beam_result {
   real mean_crack_spacing = 0;           ///< m, 0 with fewer than two
   std::string failure_mode = "none";
   beam_crack widest;
+  /// boundary_work: the work of the supports and, with --plates contact, of the plates (J)
   real energy_balance_error = 0, boundary_work = 0, contact_dissipated = 0, compression_dissipated = 0,
        tension_dissipated = 0, damping_dissipated = 0;
   real dt = 0, added_mass_ratio = 0, quasi_static_index = 0, ramp_time = 0;
@@ -367,6 +376,33 @@ template <class Law, class OnEvent>
   opt.threads = loading.threads;
   opt.damping_gamma = loading.damping_gamma;
   solver_type s(scene.tess, scene.mesh, scene.block_material, law_params, scene.bar, opt);
+  const real L = o.half_length(), tol = 1e-9 * L;
+  // Steel plates of their own (--plates contact): registered before the mass scaling is read,
+  // since their contact springs join the gridpoints' stiffness bounds.
+  const bool contact_plates = o.plates == "contact";
+  std::optional<contact::rigid_platen<Law>> support_platen, loading_platen;
+  if (contact_plates) {
+    auto plate = law_params;  // the plate-concrete pair: frictional at phi_0, no cohesion, never bonded
+    plate.shear.c_res = 0;
+    plate.shear.phi_res = law_params.shear.phi_0;
+    contact::platen_motion m;
+    m.mass = 7850 * o.plate * o.width * o.plate_thickness;
+    m.inertia = m.mass * (o.plate * o.plate / 12 + o.plate_thickness * o.plate_thickness / 3);  // about the contact face's axis
+    m.free_translation = {true, false, false};  // rolls in x, driven or held in y, held in z
+    m.hinge_axis = vec3::UnitZ();
+    m.damping_gamma = loading.damping_gamma;
+    const real z = 0.5 * o.width;
+    support_platen.emplace(scene.mesh,
+                           contact::platen_geometry{vec3(o.support_x(), 0, z), vec3::UnitY(), vec3::UnitX(), 0.5 * o.plate,
+                                                    0.5 * o.width, tol},
+                           m, plate);
+    loading_platen.emplace(scene.mesh,
+                           contact::platen_geometry{vec3(o.load_x(), o.height, z), -vec3::UnitY(), vec3::UnitX(),
+                                                    0.5 * o.plate, 0.5 * o.width, tol},
+                           m, plate);
+    support_platen->attach(s);
+    loading_platen->attach(s);
+  }
   beam_result r;
   const auto& ms = s.mass_scaling();
   r.added_mass_ratio = ms.original_mass > 0 ? ms.added_mass / ms.original_mass : 0;
@@ -379,16 +415,19 @@ template <class Law, class OnEvent>
         "); use a rate <= ", loading.rate * quasi_static_limit / r.quasi_static_index,
         " m/s or less mass scaling (--added-mass / --dt)"));
 
-  const real L = o.half_length(), tol = 1e-9 * L;
   node_set& gp = s.gridpoints();
   s.fix(s.gridpoints_on_plane(0, L, tol), bc::along(0));
   const bc::node_group support =
       beam_strip(gp, 0, o.support_x() - o.plate / 2, o.support_x() + o.plate / 2, tol, "support plate");
   const bc::node_group plate = beam_strip(gp, o.height, o.load_x() - o.plate / 2, o.load_x() + o.plate / 2, tol, "loading plate");
   require(!support.nodes.empty() && !plate.nodes.empty(), "rc_beam: no gridpoints under a plate");
-  s.fix(support, bc::along(1) | bc::along(2));
-  bc::prescribe_velocity(gp, plate, vec3::Zero(), bc::along(1));
-  hinged_plate support_plate(gp, support, o.support_x()), loading_plate(gp, plate, o.load_x());
+  std::optional<hinged_plate> support_plate, loading_plate;
+  if (!contact_plates) {
+    s.fix(support, bc::along(1) | bc::along(2));
+    bc::prescribe_velocity(gp, plate, vec3::Zero(), bc::along(1));
+    support_plate.emplace(gp, support, o.support_x());
+    loading_plate.emplace(gp, plate, o.load_x());
+  }
   for (int b = 0; b < o.bars; ++b) {
     const index last = s.reinforcement().bar_nodes(b).second - 1;
     bc::fix(s.bar_nodes(), bc::node_group{{last}, "bar end on the symmetry face"}, bc::along(0));
@@ -403,9 +442,16 @@ template <class Law, class OnEvent>
   const auto drive = [&](const solver_type& sv) {
     const real t = sv.time() + 0.5 * sv.dt();
     const real v = t >= ramp ? loading.rate : 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
-    loading_plate.drive(gp, -v, sv.dt(), loading.damping_gamma);
-    support_plate.drive(gp, 0, sv.dt(), loading.damping_gamma);
+    if (contact_plates) {
+      loading_platen->set_velocity(vec3(0, -v, 0));
+      loading_platen->update(s);
+      support_platen->update(s);
+    } else {
+      loading_plate->drive(gp, -v, sv.dt(), loading.damping_gamma);
+      support_plate->drive(gp, 0, sv.dt(), loading.damping_gamma);
+    }
   };
+  if (contact_plates) drive(s);  // the plates' forces for the first step
 
   const beam_cracks analyser(s.contacts(), gp, o.height, hand.mean_block_size);
   cli::progress_line progress("rc_beam");
@@ -422,8 +468,15 @@ template <class Law, class OnEvent>
   real soffit_peak_load = 0, soffit_peak_deflection = 0;
   const auto sample = [&](const solver_type& sv) {
     real fp = 0, fs = 0, u = 0, up = 0;
-    for (index n : plate.nodes) fp += sv.gridpoints().reaction(n, 1), up += sv.gridpoints().displacement(n, 1);
-    for (index n : support.nodes) fs += sv.gridpoints().reaction(n, 1);
+    if (contact_plates) {
+      // The forces the plates put on the concrete, and the loading plate's own travel.
+      fp = -loading_platen->force().y();
+      fs = -support_platen->force().y();
+      up = loading_platen->displacement().y() * static_cast<real>(plate.nodes.size());
+    } else {
+      for (index n : plate.nodes) fp += sv.gridpoints().reaction(n, 1), up += sv.gridpoints().displacement(n, 1);
+      for (index n : support.nodes) fs += sv.gridpoints().reaction(n, 1);
+    }
     for (index n : midspan) u += sv.gridpoints().displacement(n, 1);
     const real raw = 2 * fs, defl = -u / static_cast<real>(midspan.size());
     r.deflection.push_back(defl);
@@ -554,7 +607,13 @@ template <class Law, class OnEvent>
   else
     r.failure_mode = "flexure";
   r.energy_balance_error = e.error_rel();
-  r.boundary_work = e.boundary_work;
+  r.boundary_work = e.boundary_work + e.applied_work;
+  if (contact_plates) {
+    r.plate_subcontacts = {support_platen->size(), loading_platen->size()};
+    r.plate_in_contact = {support_platen->in_contact(), loading_platen->in_contact()};
+    r.plate_rotation = {support_platen->rotation(), loading_platen->rotation()};
+    r.plate_added_mass = support_platen->added_mass() + loading_platen->added_mass();
+  }
   r.contact_dissipated = e.contact_dissipated;
   r.damping_dissipated = e.damping_dissipated;
   r.dt = s.dt();

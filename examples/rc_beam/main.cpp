@@ -7,9 +7,10 @@
 //
 // Outputs in --out DIR:
 //   curve.csv     midspan_deflection_m, load_N (total load P, both half-spans: twice the half
-//                 model's support reaction), smoothed_load_N (over 0.02 mm of deflection),
+//                 model's support reaction, or of the force the support plate puts on the
+//                 concrete), smoothed_load_N (over 0.02 mm of deflection),
 //                 plate_load_N (twice the force on the loading plate: larger by the local damping's
-//                 drag, beam_run.hpp), load_point_deflection_m
+//                 drag, beam_run.hpp), load_point_deflection_m (of the loading plate)
 //   curve.png     load against mid-span deflection with the hand first-cracking, yield and shear
 //                 capacity loads
 //   cracks.csv    cracked sub-contacts (past their tensile peak) at the end: x_m, y_m, width_m
@@ -20,7 +21,10 @@
 //                 yield, peak, cracks, failure mode, energy balance, sizes, runtime_s; with a
 //                 --params file that records it, model_young_Pa (the modulus calibrate measured on
 //                 the recipe prism) and the hand stiffness at it
-//                 (hand_initial_stiffness_model_modulus_N_per_m, initial_stiffness_model_modulus_error_rel)
+//                 (hand_initial_stiffness_model_modulus_N_per_m, initial_stiffness_model_modulus_error_rel);
+//                 with --plates contact, each plate's sub-contacts, those in contact at the end and
+//                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
+//                 the supports and plates did on the beam
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -166,7 +170,12 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   io::summary_json js;
   js.set("example", "rc_beam")
       .set("provisional_geometry", true)
-      .set("plates", std::string("rigid, hinged: the gridpoints under each plate move as one plate turning about its axis"))
+      .set("plates", o.plates)
+      .set("plates_model", std::string(o.plates == "contact"
+                                            ? "rigid steel plates, hinged, touching the concrete through frictional "
+                                              "never-bonded contacts (contact::rigid_platen)"
+                                            : "rigid, hinged: the gridpoints under each plate move as one plate "
+                                              "turning about its axis"))
       .set("blocks", o.blocks)
       .set("seed", o.seed)
       .set("compression", o.compression)
@@ -181,7 +190,16 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("moment_zone_m", o.moment_zone)
       .set("overhang_m", o.overhang)
       .set("plate_m", o.plate)
-      .set("bars", o.bars)
+      .set("plate_thickness_m", o.plate_thickness);
+  if (o.plates == "contact")
+    js.set("support_plate_subcontacts", static_cast<std::int64_t>(r.plate_subcontacts[0]))
+        .set("loading_plate_subcontacts", static_cast<std::int64_t>(r.plate_subcontacts[1]))
+        .set("support_plate_in_contact_at_end", static_cast<std::int64_t>(r.plate_in_contact[0]))
+        .set("loading_plate_in_contact_at_end", static_cast<std::int64_t>(r.plate_in_contact[1]))
+        .set("support_plate_rotation_rad", r.plate_rotation[0])
+        .set("loading_plate_rotation_rad", r.plate_rotation[1])
+        .set("plate_added_mass_kg", r.plate_added_mass);
+  js.set("bars", o.bars)
       .set("bar_diameter_m", o.bar_diameter)
       .set("half_length_m", L)
       .set("span_m", h.span)
@@ -345,6 +363,11 @@ int main(int argc, char** argv) {
   cli.option("--shear-span", b.shear_span, "support axis to load axis a (m)", "M").greater_than(0);
   cli.option("--moment-zone", b.moment_zone, "length of the constant-moment zone, whole beam (m)", "M").greater_than(0);
   cli.option("--plate", b.plate, "support and loading plate length along the span (m)", "M").greater_than(0);
+  cli.option("--plates", b.plates,
+             "contact: steel plates of their own on frictional never-bonded contacts; tied: the gridpoints under "
+             "each plate moved as one hinged plate (the study's driven nodes)", "contact|tied")
+      .one_of({"contact", "tied"});
+  cli.option("--plate-thickness", b.plate_thickness, "steel plate thickness, for its mass (m)", "M").greater_than(0);
   cli.option("--bars", b.bars, "bars across the width", "N").within(1, 100);
   cli.option("--bar-diameter", b.bar_diameter, "bar diameter (m)", "M").greater_than(0);
   cli.option("--end-cover", b.end_cover, "distance from the beam end to the bar ends (m)", "M").at_least(0);

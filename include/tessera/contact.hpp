@@ -5,5 +5,6 @@
 #include "contact/detected_contacts.hpp"
 #include "contact/face_contacts.hpp"
 #include "contact/material_table.hpp"
+#include "contact/platen.hpp"
 #include "contact/kinematics.hpp"
 #include "contact/stiffness_bound.hpp"

@@ -8,8 +8,9 @@
 // removes every bar call, no_step_checker the checks).
 //
 // One step (docs/architecture.md, study eq. 1):
-//   1. zero gridpoint and bar-node forces (gridpoints start from their weights under gravity;
-//      rigid blocks add their weight at the centroid in step 5)
+//   1. zero gridpoint and bar-node forces (gridpoints start from their weights under gravity and
+//      the applied forces, e.g. of a contact::rigid_platen; rigid blocks add their weight at the
+//      centroid in step 5)
 //   2. blocks: zone forces from the current displacements            -> gridpoints.force
 //   3. contacts: law update from du = (v_b - v_a) dt, forces           -> gridpoints.force
 //   4. reinforcement: axial + bond forces (zone stress = confinement)  -> bar nodes, gridpoints
@@ -185,6 +186,44 @@ class solver {
   }
   [[nodiscard]] const vec3& gravity() const { return gravity_; }
 
+  /// Registers gridpoints that take forces from outside the model (deformable blocks; a
+  /// contact::rigid_platen, a point load), with the stiffness k[j] (N/m, >= 0; 0 for a plain
+  /// load) of whatever applies them, which joins the gridpoint's bound: the time step is
+  /// recomputed (compute_time_step; with mass scaling the masses are raised where the spring
+  /// needs it). Throws invalid_input for an unknown gridpoint or a bad k.
+  void register_applied_forces(std::span<const index> nodes, std::span<const real> k) {
+    static_assert(!Blocks::is_rigid, "register_applied_forces: rigid blocks take loads on their bodies");
+    require(nodes.size() == k.size(), "solver: register_applied_forces got ", nodes.size(), " gridpoints and ",
+            k.size(), " stiffnesses");
+    if (applied_active_) applied_work_ += applied_work_of_last_step();  // booked before the list changes
+    applied_active_ = false;
+    if (applied_stiffness_.size() != gridpoints_.size()) applied_stiffness_.setZero(gridpoints_.size());
+    if (applied_force_.rows() != gridpoints_.size()) applied_force_.setZero(gridpoints_.size(), 3);
+    for (std::size_t j = 0; j < nodes.size(); ++j) {
+      require(nodes[j] >= 0 && nodes[j] < gridpoints_.size(), "solver: applied force on gridpoint ", nodes[j],
+              ", not one of the ", gridpoints_.size());
+      require(std::isfinite(k[j]) && k[j] >= 0, "solver: applied-force stiffness ", k[j], " N/m on gridpoint ",
+              nodes[j], " must be finite and >= 0");
+      applied_stiffness_[nodes[j]] += k[j];
+      applied_nodes_.push_back(nodes[j]);
+    }
+    std::sort(applied_nodes_.begin(), applied_nodes_.end());
+    applied_nodes_.erase(std::unique(applied_nodes_.begin(), applied_nodes_.end()), applied_nodes_.end());
+    applied_previous_.setZero(static_cast<index>(applied_nodes_.size()), 3);
+    for (std::size_t j = 0; j < applied_nodes_.size(); ++j)
+      applied_previous_.row(static_cast<index>(j)) = applied_force_.row(applied_nodes_[j]);
+    compute_time_step();
+  }
+  /// Forces from outside the model (N), one row per gridpoint, of which the rows registered by
+  /// register_applied_forces are read (the others stay unread): each step starts from them (with
+  /// the weights), so a caller that computes them from the state, such as a
+  /// contact::rigid_platen, writes them between steps. Their work enters the energy balance as
+  /// energy_balance::applied_work, booked by the trapezoidal rule, (F(t) + F(t + dt)) / 2 x the
+  /// step's displacement, which is exact for a linear spring (a one-sided rule gains 1/2 k du^2
+  /// per step: 1.7 % of a platen's work on a column that springs back, test "rigid platen").
+  [[nodiscard]] soa3& applied_forces() { return applied_force_; }
+  [[nodiscard]] const std::vector<index>& applied_nodes() const { return applied_nodes_; }
+
   /// Advances the model by one time step (see the file comment). One function on purpose (about
   /// 85 lines): the step order of docs/architecture.md, with its fused parallel region, in one place.
   void step() {
@@ -195,6 +234,16 @@ class solver {
       gridpoints_.force = gravity_force_;
     else
       gridpoints_.force.setZero();
+    if (!applied_nodes_.empty()) {
+      // Book the last step's applied work now that its closing forces are known, then apply them.
+      if (applied_active_) applied_work_ += applied_work_of_last_step();
+      applied_active_ = true;
+      for (std::size_t j = 0; j < applied_nodes_.size(); ++j) {
+        const index g = applied_nodes_[j];
+        gridpoints_.force.row(g) += applied_force_.row(g);
+        applied_previous_.row(static_cast<index>(j)) = applied_force_.row(g);
+      }
+    }
     if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
     if constexpr (requires(Blocks& b, index i) {
                     b.zone_task_count();
@@ -351,6 +400,8 @@ class solver {
     e.initial = step_ == 0 ? stored_and_kinetic() : initial_energy_;
     e.boundary_work = boundary_work_;
     e.gravity_work = gravity_work_;
+    // The last step's share is booked with the forces written since, if any (applied_forces).
+    e.applied_work = applied_work_ + (applied_active_ ? applied_work_of_last_step() : 0);
     e.damping_dissipated = damping_dissipated_;
     e.kinetic = blocks_.kinetic_energy(gridpoints_);
     e.block_elastic = blocks_.stored_energy(gridpoints_);
@@ -386,6 +437,7 @@ class solver {
     ar.scalar("solver/boundary_work", boundary_work_);
     ar.scalar("solver/damping_dissipated", damping_dissipated_);
     ar.scalar("solver/gravity_work", gravity_work_);
+    ar.scalar("solver/applied_work", applied_work_);
     ar.scalar("solver/initial_energy", initial_energy_);
     gridpoints_.checkpoint(ar, "gridpoints");
     blocks_.checkpoint(ar);
@@ -399,6 +451,7 @@ class solver {
     blocks_.add_stiffness_bounds(gridpoints_);
     contacts_.add_stiffness_bounds(gridpoints_);
     if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
+    if (applied_stiffness_.size() == gridpoints_.size()) gridpoints_.stiffness += applied_stiffness_;
     const real amplification = integrator_.stiffness_amplification();
     if (options_.mass_scaling_ratio > 0) {
       // Resolved once, on the unscaled masses; later calls keep the step it gave.
@@ -417,12 +470,22 @@ class solver {
     }
     if (options_.mass_scaling_dt > 0) {
       // Rigid blocks scale their bodies' mass and inertia (blocks/rigid.hpp), not the gridpoints.
+      integrator::mass_scaling_report pass;
       if constexpr (Blocks::is_rigid)
-        scaling_ = blocks_.scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
+        pass = blocks_.scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
       else
-        scaling_ = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
+        pass = integrator::scale_masses(gridpoints_, options_.mass_scaling_dt, options_.safety, amplification);
       if constexpr (Reinforcement::enabled)
-        scaling_ += integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety, amplification);
+        pass += integrator::scale_masses(reinforcement_.nodes(), options_.mass_scaling_dt, options_.safety, amplification);
+      // A later call (new stiffness: register_applied_forces) scales masses already scaled: the
+      // report keeps the first pass's original mass and adds what this one adds.
+      if (scaled_) {
+        scaling_.added_mass += pass.added_mass;
+        scaling_.scaled_nodes = std::max(scaling_.scaled_nodes, pass.scaled_nodes);
+      } else {
+        scaling_ = pass;
+        scaled_ = true;
+      }
     }
     if constexpr (Blocks::is_rigid)
       critical_ = blocks_.critical_time_step(gridpoints_, amplification);  // 6-DOF bound per block
@@ -497,6 +560,18 @@ class solver {
       if (step_ % checker_.interval == 0) checker_.check(*this);
   }
 
+  /// (F(t - dt) + F(t)) / 2 . v(t - dt/2) dt summed over the applied-force gridpoints: the work of
+  /// the last step, F(t - dt) the forces it applied, F(t) the forces now written.
+  [[nodiscard]] real applied_work_of_last_step() const {
+    real w = 0;
+    for (std::size_t j = 0; j < applied_nodes_.size(); ++j) {
+      const index g = applied_nodes_[j];
+      for (int c = 0; c < 3; ++c)
+        w += 0.5 * (applied_previous_(static_cast<index>(j), c) + applied_force_(g, c)) * gridpoints_.velocity(g, c);
+    }
+    return w * dt_;
+  }
+
   [[nodiscard]] real stored_and_kinetic() const {
     real e = blocks_.kinetic_energy(gridpoints_) + blocks_.stored_energy(gridpoints_) + contacts_.energies().stored;
     if constexpr (Reinforcement::enabled) {
@@ -524,10 +599,17 @@ class solver {
   real initial_energy_ = 0;
   vec3 gravity_ = vec3::Zero();
   soa3 gravity_force_;               ///< m0_i g per gridpoint (N), deformable blocks
+  std::vector<index> applied_nodes_;   ///< gridpoints with applied forces, increasing
+  bool applied_active_ = false;        ///< the last step applied them (its work is pending)
+  soa3 applied_force_;                 ///< forces from outside the model per gridpoint (N)
+  soa3 applied_previous_;              ///< those the last step applied, per applied_nodes_ entry
+  Eigen::VectorXd applied_stiffness_;  ///< their springs' stiffness per gridpoint (N/m)
+  real applied_work_ = 0;
   Eigen::VectorXd weight_mass_;      ///< gridpoint masses before mass scaling (kg), deformable blocks
   integrator::critical_step critical_;
   phase_times phases_;
   integrator::mass_scaling_report scaling_;
+  bool scaled_ = false;  ///< masses scaled once (scaling_ holds that pass)
 };
 
 }  // namespace tessera

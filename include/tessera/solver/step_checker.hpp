@@ -97,7 +97,8 @@ struct default_step_checker {
     // 2. Kinetic energy beyond the energy supplied: name the fastest node.
     const auto e = s.energies();
     const real supplied =
-        e.initial + std::abs(e.boundary_work) + std::abs(e.gravity_work) + std::abs(e.contact_rebuild_exchange);
+        e.initial + std::abs(e.boundary_work) + std::abs(e.gravity_work) + std::abs(e.applied_work) +
+        std::abs(e.contact_rebuild_exchange);
     if (e.kinetic <= growth_factor * supplied + floor) return;  // cheap path: q >= 0
     real q = 0;
     for (int set = 0; set < 2; ++set) {
@@ -122,9 +123,10 @@ struct default_step_checker {
         }
       }
     }
-    // The terms of `supplied`; gravity and the rebuild exchange only when a run has them.
+    // The terms of `supplied`; gravity, applied work and the rebuild exchange only when a run has them.
     std::string terms = detail::concat("initial ", e.initial, " J + |boundary work| ", std::abs(e.boundary_work), " J");
     if (e.gravity_work != 0) terms += detail::concat(" + |gravity work| ", std::abs(e.gravity_work), " J");
+    if (e.applied_work != 0) terms += detail::concat(" + |applied work| ", std::abs(e.applied_work), " J");
     if (e.contact_rebuild_exchange != 0)
       terms += detail::concat(" + |rebuild exchange| ", std::abs(e.contact_rebuild_exchange), " J");
     fail(s, is_bar, fastest, false,
