@@ -208,13 +208,14 @@ report="$out/validation.md"
   echo
   echo "**RC beam** (provisional geometry, to 6 mm or --quick; references: first cracking at the flexural strength (MC2010) and at f_T, uncracked K0 with shear, A_s f_y z, the study's 90 mm crack spacing):"
   echo
-  echo "| blocks | seed | compression | parameters | first cracking | K0 | yield | peak | flexural cracks | spacing | failure | energy balance | run time |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| blocks | seed | plates | compression | parameters | first cracking | K0 | yield | peak | flexural cracks | spacing | failure | energy balance | run time |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
   for b in "${beam_list[@]}"; do
     s="$out/beam_$b/summary.json"
     params=$(get "$s" parameters | tr -d '"'); [[ $params == null ]] && params=verbatim  # runs from before the field
     [[ $params == calibrated ]] && params="calibrated (× $(num "$(get "$s" strength_scale)" 1 '%.3f'))"
-    echo "| $(get "$s" blocks) | $(get "$s" seed) | $(get "$s" compression | tr -d '"') | $params | $(num "$(get "$s" first_crack_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_flexural_error_rel)"); at f_T $(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(get "$s" initial_stiffness_error_rel)")) | $([[ $(get "$s" steel_yielded) == true ]] && echo "$(num "$(get "$s" yield_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_error_rel)"))" || echo "not yielded") | $(num "$(get "$s" peak_load_N)" 1e-3 '%.2f kN') | $(get "$s" flexural_cracks) | $(num "$(get "$s" mean_crack_spacing_m)" 1e3 '%.0f mm') | $(get "$s" failure_mode | tr -d '"') | $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e') | $(num "$(get "$s" runtime_s)" 1 '%.0f s') |"
+    plates=$(get "$s" plates | tr -d '"'); [[ $plates == null ]] && plates=tied  # runs from before the field
+    echo "| $(get "$s" blocks) | $(get "$s" seed) | $plates | $(get "$s" compression | tr -d '"') | $params | $(num "$(get "$s" first_crack_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" first_crack_flexural_error_rel)"); at f_T $(pct "$(get "$s" first_crack_error_rel)")) | $(num "$(get "$s" initial_stiffness_N_per_m)" 1e-6 '%.1f kN/mm') ($(pct "$(get "$s" initial_stiffness_error_rel)")) | $([[ $(get "$s" steel_yielded) == true ]] && echo "$(num "$(get "$s" yield_load_N)" 1e-3 '%.2f kN') ($(pct "$(get "$s" yield_error_rel)"))" || echo "not yielded") | $(num "$(get "$s" peak_load_N)" 1e-3 '%.2f kN') | $(get "$s" flexural_cracks) | $(num "$(get "$s" mean_crack_spacing_m)" 1e3 '%.0f mm') | $(get "$s" failure_mode | tr -d '"') | $(num "$(get "$s" energy_balance_error_rel)" 1 '%.1e') | $(num "$(get "$s" runtime_s)" 1 '%.0f s') |"
   done
   if [[ $quick == 0 && $beam_seeds -gt 1 ]]; then
     # The seed band of each block count: min-max of each figure over seeds 1..N.
