@@ -28,7 +28,8 @@
 // the moving reference point: each translation component is either prescribed (set_velocity;
 // zero by default) or free, and the rotation free when hinge_axis is not zero (a roller or a
 // hinge); free components are integrated by central differences from the contact force with
-// local damping (gamma |F| against the velocity, as the gridpoints), with the given mass and
+// local damping (gamma |F| against the velocity; none at rest, where integrator::local_damping
+// takes sgn(0) = +1: the same as rc_beam's hinged_plate), with the given mass and
 // inertia raised, if needed, to keep the solver's step stable against the platen's contact
 // stiffness (scale_to; `added_mass` reports by how much). The velocities live at half steps.
 //
