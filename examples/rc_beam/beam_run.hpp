@@ -467,14 +467,15 @@ template <class Law, class OnEvent>
       soffit.push_back(i);
   real soffit_peak_load = 0, soffit_peak_deflection = 0;
   const auto sample = [&](const solver_type& sv) {
-    real fp = 0, fs = 0, u = 0, up = 0;
+    real fp = 0, fs = 0, u = 0, up = 0;  // up: the loading plate's vertical displacement
     if (contact_plates) {
       // The forces the plates put on the concrete, and the loading plate's own travel.
       fp = -loading_platen->force().y();
       fs = -support_platen->force().y();
-      up = loading_platen->displacement().y() * static_cast<real>(plate.nodes.size());
+      up = loading_platen->displacement().y();
     } else {
       for (index n : plate.nodes) fp += sv.gridpoints().reaction(n, 1), up += sv.gridpoints().displacement(n, 1);
+      up /= static_cast<real>(plate.nodes.size());  // the mean over the tied gridpoints
       for (index n : support.nodes) fs += sv.gridpoints().reaction(n, 1);
     }
     for (index n : midspan) u += sv.gridpoints().displacement(n, 1);
@@ -486,7 +487,7 @@ template <class Law, class OnEvent>
     const real load = window_sum / static_cast<real>(std::min(window, r.load.size()));
     r.smoothed_load.push_back(load);
     r.plate_load.push_back(-2 * fp);
-    r.load_point_deflection.push_back(-up / static_cast<real>(plate.nodes.size()));
+    r.load_point_deflection.push_back(-up);
     if (load > max_load) max_load = load, r.peak_load = load, r.peak_deflection = defl;
     if (r.first_crack_load == 0) {
       // Mean bending stress of the soffit: sum A t_x n_x / sum A n_x^2 over its sub-contacts

@@ -138,7 +138,7 @@ class rigid_platen {
   void attach(Solver& s) {
     std::vector<index> nodes(node_.begin(), node_.end());
     std::vector<real> k(node_.size());
-    const real kmax = std::max(Law::normal_stiffness(params_), Law::shear_stiffness(params_));
+    const real kmax = contact_stiffness();
     for (std::size_t j = 0; j < node_.size(); ++j) k[j] = kmax * area_[j];
     s.register_applied_forces(std::span<const index>(nodes), std::span<const real>(k));
     scale_to(s.dt(), s.options().safety, s.stiffness_amplification());
@@ -149,7 +149,7 @@ class rigid_platen {
   void scale_to(real dt, real safety, real amplification) {
     require(dt > 0 && safety > 0 && amplification > 0, "rigid_platen: scale_to(dt = ", dt, ", safety = ", safety,
             ", amplification = ", amplification, ") needs positive values");
-    const real kmax = std::max(Law::normal_stiffness(params_), Law::shear_stiffness(params_));
+    const real kmax = contact_stiffness();
     real k = 0, k_rot = 0;
     const vec3 c = geometry_.point;
     for (std::size_t j = 0; j < node_.size(); ++j) {
@@ -266,6 +266,10 @@ class rigid_platen {
   [[nodiscard]] real added_inertia() const { return added_inertia_; }
 
  private:
+  /// The stiffness per unit area that bounds a sub-contact's springs, max(k_n, k_s) (Pa/m).
+  [[nodiscard]] real contact_stiffness() const {
+    return std::max(Law::normal_stiffness(params_), Law::shear_stiffness(params_));
+  }
   /// The sub-contacts: the nodal shares of the surface triangles on the plane, clipped to the
   /// footprint (file comment), in increasing gridpoint order.
   void collect(const geometry::block_mesh& mesh) {
