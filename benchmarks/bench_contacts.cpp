@@ -31,18 +31,18 @@ struct prism_scene {
   geometry::block_mesh mesh;
   node_set gridpoints;
 
-  explicit prism_scene(index blocks) {
+  explicit prism_scene(index_t blocks) {
     aabb box;
     box.expand(vec3::Zero());
     box.expand(vec3(0.068, 0.068, 0.6));
     tess = geometry::random_voronoi(box, blocks, 1);
     mesh = geometry::zone_blocks(tess);
     gridpoints.resize(mesh.gridpoint_count());
-    for (index i = 0; i < mesh.gridpoint_count(); ++i)
+    for (index_t i = 0; i < mesh.gridpoint_count(); ++i)
       gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)].transpose();
     std::mt19937_64 rng(2);
     std::uniform_real_distribution<real> uni(-1e-3, 1e-3);
-    for (index i = 0; i < gridpoints.size(); ++i)
+    for (index_t i = 0; i < gridpoints.size(); ++i)
       for (int c = 0; c < 3; ++c) gridpoints.velocity(i, c) = uni(rng);
   }
 };

@@ -48,15 +48,15 @@ struct scene {
   real size = 0;  ///< mean block size (m)
 };
 
-const scene& scene_of(tessera::index n) {
-  static std::map<tessera::index, std::unique_ptr<scene>> cache;
+const scene& scene_of(tessera::index_t n) {
+  static std::map<tessera::index_t, std::unique_ptr<scene>> cache;
   auto& s = cache[n];
   if (s) return *s;
   s = std::make_unique<scene>();
   s->size = 0.05;
   const real side = s->size * std::cbrt(static_cast<real>(n));
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3::Constant(side)}, n, 1);
-  for (tessera::index c = 0; c < tess.cell_count(); ++c) {
+  for (tessera::index_t c = 0; c < tess.cell_count(); ++c) {
     const geometry::convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
     const vec3 centre = cell.centroid();
     s->blocks.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * centre));
@@ -70,7 +70,7 @@ const scene& scene_of(tessera::index n) {
 /// A broad phase run(boxes, margin, pairs) on the scene of state.range(0) blocks.
 template <class Run>
 void broad_phase(benchmark::State& state, Run&& run) {
-  const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
+  const scene& s = scene_of(static_cast<tessera::index_t>(state.range(0)));
   std::vector<detection::block_pair> pairs;
   for (auto _ : state) {
     run(s.boxes, 0.05 * s.size, pairs);
@@ -93,7 +93,7 @@ void BM_broad_uniform_grid(benchmark::State& state) {
 
 /// A whole pass (detect.hpp: grid broad phase, common plane, patches), on 1 or 2 threads.
 void BM_detection_pass(benchmark::State& state) {
-  const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
+  const scene& s = scene_of(static_cast<tessera::index_t>(state.range(0)));
   const int saved = tessera::max_threads();
   tessera::set_threads(static_cast<int>(state.range(1)));
   detection::detection_options options;
@@ -117,7 +117,7 @@ void BM_detection_pass(benchmark::State& state) {
 
 /// The common plane alone, every candidate pair (face planes computed once per block, as in a pass).
 void BM_common_plane(benchmark::State& state) {
-  const scene& s = scene_of(static_cast<tessera::index>(state.range(0)));
+  const scene& s = scene_of(static_cast<tessera::index_t>(state.range(0)));
   detection::sweep_workspace w;
   std::vector<detection::block_pair> pairs;
   detection::sweep_and_prune(s.boxes, 0.05 * s.size, pairs, w);
@@ -152,7 +152,7 @@ const step_scene& step_scene_of() {
     const real side = 0.05 * std::cbrt(1000.0);
     r.tess = geometry::random_voronoi({vec3::Zero(), vec3::Constant(side)}, 1000, 1);
     std::vector<geometry::convex_polyhedron> cells;
-    for (tessera::index c = 0; c < r.tess.cell_count(); ++c) cells.push_back(geometry::cell_polyhedron(r.tess, c));
+    for (tessera::index_t c = 0; c < r.tess.cell_count(); ++c) cells.push_back(geometry::cell_polyhedron(r.tess, c));
     r.separate = geometry::separate_blocks(cells);
     r.mesh = geometry::zone_blocks(r.tess);
     r.separate_mesh = geometry::zone_blocks(r.separate);
@@ -184,10 +184,10 @@ void BM_step_detected_contacts(benchmark::State& state) {
   const int saved = tessera::max_threads();
   tessera::set_threads(static_cast<int>(state.range(0)));
   namespace ver = tessera::verification;
-  const tessera::index interval = state.range(1) > 0 ? state.range(1) : 1000;
+  const tessera::index_t interval = state.range(1) > 0 ? state.range(1) : 1000;
   ver::contacts::params p(ver::joint({}), 0.01 * 0.05, interval);
   tessera::solver<tessera::blocks::rigid, ver::contacts> s(sc.separate, sc.separate_mesh, {2400}, p);
-  const tessera::index before = s.contacts().rebuild_count();
+  const tessera::index_t before = s.contacts().rebuild_count();
   time_steps(state, s);
   state.counters["subcontacts"] = static_cast<double>(s.contacts().subcontact_count());
   state.counters["rebuilds"] = static_cast<double>(s.contacts().rebuild_count() - before);

@@ -10,7 +10,7 @@
 
 using namespace tessera;
 using namespace tessera::reinforcement;
-using idx = tessera::index;
+using idx = tessera::index_t;
 
 namespace {
 

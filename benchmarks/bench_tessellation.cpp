@@ -12,10 +12,10 @@
 namespace {
 
 void random_voronoi_unit_cube(benchmark::State& state) {
-  const auto n = static_cast<tessera::index>(state.range(0));
+  const auto n = static_cast<tessera::index_t>(state.range(0));
   const tessera::aabb box{tessera::vec3(0, 0, 0), tessera::vec3(1, 1, 1)};
   std::uint64_t seed = 1;
-  tessera::index faces = 0;
+  tessera::index_t faces = 0;
   for (auto _ : state) {
     const auto t = tessera::geometry::random_voronoi(box, n, seed++);
     faces = t.face_count();
@@ -31,7 +31,7 @@ BENCHMARK(random_voronoi_unit_cube)->Arg(100)->Arg(1000)->Arg(10000)->Arg(100000
 void random_voronoi_tie_prism(benchmark::State& state) {
   const tessera::aabb box{tessera::vec3(0, 0, 0), tessera::vec3(0.068, 0.068, 0.6)};
   for (auto _ : state) {
-    const auto t = tessera::geometry::random_voronoi(box, static_cast<tessera::index>(state.range(0)), 7);
+    const auto t = tessera::geometry::random_voronoi(box, static_cast<tessera::index_t>(state.range(0)), 7);
     benchmark::DoNotOptimize(t.vertices.data());
   }
 }

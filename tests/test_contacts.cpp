@@ -133,7 +133,7 @@ geometry::tessellation brick_tessellation(int nx, int ny, int nz, const vec3& si
   const vec3 h(size.x() / nx, size.y() / ny, size.z() / nz);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
-  const auto vid = [&](int i, int j, int k) { return static_cast<index>((i * (ny + 1) + j) * (nz + 1) + k); };
+  const auto vid = [&](int i, int j, int k) { return static_cast<index_t>((i * (ny + 1) + j) * (nz + 1) + k); };
   for (int i = 0; i <= nx; ++i)
     for (int j = 0; j <= ny; ++j)
       for (int k = 0; k <= nz; ++k) {
@@ -143,32 +143,32 @@ geometry::tessellation brick_tessellation(int nx, int ny, int nz, const vec3& si
           for (int c = 0; c < 3; ++c) x[c] += jitter * h[c] * uni(rng);
         t.vertices.push_back(x);
       }
-  const auto cid = [&](int i, int j, int k) { return static_cast<index>((i * ny + j) * nz + k); };
+  const auto cid = [&](int i, int j, int k) { return static_cast<index_t>((i * ny + j) * nz + k); };
   for (int i = 0; i < nx; ++i)
     for (int j = 0; j < ny; ++j)
       for (int k = 0; k < nz; ++k) {
-        const index c = cid(i, j, k);
+        const index_t c = cid(i, j, k);
         const auto v = [&](int dx, int dy, int dz) { return vid(i + dx, j + dy, k + dz); };
         // CCW seen from outside, sides x-, x+, y-, y+, z-, z+.
-        const std::array<std::array<index, 4>, 6> loops{{{v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0)},
+        const std::array<std::array<index_t, 4>, 6> loops{{{v(0, 0, 0), v(0, 0, 1), v(0, 1, 1), v(0, 1, 0)},
                                                          {v(1, 0, 0), v(1, 1, 0), v(1, 1, 1), v(1, 0, 1)},
                                                          {v(0, 0, 0), v(1, 0, 0), v(1, 0, 1), v(0, 0, 1)},
                                                          {v(0, 1, 0), v(0, 1, 1), v(1, 1, 1), v(1, 1, 0)},
                                                          {v(0, 0, 0), v(0, 1, 0), v(1, 1, 0), v(1, 0, 0)},
                                                          {v(0, 0, 1), v(1, 0, 1), v(1, 1, 1), v(0, 1, 1)}}};
-        const std::array<index, 6> neighbor{i > 0 ? cid(i - 1, j, k) : geometry::boundary_tag(0),
+        const std::array<index_t, 6> neighbor{i > 0 ? cid(i - 1, j, k) : geometry::boundary_tag(0),
                                             i + 1 < nx ? cid(i + 1, j, k) : geometry::boundary_tag(1),
                                             j > 0 ? cid(i, j - 1, k) : geometry::boundary_tag(2),
                                             j + 1 < ny ? cid(i, j + 1, k) : geometry::boundary_tag(3),
                                             k > 0 ? cid(i, j, k - 1) : geometry::boundary_tag(4),
                                             k + 1 < nz ? cid(i, j, k + 1) : geometry::boundary_tag(5)};
         for (int side = 0; side < 6; ++side) {
-          const index f = t.face_count();
+          const index_t f = t.face_count();
           t.face_vertices.insert(t.face_vertices.end(), loops[side].begin(), loops[side].end());
-          t.face_offsets.push_back(static_cast<index>(t.face_vertices.size()));
+          t.face_offsets.push_back(static_cast<index_t>(t.face_vertices.size()));
           t.face_cell.push_back(c);
           t.face_neighbor.push_back(neighbor[side]);
-          const index twin = neighbor[side] >= 0 ? neighbor[side] * 6 + (side ^ 1) : invalid_index;
+          const index_t twin = neighbor[side] >= 0 ? neighbor[side] * 6 + (side ^ 1) : invalid_index;
           t.face_twin.push_back(twin);
           if (neighbor[side] > c) t.shared_faces.push_back({c, f, neighbor[side], twin});
         }
@@ -182,18 +182,18 @@ geometry::tessellation brick_tessellation(int nx, int ny, int nz, const vec3& si
 /// smallest vertex id, tributary area = 1/3 of each touching triangle.
 geometry::block_mesh face_mesh(const geometry::tessellation& t) {
   geometry::block_mesh m;
-  for (index c = 0; c < t.cell_count(); ++c) {
-    std::vector<index> ids;
-    for (index f = t.first_face(c); f < t.end_face(c); ++f)
-      for (index v : t.face(f)) ids.push_back(v);
+  for (index_t c = 0; c < t.cell_count(); ++c) {
+    std::vector<index_t> ids;
+    for (index_t f = t.first_face(c); f < t.end_face(c); ++f)
+      for (index_t v : t.face(f)) ids.push_back(v);
     std::sort(ids.begin(), ids.end());
     ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
-    const auto base = static_cast<index>(m.gridpoints.size());
-    const auto local = [&](index v) {
-      return base + static_cast<index>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin());
+    const auto base = static_cast<index_t>(m.gridpoints.size());
+    const auto local = [&](index_t v) {
+      return base + static_cast<index_t>(std::lower_bound(ids.begin(), ids.end(), v) - ids.begin());
     };
     vec3 centroid = vec3::Zero();
-    for (index v : ids) {
+    for (index_t v : ids) {
       m.gridpoints.push_back(t.vertices[static_cast<std::size_t>(v)]);
       m.gridpoint_block.push_back(c);
       m.gridpoint_vertex.push_back(v);
@@ -202,24 +202,24 @@ geometry::block_mesh face_mesh(const geometry::tessellation& t) {
     m.gridpoints.push_back(centroid);
     m.gridpoint_block.push_back(c);
     m.gridpoint_vertex.push_back(invalid_index);
-    m.block_gridpoint_offsets.push_back(static_cast<index>(m.gridpoints.size()));
+    m.block_gridpoint_offsets.push_back(static_cast<index_t>(m.gridpoints.size()));
     m.block_zone_offsets.push_back(0);
-    for (index f = t.first_face(c); f < t.end_face(c); ++f) {
+    for (index_t f = t.first_face(c); f < t.end_face(c); ++f) {
       const auto loop = t.face(f);
-      const auto n = static_cast<index>(loop.size());
-      std::vector<index> sorted(loop.begin(), loop.end());
+      const auto n = static_cast<index_t>(loop.size());
+      std::vector<index_t> sorted(loop.begin(), loop.end());
       std::sort(sorted.begin(), sorted.end());
-      const index start = static_cast<index>(std::min_element(loop.begin(), loop.end()) - loop.begin());
+      const index_t start = static_cast<index_t>(std::min_element(loop.begin(), loop.end()) - loop.begin());
       std::vector<real> area(static_cast<std::size_t>(n), 0.0);
-      for (index i = 1; i + 1 < n; ++i) {
-        const std::array<index, 3> tri{loop[static_cast<std::size_t>(start)],
+      for (index_t i = 1; i + 1 < n; ++i) {
+        const std::array<index_t, 3> tri{loop[static_cast<std::size_t>(start)],
                                        loop[static_cast<std::size_t>((start + i) % n)],
                                        loop[static_cast<std::size_t>((start + i + 1) % n)]};
         const auto& x = t.vertices;
         const real a = 0.5 * (x[static_cast<std::size_t>(tri[1])] - x[static_cast<std::size_t>(tri[0])])
                                  .cross(x[static_cast<std::size_t>(tri[2])] - x[static_cast<std::size_t>(tri[0])])
                                  .norm();
-        for (index v : tri)
+        for (index_t v : tri)
           area[static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), v) - sorted.begin())] += a / 3;
         m.face_triangles.push_back({local(tri[0]), local(tri[1]), local(tri[2])});
       }
@@ -227,8 +227,8 @@ geometry::block_mesh face_mesh(const geometry::tessellation& t) {
         m.face_nodes.push_back(local(sorted[k]));
         m.face_node_area.push_back(area[k]);
       }
-      m.face_node_offsets.push_back(static_cast<index>(m.face_nodes.size()));
-      m.face_triangle_offsets.push_back(static_cast<index>(m.face_triangles.size()));
+      m.face_node_offsets.push_back(static_cast<index_t>(m.face_nodes.size()));
+      m.face_triangle_offsets.push_back(static_cast<index_t>(m.face_triangles.size()));
     }
   }
   return m;
@@ -248,7 +248,7 @@ std::string thrown_message(F&& f) {
 node_set gridpoints_of(const geometry::block_mesh& m) {
   node_set g;
   g.resize(m.gridpoint_count());
-  for (index i = 0; i < m.gridpoint_count(); ++i)
+  for (index_t i = 0; i < m.gridpoint_count(); ++i)
     g.reference.row(i) = m.gridpoints[static_cast<std::size_t>(i)].transpose();
   return g;
 }
@@ -263,16 +263,16 @@ void step(Set& contacts, node_set& g, real dt) {
 }
 
 /// Sum of the contact forces on the gridpoints of block b (N).
-vec3 block_force(const node_set& g, const geometry::block_mesh& m, index b) {
+vec3 block_force(const node_set& g, const geometry::block_mesh& m, index_t b) {
   vec3 f = vec3::Zero();
-  for (index i = m.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+  for (index_t i = m.block_gridpoint_offsets[static_cast<std::size_t>(b)];
        i < m.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1]; ++i)
     f += g.force.row(i).transpose();
   return f;
 }
 
-void set_block_velocity(node_set& g, const geometry::block_mesh& m, index b, const vec3& v) {
-  for (index i = m.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+void set_block_velocity(node_set& g, const geometry::block_mesh& m, index_t b, const vec3& v) {
+  for (index_t i = m.block_gridpoint_offsets[static_cast<std::size_t>(b)];
        i < m.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1]; ++i)
     g.velocity.row(i) = v.transpose();
 }
@@ -293,7 +293,7 @@ TEST_CASE("two cubes: one sub-contact per face node pair, areas sum to the face 
   REQUIRE(set.size() == 4);
   REQUIRE(set.face_count() == 1);
   real total = 0;
-  for (index i = 0; i < set.size(); ++i) {
+  for (index_t i = 0; i < set.size(); ++i) {
     CHECK(set.block_a(i) == 0);
     CHECK(set.block_b(i) == 1);
     CHECK(scene.mesh.gridpoint_block[static_cast<std::size_t>(set.node_a(i))] == 0);
@@ -318,12 +318,12 @@ TEST_CASE("areas sum to the face area and normals are unit A->B on a jittered br
   const auto tess = brick_tessellation(3, 3, 2, vec3(0.3, 0.3, 0.2), 0.2, 7);
   const auto mesh = face_mesh(tess);
   const contact::face_contacts<elastic_brittle_law> set(tess, mesh, {1e12, 4e11});
-  REQUIRE(set.face_count() == static_cast<index>(tess.shared_faces.size()));
+  REQUIRE(set.face_count() == static_cast<index_t>(tess.shared_faces.size()));
   REQUIRE(set.size() == 4 * set.face_count());
-  for (index s = 0; s < set.face_count(); ++s) {
+  for (index_t s = 0; s < set.face_count(); ++s) {
     // Face area = sum of its two fan triangles' areas.
     const auto loop = tess.face(tess.shared_faces[static_cast<std::size_t>(s)].face_a);
-    const index start = static_cast<index>(std::min_element(loop.begin(), loop.end()) - loop.begin());
+    const index_t start = static_cast<index_t>(std::min_element(loop.begin(), loop.end()) - loop.begin());
     real area = 0;
     vec3 area_vector = vec3::Zero();
     for (int i = 1; i < 3; ++i) {
@@ -334,7 +334,7 @@ TEST_CASE("areas sum to the face area and normals are unit A->B on a jittered br
       area_vector += (x1 - x0).cross(x2 - x0);
     }
     real sum = 0;
-    for (index i = set.first_subcontact(s); i < set.first_subcontact(s + 1); ++i) sum += set.area(i);
+    for (index_t i = set.first_subcontact(s); i < set.first_subcontact(s + 1); ++i) sum += set.area(i);
     CHECK(sum == Approx(area).epsilon(1e-13));
     const vec3 n = set.face_normal(s);
     CHECK(n.norm() == Approx(1.0).epsilon(1e-14));
@@ -364,7 +364,7 @@ TEST_CASE("opening: restoring force k_n u_n area while elastic, on both nodes, w
     CHECK(on_b.x() == Approx(-k_n * opening * 1.0).epsilon(1e-10));
     CHECK(std::abs(on_b.y()) + std::abs(on_b.z()) < 1e-12 * k_n * opening);
     CHECK((on_a + on_b).norm() < 1e-12 * k_n * opening);
-    for (index i = 0; i < set.size(); ++i) {
+    for (index_t i = 0; i < set.size(); ++i) {
       CHECK(set.state(i).u_n == Approx(opening).epsilon(1e-10));
       CHECK(set.force(i).x() == Approx(-k_n * opening * set.area(i)).epsilon(1e-10));
       CHECK(scene.gridpoints.force(set.node_b(i), 0) == set.force(i).x());
@@ -496,7 +496,7 @@ TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with 
       const auto rotated = [&](real a) {
         soa3 x = x0;
         const mat3 r = rotation(a);
-        for (index i = 0; i < x.rows(); ++i) x.row(i) = (pivot + r * (x0.row(i).transpose() - pivot)).transpose();
+        for (index_t i = 0; i < x.rows(); ++i) x.row(i) = (pivot + r * (x0.row(i).transpose() - pivot)).transpose();
         return x;
       };
       soa3 previous = x0;
@@ -509,7 +509,7 @@ TEST_CASE("rigid rotation of both blocks: stresses objective, normal turns with 
       const mat3 r = rotation(angle);
       const vec3 sigma0_n = preload ? vec3(k_n * opening) : vec3::Zero();
       const vec3 tau0 = preload ? vec3(k_s * slip) : vec3::Zero();
-      for (index i = 0; i < set.size(); ++i) {
+      for (index_t i = 0; i < set.size(); ++i) {
         CHECK((set.normal(i) - r * vec3(1, 0, 0)).norm() < 1e-12);
         if (!preload) {
           CHECK(set.state(i).sigma_n == 0);
@@ -530,7 +530,7 @@ TEST_CASE("initialize_frames: frames from displaced positions, no spurious incre
   two_cubes scene;
   contact::face_contacts<elastic_brittle_law> set(scene.tess, scene.mesh, {1e12, 4e11});
   const mat3 r = Eigen::AngleAxis<real>(std::numbers::pi / 2, vec3(0, 0, 1)).toRotationMatrix();
-  for (index i = 0; i < scene.gridpoints.size(); ++i) {
+  for (index_t i = 0; i < scene.gridpoints.size(); ++i) {
     const vec3 x = scene.gridpoints.reference.row(i).transpose();
     scene.gridpoints.displacement.row(i) = (r * x - x).transpose();
   }
@@ -538,7 +538,7 @@ TEST_CASE("initialize_frames: frames from displaced positions, no spurious incre
   CHECK((set.face_normal(0) - vec3(0, 1, 0)).norm() < 1e-15);
   set_block_velocity(scene.gridpoints, scene.mesh, 1, vec3(0, 1e-3, 0));  // opens along the rotated normal
   step(set, scene.gridpoints, 1e-6);
-  for (index i = 0; i < set.size(); ++i) {
+  for (index_t i = 0; i < set.size(); ++i) {
     CHECK(set.state(i).sigma_n == Approx(1e12 * 1e-9).epsilon(1e-9));
     CHECK(set.state(i).tau.norm() < 1e-9 * 1e3);
   }
@@ -570,7 +570,7 @@ TEST_CASE("stiffness bound: Gershgorin row sum for any normal, attained, accumul
   two_cubes scene;
   const set_type set(scene.tess, scene.mesh, {k_n, k_s});
   set.add_stiffness_bounds(scene.gridpoints);
-  for (index i = 0; i < set.size(); ++i) {
+  for (index_t i = 0; i < set.size(); ++i) {
     CHECK(scene.gridpoints.stiffness[set.node_a(i)] == Approx(2 * bound * set.area(i)).epsilon(1e-15));
     CHECK(scene.gridpoints.stiffness[set.node_b(i)] == Approx(2 * bound * set.area(i)).epsilon(1e-15));
   }
@@ -586,13 +586,13 @@ TEST_CASE("brittle break: broken area, fully broken faces and dissipated energy 
   const real dt = 1e-6;
   // B opens along x, tilting about the z axis: v_x = w (y + 0.5), so nodes at y = 1 open 3x faster.
   const real w = 2e-3;
-  for (index i = scene.mesh.block_gridpoint_offsets[1]; i < scene.mesh.block_gridpoint_offsets[2]; ++i)
+  for (index_t i = scene.mesh.block_gridpoint_offsets[1]; i < scene.mesh.block_gridpoint_offsets[2]; ++i)
     scene.gridpoints.velocity(i, 0) = w * (scene.mesh.gridpoints[static_cast<std::size_t>(i)].y() + 0.5);
   bool saw_partial = false;
   for (int k = 0; k < 2000 && !set.face_fully_broken(0); ++k) {
     step(set, scene.gridpoints, dt);
     real broken = 0;
-    for (index i = 0; i < set.size(); ++i)
+    for (index_t i = 0; i < set.size(); ++i)
       if (set.state(i).broken) broken += set.area(i);
     CHECK(set.broken_area() == broken);
     if (broken > 0 && broken < 1) {
@@ -606,7 +606,7 @@ TEST_CASE("brittle break: broken area, fully broken faces and dissipated energy 
   CHECK(set.broken_face_count() == 1);
   CHECK(set.broken_area() == Approx(1.0).epsilon(1e-15));
   real expected = 0;
-  for (index i = 0; i < set.size(); ++i) expected += set.area(i) * set.state(i).dissipated_tension;
+  for (index_t i = 0; i < set.size(); ++i) expected += set.area(i) * set.state(i).dissipated_tension;
   CHECK(set.dissipated_tension() == Approx(expected).epsilon(1e-15));
   CHECK(set.dissipated_tension() >= 0.5 * f_t * f_t / k_n * 1.0);
   CHECK(set.stored_energy() == 0);
@@ -623,7 +623,7 @@ TEST_CASE("bad pairing and bad input throw with the shared face, its cells and t
 
   SECTION("twin nodes in a different order") {
     auto mesh = good;
-    const index o = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)];
+    const index_t o = mesh.face_node_offsets[static_cast<std::size_t>(sf.face_b)];
     std::swap(mesh.face_nodes[static_cast<std::size_t>(o)], mesh.face_nodes[static_cast<std::size_t>(o) + 2]);
     CHECK_THAT(thrown_message<geometry_error>([&] { (void)set_type(tess, mesh, p); }),
                Contains("shared face 2 (cells 1 and 3") && Contains("coincident"));
@@ -679,12 +679,12 @@ std::pair<soa3, std::vector<real>> random_run(int threads, const geometry::tesse
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
   const real dt = 1e-7;
   for (int k = 0; k < 40; ++k) {
-    for (index i = 0; i < g.size(); ++i)
+    for (index_t i = 0; i < g.size(); ++i)
       for (int c = 0; c < 3; ++c) g.velocity(i, c) = speed * uni(rng);
     step(set, g, dt);
   }
   std::vector<real> stresses;
-  for (index i = 0; i < set.size(); ++i) {
+  for (index_t i = 0; i < set.size(); ++i) {
     stresses.push_back(set.state(i).sigma_n);
     for (int c = 0; c < 3; ++c) stresses.push_back(set.state(i).tau[c]);
   }
@@ -709,7 +709,7 @@ void check_thread_independence(const geometry::tessellation& tess, const geometr
 }
 
 /// Random Voronoi tessellation of the 68 x 68 x 300 mm half prism.
-geometry::tessellation half_prism_voronoi(index blocks, unsigned seed) {
+geometry::tessellation half_prism_voronoi(index_t blocks, unsigned seed) {
   aabb box;
   box.expand(vec3::Zero());
   box.expand(vec3(0.068, 0.068, 0.3));
@@ -717,7 +717,7 @@ geometry::tessellation half_prism_voronoi(index blocks, unsigned seed) {
 }
 
 /// Area vector (m^2) of polygon `loop` of the tessellation, Newell's formula.
-vec3 polygon_area_vector(const geometry::tessellation& t, std::span<const index> loop) {
+vec3 polygon_area_vector(const geometry::tessellation& t, std::span<const index_t> loop) {
   vec3 s = vec3::Zero();
   const vec3& x0 = t.vertices[static_cast<std::size_t>(loop[0])];
   for (std::size_t k = 1; k + 1 < loop.size(); ++k)
@@ -744,16 +744,16 @@ TEST_CASE("random Voronoi + zone_blocks: face areas and normals of every shared 
     DYNAMIC_SECTION("zoning target edge length " << h << " m") {
       const auto mesh = geometry::zone_blocks(tess, {h});
       const contact::face_contacts<law::study_tie_law> set(tess, mesh, law::study_prism_params(100));
-      REQUIRE(set.face_count() == static_cast<index>(tess.shared_faces.size()));
-      index expected_size = 0, polygon_vertices = 0;
-      for (index s = 0; s < set.face_count(); ++s) {
+      REQUIRE(set.face_count() == static_cast<index_t>(tess.shared_faces.size()));
+      index_t expected_size = 0, polygon_vertices = 0;
+      for (index_t s = 0; s < set.face_count(); ++s) {
         const auto& sf = tess.shared_faces[static_cast<std::size_t>(s)];
         const vec3 a = polygon_area_vector(tess, tess.face(sf.face_a));
         CHECK(set.face_area(s) == Approx(a.norm()).epsilon(1e-9));
         CHECK((set.face_normal(s) - a.normalized()).norm() < 1e-9);
         expected_size += mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a) + 1] -
                          mesh.face_node_offsets[static_cast<std::size_t>(sf.face_a)];
-        polygon_vertices += static_cast<index>(tess.face(sf.face_a).size());
+        polygon_vertices += static_cast<index_t>(tess.face(sf.face_a).size());
       }
       CHECK(set.size() == expected_size);
       // Unrefined: one sub-contact per polygon vertex; refined: edge midpoints add more.
@@ -808,7 +808,7 @@ TEST_CASE("law state declared once: column storage and VTK arrays follow law::co
   std::mt19937 rng(11);
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
   for (int k = 0; k < 40; ++k) {
-    for (index i = 0; i < g.size(); ++i)
+    for (index_t i = 0; i < g.size(); ++i)
       for (int d = 0; d < 3; ++d) g.velocity(i, d) = 5.0 * uni(rng);
     step(set, g, 1e-7);
   }
@@ -821,8 +821,8 @@ TEST_CASE("law state declared once: column storage and VTK arrays follow law::co
   const auto* w = snap.find("u_soft_m");
   REQUIRE((sigma != nullptr && tau != nullptr && w != nullptr));
   CHECK(tau->components == 3);
-  index damaged = 0;
-  for (index i = 0; i < set.size(); ++i) {
+  index_t damaged = 0;
+  for (index_t i = 0; i < set.size(); ++i) {
     const auto k = static_cast<std::size_t>(i);
     const auto& s_i = set.state(i);
     CHECK(sigma->values[k] == s_i.sigma_n);
@@ -1078,21 +1078,21 @@ TEST_CASE("elastic pack path: a set with it and one without give the same bits o
   std::uniform_real_distribution<real> uni(-1.0, 1.0);
   bool all_same = true;
   for (int k = 0; k < 60; ++k) {
-    for (index i = 0; i < g_pack.size(); ++i)
+    for (index_t i = 0; i < g_pack.size(); ++i)
       for (int c = 0; c < 3; ++c) g_pack.velocity(i, c) = g_scalar.velocity(i, c) = 2.0 * uni(rng);
     step(pack, g_pack, 1e-7);
     step(scalar, g_scalar, 1e-7);
     all_same = all_same && std::memcmp(g_pack.force.data(), g_scalar.force.data(),
                                        sizeof(real) * static_cast<std::size_t>(g_pack.force.size())) == 0;
-    for (index i = 0; i < pack.size(); ++i) {
+    for (index_t i = 0; i < pack.size(); ++i) {
       all_same = all_same && same_state(pack.state(i), scalar.state(i));
       for (int c = 0; c < 3; ++c) all_same = all_same && same_bits(pack.force(i)[c], scalar.force(i)[c]);
     }
   }
   CHECK(all_same);
   // The run reached the nonlinear law: some sub-contacts softened, broke or slipped.
-  index damaged = 0;
-  for (index i = 0; i < pack.size(); ++i) damaged += pack.state(i).flags != law::contact_status::intact ? 1 : 0;
+  index_t damaged = 0;
+  for (index_t i = 0; i < pack.size(); ++i) damaged += pack.state(i).flags != law::contact_status::intact ? 1 : 0;
   CHECK(damaged > 0);
   CHECK(damaged < pack.size());
 }
@@ -1118,16 +1118,16 @@ struct row_of_blocks {
       gridpoints.reference.row(2 * i + 1) = x.transpose();
     }
   }
-  [[nodiscard]] tessera::index subcontact_count() const { return 4; }
-  [[nodiscard]] tessera::index block_a(tessera::index i) const { return i < 2 ? 0 : 1; }
-  [[nodiscard]] tessera::index block_b(tessera::index i) const { return i < 2 ? 1 : 2; }
-  [[nodiscard]] tessera::index node_a(tessera::index i) const { return 2 * i; }
-  [[nodiscard]] tessera::index node_b(tessera::index i) const { return 2 * i + 1; }
-  [[nodiscard]] tessera::real area(tessera::index i) const { return i % 2 == 0 ? 0.25 : 0.75; }
-  [[nodiscard]] tessera::vec3 position(tessera::index i, const tessera::node_set& gp) const {
+  [[nodiscard]] tessera::index_t subcontact_count() const { return 4; }
+  [[nodiscard]] tessera::index_t block_a(tessera::index_t i) const { return i < 2 ? 0 : 1; }
+  [[nodiscard]] tessera::index_t block_b(tessera::index_t i) const { return i < 2 ? 1 : 2; }
+  [[nodiscard]] tessera::index_t node_a(tessera::index_t i) const { return 2 * i; }
+  [[nodiscard]] tessera::index_t node_b(tessera::index_t i) const { return 2 * i + 1; }
+  [[nodiscard]] tessera::real area(tessera::index_t i) const { return i % 2 == 0 ? 0.25 : 0.75; }
+  [[nodiscard]] tessera::vec3 position(tessera::index_t i, const tessera::node_set& gp) const {
     return 0.5 * (gp.position(node_a(i)) + gp.position(node_b(i)));
   }
-  [[nodiscard]] state_view state(tessera::index i) const {
+  [[nodiscard]] state_view state(tessera::index_t i) const {
     const auto node = node_b(i);
     return {flags[static_cast<std::size_t>(i)], (gridpoints.position(node) - gridpoints.position(node - 1)).x()};
   }
@@ -1389,7 +1389,7 @@ TEST_CASE("detection: the pruned edge-pair search keeps the separation test and 
     const vec3 direction = vec3(u(rng), u(rng), u(rng)).normalized();
     const convex_polyhedron b = b0.transformed(mat3::Identity(), direction * (0.5 + 0.6 * (u(rng) + 1) / 2));
     const auto ea = detection::edges_of(a), eb = detection::edges_of(b);
-    REQUIRE(static_cast<index>(ea.list.size()) == a.vertex_count() + a.face_count() - 2);  // Euler
+    REQUIRE(static_cast<index_t>(ea.list.size()) == a.vertex_count() + a.face_count() - 2);  // Euler
     const auto pruned = detection::common_plane(a, ea, b, eb, true);
     const auto full = detection::common_plane(a, ea, b, eb, false);
     INFO("trial " << trial << ": pruned gap " << pruned.gap << ", full " << full.gap);
@@ -1453,7 +1453,7 @@ TEST_CASE("detection broad phase: sweep and prune and the uniform grid give the 
   // Blocks of a Voronoi tessellation: every pair sharing a face is a candidate at zero margin.
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.3)}, 300, 5);
   std::vector<aabb> cells(static_cast<std::size_t>(tess.cell_count()));
-  for (index c = 0; c < tess.cell_count(); ++c) cells[static_cast<std::size_t>(c)] = geometry::cell_polyhedron(tess, c).bounds();
+  for (index_t c = 0; c < tess.cell_count(); ++c) cells[static_cast<std::size_t>(c)] = geometry::cell_polyhedron(tess, c).bounds();
   std::vector<detection::block_pair> pairs;
   detection::sweep_and_prune(cells, 0, pairs, sw);
   for (const auto& f : tess.shared_faces)
@@ -1468,11 +1468,11 @@ TEST_CASE("detection broad phase: with the rebuild margin no pair that comes to 
   // at any step must have been a candidate at the rebuild (margin = rebuild_margin).
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<real> u(-1, 1);
-  const index n = 400, steps = 50;
+  const index_t n = 400, steps = 50;
   const real dt = 1e-3, v_max = 0.2, omega_max = 5, r = 0.02;
   std::vector<vec3> centre(n), velocity(n), axis(n);
   std::vector<real> omega(n);
-  for (index i = 0; i < n; ++i) {
+  for (index_t i = 0; i < n; ++i) {
     centre[static_cast<std::size_t>(i)] = vec3(u(rng), u(rng), u(rng)) * 0.3;
     velocity[static_cast<std::size_t>(i)] = vec3(u(rng), u(rng), u(rng)).normalized() * v_max;  // at the bounds
     axis[static_cast<std::size_t>(i)] = vec3(u(rng), u(rng), u(rng)).normalized();
@@ -1482,7 +1482,7 @@ TEST_CASE("detection broad phase: with the rebuild margin no pair that comes to 
   const convex_polyhedron cube = convex_polyhedron::box(vec3::Constant(-r / std::sqrt(3.0)), vec3::Constant(r / std::sqrt(3.0)));
   const auto boxes_at = [&](real t) {
     std::vector<aabb> b(static_cast<std::size_t>(n));
-    for (index i = 0; i < n; ++i) {
+    for (index_t i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
       b[k] = cube.transformed(rotation_about(axis[k], omega[k] * t), centre[k] + velocity[k] * t).bounds();
     }
@@ -1496,7 +1496,7 @@ TEST_CASE("detection broad phase: with the rebuild margin no pair that comes to 
   std::vector<detection::block_pair> too_few;
   detection::sweep_and_prune(boxes_at(0), 0.25 * margin, too_few, w);
   std::size_t checked = 0, missed_with_less = 0;
-  for (index s = 1; s <= steps; ++s) {
+  for (index_t s = 1; s <= steps; ++s) {
     detection::sweep_and_prune(boxes_at(static_cast<real>(s) * dt), 0, touching, w);
     for (const auto& p : touching) {
       CHECK(std::binary_search(candidates.begin(), candidates.end(), p));
@@ -1522,7 +1522,7 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
   std::vector<convex_polyhedron> blocks;
   std::vector<detection::polyhedron_edges> edges;
   std::vector<aabb> boxes;
-  for (index c = 0; c < tess.cell_count(); ++c) {
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
     const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
     blocks.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
     edges.push_back(detection::edges_of(blocks.back()));
@@ -1557,7 +1557,7 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
     REQUIRE(*it == (detection::block_pair{f.cell_a, f.cell_b}));
     const auto k = static_cast<std::size_t>(it - one.pairs.begin());
     CHECK(one.type[k] == detection::patch_type::polygon);
-    for (index i = one.first_corner[k]; i < one.first_corner[k + 1]; ++i) {
+    for (index_t i = one.first_corner[k]; i < one.first_corner[k + 1]; ++i) {
       CHECK(one.gap[static_cast<std::size_t>(i)] > 0);
       // A corner taken from either block's tolerance band (a vertex of a neighbouring face just
       // off the contact face) is up to one tolerance per block further apart than the plane's gap.
@@ -1580,7 +1580,7 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
     CHECK(std::memcmp(&plane.normal, &one.planes[k].normal, sizeof(vec3)) == 0);
     CHECK(plane.gap == one.planes[k].gap);
     const auto patch = detection::contact_patch_of(blocks[a], blocks[b], plane, options.tolerance);
-    REQUIRE(static_cast<index>(patch.points.size()) == one.first_corner[k + 1] - one.first_corner[k]);
+    REQUIRE(static_cast<index_t>(patch.points.size()) == one.first_corner[k + 1] - one.first_corner[k]);
     CHECK(std::memcmp(patch.points.data(), one.point.data() + one.first_corner[k], patch.points.size() * sizeof(vec3)) == 0);
   }
   {

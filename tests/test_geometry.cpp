@@ -34,19 +34,19 @@ void require_valid(const tessellation& t) {
   CHECK(r.open_cells == 0);
   CHECK(r.nonconvex_cells == 0);
   CHECK(r.min_face_area > 0);
-  for (tessera::index c = 0; c < t.cell_count(); ++c) CHECK(cell_volume(t, c) > 0);
+  for (tessera::index_t c = 0; c < t.cell_count(); ++c) CHECK(cell_volume(t, c) > 0);
   // twins: opposite normals, same area; every interior face listed exactly once in shared_faces
-  tessera::index interior = 0;
-  for (tessera::index f = 0; f < t.face_count(); ++f) {
+  tessera::index_t interior = 0;
+  for (tessera::index_t f = 0; f < t.face_count(); ++f) {
     if (t.is_boundary_face(f)) continue;
     ++interior;
-    const tessera::index g = t.face_twin[static_cast<std::size_t>(f)];
+    const tessera::index_t g = t.face_twin[static_cast<std::size_t>(f)];
     REQUIRE(g >= 0);
     CHECK((face_normal(t, f) + face_normal(t, g)).norm() < 1e-9);
     CHECK(face_area(t, f) == Approx(face_area(t, g)).epsilon(1e-12));
   }
-  CHECK(static_cast<tessera::index>(t.shared_faces.size()) * 2 == interior);
-  std::set<tessera::index> listed;
+  CHECK(static_cast<tessera::index_t>(t.shared_faces.size()) * 2 == interior);
+  std::set<tessera::index_t> listed;
   for (const auto& s : t.shared_faces) {
     CHECK(s.cell_a < s.cell_b);
     CHECK(t.face_cell[static_cast<std::size_t>(s.face_a)] == s.cell_a);
@@ -55,12 +55,12 @@ void require_valid(const tessellation& t) {
     CHECK(listed.insert(s.face_b).second);
   }
   // boundary faces lie on the side their tag names
-  for (tessera::index f = 0; f < t.face_count(); ++f) {
+  for (tessera::index_t f = 0; f < t.face_count(); ++f) {
     const int side = boundary_side(t.face_neighbor[static_cast<std::size_t>(f)]);
     if (side < 0) continue;
     const int axis = side / 2;
     const real x = (side % 2) ? t.domain.hi[axis] : t.domain.lo[axis];
-    for (tessera::index v : t.face(f)) CHECK(t.vertices[static_cast<std::size_t>(v)][axis] == x);
+    for (tessera::index_t v : t.face(f)) CHECK(t.vertices[static_cast<std::size_t>(v)][axis] == x);
   }
 }
 
@@ -130,8 +130,8 @@ TEST_CASE("clip: tetrahedron and triangular prism mass properties", "[geometry][
 
 TEST_CASE("clip: edge cases keep the polyhedron closed and free of duplicates", "[geometry][polyhedron]") {
   auto no_duplicates = [](const convex_polyhedron& p) {
-    for (tessera::index a = 0; a < p.vertex_count(); ++a)
-      for (tessera::index b = a + 1; b < p.vertex_count(); ++b)
+    for (tessera::index_t a = 0; a < p.vertex_count(); ++a)
+      for (tessera::index_t b = a + 1; b < p.vertex_count(); ++b)
         if ((p.vertex(a) - p.vertex(b)).norm() < 1e-12) return false;
     return true;
   };
@@ -199,8 +199,8 @@ TEST_CASE("clip: edge cases keep the polyhedron closed and free of duplicates", 
       CHECK(p.euler_characteristic() == 2);
       CHECK(p.volume() <= before + 1e-15);
       CHECK(p.volume() > 0);
-      for (tessera::index f = 0; f < p.face_count(); ++f)
-        for (tessera::index v = 0; v < p.vertex_count(); ++v) REQUIRE(p.face_plane(f).signed_distance(p.vertex(v)) < 1e-12);
+      for (tessera::index_t f = 0; f < p.face_count(); ++f)
+        for (tessera::index_t v = 0; v < p.vertex_count(); ++v) REQUIRE(p.face_plane(f).signed_distance(p.vertex(v)) < 1e-12);
     }
     CHECK(no_duplicates(p));
     CHECK(p.contains(center));
@@ -227,7 +227,7 @@ TEST_CASE("tessellations of 1, 2, 100 and 2000 cells are conforming", "[geometry
     CHECK((cell_centroid(t, 1) - vec3(0.75, 0.5, 0.5)).norm() < 1e-14);
     require_valid(t);
   }
-  for (tessera::index n : {100, 2000}) {
+  for (tessera::index_t n : {100, 2000}) {
     DYNAMIC_SECTION(n << " random cells") {
       const tessellation t = random_voronoi(box, n, 42);
       CHECK(t.cell_count() == n);
@@ -247,14 +247,14 @@ TEST_CASE("tessellation of the study's prism with 100 blocks", "[geometry][voron
   CHECK(t.cell_count() == 100);
   require_valid(t);
   real total = 0;
-  for (tessera::index c = 0; c < t.cell_count(); ++c) {
+  for (tessera::index_t c = 0; c < t.cell_count(); ++c) {
     total += cell_volume(t, c);
     CHECK(prism.contains(cell_centroid(t, c), 1e-12));
   }
   CHECK(total == Approx(0.068 * 0.068 * 0.6).epsilon(1e-12));
   // every side of the prism is covered by boundary faces: their areas add up to the side area
   std::array<real, 6> side_area{};
-  for (tessera::index f = 0; f < t.face_count(); ++f)
+  for (tessera::index_t f = 0; f < t.face_count(); ++f)
     if (const int s = boundary_side(t.face_neighbor[static_cast<std::size_t>(f)]); s >= 0)
       side_area[static_cast<std::size_t>(s)] += face_area(t, f);
   CHECK(side_area[0] == Approx(0.068 * 0.6).epsilon(1e-12));
@@ -309,14 +309,14 @@ TEST_CASE("Laguerre cells of larger weight grow", "[geometry][voronoi]") {
     CHECK(t.cell_count() > 380);  // a few light cells squeezed between heavy ones may vanish
     require_valid(t);
     real heavy = 0, light = 0;
-    for (tessera::index c = 0; c < t.cell_count(); ++c)
+    for (tessera::index_t c = 0; c < t.cell_count(); ++c)
       (t.weights[static_cast<std::size_t>(c)] > 0 ? heavy : light) += cell_volume(t, c);
     CHECK(heavy > 1.5 * light);
     CHECK(heavy + light == Approx(1.0).epsilon(1e-12));
     // the Voronoi tessellation of the same generators splits the volume about evenly
     const tessellation v = voronoi(box, seeds);
     real heavy_v = 0;
-    for (tessera::index c = 1; c < v.cell_count(); c += 2) heavy_v += cell_volume(v, c);
+    for (tessera::index_t c = 1; c < v.cell_count(); c += 2) heavy_v += cell_volume(v, c);
     CHECK(heavy_v == Approx(0.5).margin(0.1));
     CHECK(heavy > heavy_v + 0.05);
   }
@@ -335,9 +335,9 @@ TEST_CASE("Lloyd iterations make cell volumes more uniform", "[geometry][voronoi
   const aabb box{vec3(0, 0, 0), vec3(1, 1, 2)};
   auto volume_spread = [](const tessellation& t) {
     real mean = 0, var = 0;
-    for (tessera::index c = 0; c < t.cell_count(); ++c) mean += cell_volume(t, c);
+    for (tessera::index_t c = 0; c < t.cell_count(); ++c) mean += cell_volume(t, c);
     mean /= t.cell_count();
-    for (tessera::index c = 0; c < t.cell_count(); ++c) var += std::pow(cell_volume(t, c) - mean, 2);
+    for (tessera::index_t c = 0; c < t.cell_count(); ++c) var += std::pow(cell_volume(t, c) - mean, 2);
     return std::sqrt(var / t.cell_count()) / mean;  // coefficient of variation
   };
   tessellation_options options;
@@ -388,7 +388,7 @@ TEST_CASE("degenerate generator sets still give valid closed cells", "[geometry]
     require_valid(t);
     CHECK(t.vertex_count() == 216);         // the 6^3 grid points
     CHECK(t.face_count() == 125 * 6);       // every cell a cube
-    for (tessera::index c = 0; c < t.cell_count(); ++c) CHECK(cell_volume(t, c) == Approx(0.008).epsilon(1e-12));
+    for (tessera::index_t c = 0; c < t.cell_count(); ++c) CHECK(cell_volume(t, c) == Approx(0.008).epsilon(1e-12));
   }
   SECTION("generators on the box surface and corners") {
     const std::vector<vec3> seeds{vec3(0, 0, 0), vec3(1, 1, 1), vec3(1, 0, 0.5), vec3(0.5, 0.5, 0.5), vec3(0, 1, 1)};
@@ -460,7 +460,7 @@ TEST_CASE("Neper reader: two cells in a unit cube", "[geometry][io]") {
   CHECK((face_normal(t, s.face_b) + vec3::UnitX()).norm() < 1e-15);
   CHECK(face_area(t, s.face_a) == Approx(1.0).epsilon(1e-15));
   std::array<int, 6> sides{};
-  for (tessera::index f = 0; f < t.face_count(); ++f)
+  for (tessera::index_t f = 0; f < t.face_count(); ++f)
     if (const int b = boundary_side(t.face_neighbor[static_cast<std::size_t>(f)]); b >= 0) ++sides[static_cast<std::size_t>(b)];
   CHECK(sides == std::array<int, 6>{1, 1, 2, 2, 2, 2});
   require_valid(t);
@@ -537,15 +537,15 @@ TEST_CASE("clip: a small polyhedron far from the origin gets no rounding-noise v
     auto p = convex_polyhedron::box(lo, lo + vec3::Constant(size));
     // planes through a vertex, given by another point of the plane (x_v + a tangent) so that the
     // vertex's signed distance is pure rounding (~1e-13 m)
-    const tessera::index v = trial % 8;
+    const tessera::index_t v = trial % 8;
     const vec3 n = vec3(std::cos(0.37 * trial), std::sin(0.37 * trial), 0.3 + 0.01 * trial).normalized();
     const vec3 x_v = p.vertex(v);
     p.clip(plane::through(n, x_v + size * n.cross(vec3::UnitZ()).normalized()), 100);
     if (p.empty()) continue;
     ++cuts;
     CHECK(p.euler_characteristic() == 2);
-    for (tessera::index a = 0; a < p.vertex_count(); ++a)
-      for (tessera::index b = a + 1; b < p.vertex_count(); ++b)
+    for (tessera::index_t a = 0; a < p.vertex_count(); ++a)
+      for (tessera::index_t b = a + 1; b < p.vertex_count(); ++b)
         if ((p.vertex(a) - p.vertex(b)).norm() < 1e-6 * size) ++near_duplicates;
   }
   CHECK(cuts > 100);
@@ -557,7 +557,7 @@ namespace {
 // A cut of a fuzz_clip reproducer: the plane and the tag (the cut's number in the input).
 struct recorded_cut {
   plane h;
-  tessera::index tag;
+  tessera::index_t tag;
 };
 
 // Clips the box [0, 1000 m]^3 with `cuts` in order; `resolution` returns the largest plane
@@ -578,7 +578,7 @@ convex_polyhedron replay_cuts(const std::vector<recorded_cut>& cuts, real& resol
 // check() computes them), and the smallest face height (2 area / longest edge, m).
 real nonconvexity(const convex_polyhedron& p, real* min_height = nullptr) {
   real worst = 0, height = std::numeric_limits<real>::infinity();
-  for (tessera::index f = 0; f < p.face_count(); ++f) {
+  for (tessera::index_t f = 0; f < p.face_count(); ++f) {
     const plane h = p.face_plane(f);
     for (const vec3& v : p.vertices()) worst = std::max(worst, h.signed_distance(v));
     const auto loop = p.face(f);
@@ -670,9 +670,9 @@ TEST_CASE("clip: intersection points that round to the same position become one 
     CHECK(p.euler_characteristic() == 2);
     std::set<std::array<real, 3>> positions;
     for (const vec3& v : p.vertices()) CHECK(positions.insert({v.x(), v.y(), v.z()}).second);
-    for (tessera::index f = 0; f < p.face_count(); ++f) {
+    for (tessera::index_t f = 0; f < p.face_count(); ++f) {
       const auto loop = p.face(f);
-      CHECK(std::set<tessera::index>(loop.begin(), loop.end()).size() == loop.size());
+      CHECK(std::set<tessera::index_t>(loop.begin(), loop.end()).size() == loop.size());
       CHECK(loop.size() >= 3);
     }
   }
@@ -704,7 +704,7 @@ TEST_CASE("voronoi: two near-coincident generator pairs sharing a vertex keep th
   const tessellation_report r = check(t);
   CHECK(r.max_nonconvexity < 1e-13);  // m; was 6.0e-8
   CHECK(r.max_face_warp < 1e-13);     // m; was 5.7e-8
-  for (tessera::index c = 0; c < t.cell_count(); ++c)
+  for (tessera::index_t c = 0; c < t.cell_count(); ++c)
     CHECK(cell_polyhedron(t, c).contains(t.seeds[static_cast<std::size_t>(c)], 1e-12));
 }
 
@@ -740,8 +740,8 @@ TEST_CASE("clip: a plane through a sub-resolution face touching the cut at one v
   REQUIRE_FALSE(p.empty());
   CHECK(p.euler_characteristic() == 2);
   // closed and manifold: every directed edge once, its reverse once
-  std::vector<std::pair<tessera::index, tessera::index>> edges;
-  for (tessera::index f = 0; f < p.face_count(); ++f) {
+  std::vector<std::pair<tessera::index_t, tessera::index_t>> edges;
+  for (tessera::index_t f = 0; f < p.face_count(); ++f) {
     const auto loop = p.face(f);
     CHECK(loop.size() >= 3);
     for (std::size_t k = 0; k < loop.size(); ++k) edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
@@ -782,10 +782,10 @@ TEST_CASE("clip: a cut near the tip of a sub-resolution needle may leave no new 
   REQUIRE(p.face_count() == 4);
   CHECK(p.vertex_count() == 5);
   CHECK(p.euler_characteristic() == 2);
-  std::vector<std::pair<tessera::index, tessera::index>> edges;
-  for (tessera::index f = 0; f < p.face_count(); ++f) {
+  std::vector<std::pair<tessera::index_t, tessera::index_t>> edges;
+  for (tessera::index_t f = 0; f < p.face_count(); ++f) {
     const auto loop = p.face(f);
-    CHECK(std::set<tessera::index>(loop.begin(), loop.end()).size() == loop.size());
+    CHECK(std::set<tessera::index_t>(loop.begin(), loop.end()).size() == loop.size());
     for (std::size_t k = 0; k < loop.size(); ++k) edges.emplace_back(loop[k], loop[(k + 1) % loop.size()]);
   }
   std::sort(edges.begin(), edges.end());
@@ -819,7 +819,7 @@ TEST_CASE("clip: a speck below the resolution of its vertices has a volume withi
   CHECK(p.euler_characteristic() == 2);
   CHECK(p.extent() < 1e-9);  // 3.1e-10 m
   real area = 0;
-  for (tessera::index f = 0; f < p.face_count(); ++f) area += p.face_area(f);
+  for (tessera::index_t f = 0; f < p.face_count(); ++f) area += p.face_area(f);
   const real delta = plane_tolerance_rel * 1000;
   CHECK(std::abs(p.volume()) <= 2 * delta * area);  // 6.1e-40 m^3 <= 1.2e-31 m^3
 }
@@ -869,7 +869,7 @@ TEST_CASE("voronoi: a generator near a cospherical set leaves no welded cluster 
   REQUIRE(t.cell_count() == 20);
   require_valid(t);
   real worst_rel = 0;
-  for (tessera::index c = 0; c < t.cell_count(); ++c) {
+  for (tessera::index_t c = 0; c < t.cell_count(); ++c) {
     const convex_polyhedron p = cell_polyhedron(t, c);
     worst_rel = std::max(worst_rel, nonconvexity(p) / p.extent());
     CHECK(p.contains(t.seeds[static_cast<std::size_t>(c)], 1e-9 * p.extent()));
@@ -887,19 +887,19 @@ namespace {
 // cell vertex inside every bisector of its cell within it (outside). Returns the two maxima (m).
 std::pair<real, real> require_within_weld_tolerance(const aabb& box, const std::vector<vec3>& seeds) {
   const tessellation t = voronoi(box, seeds);
-  REQUIRE(t.cell_count() == static_cast<tessera::index>(seeds.size()));
+  REQUIRE(t.cell_count() == static_cast<tessera::index_t>(seeds.size()));
   const tessellation_report r = check(t);
   CHECK(r.volume_error_rel < 1e-12);
   CHECK(r.unmatched_faces == 0);
   CHECK(r.open_cells == 0);
   real on_own = 0, outside = 0;
-  for (tessera::index c = 0; c < t.cell_count(); ++c) {
+  for (tessera::index_t c = 0; c < t.cell_count(); ++c) {
     const convex_polyhedron p = cell_polyhedron(t, c);
-    for (tessera::index f = 0; f < p.face_count(); ++f) {
-      const tessera::index nb = p.face_tag(f);
+    for (tessera::index_t f = 0; f < p.face_count(); ++f) {
+      const tessera::index_t nb = p.face_tag(f);
       if (nb < 0) continue;  // box sides: vertices are snapped onto them exactly
       const plane h = power_plane(t.seeds[static_cast<std::size_t>(c)], 0, t.seeds[static_cast<std::size_t>(nb)], 0);
-      for (tessera::index v : p.face(f)) on_own = std::max(on_own, std::abs(h.signed_distance(p.vertex(v))));
+      for (tessera::index_t v : p.face(f)) on_own = std::max(on_own, std::abs(h.signed_distance(p.vertex(v))));
       for (const vec3& x : p.vertices()) outside = std::max(outside, h.signed_distance(x));
     }
   }
@@ -977,16 +977,16 @@ TEST_CASE("voronoi: a welded vertex stays within the weld tolerance of every bis
 }
 
 TEST_CASE("csr: rows in entry order, empty rows, offsets count the entries", "[csr]") {
-  using tessera::index;
-  const std::vector<index> row_of{2, 0, 2, 3, 0, 2};  // row 1 stays empty
-  std::vector<index> items;
+  using tessera::index_t;
+  const std::vector<index_t> row_of{2, 0, 2, 3, 0, 2};  // row 1 stays empty
+  std::vector<index_t> items;
   auto entries = [&](auto&& emit) {
     for (std::size_t k = 0; k < row_of.size(); ++k)
-      emit(row_of[k], [&](index slot) { items[static_cast<std::size_t>(slot)] = static_cast<index>(k); });
+      emit(row_of[k], [&](index_t slot) { items[static_cast<std::size_t>(slot)] = static_cast<index_t>(k); });
   };
-  const std::vector<index> offsets = tessera::csr_offsets(4, entries);
+  const std::vector<index_t> offsets = tessera::csr_offsets(4, entries);
   items.resize(static_cast<std::size_t>(offsets.back()));
   tessera::csr_fill(offsets, entries);
-  CHECK(offsets == std::vector<index>{0, 2, 2, 5, 6});
-  CHECK(items == std::vector<index>{1, 4, 0, 2, 5, 3});
+  CHECK(offsets == std::vector<index_t>{0, 2, 2, 5, 6});
+  CHECK(items == std::vector<index_t>{1, 4, 0, 2, 5, 3});
 }

@@ -21,7 +21,7 @@
 using namespace tessera;
 using namespace tessera::reinforcement;
 using truss = embedded_truss<coulomb_bond>;
-using idx = tessera::index;  // plain `index` would be ambiguous with POSIX ::index
+using idx = tessera::index_t;  // plain `index` would be ambiguous with POSIX ::index
 
 static_assert(Reinforcement<none>);
 static_assert(!none::enabled);

@@ -27,7 +27,7 @@
 
 using namespace tessera;
 // <strings.h> declares a global index(); the tests spell tessera's handle type as idx.
-using idx = tessera::index;
+using idx = tessera::index_t;
 
 namespace {
 
@@ -582,7 +582,7 @@ namespace {
 geometry::tessellation separated_voronoi_cube() {
   const auto voronoi = geometry::random_voronoi({vec3::Zero(), vec3(0.3, 0.3, 0.3)}, 30, 5);
   std::vector<geometry::convex_polyhedron> cells;
-  for (tessera::index c = 0; c < voronoi.cell_count(); ++c) {
+  for (tessera::index_t c = 0; c < voronoi.cell_count(); ++c) {
     const auto cell = geometry::cell_polyhedron(voronoi, c);
     cells.push_back(cell.transformed(0.98 * mat3::Identity(), 0.02 * cell.centroid()));
   }
@@ -615,8 +615,8 @@ TEST_CASE("out of balance of rigid blocks: a released block's unbalanced force i
   s.run(1);
   const real g = vec3(30, 10, -98.1).norm();
   real sum = 0, largest = 0;
-  tessera::index free = 0;
-  for (tessera::index b = 0; b < s.blocks().block_count(); ++b) {
+  tessera::index_t free = 0;
+  for (tessera::index_t b = 0; b < s.blocks().block_count(); ++b) {
     if (s.blocks().translation_prescribed(b, 0)) continue;
     sum += s.blocks().weight_mass(b) * g;
     largest = std::max(largest, s.blocks().weight_mass(b) * g);
@@ -641,7 +641,7 @@ TEST_CASE("detected contacts: bit-identical for 1 and 2 threads, bad parameters 
     auto s = falling_blocks(tess, mesh, threads);
     CHECK(s.contacts().bonded_at_start() == 0);  // bond_faces is off by default
     s.run(400);
-    const tessera::index initial = s.contacts().subcontact_count();
+    const tessera::index_t initial = s.contacts().subcontact_count();
     s.run(3600);
     return std::tuple{s.gridpoints().displacement, s.energies().damping_dissipated, s.contacts().subcontact_count(),
                       s.contacts().rebuild_count(), initial, s.contacts().growth_count(), s.energies().error_rel()};
@@ -685,8 +685,8 @@ TEST_CASE("detected contacts: a checkpoint between rebuilds restarts with the sa
   const auto mesh = geometry::zone_blocks(tess);
   auto straight = falling_blocks(tess, mesh, 2);
   straight.run(1500);
-  const tessera::index rebuilds_at_save = straight.contacts().rebuild_count();
-  const tessera::index subcontacts_at_save = straight.contacts().subcontact_count();
+  const tessera::index_t rebuilds_at_save = straight.contacts().rebuild_count();
+  const tessera::index_t subcontacts_at_save = straight.contacts().subcontact_count();
   io::save_checkpoint(straight, dir / "falling.ckpt", "falling blocks");
   straight.run(1500);
   INFO(rebuilds_at_save << " rebuilds and " << subcontacts_at_save << " sub-contacts at the save; "
@@ -709,8 +709,8 @@ TEST_CASE("detected contacts: a checkpoint between rebuilds restarts with the sa
   CHECK(std::memcmp(&ea, &eb, sizeof(energy_balance)) == 0);
   REQUIRE(a.contacts().subcontact_count() == b.contacts().subcontact_count());
   CHECK(a.contacts().rebuild_count() == b.contacts().rebuild_count());
-  tessera::index differing = 0;
-  for (tessera::index i = 0; i < a.contacts().subcontact_count(); ++i) {
+  tessera::index_t differing = 0;
+  for (tessera::index_t i = 0; i < a.contacts().subcontact_count(); ++i) {
     const auto &sa = a.contacts().state(i), &sb = b.contacts().state(i);
     differing += (a.contacts().label(i) != b.contacts().label(i) || sa.sigma_n != sb.sigma_n || sa.tau != sb.tau ||
                   sa.u_n != sb.u_n || a.contacts().area(i) != b.contacts().area(i))
@@ -721,7 +721,7 @@ TEST_CASE("detected contacts: a checkpoint between rebuilds restarts with the sa
 
   // The file of a scene with another contact tolerance is refused before anything changes.
   auto other = falling_blocks(tess, mesh, 1, 2e-3);
-  const tessera::index before = other.contacts().subcontact_count();
+  const tessera::index_t before = other.contacts().subcontact_count();
   CHECK_THROWS_WITH(io::load_checkpoint(other, dir / "falling.ckpt"), Catch::Contains("detected/tolerance"));
   CHECK(other.contacts().subcontact_count() == before);
   // A size record larger than any file could hold is refused before anything is sized by it.
@@ -818,11 +818,11 @@ TEST_CASE("detected contacts on deformable blocks: falling Voronoi blocks, same 
     s.set_gravity(vec3(30, 10, -98.1));
     s.fix(s.gridpoints_on_plane(2, 0, 0.02));
     s.run(400);
-    const tessera::index initial = s.contacts().subcontact_count();
+    const tessera::index_t initial = s.contacts().subcontact_count();
     s.run(23600);  // 0.02 s at dt 8.5e-7 s (the zones' step)
     // The widest distance between a sub-contact's two material points (its opening and slip).
     real worst = 0;
-    for (tessera::index i = 0; i < s.contacts().subcontact_count(); ++i) {
+    for (tessera::index_t i = 0; i < s.contacts().subcontact_count(); ++i) {
       const vec3 xa = s.contacts().position_a(i, s.gridpoints()), xb = s.contacts().position_b(i, s.gridpoints());
       worst = std::max(worst, (xb - xa).norm());
     }
@@ -864,7 +864,7 @@ TEST_CASE("detected contacts on deformable blocks: falling Voronoi blocks, same 
   auto straight = scene();
   straight.run(8000);
   io::save_checkpoint(straight, dir / "falling.ckpt");
-  const tessera::index rebuilds_at_save = straight.contacts().rebuild_count();
+  const tessera::index_t rebuilds_at_save = straight.contacts().rebuild_count();
   straight.run(4000);
   CHECK(straight.contacts().rebuild_count() > rebuilds_at_save);
   auto restarted = scene();
@@ -925,14 +925,14 @@ TEST_CASE("detected contacts on deformable blocks: the study's prism on bonded d
   const real reference = peak_of(faces);
 
   std::vector<geometry::convex_polyhedron> cells;
-  for (tessera::index c = 0; c < scene.tess.cell_count(); ++c) cells.push_back(geometry::cell_polyhedron(scene.tess, c));
+  for (tessera::index_t c = 0; c < scene.tess.cell_count(); ++c) cells.push_back(geometry::cell_polyhedron(scene.tess, c));
   const geometry::tessellation split = geometry::separate_blocks(cells);
   geometry::zoning_options z;
   z.target_edge_length = po.zone_edge;
   const geometry::block_mesh mesh = geometry::zone_blocks(split, z);
   solver<elastic, detected> s(split, mesh, scene.block_material, detected::params(scene.contact, 1e-4, 1000, true, true),
                               {}, opt);
-  const tessera::index bonded = s.contacts().bonded_at_start();
+  const tessera::index_t bonded = s.contacts().bonded_at_start();
   CHECK(bonded == s.contacts().subcontact_count());
   CHECK(bonded > 1500);
   const real peak = peak_of(s);

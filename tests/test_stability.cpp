@@ -44,7 +44,7 @@
 
 using namespace tessera;
 // <strings.h> declares a global index(); the tests spell tessera's handle type as idx.
-using idx = tessera::index;
+using idx = tessera::index_t;
 
 namespace {
 

@@ -28,7 +28,7 @@
 #include "tessera/io/vtk.hpp"
 
 using namespace tessera;
-using idx = tessera::index;
+using idx = tessera::index_t;
 using geometry::block_mesh;
 using geometry::tessellation;
 namespace fs = std::filesystem;

@@ -14,9 +14,9 @@
 
 namespace tessera::scenes {
 
-inline void set_phase_figures(io::summary_json& js, const phase_times& p, index zones, index subcontacts,
+inline void set_phase_figures(io::summary_json& js, const phase_times& p, index_t zones, index_t subcontacts,
                               std::int64_t steps) {
-  const auto per = [&](double seconds, index entities) {
+  const auto per = [&](double seconds, index_t entities) {
     return entities > 0 && steps > 0 ? seconds * 1e9 / (static_cast<double>(entities) * static_cast<double>(steps)) : 0.0;
   };
   js.set("ns_per_zone_step", per(p.zones, zones))

@@ -27,7 +27,7 @@ namespace tessera::scenes {
 
 /// The bar nodes the tie is held and pulled by.
 struct tie_ends {
-  index first = 0, last = 0;  ///< first and last node of the bar
+  index_t first = 0, last = 0;  ///< first and last node of the bar
 };
 
 /// Supports (rc_tie_scene.hpp): rollers on the concrete end faces (x, y fixed, z free), bar ends
@@ -58,9 +58,9 @@ class tie_recorder {
         progress_(loading.progress_label.empty() ? std::string("rc_tie") : loading.progress_label) {
     const tie_bar& truss = s.reinforcement();
     if (!scene.options.bare) {
-      std::vector<index> node_blocks;
+      std::vector<index_t> node_blocks;
       std::vector<real> node_z;
-      for (index n = ends.first; n <= ends.last; ++n) {
+      for (index_t n = ends.first; n <= ends.last; ++n) {
         if (!truss.bonded(n)) continue;
         node_blocks.push_back(scene.prism.mesh.zone_block[static_cast<std::size_t>(truss.host(n).zone)]);
         node_z.push_back(s.bar_nodes().reference(n, 2));
@@ -70,7 +70,7 @@ class tie_recorder {
     // Bar elements whose midpoints lie in the middle two thirds of the tie (concrete_stress).
     const real length = scene.hand.length;
     middle_first_ = truss.element_count();
-    for (index e = 0; e < truss.element_count(); ++e) {
+    for (index_t e = 0; e < truss.element_count(); ++e) {
       const real z = (static_cast<real>(e) + 0.5) * length / static_cast<real>(truss.element_count());
       if (z < length / 6 || z > 5 * length / 6) continue;
       middle_first_ = std::min(middle_first_, e);
@@ -133,12 +133,12 @@ class tie_recorder {
   void record_concrete(const Solver& sv, real f) {
     const tie_bar& truss = sv.reinforcement();
     real bar_sum = 0;
-    for (index e = middle_first_; e < middle_end_; ++e) bar_sum += truss.axial_force(e);
-    const index bar_count = std::max<index>(0, middle_end_ - middle_first_);
+    for (index_t e = middle_first_; e < middle_end_; ++e) bar_sum += truss.axial_force(e);
+    const index_t bar_count = std::max<index_t>(0, middle_end_ - middle_first_);
     r_.concrete_stress.push_back(bar_count > 0 ? (f - bar_sum / static_cast<real>(bar_count)) / scene_.hand.concrete_area
                                                : 0);
-    index softened = 0;
-    for (index i = 0; i < sv.contacts().size(); ++i)
+    index_t softened = 0;
+    for (index_t i = 0; i < sv.contacts().size(); ++i)
       if (analysis::crack_graph::past_peak(sv.contacts().state(i).flags)) ++softened;
     r_.softened_subcontacts.push_back(softened);
     if (r_.first_softening_force == 0 && softened > 0 && f >= 0.1 * scene_.hand.cracking_force)
@@ -155,7 +155,7 @@ class tie_recorder {
     const real yield_flow = 0.02 * scene_.hand.yield_force / scene_.hand.bare_bar_stiffness;  // m
     real plastic = 0;
     if (f >= 0.9 * scene_.hand.yield_force)
-      for (index e = 0; e < truss.element_count(); ++e) plastic += std::max(real(0), truss.plastic_elongation(e));
+      for (index_t e = 0; e < truss.element_count(); ++e) plastic += std::max(real(0), truss.plastic_elongation(e));
     return plastic >= yield_flow;
   }
 
@@ -169,7 +169,7 @@ class tie_recorder {
   std::size_t drops_reported_ = 0, yield_sample_ = 0;
   real max_force_ = 0;
   int softened_count_ = 0;
-  index middle_first_ = 0, middle_end_ = 0;
+  index_t middle_first_ = 0, middle_end_ = 0;
 };
 
 /// The curve figures of a finished tie run: load drops before yield, first cracking (the highest

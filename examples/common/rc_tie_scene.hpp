@@ -59,7 +59,7 @@ struct tie_options {
   /// max_tie_blocks takes them scaled as blocks^(1/3) (law::scaled_prism_params)
   int blocks = 100;
   std::uint64_t seed = 1;    ///< tessellation seed
-  index elements = 96;       ///< truss elements along the bar
+  index_t elements = 96;       ///< truss elements along the bar
   real xi = 4;               ///< bond stiffness ratio K_bond / K_axial (study eq. 9)
   real c_bond = 1e9;         ///< bond cohesion (N per m of bar)
   /// How xi K_axial becomes a nodal bond spring (reinforcement/bond.hpp): per unit bar length is
@@ -205,7 +205,7 @@ struct tie_loading {
   real added_mass_ratio = 0;
   real max_elongation = 2e-3;   ///< stop here at the latest (m)
   real post_yield = 0.25;       ///< after the tie yields at elongation u_y (see yield_elongation), stop at (1 + this) u_y
-  index sample = 25;            ///< steps between curve samples
+  index_t sample = 25;            ///< steps between curve samples
   real damping_gamma = 0.8;     ///< local damping constant (study and 3DEC default 0.8)
   int threads = 0;              ///< OpenMP threads (0 = default)
   std::string softening = "power";  ///< "power" (alpha = 3) or "linear"
@@ -237,7 +237,7 @@ struct tie_result {
   /// Mean axial stress of the concrete over the middle two thirds of the tie (Pa): (F - mean bar
   /// force there) / A_c, i.e. the concrete's share of the load where the bond has handed it over.
   std::vector<real> concrete_stress;
-  std::vector<index> softened_subcontacts;  ///< sub-contacts past their tensile peak, per sample
+  std::vector<index_t> softened_subcontacts;  ///< sub-contacts past their tensile peak, per sample
   /// Out-of-balance ratio per sample: the largest nodal unbalanced force over N_cr (balance.hpp).
   std::vector<real> unbalanced_ratio;
   std::vector<real> rate_factor;  ///< factor on the rate from the sample on (tie_loading::rate_control)
@@ -263,7 +263,7 @@ struct tie_result {
   /// N_cr / 10 (start-up): the onset of (distributed) cracking, long before a through-crack.
   real first_softening_force = 0;
   real concrete_stress_at_first_crack = 0;  ///< concrete_stress at the first_crack_force sample (Pa)
-  index softened_at_first_crack = 0;        ///< softened_subcontacts at that sample
+  index_t softened_at_first_crack = 0;        ///< softened_subcontacts at that sample
   real initial_stiffness = 0;           ///< N/m (initial_stiffness())
   real yield_force = 0;                 ///< mean force over the second half of the post-yield samples (N), 0 if not yielded
   /// Elongation at yield (m): the bar's plastic elongation has reached 2 % of the bare bar's yield
@@ -278,7 +278,7 @@ struct tie_result {
   real boundary_work = 0, contact_dissipated = 0, damping_dissipated = 0, bar_dissipated = 0;  ///< J
   real dt = 0, added_mass_ratio = 0;
   std::int64_t steps = 0;
-  index subcontacts = 0, zones = 0, gridpoints = 0;
+  index_t subcontacts = 0, zones = 0, gridpoints = 0;
   phase_times phases;  ///< time per phase of the step (solver::phases)
   double runtime_s = 0;
   bool yielded = false;

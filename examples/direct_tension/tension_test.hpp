@@ -88,7 +88,7 @@ struct tension_loading {
   real max_displacement = 1.5e-3;  ///< stop at this top displacement (m)
   bool stop_at_separation = true;  ///< stop at complete separation (see the file comment)
   real stop_below_peak_ratio = 0;  ///< > 0: stop once past the peak with stress < ratio x peak
-  index sample = 100;              ///< steps between curve samples
+  index_t sample = 100;              ///< steps between curve samples
   int threads = 0;                 ///< OpenMP threads (0 = library default)
   bool platen_restraint = true;    ///< top gridpoints fixed transversally (the study); false = free (frictionless platen)
   bool keep_fields = false;        ///< keep contact and zone snapshots at the peak and the end
@@ -174,41 +174,41 @@ struct tension_result {
 class load_path_check {
  public:
   template <class Solver>
-  load_path_check(index n_blocks, const Solver& s, const bc::node_group& bottom, const bc::node_group& top)
+  load_path_check(index_t n_blocks, const Solver& s, const bc::node_group& bottom, const bc::node_group& top)
       : touches_bottom_(static_cast<std::size_t>(n_blocks), 0), touches_top_(touches_bottom_),
         parent_(static_cast<std::size_t>(n_blocks)) {
-    for (index g : bottom.nodes) touches_bottom_[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
-    for (index g : top.nodes) touches_top_[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
+    for (index_t g : bottom.nodes) touches_bottom_[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
+    for (index_t g : top.nodes) touches_top_[static_cast<std::size_t>(s.gridpoint_block(g))] = 1;
   }
   template <class Contacts>
   [[nodiscard]] bool separated(const Contacts& c) {
     using law = typename Contacts::law_type;
-    const auto n_blocks = static_cast<index>(parent_.size());
-    std::iota(parent_.begin(), parent_.end(), index{0});
-    const auto root = [&](index b) {
+    const auto n_blocks = static_cast<index_t>(parent_.size());
+    std::iota(parent_.begin(), parent_.end(), index_t{0});
+    const auto root = [&](index_t b) {
       while (parent_[static_cast<std::size_t>(b)] != b)
         b = parent_[static_cast<std::size_t>(b)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(b)])];
       return b;
     };
-    for (index i = 0; i < c.size(); ++i) {
+    for (index_t i = 0; i < c.size(); ++i) {
       const auto& st = c.state(i);
       const auto flags = law::status(st);
       if (tessera::law::has(flags, tessera::law::contact_status::broken_tension)) continue;
       if (tessera::law::has(flags, tessera::law::contact_status::slipped) && !(st.sigma_n > 0)) continue;
-      const index a = root(c.block_a(i)), b = root(c.block_b(i));
+      const index_t a = root(c.block_a(i)), b = root(c.block_b(i));
       if (a != b) parent_[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
     }
     std::vector<char> bottom_root(static_cast<std::size_t>(n_blocks), 0);
-    for (index b = 0; b < n_blocks; ++b)
+    for (index_t b = 0; b < n_blocks; ++b)
       if (touches_bottom_[static_cast<std::size_t>(b)]) bottom_root[static_cast<std::size_t>(root(b))] = 1;
-    for (index b = 0; b < n_blocks; ++b)
+    for (index_t b = 0; b < n_blocks; ++b)
       if (touches_top_[static_cast<std::size_t>(b)] && bottom_root[static_cast<std::size_t>(root(b))]) return false;
     return true;
   }
 
  private:
   std::vector<char> touches_bottom_, touches_top_;
-  std::vector<index> parent_;
+  std::vector<index_t> parent_;
 };
 
 /// The figures of the final state: energies, crack areas and the dissipation on and off the
@@ -236,7 +236,7 @@ void read_tension_end(tension_result& r, const Solver& s, const prism_scene& sce
   const auto* peak_tau = r.at_peak.contacts.find("tau_Pa");
   require(r.at_peak.contacts.size() == 0 || (peak_sigma_n != nullptr && peak_tau != nullptr),
           "direct_tension: the contact law declares no sigma_n or tau field");
-  for (index i = 0; i < c.size(); ++i) {
+  for (index_t i = 0; i < c.size(); ++i) {
     const auto& st = c.state(i);
     const auto flags = law::status(st);
     const real a = c.area(i), nz = c.normal(i).z();
@@ -334,7 +334,7 @@ template <class Solver, class LawParams>
   ramp(s);
 
   // The separation test: no load path left between the blocks on the two supports.
-  const index n_blocks = scene.tess.cell_count();
+  const index_t n_blocks = scene.tess.cell_count();
   load_path_check load_path(n_blocks, s, bottom, top);
   const auto separated_now = [&](const Solver& sv) { return load_path.separated(sv.contacts()); };
 

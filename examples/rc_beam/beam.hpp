@@ -146,7 +146,7 @@ struct beam_scene {
   beam_bar::params bar;
   beam_hand_checks hand;
   beam_options options;
-  index elements_per_bar = 0;
+  index_t elements_per_bar = 0;
 };
 
 [[nodiscard]] inline beam_hand_checks beam_hand(const beam_options& o, const presets::study_beam_law::params& c) {
@@ -258,7 +258,7 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   s.bar.steel = reinforcement::steel{beam_steel_young, beam_steel_yield, 7850.0, o.bar_diameter};
   s.bar.bond = presets::tie_bond();
   const real bar_length = o.half_length() - o.end_cover;
-  s.elements_per_bar = std::max<index>(2, std::llround(o.trusses_per_block * bar_length / s.hand.mean_block_size));
+  s.elements_per_bar = std::max<index_t>(2, std::llround(o.trusses_per_block * bar_length / s.hand.mean_block_size));
   for (int i = 0; i < o.bars; ++i) {
     const real zc = o.width * (2 * i + 1) / (2.0 * o.bars);
     const real y = o.height - o.effective_depth;

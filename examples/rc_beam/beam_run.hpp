@@ -57,7 +57,7 @@ struct beam_crack {
 
 /// Opening of sub-contact i: the separation of its two gridpoints, opening and slip (m).
 template <class Contacts>
-[[nodiscard]] real subcontact_opening(const Contacts& c, const node_set& gp, index i) {
+[[nodiscard]] real subcontact_opening(const Contacts& c, const node_set& gp, index_t i) {
   return (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm();
 }
 
@@ -82,8 +82,8 @@ class beam_cracks {
   beam_cracks(const Contacts& c, const node_set& gp, real height, real cell_size)
       : height_(height), cell_(cell_size) {
     // Faces: contiguous runs of one block pair.
-    for (index i = 0; i < c.size(); ++i) {
-      const index a = c.block_a(i), b = c.block_b(i);
+    for (index_t i = 0; i < c.size(); ++i) {
+      const index_t a = c.block_a(i), b = c.block_b(i);
       if (faces_.empty() || faces_.back().a != a || faces_.back().b != b || faces_.back().end != i)
         faces_.push_back({a, b, i, i, vec3::Zero(), 0});
       face& f = faces_.back();
@@ -91,7 +91,7 @@ class beam_cracks {
       f.centre += c.area(i) * c.position(i, gp);
       f.area += c.area(i);
     }
-    index blocks = 0;
+    index_t blocks = 0;
     for (face& f : faces_) {
       if (f.area > 0) f.centre /= f.area;
       blocks = std::max({blocks, f.a + 1, f.b + 1});
@@ -106,11 +106,11 @@ class beam_cracks {
   /// Cracks whose sub-contacts are softened, and separated by w_open if w_open > 0.
   template <class Contacts>
   [[nodiscard]] std::vector<beam_crack> evaluate(const Contacts& c, const node_set& gp, real w_open) const {
-    const auto jump = [&](index i) { return subcontact_opening(c, gp, i); };
+    const auto jump = [&](index_t i) { return subcontact_opening(c, gp, i); };
     std::vector<char> cracked(faces_.size(), 0);
     for (std::size_t k = 0; k < faces_.size(); ++k) {
       real a = 0;
-      for (index i = faces_[k].first; i < faces_[k].end; ++i)
+      for (index_t i = faces_[k].first; i < faces_[k].end; ++i)
         if (analysis::crack_graph::past_peak(c.state(i).flags) && (w_open <= 0 || jump(i) >= w_open)) a += c.area(i);
       cracked[k] = a >= 0.5 * faces_[k].area && faces_[k].area > 0;
     }
@@ -139,7 +139,7 @@ class beam_cracks {
       cr.y_max = 0;
       for (std::size_t k : list) {
         cr.area += faces_[k].area;
-        for (index i = faces_[k].first; i < faces_[k].end; ++i) {
+        for (index_t i = faces_[k].first; i < faces_[k].end; ++i) {
           const vec3 p = c.position(i, gp);
           fit.add(c.area(i), p);
           cr.y_min = std::min(cr.y_min, p.y());
@@ -152,7 +152,7 @@ class beam_cracks {
       double lw = 0, lx = 0;
       const real low = cr.y_min + (cr.y_max - cr.y_min) / 3;
       for (std::size_t k : list)
-        for (index i = faces_[k].first; i < faces_[k].end; ++i) {
+        for (index_t i = faces_[k].first; i < faces_[k].end; ++i) {
           const vec3 p = c.position(i, gp);
           if (p.y() <= low) lw += c.area(i), lx += c.area(i) * p.x();
         }
@@ -165,7 +165,7 @@ class beam_cracks {
 
  private:
   struct face {
-    index a, b, first, end;
+    index_t a, b, first, end;
     vec3 centre;
     real area;
   };
@@ -182,8 +182,8 @@ struct beam_loading {
   real max_deflection = 0.006; ///< stop here at the latest (m)
   real failure_drop = 0.25;    ///< stop once the load has fallen this fraction below its peak
   real first_crack_only = 0;   ///< > 0: stop at this multiple of the developed-crack deflection (quick runs)
-  index sample = 50;           ///< steps between samples
-  index crack_every = 10;      ///< samples between crack analyses during the run
+  index_t sample = 50;           ///< steps between samples
+  index_t crack_every = 10;      ///< samples between crack analyses during the run
   real smoothing = 2e-5;       ///< deflection window of the smoothed load (m)
   real crack_width = 1e-4;     ///< opening at which a crack counts at the end of the run (m)
   real damping_gamma = 0.8;
@@ -237,7 +237,7 @@ struct beam_result {
        tension_dissipated = 0, damping_dissipated = 0;
   real dt = 0, added_mass_ratio = 0, quasi_static_index = 0, ramp_time = 0;
   std::int64_t steps = 0;
-  index subcontacts = 0, zones = 0, gridpoints = 0;
+  index_t subcontacts = 0, zones = 0, gridpoints = 0;
   real contact_points_over_depth = 0;
   real trusses_per_block = 0;
   phase_times phases;
@@ -260,7 +260,7 @@ struct beam_result {
                                                const std::string& name) {
   bc::node_group g;
   g.name = name;
-  for (index i = 0; i < gp.size(); ++i) {
+  for (index_t i = 0; i < gp.size(); ++i) {
     const real x = gp.reference(i, 0);
     if (std::abs(gp.reference(i, 1) - y) <= tol && x >= x0 - tol && x <= x1 + tol) g.nodes.push_back(i);
   }
@@ -278,11 +278,11 @@ template <class Contacts>
                                                          real cell, real width) {
   constexpr real bin = 0.005;
   real x_max = 0;
-  for (index i = 0; i < c.size(); ++i) x_max = std::max(x_max, c.position(i, gp).x());
+  for (index_t i = 0; i < c.size(); ++i) x_max = std::max(x_max, c.position(i, gp).x());
   const auto bins = static_cast<std::size_t>(x_max / bin) + 1;
   std::vector<real> opening(bins, 0);
-  const auto jump = [&](index i) { return subcontact_opening(c, gp, i); };
-  for (index i = 0; i < c.size(); ++i) {
+  const auto jump = [&](index_t i) { return subcontact_opening(c, gp, i); };
+  for (index_t i = 0; i < c.size(); ++i) {
     const vec3 p = c.position(i, gp);
     if (p.y() > height / 3 || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
     const auto k = std::min(bins - 1, static_cast<std::size_t>(std::max(real(0), p.x()) / bin));
@@ -301,7 +301,7 @@ template <class Contacts>
     cr.width = opening[k];
     crack_line_fit fit;
     cr.y_min = height;
-    for (index i = 0; i < c.size(); ++i) {
+    for (index_t i = 0; i < c.size(); ++i) {
       const vec3 p = c.position(i, gp);
       if (std::abs(p.x() - cr.x) > 1.5 * cell || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
       const real w = jump(i);
@@ -328,7 +328,7 @@ template <class Contacts>
 class hinged_plate {
  public:
   hinged_plate(const node_set& gp, bc::node_group group, real axis) : group_(std::move(group)) {
-    for (index n : group_.nodes) {
+    for (index_t n : group_.nodes) {
       arm_.push_back(gp.reference(n, 0) - axis);
       inertia_ += gp.mass(n) * arm_.back() * arm_.back();
     }
@@ -340,7 +340,7 @@ class hinged_plate {
     if (inertia_ > 0 && dt > 0) {
       real moment = 0;  // on the plate from the concrete, about the axis
       for (std::size_t k = 0; k < arm_.size(); ++k) {
-        const index n = group_.nodes[k];
+        const index_t n = group_.nodes[k];
         const real internal = gp.mass(n) * (gp.prescribed_velocity(n, 1) - v_last_[k]) / dt - gp.reaction(n, 1);
         moment += internal * arm_[k];
       }
@@ -348,7 +348,7 @@ class hinged_plate {
       omega_ += dt * (moment - gamma * std::abs(moment) * sign) / inertia_;
     }
     for (std::size_t k = 0; k < arm_.size(); ++k) {
-      const index n = group_.nodes[k];
+      const index_t n = group_.nodes[k];
       v_last_[k] = gp.prescribed_velocity(n, 1);
       gp.prescribed_velocity(n, 1) = v0 + omega_ * arm_[k];
     }
@@ -429,11 +429,11 @@ template <class Law, class OnEvent>
     loading_plate.emplace(gp, plate, o.load_x());
   }
   for (int b = 0; b < o.bars; ++b) {
-    const index last = s.reinforcement().bar_nodes(b).second - 1;
+    const index_t last = s.reinforcement().bar_nodes(b).second - 1;
     bc::fix(s.bar_nodes(), bc::node_group{{last}, "bar end on the symmetry face"}, bc::along(0));
   }
-  std::vector<index> midspan;
-  for (index i = 0; i < gp.size(); ++i)
+  std::vector<index_t> midspan;
+  for (index_t i = 0; i < gp.size(); ++i)
     if (std::abs(gp.reference(i, 0) - L) <= tol && std::abs(gp.reference(i, 1)) <= tol) midspan.push_back(i);
   require(!midspan.empty(), "rc_beam: no soffit gridpoint on the symmetry face");
 
@@ -460,9 +460,9 @@ template <class Law, class OnEvent>
       1, static_cast<std::size_t>(std::llround(loading.smoothing / (loading.rate * s.dt() * static_cast<real>(loading.sample)))));
   double window_sum = 0;
   real max_load = 0;
-  index samples = 0;
-  std::vector<index> soffit;  // sub-contacts of the constant-moment zone's soffit (y <= h/10)
-  for (index i = 0; i < s.contacts().size(); ++i)
+  index_t samples = 0;
+  std::vector<index_t> soffit;  // sub-contacts of the constant-moment zone's soffit (y <= h/10)
+  for (index_t i = 0; i < s.contacts().size(); ++i)
     if (s.contacts().position(i, gp).y() <= 0.1 * o.height && s.contacts().position(i, gp).x() >= o.load_x())
       soffit.push_back(i);
   real soffit_peak_load = 0, soffit_peak_deflection = 0;
@@ -474,11 +474,11 @@ template <class Law, class OnEvent>
       fs = -support_platen->force().y();
       up = loading_platen->displacement().y();
     } else {
-      for (index n : plate.nodes) fp += sv.gridpoints().reaction(n, 1), up += sv.gridpoints().displacement(n, 1);
+      for (index_t n : plate.nodes) fp += sv.gridpoints().reaction(n, 1), up += sv.gridpoints().displacement(n, 1);
       up /= static_cast<real>(plate.nodes.size());  // the mean over the tied gridpoints
-      for (index n : support.nodes) fs += sv.gridpoints().reaction(n, 1);
+      for (index_t n : support.nodes) fs += sv.gridpoints().reaction(n, 1);
     }
-    for (index n : midspan) u += sv.gridpoints().displacement(n, 1);
+    for (index_t n : midspan) u += sv.gridpoints().displacement(n, 1);
     const real raw = 2 * fs, defl = -u / static_cast<real>(midspan.size());
     r.deflection.push_back(defl);
     r.load.push_back(raw);
@@ -493,7 +493,7 @@ template <class Law, class OnEvent>
       // Mean bending stress of the soffit: sum A t_x n_x / sum A n_x^2 over its sub-contacts
       // (t = sigma_n n + tau; equals sigma_xx for a uniform stress field).
       double num = 0, den = 0;
-      for (index i : soffit) {
+      for (index_t i : soffit) {
         const auto& st = sv.contacts().state(i);
         const vec3 n = sv.contacts().normal(i);
         const real a = sv.contacts().area(i);
@@ -540,7 +540,7 @@ template <class Law, class OnEvent>
     }
     if (!r.steel_yielded) {
       const beam_bar& bar = sv.reinforcement();
-      for (index e = 0; e < bar.element_count(); ++e)
+      for (index_t e = 0; e < bar.element_count(); ++e)
         if (bar.plastic_elongation(e) > 0) {
           r.steel_yielded = true;
           r.yield_load = load;
@@ -624,7 +624,7 @@ template <class Law, class OnEvent>
   r.zones = scene.mesh.zone_count();
   r.gridpoints = scene.mesh.gridpoint_count();
   std::vector<real> areas;
-  for (index i = 0; i < s.contacts().size(); ++i) areas.push_back(s.contacts().area(i));
+  for (index_t i = 0; i < s.contacts().size(); ++i) areas.push_back(s.contacts().area(i));
   std::nth_element(areas.begin(), areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2), areas.end());
   r.contact_points_over_depth = areas.empty() ? 0 : o.height / std::sqrt(areas[areas.size() / 2]);
   r.trusses_per_block = static_cast<real>(scene.elements_per_bar) * hand.mean_block_size / (L - o.end_cover);

@@ -45,7 +45,7 @@
 
 namespace {
 
-using tessera::index;
+using tessera::index_t;
 using tessera::real;
 namespace fs = std::filesystem;
 
@@ -78,7 +78,7 @@ class snapshot_writer {
   void final_contacts(const Solver& s) {
     const auto& c = s.contacts();
     const auto& gp = s.gridpoints();
-    for (index i = 0; i < c.size(); ++i) {
+    for (index_t i = 0; i < c.size(); ++i) {
       const real w = tessera::scenes::subcontact_opening(c, gp, i);
       if (!tessera::analysis::crack_graph::past_peak(c.state(i).flags)) continue;
       const tessera::vec3 p = c.position(i, gp);

@@ -80,7 +80,7 @@
 
 namespace {
 
-using tessera::index;
+using tessera::index_t;
 using tessera::real;
 using tessera::vec3;
 namespace fs = std::filesystem;

@@ -32,7 +32,7 @@
 namespace {
 
 using namespace tessera;
-using tessera::index;  // not strings.h's index()
+using tessera::index_t;  // not strings.h's index()
 namespace ver = tessera::verification;
 
 struct inputs {
@@ -59,7 +59,7 @@ std::vector<geometry::convex_polyhedron> scene_cells(const inputs& in) {
   std::vector<geometry::convex_polyhedron> cells{
       geometry::convex_polyhedron::box({-1.5 * L, -1.5 * L, -0.2 * L}, {2.5 * L, 2.5 * L, 0})};
   const auto voronoi = geometry::random_voronoi({vec3::Zero(), vec3(L, L, L)}, in.blocks, in.common.seed);
-  for (index c = 0; c < voronoi.cell_count(); ++c) {
+  for (index_t c = 0; c < voronoi.cell_count(); ++c) {
     const auto cell = geometry::cell_polyhedron(voronoi, c);
     const vec3 centre = cell.centroid();
     cells.push_back(cell.transformed((1 - in.gap) * mat3::Identity(), in.gap * centre + vec3(0, 0, in.lift)));
@@ -100,21 +100,21 @@ int run(const inputs& in) {
   const real step_count = std::ceil(in.duration / s.dt());
   require(step_count <= 1e8, "rubble: ", in.duration, " s at the stable step ", s.dt(), " s would take ", step_count,
           " steps (over 1e8): shorten --duration or lower --kn");
-  const auto steps = static_cast<index>(step_count);
+  const auto steps = static_cast<index_t>(step_count);
 
   // Everything checked: now the outputs.
   const std::filesystem::path out = in.common.out;
   io::ensure_directory(out);
   io::vtk::pvd_collection pvd;
   std::vector<double> t, kinetic, stored, exchange, subs, rebuilds, top;
-  const index every = std::max<index>(1, steps / 500), frame_every = std::max<index>(1, steps / in.frames);
+  const index_t every = std::max<index_t>(1, steps / 500), frame_every = std::max<index_t>(1, steps / in.frames);
   const auto top_z = [&] {
     real z = -1e300;
-    for (index b = 1; b < s.blocks().block_count(); ++b)
+    for (index_t b = 1; b < s.blocks().block_count(); ++b)
       z = std::max(z, cells[static_cast<std::size_t>(b)].centroid().z() + s.blocks().displacement(b).z());
     return z;
   };
-  const auto snapshot = [&](index k) {
+  const auto snapshot = [&](index_t k) {
     if (!in.vtk) return;
     char name[32];
     std::snprintf(name, sizeof name, "blocks_%04lld.vtu", static_cast<long long>(k / frame_every));
@@ -123,7 +123,7 @@ int run(const inputs& in) {
   };
   snapshot(0);
   double subcontact_steps = 0;  // sum over the steps of the sub-contacts the step updated
-  for (index k = 1; k <= steps; ++k) {
+  for (index_t k = 1; k <= steps; ++k) {
     s.step();
     subcontact_steps += static_cast<double>(s.contacts().subcontact_count());
     if (k % every == 0 || k == steps) {
@@ -142,7 +142,7 @@ int run(const inputs& in) {
 
   // The heap: height of the highest centroid, horizontal spread of the centroids beyond the cube.
   real spread = 0;
-  for (index b = 1; b < s.blocks().block_count(); ++b) {
+  for (index_t b = 1; b < s.blocks().block_count(); ++b) {
     const vec3 x = cells[static_cast<std::size_t>(b)].centroid() + s.blocks().displacement(b);
     spread = std::max({spread, -x.x(), x.x() - in.size, -x.y(), x.y() - in.size});
   }
@@ -166,7 +166,7 @@ int run(const inputs& in) {
       .set("dt_s", s.dt())
       .set("steps", static_cast<std::int64_t>(steps))
       .set("rebuilds", static_cast<std::int64_t>(s.contacts().rebuild_count()))
-      .set("steps_per_rebuild", static_cast<double>(steps) / std::max<index>(1, s.contacts().rebuild_count()))
+      .set("steps_per_rebuild", static_cast<double>(steps) / std::max<index_t>(1, s.contacts().rebuild_count()))
       .set("storage_growths", static_cast<std::int64_t>(s.contacts().growth_count()))
       .set("subcontacts", static_cast<std::int64_t>(s.contacts().subcontact_count()))
       .set("subcontacts_peak", static_cast<std::int64_t>(s.contacts().peak_subcontacts()))
@@ -183,7 +183,7 @@ int run(const inputs& in) {
   // Per-entity cost (common/phase_report.hpp) over the mean sub-contact count; the contact phase
   // includes the rebuilds, so the per-step cost without them is given beside.
   const double mean_subcontacts = steps > 0 ? subcontact_steps / static_cast<double>(steps) : 0.0;
-  tessera::scenes::set_phase_figures(j, s.phases(), 0, static_cast<index>(std::llround(mean_subcontacts)),
+  tessera::scenes::set_phase_figures(j, s.phases(), 0, static_cast<index_t>(std::llround(mean_subcontacts)),
                                      static_cast<std::int64_t>(steps));
   j.set("mean_subcontacts", mean_subcontacts)
       .set("ns_per_subcontact_step_without_rebuilds",
@@ -191,7 +191,7 @@ int run(const inputs& in) {
   j.write(out / "summary.json");
   std::printf("rubble: %d blocks, %lld steps of %.3g s, %lld rebuilds (%.1f steps each), %lld sub-contacts (peak %lld)\n",
               in.blocks, static_cast<long long>(steps), s.dt(), static_cast<long long>(s.contacts().rebuild_count()),
-              static_cast<double>(steps) / std::max<index>(1, s.contacts().rebuild_count()),
+              static_cast<double>(steps) / std::max<index_t>(1, s.contacts().rebuild_count()),
               static_cast<long long>(s.contacts().subcontact_count()),
               static_cast<long long>(s.contacts().peak_subcontacts()));
   std::printf("  highest centroid %.4g m, spread beyond the cube %.4g m, runtime_s %.2f (rebuilds %.2f s)\n", top_z(),

@@ -76,7 +76,7 @@ measures measure(const geo::tessellation& tess, const geo::block_mesh& mesh, dou
   const geo::tessellation_report report = geo::check(tess);
   const geo::zone_quality q = geo::quality(mesh);
   std::int64_t boundary_faces = 0;
-  for (tessera::index f = 0; f < tess.face_count(); ++f) boundary_faces += tess.is_boundary_face(f);
+  for (tessera::index_t f = 0; f < tess.face_count(); ++f) boundary_faces += tess.is_boundary_face(f);
   // One sub-contact per face-node pair of a shared face (the study: 3808 for 100 blocks).
   std::int64_t subcontacts = 0;
   for (const auto& sf : tess.shared_faces)

@@ -78,7 +78,7 @@ struct result {
   bool pass = false;
   real drift_m = 0;  ///< stack: motion of the top block over the second half of the run
   real energy_error_rel = 0;
-  index steps = 0, rebuilds = 0, growths = 0, subcontacts = 0;
+  index_t steps = 0, rebuilds = 0, growths = 0, subcontacts = 0;
   real dt = 0;
   std::vector<double> t, x, z, rotation;  ///< curve: top (moving) block's centroid displacement and tilt
   // reclose: the path (top displacement m, axial stress Pa) and its figures (Pa)
@@ -90,7 +90,7 @@ struct result {
   // state at the last rebuild. peak: the shear force at failure; stress_at_reversal: the tilt then (rad)
   std::vector<double> force;
   real acceleration = 0, acceleration_reference = 0, acceleration_error = 0, slide_m = 0;
-  index bonded_at_start = 0, kept_last_rebuild = 0;
+  index_t bonded_at_start = 0, kept_last_rebuild = 0;
   geometry::tessellation final_blocks;    ///< block geometry at the end (for VTK)
 };
 
@@ -111,8 +111,8 @@ constexpr real ramp_s = 0.1;  ///< incline and topple: time over which the tilt 
 [[nodiscard]] inline geometry::tessellation moved(const geometry::tessellation& tess, const geometry::block_mesh& mesh,
                                                  const node_set& gp) {
   geometry::tessellation t = tess;
-  for (index i = 0; i < mesh.gridpoint_count(); ++i)
-    if (const index v = mesh.gridpoint_vertex[static_cast<std::size_t>(i)]; v != invalid_index)
+  for (index_t i = 0; i < mesh.gridpoint_count(); ++i)
+    if (const index_t v = mesh.gridpoint_vertex[static_cast<std::size_t>(i)]; v != invalid_index)
       t.vertices[static_cast<std::size_t>(v)] = mesh.gridpoints[static_cast<std::size_t>(i)] + gp.displacement.row(i).transpose();
   return t;
 }
@@ -185,15 +185,15 @@ inline result run_scene(const inputs& in, const std::vector<geometry::convex_pol
                    : run_scene<undamped>(in, cells, gravity, gamma, duration);
 }
 /// Steps for `duration` s at the stable step dt; throws invalid_input past 2e8 (hours of run time).
-inline index step_count(real duration, real dt) {
+inline index_t step_count(real duration, real dt) {
   const real n = std::ceil(duration / dt);
   require(n <= 2e8, "verification: ", duration, " s at the stable step ", dt, " s would take ", n,
           " steps (over 2e8, hours of run time): shorten --duration or lower --kn");
-  return static_cast<index>(n);
+  return static_cast<index_t>(n);
 }
 /// Appends one curve sample of block b: time, x and z displacement, tilt about y (down the slope: +).
 template <class Solver>
-void record_motion(result& r, const Solver& s, index b) {
+void record_motion(result& r, const Solver& s, index_t b) {
   const mat3 rot = s.blocks().rotation(b);
   r.t.push_back(s.time());
   r.x.push_back(s.blocks().displacement(b).x());
@@ -203,11 +203,11 @@ void record_motion(result& r, const Solver& s, index b) {
 /// Steps s through `duration` s (gravity(t) while t <= ramp_s), calling record() about 2 000 times
 /// and at the end; returns the step count and top() (the moving block's displacement) at mid-run.
 template <class Solver, class Top, class Record>
-std::pair<index, vec3> step_through(Solver& s, real duration, const gravity_field& gravity, Top&& top, Record&& record) {
-  const index steps = step_count(duration, s.dt());
-  const index every = std::max<index>(1, steps / 2000);
+std::pair<index_t, vec3> step_through(Solver& s, real duration, const gravity_field& gravity, Top&& top, Record&& record) {
+  const index_t steps = step_count(duration, s.dt());
+  const index_t every = std::max<index_t>(1, steps / 2000);
   vec3 at_half = vec3::Zero();
-  for (index k = 1; k <= steps; ++k) {
+  for (index_t k = 1; k <= steps; ++k) {
     if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
     s.step();
     if (k == steps / 2) at_half = top();
@@ -217,7 +217,7 @@ std::pair<index, vec3> step_through(Solver& s, real duration, const gravity_fiel
 }
 /// The run's closing figures: step and contact statistics, energy balance, final geometry.
 template <class Solver>
-void record_end(result& r, const Solver& s, index steps, const geometry::tessellation& tess,
+void record_end(result& r, const Solver& s, index_t steps, const geometry::tessellation& tess,
                 const geometry::block_mesh& mesh) {
   r.steps = steps;
   r.rebuilds = s.contacts().rebuild_count();
@@ -246,13 +246,13 @@ result run_scene_deformable(const inputs& in, const std::vector<geometry::convex
   result r;
   r.which = in.which;
   r.dt = s.dt();
-  const index top = static_cast<index>(cells.size()) - 1;
+  const index_t top = static_cast<index_t>(cells.size()) - 1;
   // A block's motion: the mass-weighted mean displacement of its gridpoints, its co-rotational
   // rotation for the tilt.
-  const auto displacement = [&](index b) {
+  const auto displacement = [&](index_t b) {
     vec3 u = vec3::Zero();
     real m = 0;
-    for (index i = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+    for (index_t i = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
          i < mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1]; ++i) {
       u += s.gridpoints().mass[i] * s.gridpoints().displacement.row(i).transpose();
       m += s.gridpoints().mass[i];
@@ -272,7 +272,7 @@ result run_scene_deformable(const inputs& in, const std::vector<geometry::convex
   if (in.which == "stack") {
     // Every gridpoint's weight (no mass scaling here) against the fixed gridpoints' reactions.
     real weight = 0, reaction = 0;
-    for (index i = 0; i < s.gridpoints().size(); ++i) {
+    for (index_t i = 0; i < s.gridpoints().size(); ++i) {
       weight += s.gridpoints().mass[i] * g;
       reaction += s.gridpoints().reaction(i, 2);
     }
@@ -283,11 +283,11 @@ result run_scene_deformable(const inputs& in, const std::vector<geometry::convex
     // The contacts' mean closure, -sum a u_n / sum a, against W / (k_n A) (the faces deform, so
     // there is no one overlap of the blocks' geometry).
     real closure = 0, area = 0, mass = 0;
-    for (index i = 0; i < s.contacts().subcontact_count(); ++i) {
+    for (index_t i = 0; i < s.contacts().subcontact_count(); ++i) {
       closure -= s.contacts().area(i) * s.contacts().state(i).u_n;
       area += s.contacts().area(i);
     }
-    for (index i = mesh.block_gridpoint_offsets[1]; i < mesh.block_gridpoint_offsets[2]; ++i) mass += s.gridpoints().mass[i];
+    for (index_t i = mesh.block_gridpoint_offsets[1]; i < mesh.block_gridpoint_offsets[2]; ++i) mass += s.gridpoints().mass[i];
     r.measured = closure / area;
     r.reference = mass * g / (in.k_n * in.size * in.size);
   }
@@ -309,14 +309,14 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
   result r;
   r.which = in.which;
   r.dt = s.dt();
-  const index top = s.blocks().block_count() - 1;
+  const index_t top = s.blocks().block_count() - 1;
   const auto [steps, top_at_half] = step_through(
       s, duration, gravity, [&] { return s.blocks().displacement(top); }, [&] { record_motion(r, s, top); });
   record_end(r, s, steps, tess, mesh);
   r.drift_m = (s.blocks().displacement(top) - top_at_half).norm();
   if (in.which == "stack") {
     real weight = 0;
-    for (index b = 0; b < s.blocks().block_count(); ++b) weight += s.blocks().weight_mass(b) * g;
+    for (index_t b = 0; b < s.blocks().block_count(); ++b) weight += s.blocks().weight_mass(b) * g;
     r.measured = s.blocks().reaction_force(0).z();
     r.reference = weight;
   }
@@ -377,7 +377,7 @@ inline result run_bond(const inputs& in) {
   solver<blocks::rigid, bonded, reinforcement::none, undamped> s(tess, mesh, blocks::rigid::params{in.density},
                                                                  bonded::params(p, in.tolerance, 1000, true));
   s.fix(s.gridpoints_on_plane(2, -0.5 * b, 1e-9 * b));
-  const index steps = step_count(duration, s.dt());
+  const index_t steps = step_count(duration, s.dt());
   result r;
   r.which = in.which;
   r.dt = s.dt();
@@ -385,18 +385,18 @@ inline result run_bond(const inputs& in) {
   // The contact force on the cube along the slope (x; the scene stays level, gravity turns).
   const auto shear_force = [&] {
     real f = 0;
-    for (index i = 0; i < s.contacts().subcontact_count(); ++i) f += s.contacts().force(i).x();
+    for (index_t i = 0; i < s.contacts().subcontact_count(); ++i) f += s.contacts().force(i).x();
     return -f;
   };
   const auto failed = [&] {
-    for (index i = 0; i < s.contacts().subcontact_count(); ++i)
+    for (index_t i = 0; i < s.contacts().subcontact_count(); ++i)
       if (s.contacts().state(i).flags != law::contact_status::intact) return true;
     return false;
   };
-  const index every = std::max<index>(1, steps / 2000);
+  const index_t every = std::max<index_t>(1, steps / 2000);
   bool broken = false;
   real force_before = 0;
-  for (index k = 1; k <= steps; ++k) {
+  for (index_t k = 1; k <= steps; ++k) {
     const real tilt = theta * std::min<real>(1, s.time() / ramp);
     s.set_gravity(vec3(g * std::sin(tilt), 0, -g * std::cos(tilt)));
     s.step();

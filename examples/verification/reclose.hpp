@@ -30,7 +30,7 @@ struct reclose_result {
   real tensile_slope = 0, compressive_slope = 0;  ///< Pa per m of top displacement
   real peak = 0, stress_at_reversal = 0, max_stress_after_closure = 0, min_stress = 0;  ///< Pa
   real f_T = 0;
-  index steps = 0;
+  index_t steps = 0;
   real dt = 0, energy_error_rel = 0;
   std::vector<double> u, stress;  ///< the whole path (m, Pa)
 };

@@ -38,7 +38,7 @@
 
 namespace {
 
-using tessera::index;
+using tessera::index_t;
 using tessera::real;
 using tessera::vec3;
 using tessera::detail::concat;
@@ -60,7 +60,7 @@ vec3 raw_normal(byte_reader& in) {
 // L the extent); it dominates for slivers and needles, whose volume is << L^3.
 real volume_rounding(const convex_polyhedron& p) {
   std::size_t triangles = 0;
-  for (index f = 0; f < p.face_count(); ++f) triangles += p.face(f).size() - 2;
+  for (index_t f = 0; f < p.face_count(); ++f) triangles += p.face(f).size() - 2;
   const real extent = p.extent();
   return 4 * std::numeric_limits<real>::epsilon() * static_cast<real>(triangles) * 5.2 * extent * extent * extent / 6;
 }
@@ -71,15 +71,15 @@ void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, r
     if (p.vertex_count() != 0) finding(concat("empty polyhedron keeps ", p.vertex_count(), " vertices"));
     return;
   }
-  const index nv = p.vertex_count();
+  const index_t nv = p.vertex_count();
   if (p.face_count() < 4) finding(concat("polyhedron with ", p.face_count(), " faces"));
-  std::vector<std::pair<index, index>> edges;
+  std::vector<std::pair<index_t, index_t>> edges;
   std::vector<char> used(static_cast<std::size_t>(nv), 0);
-  for (index f = 0; f < p.face_count(); ++f) {
+  for (index_t f = 0; f < p.face_count(); ++f) {
     const auto loop = p.face(f);
     if (loop.size() < 3) finding(concat("face ", f, " has ", loop.size(), " vertices"));
     for (std::size_t k = 0; k < loop.size(); ++k) {
-      const index a = loop[k], b = loop[(k + 1) % loop.size()];
+      const index_t a = loop[k], b = loop[(k + 1) % loop.size()];
       if (a < 0 || a >= nv) finding(concat("face ", f, " vertex id ", a, " out of range"));
       used[static_cast<std::size_t>(a)] = 1;
       edges.emplace_back(a, b);
@@ -87,7 +87,7 @@ void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, r
         if (loop[m] == a) finding(concat("face ", f, " visits vertex ", a, " twice"));
     }
   }
-  for (index v = 0; v < nv; ++v)
+  for (index_t v = 0; v < nv; ++v)
     if (!used[static_cast<std::size_t>(v)]) finding(concat("vertex ", v, " is used by no face"));
   std::sort(edges.begin(), edges.end());
   for (std::size_t e = 0; e < edges.size(); ++e) {
@@ -123,7 +123,7 @@ void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, r
   real coordinate_max = 0;
   for (const vec3& v : p.vertices()) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
   const real delta = std::max(4 * std::numeric_limits<real>::epsilon() * coordinate_max, resolution);
-  for (index f = 0; f < p.face_count(); ++f) {
+  for (index_t f = 0; f < p.face_count(); ++f) {
     const plane h = p.face_plane(f);
     const auto loop = p.face(f);
     real longest_edge = 0;
@@ -146,7 +146,7 @@ void require_valid(const convex_polyhedron& p, const std::vector<plane>& cuts, r
   // m^3 before, 1.8e-21 after; the former bound took both roundings at today's extent).
   const real volume = p.volume();
   real area = 0;
-  for (index f = 0; f < p.face_count(); ++f) area += p.face_area(f);
+  for (index_t f = 0; f < p.face_count(); ++f) area += p.face_area(f);
   const real tetrahedron_sum_rounding = volume_rounding(p);
   // "Positive" up to rounding: clip does not resolve features thinner than its plane tolerance
   // (1e-12 extent), so a needle or a sliver below it may keep a volume that rounds to 0 (the
@@ -176,7 +176,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   real resolution = 0;  // largest plane tolerance of the cuts so far (m), see require_valid
   for (int cut = 0; cut < 48 && !in.exhausted() && !p.empty(); ++cut) {
     const int op = in.u8() % 8;
-    const tessera::index nv = p.vertex_count();
+    const tessera::index_t nv = p.vertex_count();
     const vec3& vj = p.vertex(in.u8() % nv);
     const vec3& vk = p.vertex(in.u8() % nv);
     const vec3& vl = p.vertex(in.u8() % nv);
@@ -213,7 +213,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     if (!h.normal.allFinite() || !std::isfinite(h.offset)) continue;  // zero normal: no plane
     const real volume_before = p.volume(), volume_before_rounding = volume_rounding(p);
     real shortest_edge = std::numeric_limits<real>::infinity();
-    for (tessera::index f = 0; f < p.face_count(); ++f) {
+    for (tessera::index_t f = 0; f < p.face_count(); ++f) {
       const auto loop = p.face(f);
       for (std::size_t k = 0; k < loop.size(); ++k)
         shortest_edge = std::min(shortest_edge, (p.vertex(loop[(k + 1) % loop.size()]) - p.vertex(loop[k])).norm());
@@ -227,7 +227,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t vertices_before = p.vertices().size();
     bool changed = false;
     try {
-      changed = p.clip(h, static_cast<tessera::index>(cut));
+      changed = p.clip(h, static_cast<tessera::index_t>(cut));
     } catch (const tessera::geometry_error& e) {
       finding(concat("clip of a valid convex polyhedron threw: ", e.what()));
     }

@@ -19,32 +19,32 @@
 
 namespace {
 
-using tessera::index;
+using tessera::index_t;
 using tessera::detail::concat;
 using tessera::fuzz::finding;
 
 void require_structure(const tessera::geometry::tessellation& t) {
-  const index nc = t.cell_count(), nf = t.face_count(), nv = t.vertex_count();
+  const index_t nc = t.cell_count(), nf = t.face_count(), nv = t.vertex_count();
   if (nc < 1) finding(concat("reader returned ", nc, " cells"));
   if (t.face_offsets.empty() || t.face_offsets.front() != 0 ||
-      t.face_offsets.back() != static_cast<index>(t.face_vertices.size()))
+      t.face_offsets.back() != static_cast<index_t>(t.face_vertices.size()))
     finding("face_offsets do not span face_vertices");
-  for (index f = 0; f < nf; ++f)
+  for (index_t f = 0; f < nf; ++f)
     if (t.face_offsets[static_cast<std::size_t>(f) + 1] - t.face_offsets[static_cast<std::size_t>(f)] < 3)
       finding(concat("face ", f, " has fewer than 3 vertices"));
-  for (index v : t.face_vertices)
+  for (index_t v : t.face_vertices)
     if (v < 0 || v >= nv) finding(concat("face vertex id ", v, " out of [0, ", nv, ")"));
   if (t.cell_face_offsets.front() != 0 || t.cell_face_offsets.back() != nf) finding("cell_face_offsets do not span faces");
-  for (index c = 0; c < nc; ++c)
+  for (index_t c = 0; c < nc; ++c)
     if (t.end_face(c) < t.first_face(c) + 4) finding(concat("cell ", c, " has fewer than 4 faces"));
   if (t.face_cell.size() != static_cast<std::size_t>(nf) || t.face_neighbor.size() != static_cast<std::size_t>(nf) ||
       t.face_twin.size() != static_cast<std::size_t>(nf))
     finding("per-face arrays differ in size from the face count");
-  for (index c = 0; c < nc; ++c)
-    for (index f = t.first_face(c); f < t.end_face(c); ++f)
+  for (index_t c = 0; c < nc; ++c)
+    for (index_t f = t.first_face(c); f < t.end_face(c); ++f)
       if (t.face_cell[static_cast<std::size_t>(f)] != c) finding(concat("face ", f, " listed by cell ", c, " but owned by another"));
-  for (index f = 0; f < nf; ++f) {
-    const index n = t.face_neighbor[static_cast<std::size_t>(f)], g = t.face_twin[static_cast<std::size_t>(f)];
+  for (index_t f = 0; f < nf; ++f) {
+    const index_t n = t.face_neighbor[static_cast<std::size_t>(f)], g = t.face_twin[static_cast<std::size_t>(f)];
     if (n >= nc || (n < 0 && tessera::geometry::boundary_side(n) > 5)) finding(concat("face ", f, " neighbour ", n));
     if (n < 0 && g != tessera::invalid_index) finding(concat("boundary face ", f, " has a twin"));
     if (n >= 0 && (g < 0 || g >= nf || t.face_twin[static_cast<std::size_t>(g)] != f ||

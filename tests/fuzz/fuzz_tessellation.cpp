@@ -44,7 +44,7 @@
 namespace {
 
 using tessera::aabb;
-using tessera::index;
+using tessera::index_t;
 using tessera::real;
 using tessera::vec3;
 using tessera::detail::concat;
@@ -155,28 +155,28 @@ void require_convex(const fuzz_case& fc, const tessera::geometry::tessellation& 
   namespace g = tessera::geometry;
   const real weld = 1e-9 * std::cbrt(fc.box.volume() / static_cast<real>(fc.seeds.size()));
   const real delta_max = 4 * weld;
-  auto weight = [&](index c) { return t.weights.empty() ? real(0) : t.weights[static_cast<std::size_t>(c)]; };
+  auto weight = [&](index_t c) { return t.weights.empty() ? real(0) : t.weights[static_cast<std::size_t>(c)]; };
   std::vector<g::plane> exact;
   std::vector<real> rho;  // per vertex: largest distance from the defining planes of its faces
-  for (index c = 0; c < t.cell_count(); ++c) {
+  for (index_t c = 0; c < t.cell_count(); ++c) {
     const g::convex_polyhedron p = g::cell_polyhedron(t, c);
     const real extent = p.extent();
     exact.clear();
     rho.assign(static_cast<std::size_t>(p.vertex_count()), 0);
-    for (index f = 0; f < p.face_count(); ++f) {
-      const index nb = p.face_tag(f);
+    for (index_t f = 0; f < p.face_count(); ++f) {
+      const index_t nb = p.face_tag(f);
       if (nb >= 0) {
         exact.push_back(g::power_plane(t.seeds[static_cast<std::size_t>(c)], weight(c), t.seeds[static_cast<std::size_t>(nb)], weight(nb)));
       } else {
         const int side = g::boundary_side(nb), axis = side / 2;
         exact.push_back((side % 2) ? g::plane{vec3::Unit(axis), fc.box.hi[axis]} : g::plane{-vec3::Unit(axis), -fc.box.lo[axis]});
       }
-      for (index v : p.face(f)) {
+      for (index_t v : p.face(f)) {
         real& r = rho[static_cast<std::size_t>(v)];
         r = std::max(r, std::abs(exact.back().signed_distance(p.vertex(v))));
       }
     }
-    for (index f = 0; f < p.face_count(); ++f) {
+    for (index_t f = 0; f < p.face_count(); ++f) {
       const g::plane& h = exact[static_cast<std::size_t>(f)];
       const auto loop = p.face(f);
       real delta = 0, perimeter = 0;
@@ -189,7 +189,7 @@ void require_convex(const fuzz_case& fc, const tessera::geometry::tessellation& 
                        " m off a defining plane of its faces, > ", delta_max, " m = 4 x the weld tolerance"));
       const g::plane fitted = p.face_plane(f);
       const real tilt = std::sqrt(3.0) * extent * delta * perimeter / p.face_area(f);
-      for (index v = 0; v < p.vertex_count(); ++v) {
+      for (index_t v = 0; v < p.vertex_count(); ++v) {
         const real rho_v = rho[static_cast<std::size_t>(v)];
         if (h.signed_distance(p.vertex(v)) > 1e-9 * extent + delta_max)  // well conditioned
           finding(concat("cell ", c, " not convex: a vertex ", h.signed_distance(p.vertex(v)),
@@ -215,11 +215,11 @@ void require_valid(const fuzz_case& fc, const tessera::geometry::tessellation& t
   // A Voronoi cell thinner than the weld tolerance (a generator on a box edge with a neighbour
   // 1e-10 away) is dropped by the cleanup (cleanup.hpp, step 3); the survivors keep their
   // generators, in order, and each contains its own.
-  if (t.cell_count() > static_cast<index>(fc.seeds.size()) || t.seeds.size() != static_cast<std::size_t>(t.cell_count()))
+  if (t.cell_count() > static_cast<index_t>(fc.seeds.size()) || t.seeds.size() != static_cast<std::size_t>(t.cell_count()))
     finding(concat("Voronoi tessellation of ", fc.seeds.size(), " generators has ", t.cell_count(), " cells and ",
                    t.seeds.size(), " seeds"));
   const real tol = 1e-9 * fc.box.size().maxCoeff();
-  for (index c = 0; c < t.cell_count(); ++c)
+  for (index_t c = 0; c < t.cell_count(); ++c)
     if (!g::cell_polyhedron(t, c).contains(t.seeds[static_cast<std::size_t>(c)], tol))
       finding(concat("Voronoi cell ", c, " does not contain its generator"));
 }

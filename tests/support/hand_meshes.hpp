@@ -21,9 +21,9 @@ namespace tessera::test {
   for (int l = 0; l <= n; ++l)
     for (int k = 0; k < 4; ++k)
       t.vertices.push_back(lo + vec3(cell.x() * (k & 1), cell.y() * ((k >> 1) & 1), cell.z() * l));
-  const auto add_face = [&](std::initializer_list<int> loop, index owner, index neighbor) {
+  const auto add_face = [&](std::initializer_list<int> loop, index_t owner, index_t neighbor) {
     for (int v : loop) t.face_vertices.push_back(v);
-    t.face_offsets.push_back(static_cast<index>(t.face_vertices.size()));
+    t.face_offsets.push_back(static_cast<index_t>(t.face_vertices.size()));
     t.face_cell.push_back(owner);
     t.face_neighbor.push_back(neighbor);
     t.face_twin.push_back(invalid_index);
@@ -36,10 +36,10 @@ namespace tessera::test {
     add_face({b + 2, u + 2, u + 3, b + 3}, c, geometry::boundary_tag(3));
     add_face({b + 0, b + 2, b + 3, b + 1}, c, c == 0 ? geometry::boundary_tag(4) : c - 1);
     add_face({u + 0, u + 1, u + 3, u + 2}, c, c == n - 1 ? geometry::boundary_tag(5) : c + 1);
-    t.cell_face_offsets.push_back(static_cast<index>(t.face_cell.size()));
+    t.cell_face_offsets.push_back(static_cast<index_t>(t.face_cell.size()));
   }
   for (int c = 0; c + 1 < n; ++c) {
-    const index top = 6 * c + 5, bottom = 6 * (c + 1) + 4;
+    const index_t top = 6 * c + 5, bottom = 6 * (c + 1) + 4;
     t.face_twin[static_cast<std::size_t>(top)] = bottom;
     t.face_twin[static_cast<std::size_t>(bottom)] = top;
     t.shared_faces.push_back({c, top, c + 1, bottom});

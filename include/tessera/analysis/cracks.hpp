@@ -49,7 +49,7 @@ struct crack_report {
   int bar_crossings = -1;
   std::vector<real> bar_crossing_positions;  ///< along the axis: the surface between the two pieces (m)
   real opening_threshold = 0;                ///< w_open (m)
-  index open_subcontacts = 0;                ///< sub-contacts that satisfy the predicate
+  index_t open_subcontacts = 0;                ///< sub-contacts that satisfy the predicate
 };
 
 /// Crack sites: crack surface positions (any order) grouped where neighbouring positions lie less
@@ -83,25 +83,25 @@ class crack_graph {
   /// `axis`: the direction positions are measured along (normalised here). Throws invalid_input
   /// for a zero or non-finite axis, or a sub-contact naming a block outside [0, blocks).
   template <class Contacts>
-  crack_graph(const Contacts& contacts, index blocks, const vec3& axis) : blocks_(blocks) {
+  crack_graph(const Contacts& contacts, index_t blocks, const vec3& axis) : blocks_(blocks) {
     require(axis.allFinite() && axis.norm() > 0, "crack_graph: axis (", axis.x(), ", ", axis.y(), ", ", axis.z(),
             ") must be finite and non-zero");
     axis_ = axis / axis.norm();
-    const index n = contacts.subcontact_count();
+    const index_t n = contacts.subcontact_count();
     order_.resize(static_cast<std::size_t>(n));
-    std::iota(order_.begin(), order_.end(), index{0});
-    const auto pair_of = [&](index i) { return std::pair<index, index>(contacts.block_a(i), contacts.block_b(i)); };
-    for (index i = 0; i < n; ++i) {
+    std::iota(order_.begin(), order_.end(), index_t{0});
+    const auto pair_of = [&](index_t i) { return std::pair<index_t, index_t>(contacts.block_a(i), contacts.block_b(i)); };
+    for (index_t i = 0; i < n; ++i) {
       const auto [a, b] = pair_of(i);
       require(a >= 0 && a < blocks && b >= 0 && b < blocks, "crack_graph: sub-contact ", i, " joins blocks ", a,
               " and ", b, ", outside [0, ", blocks, ")");
     }
-    std::stable_sort(order_.begin(), order_.end(), [&](index a, index b) { return pair_of(a) < pair_of(b); });
+    std::stable_sort(order_.begin(), order_.end(), [&](index_t a, index_t b) { return pair_of(a) < pair_of(b); });
     for (std::size_t k = 0; k < order_.size();) {
       std::size_t e = k;
       while (e < order_.size() && pair_of(order_[e]) == pair_of(order_[k])) ++e;
       faces_.push_back(
-          {pair_of(order_[k]).first, pair_of(order_[k]).second, static_cast<index>(k), static_cast<index>(e)});
+          {pair_of(order_[k]).first, pair_of(order_[k]).second, static_cast<index_t>(k), static_cast<index_t>(e)});
       k = e;
     }
     parent_.resize(static_cast<std::size_t>(blocks));
@@ -112,10 +112,10 @@ class crack_graph {
 
   /// A bar's path through the specimen: host block and position along the axis of each bar node,
   /// in bar order (enables crack_report::bar_crossings).
-  void set_bar_path(std::vector<index> node_blocks, std::vector<real> node_positions) {
+  void set_bar_path(std::vector<index_t> node_blocks, std::vector<real> node_positions) {
     require(node_blocks.size() == node_positions.size(), "crack_graph: ", node_blocks.size(), " host blocks for ",
             node_positions.size(), " bar nodes");
-    for (const index b : node_blocks)
+    for (const index_t b : node_blocks)
       require(b >= 0 && b < blocks_, "crack_graph: bar host block ", b, " outside [0, ", blocks_, ")");
     bar_blocks_ = std::move(node_blocks);
     bar_positions_ = std::move(node_positions);
@@ -127,11 +127,11 @@ class crack_graph {
                                       real opening_threshold = 0) {
     crack_report r;
     r.opening_threshold = opening_threshold;
-    std::iota(parent_.begin(), parent_.end(), index{0});
+    std::iota(parent_.begin(), parent_.end(), index_t{0});
     std::vector<std::size_t> cracked_faces;
     for (std::size_t f = 0; f < faces_.size(); ++f) {
       bool all = true;
-      for (index k = faces_[f].first; k < faces_[f].last; ++k) {
+      for (index_t k = faces_[f].first; k < faces_[f].last; ++k) {
         if (cracked(order_[static_cast<std::size_t>(k)]))
           ++r.open_subcontacts;
         else
@@ -143,16 +143,16 @@ class crack_graph {
         parent_[static_cast<std::size_t>(find(faces_[f].a))] = find(faces_[f].b);
     }
     r.pieces = 0;
-    for (index b = 0; b < blocks_; ++b)
+    for (index_t b = 0; b < blocks_; ++b)
       if (find(b) == b) ++r.pieces;
     r.cracks = r.pieces - 1;
-    std::vector<std::pair<std::pair<index, index>, std::pair<double, double>>> surfaces;  // pieces -> (sum A x, sum A)
-    const auto surface_between = [&](index pa, index pb) {  // the surface separating two pieces, or end()
-      const std::pair<index, index> key = std::minmax(pa, pb);
+    std::vector<std::pair<std::pair<index_t, index_t>, std::pair<double, double>>> surfaces;  // pieces -> (sum A x, sum A)
+    const auto surface_between = [&](index_t pa, index_t pb) {  // the surface separating two pieces, or end()
+      const std::pair<index_t, index_t> key = std::minmax(pa, pb);
       return std::find_if(surfaces.begin(), surfaces.end(), [&](const auto& x) { return x.first == key; });
     };
     for (std::size_t f : cracked_faces) {
-      index pa = find(faces_[f].a), pb = find(faces_[f].b);
+      index_t pa = find(faces_[f].a), pb = find(faces_[f].b);
       if (pa == pb) continue;  // a cracked face inside one piece: the crack does not separate there
       if (pa > pb) std::swap(pa, pb);
       auto it = surface_between(pa, pb);
@@ -160,8 +160,8 @@ class crack_graph {
         surfaces.push_back({{pa, pb}, {0.0, 0.0}});
         it = surfaces.end() - 1;
       }
-      for (index k = faces_[f].first; k < faces_[f].last; ++k) {
-        const index i = order_[static_cast<std::size_t>(k)];
+      for (index_t k = faces_[f].first; k < faces_[f].last; ++k) {
+        const index_t i = order_[static_cast<std::size_t>(k)];
         it->second.first += contacts.area(i) * coordinate(contacts.position(i, gridpoints));
         it->second.second += contacts.area(i);
       }
@@ -172,7 +172,7 @@ class crack_graph {
     if (!bar_blocks_.empty()) {
       r.bar_crossings = 0;
       for (std::size_t k = 1; k < bar_blocks_.size(); ++k) {
-        const index pa = find(bar_blocks_[k - 1]), pb = find(bar_blocks_[k]);
+        const index_t pa = find(bar_blocks_[k - 1]), pb = find(bar_blocks_[k]);
         if (pa == pb) continue;
         ++r.bar_crossings;
         const auto it = surface_between(pa, pb);
@@ -190,7 +190,7 @@ class crack_graph {
   [[nodiscard]] crack_report opened(const Contacts& contacts, const node_set& gridpoints, real w_open) {
     return evaluate(
         contacts, gridpoints,
-        [&](index i) {
+        [&](index_t i) {
           const real jump = (gridpoints.position(contacts.node_b(i)) - gridpoints.position(contacts.node_a(i))).norm();
           return past_peak(contacts.state(i).flags) && jump >= w_open;
         },
@@ -199,12 +199,12 @@ class crack_graph {
   /// The stricter count: the normal opening u_n >= w_open on every sub-contact of the faces.
   template <class Contacts>
   [[nodiscard]] crack_report opened_normal_only(const Contacts& contacts, const node_set& gridpoints, real w_open) {
-    return evaluate(contacts, gridpoints, [&](index i) { return contacts.state(i).u_n >= w_open; }, w_open);
+    return evaluate(contacts, gridpoints, [&](index_t i) { return contacts.state(i).u_n >= w_open; }, w_open);
   }
   /// Softened through-cracks (every sub-contact of the faces past its tensile peak).
   template <class Contacts>
   [[nodiscard]] crack_report softened(const Contacts& contacts, const node_set& gridpoints) {
-    return evaluate(contacts, gridpoints, [&](index i) { return past_peak(contacts.state(i).flags); });
+    return evaluate(contacts, gridpoints, [&](index_t i) { return past_peak(contacts.state(i).flags); });
   }
   /// A sub-contact past its tensile peak: softening or broken in tension.
   [[nodiscard]] static bool past_peak(law::contact_status flags) {
@@ -213,23 +213,23 @@ class crack_graph {
 
  private:
   struct face {
-    index a, b, first, last;
+    index_t a, b, first, last;
   };
   /// Position along the axis (exactly the coordinate for a coordinate axis: the other products are 0).
   [[nodiscard]] real coordinate(const vec3& x) const { return x.dot(axis_); }
-  index find(index b) {
+  index_t find(index_t b) {
     while (parent_[static_cast<std::size_t>(b)] != b) {
       parent_[static_cast<std::size_t>(b)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(b)])];
       b = parent_[static_cast<std::size_t>(b)];
     }
     return b;
   }
-  index blocks_;
+  index_t blocks_;
   vec3 axis_ = vec3::UnitZ();
-  std::vector<index> order_;
+  std::vector<index_t> order_;
   std::vector<face> faces_;
-  std::vector<index> parent_;
-  std::vector<index> bar_blocks_;     ///< host block of each bar node, in bar order (empty: no bar path)
+  std::vector<index_t> parent_;
+  std::vector<index_t> bar_blocks_;     ///< host block of each bar node, in bar order (empty: no bar path)
   std::vector<real> bar_positions_;  ///< position of each bar node along the axis (m)
 };
 

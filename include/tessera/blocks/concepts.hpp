@@ -84,7 +84,7 @@ concept BlockModel = requires(B& b, const B& cb, const geometry::tessellation& t
   { cb.zone_stress() } -> std::convertible_to<const zone_stress_matrix&>;
   { cb.stored_energy(cgp) } -> std::convertible_to<real>;
   { cb.kinetic_energy(cgp) } -> std::convertible_to<real>;
-  { cb.block_count() } -> std::convertible_to<index>;
+  { cb.block_count() } -> std::convertible_to<index_t>;
   // b.advance(integrator, gp, dt, work) is a member template (any Integrator), checked where
   // the solver instantiates it.
 };

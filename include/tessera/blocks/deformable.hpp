@@ -93,16 +93,16 @@ class deformable : private detail::zone_geometry {
       Zone::validate(p);
       constants_.push_back(Zone::prepare(p));
     }
-    const index n_gp = mesh.gridpoint_count();
-    const index n_z = mesh.zone_count();
-    const index n_b = mesh.block_count();
+    const index_t n_gp = mesh.gridpoint_count();
+    const index_t n_z = mesh.zone_count();
+    const index_t n_b = mesh.block_count();
     require<geometry_error>(n_gp > 0 && n_z > 0, "deformable blocks: block_mesh has ", n_gp, " gridpoints and ",
                             n_z, " zones; zone the blocks first (geometry::zone_blocks)");
     gridpoints.resize(n_gp);
-    for (index i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
+    for (index_t i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
 
     block_material_.resize(static_cast<std::size_t>(n_b));
-    for (index b = 0; b < n_b; ++b) {
+    for (index_t b = 0; b < n_b; ++b) {
       const int m = mesh.material(b);
       require(m >= 0 && static_cast<std::size_t>(m) < materials_.size(), "deformable blocks: block ", b,
               " has material id ", m, ", but ", materials_.size(), " block material(s) were given");
@@ -110,11 +110,11 @@ class deformable : private detail::zone_geometry {
     }
     build_geometry(mesh);  // zones, runs, tasks, block gradients, corner incidence (zone_layout.hpp)
     // Lumped masses rho V_z / 4 per corner, in zone order.
-    for (index z = 0; z < n_z; ++z) {
+    for (index_t z = 0; z < n_z; ++z) {
       const real rho = Zone::density(material_of_block(zone_block_[at(z)]));
       for (int a = 0; a < 4; ++a) gridpoints.mass[corner(z, a)] += rho * volume_[at(z)] / 4;
     }
-    for (index i = 0; i < n_gp; ++i)
+    for (index_t i = 0; i < n_gp; ++i)
       require<geometry_error>(gridpoints.mass[i] > 0, "deformable blocks: gridpoint ", i, " of block ",
                               gridpoint_block_[static_cast<std::size_t>(i)],
                               " belongs to no zone (zero mass); every gridpoint must be a zone corner");
@@ -131,32 +131,32 @@ class deformable : private detail::zone_geometry {
   /// each zone task forms them right after its zones' stresses (add_zone_forces), in parallel,
   /// so zone_stress_rows().row(z) of a watched zone is a read. Other zones' global stress is
   /// formed when asked. Throws invalid_input for a zone outside [0, zone_count()).
-  void watch_zone_stress(const std::vector<index>& zones) {
-    std::vector<index> slot(static_cast<std::size_t>(zone_count()), invalid_index);
-    for (const index z : zones) {
+  void watch_zone_stress(const std::vector<index_t>& zones) {
+    std::vector<index_t> slot(static_cast<std::size_t>(zone_count()), invalid_index);
+    for (const index_t z : zones) {
       require<invalid_input>(z >= 0 && z < zone_count(), "deformable blocks: watched zone ", z, " is not a zone (",
                              zone_count(), " zones)");
       slot[at(z)] = 0;  // watched; its slot is set below
     }
     // The watched zones by block, in increasing zone order within a block (core/csr.hpp).
     auto watched = [&](auto&& emit) {
-      for (index z = 0; z < zone_count(); ++z)
-        if (slot[at(z)] != invalid_index) emit(zone_block_[at(z)], [&, z](index w) { watch_zones_[at(w)] = z; });
+      for (index_t z = 0; z < zone_count(); ++z)
+        if (slot[at(z)] != invalid_index) emit(zone_block_[at(z)], [&, z](index_t w) { watch_zones_[at(w)] = z; });
     };
     watch_offsets_ = csr_offsets(block_count(), watched);
     watch_zones_.resize(static_cast<std::size_t>(watch_offsets_.back()));
     csr_fill(watch_offsets_, watched);
-    for (index w = 0; w < static_cast<index>(watch_zones_.size()); ++w) slot[at(watch_zones_[at(w)])] = w;
+    for (index_t w = 0; w < static_cast<index_t>(watch_zones_.size()); ++w) slot[at(watch_zones_[at(w)])] = w;
     watch_slot_ = std::move(slot);
-    watched_stress_.resize(static_cast<index>(watch_zones_.size()), 6);
-    form_watched_stress(0, static_cast<index>(watch_zones_.size()));
+    watched_stress_.resize(static_cast<index_t>(watch_zones_.size()), 6);
+    form_watched_stress(0, static_cast<index_t>(watch_zones_.size()));
   }
 
   /// Step 2: computes block rotations, zone strains and stresses from the current displacements
   /// and adds the zone forces (N) to gridpoints.force.
   void accumulate_forces(node_set& gridpoints) noexcept {
     begin_zone_forces(gridpoints);
-    parallel_for(zone_task_count(), [&](std::int64_t t) { add_zone_forces(static_cast<index>(t), gridpoints); }, 4);
+    parallel_for(zone_task_count(), [&](std::int64_t t) { add_zone_forces(static_cast<index_t>(t), gridpoints); }, 4);
   }
 
   // ---- accumulate_forces() in pieces, for a solver that fuses the loops of its step ----
@@ -164,36 +164,36 @@ class deformable : private detail::zone_geometry {
   // in any order or concurrently (same results to the bit).
 
   /// Number of zone tasks: one per block with zones (the gridpoints of a task are its block's).
-  [[nodiscard]] index zone_task_count() const { return static_cast<index>(task_run_offsets_.size()) - 1; }
+  [[nodiscard]] index_t zone_task_count() const { return static_cast<index_t>(task_run_offsets_.size()) - 1; }
   /// Block rotations (all blocks, the polar iterations in lock-step over lanes; see
   /// update_rotations).
   void begin_zone_forces(const node_set& gridpoints) noexcept { update_rotations(gridpoints); }
   /// begin_zone_forces(gp) restricted to the blocks of tasks [t0, t1), then add_zone_forces(t, gp)
   /// for t in [t0, t1): a thread can run its own share of the tasks without waiting for the other
   /// blocks' rotations (each block's rotation is the same bits however the blocks are packed).
-  void add_zone_forces_of_tasks(index t0, index t1, node_set& gridpoints) noexcept {
+  void add_zone_forces_of_tasks(index_t t0, index_t t1, node_set& gridpoints) noexcept {
     if (t0 >= t1) return;
     update_rotations(gridpoints, task_block_[at(t0)], task_block_[at(t1 - 1)] + 1);
-    for (index t = t0; t < t1; ++t) add_zone_forces(t, gridpoints);
+    for (index_t t = t0; t < t1; ++t) add_zone_forces(t, gridpoints);
   }
   /// Zone stresses of the zones of task t (one block b), then the corner forces of each gridpoint
   /// of b summed (in increasing zone order) and added to gridpoints.force. Touches no gridpoint of
   /// another task.
-  void add_zone_forces(index t, node_set& gridpoints) noexcept {
+  void add_zone_forces(index_t t, node_set& gridpoints) noexcept {
     const real* const u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                               gridpoints.displacement.col(2).data()};
     const auto b = at(task_block_[at(t)]);
     const typename Zone::constants& constants = constants_[at(block_material_[b])];
-    for (index k = task_run_offsets_[at(t)]; k < task_run_offsets_[at(t) + 1]; ++k)
+    for (index_t k = task_run_offsets_[at(t)]; k < task_run_offsets_[at(t) + 1]; ++k)
       zone_kernel(constants, u, at(task_runs_[at(k)]));
     form_watched_stress(watch_offsets_[b], watch_offsets_[b + 1]);  // this block's watched zones
     const real* const f = corner_force_.data();
     const std::ptrdiff_t n_z = zone_count();
     real* const force[3] = {gridpoints.force.col(0).data(), gridpoints.force.col(1).data(),
                             gridpoints.force.col(2).data()};
-    for (index i = block_gridpoint_offsets_[b]; i < block_gridpoint_offsets_[b + 1]; ++i) {
+    for (index_t i = block_gridpoint_offsets_[b]; i < block_gridpoint_offsets_[b + 1]; ++i) {
       real f0 = 0, f1 = 0, f2 = 0;
-      for (index s = corner_offsets_[at(i)]; s < corner_offsets_[at(i) + 1]; ++s) {
+      for (index_t s = corner_offsets_[at(i)]; s < corner_offsets_[at(i) + 1]; ++s) {
         const real* fs = f + corner_slots_[at(s)];
         f0 += fs[0];
         f1 += fs[n_z];
@@ -214,7 +214,7 @@ class deformable : private detail::zone_geometry {
   void add_stiffness_bounds(node_set& gridpoints) const {
     std::vector<Eigen::Matrix<real, 6, 6>> elasticity;
     for (const params& p : materials_) elasticity.push_back(Zone::elasticity_matrix(p));
-    for (index z = 0; z < zone_count(); ++z) {
+    for (index_t z = 0; z < zone_count(); ++z) {
       const Eigen::Matrix<real, 6, 6>& c = elasticity[at(block_material_[at(zone_block_[at(z)])])];
       const std::array<real, 12> g = gradients(z);
       Eigen::Matrix<real, 6, 12> b = Eigen::Matrix<real, 6, 12>::Zero();
@@ -249,7 +249,7 @@ class deformable : private detail::zone_geometry {
   /// tension +): R_b sigma' R_b^T from the block-frame stress sigma' the zone kernel keeps,
   /// written with the expressions the kernel used when it stored the global stress itself (the
   /// same bits).
-  [[nodiscard]] Eigen::Matrix<real, 1, 6> global_stress(index z) const noexcept {
+  [[nodiscard]] Eigen::Matrix<real, 1, 6> global_stress(index_t z) const noexcept {
     const mat3& rot = rotation_[at(zone_block_[at(z)])];
     const real r00 = rot(0, 0), r01 = rot(0, 1), r02 = rot(0, 2);
     const real r10 = rot(1, 0), r11 = rot(1, 1), r12 = rot(1, 2);
@@ -272,7 +272,7 @@ class deformable : private detail::zone_geometry {
   /// than once per zone).
   [[nodiscard]] zone_stress_matrix zone_stress() const {
     zone_stress_matrix sigma(zone_count(), 6);
-    for (index z = 0; z < zone_count(); ++z) sigma.row(z) = global_stress(z);
+    for (index_t z = 0; z < zone_count(); ++z) sigma.row(z) = global_stress(z);
     return sigma;
   }
   /// The zone stresses as rows (rows(), row(z)), what the bars read each step for their host
@@ -280,9 +280,9 @@ class deformable : private detail::zone_geometry {
   /// formed on the call. Valid until the next step.
   struct stress_rows {
     const deformable* model = nullptr;
-    [[nodiscard]] index rows() const noexcept { return model->zone_count(); }
-    [[nodiscard]] Eigen::Matrix<real, 1, 6> row(index z) const noexcept {
-      const index w = model->watch_slot_[at(z)];
+    [[nodiscard]] index_t rows() const noexcept { return model->zone_count(); }
+    [[nodiscard]] Eigen::Matrix<real, 1, 6> row(index_t z) const noexcept {
+      const index_t w = model->watch_slot_[at(z)];
       return w != invalid_index ? Eigen::Matrix<real, 1, 6>(model->watched_stress_.row(w)) : model->global_stress(z);
     }
   };
@@ -295,7 +295,7 @@ class deformable : private detail::zone_geometry {
   void checkpoint(Archive& ar) {
     ar.array("blocks/deformable/rotation", rotation_);
     ar.matrix("blocks/deformable/local_stress", local_stress_);
-    if (ar.loading()) form_watched_stress(0, static_cast<index>(watch_zones_.size()));  // from what was loaded
+    if (ar.loading()) form_watched_stress(0, static_cast<index_t>(watch_zones_.size()));  // from what was loaded
   }
 
   /// Elastic energy stored in the zones, sum_z V_z W(eps_z) (J), with block rotations of the
@@ -303,10 +303,10 @@ class deformable : private detail::zone_geometry {
   /// the gridpoints). Allocates; not for the time step.
   [[nodiscard]] real stored_energy(const node_set& gridpoints) const {
     std::vector<mat3> rotations = rotation_;
-    for (index b = 0; b < block_count(); ++b)
+    for (index_t b = 0; b < block_count(); ++b)
       rotations[static_cast<std::size_t>(b)] = block_rotation(gridpoints, b, rotation_[static_cast<std::size_t>(b)]);
     return deterministic_sum(zone_count(), [&](std::int64_t z) {
-      const index zi = static_cast<index>(z);
+      const index_t zi = static_cast<index_t>(z);
       const mat3 m = rotated_gradient(gridpoints, zi, rotations[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(zi)])]);
       voigt6 e;
       e << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
@@ -322,33 +322,33 @@ class deformable : private detail::zone_geometry {
 
   /// Small strain of zone z in the rotated frame of its block at the last accumulate_forces
   /// (Voigt, engineering shears).
-  [[nodiscard]] voigt6 zone_strain(const node_set& gridpoints, index z) const {
+  [[nodiscard]] voigt6 zone_strain(const node_set& gridpoints, index_t z) const {
     const mat3 m = rotated_gradient(gridpoints, z, rotation_[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])]);
     voigt6 e;
     e << m(0, 0), m(1, 1), m(2, 2), m(1, 2) + m(2, 1), m(2, 0) + m(0, 2), m(0, 1) + m(1, 0);
     return e;
   }
 
-  [[nodiscard]] index block_count() const { return static_cast<index>(rotation_.size()); }
-  [[nodiscard]] index zone_count() const { return static_cast<index>(volume_.size()); }
-  [[nodiscard]] real zone_volume(index z) const { return volume_[at(z)]; }
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(rotation_.size()); }
+  [[nodiscard]] index_t zone_count() const { return static_cast<index_t>(volume_.size()); }
+  [[nodiscard]] real zone_volume(index_t z) const { return volume_[at(z)]; }
   /// Rotation R_b of block b at the last accumulate_forces.
-  [[nodiscard]] const mat3& rotation(index b) const { return rotation_[static_cast<std::size_t>(b)]; }
-  [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] const mat3& rotation(index_t b) const { return rotation_[static_cast<std::size_t>(b)]; }
+  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
   /// Material of block b.
-  [[nodiscard]] const params& material_of_block(index b) const { return materials_[at(block_material_[at(b)])]; }
+  [[nodiscard]] const params& material_of_block(index_t b) const { return materials_[at(block_material_[at(b)])]; }
 
  private:
   /// R_b = polar(F_b), F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b, warm-started
   /// from `previous`.
-  [[nodiscard]] mat3 block_rotation(const node_set& gp, index b, const mat3& previous) const noexcept {
+  [[nodiscard]] mat3 block_rotation(const node_set& gp, index_t b, const mat3& previous) const noexcept {
     return detail::polar_rotation(block_deformation_gradient(gp, b), previous);
   }
   /// F_b = 1 + sum_i u_i (x) w_i over the gridpoints of block b.
-  [[nodiscard]] mat3 block_deformation_gradient(const node_set& gp, index b) const noexcept {
+  [[nodiscard]] mat3 block_deformation_gradient(const node_set& gp, index_t b) const noexcept {
     mat3 f = mat3::Identity();
     const auto bs = static_cast<std::size_t>(b);
-    for (index i = block_gridpoint_offsets_[bs]; i < block_gridpoint_offsets_[bs + 1]; ++i)
+    for (index_t i = block_gridpoint_offsets_[bs]; i < block_gridpoint_offsets_[bs + 1]; ++i)
       for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c) f(r, c) += gp.displacement(i, r) * block_gradient_(i, c);
     return f;
@@ -357,18 +357,18 @@ class deformable : private detail::zone_geometry {
   /// R_b of every block: F_b block by block, the polar iterations of lanes::width blocks in
   /// lock-step (detail::polar_rotations; the same bits as block_rotation), over packs of blocks.
   void update_rotations(const node_set& gp) noexcept {
-    constexpr index w = lanes::width;
-    const index n_b = block_count();
+    constexpr index_t w = lanes::width;
+    const index_t n_b = block_count();
     parallel_for((n_b + w - 1) / w, [&](std::int64_t pk) {
-      const index first = static_cast<index>(pk) * w;
-      update_rotations(gp, first, std::min<index>(first + w, n_b));
+      const index_t first = static_cast<index_t>(pk) * w;
+      update_rotations(gp, first, std::min<index_t>(first + w, n_b));
     }, 2);
   }
   /// R_b of blocks [b0, b1), serially, in packs of lanes::width from b0.
-  void update_rotations(const node_set& gp, index b0, index b1) noexcept {
-    constexpr index w = lanes::width;
-    for (index first = b0; first < b1; first += w) {
-      const int n = static_cast<int>(std::min<index>(w, b1 - first));
+  void update_rotations(const node_set& gp, index_t b0, index_t b1) noexcept {
+    constexpr index_t w = lanes::width;
+    for (index_t first = b0; first < b1; first += w) {
+      const int n = static_cast<int>(std::min<index_t>(w, b1 - first));
       mat3 f[w];
       for (int k = 0; k < n; ++k) f[k] = block_deformation_gradient(gp, first + k);
       detail::polar_rotations(f, rotation_.data() + first, n);
@@ -376,11 +376,11 @@ class deformable : private detail::zone_geometry {
   }
 
   /// R_b^T (1 + H_z) - 1 of zone z (its symmetric part is the co-rotated small strain).
-  [[nodiscard]] mat3 rotated_gradient(const node_set& gp, index z, const mat3& r) const noexcept {
+  [[nodiscard]] mat3 rotated_gradient(const node_set& gp, index_t z, const mat3& r) const noexcept {
     const std::array<real, 12> g = gradients(z);
     mat3 h = mat3::Zero();  // displacement gradient H = sum_a u_a (x) grad N_a
     for (int a = 0; a < 4; ++a) {
-      const index id = corner(z, a);
+      const index_t id = corner(z, a);
       const real u0 = gp.displacement(id, 0), u1 = gp.displacement(id, 1), u2 = gp.displacement(id, 2);
       const real* gr = g.data() + 3 * a;
       for (int k = 0; k < 3; ++k) {
@@ -411,8 +411,8 @@ class deformable : private detail::zone_geometry {
   }
 
   /// Global stress of the watched zones watch_zones_[w], w in [w0, w1), into watched_stress_ row w.
-  void form_watched_stress(index w0, index w1) noexcept {
-    for (index w = w0; w < w1; ++w) watched_stress_.row(w) = global_stress(watch_zones_[at(w)]);
+  void form_watched_stress(index_t w0, index_t w1) noexcept {
+    for (index_t w = w0; w < w1; ++w) watched_stress_.row(w) = global_stress(watch_zones_[at(w)]);
   }
 
   /// P = R sigma' (row i: global component, column k: block frame; r = R row by row, s = sigma'
@@ -451,10 +451,10 @@ class deformable : private detail::zone_geometry {
     const real* const ux = u[0];
     const real* const uy = u[1];
     const real* const uz = u[2];
-    const index* const c0 = corner_[0].data();
-    const index* const c1 = corner_[1].data();
-    const index* const c2 = corner_[2].data();
-    const index* const c3 = corner_[3].data();
+    const index_t* const c0 = corner_[0].data();
+    const index_t* const c1 = corner_[1].data();
+    const index_t* const c2 = corner_[2].data();
+    const index_t* const c3 = corner_[3].data();
     const real* const g[12] = {gradient_[0].data(), gradient_[1].data(), gradient_[2].data(),
                                gradient_[3].data(), gradient_[4].data(), gradient_[5].data(),
                                gradient_[6].data(), gradient_[7].data(), gradient_[8].data(),
@@ -463,8 +463,8 @@ class deformable : private detail::zone_geometry {
     const std::ptrdiff_t n_z = zone_count();
     real* const f = corner_force_.data();  // column 3 a + i: component i of corner a, over zones
     real* const sig = local_stress_.data();  // column k: Voigt component k of sigma', over zones
-    const auto zone = [&](index z) __attribute__((always_inline)) {
-      const index i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
+    const auto zone = [&](index_t z) __attribute__((always_inline)) {
+      const index_t i0 = c0[z], i1 = c1[z], i2 = c2[z], i3 = c3[z];
       const real u0x = ux[i0], u0y = uy[i0], u0z = uz[i0];
       const real u1x = ux[i1], u1y = uy[i1], u1z = uz[i1];
       const real u2x = ux[i2], u2y = uy[i2], u2z = uz[i2];
@@ -533,25 +533,25 @@ class deformable : private detail::zone_geometry {
     // With 2- or 4-wide vectors the remainder is small and the overlap would cost more than it
     // saves, so the plain loop is kept. Each zone's arithmetic is the same in any lane, so the
     // results do not depend on the packing.
-    const index first = run_offsets_[r], last = run_offsets_[r + 1];
+    const index_t first = run_offsets_[r], last = run_offsets_[r + 1];
     if (zone_pack == 0 || last - first < zone_pack) {
 TESSERA_PRAGMA_SIMD
-      for (index z = first; z < last; ++z) zone(z);
+      for (index_t z = first; z < last; ++z) zone(z);
       return;
     }
-    for (index start = first;; start += zone_pack) {
-      const index pack_first = std::min(start, last - zone_pack);
+    for (index_t start = first;; start += zone_pack) {
+      const index_t pack_first = std::min(start, last - zone_pack);
 TESSERA_PRAGMA_SIMD
-      for (index k = 0; k < zone_pack; ++k) zone(pack_first + k);
+      for (index_t k = 0; k < zone_pack; ++k) zone(pack_first + k);
       if (pack_first == last - zone_pack) break;
     }
   }
   /// Zones per pack of the zone kernel's vector loop (see zone_kernel): two 8-wide vectors with
   /// AVX-512, 0 (plain loop) otherwise.
 #if defined(__AVX512F__)
-  static constexpr index zone_pack = 16;
+  static constexpr index_t zone_pack = 16;
 #else
-  static constexpr index zone_pack = 0;
+  static constexpr index_t zone_pack = 0;
 #endif
 
   std::vector<params> materials_;                   ///< per material id
@@ -560,9 +560,9 @@ TESSERA_PRAGMA_SIMD
   std::vector<mat3> rotation_;                      ///< R_b, warm start of the next polar decomposition
   Eigen::Matrix<real, Eigen::Dynamic, 12> corner_force_;  ///< row z: the 4 corner forces of zone z (N), column 3 a + i
   zone_stress_matrix local_stress_;                 ///< block-frame Cauchy stress sigma' per zone (Pa, Voigt)
-  std::vector<index> watch_offsets_;                ///< per block: its watched zones in watch_zones_
-  std::vector<index> watch_zones_;                  ///< watched zones, block by block
-  std::vector<index> watch_slot_;                   ///< per zone: its place in watch_zones_, or invalid_index
+  std::vector<index_t> watch_offsets_;                ///< per block: its watched zones in watch_zones_
+  std::vector<index_t> watch_zones_;                  ///< watched zones, block by block
+  std::vector<index_t> watch_slot_;                   ///< per zone: its place in watch_zones_, or invalid_index
   zone_stress_matrix watched_stress_;               ///< row w: global stress of zone watch_zones_[w] (Pa)
 };
 

@@ -138,18 +138,18 @@ class rigid {
     require(!materials.empty(), "rigid blocks: no block material given");
     for (const params& m : materials) validate(m);
     materials_.assign(materials.begin(), materials.end());
-    const index n_b = mesh.block_count();
-    const index n_gp = mesh.gridpoint_count();
+    const index_t n_b = mesh.block_count();
+    const index_t n_gp = mesh.gridpoint_count();
     require<geometry_error>(n_b > 0 && n_gp > 0, "rigid blocks: block_mesh has ", n_b, " blocks and ", n_gp,
                             " gridpoints; build it with geometry::zone_blocks");
     require<geometry_error>(tess.cell_count() == n_b, "rigid blocks: the tessellation has ", tess.cell_count(),
                             " cells but the block_mesh ", n_b, " blocks; block b must be cell b");
     gridpoints.resize(n_gp);
-    for (index i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
+    for (index_t i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
     gridpoint_block_ = mesh.gridpoint_block;
     bodies_.assign(static_cast<std::size_t>(n_b), body{});
     body_position_.setZero(n_gp, 3);
-    for (index b = 0; b < n_b; ++b) {
+    for (index_t b = 0; b < n_b; ++b) {
       body& bd = bodies_[static_cast<std::size_t>(b)];
       bd.first = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
       bd.end = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1];
@@ -176,7 +176,7 @@ class rigid {
       bd.orientation.normalize();
       bd.half_orientation = bd.orientation;
       bd.rotation = bd.orientation.toRotationMatrix();
-      for (index i = bd.first; i < bd.end; ++i) {
+      for (index_t i = bd.first; i < bd.end; ++i) {
         require<geometry_error>(gridpoint_block_[static_cast<std::size_t>(i)] == b, "rigid blocks: gridpoint ", i,
                                 " lies in the range of block ", b, " but belongs to block ",
                                 gridpoint_block_[static_cast<std::size_t>(i)]);
@@ -202,13 +202,13 @@ class rigid {
   template <class Integrator, class Work>
   void advance(const Integrator& integ, node_set& gridpoints, real dt, Work& work) {
     const std::int64_t n_b = block_count();
-    parallel_for(n_b, [&](std::int64_t b) { reduce(gridpoints, static_cast<index>(b)); }, 16);
-    for (index b = 0; b < block_count(); ++b) {
+    parallel_for(n_b, [&](std::int64_t b) { reduce(gridpoints, static_cast<index_t>(b)); }, 16);
+    for (index_t b = 0; b < block_count(); ++b) {
       const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
       for (int c = 0; c < 3; ++c)
         if (con.conflict[static_cast<std::size_t>(c)] != invalid_index) throw_conflict(gridpoints, b, c);
     }
-    parallel_for(n_b, [&](std::int64_t b) { integrate(integ, gridpoints, static_cast<index>(b), dt); }, 16);
+    parallel_for(n_b, [&](std::int64_t b) { integrate(integ, gridpoints, static_cast<index_t>(b), dt); }, 16);
     for (const integrator::step_work& w : work_) {
       work.boundary += w.boundary;
       work.damping += w.damping;
@@ -244,7 +244,7 @@ class rigid {
       e += 0.5 * (bd.mass * bd.velocity.squaredNorm() + bd.angular_velocity.dot(bd.inertia.cwiseProduct(bd.angular_velocity)));
     return e;
   }
-  [[nodiscard]] index block_count() const { return static_cast<index>(bodies_.size()); }
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(bodies_.size()); }
 
   // ---- time step and mass scaling (called by the solver instead of the nodal versions) ----
 
@@ -312,67 +312,67 @@ class rigid {
     return p;
   }
   /// Unscaled mass m0 of block b (kg), the mass its weight is computed from.
-  [[nodiscard]] real weight_mass(index b) const { return at(b).weight_mass; }
+  [[nodiscard]] real weight_mass(index_t b) const { return at(b).weight_mass; }
 
   // ---- initial conditions ----
 
   /// Sets the centroid velocity v (m/s) and the angular velocity omega (rad/s, world frame) of
   /// block b as the half-step velocities of the next step, and the gridpoint velocities to the
   /// rigid field v + omega x (x_i - c). Throws invalid_input for a bad block id or a non-finite vector.
-  void set_velocity(index b, const vec3& v, const vec3& omega, node_set& gridpoints) {
+  void set_velocity(index_t b, const vec3& v, const vec3& omega, node_set& gridpoints) {
     require(b >= 0 && b < block_count(), "rigid blocks: block ", b, " does not exist (", block_count(), " blocks)");
     require(v.allFinite() && omega.allFinite(), "rigid blocks: velocity (", v.transpose(), ") m/s or angular velocity (",
             omega.transpose(), ") rad/s of block ", b, " is not finite");
     body& bd = bodies_[static_cast<std::size_t>(b)];
     bd.velocity = v;
     bd.angular_velocity = bd.rotation.transpose() * omega;
-    for (index i = bd.first; i < bd.end; ++i)
+    for (index_t i = bd.first; i < bd.end; ++i)
       gridpoints.velocity.row(i) = (v + omega.cross(bd.rotation * body_position(i))).transpose();
   }
 
   // ---- state of block b ----
 
-  [[nodiscard]] real mass(index b) const { return at(b).mass; }                       ///< m (kg, scaled)
-  [[nodiscard]] const vec3& principal_moments(index b) const { return at(b).inertia; } ///< I1 <= I2 <= I3 (kg m^2, scaled)
+  [[nodiscard]] real mass(index_t b) const { return at(b).mass; }                       ///< m (kg, scaled)
+  [[nodiscard]] const vec3& principal_moments(index_t b) const { return at(b).inertia; } ///< I1 <= I2 <= I3 (kg m^2, scaled)
   /// Principal axes E (columns) in the reference configuration.
-  [[nodiscard]] const mat3& principal_axes(index b) const { return at(b).axes; }
+  [[nodiscard]] const mat3& principal_axes(index_t b) const { return at(b).axes; }
   /// Inertia tensor about the centroid in the current orientation, R diag(I) R^T (kg m^2).
-  [[nodiscard]] mat3 inertia(index b) const {
+  [[nodiscard]] mat3 inertia(index_t b) const {
     const body& bd = at(b);
     return bd.rotation * bd.inertia.asDiagonal() * bd.rotation.transpose();
   }
-  [[nodiscard]] const vec3& reference_centroid(index b) const { return at(b).centroid; }  ///< c (m)
-  [[nodiscard]] vec3 centroid(index b) const { return at(b).centroid + at(b).displacement; }  ///< c + u_c (m)
-  [[nodiscard]] const vec3& displacement(index b) const { return at(b).displacement; }  ///< u_c (m)
-  [[nodiscard]] const vec3& velocity(index b) const { return at(b).velocity; }  ///< v (m/s), half step
+  [[nodiscard]] const vec3& reference_centroid(index_t b) const { return at(b).centroid; }  ///< c (m)
+  [[nodiscard]] vec3 centroid(index_t b) const { return at(b).centroid + at(b).displacement; }  ///< c + u_c (m)
+  [[nodiscard]] const vec3& displacement(index_t b) const { return at(b).displacement; }  ///< u_c (m)
+  [[nodiscard]] const vec3& velocity(index_t b) const { return at(b).velocity; }  ///< v (m/s), half step
   /// Angular velocity (rad/s) in the body principal frame, half step.
-  [[nodiscard]] const vec3& body_angular_velocity(index b) const { return at(b).angular_velocity; }
+  [[nodiscard]] const vec3& body_angular_velocity(index_t b) const { return at(b).angular_velocity; }
   /// Angular velocity (rad/s) in the world frame, R(q_half) w, half step.
-  [[nodiscard]] vec3 angular_velocity(index b) const {
+  [[nodiscard]] vec3 angular_velocity(index_t b) const {
     return at(b).half_orientation.toRotationMatrix() * at(b).angular_velocity;
   }
   /// Angular momentum about the centroid (kg m^2/s, world) at the half step: R(q_half) I w, with
   /// q_half the orientation halfway through the last step's rotation.
-  [[nodiscard]] vec3 angular_momentum(index b) const {
+  [[nodiscard]] vec3 angular_momentum(index_t b) const {
     return at(b).half_orientation.toRotationMatrix() * at(b).inertia.cwiseProduct(at(b).angular_velocity);
   }
   /// Orientation q (body principal frame -> world), full step.
-  [[nodiscard]] const Eigen::Quaterniond& orientation(index b) const { return at(b).orientation; }
+  [[nodiscard]] const Eigen::Quaterniond& orientation(index_t b) const { return at(b).orientation; }
   /// Rotation of the block since the reference configuration, R(q) E^T.
-  [[nodiscard]] mat3 rotation(index b) const { return at(b).rotation * at(b).axes.transpose(); }
-  [[nodiscard]] const vec3& force(index b) const { return at(b).force; }    ///< F of the last step (N)
-  [[nodiscard]] const vec3& moment(index b) const { return at(b).moment; }  ///< M about c, last step (N m, world)
+  [[nodiscard]] mat3 rotation(index_t b) const { return at(b).rotation * at(b).axes.transpose(); }
+  [[nodiscard]] const vec3& force(index_t b) const { return at(b).force; }    ///< F of the last step (N)
+  [[nodiscard]] const vec3& moment(index_t b) const { return at(b).moment; }  ///< M about c, last step (N m, world)
   /// True when a gridpoint of block b prescribed world translation component c in the last step.
-  [[nodiscard]] bool translation_prescribed(index b, int c) const {
+  [[nodiscard]] bool translation_prescribed(index_t b, int c) const {
     return constraints_[static_cast<std::size_t>(b)].count[static_cast<std::size_t>(c)] > 0;
   }
   /// Support reaction on the block, last step (N, world); zero in unprescribed components.
-  [[nodiscard]] const vec3& reaction_force(index b) const { return at(b).reaction_force; }
+  [[nodiscard]] const vec3& reaction_force(index_t b) const { return at(b).reaction_force; }
   /// Support moment about the centroid holding a constrained block's rotation, last step (N m, world).
-  [[nodiscard]] const vec3& reaction_moment(index b) const { return at(b).reaction_moment; }
+  [[nodiscard]] const vec3& reaction_moment(index_t b) const { return at(b).reaction_moment; }
   /// Body coordinates r_i = E^T (X_i - c) of gridpoint i (m).
-  [[nodiscard]] vec3 body_position(index i) const { return body_position_.row(i).transpose(); }
-  [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] vec3 body_position(index_t i) const { return body_position_.row(i).transpose(); }
+  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
   /// The block materials, by material id.
   [[nodiscard]] std::span<const params> materials() const { return materials_; }
 
@@ -391,31 +391,31 @@ class rigid {
     mat3 rotation = mat3::Identity();                  ///< R(q)
     vec3 force = vec3::Zero(), moment = vec3::Zero();  ///< F (N), M (N m, world)
     vec3 reaction_force = vec3::Zero(), reaction_moment = vec3::Zero();
-    index first = 0, end = 0;                          ///< gridpoints [first, end)
+    index_t first = 0, end = 0;                          ///< gridpoints [first, end)
   };
   /// Prescriptions found on a block's gridpoints in the last reduction.
   struct block_constraints {
-    std::array<index, 3> count{0, 0, 0};               ///< gridpoints prescribing component c
-    std::array<index, 3> first{invalid_index, invalid_index, invalid_index};     ///< the first of them
-    std::array<index, 3> conflict{invalid_index, invalid_index, invalid_index};  ///< one disagreeing with it
+    std::array<index_t, 3> count{0, 0, 0};               ///< gridpoints prescribing component c
+    std::array<index_t, 3> first{invalid_index, invalid_index, invalid_index};     ///< the first of them
+    std::array<index_t, 3> conflict{invalid_index, invalid_index, invalid_index};  ///< one disagreeing with it
     vec3 velocity = vec3::Zero();                      ///< prescribed velocity (m/s)
     [[nodiscard]] bool any() const { return count[0] + count[1] + count[2] > 0; }
   };
 
-  [[nodiscard]] const body& at(index b) const {
+  [[nodiscard]] const body& at(index_t b) const {
     require(b >= 0 && b < block_count(), "rigid blocks: block ", b, " does not exist (", block_count(), " blocks)");
     return bodies_[static_cast<std::size_t>(b)];
   }
 
   void share_masses(node_set& gridpoints) const {
     for (const body& bd : bodies_)
-      for (index i = bd.first; i < bd.end; ++i) gridpoints.mass[i] = bd.mass / static_cast<real>(bd.end - bd.first);
+      for (index_t i = bd.first; i < bd.end; ++i) gridpoints.mass[i] = bd.mass / static_cast<real>(bd.end - bd.first);
   }
 
   /// k_t = sum_i k_i (N/m) and k_r = sum_i k_i |r_i|^2 (N m) over the block's gridpoints.
   [[nodiscard]] std::array<real, 2> stiffness_bounds(const node_set& gridpoints, const body& bd) const {
     real k_t = 0, k_r = 0;
-    for (index i = bd.first; i < bd.end; ++i) {
+    for (index_t i = bd.first; i < bd.end; ++i) {
       k_t += gridpoints.stiffness[i];
       k_r += gridpoints.stiffness[i] * body_position_.row(i).squaredNorm();
     }
@@ -423,13 +423,13 @@ class rigid {
   }
 
   /// Step 1 of the file comment, plus the prescriptions of block b's gridpoints.
-  void reduce(const node_set& gp, index b) noexcept {
+  void reduce(const node_set& gp, index_t b) noexcept {
     body& bd = bodies_[static_cast<std::size_t>(b)];
     block_constraints& con = constraints_[static_cast<std::size_t>(b)];
     con = block_constraints{};
     constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
     vec3 f_sum = vec3::Zero(), m_sum = vec3::Zero();
-    for (index i = bd.first; i < bd.end; ++i) {
+    for (index_t i = bd.first; i < bd.end; ++i) {
       const vec3 f(gp.force(i, 0), gp.force(i, 1), gp.force(i, 2));
       const vec3 rho = bd.rotation * body_position(i);
       f_sum += f;
@@ -449,9 +449,9 @@ class rigid {
     bd.moment = m_sum;
   }
 
-  [[noreturn]] void throw_conflict(const node_set& gp, index b, int c) const {
+  [[noreturn]] void throw_conflict(const node_set& gp, index_t b, int c) const {
     const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
-    const index i = con.first[static_cast<std::size_t>(c)], j = con.conflict[static_cast<std::size_t>(c)];
+    const index_t i = con.first[static_cast<std::size_t>(c)], j = con.conflict[static_cast<std::size_t>(c)];
     throw invalid_input(tessera::detail::concat("rigid blocks: block ", b, " has conflicting prescribed velocities in component ",
                                        "xyz"[c], ": gridpoint ", i, " prescribes ", gp.prescribed_velocity(i, c),
                                        " m/s, gridpoint ", j, " prescribes ", gp.prescribed_velocity(j, c),
@@ -460,7 +460,7 @@ class rigid {
 
   /// Steps 2-5 of the file comment for block b.
   template <class Integrator>
-  void integrate(const Integrator& integ, node_set& gp, index b, real dt) noexcept {
+  void integrate(const Integrator& integ, node_set& gp, index_t b, real dt) noexcept {
     body& bd = bodies_[static_cast<std::size_t>(b)];
     const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
     constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
@@ -507,7 +507,7 @@ class rigid {
     bd.rotation = bd.orientation.toRotationMatrix();
     const mat3 change = bd.rotation - bd.axes;
     const real inv_dt = 1 / dt;
-    for (index i = bd.first; i < bd.end; ++i) {
+    for (index_t i = bd.first; i < bd.end; ++i) {
       const vec3 r = body_position(i);
       const vec3 u = bd.displacement + change * r;
       const vec3 v = bd.velocity + rotation_old * detail::rotation_increment(phi, r) * inv_dt;
@@ -526,7 +526,7 @@ class rigid {
   std::vector<body> bodies_;
   std::vector<block_constraints> constraints_;  ///< per block, rebuilt every step
   std::vector<integrator::step_work> work_;     ///< per block energy increments of the step (summed in block order)
-  std::vector<index> gridpoint_block_;
+  std::vector<index_t> gridpoint_block_;
   soa3 body_position_;                          ///< r_i in the body principal frame (m)
   zone_stress_matrix zone_stress_;              ///< empty
 };

@@ -64,26 +64,26 @@ struct contact_energies {
 
 template <class C>
 concept ContactSet = requires(C& c, const C& cc, const geometry::tessellation& tess, const geometry::block_mesh& mesh,
-                              const typename C::params& p, node_set& gp, const node_set& cgp, real dt, index i) {
+                              const typename C::params& p, node_set& gp, const node_set& cgp, real dt, index_t i) {
   typename C::law_type;
   requires law::ContactLaw<typename C::law_type>;
   typename C::params;
   requires std::constructible_from<C, const geometry::tessellation&, const geometry::block_mesh&,
                                    const typename C::params&>;
   { c.prepare_step(cgp, dt) } -> std::same_as<void>;
-  { cc.task_count() } -> std::convertible_to<index>;
+  { cc.task_count() } -> std::convertible_to<index_t>;
   { c.run_task(i, cgp, dt) } noexcept -> std::same_as<void>;
   { cc.add_force(i, gp) } noexcept -> std::same_as<void>;
   { c.update(gp, dt) } -> std::same_as<void>;
   { cc.add_stiffness_bounds(gp) } -> std::same_as<void>;
   { cc.energies() } -> std::same_as<contact_energies>;
-  { cc.subcontact_count() } -> std::convertible_to<index>;
+  { cc.subcontact_count() } -> std::convertible_to<index_t>;
   cc.state(i);
   { cc.area(i) } -> std::convertible_to<real>;
   { cc.normal(i) } -> std::convertible_to<vec3>;
   { cc.force(i) } -> std::convertible_to<vec3>;
-  { cc.node_a(i) } -> std::convertible_to<index>;
-  { cc.node_b(i) } -> std::convertible_to<index>;
+  { cc.node_a(i) } -> std::convertible_to<index_t>;
+  { cc.node_b(i) } -> std::convertible_to<index_t>;
   { cc.subcontact_params(i) } -> std::convertible_to<const typename C::law_type::params&>;
 };
 

@@ -147,7 +147,7 @@ class detected_contacts {
     /// of a block's supporting plane form the patch. Typically 1e-3 to 1e-2 of a block's size.
     real tolerance = 0;
     /// A rebuild at least every this many steps (>= 1), besides the motion trigger.
-    index max_rebuild_interval = 1000;
+    index_t max_rebuild_interval = 1000;
     /// true: at construction, the corners of every face-to-face patch whose faces coincide (each
     /// corner's |gap| <= bond_gap_fraction x tolerance) between a material pair the table
     /// declares bonded start intact (state_type{}: the law's tensile strength and cohesion), as
@@ -164,7 +164,7 @@ class detected_contacts {
     bool deformable_blocks = false;
 
     params() = default;
-    params(material_table<params_type> table, real tol, index interval = 1000, bool bond = false,
+    params(material_table<params_type> table, real tol, index_t interval = 1000, bool bond = false,
            bool deformable = false)
         : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval), bond_faces(bond),
           deformable_blocks(deformable) {}
@@ -191,12 +191,12 @@ class detected_contacts {
       law_params_.push_back(e.params);
     }
     table_ = p.law;
-    const index n_b = mesh.block_count();
+    const index_t n_b = mesh.block_count();
     require<geometry_error>(tess.cell_count() == n_b, "detected_contacts: the tessellation has ", tess.cell_count(),
                             " cells but the block_mesh ", n_b, " blocks");
     gridpoint_count_ = mesh.gridpoint_count();
     reference_.resize(gridpoint_count_, 3);
-    for (index g = 0; g < gridpoint_count_; ++g) reference_.row(g) = mesh.gridpoints[at(g)].transpose();
+    for (index_t g = 0; g < gridpoint_count_; ++g) reference_.row(g) = mesh.gridpoints[at(g)].transpose();
     material_.resize(at(n_b));
     blocks_.resize(at(n_b));
     motion_.resize(at(n_b));
@@ -205,7 +205,7 @@ class detected_contacts {
     edges_.resize(at(n_b));
     real row_max = 0;
     for (const params_type& q : law_params_) row_max = std::max(row_max, stiffness_row_bound_per_area<Law>(q));
-    for (index b = 0; b < n_b; ++b) {
+    for (index_t b = 0; b < n_b; ++b) {
       material_[at(b)] = mesh.material(b);
       build_block(tess, mesh, b);
     }
@@ -245,7 +245,7 @@ class detected_contacts {
           const block_data& bd = blocks_[at(b)];
           motion_[at(b)] = motion_of(bd, gridpoints);
           real m2 = 0;
-          for (index k = bd.watch_begin; k < bd.watch_end; ++k) {
+          for (index_t k = bd.watch_begin; k < bd.watch_end; ++k) {
             const auto g = at(watch_gridpoints_[at(k)]);
             const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1), dz = u[2][g] - rebuild_u_(k, 2);
             m2 = std::max(m2, (dx * dx + dy * dy) + dz * dz);
@@ -259,19 +259,19 @@ class detected_contacts {
     const real half = 0.5 * options_.tolerance - max_deviation_;
     if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
   }
-  [[nodiscard]] index task_count() const { return static_cast<index>(pair_tasks_.size()) - 1; }
+  [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()) - 1; }
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
   /// motion was read from the gridpoints in prepare_step).
-  void run_task(index t, const node_set& gridpoints, real dt) noexcept {
+  void run_task(index_t t, const node_set& gridpoints, real dt) noexcept {
     // In runs of up to normal_batch pairs: first every pair's normals, then the sub-contacts.
     // (Each normal is a chain of dependent operations through a square root and divisions;
     // computed ahead, the chains of several pairs overlap instead of each holding up its own
     // pair's sub-contacts.)
     std::array<std::array<triple, 3>, normal_batch> normals, tilts;
-    for (index k0 = pair_tasks_[at(t)]; k0 < pair_tasks_[at(t) + 1]; k0 += normal_batch) {
-      const index k1 = std::min<index>(k0 + normal_batch, pair_tasks_[at(t) + 1]);
-      for (index k = k0; k < k1; ++k) turn_normals(at(k), normals[at(k - k0)], tilts[at(k - k0)]);
-      for (index k = k0; k < k1; ++k)
+    for (index_t k0 = pair_tasks_[at(t)]; k0 < pair_tasks_[at(t) + 1]; k0 += normal_batch) {
+      const index_t k1 = std::min<index_t>(k0 + normal_batch, pair_tasks_[at(t) + 1]);
+      for (index_t k = k0; k < k1; ++k) turn_normals(at(k), normals[at(k - k0)], tilts[at(k - k0)]);
+      for (index_t k = k0; k < k1; ++k)
         if (options_.deformable_blocks)
           update_pair_zoned(k, dt, gridpoints, normals[at(k - k0)], tilts[at(k - k0)]);
         else
@@ -281,19 +281,19 @@ class detected_contacts {
   /// Adds the contact force on gridpoint g (N) to gridpoints.force, summed over its slots in
   /// increasing order: rigid blocks, the pairs' frame-gridpoint sums (pair_force_, in pair
   /// order); deformable blocks, the weighted sub-contact forces (in sub-contact order).
-  void add_force(index g, node_set& gridpoints) const noexcept {
-    const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
+  void add_force(index_t g, node_set& gridpoints) const noexcept {
+    const index_t begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
     if (begin == end) return;
     real fx = 0, fy = 0, fz = 0;
     if (!options_.deformable_blocks) {
-      for (index e = begin; e < end; ++e) {
+      for (index_t e = begin; e < end; ++e) {
         const real* f = pair_force_.data() + slot_source_[at(e)];
         fx += f[0];
         fy += f[1];
         fz += f[2];
       }
     } else {
-      for (index e = begin; e < end; ++e) {
+      for (index_t e = begin; e < end; ++e) {
         const auto i = at(slot_source_[at(e)]);
         const real w = slot_weight_[at(e)];
         fx += w * force_[0][i];
@@ -308,7 +308,7 @@ class detected_contacts {
   /// prepare_step, every task, the gather (the unfused path, which blocks::rigid takes).
   void update(node_set& gridpoints, real dt) {
     prepare_step(gridpoints, dt);
-    parallel_for(task_count(), [&](std::int64_t t) { run_task(static_cast<index>(t), gridpoints, dt); }, 1);
+    parallel_for(task_count(), [&](std::int64_t t) { run_task(static_cast<index_t>(t), gridpoints, dt); }, 1);
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
   }
@@ -318,7 +318,7 @@ class detected_contacts {
             "detected_contacts::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints, expected ",
             gridpoint_count_);
     if (options_.deformable_blocks) {
-      for (index g = 0; g < gridpoint_count_; ++g) gridpoints.stiffness[g] += gridpoint_bound_[at(g)];
+      for (index_t g = 0; g < gridpoint_count_; ++g) gridpoints.stiffness[g] += gridpoint_bound_[at(g)];
       return;
     }
     for (const block_data& b : blocks_) gridpoints.stiffness[b.farthest] += b.stiffness_bound;
@@ -330,49 +330,49 @@ class detected_contacts {
   [[nodiscard]] real max_deviation() const { return max_deviation_; }
 
   // ---- sub-contacts ----
-  [[nodiscard]] index size() const { return static_cast<index>(key_label_.size()); }
-  [[nodiscard]] index subcontact_count() const { return size(); }
-  [[nodiscard]] index pair_count() const { return static_cast<index>(pair_a_.size()); }
-  [[nodiscard]] const state_type& state(index i) const { return state_[at(i)]; }
-  [[nodiscard]] real area(index i) const { return area_[at(i)]; }
-  [[nodiscard]] index pair_of(index i) const { return pair_[at(i)]; }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(key_label_.size()); }
+  [[nodiscard]] index_t subcontact_count() const { return size(); }
+  [[nodiscard]] index_t pair_count() const { return static_cast<index_t>(pair_a_.size()); }
+  [[nodiscard]] const state_type& state(index_t i) const { return state_[at(i)]; }
+  [[nodiscard]] real area(index_t i) const { return area_[at(i)]; }
+  [[nodiscard]] index_t pair_of(index_t i) const { return pair_[at(i)]; }
   /// Unit normal of sub-contact i, A -> B: that of the face its vertex is pushed by (a face of A
   /// for a vertex of B and the other way round, when the faces are parallel), else the pair's.
-  [[nodiscard]] vec3 normal(index i) const { return normal_[corner_normal_[at(i)]].row(pair_[at(i)]).transpose(); }
+  [[nodiscard]] vec3 normal(index_t i) const { return normal_[corner_normal_[at(i)]].row(pair_[at(i)]).transpose(); }
   /// Force on block B's side in the last update (N); A's side received its opposite.
-  [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
-  [[nodiscard]] index block_a(index i) const { return pair_a_[at(pair_[at(i)])]; }
-  [[nodiscard]] index block_b(index i) const { return pair_b_[at(pair_[at(i)])]; }
+  [[nodiscard]] vec3 force(index_t i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
+  [[nodiscard]] index_t block_a(index_t i) const { return pair_a_[at(pair_[at(i)])]; }
+  [[nodiscard]] index_t block_b(index_t i) const { return pair_b_[at(pair_[at(i)])]; }
   /// First gridpoint of sub-contact i's material point on block A / B (its frame's for rigid
   /// blocks, its zone's or its own gridpoint for deformable ones; the force goes to all four).
-  [[nodiscard]] index node_a(index i) const {
+  [[nodiscard]] index_t node_a(index_t i) const {
     return options_.deformable_blocks ? node_[0][at(i)] : blocks_[at(block_a(i))].frame[0];
   }
-  [[nodiscard]] index node_b(index i) const {
+  [[nodiscard]] index_t node_b(index_t i) const {
     return options_.deformable_blocks ? node_[4][at(i)] : blocks_[at(block_b(i))].frame[0];
   }
   /// corner_label of sub-contact i (detection/common_plane.hpp).
-  [[nodiscard]] std::uint64_t label(index i) const { return key_label_[at(i)]; }
-  [[nodiscard]] const params_type& subcontact_params(index i) const { return law_params_[at(pair_param_[at(pair_[at(i)])])]; }
+  [[nodiscard]] std::uint64_t label(index_t i) const { return key_label_[at(i)]; }
+  [[nodiscard]] const params_type& subcontact_params(index_t i) const { return law_params_[at(pair_param_[at(pair_[at(i)])])]; }
   /// Current position (m) of the material point of sub-contact i on block A / B.
-  [[nodiscard]] vec3 position_a(index i, const node_set& gp) const { return point(i, true, gp); }
-  [[nodiscard]] vec3 position_b(index i, const node_set& gp) const { return point(i, false, gp); }
+  [[nodiscard]] vec3 position_a(index_t i, const node_set& gp) const { return point(i, true, gp); }
+  [[nodiscard]] vec3 position_b(index_t i, const node_set& gp) const { return point(i, false, gp); }
 
   // ---- rebuild statistics ----
-  [[nodiscard]] index rebuild_count() const { return rebuilds_; }
+  [[nodiscard]] index_t rebuild_count() const { return rebuilds_; }
   /// Rebuilds at which a per-sub-contact or per-pair array had to grow (allocate).
-  [[nodiscard]] index growth_count() const { return growths_; }
-  [[nodiscard]] index peak_subcontacts() const { return peak_subcontacts_; }
+  [[nodiscard]] index_t growth_count() const { return growths_; }
+  [[nodiscard]] index_t peak_subcontacts() const { return peak_subcontacts_; }
   /// Wall time spent in rebuilds so far, the construction's included (s; for reports, never
   /// for results).
   [[nodiscard]] double rebuild_seconds() const { return rebuild_seconds_; }
   /// Candidate pairs of the last pass.
   [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
   /// Sub-contacts of the last rebuild that kept the state of an earlier one.
-  [[nodiscard]] index kept_last_rebuild() const { return kept_last_; }
+  [[nodiscard]] index_t kept_last_rebuild() const { return kept_last_; }
   [[nodiscard]] real tolerance() const { return options_.tolerance; }
   /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
-  [[nodiscard]] index bonded_at_start() const { return bonded_at_start_; }
+  [[nodiscard]] index_t bonded_at_start() const { return bonded_at_start_; }
 
   /// Energies of the current sub-contacts plus what those that ended at rebuilds dissipated (J),
   /// and the rebuild exchange: the change of the springs' elastic energy at each rebuild after
@@ -381,7 +381,7 @@ class detected_contacts {
   /// beside the supplied energy so error_rel measures the integration, and reports it.
   [[nodiscard]] contact_energies energies() const {
     contact_energies e = retired_;
-    for (index i = 0; i < size(); ++i) {
+    for (index_t i = 0; i < size(); ++i) {
       const contact_energies c = energies_of(at(i));
       e.stored += c.stored;
       e.dissipated += c.dissipated;
@@ -418,7 +418,7 @@ class detected_contacts {
       constexpr bool rows = std::is_same_v<V, soa3>;  // n x 3 matrices: count rows
       const auto pass = [&](V& x) {
         if constexpr (rows) {
-          x.resize(static_cast<index>(count), 3);
+          x.resize(static_cast<index_t>(count), 3);
           ar.matrix(name, x);
         } else {
           x.resize(static_cast<std::size_t>(count));
@@ -478,43 +478,43 @@ class detected_contacts {
 
  private:
   struct block_data {
-    std::array<index, 4> frame{};  ///< vertex gridpoints spanning the block
+    std::array<index_t, 4> frame{};  ///< vertex gridpoints spanning the block
     mat3 reference_inverse = mat3::Identity();  ///< [X1-X0 X2-X0 X3-X0]^-1
-    index vertex_begin = 0, vertex_end = 0;     ///< into vertex_gridpoints_ (local vertex order)
-    index farthest = 0;                         ///< vertex gridpoint farthest from the centroid
+    index_t vertex_begin = 0, vertex_end = 0;     ///< into vertex_gridpoints_ (local vertex order)
+    index_t farthest = 0;                         ///< vertex gridpoint farthest from the centroid
     real stiffness_bound = 0;                   ///< N/m, on `farthest`
     real nominal_area = 0;                      ///< S / (3 V), m^2
     real surface = 0;                           ///< S, m^2
-    index watch_begin = 0, watch_end = 0;  ///< its watched gridpoints (rigid: vertices; deformable: surface)
+    index_t watch_begin = 0, watch_end = 0;  ///< its watched gridpoints (rigid: vertices; deformable: surface)
     // deformable blocks only
-    index zone_begin = 0, zone_end = 0;    ///< its surface zones, into surface_zones_
-    index face_begin = 0;                  ///< its first tessellation face (local face f = face_begin + f)
+    index_t zone_begin = 0, zone_end = 0;    ///< its surface zones, into surface_zones_
+    index_t face_begin = 0;                  ///< its first tessellation face (local face f = face_begin + f)
   };
 
   /// A gridpoint sub-contact of a deformable patch (collect_nodes).
   struct node_contact {
     std::uint64_t label = 0;
-    index gridpoint = 0;
+    index_t gridpoint = 0;
     real area = 0, gap = 0;
   };
   /// Label of a gridpoint sub-contact: kind 3 (beside corner_label's 0-2), bit 61 the side (B),
   /// the gridpoint below; and its three readers.
-  [[nodiscard]] static constexpr std::uint64_t node_label(index g, bool side_b) noexcept {
+  [[nodiscard]] static constexpr std::uint64_t node_label(index_t g, bool side_b) noexcept {
     return (std::uint64_t{3} << 62) | (side_b ? std::uint64_t{1} << 61 : 0) | static_cast<std::uint64_t>(g);
   }
   [[nodiscard]] static constexpr bool is_node_label(std::uint64_t label) noexcept { return (label >> 62) == 3; }
   [[nodiscard]] static constexpr bool node_label_side_b(std::uint64_t label) noexcept { return ((label >> 61) & 1U) != 0; }
-  [[nodiscard]] static constexpr index node_label_gridpoint(std::uint64_t label) noexcept {
-    return static_cast<index>(label & ((std::uint64_t{1} << 61) - 1));
+  [[nodiscard]] static constexpr index_t node_label_gridpoint(std::uint64_t label) noexcept {
+    return static_cast<index_t>(label & ((std::uint64_t{1} << 61) - 1));
   }
 
   /// Deformable blocks: surface gridpoints, surface zones and the per-gridpoint stiffness bounds
   /// (file comment, "Deformable blocks").
   void build_surfaces(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real row_max) {
-    const index n_faces = static_cast<index>(mesh.face_node_offsets.size()) - 1;
-    require<geometry_error>(n_faces == static_cast<index>(tess.face_cell.size()) &&
+    const index_t n_faces = static_cast<index_t>(mesh.face_node_offsets.size()) - 1;
+    require<geometry_error>(n_faces == static_cast<index_t>(tess.face_cell.size()) &&
                                 mesh.face_node_area.size() == mesh.face_nodes.size() &&
-                                static_cast<index>(mesh.face_triangle_offsets.size()) == n_faces + 1,
+                                static_cast<index_t>(mesh.face_triangle_offsets.size()) == n_faces + 1,
                             "detected_contacts: the block_mesh has surface nodes for ", n_faces, " faces, the tessellation ",
                             tess.face_cell.size(), " (zone the blocks with geometry::zone_blocks)");
     face_node_offsets_ = mesh.face_node_offsets;
@@ -526,33 +526,33 @@ class detected_contacts {
     real a_max = 0;
     for (real a : face_node_area_) a_max = std::max(a_max, a);
     for (const block_data& bd : blocks_) a_max = std::max(a_max, bd.nominal_area);
-    std::vector<index> nodes;
+    std::vector<index_t> nodes;
     std::vector<real> zone_area;
-    for (index b = 0; b < static_cast<index>(blocks_.size()); ++b) {
+    for (index_t b = 0; b < static_cast<index_t>(blocks_.size()); ++b) {
       block_data& bd = blocks_[at(b)];
       bd.face_begin = tess.first_face(b);
       nodes.clear();
-      for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
-        for (index e = face_node_offsets_[at(f)]; e < face_node_offsets_[at(f) + 1]; ++e) {
+      for (index_t f = tess.first_face(b); f < tess.end_face(b); ++f)
+        for (index_t e = face_node_offsets_[at(f)]; e < face_node_offsets_[at(f) + 1]; ++e) {
           nodes.push_back(face_nodes_[at(e)]);
           own[at(face_nodes_[at(e)])] += face_node_area_[at(e)];
         }
       std::sort(nodes.begin(), nodes.end());
       nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
-      bd.watch_begin = static_cast<index>(watch_gridpoints_.size());
+      bd.watch_begin = static_cast<index_t>(watch_gridpoints_.size());
       watch_gridpoints_.insert(watch_gridpoints_.end(), nodes.begin(), nodes.end());
-      bd.watch_end = static_cast<index>(watch_gridpoints_.size());
+      bd.watch_end = static_cast<index_t>(watch_gridpoints_.size());
       // The zone of each surface triangle (the one holding its three gridpoints) and the area of
       // the surface it carries.
-      const index z0 = mesh.block_zone_offsets[at(b)], z1 = mesh.block_zone_offsets[at(b) + 1];
+      const index_t z0 = mesh.block_zone_offsets[at(b)], z1 = mesh.block_zone_offsets[at(b) + 1];
       zone_area.assign(at(z1 - z0), 0.0);
-      for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
-        for (index t = mesh.face_triangle_offsets[at(f)]; t < mesh.face_triangle_offsets[at(f) + 1]; ++t) {
+      for (index_t f = tess.first_face(b); f < tess.end_face(b); ++f)
+        for (index_t t = mesh.face_triangle_offsets[at(f)]; t < mesh.face_triangle_offsets[at(f) + 1]; ++t) {
           const auto& tri = mesh.face_triangles[at(t)];
-          index found = invalid_index;
-          for (index z = z0; z < z1 && found == invalid_index; ++z) {
+          index_t found = invalid_index;
+          for (index_t z = z0; z < z1 && found == invalid_index; ++z) {
             const auto& zn = zones_[at(z)];
-            const auto has = [&](index g) { return std::find(zn.begin(), zn.end(), g) != zn.end(); };
+            const auto has = [&](index_t g) { return std::find(zn.begin(), zn.end(), g) != zn.end(); };
             if (has(tri[0]) && has(tri[1]) && has(tri[2])) found = z;
           }
           require<geometry_error>(found != invalid_index, "detected_contacts: surface triangle ", t, " of block ", b,
@@ -562,32 +562,32 @@ class detected_contacts {
                                                  .cross(vec3(reference_.row(tri[2]).transpose()) - x0)
                                                  .norm();
         }
-      bd.zone_begin = static_cast<index>(surface_zones_.size());
-      for (index z = z0; z < z1; ++z)
+      bd.zone_begin = static_cast<index_t>(surface_zones_.size());
+      for (index_t z = z0; z < z1; ++z)
         if (zone_area[at(z - z0)] > 0) {
           surface_zones_.push_back(z);
-          for (index g : zones_[at(z)]) {
+          for (index_t g : zones_[at(z)]) {
             around[at(g)] += zone_area[at(z - z0)];
             on_surface[at(g)] = 1;
           }
         }
-      bd.zone_end = static_cast<index>(surface_zones_.size());
+      bd.zone_end = static_cast<index_t>(surface_zones_.size());
       require<geometry_error>(bd.zone_end > bd.zone_begin, "detected_contacts: block ", b, " has no surface zones");
     }
     // Gridpoint g carries its own gridpoint sub-contacts (area own) and the material points that
     // land in its surface zones (at most the surface they carry, plus the largest tributary area
     // of a gridpoint or corner straddling their edge, on either side): 4 k_row x that area.
     gridpoint_bound_.assign(at(gridpoint_count_), 0.0);
-    for (index g = 0; g < gridpoint_count_; ++g)
+    for (index_t g = 0; g < gridpoint_count_; ++g)
       if (on_surface[at(g)] != 0) gridpoint_bound_[at(g)] = 4 * row_max * (own[at(g)] + 2 * around[at(g)] + 2 * a_max);
   }
 
   /// Deformable blocks: the surface zone of block b holding x (the largest smallest barycentric
   /// weight, so a point just outside the surface takes the zone below it) and x's weights in it.
-  void locate(index b, const vec3& x, const node_set* gp, std::array<index, 4>& nodes, std::array<real, 4>& w) const {
+  void locate(index_t b, const vec3& x, const node_set* gp, std::array<index_t, 4>& nodes, std::array<real, 4>& w) const {
     const block_data& bd = blocks_[at(b)];
     real best = -std::numeric_limits<real>::infinity();
-    for (index s = bd.zone_begin; s < bd.zone_end; ++s) {
+    for (index_t s = bd.zone_begin; s < bd.zone_end; ++s) {
       const auto& zn = zones_[at(surface_zones_[at(s)])];
       const vec3 x0 = position(zn[0], gp);
       mat3 d;
@@ -605,13 +605,13 @@ class detected_contacts {
   /// Deformable blocks: the gridpoints and weights of sub-contact i of pair (a, b): a gridpoint
   /// sub-contact is its own gridpoint on its side and located in the other block's zones; a corner
   /// is located in both.
-  void place_zoned(std::size_t i, index a, index b, const node_set* gp) {
-    std::array<index, 4> na{}, nb{};
+  void place_zoned(std::size_t i, index_t a, index_t b, const node_set* gp) {
+    std::array<index_t, 4> na{}, nb{};
     std::array<real, 4> wa{}, wb{};
     const std::uint64_t label = key_label_[i];
     const bool node = is_node_label(label);
     const bool node_side_b = node && node_label_side_b(label);
-    const auto own = [&](std::array<index, 4>& nodes, std::array<real, 4>& w) {
+    const auto own = [&](std::array<index_t, 4>& nodes, std::array<real, 4>& w) {
       nodes = {node_label_gridpoint(label), invalid_index, invalid_index, invalid_index};
       w = {1, 0, 0, 0};
     };
@@ -633,7 +633,7 @@ class detected_contacts {
 
   /// The side whose gridpoints pair (a, b) used at the last rebuild: 0 A, 1 B, -1 corners or no
   /// such pair (reads the old pairs, before the rebuild replaces them).
-  [[nodiscard]] int previous_node_side(index a, index b) const {
+  [[nodiscard]] int previous_node_side(index_t a, index_t b) const {
     const auto n_old = static_cast<std::ptrdiff_t>(pair_a_.size());
     std::ptrdiff_t lo = 0, hi = n_old;
     while (lo < hi) {  // first old pair >= (a, b)
@@ -686,22 +686,22 @@ class detected_contacts {
       }
       return true;
     };
-    const index a = result_.pairs[k].a, b = result_.pairs[k].b;
+    const index_t a = result_.pairs[k].a, b = result_.pairs[k].b;
     std::array<std::vector<node_contact>*, 2> found{&node_scratch_, &node_other_};
     for (int side = 0; side < 2; ++side) {
       std::vector<node_contact>& out = *found[at(side)];
       out.clear();
-      const index self = side == 0 ? a : b, other = side == 0 ? b : a;
+      const index_t self = side == 0 ? a : b, other = side == 0 ? b : a;
       const real sign = side == 0 ? 1.0 : -1.0;
       // The other block's extreme along -sign n: its face that the patch lies on.
       const real support = side == 0 ? detection::detail::support_min(current_[at(other)], n)
                                      : detection::detail::support_max(current_[at(other)], n);
       const auto faces = workspace_.faces_of(at(self));  // this pass's face planes
-      for (index f = 0; f < static_cast<index>(faces.size()); ++f) {
+      for (index_t f = 0; f < static_cast<index_t>(faces.size()); ++f) {
         if (sign * faces[at(f)].normal.dot(n) <= parallel_cos) continue;
-        const index tf = blocks_[at(self)].face_begin + f;
-        for (index e = face_node_offsets_[at(tf)]; e < face_node_offsets_[at(tf) + 1]; ++e) {
-          const index g = face_nodes_[at(e)];
+        const index_t tf = blocks_[at(self)].face_begin + f;
+        for (index_t e = face_node_offsets_[at(tf)]; e < face_node_offsets_[at(tf) + 1]; ++e) {
+          const index_t g = face_nodes_[at(e)];
           const vec3 x = position(g, gp);
           if (!inside(point2(t1.dot(x), t2.dot(x)))) continue;
           out.push_back({node_label(g, side == 1), g, face_node_area_[at(e)], sign * (support - n.dot(x))});
@@ -763,62 +763,62 @@ class detected_contacts {
     return e;
   }
 
-  [[nodiscard]] vec3 position(index g, const node_set* gp) const {
+  [[nodiscard]] vec3 position(index_t g, const node_set* gp) const {
     vec3 x = reference_.row(g).transpose();
     if (gp != nullptr) x += gp->displacement.row(g).transpose();
     return x;
   }
-  [[nodiscard]] vec3 point(index i, bool side_a, const node_set& gp) const {
+  [[nodiscard]] vec3 point(index_t i, bool side_a, const node_set& gp) const {
     const block_data& b = blocks_[at(side_a ? block_a(i) : block_b(i))];
     vec3 x = vec3::Zero();
     for (int k = 0; k < 4; ++k) {
       const int slot = side_a ? k : 4 + k;
-      const index g = options_.deformable_blocks ? node_[at(slot)][at(i)] : b.frame[at(k)];
+      const index_t g = options_.deformable_blocks ? node_[at(slot)][at(i)] : b.frame[at(k)];
       if (g != invalid_index) x += weight_[at(slot)][at(i)] * position(g, &gp);
     }
     return x;
   }
 
   /// Vertex gridpoints, shape, edges, frame and bounds of block b.
-  void build_block(const geometry::tessellation& tess, const geometry::block_mesh& mesh, index b) {
+  void build_block(const geometry::tessellation& tess, const geometry::block_mesh& mesh, index_t b) {
     // The tessellation vertex -> gridpoint map of this block.
-    std::vector<std::pair<index, index>> vertex_gp;
-    for (index g = mesh.block_gridpoint_offsets[at(b)]; g < mesh.block_gridpoint_offsets[at(b) + 1]; ++g)
-      if (const index v = mesh.gridpoint_vertex[at(g)]; v != invalid_index) vertex_gp.emplace_back(v, g);
+    std::vector<std::pair<index_t, index_t>> vertex_gp;
+    for (index_t g = mesh.block_gridpoint_offsets[at(b)]; g < mesh.block_gridpoint_offsets[at(b) + 1]; ++g)
+      if (const index_t v = mesh.gridpoint_vertex[at(g)]; v != invalid_index) vertex_gp.emplace_back(v, g);
     std::sort(vertex_gp.begin(), vertex_gp.end());
     block_data& bd = blocks_[at(b)];
-    bd.vertex_begin = static_cast<index>(vertex_gridpoints_.size());
+    bd.vertex_begin = static_cast<index_t>(vertex_gridpoints_.size());
     // Local vertices in order of first use, as geometry::cell_polyhedron numbers them.
-    std::vector<index> local;
-    for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
-      for (index v : tess.face(f))
+    std::vector<index_t> local;
+    for (index_t f = tess.first_face(b); f < tess.end_face(b); ++f)
+      for (index_t v : tess.face(f))
         if (std::find(local.begin(), local.end(), v) == local.end()) {
           local.push_back(v);
-          const auto it = std::lower_bound(vertex_gp.begin(), vertex_gp.end(), std::pair<index, index>{v, index{-1}});
+          const auto it = std::lower_bound(vertex_gp.begin(), vertex_gp.end(), std::pair<index_t, index_t>{v, index_t{-1}});
           require<geometry_error>(it != vertex_gp.end() && it->first == v, "detected_contacts: vertex ", v,
                                   " of block ", b, " has no gridpoint in the block_mesh");
           vertex_gridpoints_.push_back(it->second);
         }
-    bd.vertex_end = static_cast<index>(vertex_gridpoints_.size());
+    bd.vertex_end = static_cast<index_t>(vertex_gridpoints_.size());
     shapes_[at(b)] = geometry::cell_polyhedron(tess, b);
     edges_[at(b)] = detection::edges_of(shapes_[at(b)]);
     const geometry::convex_polyhedron& s = shapes_[at(b)];
     // Frame: the first vertex, the farthest from it, the farthest from their line, the farthest
     // from their plane.
-    const auto gp = [&](index k) { return vertex_gridpoints_[at(bd.vertex_begin + k)]; };
-    const index nv = bd.vertex_end - bd.vertex_begin;
+    const auto gp = [&](index_t k) { return vertex_gridpoints_[at(bd.vertex_begin + k)]; };
+    const index_t nv = bd.vertex_end - bd.vertex_begin;
     const auto arg_max = [&](auto&& score) {
-      index best = 0;
-      for (index k = 1; k < nv; ++k)
+      index_t best = 0;
+      for (index_t k = 1; k < nv; ++k)
         if (score(s.vertex(k)) > score(s.vertex(best))) best = k;
       return best;
     };
     const vec3 x0 = s.vertex(0);
-    const index k1 = arg_max([&](const vec3& x) { return (x - x0).squaredNorm(); });
+    const index_t k1 = arg_max([&](const vec3& x) { return (x - x0).squaredNorm(); });
     const vec3 d1 = (s.vertex(k1) - x0).normalized();
-    const index k2 = arg_max([&](const vec3& x) { return (x - x0 - d1 * d1.dot(x - x0)).squaredNorm(); });
+    const index_t k2 = arg_max([&](const vec3& x) { return (x - x0 - d1 * d1.dot(x - x0)).squaredNorm(); });
     const vec3 n12 = d1.cross(s.vertex(k2) - x0).normalized();
-    const index k3 = arg_max([&](const vec3& x) { return std::abs(n12.dot(x - x0)); });
+    const index_t k3 = arg_max([&](const vec3& x) { return std::abs(n12.dot(x - x0)); });
     bd.frame = {gp(0), gp(k1), gp(k2), gp(k3)};
     mat3 d;
     d << s.vertex(k1) - x0, s.vertex(k2) - x0, s.vertex(k3) - x0;
@@ -828,7 +828,7 @@ class detected_contacts {
     // Bounds.
     const vec3 c = s.centroid();
     real surface = 0;
-    for (index f = 0; f < s.face_count(); ++f) surface += s.face_area(f);
+    for (index_t f = 0; f < s.face_count(); ++f) surface += s.face_area(f);
     bd.farthest = gp(arg_max([&](const vec3& x) { return (x - c).squaredNorm(); }));
     bd.surface = surface;
     bd.nominal_area = surface / (3 * static_cast<real>(nv));
@@ -876,9 +876,9 @@ class detected_contacts {
     ++rebuilds_;
     steps_since_rebuild_ = 0;
     const std::size_t capacity_before = storage_capacity();
-    const auto n_b = static_cast<index>(blocks_.size());
+    const auto n_b = static_cast<index_t>(blocks_.size());
     real deviation = 0;
-    for (index b = 0; b < n_b; ++b) {
+    for (index_t b = 0; b < n_b; ++b) {
       const block_data& bd = blocks_[at(b)];
       const mat3 map = rotation(bd, gp);
       const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
@@ -887,8 +887,8 @@ class detected_contacts {
       // A deformable block is detected by its affine fit (the frame's map of its reference
       // shape): how far its surface gridpoints are from it.
       if (options_.deformable_blocks)
-        for (index w = bd.watch_begin; w < bd.watch_end; ++w) {
-          const index g = watch_gridpoints_[at(w)];
+        for (index_t w = bd.watch_begin; w < bd.watch_end; ++w) {
+          const index_t g = watch_gridpoints_[at(w)];
           const vec3 fit = map * reference_.row(g).transpose() + translation;
           deviation = std::max(deviation, (position(g, gp) - fit).norm());
         }
@@ -901,10 +901,10 @@ class detected_contacts {
                               " m); detection reads the fit, so raise the tolerance (or stiffen the blocks)");
       max_deviation_ = deviation;
     }
-    rebuild_u_.resize(static_cast<index>(watch_gridpoints_.size()), 3);
+    rebuild_u_.resize(static_cast<index_t>(watch_gridpoints_.size()), 3);
     for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k)
       for (int c = 0; c < 3; ++c)
-        rebuild_u_(static_cast<index>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
+        rebuild_u_(static_cast<index_t>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
     detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_);
 
     // New pairs and their corners, sorted by label within a pair (pairs come increasing).
@@ -928,7 +928,7 @@ class detected_contacts {
         }
         new_pair_a_.push_back(result_.pairs[k].a);
         new_pair_b_.push_back(result_.pairs[k].b);
-        new_pair_first_.push_back(static_cast<index>(new_label_.size()));
+        new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
         continue;
       }
       order_.clear();
@@ -955,7 +955,7 @@ class detected_contacts {
       }
       new_pair_a_.push_back(result_.pairs[k].a);
       new_pair_b_.push_back(result_.pairs[k].b);
-      new_pair_first_.push_back(static_cast<index>(new_label_.size()));
+      new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
     }
     const std::size_t n = new_label_.size();
 
@@ -967,11 +967,11 @@ class detected_contacts {
     std::size_t old = 0;
     const std::size_t n_old = key_label_.size();
     for (std::size_t k = 0; k < n_pairs; ++k) {
-      const index a = new_pair_a_[k], b = new_pair_b_[k];
+      const index_t a = new_pair_a_[k], b = new_pair_b_[k];
       const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
       for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
         const auto before = [&](std::size_t o) {
-          const index oa = pair_a_[at(pair_[o])], ob = pair_b_[at(pair_[o])];
+          const index_t oa = pair_a_[at(pair_[o])], ob = pair_b_[at(pair_[o])];
           return oa < a || (oa == a && (ob < b || (ob == b && key_label_[o] < new_label_[i])));
         };
         while (old < n_old && before(old)) ++old;
@@ -1040,10 +1040,10 @@ class detected_contacts {
     feature_b_.resize(n_pairs);
     side_a_.resize(n_pairs);
     side_b_.resize(n_pairs);
-    for (soa3& m : normal_) m.resize(static_cast<index>(n_pairs), 3);
+    for (soa3& m : normal_) m.resize(static_cast<index_t>(n_pairs), 3);
     for (std::size_t k = 0; k < n_pairs; ++k) {
-      const index a = pair_a_[k], b = pair_b_[k];
-      pair_param_[k] = static_cast<index>(table_.entry_index(material_[at(a)], material_[at(b)]));
+      const index_t a = pair_a_[k], b = pair_b_[k];
+      pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
       const detection::contact_plane& plane = result_.planes[k];
       // The feature in each block's reference frame: n = R_a fa (face of A), -R_b fb (face of B),
       // or +-(R_a ea x R_b eb) (edges), so that n equals the plane's normal now.
@@ -1088,7 +1088,7 @@ class detected_contacts {
       const mat3 nb = options_.deformable_blocks ? mat3(rb.inverse().transpose()) : rb;
       for (int j = 0; j < 3; ++j) {
         const vec3 nj = j == 0 || normal_is_plane(k, j) ? n : j == 1 ? vec3(na * side_a_[k]) : vec3(-(nb * side_b_[k]));
-        normal_[at(j)].row(static_cast<index>(k)) = nj.transpose();
+        normal_[at(j)].row(static_cast<index_t>(k)) = nj.transpose();
       }
     }
 
@@ -1097,7 +1097,7 @@ class detected_contacts {
     key_label_.assign(new_label_.begin(), new_label_.end());
     corner_normal_.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      const auto k = at(std::upper_bound(new_pair_first_.begin(), new_pair_first_.end(), static_cast<index>(i)) -
+      const auto k = at(std::upper_bound(new_pair_first_.begin(), new_pair_first_.end(), static_cast<index_t>(i)) -
                         new_pair_first_.begin() - 1);
       // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
       const std::uint64_t label = key_label_[i];
@@ -1114,17 +1114,17 @@ class detected_contacts {
       for (auto& v : node_) v.resize(n);
       for (std::size_t k = 0; k < n_pairs; ++k)
         for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-          pair_[i] = static_cast<index>(k);
+          pair_[i] = static_cast<index_t>(k);
           area_[i] = new_area_[i];
           place_zoned(i, pair_a_[k], pair_b_[k], gp);
         }
     } else {
       for (std::size_t k = 0; k < n_pairs; ++k) {
-        const index a = pair_a_[k], b = pair_b_[k];
+        const index_t a = pair_a_[k], b = pair_b_[k];
         const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
         const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
         for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-          pair_[i] = static_cast<index>(k);
+          pair_[i] = static_cast<index_t>(k);
           area_[i] = new_area_[i];
           const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
           weight_[0][i] = 1 - la.sum();
@@ -1139,7 +1139,7 @@ class detected_contacts {
     pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
     index_subcontacts();
 
-    peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index>(n));
+    peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index_t>(n));
     if (storage_capacity() > capacity_before) ++growths_;
     if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
     rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -1152,7 +1152,7 @@ class detected_contacts {
     pair_tasks_.assign(1, 0);
     for (std::size_t k = 0; k < n_pairs; ++k)
       if (k + 1 == n_pairs || pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
-        pair_tasks_.push_back(static_cast<index>(k + 1));
+        pair_tasks_.push_back(static_cast<index_t>(k + 1));
 
     // Gather slots, by a counting sort over slot (item, s), s = 0-7 (A's four, then B's four), so
     // that each gridpoint's slots come in increasing item order. Rigid blocks: the items are the
@@ -1167,26 +1167,26 @@ class detected_contacts {
     slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
     for (std::size_t item = 0; item < items; ++item)
       for (int s = 0; s < 8; ++s)
-        if (const index g = slot_gridpoint(item, s); g != invalid_index) ++slot_offsets_[at(g) + 1];
+        if (const index_t g = slot_gridpoint(item, s); g != invalid_index) ++slot_offsets_[at(g) + 1];
     for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
     slot_source_.resize(at(slot_offsets_.back()));
     slot_weight_.resize(rigid ? 0 : at(slot_offsets_.back()));
     fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
     for (std::size_t item = 0; item < items; ++item)
       for (int s = 0; s < 8; ++s) {
-        const index g = slot_gridpoint(item, s);
+        const index_t g = slot_gridpoint(item, s);
         if (g == invalid_index) continue;
         const auto e = at(fill_[at(g)]++);
         if (rigid) {
-          slot_source_[e] = static_cast<index>(24 * item + 3 * at(s));
+          slot_source_[e] = static_cast<index_t>(24 * item + 3 * at(s));
         } else {
-          slot_source_[e] = static_cast<index>(item);
+          slot_source_[e] = static_cast<index_t>(item);
           slot_weight_[e] = s < 4 ? weight_[at(s)][item] : -weight_[at(s)][item];
         }
       }
     if (rigid) pair_force_.assign(24 * n_pairs, 0.0);
     contact_gridpoints_.clear();
-    for (index g = 0; g < gridpoint_count_; ++g)
+    for (index_t g = 0; g < gridpoint_count_; ++g)
       if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
   }
 
@@ -1199,7 +1199,7 @@ class detected_contacts {
   /// Elastic energy of the current sub-contacts (J), summed in sub-contact order.
   [[nodiscard]] real stored_energy() const {
     real e = 0;
-    for (index i = 0; i < size(); ++i) e += energies_of(at(i)).stored;
+    for (index_t i = 0; i < size(); ++i) e += energies_of(at(i)).stored;
     return e;
   }
 
@@ -1219,7 +1219,7 @@ class detected_contacts {
       }
     }
     const real len = n.norm();
-    const auto row = static_cast<index>(k);
+    const auto row = static_cast<index_t>(k);
     if (!(len > 0)) return {normal_[at(j)](row, 0), normal_[at(j)](row, 1), normal_[at(j)](row, 2)};
     return {n.x() / len, n.y() / len, n.z() / len};
   }
@@ -1235,7 +1235,7 @@ class detected_contacts {
 
   /// The pair's three normals now (stored for the next step) and their tilts since the last.
   void turn_normals(std::size_t k, std::array<triple, 3>& normals, std::array<triple, 3>& tilts) noexcept {
-    const auto row = static_cast<index>(k);
+    const auto row = static_cast<index_t>(k);
     const block_motion& ma = motion_[at(pair_a_[k])];
     const block_motion& mb = motion_[at(pair_b_[k])];
     for (int j = 0; j < 3; ++j) {
@@ -1261,14 +1261,14 @@ class detected_contacts {
 
   /// update_pair for deformable blocks: each material point is its four gridpoints' weighted sum
   /// (a zone's barycentric interpolation, or one surface gridpoint), read from the gridpoints.
-  void update_pair_zoned(index pk, real dt, const node_set& gp, const std::array<triple, 3>& normals,
+  void update_pair_zoned(index_t pk, real dt, const node_set& gp, const std::array<triple, 3>& normals,
                          const std::array<triple, 3>& tilts) noexcept {
     const auto k = at(pk);
     const params_type& p = law_params_[at(pair_param_[k])];
     for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
       real gap[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
       for (int slot = 0; slot < 8; ++slot) {
-        const index g = node_[at(slot)][i];
+        const index_t g = node_[at(slot)][i];
         if (g == invalid_index) continue;
         const real w = slot < 4 ? -weight_[at(slot)][i] : weight_[at(slot)][i];
         for (int c = 0; c < 3; ++c) {
@@ -1282,7 +1282,7 @@ class detected_contacts {
   }
 
   /// The sub-contacts of pair pk (rigid blocks), with the pair's normals and tilts this step.
-  void update_pair(index pk, real dt, const std::array<triple, 3>& normals, const std::array<triple, 3>& tilts) noexcept {
+  void update_pair(index_t pk, real dt, const std::array<triple, 3>& normals, const std::array<triple, 3>& tilts) noexcept {
     const auto k = at(pk);
     const block_motion& ma = motion_[at(pair_a_[k])];
     const block_motion& mb = motion_[at(pair_b_[k])];
@@ -1335,8 +1335,8 @@ class detected_contacts {
   }
 
   enum class feature_kind : std::uint8_t { face_a, face_b, edges };
-  static constexpr index task_subcontacts = 64;
-  static constexpr index normal_batch = 16;  ///< pairs whose normals run_task computes ahead
+  static constexpr index_t task_subcontacts = 64;
+  static constexpr index_t normal_batch = 16;  ///< pairs whose normals run_task computes ahead
   /// Deformable blocks: the largest distance of a surface gridpoint from its block's affine fit
   /// that a rebuild accepts, as a fraction of the tolerance (the trigger keeps it in reserve).
   static constexpr real max_deviation_fraction = 0.25;
@@ -1347,37 +1347,37 @@ class detected_contacts {
   material_table<params_type> table_;
   std::vector<params_type> law_params_;
   std::vector<int> material_;
-  index gridpoint_count_ = 0;
+  index_t gridpoint_count_ = 0;
   soa3 reference_;                                 ///< reference gridpoint positions (m)
   std::vector<block_data> blocks_;
   std::vector<block_motion> motion_;  ///< per block, this step (prepare_step)
   std::vector<real> moved_;           ///< per block, its watched gridpoints' largest squared move since the rebuild (m^2)
-  std::vector<index> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
-  std::vector<index> watch_gridpoints_;  ///< gridpoints the rebuild trigger reads (rigid: the vertices; deformable: the surface)
+  std::vector<index_t> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
+  std::vector<index_t> watch_gridpoints_;  ///< gridpoints the rebuild trigger reads (rigid: the vertices; deformable: the surface)
   // deformable blocks only
-  std::vector<index> face_node_offsets_, face_nodes_, surface_zones_;
+  std::vector<index_t> face_node_offsets_, face_nodes_, surface_zones_;
   std::vector<real> face_node_area_, gridpoint_bound_;
-  std::vector<std::array<index, 4>> zones_;
+  std::vector<std::array<index_t, 4>> zones_;
   real max_deviation_ = 0;
-  std::array<std::vector<index>, 8> node_;  ///< per sub-contact, the gridpoints of the weights (invalid_index: none)
+  std::array<std::vector<index_t>, 8> node_;  ///< per sub-contact, the gridpoints of the weights (invalid_index: none)
   std::vector<node_contact> node_scratch_, node_other_;
   std::vector<Eigen::Matrix<real, 2, 1>> polygon_;
   std::vector<geometry::convex_polyhedron> shapes_, current_;  ///< reference and current geometry
   std::vector<detection::polyhedron_edges> edges_;
   std::vector<aabb> boxes_;
   soa3 rebuild_u_;                                 ///< vertex displacements at the last rebuild
-  index steps_since_rebuild_ = 0;
+  index_t steps_since_rebuild_ = 0;
   detection::detection_result result_;
   detection::detection_workspace workspace_;
   // per pair
-  std::vector<index> pair_a_, pair_b_, pair_param_, pair_first_{0}, pair_tasks_{0};
+  std::vector<index_t> pair_a_, pair_b_, pair_param_, pair_first_{0}, pair_tasks_{0};
   std::vector<feature_kind> feature_;
   std::vector<vec3> feature_a_, feature_b_;
   std::array<soa3, 3> normal_;                     ///< per pair: the plane's, A's parallel face's, B's (now)
   std::vector<vec3> side_a_, side_b_;              ///< A's / B's face parallel to the plane, body frame (0: none)
   std::vector<std::uint8_t> corner_normal_;        ///< which of the pair's normals a sub-contact uses
   // per sub-contact (sorted by (a, b, label))
-  std::vector<index> pair_;
+  std::vector<index_t> pair_;
   std::vector<std::uint64_t> key_label_;
   std::vector<real> area_;
   std::vector<state_type> state_;
@@ -1386,13 +1386,13 @@ class detected_contacts {
   std::array<std::vector<real>, 3> force_;         ///< force on A's side (N)
   // gather
   // slot_source_: rigid blocks, an offset into pair_force_; deformable, a sub-contact
-  std::vector<index> slot_offsets_{0}, slot_source_, contact_gridpoints_, fill_;
+  std::vector<index_t> slot_offsets_{0}, slot_source_, contact_gridpoints_, fill_;
   std::vector<real> slot_weight_;  ///< deformable blocks: the weight of the slot's sub-contact
   /// Rigid blocks, per pair: the forces on A's four frame gridpoints (w f) then B's (-w f),
   /// summed over its sub-contacts in order (N; 24 per pair).
   std::vector<real> pair_force_;
   // rebuild scratch
-  std::vector<index> new_pair_a_, new_pair_b_, new_pair_first_;
+  std::vector<index_t> new_pair_a_, new_pair_b_, new_pair_first_;
   std::vector<std::uint64_t> new_label_;
   std::vector<std::size_t> order_;
   std::vector<real> new_area_, new_gap_;
@@ -1401,7 +1401,7 @@ class detected_contacts {
   std::vector<std::uint8_t> new_fresh_, kept_old_;
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
-  index rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0;
+  index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0;
   double rebuild_seconds_ = 0;
 };
 

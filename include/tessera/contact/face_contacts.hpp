@@ -134,7 +134,7 @@ class face_contacts {
   /// Law parameters per pair of block materials (geometry::block_mesh::block_material).
   face_contacts(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const params& table) {
     for (const auto& e : table.entries()) Law::validate(e.params);
-    const index n_gridpoints = mesh.gridpoint_count();
+    const index_t n_gridpoints = mesh.gridpoint_count();
     gridpoint_count_ = n_gridpoints;
     for (const auto& e : table.entries()) {
       law_params_.push_back(e.params);
@@ -174,7 +174,7 @@ class face_contacts {
             gridpoints.size(), " gridpoints, expected ", gridpoint_count_);
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
-    for (index s = 0; s < face_count(); ++s) {
+    for (index_t s = 0; s < face_count(); ++s) {
       const triple area = corners_.area_vector(s, u);
       const vec3 d(area.x, area.y, area.z);
       if (d.squaredNorm() > 0) normal_.row(s) = d.normalized().transpose();
@@ -192,7 +192,7 @@ class face_contacts {
     // 1+2. Per face (one parallel loop, so the face's gridpoints are still in L1 for its
     // sub-contacts): the frame, then the law update and force on node B of each sub-contact.
     prepare_step(gridpoints, dt);
-    parallel_for(task_count(), [&](std::int64_t b) { run_task(static_cast<index>(b), gridpoints, dt); }, 2);
+    parallel_for(task_count(), [&](std::int64_t b) { run_task(static_cast<index_t>(b), gridpoints, dt); }, 2);
     // 3. Gather onto gridpoints: contiguous sums over each gridpoint's slots, in fixed order.
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
@@ -209,23 +209,23 @@ class face_contacts {
 
   /// Number of tasks: the face blocks, runs of consecutive faces with about block_subcontacts
   /// sub-contacts and one material-pair entry.
-  [[nodiscard]] index task_count() const { return static_cast<index>(face_blocks_.size()) - 1; }
+  [[nodiscard]] index_t task_count() const { return static_cast<index_t>(face_blocks_.size()) - 1; }
   /// update_faces over face block b.
-  void run_task(index b, const node_set& gridpoints, real dt) noexcept {
+  void run_task(index_t b, const node_set& gridpoints, real dt) noexcept {
     update_faces(face_blocks_[at(b)], face_blocks_[at(b) + 1], gridpoints, dt);
   }
   /// update_faces over face s alone.
-  void update_face(index s, const node_set& gridpoints, real dt) noexcept { update_faces(s, s + 1, gridpoints, dt); }
+  void update_face(index_t s, const node_set& gridpoints, real dt) noexcept { update_faces(s, s + 1, gridpoints, dt); }
 
   /// Frames of faces [first_face, last_face) from the current positions (a degenerate face keeps
   /// its previous frame), then law update and force rows of each of their sub-contacts. Writes
   /// only those faces' data.
-  void update_faces(index first_face, index last_face, const node_set& gridpoints, real dt) noexcept {
+  void update_faces(index_t first_face, index_t last_face, const node_set& gridpoints, real dt) noexcept {
     const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
                         gridpoints.displacement.col(2).data()};
     const real* v[3] = {gridpoints.velocity.col(0).data(), gridpoints.velocity.col(1).data(),
                         gridpoints.velocity.col(2).data()};
-    for (index s = first_face; s < last_face; ++s) {
+    for (index_t s = first_face; s < last_face; ++s) {
       const params_type& p = face_params(s);
       const triple d = corners_.area_vector(s, u);
       const triple n_prev{previous_normal_(s, 0), previous_normal_(s, 1), previous_normal_(s, 2)};
@@ -240,7 +240,7 @@ class face_contacts {
       normal_(s, 2) = n.z;
       const triple tilt = kinematics::tilt(n_prev, n);  // rotation vector n_prev -> n (first order)
       for (std::size_t i = at(first_subcontact_[at(s)]); i < at(first_subcontact_[at(s) + 1]); ++i) {
-        const index a = node_a_[i], b = node_b_[i];
+        const index_t a = node_a_[i], b = node_b_[i];
         const triple gap{u[0][b] - u[0][a], u[1][b] - u[1][a], u[2][b] - u[2][a]};
         const triple dv{v[0][b] - v[0][a], v[1][b] - v[1][a], v[2][b] - v[2][a]};
         const auto [du_n, du_s] = kinematics::split(kinematics::relative_increment(dv, gap, tilt, dt), n);
@@ -265,8 +265,8 @@ class face_contacts {
     if constexpr (packed) {
       // One pack pass per run of faces with the same parameters (one run within a face block).
       real* const force[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
-      for (index run = first_face; run < last_face;) {
-        index run_end = run + 1;
+      for (index_t run = first_face; run < last_face;) {
+        index_t run_end = run + 1;
         while (run_end < last_face && face_param_[at(run_end)] == face_param_[at(run)]) ++run_end;
         detail::advance_states<Law>(face_params(run), state_, step_, area_.data(), at(first_subcontact_[at(run)]),
                                     at(first_subcontact_[at(run_end)]), force);
@@ -277,12 +277,12 @@ class face_contacts {
 
   /// Adds the contact forces of the last update_face calls on gridpoint g to gridpoints.force
   /// (a contiguous sum over g's slots in fixed order; nothing for a gridpoint without sub-contacts).
-  void add_force(index g, node_set& gridpoints) const noexcept {
-    const index begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
+  void add_force(index_t g, node_set& gridpoints) const noexcept {
+    const index_t begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
     if (begin == end) return;
     const real* f[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
     real fx = 0, fy = 0, fz = 0;
-    for (index e = begin; e < end; ++e) {
+    for (index_t e = begin; e < end; ++e) {
       // +-f exactly: the sum is that of the forces on g in increasing sub-contact order.
       const auto i = at(slot_subcontact_[at(e)]);
       const real sign = slot_sign_[at(e)];
@@ -312,39 +312,39 @@ class face_contacts {
   }
 
   // ---- sub-contacts ----
-  [[nodiscard]] index size() const { return static_cast<index>(node_a_.size()); }
-  [[nodiscard]] index subcontact_count() const { return size(); }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(node_a_.size()); }
+  [[nodiscard]] index_t subcontact_count() const { return size(); }
   /// Gridpoint of block A (lower cell id) / block B of sub-contact i.
-  [[nodiscard]] index node_a(index i) const { return node_a_[at(i)]; }
-  [[nodiscard]] index node_b(index i) const { return node_b_[at(i)]; }
-  [[nodiscard]] index block_a(index i) const { return shared_faces_[at(face(i))].cell_a; }
-  [[nodiscard]] index block_b(index i) const { return shared_faces_[at(face(i))].cell_b; }
+  [[nodiscard]] index_t node_a(index_t i) const { return node_a_[at(i)]; }
+  [[nodiscard]] index_t node_b(index_t i) const { return node_b_[at(i)]; }
+  [[nodiscard]] index_t block_a(index_t i) const { return shared_faces_[at(face(i))].cell_a; }
+  [[nodiscard]] index_t block_b(index_t i) const { return shared_faces_[at(face(i))].cell_b; }
   /// Shared face (index into tessellation::shared_faces) of sub-contact i.
-  [[nodiscard]] index face(index i) const { return face_[at(i)]; }
+  [[nodiscard]] index_t face(index_t i) const { return face_[at(i)]; }
   /// Tributary area (m^2).
-  [[nodiscard]] real area(index i) const { return area_[at(i)]; }
+  [[nodiscard]] real area(index_t i) const { return area_[at(i)]; }
   /// Current unit normal, from block A to block B (that of its face).
-  [[nodiscard]] vec3 normal(index i) const { return face_normal(face(i)); }
+  [[nodiscard]] vec3 normal(index_t i) const { return face_normal(face(i)); }
   /// Current position (m): midpoint of the two gridpoints.
-  [[nodiscard]] vec3 position(index i, const node_set& gridpoints) const {
+  [[nodiscard]] vec3 position(index_t i, const node_set& gridpoints) const {
     return 0.5 * (gridpoints.position(node_a(i)) + gridpoints.position(node_b(i)));
   }
   /// Law state of sub-contact i: a const reference, or a value assembled from the columns when
   /// `packed` (bind it as `const auto&` either way).
-  [[nodiscard]] decltype(auto) state(index i) const {
+  [[nodiscard]] decltype(auto) state(index_t i) const {
     if constexpr (packed)
       return state_.get(at(i));
     else
       return static_cast<const state_type&>(state_[at(i)]);
   }
   /// Law parameters of sub-contact i (those of its face's material pair).
-  [[nodiscard]] const params_type& subcontact_params(index i) const { return face_params(face(i)); }
+  [[nodiscard]] const params_type& subcontact_params(index_t i) const { return face_params(face(i)); }
   /// Law parameters of shared face s.
-  [[nodiscard]] const params_type& face_params(index s) const { return law_params_[at(face_param_[at(s)])]; }
+  [[nodiscard]] const params_type& face_params(index_t s) const { return law_params_[at(face_param_[at(s)])]; }
   /// True when the sub-contacts of face s started bonded (false: a never-bonded material pair).
-  [[nodiscard]] bool face_bonded(index s) const { return bonded_[at(face_param_[at(s)])] != 0; }
+  [[nodiscard]] bool face_bonded(index_t s) const { return bonded_[at(face_param_[at(s)])] != 0; }
   /// Contact force on node_b in the last update (N); node_a received its opposite.
-  [[nodiscard]] vec3 force(index i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
+  [[nodiscard]] vec3 force(index_t i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
 
   /// Saves or loads the sub-contact states field by field from the law's declaration
   /// (law::checkpoint_states: "contacts/state/<field>"), the face normals now and last step and
@@ -355,10 +355,10 @@ class face_contacts {
     const std::size_t n = node_a_.size();
     ar.same("contacts/subcontacts", static_cast<std::int64_t>(n));
     law::checkpoint_states<Law>(
-        ar, "contacts/state/", n, [&](std::size_t i) { return state_type(state(static_cast<index>(i))); },
+        ar, "contacts/state/", n, [&](std::size_t i) { return state_type(state(static_cast<index_t>(i))); },
         [&](std::size_t i, const state_type& s) {
           if constexpr (packed)
-            state_.reset(i, s, subcontact_params(static_cast<index>(i)));
+            state_.reset(i, s, subcontact_params(static_cast<index_t>(i)));
           else
             state_[i] = s;
         });
@@ -371,26 +371,26 @@ class face_contacts {
   }
 
   // ---- shared faces ----
-  [[nodiscard]] index face_count() const { return static_cast<index>(face_area_.size()); }
+  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_area_.size()); }
   /// The tessellation's record of shared face s (cells and tessellation face ids).
-  [[nodiscard]] const geometry::tessellation::shared_face& shared_face(index s) const { return shared_faces_[at(s)]; }
+  [[nodiscard]] const geometry::tessellation::shared_face& shared_face(index_t s) const { return shared_faces_[at(s)]; }
   /// Sub-contacts of face s are [first_subcontact(s), first_subcontact(s + 1)).
-  [[nodiscard]] index first_subcontact(index s) const { return first_subcontact_[at(s)]; }
+  [[nodiscard]] index_t first_subcontact(index_t s) const { return first_subcontact_[at(s)]; }
   /// Sum of the sub-contact areas of face s (m^2).
-  [[nodiscard]] real face_area(index s) const { return face_area_[at(s)]; }
+  [[nodiscard]] real face_area(index_t s) const { return face_area_[at(s)]; }
   /// Current unit normal of face s, from block A to block B.
-  [[nodiscard]] vec3 face_normal(index s) const { return normal_.row(s).transpose(); }
+  [[nodiscard]] vec3 face_normal(index_t s) const { return normal_.row(s).transpose(); }
   /// True when every sub-contact of face s is broken in tension: the two blocks are separated
   /// along the whole face (a crack crosses it).
-  [[nodiscard]] bool face_fully_broken(index s) const {
-    for (index i = first_subcontact(s); i < first_subcontact(s + 1); ++i)
+  [[nodiscard]] bool face_fully_broken(index_t s) const {
+    for (index_t i = first_subcontact(s); i < first_subcontact(s + 1); ++i)
       if (!law::has(Law::status(state(i)), law::contact_status::broken_tension)) return false;
     return true;
   }
   /// Number of fully broken faces.
-  [[nodiscard]] index broken_face_count() const {
-    index count = 0;
-    for (index s = 0; s < face_count(); ++s) count += face_fully_broken(s) ? 1 : 0;
+  [[nodiscard]] index_t broken_face_count() const {
+    index_t count = 0;
+    for (index_t s = 0; s < face_count(); ++s) count += face_fully_broken(s) ? 1 : 0;
     return count;
   }
 
@@ -401,7 +401,7 @@ class face_contacts {
   [[nodiscard]] contact_energies energies() const {
     contact_energies e;
     for (std::size_t i = 0; i < node_a_.size(); ++i) {
-      const auto& st = state(static_cast<index>(i));
+      const auto& st = state(static_cast<index_t>(i));
       const real a = area_[i];
       e.stored += a * Law::stored_energy(face_params(face_[i]), st);
       e.dissipated += a * Law::dissipated_energy(st);
@@ -421,7 +421,7 @@ class face_contacts {
   /// Total area of the sub-contacts broken in tension (m^2).
   [[nodiscard]] real broken_area() const {
     real total = 0;
-    for (index i = 0; i < size(); ++i)
+    for (index_t i = 0; i < size(); ++i)
       if (law::has(Law::status(state(i)), law::contact_status::broken_tension)) total += area(i);
     return total;
   }
@@ -429,7 +429,7 @@ class face_contacts {
  private:
   /// Virgin states, or Law::unbonded_state for the faces of a never-bonded pair.
   void initial_states() {
-    const auto face_count = static_cast<index>(face_area_.size());
+    const auto face_count = static_cast<index_t>(face_area_.size());
     const std::size_t n = node_a_.size();
     if constexpr (packed) {
       state_.resize(n);
@@ -438,12 +438,12 @@ class face_contacts {
       state_.assign(n, state_type{});
     }
     // Initial states: virgin, or unbonded for a never-bonded pair.
-    for (index s = 0; s < face_count; ++s) {
+    for (index_t s = 0; s < face_count; ++s) {
       const params_type& p = face_params(s);
       state_type initial{};
       if constexpr (requires { Law::unbonded_state(p); })
         if (bonded_[at(face_param_[at(s)])] == 0) initial = Law::unbonded_state(p);
-      for (index i = first_subcontact_[at(s)]; i < first_subcontact_[at(s) + 1]; ++i) {
+      for (index_t i = first_subcontact_[at(s)]; i < first_subcontact_[at(s) + 1]; ++i) {
         if constexpr (packed)
           state_.reset(at(i), initial, p);
         else
@@ -454,9 +454,9 @@ class face_contacts {
   /// Face blocks: runs of consecutive faces with at least block_subcontacts sub-contacts (the
   /// last one may have fewer) and one material-pair entry, the unit of the parallel face loop.
   void build_face_blocks() {
-    const auto face_count = static_cast<index>(face_area_.size());
+    const auto face_count = static_cast<index_t>(face_area_.size());
     face_blocks_.assign(1, 0);
-    for (index s = 0; s < face_count; ++s)
+    for (index_t s = 0; s < face_count; ++s)
       if (s + 1 == face_count || face_param_[at(s) + 1] != face_param_[at(s)] ||
           first_subcontact_[at(s) + 1] - first_subcontact_[at(face_blocks_.back())] >= block_subcontacts)
         face_blocks_.push_back(s + 1);
@@ -464,14 +464,14 @@ class face_contacts {
   }
   /// Frames of the reference configuration (zero displacements); throws geometry_error for a
   /// face whose polygon has no plane.
-  void reference_frames(index n_gridpoints) {
-    const auto face_count = static_cast<index>(face_area_.size());
+  void reference_frames(index_t n_gridpoints) {
+    const auto face_count = static_cast<index_t>(face_area_.size());
     // Reference frames; a face whose two sides cancel has no plane.
     normal_.setZero(face_count, 3);
     {
       const soa3 u = soa3::Zero(n_gridpoints, 3);
       const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
-      for (index s = 0; s < face_count; ++s) {
+      for (index_t s = 0; s < face_count; ++s) {
         const triple area = corners_.area_vector(s, up);
         const vec3 d(area.x, area.y, area.z);
         require<geometry_error>(d.norm() > 0, "face_contacts: shared face ", s, " (cells ",
@@ -488,16 +488,16 @@ class face_contacts {
 
   /// Sub-contacts per face block (at least; fewer in the last block): some whole lanes::pack's per
   /// block, a few dozen blocks on a 100-block model for the two threads.
-  static constexpr index block_subcontacts = 64;
+  static constexpr index_t block_subcontacts = 64;
 
   /// Law parameters and bonding of each material_table entry (entry 0 the table's default);
   /// face s uses entry face_param_[s].
   std::vector<params_type> law_params_;
   std::vector<char> bonded_;
-  std::vector<index> face_param_;
-  index gridpoint_count_ = 0;
+  std::vector<index_t> face_param_;
+  index_t gridpoint_count_ = 0;
   // per sub-contact
-  std::vector<index> node_a_, node_b_, face_;
+  std::vector<index_t> node_a_, node_b_, face_;
   std::vector<real> area_;
   /// Law states: columns when `packed` (with the per-step columns of Law::update's arguments and
   /// results), else one state_type per sub-contact.
@@ -508,18 +508,18 @@ class face_contacts {
   std::array<std::vector<real>, 3> force_;
   // per shared face
   std::vector<geometry::tessellation::shared_face> shared_faces_;
-  std::vector<index> first_subcontact_{0};
-  std::vector<index> face_blocks_{0};  ///< faces [face_blocks_[b], face_blocks_[b + 1]) form block b
+  std::vector<index_t> first_subcontact_{0};
+  std::vector<index_t> face_blocks_{0};  ///< faces [face_blocks_[b], face_blocks_[b + 1]) form block b
   detail::face_corners corners_;  ///< polygon corners of each face, for its frame
   std::vector<real> face_area_;
   soa3 normal_, previous_normal_;  ///< unit normals A->B, now and last step
   // gather incidence (CSR over the gridpoints that carry sub-contacts)
   /// Slots [slot_offsets_[g], slot_offsets_[g + 1]) belong to gridpoint g (empty without
   /// sub-contacts): two per sub-contact, its id and the sign of force_ on g (+1 node A, -1 node B).
-  std::vector<index> slot_offsets_{0};
-  std::vector<index> slot_subcontact_;
+  std::vector<index_t> slot_offsets_{0};
+  std::vector<index_t> slot_subcontact_;
   std::vector<real> slot_sign_;
-  std::vector<index> contact_gridpoints_;  ///< gridpoints with a non-empty slot range, increasing
+  std::vector<index_t> contact_gridpoints_;  ///< gridpoints with a non-empty slot range, increasing
 };
 
 }  // namespace tessera::contact

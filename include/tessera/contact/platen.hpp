@@ -136,11 +136,11 @@ class rigid_platen {
   /// platen's mass and inertia raised to keep that step stable (scale_to).
   template <class Solver>
   void attach(Solver& s) {
-    std::vector<index> nodes(node_.begin(), node_.end());
+    std::vector<index_t> nodes(node_.begin(), node_.end());
     std::vector<real> k(node_.size());
     const real kmax = contact_stiffness();
     for (std::size_t j = 0; j < node_.size(); ++j) k[j] = kmax * area_[j];
-    s.register_applied_forces(std::span<const index>(nodes), std::span<const real>(k));
+    s.register_applied_forces(std::span<const index_t>(nodes), std::span<const real>(k));
     scale_to(s.dt(), s.options().safety, s.stiffness_amplification());
   }
 
@@ -187,7 +187,7 @@ class rigid_platen {
     vec3 total = vec3::Zero();
     real moment = 0;
     for (std::size_t j = 0; j < node_.size(); ++j) {
-      const index g = node_[j];
+      const index_t g = node_[j];
       const vec3 x = gp.position(g);
       const vec3 v_platen = velocity_ + omega_ * e.cross(x - c);
       const vec3 du = (gp.velocity.row(g).transpose() - v_platen) * dt;
@@ -235,7 +235,7 @@ class rigid_platen {
     return n0 * cs + e.cross(n0) * sn + e * e.dot(n0) * (1 - cs);  // Rodrigues
   }
   [[nodiscard]] std::size_t size() const { return node_.size(); }
-  [[nodiscard]] index node(std::size_t j) const { return node_[j]; }
+  [[nodiscard]] index_t node(std::size_t j) const { return node_[j]; }
   [[nodiscard]] real area(std::size_t j) const { return area_[j]; }
   [[nodiscard]] real total_area() const {
     real a = 0;
@@ -276,7 +276,7 @@ class rigid_platen {
     const vec3& n = geometry_.normal;
     const vec3& u = geometry_.axis_u;
     const vec3 w = n.cross(u);
-    std::map<index, real> share;
+    std::map<index_t, real> share;
     const auto on_plane = [&](const vec3& x) { return std::abs((x - geometry_.point).dot(n)) <= geometry_.tolerance; };
     for (const auto& tri : mesh.face_triangles) {
       const vec3& a = mesh.gridpoints[static_cast<std::size_t>(tri[0])];
@@ -341,7 +341,7 @@ class rigid_platen {
   platen_geometry geometry_;
   platen_motion motion_;
   params_type params_;
-  std::vector<index> node_;
+  std::vector<index_t> node_;
   std::vector<real> area_;
   std::vector<vec3> reference_;
   std::vector<state_type> state_;

@@ -19,16 +19,16 @@
 namespace tessera {
 
 template <class Entries>
-[[nodiscard]] std::vector<index> csr_offsets(index rows, Entries&& entries) {
-  std::vector<index> offsets(static_cast<std::size_t>(rows) + 1, 0);
+[[nodiscard]] std::vector<index_t> csr_offsets(index_t rows, Entries&& entries) {
+  std::vector<index_t> offsets(static_cast<std::size_t>(rows) + 1, 0);
   entries([&](auto row, auto&&) { ++offsets[static_cast<std::size_t>(row) + 1]; });
   for (std::size_t r = 1; r < offsets.size(); ++r) offsets[r] += offsets[r - 1];
   return offsets;
 }
 
 template <class Entries>
-void csr_fill(const std::vector<index>& offsets, Entries&& entries) {
-  std::vector<index> next(offsets.begin(), offsets.end() - 1);
+void csr_fill(const std::vector<index_t>& offsets, Entries&& entries) {
+  std::vector<index_t> next(offsets.begin(), offsets.end() - 1);
   entries([&](auto row, auto&& place) { place(next[static_cast<std::size_t>(row)]++); });
 }
 

@@ -43,11 +43,11 @@ struct node_set {
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3> constraint;  ///< dof_constraint per component
   soa3 prescribed_velocity;        ///< used where constraint == prescribed (m/s)
 
-  [[nodiscard]] index size() const { return static_cast<index>(reference.rows()); }
-  [[nodiscard]] vec3 position(index i) const { return (reference.row(i) + displacement.row(i)).transpose(); }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(reference.rows()); }
+  [[nodiscard]] vec3 position(index_t i) const { return (reference.row(i) + displacement.row(i)).transpose(); }
 
   /// Allocates every array for n nodes, zero-initialised and unconstrained.
-  void resize(index n) {
+  void resize(index_t n) {
     reference.setZero(n, 3);
     displacement.setZero(n, 3);
     velocity.setZero(n, 3);

@@ -15,9 +15,11 @@ namespace tessera {
 using real = double;
 /// Index handle of an entity (vertex, face, block, gridpoint, zone, sub-contact, bar node).
 /// Entities refer to each other by index, never by pointer, so arrays can be reordered,
-/// copied and moved to another memory space without fix-ups.
-using index = std::int32_t;
-inline constexpr index invalid_index = -1;
+/// copied and moved to another memory space without fix-ups. Named index_t, not index, so that
+/// `using namespace tessera;` at file scope stays unambiguous beside POSIX index() (<strings.h>,
+/// which <cstring> and other standard headers may pull in).
+using index_t = std::int32_t;
+inline constexpr index_t invalid_index = -1;
 
 using vec3 = Eigen::Matrix<real, 3, 1>;
 using mat3 = Eigen::Matrix<real, 3, 3>;

@@ -18,43 +18,43 @@ namespace tessera::geometry {
 struct block_mesh {
   // ---- gridpoints (all blocks, grouped by block) ----
   std::vector<vec3> gridpoints;                ///< reference positions (m)
-  std::vector<index> gridpoint_block;          ///< owning block
-  std::vector<index> gridpoint_vertex;         ///< tessellation vertex it copies, invalid_index if interior
-  std::vector<index> block_gridpoint_offsets{0};  ///< CSR: gridpoints of block b
+  std::vector<index_t> gridpoint_block;          ///< owning block
+  std::vector<index_t> gridpoint_vertex;         ///< tessellation vertex it copies, invalid_index if interior
+  std::vector<index_t> block_gridpoint_offsets{0};  ///< CSR: gridpoints of block b
 
   // ---- materials ----
   /// Material id of each block (>= 0), indexing the block model's per-material parameters and the
   /// contact set's material-pair table (contact::material_table); empty means material 0 for
   /// every block. Set it after zoning, e.g. mesh.block_material[b] = 1 for a steel plate.
   std::vector<int> block_material;
-  [[nodiscard]] int material(index block) const {
+  [[nodiscard]] int material(index_t block) const {
     return block_material.empty() ? 0 : block_material[static_cast<std::size_t>(block)];
   }
 
   // ---- zones: 4-node tetrahedra, positive orientation ((x1-x0)x(x2-x0)).(x3-x0) > 0 ----
-  std::vector<std::array<index, 4>> zones;     ///< gridpoint ids
-  std::vector<index> zone_block;               ///< owning block
-  std::vector<index> block_zone_offsets{0};    ///< CSR: zones of block b
+  std::vector<std::array<index_t, 4>> zones;     ///< gridpoint ids
+  std::vector<index_t> zone_block;               ///< owning block
+  std::vector<index_t> block_zone_offsets{0};    ///< CSR: zones of block b
 
   // ---- tessellation faces seen by the mesh (same face ids as the tessellation) ----
   /// Surface nodes of face f: face_nodes[face_node_offsets[f] .. face_node_offsets[f+1]) are the
   /// distinct gridpoints (of the face's own block) lying on face f. Twin faces list their
   /// coincident gridpoints in the same order, so node k of face f pairs with node k of its twin:
   /// that pair is one sub-contact.
-  std::vector<index> face_node_offsets{0};
-  std::vector<index> face_nodes;
+  std::vector<index_t> face_node_offsets{0};
+  std::vector<index_t> face_nodes;
   /// Tributary area (m^2) of each entry of face_nodes: one third of the area of every face
   /// triangle touching the node (the consistent nodal share of a uniform traction on linear
   /// triangles). The areas of a face sum to the face area; twins carry identical areas.
   std::vector<real> face_node_area;
   /// Surface triangles of face f: face_triangles[face_triangle_offsets[f] .. face_triangle_offsets[f+1]),
   /// gridpoint ids, CCW seen from outside the block; twin faces are triangulated identically.
-  std::vector<index> face_triangle_offsets{0};
-  std::vector<std::array<index, 3>> face_triangles;
+  std::vector<index_t> face_triangle_offsets{0};
+  std::vector<std::array<index_t, 3>> face_triangles;
 
-  [[nodiscard]] index gridpoint_count() const { return static_cast<index>(gridpoints.size()); }
-  [[nodiscard]] index zone_count() const { return static_cast<index>(zones.size()); }
-  [[nodiscard]] index block_count() const { return static_cast<index>(block_gridpoint_offsets.size()) - 1; }
+  [[nodiscard]] index_t gridpoint_count() const { return static_cast<index_t>(gridpoints.size()); }
+  [[nodiscard]] index_t zone_count() const { return static_cast<index_t>(zones.size()); }
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(block_gridpoint_offsets.size()) - 1; }
 };
 
 }  // namespace tessera::geometry

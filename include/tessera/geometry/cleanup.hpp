@@ -54,7 +54,7 @@ namespace tessera::geometry {
 /// Result of weld_vertices: `vertices[global_id[k]]` is the welded position of point k.
 struct welded_points {
   std::vector<vec3> vertices;
-  std::vector<index> global_id;
+  std::vector<index_t> global_id;
 };
 
 /// Topological identity of a cell vertex where exactly three faces meet: the sorted ids of the
@@ -62,7 +62,7 @@ struct welded_points {
 /// included). Two cells see the same vertex under the same key however ill-conditioned its
 /// position is (e.g. two generators 1e-9 apart make nearly parallel bisectors in their
 /// neighbours). no_vertex_key marks vertices with more than three faces.
-using vertex_key = std::array<index, 4>;
+using vertex_key = std::array<index_t, 4>;
 inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_index, invalid_index};
 
 /// Welds `points` (m) into shared vertices: points closer than `tol` (m, max-norm), and points
@@ -103,17 +103,17 @@ inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_
     const vec3& p = points[k];
     point_bin[k] = bin_of(bin_coord(p.x(), 0), bin_coord(p.y(), 1), bin_coord(p.z(), 2));
   }
-  std::vector<index> members(n);
+  std::vector<index_t> members(n);
   auto entries = [&](auto&& emit) {
     for (std::size_t k = 0; k < n; ++k)
-      emit(point_bin[k], [&](index slot) { members[static_cast<std::size_t>(slot)] = static_cast<index>(k); });
+      emit(point_bin[k], [&](index_t slot) { members[static_cast<std::size_t>(slot)] = static_cast<index_t>(k); });
   };
-  const std::vector<index> offsets = csr_offsets(static_cast<index>(bins), entries);
+  const std::vector<index_t> offsets = csr_offsets(static_cast<index_t>(bins), entries);
   csr_fill(offsets, entries);
   // Union-find; the root of a component is its smallest point index.
-  std::vector<index> parent(n);
-  for (std::size_t k = 0; k < n; ++k) parent[k] = static_cast<index>(k);
-  auto find = [&](index x) {
+  std::vector<index_t> parent(n);
+  for (std::size_t k = 0; k < n; ++k) parent[k] = static_cast<index_t>(k);
+  auto find = [&](index_t x) {
     while (parent[static_cast<std::size_t>(x)] != x) {
       parent[static_cast<std::size_t>(x)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(x)])];
       x = parent[static_cast<std::size_t>(x)];
@@ -131,42 +131,42 @@ inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_
       for (std::int64_t bj = b0[1]; bj <= b1[1]; ++bj)
         for (std::int64_t bi = b0[0]; bi <= b1[0]; ++bi) {
           const std::int64_t b = bin_of(bi, bj, bk);
-          for (index q = offsets[static_cast<std::size_t>(b)]; q < offsets[static_cast<std::size_t>(b) + 1]; ++q) {
-            const index m = members[static_cast<std::size_t>(q)];
-            if (m >= static_cast<index>(k)) break;  // members are in increasing order
+          for (index_t q = offsets[static_cast<std::size_t>(b)]; q < offsets[static_cast<std::size_t>(b) + 1]; ++q) {
+            const index_t m = members[static_cast<std::size_t>(q)];
+            if (m >= static_cast<index_t>(k)) break;  // members are in increasing order
             if ((points[static_cast<std::size_t>(m)] - p).cwiseAbs().maxCoeff() > tol) continue;
-            const index ra = find(m), rb = find(static_cast<index>(k));
+            const index_t ra = find(m), rb = find(static_cast<index_t>(k));
             if (ra != rb) parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
           }
         }
   }
   if (!keys.empty()) {
-    std::vector<std::pair<vertex_key, index>> by_key;
+    std::vector<std::pair<vertex_key, index_t>> by_key;
     by_key.reserve(n);
     for (std::size_t k = 0; k < n; ++k)
-      if (keys[k] != no_vertex_key) by_key.emplace_back(keys[k], static_cast<index>(k));
+      if (keys[k] != no_vertex_key) by_key.emplace_back(keys[k], static_cast<index_t>(k));
     std::sort(by_key.begin(), by_key.end());
     const real loose = 1e4 * tol;
     for (std::size_t q = 1; q < by_key.size(); ++q) {
       if (by_key[q].first != by_key[q - 1].first) continue;
-      const index a = by_key[q - 1].second, b = by_key[q].second;
+      const index_t a = by_key[q - 1].second, b = by_key[q].second;
       if ((points[static_cast<std::size_t>(a)] - points[static_cast<std::size_t>(b)]).cwiseAbs().maxCoeff() > loose) continue;
-      const index ra = find(a), rb = find(b);
+      const index_t ra = find(a), rb = find(b);
       if (ra != rb) parent[static_cast<std::size_t>(std::max(ra, rb))] = std::min(ra, rb);
     }
   }
   // Representative position: best-conditioned member (first in index order among equals).
-  std::vector<index> best(n, invalid_index);
+  std::vector<index_t> best(n, invalid_index);
   for (std::size_t k = 0; k < n; ++k) {
-    const index r = find(static_cast<index>(k));
-    index& b = best[static_cast<std::size_t>(r)];
+    const index_t r = find(static_cast<index_t>(k));
+    index_t& b = best[static_cast<std::size_t>(r)];
     if (b == invalid_index || (!conditioning.empty() && conditioning[k] > conditioning[static_cast<std::size_t>(b)]))
-      b = static_cast<index>(k);
+      b = static_cast<index_t>(k);
   }
   for (std::size_t k = 0; k < n; ++k) {
-    const index r = find(static_cast<index>(k));
-    if (r == static_cast<index>(k)) {
-      out.global_id[k] = static_cast<index>(out.vertices.size());
+    const index_t r = find(static_cast<index_t>(k));
+    if (r == static_cast<index_t>(k)) {
+      out.global_id[k] = static_cast<index_t>(out.vertices.size());
       out.vertices.push_back(points[static_cast<std::size_t>(best[k])]);
     } else {
       out.global_id[k] = out.global_id[static_cast<std::size_t>(r)];
@@ -184,7 +184,7 @@ inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_
 /// tags < 0): the least-squares point of every pairwise power plane and every side plane,
 /// solved by SVD. Returns false when those planes do not fix a point (smallest singular value
 /// below 1e-9 of the largest), e.g. fewer than three independent directions.
-[[nodiscard]] inline bool power_centre(std::span<const index> ids, std::span<const vec3> seeds,
+[[nodiscard]] inline bool power_centre(std::span<const index_t> ids, std::span<const vec3> seeds,
                                        std::span<const real> weights, const aabb& domain, vec3& x) {
   Eigen::Matrix<real, Eigen::Dynamic, Eigen::Dynamic> a(0, 3);
   Eigen::Matrix<real, Eigen::Dynamic, 1> b(0);
@@ -194,16 +194,16 @@ inline constexpr vertex_key no_vertex_key{invalid_index, invalid_index, invalid_
     a.row(a.rows() - 1) = n.transpose();
     b(b.rows() - 1) = offset;
   };
-  auto weight = [&](index i) { return weights.empty() ? real(0) : weights[static_cast<std::size_t>(i)]; };
+  auto weight = [&](index_t i) { return weights.empty() ? real(0) : weights[static_cast<std::size_t>(i)]; };
   for (std::size_t p = 0; p < ids.size(); ++p) {
-    const index i = ids[p];
+    const index_t i = ids[p];
     if (i < 0) {
       const int side = boundary_side(i);
       add_row(vec3::Unit(side / 2), (side % 2) ? domain.hi[side / 2] : domain.lo[side / 2]);
       continue;
     }
     for (std::size_t q = p + 1; q < ids.size(); ++q) {
-      const index j = ids[q];
+      const index_t j = ids[q];
       if (j < 0) continue;
       const plane h = power_plane(seeds[static_cast<std::size_t>(i)], weight(i), seeds[static_cast<std::size_t>(j)], weight(j));
       add_row(h.normal, h.offset);
@@ -245,22 +245,22 @@ inline void recompute_ill_conditioned_vertices(welded_points& welded, std::span<
   const std::size_t nv = welded.vertices.size();
   std::vector<aabb> spread(nv);
   for (std::size_t k = 0; k < points.size(); ++k) spread[static_cast<std::size_t>(welded.global_id[k])].expand(points[k]);
-  std::vector<std::vector<index>> ids;  // per spread vertex: its key ids (filled lazily)
-  std::vector<index> spread_vertex(nv, invalid_index);
+  std::vector<std::vector<index_t>> ids;  // per spread vertex: its key ids (filled lazily)
+  std::vector<index_t> spread_vertex(nv, invalid_index);
   for (std::size_t g = 0; g < nv; ++g)
     if (spread[g].size().maxCoeff() > tol) {
-      spread_vertex[g] = static_cast<index>(ids.size());
+      spread_vertex[g] = static_cast<index_t>(ids.size());
       ids.emplace_back();
     }
   if (ids.empty()) return;
   for (std::size_t k = 0; k < points.size(); ++k) {
-    const index sv = spread_vertex[static_cast<std::size_t>(welded.global_id[k])];
+    const index_t sv = spread_vertex[static_cast<std::size_t>(welded.global_id[k])];
     if (sv == invalid_index || keys[k] == no_vertex_key) continue;
     auto& list = ids[static_cast<std::size_t>(sv)];
     list.insert(list.end(), keys[k].begin(), keys[k].end());
   }
   for (std::size_t g = 0; g < nv; ++g) {
-    const index sv = spread_vertex[g];
+    const index_t sv = spread_vertex[g];
     if (sv == invalid_index) continue;
     auto& list = ids[static_cast<std::size_t>(sv)];
     std::sort(list.begin(), list.end());
@@ -280,13 +280,13 @@ inline void recompute_ill_conditioned_vertices(welded_points& welded, std::span<
 }
 
 /// Removes repeated consecutive ids (cyclically) and spikes a-b-a from a face loop, in place.
-inline void clean_loop(std::vector<index>& loop) {
+inline void clean_loop(std::vector<index_t>& loop) {
   bool changed = true;
   while (changed && !loop.empty()) {
     changed = false;
     std::size_t w = 0;
     for (std::size_t r = 0; r < loop.size(); ++r) {
-      const index v = loop[r];
+      const index_t v = loop[r];
       if (w > 0 && loop[w - 1] == v) { changed = true; continue; }
       if (w > 1 && loop[w - 2] == v) { --w; changed = true; continue; }
       loop[w++] = v;
@@ -304,11 +304,11 @@ inline void clean_loop(std::vector<index>& loop) {
 /// and the reversed loop, and lists the shared faces; throws geometry_error for a face without one.
 inline void match_twins(tessellation& t) {
   t.face_twin.assign(t.face_cell.size(), invalid_index);
-  for (index f = 0; f < t.face_count(); ++f) {
-    const index c = t.face_cell[static_cast<std::size_t>(f)], n = t.face_neighbor[static_cast<std::size_t>(f)];
+  for (index_t f = 0; f < t.face_count(); ++f) {
+    const index_t c = t.face_cell[static_cast<std::size_t>(f)], n = t.face_neighbor[static_cast<std::size_t>(f)];
     if (n < 0 || c > n) continue;
-    index g = invalid_index;
-    for (index h = t.first_face(n); h < t.end_face(n); ++h)
+    index_t g = invalid_index;
+    for (index_t h = t.first_face(n); h < t.end_face(n); ++h)
       if (t.face_neighbor[static_cast<std::size_t>(h)] == c) { g = h; break; }
     require<geometry_error>(g != invalid_index, "tessellation cleanup: face ", f, " of cell ", c,
                             " has no twin in neighbour cell ", n, " (area ",
@@ -331,7 +331,7 @@ inline void match_twins(tessellation& t) {
     t.face_twin[static_cast<std::size_t>(g)] = f;
     t.shared_faces.push_back({c, f, n, g});
   }
-  for (index f = 0; f < t.face_count(); ++f)
+  for (index_t f = 0; f < t.face_count(); ++f)
     require<geometry_error>(t.face_neighbor[static_cast<std::size_t>(f)] < 0 || t.face_twin[static_cast<std::size_t>(f)] >= 0,
                             "tessellation cleanup: face ", f, " of cell ", t.face_cell[static_cast<std::size_t>(f)],
                             " toward cell ", t.face_neighbor[static_cast<std::size_t>(f)], " has no twin");
@@ -353,14 +353,14 @@ inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::
     thread_local std::vector<vec3> normal;
     degree.assign(static_cast<std::size_t>(p.vertex_count()), 0);
     normal.resize(static_cast<std::size_t>(p.face_count()));
-    for (index f = 0; f < p.face_count(); ++f) normal[static_cast<std::size_t>(f)] = p.face_normal(f);
-    for (index f = 0; f < p.face_count(); ++f)
-      for (index v : p.face(f)) {
+    for (index_t f = 0; f < p.face_count(); ++f) normal[static_cast<std::size_t>(f)] = p.face_normal(f);
+    for (index_t f = 0; f < p.face_count(); ++f)
+      for (index_t v : p.face(f)) {
         int& d = degree[static_cast<std::size_t>(v)];
         if (d < 3) keys[base + static_cast<std::size_t>(v)][static_cast<std::size_t>(d)] = f;
         ++d;
       }
-    for (index v = 0; v < p.vertex_count(); ++v) {
+    for (index_t v = 0; v < p.vertex_count(); ++v) {
       vertex_key& key = keys[base + static_cast<std::size_t>(v)];
       if (degree[static_cast<std::size_t>(v)] < 3) { key = no_vertex_key; continue; }
       const vec3& n0 = normal[static_cast<std::size_t>(key[0])];
@@ -368,7 +368,7 @@ inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::
       const vec3& n2 = normal[static_cast<std::size_t>(key[2])];
       conditioning[base + static_cast<std::size_t>(v)] = std::abs(n0.dot(n1.cross(n2)));
       if (degree[static_cast<std::size_t>(v)] != 3) { key = no_vertex_key; continue; }
-      key = {p.face_tag(key[0]), p.face_tag(key[1]), p.face_tag(key[2]), static_cast<index>(c)};
+      key = {p.face_tag(key[0]), p.face_tag(key[1]), p.face_tag(key[2]), static_cast<index_t>(c)};
       std::sort(key.begin(), key.end());
     }
   }, 64);
@@ -393,19 +393,19 @@ inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::
   if (!seeds.empty()) recompute_ill_conditioned_vertices(welded, points, keys, seeds, weights, tol, domain);
 
   // Global loops per cell, cleaned; cells with < 4 faces are dropped.
-  struct raw_face { index neighbor; std::size_t begin, end; };
-  std::vector<index> loops;
+  struct raw_face { index_t neighbor; std::size_t begin, end; };
+  std::vector<index_t> loops;
   std::vector<raw_face> faces;
   std::vector<std::size_t> cell_faces(ncells + 1, 0);
-  std::vector<index> new_id(ncells, invalid_index);
-  std::vector<index> loop;
-  index kept = 0;
+  std::vector<index_t> new_id(ncells, invalid_index);
+  std::vector<index_t> loop;
+  index_t kept = 0;
   for (std::size_t c = 0; c < ncells; ++c) {
     const std::size_t faces_before = faces.size(), loops_before = loops.size();
     const convex_polyhedron& p = cells[c];
-    for (index f = 0; f < p.face_count(); ++f) {
+    for (index_t f = 0; f < p.face_count(); ++f) {
       loop.clear();
-      for (index v : p.face(f)) loop.push_back(welded.global_id[point_offset[c] + static_cast<std::size_t>(v)]);
+      for (index_t v : p.face(f)) loop.push_back(welded.global_id[point_offset[c] + static_cast<std::size_t>(v)]);
       clean_loop(loop);
       if (loop.empty()) continue;
       faces.push_back({p.face_tag(f), loops.size(), loops.size() + loop.size()});
@@ -423,11 +423,11 @@ inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::
   tessellation t;
   t.domain = domain;
   // Only vertices used by a surviving face are kept, renumbered in order of first use.
-  std::vector<index> vertex_id(welded.vertices.size(), invalid_index);
-  for (index& v : loops) {
-    index& g = vertex_id[static_cast<std::size_t>(v)];
+  std::vector<index_t> vertex_id(welded.vertices.size(), invalid_index);
+  for (index_t& v : loops) {
+    index_t& g = vertex_id[static_cast<std::size_t>(v)];
     if (g == invalid_index) {
-      g = static_cast<index>(t.vertices.size());
+      g = static_cast<index_t>(t.vertices.size());
       t.vertices.push_back(welded.vertices[static_cast<std::size_t>(v)]);
     }
     v = g;
@@ -440,9 +440,9 @@ inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::
       const raw_face& rf = faces[f];
       t.face_vertices.insert(t.face_vertices.end(), loops.begin() + static_cast<std::ptrdiff_t>(rf.begin),
                              loops.begin() + static_cast<std::ptrdiff_t>(rf.end));
-      t.face_offsets.push_back(static_cast<index>(t.face_vertices.size()));
+      t.face_offsets.push_back(static_cast<index_t>(t.face_vertices.size()));
       t.face_cell.push_back(new_id[c]);
-      index nb = rf.neighbor;
+      index_t nb = rf.neighbor;
       if (nb >= 0) {
         nb = new_id[static_cast<std::size_t>(nb)];
         require<geometry_error>(nb != invalid_index, "tessellation cleanup: cell ", c, " keeps a face of ",
@@ -451,7 +451,7 @@ inline void vertex_keys_of(std::span<const convex_polyhedron> cells, const std::
       }
       t.face_neighbor.push_back(nb);
     }
-    t.cell_face_offsets.push_back(static_cast<index>(t.face_cell.size()));
+    t.cell_face_offsets.push_back(static_cast<index_t>(t.face_cell.size()));
   }
 
   match_twins(t);

@@ -62,7 +62,7 @@ class convex_polyhedron {
     // vertex k has x = hi if bit 0, y = hi if bit 1, z = hi if bit 2
     for (int k = 0; k < 8; ++k)
       vertices_.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
-    static constexpr std::array<std::array<index, 4>, 6> loops{{
+    static constexpr std::array<std::array<index_t, 4>, 6> loops{{
         {0, 4, 6, 2},  // x-  (normal -x)
         {1, 3, 7, 5},  // x+
         {0, 1, 5, 4},  // y-
@@ -76,7 +76,7 @@ class convex_polyhedron {
     for (int s = 0; s < 6; ++s) {
       face_vertices_.insert(face_vertices_.end(), loops[static_cast<std::size_t>(s)].begin(),
                             loops[static_cast<std::size_t>(s)].end());
-      face_offsets_.push_back(static_cast<index>(face_vertices_.size()));
+      face_offsets_.push_back(static_cast<index_t>(face_vertices_.size()));
       face_tags_.push_back(boundary_tag(s));
     }
   }
@@ -84,16 +84,16 @@ class convex_polyhedron {
   /// Builds a polyhedron from vertices and outward CCW face loops (CSR), e.g. a block read from
   /// a file. Checks sizes and ids; convexity and closedness are the caller's promise (see
   /// euler_characteristic and tessellation check()).
-  [[nodiscard]] static convex_polyhedron from_faces(std::vector<vec3> vertices, std::vector<index> face_offsets,
-                                                    std::vector<index> face_vertices, std::vector<index> face_tags) {
+  [[nodiscard]] static convex_polyhedron from_faces(std::vector<vec3> vertices, std::vector<index_t> face_offsets,
+                                                    std::vector<index_t> face_vertices, std::vector<index_t> face_tags) {
     require<geometry_error>(face_offsets.size() >= 2 && face_offsets.front() == 0 &&
-                                face_offsets.back() == static_cast<index>(face_vertices.size()),
+                                face_offsets.back() == static_cast<index_t>(face_vertices.size()),
                             "convex_polyhedron::from_faces: face_offsets must start at 0 and end at the loop length ",
                             face_vertices.size());
     require<geometry_error>(face_tags.size() + 1 == face_offsets.size(), "convex_polyhedron::from_faces: ",
                             face_tags.size(), " face tags for ", face_offsets.size() - 1, " faces");
-    for (index v : face_vertices)
-      require<geometry_error>(v >= 0 && v < static_cast<index>(vertices.size()),
+    for (index_t v : face_vertices)
+      require<geometry_error>(v >= 0 && v < static_cast<index_t>(vertices.size()),
                               "convex_polyhedron::from_faces: vertex id ", v, " out of range [0, ", vertices.size(), ")");
     convex_polyhedron p;
     p.vertices_ = std::move(vertices);
@@ -117,30 +117,30 @@ class convex_polyhedron {
 
   // ---- topology and geometry access ------------------------------------------------------
   [[nodiscard]] bool empty() const { return face_tags_.empty(); }
-  [[nodiscard]] index vertex_count() const { return static_cast<index>(vertices_.size()); }
-  [[nodiscard]] index face_count() const { return static_cast<index>(face_tags_.size()); }
+  [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices_.size()); }
+  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_tags_.size()); }
   [[nodiscard]] const std::vector<vec3>& vertices() const { return vertices_; }
-  [[nodiscard]] const vec3& vertex(index v) const { return vertices_[static_cast<std::size_t>(v)]; }
-  [[nodiscard]] const std::vector<index>& face_offsets() const { return face_offsets_; }
-  [[nodiscard]] const std::vector<index>& face_vertices() const { return face_vertices_; }
-  [[nodiscard]] const std::vector<index>& face_tags() const { return face_tags_; }
+  [[nodiscard]] const vec3& vertex(index_t v) const { return vertices_[static_cast<std::size_t>(v)]; }
+  [[nodiscard]] const std::vector<index_t>& face_offsets() const { return face_offsets_; }
+  [[nodiscard]] const std::vector<index_t>& face_vertices() const { return face_vertices_; }
+  [[nodiscard]] const std::vector<index_t>& face_tags() const { return face_tags_; }
   /// Vertex ids of face f, CCW seen from outside.
-  [[nodiscard]] std::span<const index> face(index f) const {
+  [[nodiscard]] std::span<const index_t> face(index_t f) const {
     return {face_vertices_.data() + face_offsets_[static_cast<std::size_t>(f)],
             static_cast<std::size_t>(face_offsets_[static_cast<std::size_t>(f) + 1] -
                                      face_offsets_[static_cast<std::size_t>(f)])};
   }
   /// Neighbour cell id (>= 0) or boundary_tag(side) (< 0) of face f.
-  [[nodiscard]] index face_tag(index f) const { return face_tags_[static_cast<std::size_t>(f)]; }
+  [[nodiscard]] index_t face_tag(index_t f) const { return face_tags_[static_cast<std::size_t>(f)]; }
 
   /// Area (m^2) of face f.
-  [[nodiscard]] real face_area(index f) const { return polygon_area_vector(vertices_, face(f)).norm(); }
+  [[nodiscard]] real face_area(index_t f) const { return polygon_area_vector(vertices_, face(f)).norm(); }
   /// Unit outward normal of face f (from its area vector).
-  [[nodiscard]] vec3 face_normal(index f) const { return polygon_area_vector(vertices_, face(f)).normalized(); }
+  [[nodiscard]] vec3 face_normal(index_t f) const { return polygon_area_vector(vertices_, face(f)).normalized(); }
   /// Area-weighted centroid (m) of face f.
-  [[nodiscard]] vec3 face_centroid(index f) const { return polygon_centroid(vertices_, face(f)); }
+  [[nodiscard]] vec3 face_centroid(index_t f) const { return polygon_centroid(vertices_, face(f)); }
   /// Supporting plane of face f: outward unit normal, offset = n . (face centroid).
-  [[nodiscard]] plane face_plane(index f) const { return plane::through(face_normal(f), face_centroid(f)); }
+  [[nodiscard]] plane face_plane(index_t f) const { return plane::through(face_normal(f), face_centroid(f)); }
 
   /// Volume (m^3).
   [[nodiscard]] real volume() const { return polyhedron_volume(vertices_, face_offsets_, face_vertices_); }
@@ -165,14 +165,14 @@ class convex_polyhedron {
   /// True when p is inside or within tol (m) of every face plane.
   [[nodiscard]] bool contains(const vec3& p, real tol = 0) const {
     if (empty()) return false;
-    for (index f = 0; f < face_count(); ++f)
+    for (index_t f = 0; f < face_count(); ++f)
       if (face_plane(f).signed_distance(p) > tol) return false;
     return true;
   }
 
   /// V - E + F with E = (sum of loop lengths) / 2; 2 for a closed polyhedron of genus 0.
-  [[nodiscard]] index euler_characteristic() const {
-    return vertex_count() - static_cast<index>(face_vertices_.size()) / 2 + face_count();
+  [[nodiscard]] index_t euler_characteristic() const {
+    return vertex_count() - static_cast<index_t>(face_vertices_.size()) / 2 + face_count();
   }
 
   /// Keeps the part {x : h.normal . x <= h.offset}; the new face gets `tag`. Returns whether
@@ -184,7 +184,7 @@ class convex_polyhedron {
   /// (1e-6) of extent(). When no band gives a consistent cut, the attempts are repeated in
   /// fallback mode, which settles features below the tolerance (see try_clip); throws
   /// geometry_error when that fails too.
-  bool clip(const plane& h, index tag, real tol = -1) {
+  bool clip(const plane& h, index_t tag, real tol = -1) {
     if (empty()) return false;
     if (tol < 0) tol = plane_tolerance_rel * extent();
     real coordinate_max = std::abs(h.offset);
@@ -217,15 +217,15 @@ class convex_polyhedron {
   struct scratch {
     std::vector<real> distance;
     std::vector<side> vertex_side;
-    std::vector<index> remap;             // old vertex -> new vertex id (or invalid)
-    std::vector<std::array<index, 3>> edge_points;  // (kept vertex, removed vertex, new vertex)
+    std::vector<index_t> remap;             // old vertex -> new vertex id (or invalid)
+    std::vector<std::array<index_t, 3>> edge_points;  // (kept vertex, removed vertex, new vertex)
     std::vector<vec3> vertices;
-    std::vector<index> face_offsets, face_vertices, face_tags;
+    std::vector<index_t> face_offsets, face_vertices, face_tags;
     std::vector<char> on_plane;           // per new vertex
-    std::vector<std::array<index, 2>> plane_edges;  // directed edges of kept faces lying on the plane
-    std::vector<index> cap_next;          // per new vertex: successor on the new face, or invalid
-    std::vector<index> used;
-    std::vector<index> alias;             // per new vertex: the vertex it is merged into (itself if none)
+    std::vector<std::array<index_t, 2>> plane_edges;  // directed edges of kept faces lying on the plane
+    std::vector<index_t> cap_next;          // per new vertex: successor on the new face, or invalid
+    std::vector<index_t> used;
+    std::vector<index_t> alias;             // per new vertex: the vertex it is merged into (itself if none)
   };
   static scratch& workspace() {
     thread_local scratch s;
@@ -250,7 +250,7 @@ class convex_polyhedron {
   // apart, shaved 9.4e-4 m: the three intersection points near the tip round to two positions.
   // The surface stays closed: the faces around a dropped face of two vertices a, b use the
   // edge as a->b and b->a.
-  clip_result try_clip(const plane& h, index tag, real tol, bool fallback) {
+  clip_result try_clip(const plane& h, index_t tag, real tol, bool fallback) {
     scratch& s = workspace();
     classify_vertices(s, h, tol, fallback);
     const std::size_t nv = vertices_.size();
@@ -287,7 +287,7 @@ class convex_polyhedron {
     }
     if (fallback) {
       s.used.assign(nv, 0);  // 1: an "on" vertex with an outside neighbour
-      for (index f = 0; f < face_count(); ++f) {
+      for (index_t f = 0; f < face_count(); ++f) {
         const auto loop = face(f);
         for (std::size_t k = 0; k < loop.size(); ++k) {
           const auto a = static_cast<std::size_t>(loop[k]), b = static_cast<std::size_t>(loop[(k + 1) % loop.size()]);
@@ -310,21 +310,21 @@ class convex_polyhedron {
     s.on_plane.clear();
     for (std::size_t v = 0; v < nv; ++v)
       if (s.vertex_side[v] != side::outside) {
-        s.remap[v] = static_cast<index>(s.vertices.size());
+        s.remap[v] = static_cast<index_t>(s.vertices.size());
         s.vertices.push_back(vertices_[v]);
         s.on_plane.push_back(s.vertex_side[v] == side::on);
       }
     s.edge_points.clear();
     // Intersection of edge (a kept strictly inside, b outside) with the plane, shared by the two
     // faces of the edge: p = x_a + t (x_b - x_a), t = d_a / (d_a - d_b) in (0, 1).
-    auto edge_point = [&](index a, index b) {
+    auto edge_point = [&](index_t a, index_t b) {
       for (const auto& e : s.edge_points)
         if (e[0] == a && e[1] == b) return e[2];
       const real da = s.distance[static_cast<std::size_t>(a)], db = s.distance[static_cast<std::size_t>(b)];
       const real t = da / (da - db);
       const vec3& xa = vertices_[static_cast<std::size_t>(a)];
       const vec3& xb = vertices_[static_cast<std::size_t>(b)];
-      const index id = static_cast<index>(s.vertices.size());
+      const index_t id = static_cast<index_t>(s.vertices.size());
       s.vertices.push_back(xa + t * (xb - xa));
       s.on_plane.push_back(1);
       s.edge_points.push_back({a, b, id});
@@ -336,16 +336,16 @@ class convex_polyhedron {
     s.face_tags.clear();
     s.plane_edges.clear();
     for (std::size_t f = 0; f + 1 < face_offsets_.size(); ++f) {
-      const index begin = face_offsets_[f], end = face_offsets_[f + 1];
-      const index n = end - begin;
+      const index_t begin = face_offsets_[f], end = face_offsets_[f + 1];
+      const index_t n = end - begin;
       bool has_inside = false;
-      for (index k = begin; k < end; ++k)
+      for (index_t k = begin; k < end; ++k)
         has_inside |= s.vertex_side[static_cast<std::size_t>(face_vertices_[static_cast<std::size_t>(k)])] == side::inside;
       if (!has_inside) continue;  // face outside or on the plane: replaced by the new face
       const std::size_t start = s.face_vertices.size();
-      for (index k = 0; k < n; ++k) {
-        const index a = face_vertices_[static_cast<std::size_t>(begin + k)];
-        const index b = face_vertices_[static_cast<std::size_t>(begin + (k + 1) % n)];
+      for (index_t k = 0; k < n; ++k) {
+        const index_t a = face_vertices_[static_cast<std::size_t>(begin + k)];
+        const index_t b = face_vertices_[static_cast<std::size_t>(begin + (k + 1) % n)];
         const side sa = s.vertex_side[static_cast<std::size_t>(a)];
         const side sb = s.vertex_side[static_cast<std::size_t>(b)];
         if (sa != side::outside) s.face_vertices.push_back(s.remap[static_cast<std::size_t>(a)]);
@@ -358,23 +358,23 @@ class convex_polyhedron {
         continue;
       }
       for (std::size_t k = 0; k < m; ++k) {
-        const index a = s.face_vertices[start + k], b = s.face_vertices[start + (k + 1) % m];
+        const index_t a = s.face_vertices[start + k], b = s.face_vertices[start + (k + 1) % m];
         if (s.on_plane[static_cast<std::size_t>(a)] && s.on_plane[static_cast<std::size_t>(b)])
           s.plane_edges.push_back({a, b});
       }
-      s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
+      s.face_offsets.push_back(static_cast<index_t>(s.face_vertices.size()));
       s.face_tags.push_back(face_tags_[f]);
     }
   }
 
   // Appends the new face; false if the on-plane edges do not form one simple loop.
-  static bool close_cap(scratch& s, index tag) {
+  static bool close_cap(scratch& s, index_t tag) {
     // The new face closes the hole: it runs along every on-plane edge that only one kept face
     // uses, in the opposite direction (a closed oriented surface uses each edge once each way).
     const std::size_t nnew = s.vertices.size();
     s.cap_next.assign(nnew, invalid_index);
     std::size_t cap_edges = 0;
-    index cap_start = invalid_index;
+    index_t cap_start = invalid_index;
     for (const auto& e : s.plane_edges) {
       bool paired = false;
       for (const auto& g : s.plane_edges)
@@ -387,7 +387,7 @@ class convex_polyhedron {
     }
     if (cap_edges < 3) return false;
     {
-      index v = cap_start;
+      index_t v = cap_start;
       std::size_t walked = 0;
       do {
         s.face_vertices.push_back(v);
@@ -395,7 +395,7 @@ class convex_polyhedron {
         ++walked;
       } while (v != invalid_index && v != cap_start && walked <= cap_edges);
       if (v != cap_start || walked != cap_edges) return false;
-      s.face_offsets.push_back(static_cast<index>(s.face_vertices.size()));
+      s.face_offsets.push_back(static_cast<index_t>(s.face_vertices.size()));
       s.face_tags.push_back(tag);
     }
     return true;
@@ -406,15 +406,15 @@ class convex_polyhedron {
   void drop_unused_vertices(scratch& s) {
     const std::size_t nnew = s.vertices.size();
     s.used.assign(nnew, invalid_index);
-    for (index v : s.face_vertices) s.used[static_cast<std::size_t>(v)] = 0;
-    index next = 0;
+    for (index_t v : s.face_vertices) s.used[static_cast<std::size_t>(v)] = 0;
+    index_t next = 0;
     vertices_.clear();
     for (std::size_t v = 0; v < nnew; ++v)
       if (s.used[v] == 0) {
         s.used[v] = next++;
         vertices_.push_back(s.vertices[v]);
       }
-    for (index& v : s.face_vertices) v = s.used[static_cast<std::size_t>(v)];
+    for (index_t& v : s.face_vertices) v = s.used[static_cast<std::size_t>(v)];
     face_offsets_.swap(s.face_offsets);
     face_vertices_.swap(s.face_vertices);
     face_tags_.swap(s.face_tags);
@@ -431,34 +431,34 @@ class convex_polyhedron {
   // unless may_drop_new_face (try_clip's fallback), or when fewer than 4 faces are left.
   static bool merge_coincident_cap_vertices(scratch& s, bool may_drop_new_face) {
     const std::size_t faces = s.face_tags.size();
-    const index cap_begin = s.face_offsets[faces - 1], cap_end = s.face_offsets[faces];
-    const index m = cap_end - cap_begin;
+    const index_t cap_begin = s.face_offsets[faces - 1], cap_end = s.face_offsets[faces];
+    const index_t m = cap_end - cap_begin;
     bool any = false;
-    for (index k = 0; k < m && !any; ++k)
+    for (index_t k = 0; k < m && !any; ++k)
       any = s.vertices[static_cast<std::size_t>(s.face_vertices[static_cast<std::size_t>(cap_begin + k)])] ==
             s.vertices[static_cast<std::size_t>(s.face_vertices[static_cast<std::size_t>(cap_begin + (k + 1) % m)])];
     if (!any) return true;
     s.alias.resize(s.vertices.size());
-    for (std::size_t v = 0; v < s.alias.size(); ++v) s.alias[v] = static_cast<index>(v);
-    auto root = [&](index v) {
+    for (std::size_t v = 0; v < s.alias.size(); ++v) s.alias[v] = static_cast<index_t>(v);
+    auto root = [&](index_t v) {
       while (s.alias[static_cast<std::size_t>(v)] != v) v = s.alias[static_cast<std::size_t>(v)];
       return v;
     };
-    for (index k = 0; k < m; ++k) {
-      const index a = root(s.face_vertices[static_cast<std::size_t>(cap_begin + k)]);
-      const index b = root(s.face_vertices[static_cast<std::size_t>(cap_begin + (k + 1) % m)]);
+    for (index_t k = 0; k < m; ++k) {
+      const index_t a = root(s.face_vertices[static_cast<std::size_t>(cap_begin + k)]);
+      const index_t b = root(s.face_vertices[static_cast<std::size_t>(cap_begin + (k + 1) % m)]);
       if (a != b && s.vertices[static_cast<std::size_t>(a)] == s.vertices[static_cast<std::size_t>(b)])
         s.alias[static_cast<std::size_t>(std::max(a, b))] = std::min(a, b);
     }
     // Rewrite every loop in place (the write position never passes the read position).
     std::size_t write = 0, kept_faces = 0;
-    index begin = 0;
+    index_t begin = 0;
     bool cap_kept = false;
     for (std::size_t f = 0; f < faces; ++f) {
-      const index end = s.face_offsets[f + 1];
+      const index_t end = s.face_offsets[f + 1];
       const std::size_t start = write;
-      for (index k = begin; k < end; ++k) {
-        const index v = root(s.face_vertices[static_cast<std::size_t>(k)]);
+      for (index_t k = begin; k < end; ++k) {
+        const index_t v = root(s.face_vertices[static_cast<std::size_t>(k)]);
         if (write > start && s.face_vertices[write - 1] == v) continue;
         s.face_vertices[write++] = v;
       }
@@ -468,7 +468,7 @@ class convex_polyhedron {
         write = start;
         continue;
       }
-      s.face_offsets[kept_faces + 1] = static_cast<index>(write);
+      s.face_offsets[kept_faces + 1] = static_cast<index_t>(write);
       s.face_tags[kept_faces++] = s.face_tags[f];
       cap_kept = f + 1 == faces;
     }
@@ -479,9 +479,9 @@ class convex_polyhedron {
   }
 
   std::vector<vec3> vertices_;
-  std::vector<index> face_offsets_{0};
-  std::vector<index> face_vertices_;
-  std::vector<index> face_tags_;
+  std::vector<index_t> face_offsets_{0};
+  std::vector<index_t> face_vertices_;
+  std::vector<index_t> face_tags_;
 };
 
 }  // namespace tessera::geometry

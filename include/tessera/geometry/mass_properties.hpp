@@ -45,7 +45,7 @@ struct mass_properties {
 }
 
 /// Position in `loop` of its vertex of smallest id: the apex of the face's fan triangulation.
-[[nodiscard]] inline std::size_t fan_apex(std::span<const index> loop) {
+[[nodiscard]] inline std::size_t fan_apex(std::span<const index_t> loop) {
   std::size_t k0 = 0;
   for (std::size_t k = 1; k < loop.size(); ++k)
     if (loop[k] < loop[k0]) k0 = k;
@@ -54,7 +54,7 @@ struct mass_properties {
 
 /// Area vector of a planar polygon loop (m^2): (1/2) sum over the fan triangles of (b - a) x (c - a);
 /// its norm is the area and its direction the unit normal by the right-hand rule of the loop.
-[[nodiscard]] inline vec3 polygon_area_vector(std::span<const vec3> vertices, std::span<const index> loop) {
+[[nodiscard]] inline vec3 polygon_area_vector(std::span<const vec3> vertices, std::span<const index_t> loop) {
   const std::size_t n = loop.size();
   if (n < 3) return vec3::Zero();
   const std::size_t k0 = fan_apex(loop);
@@ -69,7 +69,7 @@ struct mass_properties {
 }
 
 /// Area-weighted centroid of a polygon loop (m), from the same fan triangulation.
-[[nodiscard]] inline vec3 polygon_centroid(std::span<const vec3> vertices, std::span<const index> loop) {
+[[nodiscard]] inline vec3 polygon_centroid(std::span<const vec3> vertices, std::span<const index_t> loop) {
   const std::size_t n = loop.size();
   if (n == 0) return vec3::Zero();
   const std::size_t k0 = fan_apex(loop);
@@ -77,7 +77,7 @@ struct mass_properties {
   const vec3 area = polygon_area_vector(vertices, loop);
   const real area2 = area.squaredNorm();
   vec3 mean = vec3::Zero();
-  for (index v : loop) mean += vertices[static_cast<std::size_t>(v)];
+  for (index_t v : loop) mean += vertices[static_cast<std::size_t>(v)];
   mean /= static_cast<real>(n);
   if (!(area2 > 0)) return mean;  // degenerate (collinear) loop: vertex average
   vec3 first = vec3::Zero();
@@ -94,16 +94,16 @@ struct mass_properties {
 namespace detail {
 /// Reference point of the volume integrals: the first vertex of the first face. Coordinates
 /// relative to it keep the moments free of cancellation against the absolute position.
-[[nodiscard]] inline vec3 reference_point(std::span<const vec3> vertices, std::span<const index> face_offsets,
-                                          std::span<const index> face_vertices) {
+[[nodiscard]] inline vec3 reference_point(std::span<const vec3> vertices, std::span<const index_t> face_offsets,
+                                          std::span<const index_t> face_vertices) {
   return vertices[static_cast<std::size_t>(face_vertices[static_cast<std::size_t>(face_offsets[0])])];
 }
 /// Calls visit(a, b, c) for every triangle of every face, fan-triangulated from fan_apex, with
 /// a, b, c relative to r: the tetrahedra (r, a, b, c) decompose the polyhedron with signed volumes
 /// a.(b x c)/6. Faces with fewer than 3 vertices are skipped.
 template <class Visit>
-void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const index> face_offsets,
-                              std::span<const index> face_vertices, const vec3& r, Visit&& visit) {
+void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const index_t> face_offsets,
+                              std::span<const index_t> face_vertices, const vec3& r, Visit&& visit) {
   for (std::size_t f = 0; f + 1 < face_offsets.size(); ++f) {
     const auto loop = face_vertices.subspan(static_cast<std::size_t>(face_offsets[f]),
                                             static_cast<std::size_t>(face_offsets[f + 1] - face_offsets[f]));
@@ -124,8 +124,8 @@ void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const in
 /// (see the file comment for the argument layout). Returns volume 0 and the vertex average as
 /// centroid for an empty polyhedron.
 [[nodiscard]] inline mass_properties polyhedron_mass_properties(std::span<const vec3> vertices,
-                                                                std::span<const index> face_offsets,
-                                                                std::span<const index> face_vertices) {
+                                                                std::span<const index_t> face_offsets,
+                                                                std::span<const index_t> face_vertices) {
   mass_properties mp;
   if (face_offsets.size() < 2) return mp;
   const vec3 r = detail::reference_point(vertices, face_offsets, face_vertices);
@@ -153,8 +153,8 @@ void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const in
 }
 
 /// Volume (m^3) of a closed polyhedron (same layout as polyhedron_mass_properties).
-[[nodiscard]] inline real polyhedron_volume(std::span<const vec3> vertices, std::span<const index> face_offsets,
-                                            std::span<const index> face_vertices) {
+[[nodiscard]] inline real polyhedron_volume(std::span<const vec3> vertices, std::span<const index_t> face_offsets,
+                                            std::span<const index_t> face_vertices) {
   if (face_offsets.size() < 2) return 0;
   const vec3 r = detail::reference_point(vertices, face_offsets, face_vertices);
   real six_v = 0;

@@ -57,7 +57,7 @@ namespace tessera::geometry {
 
 /// Scratch memory of min_angle_triangulation (reuse it across faces to avoid reallocation).
 struct triangulation_workspace {
-  std::vector<index> sequence;  ///< canonical vertex order
+  std::vector<index_t> sequence;  ///< canonical vertex order
   std::vector<vec3> points;     ///< their positions
   std::vector<real> score;      ///< S(i, j), row-major n x n
   std::vector<int> split;       ///< argmax k of S(i, j)
@@ -69,8 +69,8 @@ struct triangulation_workspace {
 /// each oriented like `loop`, to `out`. Returns the smallest angle (rad) of the result, or a
 /// value <= 0 if no triangulation agrees with the Newell normal (the fan was returned).
 /// Requires n >= 3 distinct ids.
-inline real min_angle_triangulation(std::span<const vec3> vertices, std::span<const index> loop,
-                                    std::vector<std::array<index, 3>>& out, triangulation_workspace& ws) {
+inline real min_angle_triangulation(std::span<const vec3> vertices, std::span<const index_t> loop,
+                                    std::vector<std::array<index_t, 3>>& out, triangulation_workspace& ws) {
   const int n = static_cast<int>(loop.size());
   const auto at = [](auto i) { return static_cast<std::size_t>(i); };
   // ---- canonical sequence: smallest id first, towards its smaller neighbour ----
@@ -86,8 +86,8 @@ inline real min_angle_triangulation(std::span<const vec3> vertices, std::span<co
     ws.points[at(k)] = vertices[at(loop[at(pos)])];
   }
   const auto emit = [&](int i, int k, int j) {
-    const index a = ws.sequence[at(i)], b = ws.sequence[at(k)], c = ws.sequence[at(j)];
-    out.push_back(forward ? std::array<index, 3>{a, b, c} : std::array<index, 3>{a, c, b});
+    const index_t a = ws.sequence[at(i)], b = ws.sequence[at(k)], c = ws.sequence[at(j)];
+    out.push_back(forward ? std::array<index_t, 3>{a, b, c} : std::array<index_t, 3>{a, c, b});
   };
   if (n == 3) {
     emit(0, 1, 2);

@@ -89,14 +89,14 @@ inline constexpr real max_regularization = 0.5;
 /// What regularize() did.
 struct regularization_report {
   real threshold = 0;              ///< l_min (m)
-  index short_edges_before = 0;    ///< edges shorter than l_min before
-  index collapsed_edges = 0;       ///< successful collapses (= vertices removed)
-  index refused_collapses = 0;     ///< collapse attempts refused by a check (an edge may be retried)
-  index refused_boundary = 0;      ///< of which: incompatible box sides
-  index refused_topology = 0;      ///< of which: pinched face, < 4 faces, not a closed manifold
-  index refused_geometry = 0;      ///< of which: untriangulable/folded face, non-positive cone
-  index dropped_faces = 0;         ///< faces removed (each side of an interior face counts)
-  index short_edges_after = 0;     ///< edges still shorter than l_min (each was refused)
+  index_t short_edges_before = 0;    ///< edges shorter than l_min before
+  index_t collapsed_edges = 0;       ///< successful collapses (= vertices removed)
+  index_t refused_collapses = 0;     ///< collapse attempts refused by a check (an edge may be retried)
+  index_t refused_boundary = 0;      ///< of which: incompatible box sides
+  index_t refused_topology = 0;      ///< of which: pinched face, < 4 faces, not a closed manifold
+  index_t refused_geometry = 0;      ///< of which: untriangulable/folded face, non-positive cone
+  index_t dropped_faces = 0;         ///< faces removed (each side of an interior face counts)
+  index_t short_edges_after = 0;     ///< edges still shorter than l_min (each was refused)
   real min_edge_before = 0;        ///< shortest edge before (m)
   real min_edge_after = 0;         ///< shortest edge after (m)
   real max_vertex_shift = 0;       ///< largest distance of an original vertex from its merged vertex (m)
@@ -104,20 +104,20 @@ struct regularization_report {
 
 namespace detail::edge_collapse {
 
-using edge_queue = std::priority_queue<std::tuple<real, index, index>, std::vector<std::tuple<real, index, index>>,
+using edge_queue = std::priority_queue<std::tuple<real, index_t, index_t>, std::vector<std::tuple<real, index_t, index_t>>,
                                        std::greater<>>;  // (length, a < b), shortest first
 
 /// Shortest edge of the current loops; the edges shorter than l_min are pushed on `queue`
 /// (if given) and counted in `n_short` (if given).
-inline real shortest_edge(const collapse_state& st, real l_min, edge_queue* queue, index* n_short) {
-  std::vector<std::pair<index, index>> edges;
+inline real shortest_edge(const collapse_state& st, real l_min, edge_queue* queue, index_t* n_short) {
+  std::vector<std::pair<index_t, index_t>> edges;
   for (const auto& l : st.loop)
     for (std::size_t k = 0; k < l.size(); ++k)
       edges.emplace_back(std::min(l[k], l[(k + 1) % l.size()]), std::max(l[k], l[(k + 1) % l.size()]));
   std::sort(edges.begin(), edges.end());
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   real shortest = std::numeric_limits<real>::infinity();
-  index count = 0;
+  index_t count = 0;
   for (const auto& [a, b] : edges) {
     const real len = st.length(a, b);
     shortest = std::min(shortest, len);
@@ -134,51 +134,51 @@ inline real shortest_edge(const collapse_state& st, real l_min, edge_queue* queu
 /// twins and shared faces rebuilt. `max_vertex_shift` receives the largest distance of an
 /// original vertex from its merged vertex.
 inline tessellation rebuilt(const tessellation& tess, const collapse_state& st, real& max_vertex_shift) {
-  const index nv = tess.vertex_count();
-  std::vector<index> new_vertex(static_cast<std::size_t>(nv), invalid_index);
+  const index_t nv = tess.vertex_count();
+  std::vector<index_t> new_vertex(static_cast<std::size_t>(nv), invalid_index);
   tessellation out;
   out.domain = tess.domain;
   out.seeds = tess.seeds;
   out.weights = tess.weights;
   for (const auto& l : st.loop)
-    for (const index v : l) new_vertex[static_cast<std::size_t>(v)] = 0;  // used
-  for (index v = 0; v < nv; ++v)
+    for (const index_t v : l) new_vertex[static_cast<std::size_t>(v)] = 0;  // used
+  for (index_t v = 0; v < nv; ++v)
     if (new_vertex[static_cast<std::size_t>(v)] == 0) {
-      new_vertex[static_cast<std::size_t>(v)] = static_cast<index>(out.vertices.size());
+      new_vertex[static_cast<std::size_t>(v)] = static_cast<index_t>(out.vertices.size());
       out.vertices.push_back(st.position[static_cast<std::size_t>(v)]);
     }
-  for (index v = 0; v < nv; ++v)
+  for (index_t v = 0; v < nv; ++v)
     max_vertex_shift = std::max(max_vertex_shift, (tess.vertices[static_cast<std::size_t>(v)] -
                                                    st.position[static_cast<std::size_t>(st.find(v))]).norm());
-  std::vector<index> new_face(static_cast<std::size_t>(tess.face_count()), invalid_index);
-  for (index c = 0; c < tess.cell_count(); ++c) {
-    for (index f = tess.first_face(c); f < tess.end_face(c); ++f) {
+  std::vector<index_t> new_face(static_cast<std::size_t>(tess.face_count()), invalid_index);
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
+    for (index_t f = tess.first_face(c); f < tess.end_face(c); ++f) {
       const auto& l = st.loop[static_cast<std::size_t>(f)];
       if (l.empty()) continue;
       new_face[static_cast<std::size_t>(f)] = out.face_count();
-      for (const index v : l) {
-        const index nvid = new_vertex[static_cast<std::size_t>(v)];
+      for (const index_t v : l) {
+        const index_t nvid = new_vertex[static_cast<std::size_t>(v)];
         require<geometry_error>(nvid != invalid_index, "regularize: face ", f, " of cell ", c,
                                 " refers to removed vertex ", v);
         out.face_vertices.push_back(nvid);
       }
-      out.face_offsets.push_back(static_cast<index>(out.face_vertices.size()));
+      out.face_offsets.push_back(static_cast<index_t>(out.face_vertices.size()));
       out.face_cell.push_back(c);
       out.face_neighbor.push_back(tess.face_neighbor[static_cast<std::size_t>(f)]);
     }
     out.cell_face_offsets.push_back(out.face_count());
   }
   out.face_twin.assign(static_cast<std::size_t>(out.face_count()), invalid_index);
-  for (index f = 0; f < tess.face_count(); ++f) {
-    const index nf = new_face[static_cast<std::size_t>(f)];
-    const index g = tess.face_twin[static_cast<std::size_t>(f)];
+  for (index_t f = 0; f < tess.face_count(); ++f) {
+    const index_t nf = new_face[static_cast<std::size_t>(f)];
+    const index_t g = tess.face_twin[static_cast<std::size_t>(f)];
     if (nf == invalid_index || g == invalid_index) continue;
-    const index ng = new_face[static_cast<std::size_t>(g)];
+    const index_t ng = new_face[static_cast<std::size_t>(g)];
     require<geometry_error>(ng != invalid_index, "regularize: face ", f, " survived but its twin ", g, " was dropped");
     out.face_twin[static_cast<std::size_t>(nf)] = ng;
   }
-  for (index f = 0; f < out.face_count(); ++f) {
-    const index c = out.face_cell[static_cast<std::size_t>(f)], n = out.face_neighbor[static_cast<std::size_t>(f)];
+  for (index_t f = 0; f < out.face_count(); ++f) {
+    const index_t c = out.face_cell[static_cast<std::size_t>(f)], n = out.face_neighbor[static_cast<std::size_t>(f)];
     if (n > c) out.shared_faces.push_back({c, f, n, out.face_twin[static_cast<std::size_t>(f)]});
   }
   return out;
@@ -196,7 +196,7 @@ class merge_pass {
   edge_queue& queue() { return queue_; }
 
   void run() {
-    std::vector<index> cluster;
+    std::vector<index_t> cluster;
     while (!queue_.empty()) {
       const auto [len, a, b] = queue_.top();
       queue_.pop();
@@ -219,11 +219,11 @@ class merge_pass {
 
  private:
   // A refused edge is re-evaluated only after a commit touched one of its cells.
-  bool refused_and_unchanged(index a, index b) const {
+  bool refused_and_unchanged(index_t a, index_t b) const {
     const auto it = refused_at_.find({a, b});
     if (it == refused_at_.end()) return false;
-    for (const index v : {a, b})
-      for (const index f : st_.vertex_faces[static_cast<std::size_t>(v)])
+    for (const index_t v : {a, b})
+      for (const index_t f : st_.vertex_faces[static_cast<std::size_t>(v)])
         if (cell_stamp_[static_cast<std::size_t>(tess_.face_cell[static_cast<std::size_t>(f)])] > it->second)
           return false;
     return true;
@@ -233,19 +233,19 @@ class merge_pass {
   struct cluster_data {
     std::uint8_t sides = 0;
     vec3 sum = vec3::Zero();
-    index count = 0;
+    index_t count = 0;
     aabb originals;
   };
 
   // Merges the vertices `members` (sorted, >= 2) into members[0] if every check passes.
-  verdict try_merge(const std::vector<index>& members) {
+  verdict try_merge(const std::vector<index_t>& members) {
     // Box sides: the union of the members' side sets must be one of them (see the file comment).
     cluster_data d;
-    for (const index m : members) d.sides |= st_.sides[static_cast<std::size_t>(m)];
+    for (const index_t m : members) d.sides |= st_.sides[static_cast<std::size_t>(m)];
     bool realized = false;
-    for (const index m : members) realized = realized || st_.sides[static_cast<std::size_t>(m)] == d.sides;
+    for (const index_t m : members) realized = realized || st_.sides[static_cast<std::size_t>(m)] == d.sides;
     if (!realized) return verdict::boundary;
-    for (const index m : members) {
+    for (const index_t m : members) {
       d.originals.expand(st_.member_box[static_cast<std::size_t>(m)].lo);
       d.originals.expand(st_.member_box[static_cast<std::size_t>(m)].hi);
       d.sum += st_.member_sum[static_cast<std::size_t>(m)];
@@ -261,12 +261,12 @@ class merge_pass {
 
   // Tentative loops of the faces touching a member (faces_, new_loops_) and the cells to check
   // (cells_); false if a loop pinches.
-  bool tentative_loops(const std::vector<index>& members) {
-    const index keep = members.front();
-    const auto is_member = [&](index v) { return std::binary_search(members.begin(), members.end(), v); };
+  bool tentative_loops(const std::vector<index_t>& members) {
+    const index_t keep = members.front();
+    const auto is_member = [&](index_t v) { return std::binary_search(members.begin(), members.end(), v); };
     faces_.clear();
-    for (const index m : members)
-      for (const index f : st_.vertex_faces[static_cast<std::size_t>(m)])
+    for (const index_t m : members)
+      for (const index_t f : st_.vertex_faces[static_cast<std::size_t>(m)])
         if (!st_.loop[static_cast<std::size_t>(f)].empty()) faces_.push_back(f);
     std::sort(faces_.begin(), faces_.end());
     faces_.erase(std::unique(faces_.begin(), faces_.end()), faces_.end());
@@ -274,14 +274,14 @@ class merge_pass {
     bool pinched = false;
     for (std::size_t i = 0; i < faces_.size(); ++i) {
       new_loops_[i] = st_.loop[static_cast<std::size_t>(faces_[i])];
-      for (index& v : new_loops_[i])
+      for (index_t& v : new_loops_[i])
         if (is_member(v)) v = keep;
       pinched = pinched || !collapse_loop(new_loops_[i]);
       if (new_loops_[i].size() < 3) new_loops_[i].clear();
     }
     if (pinched) return false;
     cells_.clear();
-    for (const index f : faces_) cells_.push_back(tess_.face_cell[static_cast<std::size_t>(f)]);
+    for (const index_t f : faces_) cells_.push_back(tess_.face_cell[static_cast<std::size_t>(f)]);
     std::sort(cells_.begin(), cells_.end());
     cells_.erase(std::unique(cells_.begin(), cells_.end()), cells_.end());
     return true;
@@ -291,14 +291,14 @@ class merge_pass {
   // position (which keeps that member's faces planar); the one whose worst zone is best wins.
   // The quality rule: the worst zone may not get worse than before, unless it stays above the
   // floor.
-  verdict best_position(const std::vector<index>& members, const cluster_data& d, vec3& merged) {
-    const index keep = members.front();
+  verdict best_position(const std::vector<index_t>& members, const cluster_data& d, vec3& merged) {
+    const index_t keep = members.front();
     const auto on_sides = [&](vec3 x) {
       for (int s = 0; s < 6; ++s)
         if (d.sides & side_bit(s)) x[s / 2] = s % 2 ? tess_.domain.hi[s / 2] : tess_.domain.lo[s / 2];
       return x;
     };
-    const auto loops_of = [&](index f) -> const std::vector<index>& {
+    const auto loops_of = [&](index_t f) -> const std::vector<index_t>& {
       const auto it = std::lower_bound(faces_.begin(), faces_.end(), f);
       if (it != faces_.end() && *it == f) return new_loops_[static_cast<std::size_t>(it - faces_.begin())];
       return st_.loop[static_cast<std::size_t>(f)];
@@ -330,21 +330,21 @@ class merge_pass {
     if (best_verdict != verdict::ok) return best_verdict;
     if (best_altitude < altitude_floor_) {
       real altitude_before = std::numeric_limits<real>::infinity();
-      const auto current_loop = [&](index f) -> const std::vector<index>& { return st_.loop[static_cast<std::size_t>(f)]; };
-      for (const index c : cells_) static_cast<void>(st_.check_cell(c, current_loop, altitude_before));
+      const auto current_loop = [&](index_t f) -> const std::vector<index_t>& { return st_.loop[static_cast<std::size_t>(f)]; };
+      for (const index_t c : cells_) static_cast<void>(st_.check_cell(c, current_loop, altitude_before));
       if (best_altitude < altitude_before) return verdict::geometry;
     }
     return verdict::ok;
   }
 
   // Applies the merge and re-queues the short edges of the cells around the merged vertex.
-  void commit(const std::vector<index>& members, const cluster_data& d, const vec3& merged) {
-    const index keep = members.front();
+  void commit(const std::vector<index_t>& members, const cluster_data& d, const vec3& merged) {
+    const index_t keep = members.front();
     st_.position[static_cast<std::size_t>(keep)] = merged;
     ++commits_;
-    for (const index c : cells_) cell_stamp_[static_cast<std::size_t>(c)] = commits_;
-    rep_.collapsed_edges += static_cast<index>(members.size()) - 1;
-    for (const index m : members) {
+    for (const index_t c : cells_) cell_stamp_[static_cast<std::size_t>(c)] = commits_;
+    rep_.collapsed_edges += static_cast<index_t>(members.size()) - 1;
+    for (const index_t m : members) {
       if (m == keep) continue;
       st_.parent[static_cast<std::size_t>(m)] = keep;
       st_.vertex_faces[static_cast<std::size_t>(m)].clear();
@@ -360,13 +360,13 @@ class merge_pass {
     }
     auto& kept_faces = st_.vertex_faces[static_cast<std::size_t>(keep)];
     kept_faces.clear();
-    for (const index f : faces_)
+    for (const index_t f : faces_)
       if (!st_.loop[static_cast<std::size_t>(f)].empty()) kept_faces.push_back(f);
-    for (const index c : cells_)
-      for (index f = tess_.first_face(c); f < tess_.end_face(c); ++f) {
+    for (const index_t c : cells_)
+      for (index_t f = tess_.first_face(c); f < tess_.end_face(c); ++f) {
         const auto& l = st_.loop[static_cast<std::size_t>(f)];
         for (std::size_t k = 0; k < l.size(); ++k) {
-          const index p = std::min(l[k], l[(k + 1) % l.size()]), q = std::max(l[k], l[(k + 1) % l.size()]);
+          const index_t p = std::min(l[k], l[(k + 1) % l.size()]), q = std::max(l[k], l[(k + 1) % l.size()]);
           const real lq = st_.length(p, q);
           if (lq < l_min_) queue_.emplace(lq, p, q);
         }
@@ -379,11 +379,11 @@ class merge_pass {
   regularization_report& rep_;
   real altitude_floor_, max_shift_;
   edge_queue queue_;
-  index commits_ = 0;
-  std::vector<index> cell_stamp_;
-  std::map<std::pair<index, index>, index> refused_at_;
-  std::vector<index> faces_, cells_;
-  std::vector<std::vector<index>> new_loops_;
+  index_t commits_ = 0;
+  std::vector<index_t> cell_stamp_;
+  std::map<std::pair<index_t, index_t>, index_t> refused_at_;
+  std::vector<index_t> faces_, cells_;
+  std::vector<std::vector<index_t>> new_loops_;
 };
 
 }  // namespace detail::edge_collapse

@@ -22,9 +22,9 @@ namespace tessera::geometry {
 
 /// Boundary tag of a face on the side of the domain box: side 0..5 = x-, x+, y-, y+, z-, z+.
 /// Stored in face_neighbor as a negative value.
-[[nodiscard]] constexpr index boundary_tag(int side) { return -1 - side; }
+[[nodiscard]] constexpr index_t boundary_tag(int side) { return -1 - side; }
 /// Inverse of boundary_tag: the box side of a boundary face's neighbor value (0..5), or -1.
-[[nodiscard]] constexpr int boundary_side(index neighbor) { return neighbor < 0 ? -1 - neighbor : -1; }
+[[nodiscard]] constexpr int boundary_side(index_t neighbor) { return neighbor < 0 ? -1 - neighbor : -1; }
 
 struct tessellation {
   aabb domain;                       ///< the tessellated box (m)
@@ -33,31 +33,31 @@ struct tessellation {
 
   std::vector<vec3> vertices;        ///< welded global vertex positions (m)
 
-  std::vector<index> face_offsets{0};  ///< CSR: face f's loop is face_vertices[face_offsets[f] .. face_offsets[f+1])
-  std::vector<index> face_vertices;    ///< global vertex ids, CCW seen from outside face_cell[f]
-  std::vector<index> face_cell;        ///< owning cell of each face
-  std::vector<index> face_neighbor;    ///< neighbouring cell id (>= 0) or boundary_tag(side) (< 0)
-  std::vector<index> face_twin;        ///< the twin face stored by the neighbour, invalid_index on the boundary
+  std::vector<index_t> face_offsets{0};  ///< CSR: face f's loop is face_vertices[face_offsets[f] .. face_offsets[f+1])
+  std::vector<index_t> face_vertices;    ///< global vertex ids, CCW seen from outside face_cell[f]
+  std::vector<index_t> face_cell;        ///< owning cell of each face
+  std::vector<index_t> face_neighbor;    ///< neighbouring cell id (>= 0) or boundary_tag(side) (< 0)
+  std::vector<index_t> face_twin;        ///< the twin face stored by the neighbour, invalid_index on the boundary
 
-  std::vector<index> cell_face_offsets{0};  ///< CSR: faces of cell c are [cell_face_offsets[c], cell_face_offsets[c+1])
+  std::vector<index_t> cell_face_offsets{0};  ///< CSR: faces of cell c are [cell_face_offsets[c], cell_face_offsets[c+1])
 
   struct shared_face {
-    index cell_a, face_a;  ///< lower cell id and its face
-    index cell_b, face_b;  ///< higher cell id and its (reversed) twin face
+    index_t cell_a, face_a;  ///< lower cell id and its face
+    index_t cell_b, face_b;  ///< higher cell id and its (reversed) twin face
   };
   std::vector<shared_face> shared_faces;
 
-  [[nodiscard]] index cell_count() const { return static_cast<index>(cell_face_offsets.size()) - 1; }
-  [[nodiscard]] index face_count() const { return static_cast<index>(face_offsets.size()) - 1; }
-  [[nodiscard]] index vertex_count() const { return static_cast<index>(vertices.size()); }
+  [[nodiscard]] index_t cell_count() const { return static_cast<index_t>(cell_face_offsets.size()) - 1; }
+  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_offsets.size()) - 1; }
+  [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices.size()); }
   /// Global vertex ids of face f, CCW seen from outside its cell.
-  [[nodiscard]] std::span<const index> face(index f) const {
+  [[nodiscard]] std::span<const index_t> face(index_t f) const {
     return {face_vertices.data() + face_offsets[f],
             static_cast<std::size_t>(face_offsets[f + 1] - face_offsets[f])};
   }
-  [[nodiscard]] index first_face(index c) const { return cell_face_offsets[c]; }
-  [[nodiscard]] index end_face(index c) const { return cell_face_offsets[c + 1]; }
-  [[nodiscard]] bool is_boundary_face(index f) const { return face_neighbor[f] < 0; }
+  [[nodiscard]] index_t first_face(index_t c) const { return cell_face_offsets[c]; }
+  [[nodiscard]] index_t end_face(index_t c) const { return cell_face_offsets[c + 1]; }
+  [[nodiscard]] bool is_boundary_face(index_t f) const { return face_neighbor[f] < 0; }
 };
 
 }  // namespace tessera::geometry

@@ -74,8 +74,8 @@ inline void require_valid_box(const aabb& box, const char* who) {
 struct seed_grid {
   vec3 lo, bin_size, inv_bin_size;
   std::array<int, 3> n{1, 1, 1};
-  std::vector<index> offsets;  // CSR over bins, bin = i + n0 (j + n1 k)
-  std::vector<index> members;
+  std::vector<index_t> offsets;  // CSR over bins, bin = i + n0 (j + n1 k)
+  std::vector<index_t> members;
 
   seed_grid(const aabb& box, std::span<const vec3> seeds, real per_bin) {
     lo = box.lo;
@@ -90,16 +90,16 @@ struct seed_grid {
       bin_size[a] = size[a] / n[static_cast<std::size_t>(a)];
       inv_bin_size[a] = n[static_cast<std::size_t>(a)] / size[a];
     }
-    std::vector<index> bin_of_seed(seeds.size());
+    std::vector<index_t> bin_of_seed(seeds.size());
     for (std::size_t s = 0; s < seeds.size(); ++s) {
       const auto b = coords(seeds[s]);
       bin_of_seed[s] = bin(b[0], b[1], b[2]);
     }
     auto entries = [&](auto&& emit) {
       for (std::size_t s = 0; s < seeds.size(); ++s)
-        emit(bin_of_seed[s], [&](index slot) { members[static_cast<std::size_t>(slot)] = static_cast<index>(s); });
+        emit(bin_of_seed[s], [&](index_t slot) { members[static_cast<std::size_t>(slot)] = static_cast<index_t>(s); });
     };
-    offsets = csr_offsets(static_cast<index>(total), entries);
+    offsets = csr_offsets(static_cast<index_t>(total), entries);
     members.resize(seeds.size());
     csr_fill(offsets, entries);
   }
@@ -110,8 +110,8 @@ struct seed_grid {
                                                   n[static_cast<std::size_t>(a)] - 1);
     return b;
   }
-  [[nodiscard]] index bin(int i, int j, int k) const { return i + n[0] * (j + n[1] * k); }
-  [[nodiscard]] std::span<const index> seeds_in(index b) const {
+  [[nodiscard]] index_t bin(int i, int j, int k) const { return i + n[0] * (j + n[1] * k); }
+  [[nodiscard]] std::span<const index_t> seeds_in(index_t b) const {
     return {members.data() + offsets[static_cast<std::size_t>(b)],
             static_cast<std::size_t>(offsets[static_cast<std::size_t>(b) + 1] - offsets[static_cast<std::size_t>(b)])};
   }
@@ -132,8 +132,8 @@ inline void validate_seeds(const aabb& box, std::span<const vec3> seeds, const s
     for (int k = std::max(0, b[2] - 1); k <= std::min(grid.n[2] - 1, b[2] + 1); ++k)
       for (int j = std::max(0, b[1] - 1); j <= std::min(grid.n[1] - 1, b[1] + 1); ++j)
         for (int i = std::max(0, b[0] - 1); i <= std::min(grid.n[0] - 1, b[0] + 1); ++i)
-          for (index o : grid.seeds_in(grid.bin(i, j, k))) {
-            if (o >= static_cast<index>(s)) continue;
+          for (index_t o : grid.seeds_in(grid.bin(i, j, k))) {
+            if (o >= static_cast<index_t>(s)) continue;
             const real d = (seeds[static_cast<std::size_t>(o)] - seeds[s]).norm();
             require(d > coincidence, who, ": seeds ", o, " and ", s, " coincide at (", seeds[s].x(), ", ",
                     seeds[s].y(), ", ", seeds[s].z(), ") m (distance ", d, " m <= ", coincidence,
@@ -157,7 +157,7 @@ inline void validate_seeds(const aabb& box, std::span<const vec3> seeds, const s
 /// cells close in space are close in memory (cache locality of the tessellation and of every
 /// later loop over blocks and contacts).
 inline void sort_along_morton_curve(const aabb& box, std::vector<vec3>& points) {
-  std::vector<std::pair<std::uint64_t, index>> key(points.size());
+  std::vector<std::pair<std::uint64_t, index_t>> key(points.size());
   const vec3 size = box.size();
   for (std::size_t k = 0; k < points.size(); ++k) {
     std::uint64_t code = 0;
@@ -165,7 +165,7 @@ inline void sort_along_morton_curve(const aabb& box, std::vector<vec3>& points) 
       const real u = std::clamp<real>((points[k][a] - box.lo[a]) / size[a], 0, 1);
       code |= spread_bits(static_cast<std::uint64_t>(u * real(0x1fffff))) << a;
     }
-    key[k] = {code, static_cast<index>(k)};
+    key[k] = {code, static_cast<index_t>(k)};
   }
   std::sort(key.begin(), key.end());
   std::vector<vec3> sorted(points.size());
@@ -176,12 +176,12 @@ inline void sort_along_morton_curve(const aabb& box, std::vector<vec3>& points) 
 /// Per-thread scratch of the cell computation.
 struct cell_workspace {
   convex_polyhedron cell;
-  std::vector<std::pair<real, index>> candidates;  // (squared distance, generator id)
+  std::vector<std::pair<real, index_t>> candidates;  // (squared distance, generator id)
 };
 
 /// Computes the Laguerre cell of generator i into ws.cell (weights empty = Voronoi).
 inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span<const real> weights, real w_max,
-                         const seed_grid& grid, index i, cell_workspace& ws) {
+                         const seed_grid& grid, index_t i, cell_workspace& ws) {
   // Plane-side tolerance: plane_tolerance_rel of four mean cell sizes, fixed for the whole
   // tessellation (a cell is rarely larger than that; see predicates.hpp and cleanup.hpp).
   const real clip_tolerance = 4 * plane_tolerance_rel * std::cbrt(box.volume() / static_cast<real>(seeds.size()));
@@ -222,7 +222,7 @@ inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span
         const int step = full_row ? 1 : 2 * k;
         for (int bi = b[0] - k; bi <= b[0] + k; bi += std::max(step, 1)) {
           if (bi < 0 || bi >= grid.n[0]) continue;
-          for (index j : grid.seeds_in(grid.bin(bi, bj, bk))) {
+          for (index_t j : grid.seeds_in(grid.bin(bi, bj, bk))) {
             const real d2 = (seeds[static_cast<std::size_t>(j)] - s).squaredNorm();
             if (j != i && d2 < stop2) ws.candidates.emplace_back(d2, j);
           }
@@ -252,7 +252,7 @@ inline std::vector<convex_polyhedron> compute_cells(const aabb& box, std::span<c
   parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
     thread_local cell_workspace ws;
     try {
-      compute_cell(box, seeds, weights, w_max, grid, static_cast<index>(c), ws);
+      compute_cell(box, seeds, weights, w_max, grid, static_cast<index_t>(c), ws);
       cells[static_cast<std::size_t>(c)] = ws.cell;
     } catch (...) {
       failure[static_cast<std::size_t>(c)] = std::current_exception();
@@ -295,7 +295,7 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
 /// for bit on every platform. With min_spacing > 0 (m), candidates closer than min_spacing to an
 /// accepted generator are rejected (random sequential addition); throws invalid_input when the
 /// box cannot take n generators at that spacing.
-[[nodiscard]] inline std::vector<vec3> random_seeds(const aabb& box, index n, std::uint64_t rng_seed,
+[[nodiscard]] inline std::vector<vec3> random_seeds(const aabb& box, index_t n, std::uint64_t rng_seed,
                                                     real min_spacing = 0) {
   detail::require_valid_box(box, "random_seeds");
   require(n > 0, "random_seeds: number of seeds N = ", n, " must be > 0");
@@ -310,14 +310,14 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
   std::vector<vec3> seeds;
   seeds.reserve(static_cast<std::size_t>(n));
   if (min_spacing == 0) {
-    for (index i = 0; i < n; ++i) seeds.push_back(draw());
+    for (index_t i = 0; i < n; ++i) seeds.push_back(draw());
     return seeds;
   }
   // Bins no smaller than min_spacing: a conflicting generator is in the 27 surrounding bins.
   std::array<int, 3> nb{};
   for (int a = 0; a < 3; ++a)
     nb[static_cast<std::size_t>(a)] = static_cast<int>(std::clamp<real>(std::floor(size[a] / min_spacing), 1, 512));
-  std::vector<std::vector<index>> bins(static_cast<std::size_t>(nb[0]) * static_cast<std::size_t>(nb[1]) *
+  std::vector<std::vector<index_t>> bins(static_cast<std::size_t>(nb[0]) * static_cast<std::size_t>(nb[1]) *
                                        static_cast<std::size_t>(nb[2]));
   auto coord = [&](const vec3& p, int a) {
     return std::clamp(static_cast<int>((p[a] - box.lo[a]) / size[a] * nb[static_cast<std::size_t>(a)]), 0,
@@ -325,7 +325,7 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
   };
   const std::int64_t max_attempts = 1000 * static_cast<std::int64_t>(n) + 100000;
   std::int64_t attempts = 0;
-  while (static_cast<index>(seeds.size()) < n) {
+  while (static_cast<index_t>(seeds.size()) < n) {
     require(++attempts <= max_attempts, "random_seeds: placed only ", seeds.size(), " of ", n,
             " seeds with min_spacing = ", min_spacing, " m in a box of (", size.x(), ", ", size.y(), ", ", size.z(),
             ") m after ", max_attempts, " attempts; lower min_spacing or N");
@@ -335,13 +335,13 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
     for (int k = std::max(0, ck - 1); free && k <= std::min(nb[2] - 1, ck + 1); ++k)
       for (int j = std::max(0, cj - 1); free && j <= std::min(nb[1] - 1, cj + 1); ++j)
         for (int i = std::max(0, ci - 1); free && i <= std::min(nb[0] - 1, ci + 1); ++i)
-          for (index o : bins[static_cast<std::size_t>(i + nb[0] * (j + nb[1] * k))])
+          for (index_t o : bins[static_cast<std::size_t>(i + nb[0] * (j + nb[1] * k))])
             if ((seeds[static_cast<std::size_t>(o)] - p).squaredNorm() < min_spacing * min_spacing) {
               free = false;
               break;
             }
     if (!free) continue;
-    bins[static_cast<std::size_t>(ci + nb[0] * (cj + nb[1] * ck))].push_back(static_cast<index>(seeds.size()));
+    bins[static_cast<std::size_t>(ci + nb[0] * (cj + nb[1] * ck))].push_back(static_cast<index_t>(seeds.size()));
     seeds.push_back(p);
   }
   return seeds;
@@ -373,7 +373,7 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
 /// by options.lloyd_iterations Lloyd steps. The generators are numbered along a Morton curve of
 /// the box (cell i has generator tessellation::seeds[i]), so neighbouring cells have nearby ids. The same (box, n, rng_seed, options) always gives
 /// the same tessellation, bit for bit, for any thread count.
-[[nodiscard]] inline tessellation random_voronoi(const aabb& box, index n, std::uint64_t rng_seed,
+[[nodiscard]] inline tessellation random_voronoi(const aabb& box, index_t n, std::uint64_t rng_seed,
                                                  const tessellation_options& options = {}) {
   require(n > 0, "random_voronoi: number of cells N = ", n, " must be > 0");
   std::vector<vec3> seeds = random_seeds(box, n, rng_seed, options.min_spacing);

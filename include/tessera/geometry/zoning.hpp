@@ -76,17 +76,17 @@ struct zoning_options {
   bool refine_interior = true;
   /// Safety cap on the number of gridpoints created by refinement, so a tiny h fails loudly
   /// instead of exhausting memory.
-  index max_gridpoints = 50'000'000;
+  index_t max_gridpoints = 50'000'000;
 };
 
 /// Quality of the zones of a block_mesh (see quality()).
 struct zone_quality {
-  index zones = 0;
-  index min_zones_per_block = 0;
+  index_t zones = 0;
+  index_t min_zones_per_block = 0;
   double mean_zones_per_block = 0.0;
-  index max_zones_per_block = 0;
+  index_t max_zones_per_block = 0;
   real min_zone_volume = 0.0;      ///< smallest zone volume (m^3)
-  index min_volume_zone = invalid_index;
+  index_t min_volume_zone = invalid_index;
   real min_dihedral_deg = 0.0;     ///< smallest dihedral angle of any zone (degrees; 70.53 for a regular tet)
   real max_dihedral_deg = 0.0;     ///< largest dihedral angle of any zone (degrees)
   /// Smallest volume ratio eta = 6 sqrt(2) V / l_rms^3, l_rms = root mean square of the six edge
@@ -107,7 +107,7 @@ namespace detail::zoning {
 }
 
 /// Node of a refined face triangulation: global vertex id (< vertex_count) or an edge-midpoint key.
-using surface_key = index;
+using surface_key = index_t;
 
 /// Registry of the surface nodes of all faces: the tessellation vertices plus the edge midpoints
 /// created by refinement, one key per midpoint shared by every face and block touching the edge.
@@ -124,10 +124,10 @@ struct surface_registry {
     if (a > b) std::swap(a, b);
     return (position[static_cast<std::size_t>(b)] - position[static_cast<std::size_t>(a)]).squaredNorm();
   }
-  surface_key midpoint(surface_key a, surface_key b, index max_nodes) {
+  surface_key midpoint(surface_key a, surface_key b, index_t max_nodes) {
     const auto [it, inserted] = midpoint_of.try_emplace(edge_id(a, b), static_cast<surface_key>(position.size()));
     if (inserted) {
-      require<geometry_error>(static_cast<index>(position.size()) < max_nodes, "zone_blocks: refinement exceeds ",
+      require<geometry_error>(static_cast<index_t>(position.size()) < max_nodes, "zone_blocks: refinement exceeds ",
                               max_nodes, " surface nodes; zoning_options::target_edge_length is too small");
       if (a > b) std::swap(a, b);
       position.push_back(0.5 * (position[static_cast<std::size_t>(a)] + position[static_cast<std::size_t>(b)]));
@@ -141,7 +141,7 @@ using triangle = std::array<surface_key, 3>;
 /// Splits triangle t (CCW outward) by red-green-blue templates until no edge exceeds h
 /// (squared: h2), appending the result to out.
 inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, std::vector<triangle>& out,
-                            index max_nodes) {
+                            index_t max_nodes) {
   std::vector<triangle> work{t};
   int guard = 0;
   while (!work.empty()) {
@@ -204,13 +204,13 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
                                                                           const zoning_options& options,
                                                                           surface_registry& reg) {
   const real h = options.target_edge_length;
-  const index n_faces = tess.face_count();
+  const index_t n_faces = tess.face_count();
   std::vector<std::vector<triangle>> face_tris(static_cast<std::size_t>(n_faces));
   std::vector<triangle> coarse;
   triangulation_workspace workspace;
-  for (index f = 0; f < n_faces; ++f) {
+  for (index_t f = 0; f < n_faces; ++f) {
     const auto loop = tess.face(f);
-    const auto n = static_cast<index>(loop.size());
+    const auto n = static_cast<index_t>(loop.size());
     require<geometry_error>(n >= 3, "zone_blocks: face ", f, " of block ", tess.face_cell[f], " has ", n,
                             " vertices, expected >= 3");
     coarse.clear();
@@ -229,18 +229,18 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
 /// Centroid of block b: volume V and centroid c of the polyhedron from the cones of its face
 /// triangles on a point p0 inside it (vertex average), V = sum V_t, c = sum V_t c_t / V. Throws
 /// geometry_error for fewer than 4 vertices or a non-positive volume.
-[[nodiscard]] inline vec3 block_centroid(const tessellation& tess, index b, const std::vector<surface_key>& keys,
+[[nodiscard]] inline vec3 block_centroid(const tessellation& tess, index_t b, const std::vector<surface_key>& keys,
                                          const surface_registry& reg,
                                          const std::vector<std::vector<triangle>>& face_tris) {
   vec3 p0 = vec3::Zero();
-  index n_vertices = 0;
+  index_t n_vertices = 0;
   for (const surface_key k : keys)
     if (k < tess.vertex_count()) { p0 += reg.position[static_cast<std::size_t>(k)]; ++n_vertices; }
   require<geometry_error>(n_vertices >= 4, "zone_blocks: block ", b, " has ", n_vertices, " vertices, expected >= 4");
   p0 /= n_vertices;
   real volume6 = 0.0;
   vec3 moment = vec3::Zero();
-  for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+  for (index_t f = tess.first_face(b); f < tess.end_face(b); ++f)
     for (const auto& t : face_tris[static_cast<std::size_t>(f)]) {
       const vec3& x0 = reg.position[static_cast<std::size_t>(t[0])];
       const vec3& x1 = reg.position[static_cast<std::size_t>(t[1])];
@@ -260,8 +260,8 @@ inline void refine_triangle(const triangle& t, real h2, surface_registry& reg, s
 /// centroid_gp) and three
 /// tetrahedra per triangle and layer, split on the key order so neighbours agree.
 template <class Local, class OnLayer, class AddZone>
-void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, const surface_registry& reg, index base,
-               index centroid_gp, index layers, Local&& local, OnLayer&& on_layer, AddZone&& add_zone) {
+void zone_face(block_mesh& mesh, index_t f, const std::vector<triangle>& tris, const surface_registry& reg, index_t base,
+               index_t centroid_gp, index_t layers, Local&& local, OnLayer&& on_layer, AddZone&& add_zone) {
   // Face data: nodes by key, areas accumulated in canonical triangle order.
   const auto node_begin = static_cast<std::size_t>(mesh.face_nodes.size());
   for (const auto& t : tris)
@@ -284,22 +284,22 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
     for (const surface_key k : s) mesh.face_node_area[face_node_entry(k)] += third_area;
   }
   for (std::size_t e = node_begin; e < mesh.face_nodes.size(); ++e) mesh.face_nodes[e] = base + local(mesh.face_nodes[e]);
-  mesh.face_node_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index>(mesh.face_nodes.size());
+  mesh.face_node_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index_t>(mesh.face_nodes.size());
 
   for (const auto& t : tris) {
-    const index a = local(t[0]), bb = local(t[1]), c = local(t[2]);
+    const index_t a = local(t[0]), bb = local(t[1]), c = local(t[2]);
     mesh.face_triangles.push_back({base + a, base + bb, base + c});
     // Innermost cone: (a, c, b) is CW seen from outside, so (a, c, b, centroid) is positive.
     add_zone({on_layer(1, a), on_layer(1, c), on_layer(1, bb), centroid_gp});
     // Prisms between layers l and l+1, split on the key order p < q < r of the triangle.
     if (layers > 1) {
-      std::array<index, 3> pqr{a, bb, c};
+      std::array<index_t, 3> pqr{a, bb, c};
       std::sort(pqr.begin(), pqr.end());
       // (p, q, r) has the orientation of (a, b, c) iff it is a cyclic rotation of it.
       const bool ccw = (pqr[0] == a && pqr[1] == bb) || (pqr[0] == bb && pqr[1] == c) || (pqr[0] == c && pqr[1] == a);
-      for (index l = 1; l < layers; ++l) {
-        const index p = on_layer(l, pqr[0]), q = on_layer(l, pqr[1]), r = on_layer(l, pqr[2]);
-        const index po = on_layer(l + 1, pqr[0]), qo = on_layer(l + 1, pqr[1]), ro = on_layer(l + 1, pqr[2]);
+      for (index_t l = 1; l < layers; ++l) {
+        const index_t p = on_layer(l, pqr[0]), q = on_layer(l, pqr[1]), r = on_layer(l, pqr[2]);
+        const index_t po = on_layer(l + 1, pqr[0]), qo = on_layer(l + 1, pqr[1]), ro = on_layer(l + 1, pqr[2]);
         if (ccw) {
           add_zone({p, q, r, ro});
           add_zone({p, q, ro, qo});
@@ -312,7 +312,7 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
       }
     }
   }
-  mesh.face_triangle_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index>(mesh.face_triangles.size());
+  mesh.face_triangle_offsets[static_cast<std::size_t>(f) + 1] = static_cast<index_t>(mesh.face_triangles.size());
 }
 
 }  // namespace detail::zoning
@@ -324,9 +324,9 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
   using namespace detail::zoning;
   const real h = options.target_edge_length;
   require_non_negative(h, "zoning_options::target_edge_length (m)");
-  const index n_faces = tess.face_count();
-  const index n_cells = tess.cell_count();
-  require<geometry_error>(static_cast<index>(tess.face_cell.size()) == n_faces, "zone_blocks: face_cell has ",
+  const index_t n_faces = tess.face_count();
+  const index_t n_cells = tess.cell_count();
+  require<geometry_error>(static_cast<index_t>(tess.face_cell.size()) == n_faces, "zone_blocks: face_cell has ",
                           tess.face_cell.size(), " entries, expected one per face (", n_faces, ")");
 
   // ---- surface triangulation of every face, canonical for twins ----
@@ -342,28 +342,28 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
   // Face data are filled per block but indexed by face id; faces of a block are contiguous
   // and blocks are processed in order, so appending keeps face order.
   std::vector<surface_key> keys;
-  for (index b = 0; b < n_cells; ++b) {
+  for (index_t b = 0; b < n_cells; ++b) {
     // Surface nodes of the block, by key.
     keys.clear();
-    for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+    for (index_t f = tess.first_face(b); f < tess.end_face(b); ++f)
       for (const auto& t : face_tris[static_cast<std::size_t>(f)]) keys.insert(keys.end(), t.begin(), t.end());
     std::sort(keys.begin(), keys.end());
     keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
-    const auto n_surface = static_cast<index>(keys.size());
+    const auto n_surface = static_cast<index_t>(keys.size());
     const auto local = [&](surface_key k) {
-      return static_cast<index>(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
+      return static_cast<index_t>(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
     };
 
     const vec3 centroid = block_centroid(tess, b, keys, reg, face_tris);
 
     // Interior layers: m homothetic copies of the surface about the centroid.
-    index layers = 1;
+    index_t layers = 1;
     if (h > 0 && options.refine_interior) {
       real r_max = 0.0;
       for (const surface_key k : keys) r_max = std::max(r_max, (reg.position[static_cast<std::size_t>(k)] - centroid).norm());
-      layers = std::max<index>(1, static_cast<index>(std::ceil(r_max / h)));
+      layers = std::max<index_t>(1, static_cast<index_t>(std::ceil(r_max / h)));
     }
-    const auto base = static_cast<index>(mesh.gridpoints.size());
+    const auto base = static_cast<index_t>(mesh.gridpoints.size());
     require<geometry_error>(static_cast<double>(base) + static_cast<double>(n_surface) * layers + 1 <=
                                 static_cast<double>(options.max_gridpoints),
                             "zone_blocks: block ", b, " would exceed ", options.max_gridpoints,
@@ -373,11 +373,11 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
       mesh.gridpoint_block.push_back(b);
       mesh.gridpoint_vertex.push_back(k < tess.vertex_count() ? k : invalid_index);
     }
-    const index centroid_gp = base + n_surface;
+    const index_t centroid_gp = base + n_surface;
     mesh.gridpoints.push_back(centroid);
     mesh.gridpoint_block.push_back(b);
     mesh.gridpoint_vertex.push_back(invalid_index);
-    for (index layer = 1; layer < layers; ++layer) {
+    for (index_t layer = 1; layer < layers; ++layer) {
       const real s = static_cast<real>(layer) / static_cast<real>(layers);
       for (const surface_key k : keys) {
         mesh.gridpoints.push_back(centroid + s * (reg.position[static_cast<std::size_t>(k)] - centroid));
@@ -385,13 +385,13 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
         mesh.gridpoint_vertex.push_back(invalid_index);
       }
     }
-    mesh.block_gridpoint_offsets.push_back(static_cast<index>(mesh.gridpoints.size()));
+    mesh.block_gridpoint_offsets.push_back(static_cast<index_t>(mesh.gridpoints.size()));
     // Gridpoint of local surface node i on layer l (1 = innermost ring, layers = the surface).
-    const auto on_layer = [&](index l, index i) {
+    const auto on_layer = [&](index_t l, index_t i) {
       return l == layers ? base + i : base + n_surface + 1 + (l - 1) * n_surface + i;
     };
 
-    const auto add_zone = [&](std::array<index, 4> z) {
+    const auto add_zone = [&](std::array<index_t, 4> z) {
       const auto& x = mesh.gridpoints;
       const real v6 = tet_volume6(x[static_cast<std::size_t>(z[0])], x[static_cast<std::size_t>(z[1])],
                                   x[static_cast<std::size_t>(z[2])], x[static_cast<std::size_t>(z[3])]);
@@ -401,16 +401,16 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
       mesh.zone_block.push_back(b);
     };
 
-    for (index f = tess.first_face(b); f < tess.end_face(b); ++f)
+    for (index_t f = tess.first_face(b); f < tess.end_face(b); ++f)
       zone_face(mesh, f, face_tris[static_cast<std::size_t>(f)], reg, base, centroid_gp, layers, local, on_layer,
                 add_zone);
-    mesh.block_zone_offsets.push_back(static_cast<index>(mesh.zones.size()));
+    mesh.block_zone_offsets.push_back(static_cast<index_t>(mesh.zones.size()));
   }
   return mesh;
 }
 
 /// Volume of zone z (m^3), positive for a valid mesh.
-[[nodiscard]] inline real zone_volume(const block_mesh& mesh, index z) {
+[[nodiscard]] inline real zone_volume(const block_mesh& mesh, index_t z) {
   const auto& n = mesh.zones[static_cast<std::size_t>(z)];
   const auto& x = mesh.gridpoints;
   return detail::zoning::tet_volume6(x[static_cast<std::size_t>(n[0])], x[static_cast<std::size_t>(n[1])],
@@ -423,11 +423,11 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
 [[nodiscard]] inline zone_quality quality(const block_mesh& mesh) {
   zone_quality q;
   q.zones = mesh.zone_count();
-  const index n_blocks = mesh.block_count();
+  const index_t n_blocks = mesh.block_count();
   if (n_blocks > 0) {
-    q.min_zones_per_block = std::numeric_limits<index>::max();
-    for (index b = 0; b < n_blocks; ++b) {
-      const index n = mesh.block_zone_offsets[static_cast<std::size_t>(b) + 1] - mesh.block_zone_offsets[static_cast<std::size_t>(b)];
+    q.min_zones_per_block = std::numeric_limits<index_t>::max();
+    for (index_t b = 0; b < n_blocks; ++b) {
+      const index_t n = mesh.block_zone_offsets[static_cast<std::size_t>(b) + 1] - mesh.block_zone_offsets[static_cast<std::size_t>(b)];
       q.min_zones_per_block = std::min(q.min_zones_per_block, n);
       q.max_zones_per_block = std::max(q.max_zones_per_block, n);
     }
@@ -438,11 +438,11 @@ void zone_face(block_mesh& mesh, index f, const std::vector<triangle>& tris, con
   q.min_dihedral_deg = 180.0;
   q.min_volume_ratio = std::numeric_limits<real>::infinity();
   double ratio_sum = 0.0;
-  index below = 0;
+  index_t below = 0;
   // Face k of a tet is the face opposite node k; edge (i, j) is shared by the faces opposite the
   // two other nodes.
   constexpr std::array<std::array<int, 3>, 4> opposite{{{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}}};
-  for (index z = 0; z < q.zones; ++z) {
+  for (index_t z = 0; z < q.zones; ++z) {
     const auto& node = mesh.zones[static_cast<std::size_t>(z)];
     std::array<vec3, 4> x;
     for (int i = 0; i < 4; ++i) x[static_cast<std::size_t>(i)] = mesh.gridpoints[static_cast<std::size_t>(node[static_cast<std::size_t>(i)])];

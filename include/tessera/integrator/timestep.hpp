@@ -36,7 +36,7 @@ inline constexpr real default_safety = 0.9;
 /// The critical step of a node set and the node that limits it.
 struct critical_step {
   real dt = std::numeric_limits<real>::infinity();  ///< min_i 2 sqrt(m_i / (a k_i)) (s), unscaled by safety
-  index node = invalid_index;                       ///< limiting node
+  index_t node = invalid_index;                       ///< limiting node
   real mass = 0;                                    ///< its mass (kg)
   real stiffness = 0;                               ///< its stiffness bound (N/m)
 };
@@ -47,7 +47,7 @@ struct critical_step {
 [[nodiscard]] inline critical_step critical_time_step(const node_set& nodes, real amplification = 1) {
   require(amplification >= 1, "time step: stiffness amplification a = ", amplification, " must be >= 1");
   critical_step out;
-  for (index i = 0; i < nodes.size(); ++i) {
+  for (index_t i = 0; i < nodes.size(); ++i) {
     const real k = nodes.stiffness[i];
     const real m = nodes.mass[i];
     require(std::isfinite(k) && k >= 0, "time step: node ", i, " has stiffness bound k = ", k,
@@ -65,7 +65,7 @@ struct critical_step {
 struct mass_scaling_report {
   real added_mass = 0;     ///< sum of the mass added (kg)
   real original_mass = 0;  ///< sum of the masses before scaling (kg)
-  index scaled_nodes = 0;  ///< number of nodes whose mass was raised
+  index_t scaled_nodes = 0;  ///< number of nodes whose mass was raised
   /// Adds another node set's report (e.g. the bar nodes' to the gridpoints').
   mass_scaling_report& operator+=(const mass_scaling_report& o) noexcept {
     added_mass += o.added_mass;
@@ -84,7 +84,7 @@ mass_scaling_report scale_masses_impl(Nodes& nodes, real target_dt, real safety,
   require(amplification >= 1, "mass scaling: stiffness amplification a = ", amplification, " must be >= 1");
   mass_scaling_report rep;
   const real c = amplification * (target_dt / (2 * safety)) * (target_dt / (2 * safety));
-  for (index i = 0; i < nodes.size(); ++i) {
+  for (index_t i = 0; i < nodes.size(); ++i) {
     rep.original_mass += nodes.mass[i];
     const real needed = nodes.stiffness[i] * c;
     if (needed > nodes.mass[i]) {

@@ -202,28 +202,28 @@ class unstructured_grid {
   field_data cell_data;   ///< one tuple per cell, in add order
 
   void set_points(std::vector<vec3> points) { points_ = std::move(points); }
-  index add_point(const vec3& p) {
+  index_t add_point(const vec3& p) {
     points_.push_back(p);
-    return static_cast<index>(points_.size()) - 1;
+    return static_cast<index_t>(points_.size()) - 1;
   }
   /// Adds a cell of a fixed or variable node count (not polyhedron) and returns its id.
-  index add_cell(cell_type type, std::span<const index> nodes) {
+  index_t add_cell(cell_type type, std::span<const index_t> nodes) {
     require(type != cell_type::polyhedron, "vtk::unstructured_grid: use add_polyhedron for polyhedral cells");
-    for (const index n : nodes) connectivity_.push_back(n);
+    for (const index_t n : nodes) connectivity_.push_back(n);
     offsets_.push_back(static_cast<std::int64_t>(connectivity_.size()));
     types_.push_back(static_cast<std::uint8_t>(type));
     face_offsets_.push_back(-1);
-    return static_cast<index>(types_.size()) - 1;
+    return static_cast<index_t>(types_.size()) - 1;
   }
-  index add_cell(cell_type type, std::initializer_list<index> nodes) {
-    return add_cell(type, std::span<const index>(nodes.begin(), nodes.size()));
+  index_t add_cell(cell_type type, std::initializer_list<index_t> nodes) {
+    return add_cell(type, std::span<const index_t>(nodes.begin(), nodes.size()));
   }
   /// Adds a polyhedral cell given its faces (point loops, CCW seen from outside) and returns its id.
   /// The cell's point list is the distinct points of its faces in first-seen order.
-  index add_polyhedron(std::span<const std::vector<index>> faces) {
+  index_t add_polyhedron(std::span<const std::vector<index_t>> faces) {
     const std::size_t first = connectivity_.size();
     for (const auto& f : faces)
-      for (const index n : f)
+      for (const index_t n : f)
         if (std::find(connectivity_.begin() + static_cast<std::ptrdiff_t>(first), connectivity_.end(), n) == connectivity_.end())
           connectivity_.push_back(n);
     offsets_.push_back(static_cast<std::int64_t>(connectivity_.size()));
@@ -235,10 +235,10 @@ class unstructured_grid {
     }
     face_offsets_.push_back(static_cast<std::int64_t>(faces_.size()));
     has_polyhedra_ = true;
-    return static_cast<index>(types_.size()) - 1;
+    return static_cast<index_t>(types_.size()) - 1;
   }
-  [[nodiscard]] index point_count() const { return static_cast<index>(points_.size()); }
-  [[nodiscard]] index cell_count() const { return static_cast<index>(types_.size()); }
+  [[nodiscard]] index_t point_count() const { return static_cast<index_t>(points_.size()); }
+  [[nodiscard]] index_t cell_count() const { return static_cast<index_t>(types_.size()); }
 
   /// Writes the grid to `path` (.vtu) atomically.
   void write(const std::filesystem::path& path, format fmt = format::ascii) const {
@@ -279,17 +279,17 @@ class poly_data {
   field_data cell_data;   ///< one tuple per cell: verts, then lines, then polys
 
   void set_points(std::vector<vec3> points) { points_ = std::move(points); }
-  index add_point(const vec3& p) {
+  index_t add_point(const vec3& p) {
     points_.push_back(p);
-    return static_cast<index>(points_.size()) - 1;
+    return static_cast<index_t>(points_.size()) - 1;
   }
-  void add_vertex(index p) { verts_.add({&p, 1}); }
+  void add_vertex(index_t p) { verts_.add({&p, 1}); }
   /// A polyline through the given points (a bar as a chain of truss elements).
-  void add_line(std::span<const index> points) { lines_.add(points); }
-  void add_polygon(std::span<const index> points) { polys_.add(points); }
-  [[nodiscard]] index point_count() const { return static_cast<index>(points_.size()); }
-  [[nodiscard]] index cell_count() const {
-    return static_cast<index>(verts_.offsets.size() + lines_.offsets.size() + polys_.offsets.size());
+  void add_line(std::span<const index_t> points) { lines_.add(points); }
+  void add_polygon(std::span<const index_t> points) { polys_.add(points); }
+  [[nodiscard]] index_t point_count() const { return static_cast<index_t>(points_.size()); }
+  [[nodiscard]] index_t cell_count() const {
+    return static_cast<index_t>(verts_.offsets.size() + lines_.offsets.size() + polys_.offsets.size());
   }
 
   void write(const std::filesystem::path& path, format fmt = format::ascii) const {
@@ -322,7 +322,7 @@ class poly_data {
  private:
   struct cell_list {
     std::vector<std::int64_t> connectivity, offsets;
-    void add(std::span<const index> p) {
+    void add(std::span<const index_t> p) {
       connectivity.insert(connectivity.end(), p.begin(), p.end());
       offsets.push_back(static_cast<std::int64_t>(connectivity.size()));
     }
@@ -380,11 +380,11 @@ inline void write_blocks_vtu(const std::filesystem::path& path, const geometry::
   grid.set_points(tess.vertices);
   std::vector<std::int32_t> block_id;
   std::vector<double> volume;
-  std::vector<std::vector<index>> faces;
-  for (index c = 0; c < tess.cell_count(); ++c) {
+  std::vector<std::vector<index_t>> faces;
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
     faces.clear();
     double volume6 = 0.0;
-    for (index f = tess.first_face(c); f < tess.end_face(c); ++f) {
+    for (index_t f = tess.first_face(c); f < tess.end_face(c); ++f) {
       const auto loop = tess.face(f);
       faces.emplace_back(loop.begin(), loop.end());
       // V = (1/6) sum over fan triangles of x0 . (x1 x x2) for outward-oriented faces.

@@ -75,8 +75,8 @@ struct contact_snapshot {
       state.back().values.resize(n * static_cast<std::size_t>(f.real_columns()));
     }
     for (std::size_t k = 0; k < n; ++k) {
-      const auto i = static_cast<index>(k);
-      const index a = c.node_a(i), b = c.node_b(i);
+      const auto i = static_cast<index_t>(k);
+      const index_t a = c.node_a(i), b = c.node_b(i);
       reference[k] = 0.5 * (gp.reference.row(a) + gp.reference.row(b)).transpose();
       displacement[k] = 0.5 * (gp.displacement.row(a) + gp.displacement.row(b)).transpose();
       normal[k] = c.normal(i);
@@ -107,7 +107,7 @@ struct contact_snapshot {
   void write(const std::filesystem::path& path, format fmt = format::binary) const {
     poly_data pd;
     pd.set_points(reference);
-    for (std::size_t k = 0; k < size(); ++k) pd.add_vertex(static_cast<index>(k));
+    for (std::size_t k = 0; k < size(); ++k) pd.add_vertex(static_cast<index_t>(k));
     pd.point_data.add_vector("displacement", std::span<const vec3>(displacement));
     pd.point_data.add_vector("normal", std::span<const vec3>(normal));
     pd.point_data.add_scalar("area_m2", std::span<const double>(area));
@@ -136,7 +136,7 @@ void write_bar_vtp(const std::filesystem::path& path, const Bar& bar, format fmt
   const node_set& nodes = bar.nodes();
   std::vector<vec3> points;
   std::vector<double> slip, bond_force;
-  for (index n = 0; n < nodes.size(); ++n) {
+  for (index_t n = 0; n < nodes.size(); ++n) {
     points.push_back(nodes.reference.row(n).transpose());
     slip.push_back(bar.bonded(n) ? bar.slip(n) : 0.0);
     bond_force.push_back(bar.bonded(n) ? bar.bond_force(n) : 0.0);
@@ -145,8 +145,8 @@ void write_bar_vtp(const std::filesystem::path& path, const Bar& bar, format fmt
   pd.set_points(std::move(points));
   std::vector<double> axial;
   std::vector<std::int32_t> yielded;
-  for (index e = 0; e < bar.element_count(); ++e) {
-    const index ends[2] = {bar.element_node_a(e), bar.element_node_b(e)};
+  for (index_t e = 0; e < bar.element_count(); ++e) {
+    const index_t ends[2] = {bar.element_node_a(e), bar.element_node_b(e)};
     pd.add_line(ends);
     axial.push_back(bar.axial_force(e));
     yielded.push_back(bar.yielded(e) ? 1 : 0);

@@ -160,7 +160,7 @@ static_assert(law::ContactLaw<coupled_tie_law>);
 }
 /// The tie's bar from `start` to `end` (the prism axis) with `elements` truss elements (96).
 [[nodiscard]] inline reinforcement::embedded_truss<reinforcement::coulomb_bond>::params tie_reinforcement(const vec3& start, const vec3& end,
-                                                                            index elements = 96) {
+                                                                            index_t elements = 96) {
   return {tie_steel(), tie_bond(), {reinforcement::bar{start, end, elements, true}}};
 }
 

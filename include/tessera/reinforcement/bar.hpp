@@ -41,7 +41,7 @@ struct steel {
 struct bar {
   vec3 start = vec3::Zero();  ///< first node (m)
   vec3 end = vec3::Zero();    ///< last node (m)
-  index elements = 1;         ///< number of truss elements N (>= 1); the bar gets N + 1 nodes
+  index_t elements = 1;         ///< number of truss elements N (>= 1); the bar gets N + 1 nodes
   /// true: every node is embedded in its host zone and bonded to it (the study's model).
   /// false: an unbonded bar (no host, no bond springs), e.g. the bare-bar reference response.
   bool bonded = true;
@@ -50,15 +50,15 @@ struct bar {
 /// Nodes and 2-node elements of a list of bars (reference configuration).
 struct bar_discretisation {
   std::vector<vec3> nodes;                   ///< reference positions (m)
-  std::vector<index> node_bar;               ///< owning bar of each node
-  std::vector<index> bar_node_offsets{0};    ///< CSR: nodes of bar b
-  std::vector<index> element_node_a;         ///< first node of each element
-  std::vector<index> element_node_b;         ///< second node (towards `end`)
+  std::vector<index_t> node_bar;               ///< owning bar of each node
+  std::vector<index_t> bar_node_offsets{0};    ///< CSR: nodes of bar b
+  std::vector<index_t> element_node_a;         ///< first node of each element
+  std::vector<index_t> element_node_b;         ///< second node (towards `end`)
   std::vector<real> element_length;          ///< reference length L_el (m)
-  std::vector<index> bar_element_offsets{0}; ///< CSR: elements of bar b
+  std::vector<index_t> bar_element_offsets{0}; ///< CSR: elements of bar b
 
-  [[nodiscard]] index node_count() const { return static_cast<index>(nodes.size()); }
-  [[nodiscard]] index element_count() const { return static_cast<index>(element_length.size()); }
+  [[nodiscard]] index_t node_count() const { return static_cast<index_t>(nodes.size()); }
+  [[nodiscard]] index_t element_count() const { return static_cast<index_t>(element_length.size()); }
 };
 
 /// Splits every bar into equal elements. Throws invalid_input naming the bar when it has fewer
@@ -75,15 +75,15 @@ struct bar_discretisation {
     require(element_length > 0.0, "bar ", b, ": element length = ", element_length, " m (bar from ",
             detail::point_string(br.start), " to ", detail::point_string(br.end), ", ", br.elements,
             " elements) must be > 0");
-    const index first = d.node_count();
-    for (index k = 0; k <= br.elements; ++k) {
+    const index_t first = d.node_count();
+    for (index_t k = 0; k <= br.elements; ++k) {
       // The last node is `end` exactly, so bars meant to end on a face do.
       d.nodes.push_back(k == br.elements ? br.end
                                          : vec3(br.start + (static_cast<real>(k) / br.elements) * span));
-      d.node_bar.push_back(static_cast<index>(b));
+      d.node_bar.push_back(static_cast<index_t>(b));
     }
-    for (index k = 0; k < br.elements; ++k) {
-      const index a = first + k;
+    for (index_t k = 0; k < br.elements; ++k) {
+      const index_t a = first + k;
       d.element_node_a.push_back(a);
       d.element_node_b.push_back(a + 1);
       const real length = (d.nodes[static_cast<std::size_t>(a) + 1] - d.nodes[static_cast<std::size_t>(a)]).norm();

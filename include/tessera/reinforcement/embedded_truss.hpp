@@ -83,8 +83,8 @@ class embedded_truss {
     require(!p.bars.empty(), "embedded_truss: no bars given");
     params_ = p;
     const bar_discretisation d = discretise_bars(p.bars);
-    const index n_nodes = d.node_count();
-    const index n_elements = d.element_count();
+    const index_t n_nodes = d.node_count();
+    const index_t n_elements = d.element_count();
     const real area = p.steel.area();
     const real rigidity = p.steel.axial_rigidity();
     yield_force_ = p.steel.yield_force();
@@ -99,22 +99,22 @@ class embedded_truss {
     elements_.assign(static_cast<std::size_t>(n_elements), truss_element::state{});
 
     nodes_.resize(n_nodes);
-    for (index n = 0; n < n_nodes; ++n) nodes_.reference.row(n) = d.nodes[static_cast<std::size_t>(n)].transpose();
+    for (index_t n = 0; n < n_nodes; ++n) nodes_.reference.row(n) = d.nodes[static_cast<std::size_t>(n)].transpose();
     node_bar_ = d.node_bar;
     tangent_.setZero(n_nodes, 3);
     tributary_length_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     bond_stiffness_.assign(static_cast<std::size_t>(n_nodes), 0.0);
     const real xi = Bond::stiffness_ratio(p.bond);
     const bool per_unit_length = Bond::stiffness_per_unit_length(p.bond);
-    for (index e = 0; e < n_elements; ++e) {
-      const index a = element_node_a_[static_cast<std::size_t>(e)], b = element_node_b_[static_cast<std::size_t>(e)];
+    for (index_t e = 0; e < n_elements; ++e) {
+      const index_t a = element_node_a_[static_cast<std::size_t>(e)], b = element_node_b_[static_cast<std::size_t>(e)];
       const real length = element_length_[static_cast<std::size_t>(e)];
       const vec3 chord = d.nodes[static_cast<std::size_t>(b)] - d.nodes[static_cast<std::size_t>(a)];
       reference_chord_.row(e) = chord.transpose();
       const real k_axial = rigidity / length;  // eq. 8
       axial_stiffness_[static_cast<std::size_t>(e)] = k_axial;
       const real half_mass = 0.5 * p.steel.density * area * length;
-      for (index n : {a, b}) {
+      for (index_t n : {a, b}) {
         nodes_.mass(n) += half_mass;
         tangent_.row(n) += chord.transpose() / length;
         tributary_length_[static_cast<std::size_t>(n)] += 0.5 * length;
@@ -123,7 +123,7 @@ class embedded_truss {
         bond_stiffness_[static_cast<std::size_t>(n)] += 0.5 * xi * k_axial * (per_unit_length ? length : 1.0);
       }
     }
-    for (index n = 0; n < n_nodes; ++n) tangent_.row(n).normalize();
+    for (index_t n = 0; n < n_nodes; ++n) tangent_.row(n).normalize();
 
     locate_hosts(p, mesh, gridpoints, d);  // host zones of bonded nodes, and their gridpoint slots
     transverse_gap_.assign(static_cast<std::size_t>(n_nodes), 0.0);
@@ -146,7 +146,7 @@ class embedded_truss {
       nodes_.stiffness(element_node_a_[e]) += 2.0 * axial_stiffness_[e];
       nodes_.stiffness(element_node_b_[e]) += 2.0 * axial_stiffness_[e];
     }
-    for (index n : bonded_nodes_) {
+    for (index_t n : bonded_nodes_) {
       const host_point& h = hosts_[static_cast<std::size_t>(n)];
       real abs_sum = 0.0;
       for (real w : h.weights) abs_sum += std::abs(w);
@@ -179,9 +179,9 @@ class embedded_truss {
     const soa3& u = nodes_.displacement;
     soa3& f = nodes_.force;
     for (std::size_t e = 0; e < elements_.size(); ++e) {
-      const index a = element_node_a_[e], b = element_node_b_[e];
+      const index_t a = element_node_a_[e], b = element_node_b_[e];
       const vec3 du(u(b, 0) - u(a, 0), u(b, 1) - u(a, 1), u(b, 2) - u(a, 2));
-      const vec3 d0 = reference_chord_.row(static_cast<index>(e)).transpose();
+      const vec3 d0 = reference_chord_.row(static_cast<index_t>(e)).transpose();
       const vec3 chord = d0 + du;
       const real length = chord.norm();
       const real elongation = truss_element::elongation(d0, element_length_[e], du, length);
@@ -194,7 +194,7 @@ class embedded_truss {
     }
     const real perimeter = params_.steel.perimeter();
     const bool confined = zone_stress.rows() > 0;
-    for (index n : bonded_nodes_) {
+    for (index_t n : bonded_nodes_) {
       const auto ni = static_cast<std::size_t>(n);
       const host_point& h = hosts_[ni];
       vec3 u_host = vec3::Zero();  // eq. 10
@@ -221,11 +221,11 @@ class embedded_truss {
   /// Subtracts from gridpoints.force(g) the host share w_i f_n of every bond force whose host
   /// zone has g as corner i, for the gridpoints g in [begin, end), each gridpoint's shares in
   /// the order of the bonded nodes (that of accumulate_forces).
-  void add_host_forces(index begin, index end, node_set& gridpoints) const noexcept {
+  void add_host_forces(index_t begin, index_t end, node_set& gridpoints) const noexcept {
     if (host_offsets_.empty()) return;
-    for (index k = host_offsets_[static_cast<std::size_t>(begin)]; k < host_offsets_[static_cast<std::size_t>(end)]; ++k) {
+    for (index_t k = host_offsets_[static_cast<std::size_t>(begin)]; k < host_offsets_[static_cast<std::size_t>(end)]; ++k) {
       const auto ks = static_cast<std::size_t>(k);
-      const index g = host_slot_gridpoint_[ks], n = host_slot_node_[ks];
+      const index_t g = host_slot_gridpoint_[ks], n = host_slot_node_[ks];
       const real w = host_slot_weight_[ks];
       for (int c = 0; c < 3; ++c) gridpoints.force(g, c) -= w * host_load_(n, c);
     }
@@ -246,7 +246,7 @@ class embedded_truss {
   [[nodiscard]] real stored_energy() const {
     real e = 0.0;
     for (std::size_t i = 0; i < elements_.size(); ++i) e += truss_element::stored_energy(elements_[i], axial_stiffness_[i]);
-    for (index n : bonded_nodes_) {
+    for (index_t n : bonded_nodes_) {
       const auto ni = static_cast<std::size_t>(n);
       const real k = bond_stiffness_[ni];
       e += Bond::stored_energy(bonds_[ni], k) + 0.5 * k * transverse_gap_[ni] * transverse_gap_[ni];
@@ -260,42 +260,42 @@ class embedded_truss {
   }
   [[nodiscard]] real dissipated_bond() const {  ///< work of bond slip (J)
     real e = 0.0;
-    for (index n : bonded_nodes_) e += Bond::dissipated_energy(bonds_[static_cast<std::size_t>(n)]);
+    for (index_t n : bonded_nodes_) e += Bond::dissipated_energy(bonds_[static_cast<std::size_t>(n)]);
     return e;
   }
   [[nodiscard]] real dissipated_energy() const { return dissipated_axial() + dissipated_bond(); }
 
   // ---- topology ----
   [[nodiscard]] const params& parameters() const { return params_; }
-  [[nodiscard]] index bar_count() const { return static_cast<index>(bar_node_offsets_.size()) - 1; }
-  [[nodiscard]] index node_count() const { return nodes_.size(); }
-  [[nodiscard]] index element_count() const { return static_cast<index>(elements_.size()); }
+  [[nodiscard]] index_t bar_count() const { return static_cast<index_t>(bar_node_offsets_.size()) - 1; }
+  [[nodiscard]] index_t node_count() const { return nodes_.size(); }
+  [[nodiscard]] index_t element_count() const { return static_cast<index_t>(elements_.size()); }
   /// Node ids of bar b: [first, last) (the first is the bar's start).
-  [[nodiscard]] std::pair<index, index> bar_nodes(index b) const {
+  [[nodiscard]] std::pair<index_t, index_t> bar_nodes(index_t b) const {
     return {bar_node_offsets_[static_cast<std::size_t>(b)], bar_node_offsets_[static_cast<std::size_t>(b) + 1]};
   }
   /// Element ids of bar b: [first, last).
-  [[nodiscard]] std::pair<index, index> bar_elements(index b) const {
+  [[nodiscard]] std::pair<index_t, index_t> bar_elements(index_t b) const {
     return {bar_element_offsets_[static_cast<std::size_t>(b)], bar_element_offsets_[static_cast<std::size_t>(b) + 1]};
   }
-  [[nodiscard]] index node_bar(index n) const { return node_bar_[static_cast<std::size_t>(n)]; }
-  [[nodiscard]] index element_node_a(index e) const { return element_node_a_[static_cast<std::size_t>(e)]; }
-  [[nodiscard]] index element_node_b(index e) const { return element_node_b_[static_cast<std::size_t>(e)]; }
-  [[nodiscard]] real element_length(index e) const { return element_length_[static_cast<std::size_t>(e)]; }  ///< reference (m)
-  [[nodiscard]] real axial_stiffness(index e) const { return axial_stiffness_[static_cast<std::size_t>(e)]; }  ///< N/m
+  [[nodiscard]] index_t node_bar(index_t n) const { return node_bar_[static_cast<std::size_t>(n)]; }
+  [[nodiscard]] index_t element_node_a(index_t e) const { return element_node_a_[static_cast<std::size_t>(e)]; }
+  [[nodiscard]] index_t element_node_b(index_t e) const { return element_node_b_[static_cast<std::size_t>(e)]; }
+  [[nodiscard]] real element_length(index_t e) const { return element_length_[static_cast<std::size_t>(e)]; }  ///< reference (m)
+  [[nodiscard]] real axial_stiffness(index_t e) const { return axial_stiffness_[static_cast<std::size_t>(e)]; }  ///< N/m
   [[nodiscard]] real yield_force() const { return yield_force_; }                                              ///< N
   /// Host of node n (zone = invalid_index on an unbonded bar).
-  [[nodiscard]] const host_point& host(index n) const { return hosts_[static_cast<std::size_t>(n)]; }
-  [[nodiscard]] bool bonded(index n) const { return hosts_[static_cast<std::size_t>(n)].zone != invalid_index; }
+  [[nodiscard]] const host_point& host(index_t n) const { return hosts_[static_cast<std::size_t>(n)]; }
+  [[nodiscard]] bool bonded(index_t n) const { return hosts_[static_cast<std::size_t>(n)].zone != invalid_index; }
   /// The host zone of every bonded node, in node order: the zones whose stress the bars read.
-  [[nodiscard]] std::vector<index> host_zones() const {
-    std::vector<index> zones;
-    for (const index n : bonded_nodes_) zones.push_back(hosts_[static_cast<std::size_t>(n)].zone);
+  [[nodiscard]] std::vector<index_t> host_zones() const {
+    std::vector<index_t> zones;
+    for (const index_t n : bonded_nodes_) zones.push_back(hosts_[static_cast<std::size_t>(n)].zone);
     return zones;
   }
-  [[nodiscard]] vec3 tangent(index n) const { return tangent_.row(n).transpose(); }  ///< reference unit axis
-  [[nodiscard]] real tributary_length(index n) const { return tributary_length_[static_cast<std::size_t>(n)]; }  ///< m
-  [[nodiscard]] real bond_stiffness(index n) const { return bond_stiffness_[static_cast<std::size_t>(n)]; }  ///< N/m
+  [[nodiscard]] vec3 tangent(index_t n) const { return tangent_.row(n).transpose(); }  ///< reference unit axis
+  [[nodiscard]] real tributary_length(index_t n) const { return tributary_length_[static_cast<std::size_t>(n)]; }  ///< m
+  [[nodiscard]] real bond_stiffness(index_t n) const { return bond_stiffness_[static_cast<std::size_t>(n)]; }  ///< N/m
 
   /// Saves or loads the bar nodes, the element states (truss_element::checkpoint_fields), the bond
   /// states (Bond::checkpoint_fields) and the last transverse gaps and confining stresses
@@ -310,17 +310,17 @@ class embedded_truss {
   }
 
   // ---- recorder accessors (state after the last accumulate_forces) ----
-  [[nodiscard]] real axial_force(index e) const { return elements_[static_cast<std::size_t>(e)].axial_force; }  ///< N, tension +
-  [[nodiscard]] real plastic_elongation(index e) const { return elements_[static_cast<std::size_t>(e)].plastic_elongation; }  ///< m
-  [[nodiscard]] bool yielding(index e) const { return elements_[static_cast<std::size_t>(e)].yielding; }  ///< on the plateau now
-  [[nodiscard]] bool yielded(index e) const { return elements_[static_cast<std::size_t>(e)].has_yielded; }  ///< ever yielded
-  [[nodiscard]] const bond_state& bond(index n) const { return bonds_[static_cast<std::size_t>(n)]; }
-  [[nodiscard]] real slip(index n) const { return bonds_[static_cast<std::size_t>(n)].slip; }  ///< m, node rel. to host along a
-  [[nodiscard]] real bond_force(index n) const { return bonds_[static_cast<std::size_t>(n)].force; }  ///< F_a (N)
-  [[nodiscard]] bool bond_slipping(index n) const { return bonds_[static_cast<std::size_t>(n)].slipping; }  ///< at the limit now
-  [[nodiscard]] real transverse_gap(index n) const { return transverse_gap_[static_cast<std::size_t>(n)]; }  ///< |d_t| (m)
-  [[nodiscard]] real confining_stress(index n) const { return confining_stress_[static_cast<std::size_t>(n)]; }  ///< Pa
-  [[nodiscard]] vec3 position(index n) const { return nodes_.position(n); }  ///< current (m)
+  [[nodiscard]] real axial_force(index_t e) const { return elements_[static_cast<std::size_t>(e)].axial_force; }  ///< N, tension +
+  [[nodiscard]] real plastic_elongation(index_t e) const { return elements_[static_cast<std::size_t>(e)].plastic_elongation; }  ///< m
+  [[nodiscard]] bool yielding(index_t e) const { return elements_[static_cast<std::size_t>(e)].yielding; }  ///< on the plateau now
+  [[nodiscard]] bool yielded(index_t e) const { return elements_[static_cast<std::size_t>(e)].has_yielded; }  ///< ever yielded
+  [[nodiscard]] const bond_state& bond(index_t n) const { return bonds_[static_cast<std::size_t>(n)]; }
+  [[nodiscard]] real slip(index_t n) const { return bonds_[static_cast<std::size_t>(n)].slip; }  ///< m, node rel. to host along a
+  [[nodiscard]] real bond_force(index_t n) const { return bonds_[static_cast<std::size_t>(n)].force; }  ///< F_a (N)
+  [[nodiscard]] bool bond_slipping(index_t n) const { return bonds_[static_cast<std::size_t>(n)].slipping; }  ///< at the limit now
+  [[nodiscard]] real transverse_gap(index_t n) const { return transverse_gap_[static_cast<std::size_t>(n)]; }  ///< |d_t| (m)
+  [[nodiscard]] real confining_stress(index_t n) const { return confining_stress_[static_cast<std::size_t>(n)]; }  ///< Pa
+  [[nodiscard]] vec3 position(index_t n) const { return nodes_.position(n); }  ///< current (m)
 
  private:
   /// Host zone of every node of a bonded bar (throws invalid_input for a node outside all zones)
@@ -328,7 +328,7 @@ class embedded_truss {
   /// zone's corners are distinct, so a gridpoint appears at most once per node).
   void locate_hosts(const params& p, const geometry::block_mesh& mesh, const node_set& gridpoints,
                     const bar_discretisation& d) {
-    const index n_nodes = d.node_count();
+    const index_t n_nodes = d.node_count();
     hosts_.assign(static_cast<std::size_t>(n_nodes), host_point{});
     bonded_nodes_.clear();
     const bool any_bonded = std::any_of(p.bars.begin(), p.bars.end(), [](const bar& b) { return b.bonded; });
@@ -337,8 +337,8 @@ class embedded_truss {
               gridpoints.size(), " nodes but the block mesh has ", mesh.gridpoint_count(), " gridpoints");
       require(mesh.zone_count() > 0, "embedded_truss: bonded bars need a host, but the block mesh has no zones");
       const zone_locator locator(mesh.gridpoints, mesh.zones);
-      for (index n = 0; n < n_nodes; ++n) {
-        const index b = node_bar_[static_cast<std::size_t>(n)];
+      for (index_t n = 0; n < n_nodes; ++n) {
+        const index_t b = node_bar_[static_cast<std::size_t>(n)];
         if (!p.bars[static_cast<std::size_t>(b)].bonded) continue;
         const vec3 x = d.nodes[static_cast<std::size_t>(n)];
         const std::optional<host_point> host = locator.locate(x);
@@ -357,10 +357,10 @@ class embedded_truss {
     host_slot_weight_.clear();
     if (!bonded_nodes_.empty()) {
       auto slots_of = [&](auto&& emit) {
-        for (index n : bonded_nodes_) {
+        for (index_t n : bonded_nodes_) {
           const host_point& h = hosts_[static_cast<std::size_t>(n)];
           for (std::size_t i = 0; i < 4; ++i)
-            emit(h.gridpoints[i], [&](index slot) {
+            emit(h.gridpoints[i], [&](index_t slot) {
               const auto k = static_cast<std::size_t>(slot);
               host_slot_gridpoint_[k] = h.gridpoints[i];
               host_slot_node_[k] = n;
@@ -368,7 +368,7 @@ class embedded_truss {
             });
         }
       };
-      host_offsets_ = csr_offsets(static_cast<index>(gridpoints.size()), slots_of);
+      host_offsets_ = csr_offsets(static_cast<index_t>(gridpoints.size()), slots_of);
       const std::size_t slots = static_cast<std::size_t>(host_offsets_.back());
       host_slot_gridpoint_.resize(slots);
       host_slot_node_.resize(slots);
@@ -380,9 +380,9 @@ class embedded_truss {
   params params_;
   node_set nodes_;
   real yield_force_ = 0.0;
-  std::vector<index> bar_node_offsets_{0}, bar_element_offsets_{0}, node_bar_;
+  std::vector<index_t> bar_node_offsets_{0}, bar_element_offsets_{0}, node_bar_;
   // elements (structure of arrays)
-  std::vector<index> element_node_a_, element_node_b_;
+  std::vector<index_t> element_node_a_, element_node_b_;
   std::vector<real> element_length_, axial_stiffness_;
   soa3 reference_chord_;
   std::vector<truss_element::state> elements_;
@@ -390,12 +390,12 @@ class embedded_truss {
   soa3 tangent_;
   std::vector<real> tributary_length_, bond_stiffness_, transverse_gap_, confining_stress_;
   std::vector<host_point> hosts_;
-  std::vector<index> bonded_nodes_;  ///< nodes with a host, ascending
+  std::vector<index_t> bonded_nodes_;  ///< nodes with a host, ascending
   std::vector<bond_state> bonds_;
   soa3 host_load_;  ///< force on each bonded node from its bond (N); its host gridpoints take -w_i times it
   // host slots (CSR over the gridpoints): slots [host_offsets_[g], host_offsets_[g + 1]) are g's
-  std::vector<index> host_offsets_;
-  std::vector<index> host_slot_gridpoint_, host_slot_node_;
+  std::vector<index_t> host_offsets_;
+  std::vector<index_t> host_slot_gridpoint_, host_slot_node_;
   std::vector<real> host_slot_weight_;
 };
 

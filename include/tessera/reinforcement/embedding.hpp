@@ -42,8 +42,8 @@ namespace tessera::reinforcement {
 
 /// Where a bar node sits in the block mesh: its host zone, the zone's 4 gridpoints and the weights.
 struct host_point {
-  index zone = invalid_index;                                            ///< host zone id
-  std::array<index, 4> gridpoints{invalid_index, invalid_index, invalid_index, invalid_index};
+  index_t zone = invalid_index;                                            ///< host zone id
+  std::array<index_t, 4> gridpoints{invalid_index, invalid_index, invalid_index, invalid_index};
   std::array<real, 4> weights{0.0, 0.0, 0.0, 0.0};                       ///< w_i = V_i / V_T, sum 1
 };
 
@@ -57,20 +57,20 @@ class zone_locator {
 
   /// gridpoints: reference positions (m); zones: gridpoint ids (positive orientation not required).
   /// Both arrays are referenced, not copied: they must outlive the locator.
-  zone_locator(std::span<const vec3> gridpoints, std::span<const std::array<index, 4>> zones)
+  zone_locator(std::span<const vec3> gridpoints, std::span<const std::array<index_t, 4>> zones)
       : gridpoints_(gridpoints), zones_(zones), grid_(gridpoints, zones, 4.0 * tolerance) {}
 
   /// The host of p by the rule in the header comment, or nullopt when p is outside every zone.
   [[nodiscard]] std::optional<host_point> locate(const vec3& p) const {
-    const std::span<const index> candidates = grid_.candidates(p);
+    const std::span<const index_t> candidates = grid_.candidates(p);
     real best = -tolerance;
     bool found = false;
-    for (index z : candidates) {
+    for (index_t z : candidates) {
       const real m = min_weight(weights_in(z, p));
       if (m >= best) { best = m; found = true; }
     }
     if (!found) return std::nullopt;
-    for (index z : candidates) {  // ascending id: the first zone tied with the best wins
+    for (index_t z : candidates) {  // ascending id: the first zone tied with the best wins
       const std::array<real, 4> w = weights_in(z, p);
       if (min_weight(w) >= best - tolerance) return host_point{z, zones_[static_cast<std::size_t>(z)], w};
     }
@@ -78,7 +78,7 @@ class zone_locator {
   }
 
  private:
-  [[nodiscard]] std::array<real, 4> weights_in(index z, const vec3& p) const {
+  [[nodiscard]] std::array<real, 4> weights_in(index_t z, const vec3& p) const {
     const auto& g = zones_[static_cast<std::size_t>(z)];
     auto x = [&](int i) -> const vec3& { return gridpoints_[static_cast<std::size_t>(g[static_cast<std::size_t>(i)])]; };
     return barycentric_weights(x(0), x(1), x(2), x(3), p);
@@ -90,7 +90,7 @@ class zone_locator {
   }
 
   std::span<const vec3> gridpoints_;
-  std::span<const std::array<index, 4>> zones_;
+  std::span<const std::array<index_t, 4>> zones_;
   detail::zone_grid grid_;
 };
 

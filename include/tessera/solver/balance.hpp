@@ -38,19 +38,19 @@ namespace tessera {
 struct out_of_balance {
   real max_force = 0;    ///< largest |f| of a node over its free components
   real mean_force = 0;   ///< mean of that magnitude over nodes with a free component
-  index max_node = -1;   ///< the node of max_force (-1 when none is free)
-  index nodes = 0;       ///< nodes with at least one free component
+  index_t max_node = -1;   ///< the node of max_force (-1 when none is free)
+  index_t nodes = 0;       ///< nodes with at least one free component
 
   /// Adds node i of `n` under the label `node` (default i): its force over the free components;
   /// none free: skipped.
-  void add(const node_set& n, index i, index node = -1) {
+  void add(const node_set& n, index_t i, index_t node = -1) {
     constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
     add_free(node < 0 ? i : node, [&](int c) { return n.constraint(i, c) == free; },
              [&](int c) { return n.force(i, c); });
   }
   /// Adds the magnitude of force(c) over the components c with is_free(c); none free: skipped.
   template <class IsFree, class Force>
-  void add_free(index node, IsFree&& is_free, Force&& force) {
+  void add_free(index_t node, IsFree&& is_free, Force&& force) {
     real sq = 0;
     bool any = false;
     for (int c = 0; c < 3; ++c)
@@ -61,7 +61,7 @@ struct out_of_balance {
     if (any) add_magnitude(std::sqrt(sq), node);
   }
   /// Adds one node's unbalanced force magnitude (N).
-  void add_magnitude(real f, index node) {
+  void add_magnitude(real f, index_t node) {
     if (f > max_force || max_node < 0) {
       max_force = f;
       max_node = node;
@@ -73,7 +73,7 @@ struct out_of_balance {
 /// The out-of-balance of every node of `n` (serial, in index order).
 [[nodiscard]] inline out_of_balance unbalanced_force(const node_set& n) {
   out_of_balance b;
-  for (index i = 0; i < n.size(); ++i) b.add(n, i);
+  for (index_t i = 0; i < n.size(); ++i) b.add(n, i);
   return b;
 }
 

@@ -39,9 +39,9 @@ enum class components : std::uint8_t { none = 0, x = 1, y = 2, z = 4, xy = 3, xz
 
 /// Indices of nodes of one node_set (increasing), with a name used in messages.
 struct node_group {
-  std::vector<index> nodes;
+  std::vector<index_t> nodes;
   std::string name;
-  [[nodiscard]] index size() const { return static_cast<index>(nodes.size()); }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(nodes.size()); }
   [[nodiscard]] bool empty() const { return nodes.empty(); }
 };
 
@@ -49,7 +49,7 @@ struct node_group {
 template <class Predicate>
 [[nodiscard]] node_group nodes_where(const node_set& nodes, Predicate&& predicate, std::string name = "nodes_where") {
   node_group g{{}, std::move(name)};
-  for (index i = 0; i < nodes.size(); ++i)
+  for (index_t i = 0; i < nodes.size(); ++i)
     if (predicate(vec3(nodes.reference.row(i).transpose()))) g.nodes.push_back(i);
   require(!g.empty(), "node group '", g.name, "' selects no node of the ", nodes.size(), "-node set");
   return g;
@@ -76,7 +76,7 @@ inline void prescribe_velocity(node_set& nodes, const node_group& group, const v
   require(v.allFinite(), "boundary condition on node group '", group.name, "': velocity (", v.transpose(),
           ") m/s is not finite");
   constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-  for (index i : group.nodes) {
+  for (index_t i : group.nodes) {
     require(i >= 0 && i < nodes.size(), "boundary condition on node group '", group.name, "': node ", i,
             " is outside the ", nodes.size(), "-node set");
     for (int c = 0; c < 3; ++c) {
@@ -87,7 +87,7 @@ inline void prescribe_velocity(node_set& nodes, const node_group& group, const v
                 " m/s, now v = ", v[c], " m/s (node group '", group.name, "'); release() it first");
     }
   }
-  for (index i : group.nodes)
+  for (index_t i : group.nodes)
     for (int c = 0; c < 3; ++c) {
       if (!has(which, c)) continue;
       nodes.constraint(i, c) = prescribed;
@@ -101,7 +101,7 @@ inline void prescribe_velocity(node_set& nodes, const node_group& group, const v
 inline void update_velocity(node_set& nodes, const node_group& group, const vec3& v,
                             components which = components::xyz) {
   constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-  for (index i : group.nodes)
+  for (index_t i : group.nodes)
     for (int c = 0; c < 3; ++c) {
       if (!has(which, c)) continue;
       require(nodes.constraint(i, c) == prescribed, "update_velocity on node group '", group.name, "': node ", i,
@@ -117,7 +117,7 @@ inline void fix(node_set& nodes, const node_group& group, components which = com
 
 /// Frees the selected components of the group (their reactions are reset to 0).
 inline void release(node_set& nodes, const node_group& group, components which = components::xyz) {
-  for (index i : group.nodes)
+  for (index_t i : group.nodes)
     for (int c = 0; c < 3; ++c) {
       if (!has(which, c)) continue;
       nodes.constraint(i, c) = static_cast<std::uint8_t>(dof_constraint::free);

@@ -15,14 +15,14 @@ namespace tessera::recorders {
 /// Sum of the reactions (N) of a group: the force the supports exert on those nodes.
 [[nodiscard]] inline vec3 reaction_sum(const node_set& nodes, const bc::node_group& group) {
   vec3 s = vec3::Zero();
-  for (index i : group.nodes) s += nodes.reaction.row(i).transpose();
+  for (index_t i : group.nodes) s += nodes.reaction.row(i).transpose();
   return s;
 }
 
 /// Mean displacement (m) of a group.
 [[nodiscard]] inline vec3 mean_displacement(const node_set& nodes, const bc::node_group& group) {
   vec3 s = vec3::Zero();
-  for (index i : group.nodes) s += nodes.displacement.row(i).transpose();
+  for (index_t i : group.nodes) s += nodes.displacement.row(i).transpose();
   return group.empty() ? s : vec3(s / static_cast<real>(group.size()));
 }
 
@@ -30,14 +30,14 @@ namespace tessera::recorders {
 template <class F>
 class every {
  public:
-  every(index interval, F f) : interval_(interval < 1 ? 1 : interval), f_(std::move(f)) {}
+  every(index_t interval, F f) : interval_(interval < 1 ? 1 : interval), f_(std::move(f)) {}
   template <class Solver>
   void operator()(const Solver& s) {
     if (s.step_count() % interval_ == 0) f_(s);
   }
 
  private:
-  index interval_;
+  index_t interval_;
   F f_;
 };
 

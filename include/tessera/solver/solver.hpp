@@ -84,7 +84,7 @@ struct solver_options {
   real mass_scaling_ratio = 0;
   real damping_gamma = 0.8;    ///< local damping constant (ignored by no_damping)
   int threads = 0;             ///< OpenMP threads; 0 = leave the current setting
-  index check_interval = 100;  ///< steps between step-checker passes
+  index_t check_interval = 100;  ///< steps between step-checker passes
 };
 
 template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement::Reinforcement Reinforcement = reinforcement::none,
@@ -181,7 +181,7 @@ class solver {
       blocks_.set_gravity(g);
     } else {
       gravity_force_.resize(gridpoints_.size(), 3);
-      for (index i = 0; i < gridpoints_.size(); ++i) gravity_force_.row(i) = weight_mass_[i] * g.transpose();
+      for (index_t i = 0; i < gridpoints_.size(); ++i) gravity_force_.row(i) = weight_mass_[i] * g.transpose();
     }
   }
   [[nodiscard]] const vec3& gravity() const { return gravity_; }
@@ -191,7 +191,7 @@ class solver {
   /// load) of whatever applies them, which joins the gridpoint's bound: the time step is
   /// recomputed (compute_time_step; with mass scaling the masses are raised where the spring
   /// needs it). Throws invalid_input for an unknown gridpoint or a bad k.
-  void register_applied_forces(std::span<const index> nodes, std::span<const real> k) {
+  void register_applied_forces(std::span<const index_t> nodes, std::span<const real> k) {
     static_assert(!Blocks::is_rigid, "register_applied_forces: rigid blocks take loads on their bodies");
     require(nodes.size() == k.size(), "solver: register_applied_forces got ", nodes.size(), " gridpoints and ",
             k.size(), " stiffnesses");
@@ -209,9 +209,9 @@ class solver {
     }
     std::sort(applied_nodes_.begin(), applied_nodes_.end());
     applied_nodes_.erase(std::unique(applied_nodes_.begin(), applied_nodes_.end()), applied_nodes_.end());
-    applied_previous_.setZero(static_cast<index>(applied_nodes_.size()), 3);
+    applied_previous_.setZero(static_cast<index_t>(applied_nodes_.size()), 3);
     for (std::size_t j = 0; j < applied_nodes_.size(); ++j)
-      applied_previous_.row(static_cast<index>(j)) = applied_force_.row(applied_nodes_[j]);
+      applied_previous_.row(static_cast<index_t>(j)) = applied_force_.row(applied_nodes_[j]);
     compute_time_step();
   }
   /// Forces from outside the model (N), one row per gridpoint, of which the rows registered by
@@ -222,7 +222,7 @@ class solver {
   /// step's displacement, which is exact for a linear spring (a one-sided rule gains 1/2 k du^2
   /// per step: 1.7 % of a platen's work on a column that springs back, test "rigid platen").
   [[nodiscard]] soa3& applied_forces() { return applied_force_; }
-  [[nodiscard]] const std::vector<index>& applied_nodes() const { return applied_nodes_; }
+  [[nodiscard]] const std::vector<index_t>& applied_nodes() const { return applied_nodes_; }
 
   /// Advances the model by one time step (see the file comment). One function on purpose (about
   /// 85 lines): the step order of docs/architecture.md, with its fused parallel region, in one place.
@@ -239,13 +239,13 @@ class solver {
       if (applied_active_) applied_work_ += applied_work_of_last_step();
       applied_active_ = true;
       for (std::size_t j = 0; j < applied_nodes_.size(); ++j) {
-        const index g = applied_nodes_[j];
+        const index_t g = applied_nodes_[j];
         gridpoints_.force.row(g) += applied_force_.row(g);
-        applied_previous_.row(static_cast<index>(j)) = applied_force_.row(g);
+        applied_previous_.row(static_cast<index_t>(j)) = applied_force_.row(g);
       }
     }
     if constexpr (Reinforcement::enabled) reinforcement_.nodes().force.setZero();
-    if constexpr (requires(Blocks& b, index i) {
+    if constexpr (requires(Blocks& b, index_t i) {
                     b.zone_task_count();
                     b.add_zone_forces_of_tasks(i, i, gridpoints_);
                   }) {
@@ -263,10 +263,10 @@ class solver {
       parallel_range_pair(
           blocks_.zone_task_count(),
           [&](std::int64_t t0, std::int64_t t1) {
-            blocks_.add_zone_forces_of_tasks(static_cast<index>(t0), static_cast<index>(t1), gridpoints_);
+            blocks_.add_zone_forces_of_tasks(static_cast<index_t>(t0), static_cast<index_t>(t1), gridpoints_);
           },
           contacts_.task_count(),
-          [&](std::int64_t t) { contacts_.run_task(static_cast<index>(t), gridpoints_, dt_); }, 16, &region);
+          [&](std::int64_t t) { contacts_.run_task(static_cast<index_t>(t), gridpoints_, dt_); }, 16, &region);
       phases_.zones += region.first;
       phases_.contacts += region.second;
       // An integrator that can gather each chunk of gridpoints inside its own loop.
@@ -276,7 +276,7 @@ class solver {
       // Bars that can hand their host forces to that gather (embedded_truss): bar-side forces
       // first (they read displacements and this step's zone stresses), host shares in the gather.
       // (Without a fused integrator the bars keep accumulate_forces below.)
-      constexpr bool split_bars = fused_integrator && Reinforcement::enabled && requires(Reinforcement& rf, index i) {
+      constexpr bool split_bars = fused_integrator && Reinforcement::enabled && requires(Reinforcement& rf, index_t i) {
         rf.compute_forces(gridpoints_, stress_for_bars());
         rf.add_host_forces(i, i, gridpoints_);
       };
@@ -288,9 +288,9 @@ class solver {
       const auto gather = [&](std::int64_t begin, std::int64_t end) {
         // Per gridpoint: zone forces (already added), then contact forces, then bar host shares
         // (the order of the unfused step).
-        for (std::int64_t i = begin; i < end; ++i) contacts_.add_force(static_cast<index>(i), gridpoints_);
+        for (std::int64_t i = begin; i < end; ++i) contacts_.add_force(static_cast<index_t>(i), gridpoints_);
         if constexpr (split_bars)
-          reinforcement_.add_host_forces(static_cast<index>(begin), static_cast<index>(end), gridpoints_);
+          reinforcement_.add_host_forces(static_cast<index_t>(begin), static_cast<index_t>(end), gridpoints_);
       };
       if constexpr (fused_integrator && (!Reinforcement::enabled || split_bars)) {
         // The integrator gathers each chunk of gridpoints right before integrating it (one
@@ -359,7 +359,7 @@ class solver {
   [[nodiscard]] Blocks& blocks() { return blocks_; }
   [[nodiscard]] const Reinforcement& reinforcement() const { return reinforcement_; }
   [[nodiscard]] Reinforcement& reinforcement() { return reinforcement_; }
-  [[nodiscard]] index gridpoint_block(index i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
   [[nodiscard]] real time() const { return time_; }
   [[nodiscard]] real dt() const { return dt_; }
   [[nodiscard]] std::int64_t step_count() const { return step_; }
@@ -380,16 +380,16 @@ class solver {
   [[nodiscard]] out_of_balance unbalanced_force() const {
     out_of_balance b;
     if constexpr (Blocks::is_rigid) {
-      for (index k = 0; k < blocks_.block_count(); ++k)
+      for (index_t k = 0; k < blocks_.block_count(); ++k)
         b.add_free(k, [&](int c) { return !blocks_.translation_prescribed(k, c); },
                    [&](int c) { return blocks_.force(k)[c]; });
     } else {
-      for (index i = 0; i < gridpoints_.size(); ++i) b.add(gridpoints_, i);
+      for (index_t i = 0; i < gridpoints_.size(); ++i) b.add(gridpoints_, i);
     }
     if constexpr (Reinforcement::enabled) {
-      const index offset = Blocks::is_rigid ? blocks_.block_count() : gridpoints_.size();
+      const index_t offset = Blocks::is_rigid ? blocks_.block_count() : gridpoints_.size();
       const node_set& bars = reinforcement_.nodes();
-      for (index i = 0; i < bars.size(); ++i) b.add(bars, i, offset + i);
+      for (index_t i = 0; i < bars.size(); ++i) b.add(bars, i, offset + i);
     }
     return b;
   }
@@ -565,9 +565,9 @@ class solver {
   [[nodiscard]] real applied_work_of_last_step() const {
     real w = 0;
     for (std::size_t j = 0; j < applied_nodes_.size(); ++j) {
-      const index g = applied_nodes_[j];
+      const index_t g = applied_nodes_[j];
       for (int c = 0; c < 3; ++c)
-        w += 0.5 * (applied_previous_(static_cast<index>(j), c) + applied_force_(g, c)) * gridpoints_.velocity(g, c);
+        w += 0.5 * (applied_previous_(static_cast<index_t>(j), c) + applied_force_(g, c)) * gridpoints_.velocity(g, c);
     }
     return w * dt_;
   }
@@ -576,7 +576,7 @@ class solver {
     real e = blocks_.kinetic_energy(gridpoints_) + blocks_.stored_energy(gridpoints_) + contacts_.energies().stored;
     if constexpr (Reinforcement::enabled) {
       const node_set& bars = reinforcement_.nodes();
-      for (index i = 0; i < bars.size(); ++i) e += 0.5 * bars.mass[i] * bars.velocity.row(i).squaredNorm();
+      for (index_t i = 0; i < bars.size(); ++i) e += 0.5 * bars.mass[i] * bars.velocity.row(i).squaredNorm();
       e += reinforcement_.stored_energy();
     }
     return e;
@@ -585,7 +585,7 @@ class solver {
   solver_options options_;
   Blocks blocks_;
   node_set gridpoints_;
-  std::vector<index> gridpoint_block_;
+  std::vector<index_t> gridpoint_block_;
   contact_set_type contacts_;
   Reinforcement reinforcement_;
   Integrator integrator_{};
@@ -599,7 +599,7 @@ class solver {
   real initial_energy_ = 0;
   vec3 gravity_ = vec3::Zero();
   soa3 gravity_force_;               ///< m0_i g per gridpoint (N), deformable blocks
-  std::vector<index> applied_nodes_;   ///< gridpoints with applied forces, increasing
+  std::vector<index_t> applied_nodes_;   ///< gridpoints with applied forces, increasing
   bool applied_active_ = false;        ///< the last step applied them (its work is pending)
   soa3 applied_force_;                 ///< forces from outside the model per gridpoint (N)
   soa3 applied_previous_;              ///< those the last step applied, per applied_nodes_ entry

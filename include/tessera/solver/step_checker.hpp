@@ -60,7 +60,7 @@ namespace tessera::checks {
 
 struct default_step_checker {
   static constexpr bool enabled = true;
-  index interval = 100;       ///< steps between checks
+  index_t interval = 100;       ///< steps between checks
   real growth_factor = 2.0;   ///< allowed ratio of kinetic energy to energy supplied (-)
   real floor = 1e-12;         ///< J, absolute allowance (round-off before any loading)
   static constexpr real q_max = 0.99;  ///< cap of (dt/2)^2 max k/m in the allowance (see above)
@@ -70,7 +70,7 @@ struct default_step_checker {
     // 1. Non-finite state: the first offending node or sub-contact.
     for (int set = 0; set < 2; ++set) {
       const node_set& nodes = set == 0 ? s.gridpoints() : s.bar_nodes();
-      for (index i = 0; i < nodes.size(); ++i)
+      for (index_t i = 0; i < nodes.size(); ++i)
         for (int c = 0; c < 3; ++c) {
           const real values[3] = {nodes.displacement(i, c), nodes.velocity(i, c), nodes.force(i, c)};
           for (int q = 0; q < 3; ++q)
@@ -82,12 +82,12 @@ struct default_step_checker {
             }
         }
     }
-    if constexpr (requires { s.contacts().force(index{0}); s.contacts().block_a(index{0}); }) {
+    if constexpr (requires { s.contacts().force(index_t{0}); s.contacts().block_a(index_t{0}); }) {
       const auto& contacts = s.contacts();
-      for (index i = 0; i < contacts.size(); ++i) {
+      for (index_t i = 0; i < contacts.size(); ++i) {
         const vec3 f = contacts.force(i);
         if (!f.allFinite()) {
-          const index a = contacts.node_a(i), b = contacts.node_b(i);
+          const index_t a = contacts.node_a(i), b = contacts.node_b(i);
           fail(s, false, b, true,
                detail::concat("non-finite force (", f.x(), ", ", f.y(), ", ", f.z(), ") N of sub-contact ", i,
                               " between gridpoint ", a, " of block ", contacts.block_a(i), " and "));
@@ -103,18 +103,18 @@ struct default_step_checker {
     real q = 0;
     for (int set = 0; set < 2; ++set) {
       const node_set& nodes = set == 0 ? s.gridpoints() : s.bar_nodes();
-      for (index i = 0; i < nodes.size(); ++i)
+      for (index_t i = 0; i < nodes.size(); ++i)
         if (nodes.mass[i] > 0) q = std::max(q, nodes.stiffness[i] / nodes.mass[i]);
     }
     q *= 0.25 * s.dt() * s.dt();
     const real allowed = growth_factor * supplied / (1 - std::min(q, q_max)) + floor;
     if (e.kinetic <= allowed) return;
     bool is_bar = false;
-    index fastest = invalid_index;
+    index_t fastest = invalid_index;
     real speed = -1;
     for (int set = 0; set < 2; ++set) {
       const node_set& nodes = set == 0 ? s.gridpoints() : s.bar_nodes();
-      for (index i = 0; i < nodes.size(); ++i) {
+      for (index_t i = 0; i < nodes.size(); ++i) {
         const real v = nodes.velocity.row(i).norm();
         if (v > speed) {
           speed = v;
@@ -137,7 +137,7 @@ struct default_step_checker {
  private:
   /// "<entity> of block B (m = .., k = .., its stable step .. s, dt = .. s); likely cause: .."
   template <class Solver>
-  [[noreturn]] static void fail(const Solver& s, bool is_bar, index i, bool non_finite, const std::string& what) {
+  [[noreturn]] static void fail(const Solver& s, bool is_bar, index_t i, bool non_finite, const std::string& what) {
     const node_set& nodes = is_bar ? s.bar_nodes() : s.gridpoints();
     const real m = i >= 0 ? nodes.mass[i] : 0, k = i >= 0 ? nodes.stiffness[i] : 0;
     const real a = s.stiffness_amplification();
@@ -175,7 +175,7 @@ struct default_step_checker {
 
 struct no_step_checker {
   static constexpr bool enabled = false;
-  index interval = std::numeric_limits<index>::max();
+  index_t interval = std::numeric_limits<index_t>::max();
   template <class Solver>
   void check(const Solver&) const {}
 };

@@ -28,7 +28,7 @@ struct tet_shape {
 /// J = [x1 - x0, x2 - x0, x3 - x0], grad N_{1,2,3} are the rows of J^-1 and grad N_0 = -(sum of
 /// the others). Throws geometry_error for a tetrahedron that is inverted or of (relatively) zero
 /// volume: det J <= 1e-12 (|e1|^2 |e2|^2 |e3|^2)^(1/2).
-[[nodiscard]] inline tet_shape linear_tet(const std::array<vec3, 4>& x, index z, index block) {
+[[nodiscard]] inline tet_shape linear_tet(const std::array<vec3, 4>& x, index_t z, index_t block) {
   mat3 j;
   j.col(0) = x[1] - x[0];
   j.col(1) = x[2] - x[0];
@@ -51,31 +51,31 @@ struct tet_shape {
 /// the zone tasks: the runs of each block that has zones, in increasing zone order (CSR over
 /// tasks, blocks in increasing order).
 struct zone_runs {
-  std::vector<index> run_offsets{0};       ///< run r: zones [run_offsets[r], run_offsets[r + 1])
-  std::vector<index> run_block;            ///< block of run r
-  std::vector<index> task_run_offsets{0};  ///< task t: runs task_runs[task_run_offsets[t] ..]
-  std::vector<index> task_runs;
-  std::vector<index> task_block;           ///< block of task t
+  std::vector<index_t> run_offsets{0};       ///< run r: zones [run_offsets[r], run_offsets[r + 1])
+  std::vector<index_t> run_block;            ///< block of run r
+  std::vector<index_t> task_run_offsets{0};  ///< task t: runs task_runs[task_run_offsets[t] ..]
+  std::vector<index_t> task_runs;
+  std::vector<index_t> task_block;           ///< block of task t
 };
 
-[[nodiscard]] inline zone_runs runs_of(const std::vector<index>& zone_block, index blocks) {
+[[nodiscard]] inline zone_runs runs_of(const std::vector<index_t>& zone_block, index_t blocks) {
   zone_runs r;
-  const auto n_z = static_cast<index>(zone_block.size());
-  for (index z = 0; z < n_z; ++z) {
-    const index b = zone_block[static_cast<std::size_t>(z)];
+  const auto n_z = static_cast<index_t>(zone_block.size());
+  for (index_t z = 0; z < n_z; ++z) {
+    const index_t b = zone_block[static_cast<std::size_t>(z)];
     if (z > 0 && b == r.run_block.back()) continue;
     if (z > 0) r.run_offsets.push_back(z);
     r.run_block.push_back(b);
   }
   r.run_offsets.push_back(n_z);
-  std::vector<std::vector<index>> runs_of_block(static_cast<std::size_t>(blocks));
-  for (index run = 0; run < static_cast<index>(r.run_block.size()); ++run)
+  std::vector<std::vector<index_t>> runs_of_block(static_cast<std::size_t>(blocks));
+  for (index_t run = 0; run < static_cast<index_t>(r.run_block.size()); ++run)
     runs_of_block[static_cast<std::size_t>(r.run_block[static_cast<std::size_t>(run)])].push_back(run);
-  for (index b = 0; b < blocks; ++b) {
+  for (index_t b = 0; b < blocks; ++b) {
     const auto& runs = runs_of_block[static_cast<std::size_t>(b)];
     if (runs.empty()) continue;
     r.task_runs.insert(r.task_runs.end(), runs.begin(), runs.end());
-    r.task_run_offsets.push_back(static_cast<index>(r.task_runs.size()));
+    r.task_run_offsets.push_back(static_cast<index_t>(r.task_runs.size()));
     r.task_block.push_back(b);
   }
   return r;
@@ -86,32 +86,32 @@ struct zone_runs {
 /// zone runs and tasks, gridpoint ranges per block, the block-average gradient weights w_i
 /// (F_b = 1 + sum_i u_i (x) w_i) and the gridpoint -> zone-corner incidence of the gather.
 struct zone_geometry {
-  std::array<std::vector<index>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
+  std::array<std::vector<index_t>, 4> corner_;        ///< corner_[a][z]: gridpoint at corner a of zone z
   /// gradient_[3 a + k][z]: d N_a / d X_k (1/m), a = 0..3; grad N_0 = -(grad N_1 + grad N_2 +
   /// grad N_3) is stored too: 3 loads per zone instead of 9 additions in the zone kernel.
   std::array<std::vector<real>, 12> gradient_;
   std::vector<real> volume_;                        ///< reference volume V_z (m^3)
-  std::vector<index> zone_block_;                   ///< owning block of each zone
-  std::vector<index> run_offsets_{0};               ///< zones [run_offsets_[r], run_offsets_[r + 1]) belong to one block
-  std::vector<index> run_block_;                    ///< that block
-  std::vector<index> gridpoint_block_;              ///< owning block of each gridpoint
-  std::vector<index> block_gridpoint_offsets_;      ///< CSR: gridpoints of block b
+  std::vector<index_t> zone_block_;                   ///< owning block of each zone
+  std::vector<index_t> run_offsets_{0};               ///< zones [run_offsets_[r], run_offsets_[r + 1]) belong to one block
+  std::vector<index_t> run_block_;                    ///< that block
+  std::vector<index_t> gridpoint_block_;              ///< owning block of each gridpoint
+  std::vector<index_t> block_gridpoint_offsets_;      ///< CSR: gridpoints of block b
   soa3 block_gradient_;                             ///< w_i (1/m): F_b = 1 + sum_i u_i (x) w_i
-  std::vector<index> task_run_offsets_{0};          ///< CSR: runs of zone task t (one block)
-  std::vector<index> task_runs_;                    ///< those runs, in increasing zone order
-  std::vector<index> task_block_;                   ///< the block of zone task t
-  std::vector<index> corner_offsets_;               ///< CSR: gridpoint -> zone-corner slots
-  std::vector<index> corner_slots_;                 ///< offset 3 a n_z + z of corner a of zone z in the corner forces
+  std::vector<index_t> task_run_offsets_{0};          ///< CSR: runs of zone task t (one block)
+  std::vector<index_t> task_runs_;                    ///< those runs, in increasing zone order
+  std::vector<index_t> task_block_;                   ///< the block of zone task t
+  std::vector<index_t> corner_offsets_;               ///< CSR: gridpoint -> zone-corner slots
+  std::vector<index_t> corner_slots_;                 ///< offset 3 a n_z + z of corner a of zone z in the corner forces
 
   template <std::integral I>
   [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
     return static_cast<std::size_t>(i);
   }
   /// Gridpoint at corner a (0..3) of zone z.
-  [[nodiscard]] index corner(index z, int a) const noexcept { return corner_[at(a)][at(z)]; }
+  [[nodiscard]] index_t corner(index_t z, int a) const noexcept { return corner_[at(a)][at(z)]; }
   /// Reference shape-function gradients (1/m) of the 4 corners of zone z, corner-major, with
   /// grad N_0 = -(grad N_1 + grad N_2 + grad N_3).
-  [[nodiscard]] std::array<real, 12> gradients(index z) const noexcept {
+  [[nodiscard]] std::array<real, 12> gradients(index_t z) const noexcept {
     std::array<real, 12> g{};
     for (std::size_t k = 0; k < 12; ++k) g[k] = gradient_[k][at(z)];
     return g;
@@ -121,9 +121,9 @@ struct zone_geometry {
   /// gridpoint for a zone corner outside its block, an inverted or flat zone, or a gridpoint
   /// outside its block's range.
   void build_geometry(const geometry::block_mesh& mesh) {
-    const index n_gp = mesh.gridpoint_count();
-    const index n_z = mesh.zone_count();
-    const index n_b = mesh.block_count();
+    const index_t n_gp = mesh.gridpoint_count();
+    const index_t n_z = mesh.zone_count();
+    const index_t n_b = mesh.block_count();
     zone_block_ = mesh.zone_block;
     gridpoint_block_ = mesh.gridpoint_block;
     block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
@@ -131,7 +131,7 @@ struct zone_geometry {
     for (auto& g : gradient_) g.resize(static_cast<std::size_t>(n_z));
     volume_.resize(static_cast<std::size_t>(n_z));
     std::vector<real> block_volume(static_cast<std::size_t>(n_b), 0.0);
-    for (index z = 0; z < n_z; ++z) {
+    for (index_t z = 0; z < n_z; ++z) {
       const auto zs = static_cast<std::size_t>(z);
       const auto& c = mesh.zones[zs];
       std::array<vec3, 4> x;
@@ -157,8 +157,8 @@ struct zone_geometry {
     task_run_offsets_ = std::move(runs.task_run_offsets);
     task_runs_ = std::move(runs.task_runs);
     task_block_ = std::move(runs.task_block);
-    for (index i = 0; i < n_gp; ++i) {
-      const index b = gridpoint_block_[static_cast<std::size_t>(i)];
+    for (index_t i = 0; i < n_gp; ++i) {
+      const index_t b = gridpoint_block_[static_cast<std::size_t>(i)];
       require<geometry_error>(b >= 0 && b < n_b && i >= block_gridpoint_offsets_[static_cast<std::size_t>(b)] &&
                                   i < block_gridpoint_offsets_[static_cast<std::size_t>(b) + 1],
                               "deformable blocks: gridpoint ", i, " of block ", b,
@@ -168,7 +168,7 @@ struct zone_geometry {
     // Block-average gradient weights w_i and the gridpoint -> zone-corner incidence (CSR, each
     // gridpoint's corners in increasing zone order).
     block_gradient_.setZero(n_gp, 3);
-    for (index z = 0; z < n_z; ++z) {
+    for (index_t z = 0; z < n_z; ++z) {
       const std::array<real, 12> g = gradients(z);
       const real v = volume_[static_cast<std::size_t>(z)];
       const real vb = block_volume[static_cast<std::size_t>(zone_block_[static_cast<std::size_t>(z)])];
@@ -176,9 +176,9 @@ struct zone_geometry {
         for (int k = 0; k < 3; ++k) block_gradient_(corner(z, a), k) += v * g[static_cast<std::size_t>(3 * a + k)] / vb;
     }
     auto corners = [&](auto&& emit) {
-      for (index z = 0; z < n_z; ++z)
+      for (index_t z = 0; z < n_z; ++z)
         for (int a = 0; a < 4; ++a)
-          emit(corner(z, a), [&](index slot) { corner_slots_[static_cast<std::size_t>(slot)] = 3 * a * n_z + z; });
+          emit(corner(z, a), [&](index_t slot) { corner_slots_[static_cast<std::size_t>(slot)] = 3 * a * n_z + z; });
     };
     corner_offsets_ = csr_offsets(n_gp, corners);
     corner_slots_.resize(static_cast<std::size_t>(4 * n_z));

@@ -45,26 +45,26 @@ namespace tessera::contact::detail {
 struct face_corners {
   /// Corners of face s (CCW seen from A): CSR [first[s], first[s + 1]), the gridpoints of each
   /// corner pair (a, b) and the reference offset X_a,k - X_a,0 from the face's first corner.
-  std::vector<index> first{0}, a, b;
+  std::vector<index_t> first{0}, a, b;
   std::array<std::vector<real>, 3> offset;
 
-  [[nodiscard]] static constexpr std::size_t at(index i) noexcept { return static_cast<std::size_t>(i); }
+  [[nodiscard]] static constexpr std::size_t at(index_t i) noexcept { return static_cast<std::size_t>(i); }
   /// Twice the vector area of face s's polygon through the midpoints of its corner pairs (m^2),
   /// sum_k (m_k - m_0) x (m_{k+1} - m_0) (see above), from differences
   /// (X_k - X_0) + ((u_a,k + u_b,k) - (u_a,0 + u_b,0)) / 2 so the displacement is not swamped by
   /// the coordinates; X of side A stands for both sides (coincident to 1e-9 of the model size),
   /// and X_k - X_0 is the stored `offset` (the reference positions of the block_mesh).
-  [[nodiscard]] kinematics::triple area_vector(index s, const real* const u[3]) const noexcept {
+  [[nodiscard]] kinematics::triple area_vector(index_t s, const real* const u[3]) const noexcept {
     const auto begin = at(first[at(s)]);
     const auto count = at(first[at(s) + 1]) - begin;
-    const index* ca = a.data() + begin;
-    const index* cb = b.data() + begin;
+    const index_t* ca = a.data() + begin;
+    const index_t* cb = b.data() + begin;
     const real* dX[3] = {offset[0].data() + begin, offset[1].data() + begin,
                          offset[2].data() + begin};
     real origin_u[3];
     for (int c = 0; c < 3; ++c) origin_u[c] = 0.5 * (u[c][ca[0]] + u[c][cb[0]]);
     const auto midpoint_offset = [&](std::size_t k) {
-      const index ga = ca[k], gb = cb[k];
+      const index_t ga = ca[k], gb = cb[k];
       real d[3];
       for (int c = 0; c < 3; ++c) d[c] = dX[c][k] + (0.5 * (u[c][ga] + u[c][gb]) - origin_u[c]);
       return kinematics::triple{d[0], d[1], d[2]};
@@ -84,27 +84,27 @@ struct face_corners {
 /// Sub-contacts and face data of face_contacts, in its order (faces in tessellation::shared_faces
 /// order, the sub-contacts of a face contiguous).
 struct face_pairs {
-  std::vector<index> node_a, node_b, face;  ///< per sub-contact: gridpoints of sides A and B, shared face
+  std::vector<index_t> node_a, node_b, face;  ///< per sub-contact: gridpoints of sides A and B, shared face
   std::vector<real> area;                   ///< per sub-contact: tributary area (m^2)
-  std::vector<index> first_subcontact{0};   ///< face s: sub-contacts [first_subcontact[s], first_subcontact[s + 1])
+  std::vector<index_t> first_subcontact{0};   ///< face s: sub-contacts [first_subcontact[s], first_subcontact[s + 1])
   std::vector<real> face_area;              ///< per face: sum of its sub-contact areas (m^2)
-  std::vector<index> face_param;            ///< per face: its material_table entry
+  std::vector<index_t> face_param;            ///< per face: its material_table entry
   face_corners corners;                     ///< polygon corners of each face
 };
 
 /// The block_mesh arrays face_contacts reads have the sizes of `tess` and of each other.
 inline void check_face_mesh(const geometry::tessellation& tess, const geometry::block_mesh& mesh) {
-  const index n_faces = tess.face_count();
-  const index n_gridpoints = mesh.gridpoint_count();
-  require<geometry_error>(static_cast<index>(mesh.face_node_offsets.size()) == n_faces + 1,
+  const index_t n_faces = tess.face_count();
+  const index_t n_gridpoints = mesh.gridpoint_count();
+  require<geometry_error>(static_cast<index_t>(mesh.face_node_offsets.size()) == n_faces + 1,
                           "face_contacts: block_mesh has face nodes for ", mesh.face_node_offsets.size() - 1,
                           " faces, expected one entry per tessellation face (", n_faces, ")");
-  require<geometry_error>(static_cast<index>(mesh.gridpoint_vertex.size()) == n_gridpoints,
+  require<geometry_error>(static_cast<index_t>(mesh.gridpoint_vertex.size()) == n_gridpoints,
                           "face_contacts: block_mesh has ", mesh.gridpoint_vertex.size(),
                           " gridpoint_vertex entries, expected one per gridpoint (", n_gridpoints, ")");
   require<geometry_error>(mesh.face_node_area.size() == mesh.face_nodes.size(), "face_contacts: block_mesh has ",
                           mesh.face_node_area.size(), " face node areas for ", mesh.face_nodes.size(), " face nodes");
-  require<geometry_error>(mesh.block_material.empty() || static_cast<index>(mesh.block_material.size()) == mesh.block_count(),
+  require<geometry_error>(mesh.block_material.empty() || static_cast<index_t>(mesh.block_material.size()) == mesh.block_count(),
                           "face_contacts: block_mesh has ", mesh.block_material.size(), " block materials for ",
                           mesh.block_count(), " blocks (give one id per block, or none for all 0)");
 }
@@ -112,9 +112,9 @@ inline void check_face_mesh(const geometry::tessellation& tess, const geometry::
 /// One shared face s while it is paired: its record, first face nodes of both sides, node
 /// count, and the check that throws geometry_error naming it.
 struct face_in_pairing {
-  index s;
+  index_t s;
   const geometry::tessellation::shared_face& sf;
-  index na0, nb0, n_nodes;
+  index_t na0, nb0, n_nodes;
   template <class... Message>
   void check(bool ok, const Message&... message) const {
     if (!ok)
@@ -126,15 +126,15 @@ struct face_in_pairing {
 
 /// The sub-contacts of face f: pairs of coincident face nodes of its two sides, with their areas.
 inline void pair_nodes(face_pairs& r, const face_in_pairing& f, const geometry::block_mesh& mesh, real tolerance) {
-  const auto at = [](index i) { return static_cast<std::size_t>(i); };
-  const index n_gridpoints = mesh.gridpoint_count();
+  const auto at = [](index_t i) { return static_cast<std::size_t>(i); };
+  const index_t n_gridpoints = mesh.gridpoint_count();
   real face_area = 0;
-  for (index k = 0; k < f.n_nodes; ++k) {
-    const index a = mesh.face_nodes[at(f.na0 + k)];
-    const index b = mesh.face_nodes[at(f.nb0 + k)];
+  for (index_t k = 0; k < f.n_nodes; ++k) {
+    const index_t a = mesh.face_nodes[at(f.na0 + k)];
+    const index_t b = mesh.face_nodes[at(f.nb0 + k)];
     f.check(a >= 0 && a < n_gridpoints && b >= 0 && b < n_gridpoints, "face node ", k, " refers to gridpoints ", a,
             " and ", b, ", expected ids in [0, ", n_gridpoints, ")");
-    if (static_cast<index>(mesh.gridpoint_block.size()) == n_gridpoints)
+    if (static_cast<index_t>(mesh.gridpoint_block.size()) == n_gridpoints)
       f.check(mesh.gridpoint_block[at(a)] == f.sf.cell_a && mesh.gridpoint_block[at(b)] == f.sf.cell_b, "face node ",
               k, ": gridpoints ", a, " and ", b, " belong to blocks ", mesh.gridpoint_block[at(a)], " and ",
               mesh.gridpoint_block[at(b)]);
@@ -155,7 +155,7 @@ inline void pair_nodes(face_pairs& r, const face_in_pairing& f, const geometry::
     r.area.push_back(area_a);
     face_area += area_a;
   }
-  r.first_subcontact.push_back(static_cast<index>(r.node_a.size()));
+  r.first_subcontact.push_back(static_cast<index_t>(r.node_a.size()));
   r.face_area.push_back(face_area);
 }
 
@@ -163,12 +163,12 @@ inline void pair_nodes(face_pairs& r, const face_in_pairing& f, const geometry::
 /// and their reference offsets from the first one (side A).
 inline void add_corners(face_pairs& r, const face_in_pairing& f, const geometry::tessellation& tess,
                         const geometry::block_mesh& mesh) {
-  const auto at = [](index i) { return static_cast<std::size_t>(i); };
+  const auto at = [](index_t i) { return static_cast<std::size_t>(i); };
   const auto loop = tess.face(f.sf.face_a);
   f.check(loop.size() >= 3, "the polygon has ", loop.size(), " vertices, expected >= 3");
-  for (const index vertex : loop) {
-    index corner = invalid_index;
-    for (index k = 0; k < f.n_nodes && corner == invalid_index; ++k)
+  for (const index_t vertex : loop) {
+    index_t corner = invalid_index;
+    for (index_t k = 0; k < f.n_nodes && corner == invalid_index; ++k)
       if (mesh.gridpoint_vertex[at(mesh.face_nodes[at(f.na0 + k)])] == vertex &&
           mesh.gridpoint_vertex[at(mesh.face_nodes[at(f.nb0 + k)])] == vertex)
         corner = r.first_subcontact[at(f.s)] + k;
@@ -177,9 +177,9 @@ inline void add_corners(face_pairs& r, const face_in_pairing& f, const geometry:
     r.corners.a.push_back(r.node_a[at(corner)]);
     r.corners.b.push_back(r.node_b[at(corner)]);
   }
-  r.corners.first.push_back(static_cast<index>(r.corners.a.size()));
+  r.corners.first.push_back(static_cast<index_t>(r.corners.a.size()));
   const vec3& x0 = mesh.gridpoints[at(r.corners.a[at(r.corners.first[at(f.s)])])];
-  for (index k = r.corners.first[at(f.s)]; k < r.corners.first[at(f.s) + 1]; ++k)
+  for (index_t k = r.corners.first[at(f.s)]; k < r.corners.first[at(f.s) + 1]; ++k)
     for (int c = 0; c < 3; ++c) r.corners.offset[at(c)].push_back(mesh.gridpoints[at(r.corners.a[at(k)])][c] - x0[c]);
 }
 
@@ -188,35 +188,35 @@ inline void add_corners(face_pairs& r, const face_in_pairing& f, const geometry:
 template <class P>
 [[nodiscard]] face_pairs pair_face_nodes(const geometry::tessellation& tess, const geometry::block_mesh& mesh,
                                          const material_table<P>& table) {
-  const auto at = [](index i) { return static_cast<std::size_t>(i); };
+  const auto at = [](index_t i) { return static_cast<std::size_t>(i); };
   check_face_mesh(tess, mesh);
-  const index n_faces = tess.face_count();
+  const index_t n_faces = tess.face_count();
   aabb box;
   for (const vec3& x : mesh.gridpoints) box.expand(x);
   const real tolerance = 1e-9 * (mesh.gridpoints.empty() ? 1.0 : box.size().norm());
-  const auto face_count = static_cast<index>(tess.shared_faces.size());
+  const auto face_count = static_cast<index_t>(tess.shared_faces.size());
   face_pairs r;
   r.first_subcontact.reserve(at(face_count) + 1);
   r.corners.first.reserve(at(face_count) + 1);
   r.face_area.reserve(at(face_count));
-  for (index s = 0; s < face_count; ++s) {
+  for (index_t s = 0; s < face_count; ++s) {
     const auto& sf = tess.shared_faces[at(s)];
     face_in_pairing f{s, sf, 0, 0, 0};
     f.check(sf.face_a >= 0 && sf.face_a < n_faces && sf.face_b >= 0 && sf.face_b < n_faces && sf.cell_a >= 0 &&
                 sf.cell_a < sf.cell_b && sf.cell_b < tess.cell_count(),
             "face or cell id out of range or cells not in increasing order (", tess.cell_count(), " cells, ", n_faces,
             " faces)");
-    if (static_cast<index>(tess.face_cell.size()) == n_faces)
+    if (static_cast<index_t>(tess.face_cell.size()) == n_faces)
       f.check(tess.face_cell[at(sf.face_a)] == sf.cell_a && tess.face_cell[at(sf.face_b)] == sf.cell_b,
               "faces belong to cells ", tess.face_cell[at(sf.face_a)], " and ", tess.face_cell[at(sf.face_b)]);
     f.na0 = mesh.face_node_offsets[at(sf.face_a)];
     f.nb0 = mesh.face_node_offsets[at(sf.face_b)];
     f.n_nodes = mesh.face_node_offsets[at(sf.face_a) + 1] - f.na0;
-    const index n_nodes_b = mesh.face_node_offsets[at(sf.face_b) + 1] - f.nb0;
+    const index_t n_nodes_b = mesh.face_node_offsets[at(sf.face_b) + 1] - f.nb0;
     f.check(f.n_nodes == n_nodes_b && f.n_nodes >= 3, "the sides have ", f.n_nodes, " and ", n_nodes_b,
             " face nodes, expected the same number (>= 3)");
     pair_nodes(r, f, mesh, tolerance);
-    r.face_param.push_back(static_cast<index>(table.entry_index(mesh.material(sf.cell_a), mesh.material(sf.cell_b))));
+    r.face_param.push_back(static_cast<index_t>(table.entry_index(mesh.material(sf.cell_a), mesh.material(sf.cell_b))));
     add_corners(r, f, tess, mesh);
   }
   return r;
@@ -226,23 +226,23 @@ template <class P>
 /// incident sub-contact in increasing sub-contact order: the sub-contact and the sign of its
 /// stored force (the force on node A) on that gridpoint (+1 on node A, -1 on node B).
 struct gather_slots {
-  std::vector<index> offsets;      ///< CSR over all gridpoints (empty rows for those without sub-contacts)
-  std::vector<index> subcontact;   ///< per slot
+  std::vector<index_t> offsets;      ///< CSR over all gridpoints (empty rows for those without sub-contacts)
+  std::vector<index_t> subcontact;   ///< per slot
   std::vector<real> sign;          ///< per slot, +1 or -1
-  std::vector<index> gridpoints;   ///< gridpoints with a non-empty row, increasing
+  std::vector<index_t> gridpoints;   ///< gridpoints with a non-empty row, increasing
 };
-[[nodiscard]] inline gather_slots build_gather(index n_gridpoints, const std::vector<index>& node_a,
-                                               const std::vector<index>& node_b) {
+[[nodiscard]] inline gather_slots build_gather(index_t n_gridpoints, const std::vector<index_t>& node_a,
+                                               const std::vector<index_t>& node_b) {
   gather_slots g;
   const std::size_t n = node_a.size();
   const auto slots = [&](auto&& emit) {
     for (std::size_t i = 0; i < n; ++i) {
-      emit(node_b[i], [&, i](index slot) {
-        g.subcontact[static_cast<std::size_t>(slot)] = static_cast<index>(i);
+      emit(node_b[i], [&, i](index_t slot) {
+        g.subcontact[static_cast<std::size_t>(slot)] = static_cast<index_t>(i);
         g.sign[static_cast<std::size_t>(slot)] = -1;
       });
-      emit(node_a[i], [&, i](index slot) {
-        g.subcontact[static_cast<std::size_t>(slot)] = static_cast<index>(i);
+      emit(node_a[i], [&, i](index_t slot) {
+        g.subcontact[static_cast<std::size_t>(slot)] = static_cast<index_t>(i);
         g.sign[static_cast<std::size_t>(slot)] = 1;
       });
     }
@@ -251,7 +251,7 @@ struct gather_slots {
   g.subcontact.resize(2 * n);
   g.sign.resize(2 * n);
   csr_fill(g.offsets, slots);
-  for (index v = 0; v < n_gridpoints; ++v)
+  for (index_t v = 0; v < n_gridpoints; ++v)
     if (g.offsets[static_cast<std::size_t>(v) + 1] > g.offsets[static_cast<std::size_t>(v)]) g.gridpoints.push_back(v);
   return g;
 }

@@ -39,7 +39,7 @@ namespace tessera::contact::detection {
 
 /// A candidate pair of blocks, a < b.
 struct block_pair {
-  index a = 0, b = 0;
+  index_t a = 0, b = 0;
   friend bool operator==(const block_pair&, const block_pair&) = default;
   friend bool operator<(const block_pair& x, const block_pair& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); }
 };
@@ -48,7 +48,7 @@ struct block_pair {
 /// steps of dt (s) by blocks moving at most v_max (m/s) and turning at most omega_max (rad/s)
 /// with vertices at most r_max (m) from their centroids; safety >= 1. Throws invalid_input for a
 /// negative or non-finite input.
-[[nodiscard]] inline real rebuild_margin(real v_max, real omega_max, real r_max, real dt, index steps, real safety = 1.5) {
+[[nodiscard]] inline real rebuild_margin(real v_max, real omega_max, real r_max, real dt, index_t steps, real safety = 1.5) {
   require_non_negative(v_max, "detection: largest block speed v_max (m/s)");
   require_non_negative(omega_max, "detection: largest angular speed omega_max (rad/s)");
   require_non_negative(r_max, "detection: largest vertex distance r_max (m)");
@@ -76,26 +76,26 @@ inline void require_boxes(std::span<const aabb> boxes, real margin, const char* 
 inline void all_pairs(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs) {
   detail::require_boxes(boxes, margin, "all_pairs");
   pairs.clear();
-  const auto n = static_cast<index>(boxes.size());
-  for (index a = 0; a < n; ++a)
-    for (index b = a + 1; b < n; ++b)
+  const auto n = static_cast<index_t>(boxes.size());
+  for (index_t a = 0; a < n; ++a)
+    for (index_t b = a + 1; b < n; ++b)
       if (detail::boxes_overlap(boxes[static_cast<std::size_t>(a)], boxes[static_cast<std::size_t>(b)], 2 * margin))
         pairs.push_back({a, b});
 }
 
 /// Scratch of sweep_and_prune, kept between rebuilds so they do not allocate.
 struct sweep_workspace {
-  std::vector<index> order;
+  std::vector<index_t> order;
 };
 
 /// The pairs of all_pairs by sort and sweep along x (see the file comment).
 inline void sweep_and_prune(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, sweep_workspace& w) {
   detail::require_boxes(boxes, margin, "sweep_and_prune");
   pairs.clear();
-  const auto n = static_cast<index>(boxes.size());
+  const auto n = static_cast<index_t>(boxes.size());
   w.order.resize(boxes.size());
-  for (index i = 0; i < n; ++i) w.order[static_cast<std::size_t>(i)] = i;
-  std::sort(w.order.begin(), w.order.end(), [&](index p, index q) {
+  for (index_t i = 0; i < n; ++i) w.order[static_cast<std::size_t>(i)] = i;
+  std::sort(w.order.begin(), w.order.end(), [&](index_t p, index_t q) {
     const real x = boxes[static_cast<std::size_t>(p)].lo.x(), y = boxes[static_cast<std::size_t>(q)].lo.x();
     return x < y || (x == y && p < q);
   });
@@ -107,7 +107,7 @@ inline void sweep_and_prune(std::span<const aabb> boxes, real margin, std::vecto
       const aabb& q = boxes[static_cast<std::size_t>(w.order[j])];
       if (q.lo.x() > reach) break;
       if (detail::boxes_overlap(p, q, m2)) {
-        const index a = w.order[i], b = w.order[j];
+        const index_t a = w.order[i], b = w.order[j];
         pairs.push_back({std::min(a, b), std::max(a, b)});
       }
     }
@@ -118,7 +118,7 @@ inline void sweep_and_prune(std::span<const aabb> boxes, real margin, std::vecto
 /// Scratch of uniform_grid (cell lists as CSR), kept between rebuilds.
 struct grid_workspace {
   std::vector<std::int64_t> cell_of_entry;
-  std::vector<index> block_of_entry, order;
+  std::vector<index_t> block_of_entry, order;
   std::vector<std::size_t> starts;
 };
 
@@ -176,12 +176,12 @@ inline void uniform_grid(std::span<const aabb> boxes, real margin, const grid_la
       for (std::int64_t j = cell_coord(box.lo.y() - margin, 1); j <= cell_coord(box.hi.y() + margin, 1); ++j)
         for (std::int64_t i = cell_coord(box.lo.x() - margin, 0); i <= cell_coord(box.hi.x() + margin, 0); ++i) {
           w.cell_of_entry.push_back(cell_id(i, j, k));
-          w.block_of_entry.push_back(static_cast<index>(b));
+          w.block_of_entry.push_back(static_cast<index_t>(b));
         }
   }
   w.order.resize(w.cell_of_entry.size());
-  for (std::size_t e = 0; e < w.order.size(); ++e) w.order[e] = static_cast<index>(e);
-  std::sort(w.order.begin(), w.order.end(), [&](index p, index q) {
+  for (std::size_t e = 0; e < w.order.size(); ++e) w.order[e] = static_cast<index_t>(e);
+  std::sort(w.order.begin(), w.order.end(), [&](index_t p, index_t q) {
     const auto cp = w.cell_of_entry[static_cast<std::size_t>(p)], cq = w.cell_of_entry[static_cast<std::size_t>(q)];
     return cp < cq || (cp == cq && p < q);
   });
@@ -192,8 +192,8 @@ inline void uniform_grid(std::span<const aabb> boxes, real margin, const grid_la
     while (e < w.order.size() && w.cell_of_entry[static_cast<std::size_t>(w.order[e])] == cell_here) ++e;
     for (std::size_t x = s; x < e; ++x)
       for (std::size_t y = x + 1; y < e; ++y) {
-        const index a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
-        const index b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
+        const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
+        const index_t b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
         const aabb& p = boxes[static_cast<std::size_t>(a0)];
         const aabb& q = boxes[static_cast<std::size_t>(b0)];
         if (!detail::boxes_overlap(p, q, m2)) continue;

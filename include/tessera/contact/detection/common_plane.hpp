@@ -72,15 +72,15 @@ struct contact_plane {
   real offset = 0;
   real gap = 0;
   plane_source source = plane_source::face_a;
-  index feature_a = invalid_index;  ///< face of A (face_a), or edge of A (edge_edge)
-  index feature_b = invalid_index;  ///< face of B (face_b), or edge of B (edge_edge)
+  index_t feature_a = invalid_index;  ///< face of A (face_a), or edge of A (edge_edge)
+  index_t feature_b = invalid_index;  ///< face of B (face_b), or edge of B (edge_edge)
 };
 
 /// The edges of a convex polyhedron with their two faces: face_left holds the loop u -> v,
 /// face_right the loop v -> u (outward CCW loops).
 struct polyhedron_edges {
   struct edge {
-    index u, v, face_left, face_right;
+    index_t u, v, face_left, face_right;
   };
   std::vector<edge> list;
 };
@@ -89,14 +89,14 @@ struct polyhedron_edges {
 /// faces (an open or non-manifold polyhedron).
 [[nodiscard]] inline polyhedron_edges edges_of(const geometry::convex_polyhedron& p) {
   struct half {
-    index lo, hi, face;
+    index_t lo, hi, face;
     bool forward;  ///< lo -> hi in the face's loop
   };
   std::vector<half> halves;
-  for (index f = 0; f < p.face_count(); ++f) {
+  for (index_t f = 0; f < p.face_count(); ++f) {
     const auto loop = p.face(f);
     for (std::size_t i = 0; i < loop.size(); ++i) {
-      const index a = loop[i], b = loop[(i + 1) % loop.size()];
+      const index_t a = loop[i], b = loop[(i + 1) % loop.size()];
       halves.push_back({std::min(a, b), std::max(a, b), f, a < b});
     }
   }
@@ -139,7 +139,7 @@ namespace detail {
 /// Appends p's outward face planes, face by face (face_plane), to `out`: what a detection pass
 /// computes once per block (detect.hpp) instead of once per candidate pair.
 inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector<geometry::plane>& out) {
-  for (index f = 0; f < p.face_count(); ++f) out.push_back(p.face_plane(f));
+  for (index_t f = 0; f < p.face_count(); ++f) out.push_back(p.face_plane(f));
 }
 
 /// The contact plane of A and B (see the file comment). `edges_a`, `edges_b`: edges_of(a), (b),
@@ -160,7 +160,7 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
   best.gap = -std::numeric_limits<real>::infinity();
   real best_a = 0, best_b = 0;
   // Candidate n with A's support value max_a and B's min_b along it.
-  const auto consider_supports = [&](const vec3& n, real max_a, real min_b, plane_source source, index fa, index fb,
+  const auto consider_supports = [&](const vec3& n, real max_a, real min_b, plane_source source, index_t fa, index_t fb,
                                      real margin) {
     const real g = min_b - max_a;
     if (g > best.gap + margin) {
@@ -169,15 +169,15 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
       best_b = min_b;
     }
   };
-  const auto consider = [&](const vec3& n, plane_source source, index fa, index fb, real margin) {
+  const auto consider = [&](const vec3& n, plane_source source, index_t fa, index_t fb, real margin) {
     consider_supports(n, detail::support_max(a, n), detail::support_min(b, n), source, fa, fb, margin);
   };
-  const auto normal_a = [&](index f) -> const vec3& { return faces_a[static_cast<std::size_t>(f)].normal; };
-  const auto normal_b = [&](index f) -> const vec3& { return faces_b[static_cast<std::size_t>(f)].normal; };
+  const auto normal_a = [&](index_t f) -> const vec3& { return faces_a[static_cast<std::size_t>(f)].normal; };
+  const auto normal_b = [&](index_t f) -> const vec3& { return faces_b[static_cast<std::size_t>(f)].normal; };
   // Faces first, edges last: a later candidate must beat the best by `tie` to replace it.
-  for (index f = 0; f < a.face_count(); ++f)
+  for (index_t f = 0; f < a.face_count(); ++f)
     consider(normal_a(f), plane_source::face_a, f, invalid_index, tie);
-  for (index f = 0; f < b.face_count(); ++f)
+  for (index_t f = 0; f < b.face_count(); ++f)
     consider(-normal_b(f), plane_source::face_b, invalid_index, f, tie);
   // A point inside A (the vertex mean; the centroid would need a volume integral) to orient the
   // edge-pair axes outward from A.
@@ -187,7 +187,7 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
   // Per edge of B, the arc of its reversed face normals c, d and d x c as columns (computed once
   // per call), so the arc test of one edge of A against all of B's runs branch-free over them.
   thread_local std::vector<real> arcs;
-  thread_local std::vector<index> crossing;
+  thread_local std::vector<index_t> crossing;
   thread_local std::vector<std::uint8_t> crosses;
   const std::size_t nb_edges = edges_b.list.size();
   arcs.resize(9 * nb_edges);
@@ -231,11 +231,11 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
         hit[j] = static_cast<std::uint8_t>((cba * dba < 0) & (adc * bdc < 0) & (cba * bdc > 0));
       }
       for (std::size_t j = 0; j < nb_edges; ++j) {
-        crossing[count] = static_cast<index>(j);
+        crossing[count] = static_cast<index_t>(j);
         count += hit[j];
       }
     } else {
-      for (std::size_t j = 0; j < nb_edges; ++j) crossing[count++] = static_cast<index>(j);
+      for (std::size_t j = 0; j < nb_edges; ++j) crossing[count++] = static_cast<index_t>(j);
     }
     for (std::size_t k = 0; k < count; ++k) {
       const auto j = static_cast<std::size_t>(crossing[k]);
@@ -248,9 +248,9 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
       if (n.dot(a.vertex(ea.u) - ca) < 0) n = -n;  // outward from A at its edge
       if (prune_edges)  // the two edges are the supporting features along n: no vertex loop
         consider_supports(n, n.dot(a.vertex(ea.u)), n.dot(b.vertex(eb.u)), plane_source::edge_edge,
-                          static_cast<index>(i), static_cast<index>(j), tie);
+                          static_cast<index_t>(i), static_cast<index_t>(j), tie);
       else
-        consider(n, plane_source::edge_edge, static_cast<index>(i), static_cast<index>(j), tie);
+        consider(n, plane_source::edge_edge, static_cast<index_t>(i), static_cast<index_t>(j), tie);
     }
   }
   best.offset = 0.5 * (best_a + best_b);
@@ -292,14 +292,14 @@ struct contact_patch {
 /// vertex ids (15 bits each, so a polyhedron may have up to 32 767 vertices).
 namespace corner_label {
 inline constexpr int id_bits = 15;
-inline constexpr index max_vertices = (index{1} << id_bits) - 1;
+inline constexpr index_t max_vertices = (index_t{1} << id_bits) - 1;
 enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
-[[nodiscard]] constexpr std::uint64_t vertex_a(index v) noexcept { return static_cast<std::uint64_t>(v); }
-[[nodiscard]] constexpr std::uint64_t vertex_b(index v) noexcept {
+[[nodiscard]] constexpr std::uint64_t vertex_a(index_t v) noexcept { return static_cast<std::uint64_t>(v); }
+[[nodiscard]] constexpr std::uint64_t vertex_b(index_t v) noexcept {
   return (std::uint64_t{1} << 62) | static_cast<std::uint64_t>(v);
 }
 /// Crossing of A's hull edge (a0, a1) with B's (b0, b1); each edge's ids in increasing order.
-[[nodiscard]] constexpr std::uint64_t crossing(index a0, index a1, index b0, index b1) noexcept {
+[[nodiscard]] constexpr std::uint64_t crossing(index_t a0, index_t a1, index_t b0, index_t b1) noexcept {
   const auto u = static_cast<std::uint64_t>(std::min(a0, a1)), v = static_cast<std::uint64_t>(std::max(a0, a1));
   const auto x = static_cast<std::uint64_t>(std::min(b0, b1)), y = static_cast<std::uint64_t>(std::max(b0, b1));
   return (std::uint64_t{2} << 62) | (u << 45) | (v << 30) | (x << 15) | y;
@@ -436,15 +436,15 @@ using point2 = Eigen::Matrix<real, 2, 1>;
   return best;
 }
 /// Vertex id of the touching point equal to hull corner h (hull2 keeps input points as they are).
-[[nodiscard]] inline index hull_vertex(const point2& h, const std::vector<point2>& points, const std::vector<index>& ids) {
+[[nodiscard]] inline index_t hull_vertex(const point2& h, const std::vector<point2>& points, const std::vector<index_t>& ids) {
   return ids[nearest_point(h, points)];
 }
 
 /// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
 /// (within 1e-6 of the hull's size); else the crossing of the nearest hull edges of A and B.
-[[nodiscard]] inline std::uint64_t label_corner(const point2& q, const std::vector<point2>& pa, const std::vector<index>& ids_a,
+[[nodiscard]] inline std::uint64_t label_corner(const point2& q, const std::vector<point2>& pa, const std::vector<index_t>& ids_a,
                                                 const std::vector<point2>& hull_a, const std::vector<point2>& pb,
-                                                const std::vector<index>& ids_b, const std::vector<point2>& hull_b) {
+                                                const std::vector<index_t>& ids_b, const std::vector<point2>& hull_b) {
   real size = 0;
   for (const point2& h : hull_a) size = std::max(size, (h - hull_a.front()).norm());
   for (const point2& h : hull_b) size = std::max(size, (h - hull_b.front()).norm());
@@ -498,13 +498,13 @@ using point2 = Eigen::Matrix<real, 2, 1>;
           "detection: polyhedra of ", a.vertex_count(), " and ", b.vertex_count(), " vertices; at most ",
           corner_label::max_vertices, " are supported");
   std::vector<detail::point2> pa, pb;
-  std::vector<index> ids_a, ids_b;  // vertex id of each touching point
-  for (index v = 0; v < a.vertex_count(); ++v)
+  std::vector<index_t> ids_a, ids_b;  // vertex id of each touching point
+  for (index_t v = 0; v < a.vertex_count(); ++v)
     if (n.dot(a.vertex(v)) >= max_a - tolerance) {
       pa.push_back(to2(a.vertex(v)));
       ids_a.push_back(v);
     }
-  for (index v = 0; v < b.vertex_count(); ++v)
+  for (index_t v = 0; v < b.vertex_count(); ++v)
     if (n.dot(b.vertex(v)) <= min_b + tolerance) {
       pb.push_back(to2(b.vertex(v)));
       ids_b.push_back(v);

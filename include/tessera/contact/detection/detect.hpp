@@ -38,7 +38,7 @@ struct detection_options {
 struct detection_result {
   std::vector<block_pair> pairs;       ///< touching pairs, increasing
   std::vector<contact_plane> planes;   ///< plane of each touching pair
-  std::vector<index> first_corner{0};  ///< CSR over pairs into the corner arrays
+  std::vector<index_t> first_corner{0};  ///< CSR over pairs into the corner arrays
   std::vector<vec3> point;             ///< corner on the contact plane (m)
   std::vector<real> gap;               ///< normal gap B - A through it (m)
   std::vector<real> area;              ///< tributary area (m^2; 0 for segment and point patches)
@@ -54,7 +54,7 @@ struct detection_workspace {
   std::vector<block_pair> candidates;
   std::vector<contact_plane> planes;
   std::vector<contact_patch> patches;
-  std::vector<index> face_first{0};         ///< CSR over blocks into faces
+  std::vector<index_t> face_first{0};         ///< CSR over blocks into faces
   std::vector<geometry::plane> faces;       ///< every block's face planes (append_face_planes), this pass
   /// Block b's face planes as the last pass computed them.
   [[nodiscard]] std::span<const geometry::plane> faces_of(std::size_t b) const {
@@ -84,7 +84,7 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
   w.faces.resize(static_cast<std::size_t>(w.face_first.back()));
   parallel_for(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {
     const auto b = static_cast<std::size_t>(k);
-    for (index f = 0; f < blocks[b].face_count(); ++f)
+    for (index_t f = 0; f < blocks[b].face_count(); ++f)
       w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
   }, 64);
   const std::size_t n = w.candidates.size();
@@ -118,7 +118,7 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
     out.gap.insert(out.gap.end(), p.gap.begin(), p.gap.end());
     out.area.insert(out.area.end(), p.area.begin(), p.area.end());
     out.label.insert(out.label.end(), p.label.begin(), p.label.end());
-    out.first_corner.push_back(static_cast<index>(out.point.size()));
+    out.first_corner.push_back(static_cast<index_t>(out.point.size()));
   }
 }
 

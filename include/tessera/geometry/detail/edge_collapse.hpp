@@ -47,7 +47,7 @@ inline constexpr std::uint8_t side_bit(int side) { return static_cast<std::uint8
 }
 
 /// Removes cyclically repeated consecutive ids in place; false if an id then still occurs twice.
-[[nodiscard]] inline bool collapse_loop(std::vector<index>& loop) {
+[[nodiscard]] inline bool collapse_loop(std::vector<index_t>& loop) {
   std::size_t w = 0;
   for (std::size_t r = 0; r < loop.size(); ++r)
     if (w == 0 || loop[w - 1] != loop[r]) loop[w++] = loop[r];
@@ -66,22 +66,22 @@ struct collapse_state {
   const tessellation& input;
   std::vector<vec3> position;           ///< current position of each (surviving) vertex
   std::vector<vec3> member_sum;         ///< sum of the original positions merged into it
-  std::vector<index> member_count;
+  std::vector<index_t> member_count;
   std::vector<aabb> member_box;         ///< bounding box of the original positions merged into it
-  std::vector<index> parent;            ///< union-find over original ids (root = kept vertex)
+  std::vector<index_t> parent;            ///< union-find over original ids (root = kept vertex)
   std::vector<std::uint8_t> sides;
-  std::vector<std::vector<index>> loop; ///< current loop of each face (empty = dropped)
-  std::vector<std::vector<index>> vertex_faces;  ///< faces that contained the vertex (may be stale)
+  std::vector<std::vector<index_t>> loop; ///< current loop of each face (empty = dropped)
+  std::vector<std::vector<index_t>> vertex_faces;  ///< faces that contained the vertex (may be stale)
   triangulation_workspace ws;
-  std::vector<std::array<index, 3>> tris;
+  std::vector<std::array<index_t, 3>> tris;
   struct face_triangles {
     bool valid = false;     ///< tris/foldfree hold for the stored loop and positions
     bool foldfree = false;  ///< a valid triangulation without fold-over exists
-    std::vector<std::array<index, 3>> tris;
+    std::vector<std::array<index_t, 3>> tris;
   };
   std::vector<face_triangles> cache;  ///< per face
-  std::vector<std::pair<index, index>> directed;
-  std::vector<index> scratch_vertices;
+  std::vector<std::pair<index_t, index_t>> directed;
+  std::vector<index_t> scratch_vertices;
 
   explicit collapse_state(const tessellation& t) : input(t) {
     const auto nv = static_cast<std::size_t>(t.vertex_count());
@@ -91,30 +91,30 @@ struct collapse_state {
     member_box.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) member_box[v].expand(t.vertices[v]);
     parent.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<index>(v);
+    for (std::size_t v = 0; v < nv; ++v) parent[v] = static_cast<index_t>(v);
     sides.resize(nv);
     for (std::size_t v = 0; v < nv; ++v) sides[v] = sides_of(t.vertices[v], t.domain);
     loop.resize(static_cast<std::size_t>(t.face_count()));
     cache.resize(static_cast<std::size_t>(t.face_count()));
     vertex_faces.resize(nv);
-    for (index f = 0; f < t.face_count(); ++f) {
+    for (index_t f = 0; f < t.face_count(); ++f) {
       const auto l = t.face(f);
       loop[static_cast<std::size_t>(f)].assign(l.begin(), l.end());
-      for (const index v : l) vertex_faces[static_cast<std::size_t>(v)].push_back(f);
+      for (const index_t v : l) vertex_faces[static_cast<std::size_t>(v)].push_back(f);
     }
   }
 
-  [[nodiscard]] index find(index v) const {
+  [[nodiscard]] index_t find(index_t v) const {
     while (parent[static_cast<std::size_t>(v)] != v) v = parent[static_cast<std::size_t>(v)];
     return v;
   }
-  [[nodiscard]] real length(index a, index b) const {
+  [[nodiscard]] real length(index_t a, index_t b) const {
     if (a > b) std::swap(a, b);
     return (position[static_cast<std::size_t>(b)] - position[static_cast<std::size_t>(a)]).norm();
   }
   /// True if a and b are consecutive in some live face loop.
-  [[nodiscard]] bool is_edge(index a, index b) const {
-    for (const index f : vertex_faces[static_cast<std::size_t>(a)]) {
+  [[nodiscard]] bool is_edge(index_t a, index_t b) const {
+    for (const index_t f : vertex_faces[static_cast<std::size_t>(a)]) {
       const auto& l = loop[static_cast<std::size_t>(f)];
       for (std::size_t k = 0; k < l.size(); ++k)
         if (l[k] == a && (l[(k + 1) % l.size()] == b || l[(k + l.size() - 1) % l.size()] == b)) return true;
@@ -123,15 +123,15 @@ struct collapse_state {
   }
 
   /// The vertices joined to v by chains of live edges shorter than l_min (sorted, v included).
-  void short_edge_cluster(index v, real l_min, std::vector<index>& out) const {
+  void short_edge_cluster(index_t v, real l_min, std::vector<index_t>& out) const {
     out.assign(1, v);
     for (std::size_t head = 0; head < out.size(); ++head) {
-      const index u = out[head];
-      for (const index f : vertex_faces[static_cast<std::size_t>(u)]) {
+      const index_t u = out[head];
+      for (const index_t f : vertex_faces[static_cast<std::size_t>(u)]) {
         const auto& l = loop[static_cast<std::size_t>(f)];
         for (std::size_t k = 0; k < l.size(); ++k) {
           if (l[k] != u) continue;
-          for (const index w : {l[(k + 1) % l.size()], l[(k + l.size() - 1) % l.size()]})
+          for (const index_t w : {l[(k + 1) % l.size()], l[(k + l.size() - 1) % l.size()]})
             if (length(u, w) < l_min && std::find(out.begin(), out.end(), w) == out.end()) out.push_back(w);
         }
       }
@@ -142,12 +142,12 @@ struct collapse_state {
   /// Checks cell c whose faces have the loops `loops_of(f)` (current positions) and lowers
   /// `min_altitude` (m) to the smallest altitude of the zones geometry::zone_blocks would make.
   template <class Loops>
-  [[nodiscard]] verdict check_cell(index c, const Loops& loops_of, real& min_altitude) {
-    index faces = 0;
+  [[nodiscard]] verdict check_cell(index_t c, const Loops& loops_of, real& min_altitude) {
+    index_t faces = 0;
     directed.clear();
     scratch_vertices.clear();
-    for (index f = input.first_face(c); f < input.end_face(c); ++f) {
-      const std::vector<index>& l = loops_of(f);
+    for (index_t f = input.first_face(c); f < input.end_face(c); ++f) {
+      const std::vector<index_t>& l = loops_of(f);
       if (l.empty()) continue;
       ++faces;
       for (std::size_t k = 0; k < l.size(); ++k) {
@@ -159,20 +159,20 @@ struct collapse_state {
     std::sort(directed.begin(), directed.end());
     for (std::size_t e = 0; e < directed.size(); ++e) {
       if (e > 0 && directed[e] == directed[e - 1]) return verdict::topology;
-      const std::pair<index, index> reverse{directed[e].second, directed[e].first};
+      const std::pair<index_t, index_t> reverse{directed[e].second, directed[e].first};
       if (!std::binary_search(directed.begin(), directed.end(), reverse)) return verdict::topology;
     }
     std::sort(scratch_vertices.begin(), scratch_vertices.end());
     const auto n_vertices =
-        static_cast<index>(std::unique(scratch_vertices.begin(), scratch_vertices.end()) - scratch_vertices.begin());
-    if (n_vertices - static_cast<index>(directed.size()) / 2 + faces != 2) return verdict::topology;
+        static_cast<index_t>(std::unique(scratch_vertices.begin(), scratch_vertices.end()) - scratch_vertices.begin());
+    if (n_vertices - static_cast<index_t>(directed.size()) / 2 + faces != 2) return verdict::topology;
 
     // Triangulate every face as the zoning will; no fold-over; volume centroid of the triangles.
     // Faces of the current state (loops_of returns the stored loop) are cached: only the faces
     // around the merged vertex change from one candidate to the next.
     tris.clear();
-    for (index f = input.first_face(c); f < input.end_face(c); ++f) {
-      const std::vector<index>& l = loops_of(f);
+    for (index_t f = input.first_face(c); f < input.end_face(c); ++f) {
+      const std::vector<index_t>& l = loops_of(f);
       if (l.empty()) continue;
       const bool current = &l == &loop[static_cast<std::size_t>(f)];
       face_triangles& cached = cache[static_cast<std::size_t>(f)];
@@ -217,7 +217,7 @@ struct collapse_state {
     }
     return verdict::ok;
   }
-  [[nodiscard]] vec3 normal(const std::array<index, 3>& t) const {
+  [[nodiscard]] vec3 normal(const std::array<index_t, 3>& t) const {
     const vec3& a = position[static_cast<std::size_t>(t[0])];
     return (position[static_cast<std::size_t>(t[1])] - a).cross(position[static_cast<std::size_t>(t[2])] - a);
   }

@@ -25,13 +25,13 @@ class zone_grid {
 
   /// gridpoints: reference positions (m); zones: 4 gridpoint ids each; padding: absolute growth
   /// of each zone's box, as a fraction of that box's largest edge (dimensionless).
-  zone_grid(std::span<const vec3> gridpoints, std::span<const std::array<index, 4>> zones, real padding) {
+  zone_grid(std::span<const vec3> gridpoints, std::span<const std::array<index_t, 4>> zones, real padding) {
     const auto zone_count = static_cast<std::int64_t>(zones.size());
     if (zone_count == 0) return;
     std::vector<aabb> boxes(zones.size());
     aabb all;
     for (std::size_t z = 0; z < zones.size(); ++z) {
-      for (index g : zones[z]) boxes[z].expand(gridpoints[static_cast<std::size_t>(g)]);
+      for (index_t g : zones[z]) boxes[z].expand(gridpoints[static_cast<std::size_t>(g)]);
       const real pad = padding * boxes[z].size().maxCoeff();
       boxes[z].lo.array() -= pad;
       boxes[z].hi.array() += pad;
@@ -46,7 +46,7 @@ class zone_grid {
     for (;;) {
       std::int64_t cells = 1;
       for (int d = 0; d < 3; ++d) {
-        dims_[d] = static_cast<index>(std::clamp<real>(std::ceil(all.size()[d] / cell_), 1.0, 1 << 20));
+        dims_[d] = static_cast<index_t>(std::clamp<real>(std::ceil(all.size()[d] / cell_), 1.0, 1 << 20));
         cells *= dims_[d];
       }
       if (cells <= 8 * zone_count + 64) break;
@@ -56,23 +56,23 @@ class zone_grid {
     auto for_cells = [&](const aabb& box, auto&& visit) {
       const auto lo = cell_of(box.lo);
       const auto hi = cell_of(box.hi);
-      for (index k = lo[2]; k <= hi[2]; ++k)
-        for (index j = lo[1]; j <= hi[1]; ++j)
-          for (index i = lo[0]; i <= hi[0]; ++i) visit(linear(i, j, k));
+      for (index_t k = lo[2]; k <= hi[2]; ++k)
+        for (index_t j = lo[1]; j <= hi[1]; ++j)
+          for (index_t i = lo[0]; i <= hi[0]; ++i) visit(linear(i, j, k));
     };
     auto entries = [&](auto&& emit) {
       for (std::size_t z = 0; z < boxes.size(); ++z)
         for_cells(boxes[z], [&](std::size_t c) {
-          emit(c, [&](index slot) { zone_ids_[static_cast<std::size_t>(slot)] = static_cast<index>(z); });
+          emit(c, [&](index_t slot) { zone_ids_[static_cast<std::size_t>(slot)] = static_cast<index_t>(z); });
         });
     };
-    offsets_ = csr_offsets(static_cast<index>(dims_[0] * dims_[1] * dims_[2]), entries);
+    offsets_ = csr_offsets(static_cast<index_t>(dims_[0] * dims_[1] * dims_[2]), entries);
     zone_ids_.resize(static_cast<std::size_t>(offsets_.back()));
     csr_fill(offsets_, entries);
   }
 
   /// Zone ids (ascending) whose padded box may contain p; empty when the grid is empty.
-  [[nodiscard]] std::span<const index> candidates(const vec3& p) const {
+  [[nodiscard]] std::span<const index_t> candidates(const vec3& p) const {
     if (offsets_.empty() || !p.allFinite()) return {};
     const auto c = cell_of(p);
     const std::size_t l = linear(c[0], c[1], c[2]);
@@ -80,21 +80,21 @@ class zone_grid {
   }
 
  private:
-  [[nodiscard]] std::array<index, 3> cell_of(const vec3& p) const {
-    std::array<index, 3> c{};
+  [[nodiscard]] std::array<index_t, 3> cell_of(const vec3& p) const {
+    std::array<index_t, 3> c{};
     for (int d = 0; d < 3; ++d)
-      c[d] = static_cast<index>(std::clamp<real>(std::floor((p[d] - origin_[d]) / cell_), 0.0, dims_[d] - 1));
+      c[d] = static_cast<index_t>(std::clamp<real>(std::floor((p[d] - origin_[d]) / cell_), 0.0, dims_[d] - 1));
     return c;
   }
-  [[nodiscard]] std::size_t linear(index i, index j, index k) const {
+  [[nodiscard]] std::size_t linear(index_t i, index_t j, index_t k) const {
     return (static_cast<std::size_t>(k) * dims_[1] + static_cast<std::size_t>(j)) * dims_[0] + static_cast<std::size_t>(i);
   }
 
   vec3 origin_ = vec3::Zero();
   real cell_ = 1.0;
-  std::array<index, 3> dims_{1, 1, 1};
-  std::vector<index> offsets_;   ///< CSR over cells (empty: no zones)
-  std::vector<index> zone_ids_;
+  std::array<index_t, 3> dims_{1, 1, 1};
+  std::vector<index_t> offsets_;   ///< CSR over cells (empty: no zones)
+  std::vector<index_t> zone_ids_;
 };
 
 }  // namespace tessera::reinforcement::detail
