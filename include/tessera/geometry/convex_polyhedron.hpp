@@ -6,7 +6,7 @@
 //   vertices   positions (m), no two equal
 //   faces      CSR loops of vertex ids, counter-clockwise seen from outside (outward normal by
 //              the right-hand rule), each face a convex polygon with >= 3 vertices
-//   face tags  one `index` per face: the id of the neighbouring cell whose bisector created the
+//   face tags  one `index_t` per face: the id of the neighbouring cell whose bisector created the
 //              face (>= 0), or boundary_tag(side) (< 0) for a side of the initial box
 //
 // clip(h, tag) keeps the part {x : h.normal . x <= h.offset}. Vertex sides are decided once,
@@ -29,6 +29,7 @@
 
 #include "../core/errors.hpp"
 #include "../core/types.hpp"
+#include "convex_hull.hpp"
 #include "mass_properties.hpp"
 #include "predicates.hpp"
 #include "tessellation.hpp"
@@ -101,6 +102,20 @@ class convex_polyhedron {
     p.face_vertices_ = std::move(face_vertices);
     p.face_tags_ = std::move(face_tags);
     return p;
+  }
+
+  /// The convex hull of `points` (m): a block from its vertices, in any order, interior points
+  /// allowed (they are dropped, and so are points inside a hull edge or face). Coplanar hull
+  /// triangles are merged into one planar convex face; loops are outward CCW as in box() and
+  /// from_faces; vertices keep the input order of the extreme points; every face is tagged
+  /// boundary_tag(0). Plane-side decisions use predicates.hpp with the clipping tolerance
+  /// (plane_tolerance_rel x largest extent; see convex_hull.hpp). Throws invalid_input for fewer
+  /// than 4 points, a non-finite point (its index and value), two coincident points (both
+  /// indices), or all points on one line or plane. O(n^2).
+  [[nodiscard]] static convex_polyhedron from_vertices(std::span<const vec3> points) {
+    detail::hull_loops h = detail::compute_hull_loops(points, "convex_polyhedron::from_vertices");
+    std::vector<index_t> tags(h.face_offsets.size() - 1, boundary_tag(0));
+    return from_faces(std::move(h.vertices), std::move(h.face_offsets), std::move(h.face_vertices), std::move(tags));
   }
 
   /// Every vertex x mapped to map x + translation: a rigid move for a rotation `map`, a scaling
@@ -483,5 +498,10 @@ class convex_polyhedron {
   std::vector<index_t> face_vertices_;
   std::vector<index_t> face_tags_;
 };
+
+/// The convex hull of `points` (m) as a convex_polyhedron: convex_polyhedron::from_vertices.
+[[nodiscard]] inline convex_polyhedron convex_hull(std::span<const vec3> points) {
+  return convex_polyhedron::from_vertices(points);
+}
 
 }  // namespace tessera::geometry
