@@ -1,6 +1,8 @@
 #pragma once
 // Random Voronoi and Laguerre (power) tessellations of a box into convex polyhedral cells: the
-// blocks of a scene (the reference study used Neper for the same purpose).
+// blocks of a scene (the reference study used Neper for the same purpose). Voronoi
+// tessellations of any convex polyhedral domain (a disc as cylinder_prism, a slab as prism) are
+// the overloads taking a convex_polyhedron.
 //
 // Cell i of a Laguerre tessellation with generators s_j and weights w_j (m^2) is
 //     C_i = { x in box : |x - s_i|^2 - w_i <= |x - s_j|^2 - w_j  for all j },
@@ -179,14 +181,17 @@ struct cell_workspace {
   std::vector<std::pair<real, index_t>> candidates;  // (squared distance, generator id)
 };
 
-/// Computes the Laguerre cell of generator i into ws.cell (weights empty = Voronoi).
+/// Computes the Laguerre cell of generator i into ws.cell (weights empty = Voronoi), starting from
+/// the box, or from `start` (a convex domain inside the box) when it is given.
 inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span<const real> weights, real w_max,
-                         const seed_grid& grid, index_t i, cell_workspace& ws) {
+                         const seed_grid& grid, index_t i, cell_workspace& ws,
+                         const convex_polyhedron* start = nullptr) {
   // Plane-side tolerance: plane_tolerance_rel of four mean cell sizes, fixed for the whole
   // tessellation (a cell is rarely larger than that; see predicates.hpp and cleanup.hpp).
   const real clip_tolerance = 4 * plane_tolerance_rel * std::cbrt(box.volume() / static_cast<real>(seeds.size()));
   convex_polyhedron& cell = ws.cell;
-  cell.assign_box(box.lo, box.hi);
+  if (start != nullptr) cell = *start;
+  else cell.assign_box(box.lo, box.hi);
   const vec3& s = seeds[static_cast<std::size_t>(i)];
   const real w_i = weights.empty() ? real(0) : weights[static_cast<std::size_t>(i)];
   const real w_excess = weights.empty() ? real(0) : w_max - w_i;  // >= 0
@@ -245,14 +250,15 @@ inline void compute_cell(const aabb& box, std::span<const vec3> seeds, std::span
 
 /// Computes every cell in parallel; rethrows the exception of the lowest failing cell.
 inline std::vector<convex_polyhedron> compute_cells(const aabb& box, std::span<const vec3> seeds,
-                                                    std::span<const real> weights, const seed_grid& grid) {
+                                                    std::span<const real> weights, const seed_grid& grid,
+                                                    const convex_polyhedron* start = nullptr) {
   const real w_max = weights.empty() ? real(0) : *std::max_element(weights.begin(), weights.end());
   std::vector<convex_polyhedron> cells(seeds.size());
   std::vector<std::exception_ptr> failure(seeds.size());
   parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
     thread_local cell_workspace ws;
     try {
-      compute_cell(box, seeds, weights, w_max, grid, static_cast<index_t>(c), ws);
+      compute_cell(box, seeds, weights, w_max, grid, static_cast<index_t>(c), ws, start);
       cells[static_cast<std::size_t>(c)] = ws.cell;
     } catch (...) {
       failure[static_cast<std::size_t>(c)] = std::current_exception();
@@ -289,28 +295,94 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
   }
 }
 
-}  // namespace detail
+/// First boundary tag of a non-box domain: face k of the domain tags its cells' faces
+/// boundary_tag(domain_side_base + k), i.e. boundary_side = 6 + k, past the six box sides.
+inline constexpr int domain_side_base = 6;
 
-/// n generators uniformly distributed in `box` from std::mt19937_64(rng_seed), reproducible bit
-/// for bit on every platform. With min_spacing > 0 (m), candidates closer than min_spacing to an
-/// accepted generator are rejected (random sequential addition); throws invalid_input when the
-/// box cannot take n generators at that spacing.
-[[nodiscard]] inline std::vector<vec3> random_seeds(const aabb& box, index_t n, std::uint64_t rng_seed,
-                                                    real min_spacing = 0) {
-  detail::require_valid_box(box, "random_seeds");
-  require(n > 0, "random_seeds: number of seeds N = ", n, " must be > 0");
-  require_non_negative(min_spacing, "random_seeds: min_spacing (m)");
+/// Checks a convex domain and returns a copy whose face k is tagged boundary_tag(6 + k).
+inline convex_polyhedron tagged_domain(const convex_polyhedron& domain, const char* who) {
+  require(!domain.empty() && domain.vertex_count() >= 4, who, ": the domain is empty (", domain.vertex_count(),
+          " vertices)");
+  for (index_t v = 0; v < domain.vertex_count(); ++v)
+    require(domain.vertex(v).allFinite(), who, ": domain vertex ", v, " is not finite");
+  const real volume = domain.volume();
+  require(std::isfinite(volume) && volume > 0, who, ": the domain has volume ", volume,
+          " m^3; it must be a closed convex polyhedron with outward face loops");
+  std::vector<index_t> tags(static_cast<std::size_t>(domain.face_count()));
+  for (index_t f = 0; f < domain.face_count(); ++f) tags[static_cast<std::size_t>(f)] = boundary_tag(domain_side_base + f);
+  return convex_polyhedron::from_faces(domain.vertices(), domain.face_offsets(), domain.face_vertices(), std::move(tags));
+}
+
+/// Voronoi tessellation of a convex polyhedral domain: as power_tessellation, every cell starting
+/// from the domain instead of its bounding box. The cleanup does not recompute ill-conditioned
+/// vertices (cleanup.hpp's recompute knows box sides only; it acts on generators within 1e-9 of
+/// the cell size of each other, which random seeds practically never are) and no regularization
+/// is applied (it keeps vertices on box sides only).
+inline tessellation domain_tessellation(const convex_polyhedron& domain_in, std::span<const vec3> seeds_in,
+                                        const tessellation_options& options, const char* who) {
+  const convex_polyhedron domain = tagged_domain(domain_in, who);
+  require(!seeds_in.empty(), who, ": no seeds (N = 0); at least one cell is required");
+  require(options.lloyd_iterations >= 0, who, ": lloyd_iterations = ", options.lloyd_iterations, " must be >= 0");
+  require(std::isfinite(options.cleanup_tolerance) && options.cleanup_tolerance > 0 && options.cleanup_tolerance < 1e-2,
+          who, ": cleanup_tolerance = ", options.cleanup_tolerance, " must be in (0, 1e-2)");
+  require(options.min_edge_rel == 0, who, ": min_edge_rel = ", options.min_edge_rel,
+          "; regularization (regularize.hpp) keeps vertices on the sides of a box only, so a tessellation of a ",
+          "convex_polyhedron domain takes 0");
+  const aabb box = domain.bounds();
+  const real on_tol = plane_tolerance_rel * domain.extent();
+  for (std::size_t s = 0; s < seeds_in.size(); ++s) {
+    const vec3& p = seeds_in[s];
+    require(p.allFinite() && domain.contains(p, on_tol), who, ": seed ", s, " at (", p.x(), ", ", p.y(), ", ", p.z(),
+            ") m lies outside the domain (a convex polyhedron of ", domain.face_count(), " faces)");
+  }
+  std::vector<vec3> seeds(seeds_in.begin(), seeds_in.end());
+  const real mean_size = std::cbrt(domain.volume() / static_cast<real>(seeds.size()));
+  for (int it = 0;; ++it) {
+    const seed_grid grid(box, seeds, 2.0);
+    validate_seeds(box, seeds, grid, who);
+    std::vector<convex_polyhedron> cells = compute_cells(box, seeds, {}, grid, &domain);
+    if (it == options.lloyd_iterations) {
+      // no seeds passed: see the comment above (the recompute would read boundary tags >= 6 as box sides)
+      tessellation t = assemble_tessellation(box, cells, {}, {}, options.cleanup_tolerance * mean_size);
+      require<geometry_error>(t.cell_count() == static_cast<index_t>(seeds.size()), who, ": ",
+                              static_cast<index_t>(seeds.size()) - t.cell_count(),
+                              " cells degenerated below the weld tolerance ", options.cleanup_tolerance * mean_size,
+                              " m; move their seeds away from the domain's boundary or change the rng seed");
+      t.seeds = std::move(seeds);
+      return t;
+    }
+    // Lloyd step: the centroid of a cell lies in the convex domain.
+    parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
+      const convex_polyhedron& p = cells[static_cast<std::size_t>(c)];
+      if (!p.empty()) seeds[static_cast<std::size_t>(c)] = p.centroid();
+    }, 64);
+  }
+}
+
+/// Uniform draws in `box` from std::mt19937_64(rng_seed), kept when `accept(p)` and, with
+/// min_spacing > 0 (m), farther than min_spacing from every kept point (random sequential
+/// addition). Throws invalid_input when n points are not placed in 1000 n + 100 000 draws.
+template <class Accept>
+[[nodiscard]] std::vector<vec3> random_points(const aabb& box, index_t n, std::uint64_t rng_seed, real min_spacing,
+                                              Accept&& accept, const char* who) {
   std::mt19937_64 rng(rng_seed);
   const vec3 size = box.size();
   auto draw = [&] {
     vec3 p;
-    for (int a = 0; a < 3; ++a) p[a] = std::min(box.lo[a] + detail::uniform01(rng) * size[a], box.hi[a]);
+    for (int a = 0; a < 3; ++a) p[a] = std::min(box.lo[a] + uniform01(rng) * size[a], box.hi[a]);
     return p;
   };
   std::vector<vec3> seeds;
   seeds.reserve(static_cast<std::size_t>(n));
+  const std::int64_t max_attempts = 1000 * static_cast<std::int64_t>(n) + 100000;
+  std::int64_t attempts = 0;
   if (min_spacing == 0) {
-    for (index_t i = 0; i < n; ++i) seeds.push_back(draw());
+    while (static_cast<index_t>(seeds.size()) < n) {
+      require(++attempts <= max_attempts, who, ": placed only ", seeds.size(), " of ", n, " seeds inside the domain after ",
+              max_attempts, " draws in its bounding box of (", size.x(), ", ", size.y(), ", ", size.z(), ") m");
+      const vec3 p = draw();
+      if (accept(p)) seeds.push_back(p);
+    }
     return seeds;
   }
   // Bins no smaller than min_spacing: a conflicting generator is in the 27 surrounding bins.
@@ -323,13 +395,12 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
     return std::clamp(static_cast<int>((p[a] - box.lo[a]) / size[a] * nb[static_cast<std::size_t>(a)]), 0,
                       nb[static_cast<std::size_t>(a)] - 1);
   };
-  const std::int64_t max_attempts = 1000 * static_cast<std::int64_t>(n) + 100000;
-  std::int64_t attempts = 0;
   while (static_cast<index_t>(seeds.size()) < n) {
-    require(++attempts <= max_attempts, "random_seeds: placed only ", seeds.size(), " of ", n,
+    require(++attempts <= max_attempts, who, ": placed only ", seeds.size(), " of ", n,
             " seeds with min_spacing = ", min_spacing, " m in a box of (", size.x(), ", ", size.y(), ", ", size.z(),
             ") m after ", max_attempts, " attempts; lower min_spacing or N");
     const vec3 p = draw();
+    if (!accept(p)) continue;
     const int ci = coord(p, 0), cj = coord(p, 1), ck = coord(p, 2);
     bool free = true;
     for (int k = std::max(0, ck - 1); free && k <= std::min(nb[2] - 1, ck + 1); ++k)
@@ -345,6 +416,35 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
     seeds.push_back(p);
   }
   return seeds;
+}
+
+}  // namespace detail
+
+/// n generators uniformly distributed in `box` from std::mt19937_64(rng_seed), reproducible bit
+/// for bit on every platform. With min_spacing > 0 (m), candidates closer than min_spacing to an
+/// accepted generator are rejected (random sequential addition); throws invalid_input when the
+/// box cannot take n generators at that spacing.
+[[nodiscard]] inline std::vector<vec3> random_seeds(const aabb& box, index_t n, std::uint64_t rng_seed,
+                                                    real min_spacing = 0) {
+  detail::require_valid_box(box, "random_seeds");
+  require(n > 0, "random_seeds: number of seeds N = ", n, " must be > 0");
+  require_non_negative(min_spacing, "random_seeds: min_spacing (m)");
+  return detail::random_points(box, n, rng_seed, min_spacing, [](const vec3&) { return true; }, "random_seeds");
+}
+
+/// n generators uniformly distributed inside the convex polyhedron `domain` (m): uniform draws
+/// in its bounding box from std::mt19937_64(rng_seed), those outside the domain or within
+/// plane_tolerance_rel of its extent from its boundary rejected, reproducible bit for bit on
+/// every platform. min_spacing (m) as for a box. Throws invalid_input for an empty or flat
+/// domain, n <= 0, a negative min_spacing, or when n generators cannot be placed.
+[[nodiscard]] inline std::vector<vec3> random_seeds(const convex_polyhedron& domain, index_t n, std::uint64_t rng_seed,
+                                                    real min_spacing = 0) {
+  const convex_polyhedron checked = detail::tagged_domain(domain, "random_seeds");
+  require(n > 0, "random_seeds: number of seeds N = ", n, " must be > 0");
+  require_non_negative(min_spacing, "random_seeds: min_spacing (m)");
+  const real margin = plane_tolerance_rel * checked.extent();
+  return detail::random_points(checked.bounds(), n, rng_seed, min_spacing,
+                               [&](const vec3& p) { return checked.contains(p, -margin); }, "random_seeds");
 }
 
 /// Voronoi tessellation of `box` by the generators `seeds` (m), after options.lloyd_iterations
@@ -379,6 +479,38 @@ inline tessellation power_tessellation(const aabb& box, std::span<const vec3> se
   std::vector<vec3> seeds = random_seeds(box, n, rng_seed, options.min_spacing);
   detail::sort_along_morton_curve(box, seeds);
   return detail::power_tessellation(box, seeds, {}, options, "random_voronoi");
+}
+
+/// Voronoi tessellation of the convex polyhedral domain `domain` (m; e.g. cylinder_prism for a
+/// disc, prism for a slab of any convex outline, convex_polyhedron::from_vertices) by the
+/// generators `seeds` (m), after options.lloyd_iterations Lloyd steps. Each cell is computed as
+/// for a box, starting from the domain instead of the box, and the cells are welded by the same
+/// cleanup (cleanup.hpp), so the result is conforming (check(): no unmatched faces, no open or
+/// non-convex cells) and can be zoned by zone_blocks. Differences from the box overload:
+///  - tessellation::domain is the domain's bounding box; the cell volumes sum to the
+///    polyhedron's volume(), not the box's, so check()'s volume_error_rel there is the box's
+///    excess over the domain, not an error;
+///  - a face on domain face k has face_neighbor = boundary_tag(6 + k) (boundary_side = 6 + k);
+///  - options.min_edge_rel must be 0 (regularization keeps vertices on box sides only).
+/// Throws invalid_input for an empty or flat domain, no seeds, a seed outside the domain,
+/// coincident seeds or min_edge_rel != 0; geometry_error when a cell degenerates below the weld
+/// tolerance.
+[[nodiscard]] inline tessellation voronoi(const convex_polyhedron& domain, std::span<const vec3> seeds,
+                                          const tessellation_options& options = {}) {
+  return detail::domain_tessellation(domain, seeds, options, "voronoi");
+}
+
+/// Voronoi tessellation of n random generators uniformly distributed inside the convex
+/// polyhedral domain `domain` (random_seeds(domain, n, rng_seed, options.min_spacing)), numbered
+/// along a Morton curve of its bounding box, then voronoi(domain, seeds, options). The cell
+/// volumes sum to domain.volume() up to rounding. The same (domain, n, rng_seed, options) always
+/// gives the same tessellation, bit for bit, for any thread count.
+[[nodiscard]] inline tessellation random_voronoi(const convex_polyhedron& domain, index_t n, std::uint64_t rng_seed,
+                                                 const tessellation_options& options = {}) {
+  require(n > 0, "random_voronoi: number of cells N = ", n, " must be > 0");
+  std::vector<vec3> seeds = random_seeds(domain, n, rng_seed, options.min_spacing);
+  detail::sort_along_morton_curve(domain.bounds(), seeds);
+  return detail::domain_tessellation(domain, seeds, options, "random_voronoi");
 }
 
 }  // namespace tessera::geometry
