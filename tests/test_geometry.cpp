@@ -8,13 +8,17 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
+#include <random>
 #include <set>
 #include <sstream>
 #include <vector>
 
 #include <tessera/geometry/convex_polyhedron.hpp>
+#include <tessera/geometry/shapes.hpp>
 #include <tessera/geometry/tessellation_queries.hpp>
 #include <tessera/geometry/voronoi.hpp>
+#include <tessera/geometry/zoning.hpp>
 #include <tessera/io/neper.hpp>
 
 using namespace tessera::geometry;
@@ -989,4 +993,268 @@ TEST_CASE("csr: rows in entry order, empty rows, offsets count the entries", "[c
   tessera::csr_fill(offsets, entries);
   CHECK(offsets == std::vector<index_t>{0, 2, 2, 5, 6});
   CHECK(items == std::vector<index_t>{1, 4, 0, 2, 5, 3});
+}
+
+// ---- the user layer's geometry: blocks from vertices, shapes, tessellated non-box domains -----
+
+namespace {
+
+// Volume (m^3) of a closed polyhedron as the sum of the tetrahedra from the mean of its vertices
+// to the fan triangles of each face, with its own triple products (not mass_properties.hpp).
+real volume_from_mean(const convex_polyhedron& p) {
+  vec3 mean = vec3::Zero();
+  for (const vec3& v : p.vertices()) mean += v;
+  mean /= static_cast<real>(p.vertex_count());
+  real six_v = 0;
+  for (tessera::index_t f = 0; f < p.face_count(); ++f) {
+    const auto loop = p.face(f);
+    for (std::size_t k = 1; k + 1 < loop.size(); ++k)
+      six_v += (p.vertex(loop[0]) - mean).dot((p.vertex(loop[k]) - mean).cross(p.vertex(loop[k + 1]) - mean));
+  }
+  return six_v / 6;
+}
+
+// Every face planar and convex, every vertex on or inside every face plane, V - E + F = 2.
+void require_convex_closed(const convex_polyhedron& p, real tol) {
+  CHECK(p.euler_characteristic() == 2);
+  for (tessera::index_t f = 0; f < p.face_count(); ++f) {
+    const plane h = p.face_plane(f);
+    for (tessera::index_t v : p.face(f)) CHECK(std::abs(h.signed_distance(p.vertex(v))) < tol);
+    for (tessera::index_t v = 0; v < p.vertex_count(); ++v) CHECK(h.signed_distance(p.vertex(v)) < tol);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("from_vertices: a box's corners with interior, edge and face points give the box", "[user_geometry]") {
+  const vec3 lo(1, 2, 3), hi(3, 3, 6);
+  const convex_polyhedron box = convex_polyhedron::box(lo, hi);
+  std::vector<vec3> points{vec3(2, 2.5, 4.5), vec3(1.5, 2.2, 3.3)};  // interior, first
+  for (const vec3& v : box.vertices()) points.push_back(v);
+  points.push_back(vec3(2, 2, 3));      // middle of an edge
+  points.push_back(vec3(2, 2.5, 6));    // middle of a face
+  points.push_back(vec3(1.2, 2.7, 6));  // on a face
+  const convex_polyhedron hull = convex_polyhedron::from_vertices(points);
+  CHECK(hull.vertex_count() == 8);
+  CHECK(hull.face_count() == 6);
+  CHECK(hull.volume() == Approx(6).epsilon(1e-14));                     // 2 x 1 x 3 m^3
+  CHECK((hull.centroid() - vec3(2, 2.5, 4.5)).norm() < 1e-14);
+  CHECK((hull.inertia(1) - box.inertia(1)).norm() < 1e-13);
+  // outward loops as in box(): each face normal is one of the box's, and each appears once
+  std::set<int> sides;
+  for (tessera::index_t f = 0; f < hull.face_count(); ++f) {
+    CHECK(hull.face(f).size() == 4);
+    for (tessera::index_t g = 0; g < box.face_count(); ++g)
+      if ((hull.face_normal(f) - box.face_normal(g)).norm() < 1e-14) sides.insert(static_cast<int>(g));
+  }
+  CHECK(sides.size() == 6);
+  CHECK(convex_hull(points).volume() == hull.volume());
+}
+
+TEST_CASE("from_vertices: random clouds, sphere points, an octahedron and a grid", "[user_geometry]") {
+  std::mt19937_64 rng(42);
+  auto uniform = [&] { return 2 * tessera::geometry::detail::uniform01(rng) - 1; };
+  SECTION("a cloud: every point inside or on the hull, volume from the vertex mean") {
+    std::vector<vec3> cloud;
+    for (int k = 0; k < 300; ++k) cloud.emplace_back(uniform(), 0.5 * uniform(), 2 * uniform());
+    const convex_polyhedron hull = convex_hull(cloud);
+    require_convex_closed(hull, 1e-12);
+    for (const vec3& p : cloud) CHECK(hull.contains(p, 1e-12));
+    CHECK(hull.volume() == Approx(volume_from_mean(hull)).epsilon(1e-13));
+    CHECK(hull.volume() < 8.0);   // inside its box of 2 x 1 x 4 m
+    CHECK(hull.volume() > 6.0);   // 300 uniform points fill most of it (7.2 for this seed)
+    for (const vec3& v : hull.vertices()) CHECK(std::find(cloud.begin(), cloud.end(), v) != cloud.end());
+  }
+  SECTION("points on a sphere are all extreme: every point a vertex, every face a triangle") {
+    std::vector<vec3> sphere;
+    for (int k = 0; k < 200; ++k) sphere.push_back(vec3(uniform(), uniform(), uniform()).normalized());
+    const convex_polyhedron hull = convex_hull(sphere);
+    require_convex_closed(hull, 1e-12);
+    CHECK(hull.vertex_count() == 200);
+    CHECK(hull.face_count() == 2 * 200 - 4);  // a triangulated sphere: F = 2V - 4
+    CHECK(hull.volume() == Approx(volume_from_mean(hull)).epsilon(1e-13));
+    CHECK(hull.volume() < 4.0 / 3.0 * std::numbers::pi);
+    CHECK(hull.volume() > 0.9 * 4.0 / 3.0 * std::numbers::pi);
+  }
+  SECTION("a regular octahedron has 8 triangular faces and volume 4/3 a^3") {
+    const real a = 0.7;
+    const std::vector<vec3> octahedron{{a, 0, 0}, {-a, 0, 0}, {0, a, 0}, {0, -a, 0}, {0, 0, a}, {0, 0, -a}, {0, 0, 0}};
+    const convex_polyhedron hull = convex_hull(octahedron);
+    CHECK(hull.vertex_count() == 6);
+    CHECK(hull.face_count() == 8);
+    for (tessera::index_t f = 0; f < hull.face_count(); ++f) {
+      CHECK(hull.face(f).size() == 3);
+      CHECK(hull.face_normal(f).cwiseAbs().isApprox(vec3::Constant(1 / std::sqrt(3.0)), 1e-14));
+    }
+    CHECK(hull.volume() == Approx(4.0 / 3.0 * a * a * a).epsilon(1e-14));
+  }
+  SECTION("a 4 x 4 x 4 grid of points: coplanar triangles merge, collinear points drop") {
+    std::vector<vec3> grid;
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        for (int k = 0; k < 4; ++k) grid.emplace_back(0.1 * i, 0.2 * j, 0.3 * k);
+    const convex_polyhedron hull = convex_hull(grid);
+    CHECK(hull.vertex_count() == 8);
+    CHECK(hull.face_count() == 6);
+    CHECK(hull.volume() == Approx(0.3 * 0.6 * 0.9).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("from_vertices refuses bad point sets naming the points", "[user_geometry]") {
+  const real inf = std::numeric_limits<real>::infinity();
+  const std::vector<vec3> three{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  CHECK_THROWS_AS(convex_polyhedron::from_vertices(three), tessera::invalid_input);
+  CHECK_THROWS_WITH(convex_polyhedron::from_vertices(three), Contains("3 points given"));
+  const std::vector<vec3> infinite{{0, 0, 0}, {1, 0, 0}, {0, inf, 0}, {0, 0, 1}};
+  CHECK_THROWS_WITH(convex_polyhedron::from_vertices(infinite), Contains("point 2 = (0, inf, 0) m is not finite"));
+  const std::vector<vec3> twice{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 0}};
+  CHECK_THROWS_WITH(convex_polyhedron::from_vertices(twice), Contains("points 1 and 4 coincide at (1, 0, 0)"));
+  const std::vector<vec3> flat{{0, 0, 0.5}, {1, 0, 0.5}, {0, 1, 0.5}, {1, 1, 0.5}, {0.3, 0.2, 0.5}};
+  CHECK_THROWS_WITH(convex_polyhedron::from_vertices(flat), Contains("all 5 points lie within 0 m of one plane, through points"));
+  const std::vector<vec3> line{{0, 0, 0}, {1, 1, 1}, {0.5, 0.5, 0.5}, {2, 2, 2}};
+  CHECK_THROWS_WITH(convex_hull(line), Contains("all 4 points lie within") && Contains("of the line through points 0 and 3"));
+}
+
+TEST_CASE("shapes: prism, cylinder_prism, voussoir and wedges against closed forms", "[user_geometry]") {
+  SECTION("a hexagonal prism, right and oblique, either polygon orientation: area x height") {
+    const real r = 0.3, h = 0.7;
+    std::vector<vec3> hexagon;
+    for (int k = 0; k < 6; ++k) hexagon.emplace_back(r * std::cos(k * std::numbers::pi / 3), r * std::sin(k * std::numbers::pi / 3), 0.1);
+    const real area = 3 * std::sqrt(3.0) / 2 * r * r;
+    const convex_polyhedron right = prism(hexagon, vec3(0, 0, h));
+    require_convex_closed(right, 1e-14);
+    CHECK(right.face_count() == 8);
+    CHECK(right.volume() == Approx(area * h).epsilon(1e-14));
+    CHECK((right.centroid() - vec3(0, 0, 0.1 + h / 2)).norm() < 1e-15);
+    CHECK(right.face_normal(6).isApprox(vec3(0, 0, -1), 1e-14));  // the base
+    CHECK(right.face_normal(7).isApprox(vec3(0, 0, 1), 1e-14));   // the top
+    std::vector<vec3> clockwise(hexagon.rbegin(), hexagon.rend());
+    const convex_polyhedron oblique = prism(clockwise, vec3(0.2, -0.1, h));
+    require_convex_closed(oblique, 1e-14);
+    CHECK(oblique.volume() == Approx(area * h).epsilon(1e-14));
+    const convex_polyhedron down = prism(hexagon, vec3(0, 0, -h));
+    CHECK(down.volume() == Approx(area * h).epsilon(1e-14));
+  }
+  SECTION("cylinder_prism: n/2 r^2 sin(2 pi/n) L, vertices on the circle") {
+    const real r = 0.05, length = 0.02;
+    for (const tessera::index_t n : {3, 24, 96}) {
+      const convex_polyhedron c = cylinder_prism(vec3(1, 2, 3), vec3(0, 2, 0), r, length, n, std::numbers::pi / n);
+      require_convex_closed(c, 1e-14);
+      CHECK(c.face_count() == n + 2);
+      CHECK(c.volume() == Approx(n / 2.0 * r * r * std::sin(2 * std::numbers::pi / n) * length).epsilon(1e-13));
+      CHECK((c.centroid() - vec3(1, 2, 3)).norm() < 1e-15);
+      for (const vec3& v : c.vertices()) {
+        CHECK(std::hypot(v.x() - 1, v.z() - 3) == Approx(r).epsilon(1e-14));
+        CHECK(std::abs(std::abs(v.y() - 2) - length / 2) < 1e-15);
+      }
+    }
+    // phase pi/n puts a face across e1 = +x: the largest x is the apothem r cos(pi/n)
+    const convex_polyhedron c = cylinder_prism(vec3(0, 0, 0), vec3(0, 1, 0), r, length, 24, std::numbers::pi / 24);
+    CHECK(c.bounds().hi.x() == Approx(r * std::cos(std::numbers::pi / 24)).epsilon(1e-14));
+  }
+  SECTION("voussoir: the ring sector less its two chord segments") {
+    const real r_in = 1.0, r_out = 1.3, t0 = 0.3, t1 = 0.5, depth = 0.4, dt = t1 - t0;
+    const real sector = dt / 2 * (r_out * r_out - r_in * r_in) * depth;
+    const real segments = (r_out * r_out - r_in * r_in) / 2 * (dt - std::sin(dt)) * depth;
+    const convex_polyhedron v = voussoir(vec3(0.5, 0, 2), r_in, r_out, t0, t1, depth);
+    require_convex_closed(v, 1e-14);
+    CHECK(v.vertex_count() == 8);
+    CHECK(v.volume() == Approx(sector - segments).epsilon(1e-14));  // 0.027416 m^3
+    CHECK(v.bounds().lo.y() == Approx(-0.2).epsilon(1e-15));
+    CHECK(v.bounds().hi.y() == Approx(0.2).epsilon(1e-15));
+    CHECK(v.vertex(3).isApprox(vec3(0.5 + 1.3 * std::cos(0.3), -0.2, 2 + 1.3 * std::sin(0.3)), 1e-15));  // outer, theta_0
+    CHECK(v.face_normal(1).isApprox(vec3(-std::sin(0.5), 0, std::cos(0.5)), 1e-14));  // the joint at theta_1
+    const convex_polyhedron wedge = voussoir(vec3(0, 0, 0), 0, 2, -0.25, 0.25, 1);  // r_in = 0: a triangle prism
+    CHECK(wedge.vertex_count() == 6);
+    CHECK(wedge.volume() == Approx(2.0 * std::sin(0.5)).epsilon(1e-14));
+  }
+  SECTION("wedge_between_planes and cut_by_planes") {
+    const convex_polyhedron cube = convex_polyhedron::box(vec3(0, 0, 0), vec3(1, 1, 1));
+    // x <= 0.75 and y <= x: a right triangle of legs 0.75 over the unit height
+    const convex_polyhedron w =
+        wedge_between_planes(cube, plane{vec3(1, 0, 0), 0.75}, plane{vec3(-1, 1, 0).normalized(), 0});
+    require_convex_closed(w, 1e-14);
+    CHECK(w.volume() == Approx(0.75 * 0.75 / 2).epsilon(1e-14));
+    const std::vector<plane> corner{{vec3(1, 1, 1).normalized(), 1 / std::sqrt(3.0)}};  // x + y + z <= 1
+    CHECK(cut_by_planes(cube, corner).volume() == Approx(1.0 / 6).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("shapes refuse degenerate input naming the value", "[user_geometry]") {
+  const std::vector<vec3> reflex{{0, 0, 0}, {1, 0, 0}, {0.3, 0.3, 0}, {0, 1, 0}};
+  CHECK_THROWS_AS(prism(reflex, vec3(0, 0, 1)), tessera::invalid_input);
+  CHECK_THROWS_WITH(prism(reflex, vec3(0, 0, 1)), Contains("polygon vertex 2 is reflex") &&
+                                                       Contains("strictly convex"));
+  const std::vector<vec3> straight{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 1, 0}};
+  CHECK_THROWS_WITH(prism(straight, vec3(0, 0, 1)), Contains("polygon vertex 1 lies on the line of its neighbours 0 and 2"));
+  const std::vector<vec3> warped{{0, 0, 0}, {1, 0, 0}, {1, 1, 0.1}, {0, 1, 0}};
+  CHECK_THROWS_WITH(prism(warped, vec3(0, 0, 1)), Contains("off the polygon's plane"));
+  const std::vector<vec3> square{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  CHECK_THROWS_WITH(prism(square, vec3(1, 2, 0)), Contains("extrusion (1, 2, 0) m has 0 m along the polygon's normal"));
+  CHECK_THROWS_WITH(cylinder_prism(vec3(0, 0, 0), vec3(0, 0, 1), 0.1, 0.2, 2), Contains("sides = 2 must be >= 3"));
+  CHECK_THROWS_WITH(cylinder_prism(vec3(0, 0, 0), vec3(0, 0, 1), -0.1, 0.2, 8), Contains("radius (m) = -0.1"));
+  CHECK_THROWS_WITH(cylinder_prism(vec3(0, 0, 0), vec3(0, 0, 0), 0.1, 0.2, 8), Contains("axis (0, 0, 0)"));
+  CHECK_THROWS_WITH(voussoir(vec3(0, 0, 0), 1.3, 1.2, 0, 0.2, 1), Contains("r_in = 1.3 m must be < outer radius r_out = 1.2 m"));
+  CHECK_THROWS_WITH(voussoir(vec3(0, 0, 0), 1, 1.2, 0.4, 0.2, 1), Contains("theta_0 = 0.4 rad and theta_1 = 0.2 rad"));
+  CHECK_THROWS_WITH(voussoir(vec3(0, 0, 0), 1, 1.2, 0, 3.5, 1), Contains("spans theta_1 - theta_0 = 3.5 rad"));
+  CHECK_THROWS_WITH(voussoir(vec3(0, 0, 0), 1, 1.2, 0, 0.2, 0), Contains("depth (m) = 0"));
+  const convex_polyhedron cube = convex_polyhedron::box(vec3(0, 0, 0), vec3(1, 1, 1));
+  CHECK_THROWS_AS(wedge_between_planes(cube, plane{vec3(1, 0, 0), 0.5}, plane{vec3(-1, 0, 0), -0.7}), tessera::geometry_error);
+  CHECK_THROWS_WITH(wedge_between_planes(cube, plane{vec3(1, 0, 0), 0.5}, plane{vec3(-1, 0, 0), -0.7}),
+                    Contains("nothing of the block is left inside plane 1"));
+  CHECK_THROWS_WITH(wedge_between_planes(cube, plane{vec3(2, 0, 0), 0.5}, plane{vec3(-1, 0, 0), 0}),
+                    Contains("plane 0 has normal (2, 0, 0)"));
+}
+
+TEST_CASE("random_voronoi of a 24-sided cylinder: conforming cells filling the disc", "[user_geometry]") {
+  // a Brazilian disc: D = 0.1 m, t = 0.04 m, axis along y
+  const convex_polyhedron disc = cylinder_prism(vec3(0, 0, 0), vec3(0, 1, 0), 0.05, 0.04, 24);
+  const tessellation t = random_voronoi(disc, 120, 3);
+  REQUIRE(t.cell_count() == 120);
+  real total = 0;
+  for (tessera::index_t c = 0; c < t.cell_count(); ++c) {
+    CHECK(cell_volume(t, c) > 0);
+    total += cell_volume(t, c);
+  }
+  CHECK(std::abs(total - disc.volume()) <= 1e-9 * disc.volume());  // 3.5e-16 measured
+  const tessellation_report r = check(t);
+  CHECK(r.unmatched_faces == 0);
+  CHECK(r.open_cells == 0);
+  CHECK(r.nonconvex_cells == 0);
+  CHECK(r.min_face_area > 0);
+  for (const vec3& v : t.vertices) CHECK(disc.contains(v, 1e-12 * disc.extent()));
+  for (std::size_t s = 0; s < t.seeds.size(); ++s) CHECK(disc.contains(t.seeds[s]));
+  // boundary faces lie on the domain face their tag names (boundary_side 6 + k)
+  for (tessera::index_t f = 0; f < t.face_count(); ++f) {
+    if (!t.is_boundary_face(f)) continue;
+    const int k = boundary_side(t.face_neighbor[static_cast<std::size_t>(f)]) - 6;
+    REQUIRE(k >= 0);
+    REQUIRE(k < disc.face_count());
+    const plane h = disc.face_plane(k);
+    for (tessera::index_t v : t.face(f)) CHECK(std::abs(h.signed_distance(t.vertices[static_cast<std::size_t>(v)])) < 1e-15);
+  }
+  const auto mesh = zone_blocks(t);
+  CHECK(static_cast<tessera::index_t>(mesh.block_zone_offsets.size()) == t.cell_count() + 1);
+  real zoned = 0;
+  for (const auto& z : mesh.zones) {
+    const vec3& a = mesh.gridpoints[static_cast<std::size_t>(z[0])];
+    zoned += std::abs((mesh.gridpoints[static_cast<std::size_t>(z[1])] - a)
+                          .dot((mesh.gridpoints[static_cast<std::size_t>(z[2])] - a).cross(mesh.gridpoints[static_cast<std::size_t>(z[3])] - a))) / 6;
+  }
+  CHECK(zoned == Approx(disc.volume()).epsilon(1e-12));
+  // same seed, same tessellation; Lloyd steps keep the seeds inside and the volume
+  const tessellation again = random_voronoi(disc, 120, 3);
+  CHECK(again.vertices == t.vertices);
+  tessellation_options lloyd;
+  lloyd.lloyd_iterations = 2;
+  const tessellation relaxed = random_voronoi(disc, 60, 5, lloyd);
+  real relaxed_total = 0;
+  for (tessera::index_t c = 0; c < relaxed.cell_count(); ++c) relaxed_total += cell_volume(relaxed, c);
+  CHECK(std::abs(relaxed_total - disc.volume()) <= 1e-9 * disc.volume());
+  // refusals
+  const std::vector<vec3> outside{{0, 0, 0}, {0.049, 0, 0.049}};
+  CHECK_THROWS_WITH(voronoi(disc, outside), Contains("seed 1 at (0.049, 0, 0.049) m lies outside the domain"));
+  tessellation_options regularized;
+  regularized.min_edge_rel = 0.05;
+  CHECK_THROWS_WITH(random_voronoi(disc, 10, 1, regularized), Contains("min_edge_rel = 0.05"));
 }

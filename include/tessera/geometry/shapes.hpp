@@ -74,14 +74,27 @@ inline constexpr real shape_tolerance_rel = 1e-9;
     require(std::abs(d) <= tol, "prism: polygon vertex ", k, " lies ", d, " m off the polygon's plane (tolerance ", tol,
             " m); the polygon must be planar");
   }
-  // Strictly convex: every other vertex strictly left of every edge (seen along n). This also
-  // refuses repeated vertices, vertices on an edge's line and a polygon winding more than once.
+  // Strictly convex: a left turn at every vertex (seen along n), then every other vertex strictly
+  // left of every edge, which also refuses a polygon winding more than once.
   for (std::size_t i = 0; i < m; ++i) {
     const vec3& a = polygon[i];
     const vec3& b = polygon[(i + 1) % m];
     const real length = (b - a).norm();
     require(length > tol, "prism: polygon vertices ", i, " and ", (i + 1) % m, " coincide (edge length ", length, " m)");
-    const vec3 inward = n.cross(b - a) / length;  // unit, in the plane, to the left of a -> b
+  }
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::size_t prev = (k + m - 1) % m, next = (k + 1) % m;
+    const vec3 inward = n.cross(polygon[k] - polygon[prev]).normalized();
+    const real turn = inward.dot(polygon[next] - polygon[k]);  // > 0: a left turn at vertex k (m)
+    require(turn >= -tol, "prism: polygon vertex ", k, " is reflex (vertex ", next, " lies ", -turn,
+            " m outside the line of edge ", prev, " -> ", k, "); the polygon must be strictly convex");
+    require(turn > tol, "prism: polygon vertex ", k, " lies on the line of its neighbours ", prev, " and ", next,
+            " (within ", std::abs(turn), " m); remove it");
+  }
+  for (std::size_t i = 0; i < m; ++i) {
+    const vec3& a = polygon[i];
+    const vec3& b = polygon[(i + 1) % m];
+    const vec3 inward = n.cross(b - a).normalized();  // unit, in the plane, to the left of a -> b
     for (std::size_t k = 0; k < m; ++k) {
       if (k == i || k == (i + 1) % m) continue;
       const real d = inward.dot(polygon[k] - a);
@@ -159,9 +172,10 @@ namespace detail {
 /// (flat faces), depth (m) out of the arch's plane. The arch lies in the x-z plane about `center`
 /// (m): angle theta measured from +x toward +z (theta = pi/2 is the crown), the block spanning
 /// center.y - depth/2 .. center.y + depth/2. Other planes: convex_polyhedron::transformed.
-/// Vertices: inner at theta_0, outer at theta_0, outer at theta_1, inner at theta_1 (base, at
-/// -depth/2), then the same at +depth/2; r_in = 0 gives a wedge (3 base vertices, the first at
-/// the centre). Volume = (r_out^2 - r_in^2) / 2 sin(theta_1 - theta_0) depth. Throws
+/// Vertices: inner at theta_0, inner at theta_1, outer at theta_1, outer at theta_0 (at
+/// -depth/2), then the same at +depth/2; r_in = 0 gives a wedge (3 vertices a side, the first
+/// at the centre). Faces as prism(): face 0 the inner chord, 1 the joint at theta_1, 2 the outer
+/// chord, 3 the joint at theta_0, then the two planes of the arch. Volume = (r_out^2 - r_in^2) / 2 sin(theta_1 - theta_0) depth. Throws
 /// invalid_input for r_in < 0, r_in >= r_out, theta_1 <= theta_0, theta_1 - theta_0 >= pi,
 /// depth <= 0 or a non-finite value.
 [[nodiscard]] inline convex_polyhedron voussoir(const vec3& center, real r_in, real r_out, real theta_0, real theta_1,
@@ -178,12 +192,12 @@ namespace detail {
   auto at = [&](real r, real theta) {
     return vec3(center.x() + r * std::cos(theta), center.y() - real(0.5) * depth, center.z() + r * std::sin(theta));
   };
+  // this order turns counter-clockwise about +y, so prism() keeps it
   std::vector<vec3> polygon;
-  if (r_in > 0) polygon.push_back(at(r_in, theta_0));
-  else polygon.push_back(at(0, 0));
-  polygon.push_back(at(r_out, theta_0));
-  polygon.push_back(at(r_out, theta_1));
+  polygon.push_back(at(r_in, theta_0));
   if (r_in > 0) polygon.push_back(at(r_in, theta_1));
+  polygon.push_back(at(r_out, theta_1));
+  polygon.push_back(at(r_out, theta_0));
   return prism(polygon, vec3(0, depth, 0));
 }
 
