@@ -7,3 +7,4 @@
 #include "law/shear.hpp"
 #include "law/cohesive_frictional.hpp"
 #include "law/with_elastic_packs.hpp"
+#include "law/joints.hpp"
