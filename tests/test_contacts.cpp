@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <new>
 #include <numbers>
 #include <numeric>
@@ -26,6 +27,7 @@
 #include <tessera/contact/face_contacts.hpp>
 #include <tessera/io/vtk_contacts.hpp>
 #include <tessera/presets.hpp>
+#include <tessera/tessera.hpp>
 #include <tessera/geometry/voronoi.hpp>
 #include <tessera/geometry/zoning.hpp>
 #include <vector>
@@ -1597,3 +1599,170 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
 }
 
 }  // namespace tessera::test_detection
+
+// ---- named joints and the refusals of detected contacts (issue #40 items 3 and 5) ----
+
+namespace tessera::test_joints {
+namespace {
+
+using Catch::Matchers::Contains;
+using geometry::convex_polyhedron;
+using joint_contacts = contact::detected_contacts<law::dry_joint_law>;
+
+/// The joint as examples/verification fills it by hand (cases.hpp joint()).
+law::dry_joint_law::params hand_filled(real k_n, real k_s, real phi_deg) {
+  law::dry_joint_law::params p;
+  p.k_n = k_n;
+  p.k_s = k_s;
+  p.shear.phi_0 = law::friction_angle::from_degrees(phi_deg);
+  p.shear.phi_res = p.shear.phi_0;
+  return p;
+}
+
+/// A b = 0.5 m cube whose bottom lies `overlap` (m) below the top z = 0 of a 4 x 2 x 0.5 m base.
+geometry::tessellation cube_on_base(real overlap) {
+  const real b = 0.5;
+  return geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-b / 2, -b / 2, -overlap}, {b / 2, b / 2, b - overlap})});
+}
+
+/// The depth (m) that an overlap refusal names: the number after "overlap by ".
+real named_depth(const std::string& message) {
+  const auto at = message.find("overlap by ");
+  REQUIRE(at != std::string::npos);
+  return std::stod(message.substr(at + 11));
+}
+
+}  // namespace
+
+TEST_CASE("joints: law::dry_joint fills the hand-filled dry joint, refuses bad values", "[joints]") {
+  const auto p = law::dry_joint(1e9, 4e8, law::friction_angle::from_degrees(30));
+  const auto q = hand_filled(1e9, 4e8, 30);
+  CHECK(p.k_n == q.k_n);
+  CHECK(p.k_s == q.k_s);
+  CHECK(p.shear.c_0 == 0);
+  CHECK(p.shear.c_res == 0);
+  CHECK(p.shear.phi_0.radians() == q.shear.phi_0.radians());
+  CHECK(p.shear.phi_res.radians() == q.shear.phi_res.radians());
+  CHECK(p.shear.phi_res.tan() == Approx(std::tan(std::numbers::pi / 6)).epsilon(1e-15));
+  CHECK(p.shear.slip_breaks_tension == q.shear.slip_breaks_tension);
+  const auto deg = [](real d) { return law::friction_angle::from_degrees(d); };
+  CHECK_THROWS_WITH(law::dry_joint(0, 1e9, deg(30)), Contains("law::dry_joint: normal stiffness k_n = 0 Pa/m"));
+  CHECK_THROWS_WITH(law::dry_joint(1e9, -1, deg(30)), Contains("shear stiffness k_s = -1 Pa/m"));
+  CHECK_THROWS_WITH(law::dry_joint(1e9, 1e9, deg(90)), Contains("friction angle = 90 deg must be in [0, 90) deg"));
+  CHECK_THROWS_WITH(law::dry_joint(1e9, 1e9, deg(-5)), Contains("friction angle = -5 deg"));
+  CHECK_NOTHROW(law::dry_joint(1e9, 1e9, deg(0)));  // frictionless, when meant
+}
+
+TEST_CASE("joints: law::bonded_joint names every field, refuses one not given", "[joints]") {
+  const auto deg = [](real d) { return law::friction_angle::from_degrees(d); };
+  law::bonded_joint_values v{.k_n = 2e10,
+                             .k_s = 8e9,
+                             .tensile_strength = 1.5e5,
+                             .fracture_energy = 12,
+                             .cohesion = 3e5,
+                             .friction = deg(35),
+                             .residual_cohesion = 3e3,
+                             .residual_friction = deg(30)};
+  const law::bonded_joint_law::params p = law::bonded_joint(v);
+  CHECK(p.k_n == 2e10);
+  CHECK(p.k_s == 8e9);
+  CHECK(p.tension.f_T == 1.5e5);
+  CHECK(p.tension.G_f == 12);
+  CHECK(p.shear.c_0 == 3e5);
+  CHECK(p.shear.phi_0.degrees() == Approx(35).epsilon(1e-14));
+  CHECK(p.shear.c_res == 3e3);
+  CHECK(p.shear.phi_res.degrees() == Approx(30).epsilon(1e-14));
+  // The law it feeds: the intact limit under 1 MPa of compression is c_0 + 1e6 tan 35.
+  CHECK(law::bonded_joint_law::shear_strength(p, {.sigma_n = -1e6}) ==
+        Approx(3e5 + 1e6 * std::tan(35 * std::numbers::pi / 180)).epsilon(1e-12));
+  auto missing = v;
+  missing.residual_friction.reset();
+  CHECK_THROWS_WITH(law::bonded_joint(missing), Contains("residual_friction (phi_res) was not given"));
+  missing = v;
+  missing.residual_cohesion = std::numeric_limits<real>::quiet_NaN();
+  CHECK_THROWS_WITH(law::bonded_joint(missing), Contains("residual_cohesion c_res (Pa) was not given"));
+  auto bad = v;
+  bad.residual_cohesion = 4e5;
+  CHECK_THROWS_WITH(law::bonded_joint(bad), Contains("residual_cohesion c_res = 400000 Pa must be in [0, cohesion c_0 = 300000 Pa]"));
+  bad = v;
+  bad.fracture_energy = 1e-3;  // below f_T^2/(2 k_n) = 0.5625 N/m
+  CHECK_THROWS_WITH(law::bonded_joint(bad), Contains("G_f must exceed f_T^2/(2 k_n) = 0.5625 N/m"));
+  bad = v;
+  bad.tensile_strength = 0;
+  CHECK_THROWS_WITH(law::bonded_joint(bad), Contains("tensile_strength f_T = 0 Pa must be finite and > 0"));
+}
+
+TEST_CASE("joints: a cube on a 20 deg incline with a 30 deg dry joint sticks; phi_res left 0 is refused", "[joints]") {
+  // The level base and tilted gravity g (sin 20, 0, -cos 20), as examples/verification's incline.
+  // Undamped, 0.2 s: a joint that sticks moves the cube only by its elastic shear W sin 20/(k_s A)
+  // = 4 um (k_s = 1e9 Pa/m, A = 0.25 m^2), up to twice that as the undamped spring swings
+  // (measured 9.7 um down the slope); frictionless joints (the trap, phi_res = 0) would slide it
+  // g sin 20 t^2 / 2 = 67 mm.
+  const real theta = 20 * std::numbers::pi / 180, g = 9.81, b = 0.5, k = 1e9;
+  const real overlap = 2400 * b * b * b * g * std::cos(theta) / (k * b * b);  // static, W cos / (k_n A)
+  const geometry::tessellation tess = cube_on_base(overlap);
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  using rigid_solver = solver<blocks::rigid, joint_contacts>;
+  rigid_solver s(tess, mesh, blocks::rigid::params{2400},
+                 joint_contacts::params(law::dry_joint(k, k, law::friction_angle::from_degrees(30)), 1e-3));
+  s.fix(s.gridpoints_on_plane(2, -0.5, 1e-9));
+  s.set_gravity(vec3(g * std::sin(theta), 0, -g * std::cos(theta)));
+  const auto steps = static_cast<std::int64_t>(std::ceil(0.2 / s.dt()));
+  s.run(steps);
+  const vec3 u = s.blocks().displacement(1);
+  INFO(steps << " steps, cube displacement " << u.transpose() << " m");
+  CHECK(s.time() >= 0.2);
+  CHECK(std::abs(u.x()) < 2e-5);  // 5 x the elastic shear; sliding would be 3 000 x more
+  CHECK(std::abs(u.z()) < 2e-5);
+  // The same joint with only phi_0 written: refused before anything runs, naming phi_res.
+  auto trap = hand_filled(k, k, 30);
+  trap.shear.phi_res = law::friction_angle{};
+  CHECK_THROWS_WITH((rigid_solver(tess, mesh, blocks::rigid::params{2400}, joint_contacts::params(trap, 1e-3))),
+                    Contains("material pair (0, 0) has residual friction phi_res = 0 deg while phi_0 = 30 deg") &&
+                        Contains("law::dry_joint"));
+  // Frictionless joints written as such are accepted.
+  CHECK_NOTHROW(joint_contacts(tess, mesh, joint_contacts::params(hand_filled(k, k, 0), 1e-3)));
+  // A cohesion c_0 that unbonded contacts would never use is refused; bonded faces use it.
+  auto cohesive = hand_filled(k, k, 30);
+  cohesive.shear.c_0 = 1e4;
+  CHECK_THROWS_WITH(joint_contacts(tess, mesh, joint_contacts::params(cohesive, 1e-3)),
+                    Contains("residual cohesion c_res = 0 Pa while c_0 = 10000 Pa") && Contains("bond_faces is false"));
+  CHECK_NOTHROW(joint_contacts(tess, mesh, joint_contacts::params(cohesive, 1e-3, 1000, /*bond_faces=*/true)));
+}
+
+TEST_CASE("joints: an initial overlap deeper than the tolerance is refused naming the blocks and the depth", "[joints]") {
+  const real tol = 1e-3;
+  const auto joint = law::dry_joint(1e9, 1e9, law::friction_angle::from_degrees(30));
+  for (const bool deformable : {false, true}) {
+    INFO("deformable_blocks = " << deformable);
+    // 10 x the tolerance: refused, the depth read from the common plane (exact for convex blocks).
+    const geometry::tessellation deep = cube_on_base(10 * tol);
+    const geometry::block_mesh deep_mesh = geometry::zone_blocks(deep);
+    joint_contacts::params p(joint, tol, 1000, false, deformable);
+    std::string message;
+    try {
+      const joint_contacts c(deep, deep_mesh, p);
+      static_cast<void>(c);
+    } catch (const invalid_input& e) {
+      message = e.what();
+    }
+    CHECK_THAT(message, Contains("blocks 0 and 1 overlap by") && Contains("more than the contact tolerance 0.001 m") &&
+                            Contains("allow_initial_overlap"));
+    if (!message.empty()) CHECK(named_depth(message) == Approx(10 * tol).epsilon(1e-9));
+    // Opted in: accepted, the corners start at their overlap (u_n = -10 tol).
+    p.allow_initial_overlap = true;
+    const joint_contacts opted(deep, deep_mesh, p);
+    REQUIRE(opted.subcontact_count() >= 4);
+    for (index_t i = 0; i < opted.subcontact_count(); ++i) CHECK(opted.state(i).u_n == Approx(-10 * tol).epsilon(1e-9));
+    // Half the tolerance (more than any static overlap W/(k_n A) of the verification cases):
+    // accepted without the flag.
+    const geometry::tessellation shallow = cube_on_base(0.5 * tol);
+    const geometry::block_mesh shallow_mesh = geometry::zone_blocks(shallow);
+    const joint_contacts c(shallow, shallow_mesh, joint_contacts::params(joint, tol, 1000, false, deformable));
+    REQUIRE(c.subcontact_count() >= 4);
+    for (index_t i = 0; i < c.subcontact_count(); ++i) CHECK(c.state(i).u_n == Approx(-0.5 * tol).epsilon(1e-9));
+  }
+}
+
+}  // namespace tessera::test_joints

@@ -14,6 +14,11 @@
 // tolerance at the last rebuild cannot have closed it: no contact is missed. The check reads
 // every block vertex once per step (no velocity bound to guess).
 //
+// Refusals at construction (issue #40 items 3 and 5): a material pair whose residual friction is
+// 0 beside a non-zero phi_0 (or, starting unbonded, whose residual cohesion is 0 beside c_0 > 0),
+// since every detected corner starts on the residual limit; and two blocks that overlap by more
+// than the tolerance (params::allow_initial_overlap opts in).
+//
 // Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a,
 // block b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an
 // edge of B (detection::corner_label). Keys are kept sorted; at a rebuild the new corners are
@@ -140,8 +145,10 @@ class detected_contacts {
   /// What the constructor takes.
   struct params {
     /// Law parameters per pair of block materials. A detected sub-contact starts unbonded
-    /// (Law::unbonded_state: no tension, no cohesion, residual friction) unless bond_faces says
-    /// otherwise.
+    /// (Law::unbonded_state: no tension, residual cohesion c_res and friction phi_res) unless
+    /// bond_faces says otherwise. The constructor refuses a pair whose phi_res is 0 while phi_0 > 0,
+    /// and one that starts unbonded with c_res = 0 while c_0 > 0 (values that would be silently
+    /// unused); law::dry_joint and law::bonded_joint (law/joints.hpp) fill them all.
     material_table<params_type> law{};
     /// Contact tolerance (m, > 0): pairs whose gap is at most this touch, and vertices within it
     /// of a block's supporting plane form the patch. Typically 1e-3 to 1e-2 of a block's size.
@@ -162,6 +169,14 @@ class detected_contacts {
     /// affine fit and the stable step a bound per surface gridpoint (file comment, "Deformable
     /// blocks"). false: rigid blocks (blocks::rigid), one frame per block.
     bool deformable_blocks = false;
+    /// false (default): at construction, two blocks that overlap by more than the tolerance
+    /// (penetration depth -g of their common plane > tolerance, common_plane.hpp) are refused
+    /// (invalid_input naming both blocks, the depth and the tolerance): such an overlap is a
+    /// placement error, and its springs would push the blocks apart with energy no force supplied.
+    /// An overlap within the tolerance (a block placed at its static overlap W/(k_n A), faces
+    /// that coincide up to round-off) is accepted. true: any initial overlap is accepted, its
+    /// springs loaded from the start (the run's initial energy), for scenes that mean it.
+    bool allow_initial_overlap = false;
 
     params() = default;
     params(material_table<params_type> table, real tol, index_t interval = 1000, bool bond = false,
@@ -194,6 +209,7 @@ class detected_contacts {
     const index_t n_b = mesh.block_count();
     require<geometry_error>(tess.cell_count() == n_b, "detected_contacts: the tessellation has ", tess.cell_count(),
                             " cells but the block_mesh ", n_b, " blocks");
+    refuse_unused_strengths(mesh);
     gridpoint_count_ = mesh.gridpoint_count();
     reference_.resize(gridpoint_count_, 3);
     for (index_t g = 0; g < gridpoint_count_; ++g) reference_.row(g) = mesh.gridpoints[at(g)].transpose();
@@ -868,6 +884,64 @@ class detected_contacts {
     return m;
   }
 
+  /// The trap of a detected set (issue #40 item 3): its corners start unbonded, on the residual
+  /// Coulomb limit c_res + sigma_c tan(phi_res), so a residual value left at 0 beside a non-zero
+  /// initial one silently gives joints weaker than the user wrote. Refused, per material pair in
+  /// use (the blocks' material ids), when the law has those fields:
+  ///   phi_res = 0 while phi_0 > 0: always (new corners, and broken bonds, slide on phi_res);
+  ///   c_res = 0 while c_0 > 0: when the pair starts unbonded (bond_faces off, or never_bonded),
+  ///     since then c_0 is never used.
+  /// Frictionless joints are phi_0 = phi_res = 0; law::dry_joint fills both angles.
+  void refuse_unused_strengths(const geometry::block_mesh& mesh) const {
+    if constexpr (requires(const params_type& q) {
+                    q.shear.phi_0.radians();
+                    q.shear.phi_res.radians();
+                    real(q.shear.c_0);
+                    real(q.shear.c_res);
+                  }) {
+      std::vector<int> ids;
+      for (index_t b = 0; b < mesh.block_count(); ++b) ids.push_back(mesh.material(b));
+      std::sort(ids.begin(), ids.end());
+      ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+      for (std::size_t i = 0; i < ids.size(); ++i)
+        for (std::size_t j = i; j < ids.size(); ++j) {
+          const auto& e = table_.get(ids[i], ids[j]);
+          const auto& sh = e.params.shear;
+          require(!(sh.phi_res.radians() == 0 && sh.phi_0.radians() > 0), "detected_contacts: material pair (",
+                  ids[i], ", ", ids[j], ") has residual friction phi_res = 0 deg while phi_0 = ", sh.phi_0.degrees(),
+                  " deg: detected contacts start unbonded and slide at phi_res (so do broken bonds), which makes "
+                  "these joints frictionless. Set shear.phi_res (e.g. = phi_0), or build the params with "
+                  "law::dry_joint(k_n, k_s, phi); for frictionless joints write phi_0 = phi_res = 0");
+          const bool starts_bonded = options_.bond_faces && e.bonded;
+          require(starts_bonded || !(sh.c_res == 0 && sh.c_0 > 0), "detected_contacts: material pair (", ids[i],
+                  ", ", ids[j], ") has residual cohesion c_res = 0 Pa while c_0 = ", sh.c_0,
+                  " Pa, and its contacts start unbonded (",
+                  options_.bond_faces ? "the table declares the pair never_bonded" : "bond_faces is false",
+                  "), on the residual cohesion c_res: c_0 would never be used. Set shear.c_res, or "
+                  "c_0 = 0 for a cohesionless joint (law::dry_joint), or bond_faces = true for faces that start "
+                  "bonded (law::bonded_joint)");
+        }
+    }
+  }
+
+  /// params::allow_initial_overlap is false: refuses, after the construction's detection pass,
+  /// a candidate pair whose penetration depth -g (the common plane's gap, exact for overlapping
+  /// convex blocks: common_plane.hpp) exceeds the tolerance. Names the deepest such pair.
+  void refuse_initial_overlaps() const {
+    const auto& planes = workspace_.planes;
+    const auto& pairs = workspace_.candidates;
+    std::size_t deepest = planes.size();
+    for (std::size_t k = 0; k < planes.size(); ++k)
+      if (-planes[k].gap > options_.tolerance && (deepest == planes.size() || planes[k].gap < planes[deepest].gap))
+        deepest = k;
+    if (deepest == planes.size()) return;
+    throw invalid_input(tessera::detail::concat(
+        "detected_contacts: blocks ", pairs[deepest].a, " and ", pairs[deepest].b, " overlap by ", -planes[deepest].gap,
+        " m at the start, more than the contact tolerance ", options_.tolerance,
+        " m (a placement error: the overlap's springs would push them apart with energy no force supplied); move "
+        "them apart, or set params::allow_initial_overlap = true if the overlap is meant"));
+  }
+
   /// One detection pass on the current geometry and the merge of the sub-contacts (file comment).
   void rebuild(const node_set* gp) {
     const auto started = std::chrono::steady_clock::now();
@@ -906,6 +980,7 @@ class detected_contacts {
       for (int c = 0; c < 3; ++c)
         rebuild_u_(static_cast<index_t>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
     detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_);
+    if (gp == nullptr && !options_.allow_initial_overlap) refuse_initial_overlaps();
 
     // New pairs and their corners, sorted by label within a pair (pairs come increasing).
     const std::size_t n_pairs = result_.pairs.size();
