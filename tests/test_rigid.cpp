@@ -1,6 +1,7 @@
 // Tests for blocks::rigid: exact mass properties, 6-DOF dynamics (constant force, torque-free
 // rotation), objectivity of slaved gridpoints under contacts, boundary conditions and
-// reactions, the 6-DOF stable step, and two rigid blocks pulled apart through the solver.
+// reactions, the 6-DOF stable step, and two rigid blocks pulled apart through the solver; the
+// solver's user layer ("[user_layer]": supports by block, stop conditions, the CSV recorder).
 #include <catch2/catch.hpp>
 
 #include "support/hand_meshes.hpp"
@@ -8,8 +9,13 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -941,4 +947,378 @@ TEST_CASE("detected contacts on deformable blocks: the study's prism on bonded d
   CHECK(std::abs(peak / reference - 1) < 0.05);
   CHECK(s.contacts().rebuild_count() > 5);
   CHECK(s.energies().error_rel() < 1e-3);
+}
+
+// ---- the solver's user layer: supports and loads by block, stop conditions, CSV recorder ----
+namespace {
+
+using user_rigid = solver<blocks::rigid, verification::contacts, reinforcement::none, verification::undamped>;
+using user_damped = solver<blocks::rigid, verification::contacts, reinforcement::none, verification::damped>;
+using user_elastic = blocks::deformable<zones::linear_elastic_tet>;
+using user_deformable = solver<user_elastic, verification::contacts, reinforcement::none, verification::damped>;
+constexpr real user_g = 9.81;
+
+/// Block 0: a base slab [-0.5, 0.5]^2 x [-0.25, 0]; block 1: a 0.5 m cube whose bottom is `gap` m
+/// above it (gap 0.5 m: no contact ever forms in these short runs). Detected frictional joints
+/// (k_n = 1e11 Pa/m, phi 30 deg, tolerance 1e-3 m) as examples/verification/cases.hpp builds them.
+struct user_scene {
+  geometry::tessellation tess;
+  geometry::block_mesh mesh;
+  explicit user_scene(real gap, bool deformable = false) {
+    const std::vector<geometry::convex_polyhedron> cells{
+        geometry::convex_polyhedron::box({-0.5, -0.5, -0.25}, {0.5, 0.5, 0}),
+        geometry::convex_polyhedron::box({-0.25, -0.25, gap}, {0.25, 0.25, gap + 0.5})};
+    tess = geometry::separate_blocks(cells);
+    geometry::zoning_options z;
+    z.target_edge_length = 0.5;
+    mesh = deformable ? geometry::zone_blocks(tess, z) : geometry::zone_blocks(tess);
+  }
+  [[nodiscard]] verification::contacts::params contacts(bool deformable = false) const {
+    verification::contacts::params cp(verification::joint(verification::inputs{}), 1e-3);
+    cp.deformable_blocks = deformable;
+    return cp;
+  }
+};
+
+}  // namespace
+
+TEST_CASE("user layer: fix_block holds a block under gravity and carries its weight", "[rigid][user_layer]") {
+  SECTION("rigid: zero displacement and rotation, reaction = weight within 1e-9") {
+    user_scene sc(0.5);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.fix_blocks({0, 1});
+    s.run(2000);
+    for (idx b = 0; b < 2; ++b) {
+      CHECK(s.block_displacement(b).norm() == 0.0);
+      CHECK(s.blocks().angular_velocity(b).norm() == 0.0);
+      const real weight = s.blocks().weight_mass(b) * user_g;  // 2400 x 0.25 (base) or 0.125 (cube) x g
+      const vec3 r = recorders::reaction_sum(s.gridpoints(), s.gridpoints_of_block(b));
+      CHECK(r.z() == Approx(weight).epsilon(1e-9));
+      CHECK(std::abs(r.x()) + std::abs(r.y()) < 1e-9 * weight);
+    }
+    CHECK(s.blocks().weight_mass(1) == Approx(2400 * 0.125).epsilon(1e-12));
+  }
+  SECTION("rigid: one block fixed, the other falls freely (u = g dt^2 n (n + 1) / 2)") {
+    user_scene sc(0.5);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.fix_block(0);
+    const int n = 500;
+    s.run(n);
+    CHECK(s.block_displacement(0).norm() == 0.0);
+    CHECK(-s.block_displacement(1).z() == Approx(user_g * s.dt() * s.dt() * n * (n + 1) / 2).epsilon(1e-12));
+  }
+  SECTION("deformable: every gridpoint of the block fixed, reaction = the block's weight within 1e-9") {
+    user_scene sc(0.5, true);
+    user_deformable s(sc.tess, sc.mesh, user_elastic::params{30e9, 0.2, 2400}, sc.contacts(true));
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.fix_blocks(s.blocks_on_plane(2, 0.5, 1e-9));  // the cube: its bottom face is on z = 0.5
+    s.fix_block(0);
+    s.run(300);
+    real weight = 0;
+    const bc::node_group cube = s.gridpoints_of_block(1);
+    for (idx i : cube.nodes) {
+      CHECK(s.gridpoints().displacement.row(i).norm() == 0.0);
+      weight += s.gridpoints().mass[i] * user_g;  // no mass scaling: the unscaled lumped masses
+    }
+    CHECK(weight == Approx(2400 * 0.125 * user_g).epsilon(1e-12));
+    CHECK(recorders::reaction_sum(s.gridpoints(), cube).z() == Approx(weight).epsilon(1e-9));
+    CHECK(s.block_displacement(1).norm() == 0.0);
+  }
+}
+
+TEST_CASE("user layer: prescribe_block_velocity moves a block at v, set_block_velocity starts it", "[rigid][user_layer]") {
+  const vec3 v(0.3, -0.2, 0.1);  // m/s
+  SECTION("rigid, all components: u = v t under gravity, no rotation") {
+    user_scene sc(0.5);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.fix_block(0);
+    s.prescribe_block_velocity(1, v);
+    s.run(400);
+    CHECK((s.block_displacement(1) - v * s.time()).norm() < 1e-12 * v.norm() * s.time());
+    CHECK(s.blocks().rotation(1).isApprox(mat3::Identity(), 1e-15));
+    // the support carries the weight in z only: the prescribed translation is uniform
+    CHECK(recorders::reaction_sum(s.gridpoints(), s.gridpoints_of_block(1)).z() ==
+          Approx(s.blocks().weight_mass(1) * user_g).epsilon(1e-9));
+  }
+  SECTION("rigid, x only: x = v_x t while z falls freely") {
+    user_scene sc(0.5);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.fix_block(0);
+    s.prescribe_block_velocity(1, v, bc::components::x);
+    const int n = 400;
+    s.run(n);
+    CHECK(s.block_displacement(1).x() == Approx(v.x() * s.time()).epsilon(1e-12));
+    CHECK(s.block_displacement(1).y() == 0.0);
+    CHECK(-s.block_displacement(1).z() == Approx(user_g * s.dt() * s.dt() * n * (n + 1) / 2).epsilon(1e-12));
+  }
+  SECTION("deformable: every gridpoint moves at v") {
+    user_scene sc(0.5, true);
+    user_deformable s(sc.tess, sc.mesh, user_elastic::params{30e9, 0.2, 2400}, sc.contacts(true));
+    s.fix_block(0);
+    s.prescribe_block_velocity(1, v);
+    s.run(200);
+    for (idx i : s.gridpoints_of_block(1).nodes)
+      CHECK((s.gridpoints().displacement.row(i).transpose() - v * s.time()).norm() < 1e-12 * v.norm() * s.time());
+    CHECK((s.block_displacement(1) - v * s.time()).norm() < 1e-12 * v.norm() * s.time());
+  }
+  SECTION("set_block_velocity: a rigid and a deformable block start at v + omega x (x - c)") {
+    const vec3 omega(0, 0, 2.0);  // rad/s
+    user_scene sc(0.5);
+    user_rigid r(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    r.set_block_velocity(1, v, omega);
+    CHECK(r.block_velocity(1).isApprox(v, 1e-15));
+    CHECK(r.blocks().angular_velocity(1).isApprox(omega, 1e-15));
+    user_scene sd(0.5, true);
+    user_deformable d(sd.tess, sd.mesh, user_elastic::params{30e9, 0.2, 2400}, sd.contacts(true));
+    d.set_block_velocity(1, v, omega);
+    // the mass-weighted mean velocity is v (the rotation about the mass centre adds no momentum)
+    CHECK((d.block_velocity(1) - v).norm() < 1e-14);
+    const idx corner = d.gridpoints_of_block(1).nodes.front();
+    const vec3 arm = d.gridpoints().reference.row(corner).transpose() - vec3(0, 0, 0.75);  // cube centroid
+    CHECK((d.gridpoints().velocity.row(corner).transpose() - (v + omega.cross(arm))).norm() < 1e-14);
+  }
+}
+
+TEST_CASE("user layer: block selections by plane and their gridpoints", "[rigid][user_layer]") {
+  user_scene sc(0.5);
+  user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  CHECK(s.block_count() == 2);
+  CHECK(s.blocks_on_plane(2, 0, 1e-9) == std::vector<idx>{0});           // the base's top
+  CHECK(s.blocks_on_plane(2, 0.75, 0) == std::vector<idx>{1});           // cuts the cube
+  CHECK(s.blocks_on_plane(0, 0.25, 1e-9) == std::vector<idx>{0, 1});     // x = 0.25: in the base, the cube's face
+  CHECK(s.blocks_below(2, 0) == std::vector<idx>{0});
+  CHECK(s.blocks_below(2, 1.0) == std::vector<idx>{0, 1});
+  const bc::node_group both = s.gridpoints_of_blocks({1, 0, 1});
+  CHECK(both.size() == s.gridpoints().size());
+  CHECK(s.gridpoints_of_block(1).size() + s.gridpoints_of_block(0).size() == s.gridpoints().size());
+  for (idx i : s.gridpoints_of_block(1).nodes) CHECK(s.gridpoint_block(i) == 1);
+}
+
+TEST_CASE("user layer: a dropped block stops on when_settled with the reaction equal to the weight",
+          "[rigid][user_layer]") {
+  // The verification drop (cube of 0.5 m dropped 1 cm on a fixed base, k_n 1e11 Pa/m, local
+  // damping 0.8), run until the cube's z displacement changes by at most 1e-10 m over 0.02 s
+  // (static overlap W / (k_n A) = 1.18e-7 m).
+  user_scene sc(0.01);
+  user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  s.set_gravity(vec3(0, 0, -user_g));
+  s.fix_blocks(s.blocks_below(2, 0));
+  auto settled = stop::when_settled(quantity::block_displacement(1, 2), 1e-10, stop::over_time(0.02));
+  const run_result r = s.run_until(settled || stop::after_time(5.0), 10'000'000);
+  INFO(r.steps << " steps, t = " << s.time() << " s: " << r.reason);
+  CHECK_FALSE(r.hit_max_steps);
+  CHECK_THAT(r.reason, Catch::StartsWith("settled: z displacement of block 1 (m)"));
+  CHECK(s.time() < 5.0);
+  CHECK(s.time() > 0.02 + std::sqrt(2 * 0.01 / user_g));  // at least the fall and one window
+  const real weight = (s.blocks().weight_mass(0) + s.blocks().weight_mass(1)) * user_g;
+  const real reaction = recorders::reaction_sum(s.gridpoints(), s.gridpoints_of_block(0)).z();
+  CHECK(reaction == Approx(weight).epsilon(1e-6));
+  const real overlap = -(0.01 + s.block_displacement(1).z());
+  CHECK(overlap == Approx(s.blocks().weight_mass(1) * user_g / (1e11 * 0.25)).epsilon(0.01));
+}
+
+TEST_CASE("user layer: when_beyond fires at the step where |u| first exceeds the limit", "[rigid][user_layer]") {
+  // Free fall, undamped: u_n = g dt^2 n (n + 1) / 2 (central differences from rest), which is
+  // g t^2 / 2 + g t dt / 2; the limit L = 0.01 m is first exceeded at t within dt of sqrt(2 L / g).
+  user_scene sc(0.5);
+  user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  s.set_gravity(vec3(0, 0, -user_g));
+  s.fix_block(0);
+  const real limit = 0.01, dt = s.dt();
+  std::vector<real> u{0};
+  u.reserve(100'000);
+  const run_result r = s.run_until(stop::when_beyond(quantity::block_displacement_magnitude(1), limit), 1'000'000,
+                                   [&](const user_rigid& sv) { u.push_back(sv.block_displacement(1).norm()); });
+  INFO(r.reason);
+  REQUIRE_FALSE(r.hit_max_steps);
+  const auto n = static_cast<std::size_t>(r.steps);
+  REQUIRE(u.size() == n + 1);
+  CHECK(u[n] > limit);
+  CHECK(u[n - 1] <= limit);
+  const real nn = static_cast<real>(n);
+  CHECK(u[n] == Approx(user_g * dt * dt * nn * (nn + 1) / 2).epsilon(1e-12));
+  CHECK(std::abs(s.time() - std::sqrt(2 * limit / user_g)) <= dt);
+  CHECK_THAT(r.reason, Catch::StartsWith("beyond: |displacement| of block 1 (m) = ") && Catch::Contains("0.01"));
+}
+
+TEST_CASE("user layer: after_time and after_steps stop exactly, && and || combine, max_steps reports",
+          "[rigid][user_layer]") {
+  user_scene sc(0.5);
+  user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  const real dt = s.dt();
+  run_result r = s.run_until(stop::after_steps(37), 1000);
+  CHECK(r.steps == 37);
+  CHECK_FALSE(r.hit_max_steps);
+  CHECK(r.reason == "after 37 steps (limit 37)");
+  const std::int64_t n = s.run_until(stop::after_time(100.5 * dt), 1000);  // old callers read the count
+  CHECK(n == 101);
+  CHECK(s.step_count() == 138);
+  r = s.run_until(stop::after_steps(10) || stop::after_steps(20), 1000);
+  CHECK(r.steps == 10);
+  CHECK(r.reason == "after 10 steps (limit 10)");
+  r = s.run_until(stop::after_steps(10) && stop::after_time(20.5 * dt), 1000);
+  CHECK(r.steps == 21);
+  CHECK_THAT(r.reason, Catch::StartsWith("after 21 steps (limit 10); after ") && Catch::Contains("s of simulated time"));
+  auto both = stop::after_steps(5) || stop::after_steps(5);
+  r = s.run_until(both, 1000);
+  CHECK(r.steps == 5);
+  CHECK(r.reason == "after 5 steps (limit 5); after 5 steps (limit 5)");
+  r = s.run_until(both, 1000);  // restarted by run_until: counts from this call
+  CHECK(r.steps == 5);
+  r = s.run_until(stop::after_steps(50), 20);
+  CHECK(r.steps == 20);
+  CHECK(r.hit_max_steps);
+  CHECK(r.reason == "max_steps = 20 reached");
+  r = s.run_until(stop::after_steps(0), 20);
+  CHECK(r.steps == 0);
+  r = s.run_until([](const user_rigid& sv) { return sv.step_count() >= 200; }, 1000);
+  CHECK(s.step_count() == 200);
+  CHECK(r.reason == "the stop predicate returned true");
+  r = s.run_until(stop::when([](const user_rigid& sv) { return sv.step_count() >= 210; }, "step 210"), 1000);
+  CHECK(r.steps == 10);
+  CHECK(r.reason == "step 210");
+  CHECK(stop::kinetic_energy_below(0.5).describe() == "kinetic energy below 0.5 of its peak");
+}
+
+TEST_CASE("user layer: kinetic_energy_below stops a block settling on its base", "[rigid][user_layer]") {
+  // The drop scene: the kinetic energy peaks at impact (about W x 1 cm = 29 J) and decays under
+  // local damping; after 0.1 s (past the impact) it falls below 1e-6 of the peak.
+  user_scene sc(0.01);
+  user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  s.set_gravity(vec3(0, 0, -user_g));
+  s.fix_block(0);
+  const run_result r = s.run_until(stop::after_time(0.1) && stop::kinetic_energy_below(1e-6), 10'000'000);
+  INFO(r.reason);
+  CHECK_FALSE(r.hit_max_steps);
+  CHECK(s.kinetic_energy() <= 1e-6 * 0.5 * s.blocks().mass(1) * 2 * user_g * 0.01 * 1.01);
+  CHECK(s.kinetic_energy() == s.energies().kinetic);
+}
+
+TEST_CASE("user layer: csv_recorder writes its header and rows, visible only after close", "[rigid][user_layer]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "tessera_test_user_layer";
+  fs::create_directories(dir);
+  const fs::path path = dir / "fall.csv";
+  fs::remove(path);
+  user_scene sc(0.5);
+  user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  s.set_gravity(vec3(0, 0, -user_g));
+  s.fix_block(0);
+  const real dt = s.dt();
+  {
+    recorders::csv_recorder rec(s, path,
+                                {{"uz", "m", quantity::block_displacement(1, 2)},
+                                 {"vz", "m/s", quantity::block_velocity(1, 2)},
+                                 {"Rz", "N", quantity::reaction_sum(s.gridpoints_of_block(0), 2)},
+                                 {"Ek", "J", quantity::kinetic_energy()},
+                                 {"um", "m", quantity::mean_displacement(s.gridpoints_of_block(1), 2)},
+                                 {"speed", "m/s", quantity::block_speed(1)},
+                                 {"vmax", "m/s", quantity::max_block_speed()},
+                                 {"t", "", quantity::time()}},
+                                recorders::every_steps(10));
+    const run_result r = s.run_until(stop::after_steps(95), 1000, rec);
+    CHECK(r.steps == 95);
+    CHECK(rec.rows() == 10);  // step 0, then steps 10, 20, ..., 90
+    CHECK(fs::exists(rec.temporary_path()));
+    CHECK_FALSE(fs::exists(path));
+    const fs::path temporary = rec.temporary_path();
+    rec.close();
+    CHECK_FALSE(fs::exists(temporary));
+    CHECK(fs::exists(path));
+  }
+  std::ifstream in(path);
+  std::string line;
+  std::vector<std::string> lines;
+  while (std::getline(in, line)) lines.push_back(line);
+  REQUIRE(lines.size() == 11);
+  CHECK(lines[0] == "step,time_s,uz_m,vz_m/s,Rz_N,Ek_J,um_m,speed_m/s,vmax_m/s,t");
+  CHECK_THAT(lines[1], Catch::StartsWith("0,0,0,0,"));
+  // the last row, step 90: uz = -g dt^2 90 x 91 / 2 (written at max_digits10, read back exactly)
+  std::vector<double> v;
+  std::stringstream row(lines[10]);
+  for (std::string cell; std::getline(row, cell, ',');) v.push_back(std::stod(cell));
+  REQUIRE(v.size() == 10);
+  CHECK(v[0] == 90);
+  CHECK(v[2] == Approx(-user_g * dt * dt * 90 * 91 / 2).epsilon(1e-12));
+  CHECK(v[3] == Approx(-user_g * dt * 90).epsilon(1e-12));
+  CHECK(v[4] == Approx(s.blocks().weight_mass(0) * user_g).epsilon(1e-9));
+  CHECK(v[5] == Approx(0.5 * s.blocks().mass(1) * v[3] * v[3]).epsilon(1e-12));
+  CHECK(v[6] == Approx(v[2]).epsilon(1e-12));
+  CHECK(v[7] == Approx(-v[3]).epsilon(1e-12));
+  CHECK(v[8] == Approx(-v[3]).epsilon(1e-12));
+  CHECK(v[9] == v[1]);
+
+  SECTION("every_seconds: a row at the first step at or past each multiple of the interval") {
+    const fs::path p2 = dir / "timed.csv";
+    fs::remove(p2);
+    {
+      recorders::csv_recorder rec(s, p2, {{"uz", "m", quantity::block_displacement(1, 2)}},
+                                  recorders::every_seconds(4.6180339887 * dt));
+      s.run_until(stop::after_steps(50), 1000, rec);
+      // the multiples 4.618 k dt, k = 1 ... 10, lie within 50 steps and none within 0.05 dt of a
+      // step: rows at steps 5, 10, 14, 19, 24, 28, 33, 37, 42 and 47 past the start, and the first
+      CHECK(rec.rows() == 11);
+    }  // the destructor commits
+    CHECK(fs::exists(p2));
+  }
+  SECTION("a run unwound by an exception leaves no file") {
+    const fs::path p3 = dir / "unwound.csv";
+    fs::remove(p3);
+    fs::path temporary;
+    try {
+      recorders::csv_recorder rec(s, p3, {{"uz", "m", quantity::block_displacement(1, 2)}});
+      temporary = rec.temporary_path();
+      s.run(5, rec);
+      throw std::runtime_error("killed");
+    } catch (const std::runtime_error&) {
+    }
+    CHECK_FALSE(fs::exists(p3));
+    CHECK_FALSE(fs::exists(temporary));
+  }
+}
+
+TEST_CASE("user layer: every refusal names the value", "[rigid][user_layer]") {
+  user_scene sc(0.5);
+  user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  const real nan = std::numeric_limits<real>::quiet_NaN();
+  CHECK_THROWS_WITH(s.fix_block(7), Catch::Contains("block 7 does not exist"));
+  CHECK_THROWS_WITH(s.fix_blocks({0, -1}), Catch::Contains("block -1 does not exist"));
+  CHECK_THROWS_WITH(s.prescribe_block_velocity(1, vec3(0, nan, 0)), Catch::Contains("nan") && Catch::Contains("block 1"));
+  CHECK_THROWS_WITH(s.set_block_velocity(2, vec3::Zero()), Catch::Contains("block 2 does not exist"));
+  CHECK_THROWS_WITH(s.set_block_velocity(1, vec3::Zero(), vec3(0, 0, nan)), Catch::Contains("nan"));
+  CHECK_THROWS_WITH(s.blocks_on_plane(3, 0, 0), Catch::Contains("axis = 3"));
+  CHECK_THROWS_WITH(s.blocks_on_plane(2, nan, 0), Catch::Contains("nan"));
+  CHECK_THROWS_WITH(s.blocks_on_plane(2, 0, -1e-3), Catch::Contains("-0.001"));
+  CHECK_THROWS_WITH(s.blocks_on_plane(2, 7, 1e-3), Catch::Contains("z = 7 m"));
+  CHECK_THROWS_WITH(s.blocks_below(2, -3), Catch::Contains("z = -3 m"));
+  CHECK_THROWS_WITH(s.gridpoints_of_block(9), Catch::Contains("block 9"));
+  CHECK_THROWS_WITH(s.run_until(stop::after_steps(1), -5), Catch::Contains("max_steps = -5"));
+  CHECK_THROWS_WITH(stop::after_steps(-2), Catch::Contains("n = -2"));
+  CHECK_THROWS_WITH(stop::after_time(nan), Catch::Contains("t = nan"));
+  CHECK_THROWS_WITH(stop::when_settled(quantity::time(), 0.0, stop::over_steps(10)), Catch::Contains("tolerance = 0"));
+  CHECK_THROWS_WITH(stop::when_settled(quantity::time(), -1e-6, stop::over_steps(10)), Catch::Contains("-1e-06"));
+  CHECK_THROWS_WITH(stop::over_steps(0), Catch::Contains("0 steps"));
+  CHECK_THROWS_WITH(stop::over_time(-0.5), Catch::Contains("-0.5 s"));
+  CHECK_THROWS_WITH(stop::when_beyond(quantity::time(), nan), Catch::Contains("limit = nan"));
+  CHECK_THROWS_WITH(stop::kinetic_energy_below(1.5), Catch::Contains("ratio = 1.5"));
+  CHECK_THROWS_WITH(quantity::block_displacement(0, 4), Catch::Contains("axis = 4"));
+  CHECK_THROWS_WITH(quantity::block_speed(-3), Catch::Contains("block -3"));
+  // a block id beyond the model: refused at the first evaluation, before any step
+  CHECK_THROWS_WITH(s.run_until(stop::when_beyond(quantity::block_speed(5), 1.0), 10), Catch::Contains("block 5"));
+  CHECK(s.step_count() == 0);
+  const auto path = std::filesystem::temp_directory_path() / "tessera_test_user_layer_refused.csv";
+  using column = recorders::csv_column<user_rigid>;
+  CHECK_THROWS_WITH(recorders::csv_recorder(s, path, std::vector<column>{{"u,z", "m", quantity::time()}}),
+                    Catch::Contains("'u,z'"));
+  CHECK_THROWS_WITH(recorders::csv_recorder(s, path, std::vector<column>{{"a", "s", quantity::time()}, {"a", "s", quantity::time()}}),
+                    Catch::Contains("'a_s' is named twice"));
+  CHECK_THROWS_WITH(recorders::csv_recorder(s, path, std::vector<column>{{"u", "m", quantity::block_speed(4)}}),
+                    Catch::Contains("block 4"));
+  CHECK_THROWS_WITH(recorders::every_steps(0), Catch::Contains("k = 0"));
+  CHECK_THROWS_WITH(recorders::every_seconds(-1), Catch::Contains("-1 s"));
+  CHECK_FALSE(std::filesystem::exists(path));
 }

@@ -6,4 +6,5 @@
 #include "solver/energy.hpp"
 #include "solver/recorders.hpp"
 #include "solver/step_checker.hpp"
+#include "solver/stop_conditions.hpp"
 #include "solver/solver.hpp"

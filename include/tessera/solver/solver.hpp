@@ -35,6 +35,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -71,6 +72,15 @@ struct phase_times {
   double bars = 0;
   double integration = 0;
   double recorders = 0;
+};
+
+/// What solver::run_until did: the steps it took, why it stopped and whether max_steps ran out
+/// first. Converts to the step count, so `std::int64_t n = s.run_until(...)` still reads it.
+struct run_result {
+  std::int64_t steps = 0;      ///< steps taken by this call
+  std::string reason;          ///< the stop condition's reason() (e.g. "t - t0 = 0.5 s >= 0.5 s"), or "max_steps = N reached"
+  bool hit_max_steps = false;  ///< true when max_steps ran out before the condition held
+  operator std::int64_t() const { return steps; }  // NOLINT(google-explicit-constructor): old callers read the count
 };
 
 /// Run-time options of a solver (SI).
@@ -144,6 +154,7 @@ class solver {
     blocks_.build(tess, mesh, std::span<const typename Blocks::params>(materials.list), gridpoints_);
     if constexpr (!Blocks::is_rigid) weight_mass_ = gridpoints_.mass;  // before any mass scaling
     gridpoint_block_ = mesh.gridpoint_block;
+    block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
     contacts_ = contact_set_type(tess, mesh, contact_params);
     // A contact set that places its points by block kind (contact::detected_contacts) must be
     // told which kind it serves.
@@ -168,6 +179,134 @@ class solver {
   void fix(const bc::node_group& g, bc::components c = bc::components::xyz) { bc::fix(gridpoints_, g, c); }
   void prescribe_velocity(const bc::node_group& g, const vec3& v, bc::components c = bc::components::xyz) {
     bc::prescribe_velocity(gridpoints_, g, v, c);
+  }
+
+  // ---- supports, velocities and selections by block (rigid and deformable blocks) ----
+  // A block is held through its gridpoints, so the reactions land where recorders::reaction_sum
+  // reads them: on rigid blocks a prescribed component on any gridpoint prescribes the block's
+  // translation component and holds its rotation (blocks/rigid.hpp), and the block's reaction is
+  // shared among the gridpoints that prescribe it; on deformable blocks every gridpoint is held.
+  // Every function below refuses a bad block id or a non-finite value before changing anything.
+
+  /// Number of blocks.
+  [[nodiscard]] index_t block_count() const { return blocks_.block_count(); }
+  /// All gridpoints of block b (node group named "block b"). Throws invalid_input for a bad id.
+  [[nodiscard]] bc::node_group gridpoints_of_block(index_t b) const {
+    require_block(b, "gridpoints_of_block");
+    bc::node_group g{{}, detail::concat("block ", b)};
+    for (index_t i = block_first(b); i < block_end(b); ++i) g.nodes.push_back(i);
+    return g;
+  }
+  /// All gridpoints of the listed blocks (increasing; a block listed twice counts once). Throws
+  /// invalid_input for an empty list or a bad id.
+  [[nodiscard]] bc::node_group gridpoints_of_blocks(const std::vector<index_t>& list) const {
+    require(!list.empty(), "solver: gridpoints_of_blocks got an empty block list");
+    for (index_t b : list) require_block(b, "gridpoints_of_blocks");
+    std::vector<index_t> sorted = list;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    bc::node_group g{{}, detail::concat(sorted.size(), " blocks (", sorted.front(), " ... ", sorted.back(), ")")};
+    for (index_t b : sorted)
+      for (index_t i = block_first(b); i < block_end(b); ++i) g.nodes.push_back(i);
+    return g;
+  }
+  /// Blocks whose REFERENCE geometry reaches the plane X[axis] = value (m) within tol (m): the
+  /// extent [min, max] of the block's gridpoints along axis meets [value - tol, value + tol] (a
+  /// face, edge or vertex on the plane, or the block cut by it). Increasing ids. Throws
+  /// invalid_input for a bad axis, a non-finite value, a negative tol or an empty selection.
+  [[nodiscard]] std::vector<index_t> blocks_on_plane(int axis, real value, real tol) const {
+    require_plane(axis, value, tol, "blocks_on_plane");
+    std::vector<index_t> out;
+    for (index_t b = 0; b < block_count(); ++b) {
+      const auto [lo, hi] = block_extent(b, axis);
+      if (lo - tol <= value && value <= hi + tol) out.push_back(b);
+    }
+    require(!out.empty(), "solver: blocks_on_plane selects no block: none of the ", block_count(),
+            " blocks reaches the plane ", "xyz"[axis], " = ", value, " m (tol ", tol, " m)");
+    return out;
+  }
+  /// Blocks whose REFERENCE geometry lies wholly at X[axis] <= value + tol (m). Increasing ids.
+  /// Throws invalid_input for a bad axis, a non-finite value, a negative tol or an empty selection.
+  [[nodiscard]] std::vector<index_t> blocks_below(int axis, real value, real tol = 0) const {
+    require_plane(axis, value, tol, "blocks_below");
+    std::vector<index_t> out;
+    for (index_t b = 0; b < block_count(); ++b)
+      if (block_extent(b, axis).second <= value + tol) out.push_back(b);
+    require(!out.empty(), "solver: blocks_below selects no block: none of the ", block_count(), " blocks lies below ",
+            "xyz"[axis], " = ", value, " m (tol ", tol, " m)");
+    return out;
+  }
+
+  /// Holds block b: zero velocity in all three components on every gridpoint of the block (rigid:
+  /// translations and rotations held; deformable: every gridpoint fixed). The support's force on
+  /// the block is recorders::reaction_sum(gridpoints(), gridpoints_of_block(b)) (N). Throws
+  /// invalid_input for a bad id or a component already prescribed with another velocity.
+  void fix_block(index_t b) { prescribe_block_velocity(b, vec3::Zero(), bc::components::xyz); }
+  /// fix_block for each listed block, all or none (validated first).
+  void fix_blocks(const std::vector<index_t>& list) { bc::fix(gridpoints_, gridpoints_of_blocks(list)); }
+  /// Prescribes the translation velocity v (m/s, world) on components c of block b, on every
+  /// gridpoint of it: a rigid block translates at v in those components and its rotations are held
+  /// (free components stay free); a deformable block's gridpoints all move at v in them. Throws
+  /// invalid_input for a bad id, a non-finite v, or a component already prescribed otherwise.
+  void prescribe_block_velocity(index_t b, const vec3& v, bc::components c = bc::components::xyz) {
+    require_block(b, "prescribe_block_velocity");
+    require(v.allFinite(), "solver: prescribe_block_velocity: velocity (", v.transpose(), ") m/s of block ", b,
+            " is not finite");
+    bc::prescribe_velocity(gridpoints_, gridpoints_of_block(b), v, c);
+  }
+  /// Initial condition: gives block b the rigid velocity field v + omega x (x - c) (v in m/s at
+  /// the centroid c, omega in rad/s, world; x the current positions), as the half-step velocities
+  /// of the next step. Rigid blocks: blocks::rigid::set_velocity. Deformable blocks: every gridpoint
+  /// of the block, c the mass-weighted mean of their current positions (unscaled masses).
+  /// Prescribed components are overwritten by their prescription at the next step. Throws
+  /// invalid_input for a bad id or a non-finite vector.
+  void set_block_velocity(index_t b, const vec3& v, const vec3& omega = vec3::Zero()) {
+    require_block(b, "set_block_velocity");
+    require(v.allFinite() && omega.allFinite(), "solver: set_block_velocity: velocity (", v.transpose(),
+            ") m/s or angular velocity (", omega.transpose(), ") rad/s of block ", b, " is not finite");
+    if constexpr (Blocks::is_rigid) {
+      blocks_.set_velocity(b, v, omega, gridpoints_);
+    } else {
+      vec3 c = vec3::Zero();
+      real m = 0;
+      for (index_t i = block_first(b); i < block_end(b); ++i) {
+        c += weight_mass_[i] * current_position(i);
+        m += weight_mass_[i];
+      }
+      c /= m;
+      for (index_t i = block_first(b); i < block_end(b); ++i)
+        gridpoints_.velocity.row(i) = (v + omega.cross(current_position(i) - c)).transpose();
+    }
+  }
+  /// Displacement of block b (m): rigid, its centroid's u_c; deformable, the mass-weighted mean of
+  /// its gridpoints' displacements (unscaled masses, so mass scaling does not move it).
+  [[nodiscard]] vec3 block_displacement(index_t b) const {
+    require_block(b, "block_displacement");
+    if constexpr (Blocks::is_rigid)
+      return blocks_.displacement(b);
+    else
+      return block_mean(b, gridpoints_.displacement);
+  }
+  /// Velocity of block b (m/s, half step): rigid, its centroid's v; deformable, the mass-weighted
+  /// mean of its gridpoints' velocities (momentum over mass, unscaled masses).
+  [[nodiscard]] vec3 block_velocity(index_t b) const {
+    require_block(b, "block_velocity");
+    if constexpr (Blocks::is_rigid)
+      return blocks_.velocity(b);
+    else
+      return block_mean(b, gridpoints_.velocity);
+  }
+  /// Kinetic energy of blocks and bar nodes (J, half-step velocities, scaled masses), as in
+  /// energies().kinetic, without evaluating the contact energies.
+  [[nodiscard]] real kinetic_energy() const {
+    real e = blocks_.kinetic_energy(gridpoints_);
+    if constexpr (Reinforcement::enabled) {
+      const node_set& bars = reinforcement_.nodes();
+      e += deterministic_sum(bars.size(), [&](std::int64_t i) {
+        return 0.5 * bars.mass[i] * bars.velocity.row(i).squaredNorm();
+      });
+    }
+    return e;
   }
 
   /// Acceleration of gravity g (m/s^2, world; e.g. (0, 0, -9.81)), a body force on every block:
@@ -336,16 +475,31 @@ class solver {
       observe(observers...);
     }
   }
-  /// Steps until stop(*this) is true or max_steps were taken; returns the steps taken.
+  /// Steps until stop(*this) is true or max_steps (>= 0) were taken, calling observer(*this)
+  /// after each step. stop is evaluated before every step, the first time before any step; a
+  /// condition of solver/stop_conditions.hpp (stop::after_time(1.0) || stop::when_beyond(...)) is
+  /// first restarted (stop.start(*this), where the predicate has it), so it counts from this call.
+  /// Returns the steps taken, the reason (stop.reason() where the predicate has it) and whether
+  /// max_steps ran out first; converts to the step count. Throws invalid_input for max_steps < 0.
   template <class Predicate, class... Observers>
-  std::int64_t run_until(Predicate&& stop, std::int64_t max_steps, Observers&&... observers) {
-    std::int64_t k = 0;
-    while (k < max_steps && !stop(std::as_const(*this))) {
+  run_result run_until(Predicate&& stop, std::int64_t max_steps, Observers&&... observers) {
+    require(max_steps >= 0, "solver: run_until max_steps = ", max_steps, " must be >= 0");
+    if constexpr (requires { stop.start(std::as_const(*this)); }) stop.start(std::as_const(*this));
+    run_result result;
+    bool stopped = false;
+    while (!(stopped = stop(std::as_const(*this))) && result.steps < max_steps) {
       step();
-      ++k;
+      ++result.steps;
       observe(observers...);
     }
-    return k;
+    result.hit_max_steps = !stopped;
+    if (!stopped)
+      result.reason = detail::concat("max_steps = ", max_steps, " reached");
+    else if constexpr (requires { stop.reason(); })
+      result.reason = stop.reason();
+    else
+      result.reason = "the stop predicate returned true";
+    return result;
   }
 
   // ---- accessors ----
@@ -519,6 +673,40 @@ class solver {
   }
 
  private:
+  // ---- blocks' gridpoints (block b owns gridpoints [block_first(b), block_end(b)), mesh CSR) ----
+  void require_block(index_t b, const char* what) const {
+    require(b >= 0 && b < block_count(), "solver: ", what, ": block ", b, " does not exist (", block_count(), " blocks)");
+  }
+  [[nodiscard]] index_t block_first(index_t b) const { return block_gridpoint_offsets_[static_cast<std::size_t>(b)]; }
+  [[nodiscard]] index_t block_end(index_t b) const { return block_gridpoint_offsets_[static_cast<std::size_t>(b) + 1]; }
+  static void require_plane(int axis, real value, real tol, const char* what) {
+    require(axis >= 0 && axis < 3, "solver: ", what, ": axis = ", axis, " must be 0 (x), 1 (y) or 2 (z)");
+    require(std::isfinite(value), "solver: ", what, ": plane position ", value, " m is not finite");
+    require(std::isfinite(tol) && tol >= 0, "solver: ", what, ": tolerance ", tol, " m must be finite and >= 0");
+  }
+  /// Smallest and largest reference coordinate along axis of block b's gridpoints (m).
+  [[nodiscard]] std::pair<real, real> block_extent(index_t b, int axis) const {
+    real lo = std::numeric_limits<real>::infinity(), hi = -lo;
+    for (index_t i = block_first(b); i < block_end(b); ++i) {
+      lo = std::min(lo, gridpoints_.reference(i, axis));
+      hi = std::max(hi, gridpoints_.reference(i, axis));
+    }
+    return {lo, hi};
+  }
+  [[nodiscard]] vec3 current_position(index_t i) const {
+    return (gridpoints_.reference.row(i) + gridpoints_.displacement.row(i)).transpose();
+  }
+  /// Mass-weighted mean (unscaled masses) of rows of `field` over block b's gridpoints (deformable).
+  [[nodiscard]] vec3 block_mean(index_t b, const soa3& field) const {
+    vec3 sum = vec3::Zero();
+    real m = 0;
+    for (index_t i = block_first(b); i < block_end(b); ++i) {
+      sum += weight_mass_[i] * field.row(i).transpose();
+      m += weight_mass_[i];
+    }
+    return sum / m;
+  }
+
   template <class... Observers>
   void observe(Observers&... observers) {
     if constexpr (sizeof...(Observers) > 0) {
@@ -586,6 +774,7 @@ class solver {
   Blocks blocks_;
   node_set gridpoints_;
   std::vector<index_t> gridpoint_block_;
+  std::vector<index_t> block_gridpoint_offsets_;  ///< CSR of the mesh: gridpoints of block b
   contact_set_type contacts_;
   Reinforcement reinforcement_;
   Integrator integrator_{};
