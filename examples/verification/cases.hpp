@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <functional>
 #include <numbers>
 #include <string>
@@ -202,17 +203,28 @@ void record_motion(result& r, const Solver& s, index_t b) {
 }
 /// Steps s through `duration` s (gravity(t) while t <= ramp_s), calling record() about 2 000 times
 /// and at the end; returns the step count and top() (the moving block's displacement) at mid-run.
+/// solver::run_until with stop::after_steps; the observers run after each step k in this order:
+/// the mid-run sample, the record, then the gravity of step k + 1 while the tilt ramps.
 template <class Solver, class Top, class Record>
 std::pair<index_t, vec3> step_through(Solver& s, real duration, const gravity_field& gravity, Top&& top, Record&& record) {
   const index_t steps = step_count(duration, s.dt());
   const index_t every = std::max<index_t>(1, steps / 2000);
+  const std::int64_t first = s.step_count();
   vec3 at_half = vec3::Zero();
-  for (index_t k = 1; k <= steps; ++k) {
+  const auto ramp = [&] {
     if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
-    s.step();
-    if (k == steps / 2) at_half = top();
-    if (k % every == 0 || k == steps) record();
-  }
+  };
+  ramp();  // the gravity of step 1
+  s.run_until(
+      stop::after_steps(steps), steps,
+      [&](const Solver& sv) {
+        if (sv.step_count() - first == steps / 2) at_half = top();
+      },
+      [&](const Solver& sv) {
+        const std::int64_t k = sv.step_count() - first;
+        if (k % every == 0 || k == steps) record();
+      },
+      [&](const Solver&) { ramp(); });
   return {steps, at_half};
 }
 /// The run's closing figures: step and contact statistics, energy balance, final geometry.
