@@ -26,8 +26,7 @@
 #include <vector>
 
 using namespace tessera;
-using joint_law = law::cohesive_frictional<law::no_tension, law::elastic_compression, law::coulomb_residual>;
-using contacts = contact::detected_contacts<joint_law>;
+using contacts = contact::detected_contacts<law::dry_joint_law>;
 using model = solver<blocks::rigid, contacts, reinforcement::none, integrator::central_difference<integrator::no_damping>>;
 
 int main(int argc, char** argv) {
@@ -75,9 +74,7 @@ int main(int argc, char** argv) {
         geometry::convex_polyhedron::box({-4 * b, -0.1, -0.1}, {4 * b, 0.1, 0}),  // the base
         geometry::convex_polyhedron::box({-b, -0.05, 0}, {b, 0.05, 2 * h}).transformed(turn, edge - turn * edge)};
     const geometry::tessellation tess = geometry::separate_blocks(cells);
-    joint_law::params joint;  // a dry joint, friction high enough that the block never slides
-    joint.k_n = joint.k_s = k;
-    joint.shear.phi_0 = joint.shear.phi_res = law::friction_angle::from_degrees(40);
+    const auto joint = law::dry_joint(k, k, law::friction_angle::from_degrees(40));  // high enough not to slide
     solver_options options;
     options.safety = safety;
     model s(tess, geometry::zone_blocks(tess), blocks::rigid::params{2500}, contacts::params(joint, 0.002 * b), {},
