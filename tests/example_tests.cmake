@@ -310,6 +310,16 @@ if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_tie/main.cpp)
   set_tests_properties(example_rc_tie_interrupted PROPERTIES LABELS example TIMEOUT 300)
 endif()
 
+# A long run is visibly alive from its first minute (tests/check_alive.sh): a 60-block beam to its
+# default deflection (tens of minutes) with stderr to a file shows run.json "running" and a
+# progress line, then is interrupted.
+if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_beam/main.cpp)
+  add_test(NAME example_rc_beam_alive
+           COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/check_alive.sh $<TARGET_FILE:rc_beam>
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_beam_alive --blocks 60 --no-vtk --threads 1)
+  set_tests_properties(example_rc_beam_alive PROPERTIES LABELS example TIMEOUT 900)
+endif()
+
 # ParaView-ready outputs: every VTK file of a quick tie read back with VTK's own XML readers
 # (python3-vtk9, installed by cmake/install-deps.sh): counts, no NaN, one name per quantity,
 # reference configuration + displacement (tests/check_vtk_files.py). Debian's own python3, where
@@ -526,3 +536,13 @@ tessera_add_refusal_test(refuse_calibrate_beam_softening calibrate
   "--material beam uses the beam's linear softening, got --softening power" --threads 1 --material beam --softening power)
 tessera_add_refusal_test(refuse_calibrate_beam_blocks calibrate
   "'300' is not a beam block count" --threads 1 --material beam --blocks 300)
+
+# Goodman-Bray toppling row (issue #40): the simulated critical friction angle within 5 % of the
+# limit-equilibrium value the driver computes (34.03 deg; quick: 35.17 deg, +3.4 %, 5 bisections).
+tessera_add_example_test(toppling ARGS --quick
+  CHECKS "error_rel LESS 0.05" "error_rel GREATER -0.05" "reference_critical_friction_deg GREATER 34.0"
+         "reference_critical_friction_deg LESS 34.1")
+# Housner's rocking block (issue #40): r from the amplitudes of the first three impacts within 5 % of
+# 1 - 3/2 sin^2(alpha) = 0.9118 (quick: 0.9544, +4.7 %; the undamped penalty contact loses less).
+tessera_add_example_test(rocking ARGS --quick
+  CHECKS "error_rel LESS 0.05" "error_rel GREATER -0.05" "error_omega_rel LESS 0.05" "impacts GREATER 2")
