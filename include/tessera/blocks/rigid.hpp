@@ -51,7 +51,9 @@
 // R = m (v_p - v-)/dt - F): the block's reaction force component c is split equally among the
 // n_c gridpoints of the block that prescribe c (the others get 0), so recorders::reaction_sum over
 // a group holding all of them returns the block's total; the reaction moment (N m, world, about
-// the centroid) is recorded on the block only (reaction_moment(b)).
+// the centroid) is recorded on the block only (reaction_moment(b)). A scene need not pick a
+// gridpoint: solver::fix_block(b) and solver::prescribe_block_velocity(b, v, components) prescribe
+// every gridpoint of the block, and solver::gridpoints_of_block(b) is the group to sum over.
 //
 // Stable time step (provably stable for the undamped linearised scheme; the solver calls
 // critical_time_step instead of the nodal bound). With k_i the gridpoints' Gershgorin stiffness

@@ -7,6 +7,8 @@
 //
 // On rigid blocks (blocks::rigid) a prescription on any gridpoint of a block acts on the whole
 // block: its translation component gets that velocity and its rotation is held (see rigid.hpp).
+// Supports by block, for rigid and deformable blocks alike, are the solver's: fix_block(s),
+// prescribe_block_velocity, blocks_on_plane, blocks_below, gridpoints_of_block(s) (solver.hpp).
 //
 // Errors: an empty group throws invalid_input naming the selection; prescribing a component
 // that is already prescribed with a different velocity throws invalid_input naming the node,
