@@ -434,14 +434,17 @@ class wall_timer {
   clock::time_point start_;
 };
 
-/// One self-overwriting status line on stderr ("\r<label> <message>"), refreshed at most every
-/// `interval_s` seconds so a fast loop is not slowed by terminal output. finish() ends the line.
+/// A run's progress on stderr. On a terminal: one self-overwriting status line ("\r<label>
+/// <message>"), refreshed at most every `interval_s` seconds so a fast loop is not slowed by
+/// terminal output; finish() ends the line. Elsewhere (a log file, a batch system, CTest): a full
+/// line at the first update and then at most every log_interval_s (10 s), so a log shows from
+/// its first minute that the run is alive. TESSERA_PROGRESS=0 silences it, =1 forces the
+/// terminal form.
 class progress_line {
  public:
-  /// Shown when stderr is a terminal, or when the environment sets TESSERA_PROGRESS=1 (e.g. to
-  /// follow a run in a log); otherwise quiet.
+  static constexpr double log_interval_s = 10.0;
   explicit progress_line(std::string label, double interval_s = 0.5)
-      : label_(std::move(label)), interval_(interval_s), enabled_(wanted()) {}
+      : label_(std::move(label)), mode_(wanted()), interval_(mode_ == mode::log ? log_interval_s : interval_s) {}
   ~progress_line() { finish(); }
   progress_line(const progress_line&) = delete;
   progress_line& operator=(const progress_line&) = delete;
@@ -449,7 +452,7 @@ class progress_line {
   /// Shows a bar for `fraction` (0..1) done, a free-form message, the elapsed time and an
   /// estimate of the time left (elapsed x (1 - f) / f), if the refresh interval has passed.
   void update(double fraction, const std::string& message = "") {
-    if (!enabled_) return;
+    if (mode_ == mode::off) return;
     const double now = timer_.seconds();
     if (shown_ && now - last_ < interval_) return;
     last_ = now;
@@ -458,28 +461,37 @@ class progress_line {
     constexpr int width = 20;
     const int filled = static_cast<int>(f * width);
     std::ostringstream os;
-    os << '\r' << label_ << " [" << std::string(static_cast<std::size_t>(filled), '#')
+    if (mode_ == mode::terminal) os << '\r';
+    os << label_ << " [" << std::string(static_cast<std::size_t>(filled), '#')
        << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << std::fixed << std::setprecision(1)
        << 100.0 * f << "% " << message << "  " << std::setprecision(1) << now << " s";
     if (f > 0.01) os << ", ~" << std::setprecision(0) << now * (1 - f) / f << " s left";
     std::string line = os.str();
+    if (mode_ == mode::log) {
+      std::cerr << line << '\n' << std::flush;
+      return;
+    }
     if (line.size() < last_width_) line.append(last_width_ - line.size(), ' ');
     last_width_ = line.size();
     std::cerr << line << std::flush;
   }
   void finish() {
-    if (shown_ && !finished_) std::cerr << '\n';
+    if (mode_ == mode::terminal && shown_ && !finished_) std::cerr << '\n';
     finished_ = true;
   }
 
  private:
-  static bool wanted() {
-    if (const char* e = std::getenv("TESSERA_PROGRESS"); e != nullptr && std::string(e) == "1") return true;
-    return ::isatty(2) != 0;
+  enum class mode { off, terminal, log };
+  static mode wanted() {
+    if (const char* e = std::getenv("TESSERA_PROGRESS"); e != nullptr) {
+      if (std::string(e) == "0") return mode::off;
+      if (std::string(e) == "1") return mode::terminal;
+    }
+    return ::isatty(2) != 0 ? mode::terminal : mode::log;
   }
   std::string label_;
+  mode mode_;
   double interval_;
-  bool enabled_;
   wall_timer timer_;
   double last_ = 0.0;
   bool shown_ = false;

@@ -246,7 +246,8 @@ void read_tie_state(tie_result& r, const Solver& s, const tie_scene& scene, cons
 }
 
 /// Runs the tie with contact law Law (law parameters `law_params`) under `loading`. `on_event`
-/// is called as on_event(solver, tag) at each load drop ("drop1", "drop2", ...), at the first
+/// is called as on_event(solver, tag) once the checks have passed and the first step is next
+/// ("start"), at each load drop ("drop1", "drop2", ...), at the first
 /// yield of the bar ("yield") and at the end ("end"), e.g. to write VTK snapshots. Throws
 /// invalid_input for a bad loading or a rate that is not quasi-static (quasi_static.hpp).
 template <class Blocks, class Law, class OnEvent>
@@ -295,6 +296,7 @@ template <class Blocks, class Law, class OnEvent>
   };
 
   tie_recorder<solver_type> recorder(s, scene, loading, ends);
+  on_event(std::as_const(s), std::string("start"));  // every check has passed: the run begins
   bool done = false;
   s.run_until([&](const solver_type&) { return done; }, std::int64_t{1} << 40, pull,
               recorders::every(loading.sample, [&](const solver_type& sv) {

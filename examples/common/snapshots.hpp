@@ -2,7 +2,9 @@
 // VTK snapshots of a running solver with embedded bars, listed in one ParaView .pvd series: at
 // each tag (drop1, yield, end, ...) the sub-contacts with every declared law field
 // (<tag>_contacts.vtp), the bars as polylines (<tag>_bar.vtp) and the zones with displacement
-// and stress (<tag>_zones.vtu). Used by rc_tie and rc_beam as their on_event callback.
+// and stress (<tag>_zones.vtu). Used by rc_tie and rc_beam as their on_event callback. The tag
+// "start" (the run's checks have passed, its first step is next) writes no snapshot: it creates
+// the output directory, so run.json says "running" from the run's first minute.
 
 #include <filesystem>
 #include <string>
@@ -25,6 +27,10 @@ class bar_snapshots {
   template <class Solver>
   void operator()(const Solver& s, const std::string& tag) {
     namespace vtk = io::vtk;
+    if (tag == "start") {
+      io::ensure_directory(dir_);
+      return;
+    }
     if (!enabled_) return;
     io::ensure_directory(dir_);
     const real t = s.time();

@@ -328,6 +328,7 @@ int run(inputs& in) {
   check_inputs(in);
   const tessera::cli::wall_timer timer;
 
+  in.loading.on_start = [out] { io::ensure_directory(out); };  // the first run's checks have passed
   std::vector<scenes::tension_result> runs;
   scenes::prism_scene first_scene;
   for (int k = 0; k < in.seeds; ++k) {

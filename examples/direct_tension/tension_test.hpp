@@ -57,6 +57,7 @@
 // (both over the sub-contacts with tensile damage >= 0.5 at the end, in stress units over A).
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -94,6 +95,9 @@ struct tension_loading {
   bool keep_fields = false;        ///< keep contact and zone snapshots at the peak and the end
   std::string label = "direct_tension";  ///< progress-line label
   bool progress = true;            ///< show a progress line on stderr
+  /// Called once the run's checks have passed, before its first step (the driver creates its
+  /// output directory there, so run.json says "running" from the run's first minute).
+  std::function<void()> on_start;
 };
 
 /// Per-sub-contact and per-zone fields at one instant (VTK output, peak decomposition).
@@ -340,6 +344,7 @@ template <class Solver, class LawParams>
 
   std::vector<real> imbalance;
   std::size_t indicator_samples_to_peak = 0;
+  if (in.on_start) in.on_start();
   cli::progress_line progress(in.label);
   bool stop = false;
   const auto observe = [&](const Solver& sv) {

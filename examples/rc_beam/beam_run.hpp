@@ -361,8 +361,8 @@ class hinged_plate {
   real inertia_ = 0, omega_ = 0;
 };
 
-/// Runs the beam with contact law Law. on_event(solver, tag) at "first_crack", "yield", "peak"
-/// is not known until the end, so the events are "first_crack", "yield", "end".
+/// Runs the beam with contact law Law. on_event(solver, tag) at "start" (every check passed, the
+/// first step next), "first_crack", "yield", "end" (the peak is not known until the end).
 template <class Law, class OnEvent>
 [[nodiscard]] beam_result run_beam(const beam_scene& scene, const typename Law::params& law_params,
                                    const beam_loading& loading, OnEvent&& on_event) {
@@ -454,6 +454,7 @@ template <class Law, class OnEvent>
   if (contact_plates) drive(s);  // the plates' forces for the first step
 
   const beam_cracks analyser(s.contacts(), gp, o.height, hand.mean_block_size);
+  on_event(std::as_const(s), std::string("start"));  // every check has passed: the run begins
   cli::progress_line progress("rc_beam");
   bool done = false, first_found = false, inclined_found = false, yield_reported = false;
   const std::size_t window = std::max<std::size_t>(
