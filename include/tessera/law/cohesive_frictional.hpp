@@ -74,7 +74,7 @@
 #include <type_traits>
 
 #include "../core/lanes.hpp"
-#include "../contact/kinematics.hpp"
+#include "../core/contact_kinematics.hpp"
 #include "../core/types.hpp"
 #include "compression.hpp"
 #include "concepts.hpp"
