@@ -1,0 +1,150 @@
+// brazilian: Brazilian splitting test of a concrete disc of random Voronoi blocks (public API only).
+// A disc D x t (150 x 60 mm, axis z) as a 36-gon prism with flats at y = +-a, the loading strips
+// 2 (D/2) sin(pi/36) = 13.1 mm = D/11.5 wide (EN 12390-6: 10 mm = D/15). The study's prism blocks
+// and 100-block Table 1 contacts, f_T, c_0, c_res times --strength-scale (0.907: the calibrated 100-block
+// prism peaks at f_T = 2.15 MPa); 38 blocks are the prism's block size. Bottom strip fixed, top strip
+// pushed down at 5 mm/s, 2 nm per step. P_max: the largest top reaction before the disc splits;
+// f_sp = 2 P_max / (pi D t) against f_T (EC2: 1/0.9 = 1.11). Writes run.json, curve.csv, summary.json.
+#include <tessera/core/parallel.hpp>
+#include <tessera/geometry/shapes.hpp>
+#include <tessera/geometry/voronoi.hpp>
+#include <tessera/geometry/zoning.hpp>
+#include <tessera/io/csv.hpp>
+#include <tessera/io/json.hpp>
+#include <tessera/io/run_record.hpp>
+#include <tessera/presets/pulatsu2020.hpp>
+#include <tessera/solver/recorders.hpp>
+#include <tessera/solver/solver.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iterator>
+#include <numbers>
+#include <numeric>
+#include <string>
+#include <vector>
+
+using namespace tessera;
+using joint_law = law::study_tie_law;
+using model = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<joint_law>>;
+
+int main(int argc, char** argv) {
+  std::string out = "results/brazilian";
+  bool quick = false;
+  real seed = 1, threads = 0, n_blocks = 38, sides = 36, diameter = 0.15, thickness = 0.06, scale = 0.907;
+  real rate = 5e-3, du = 2e-9, u_max = 3e-4;  // m/s, strip displacement per step (m), last displacement (m)
+  struct flag { const char* name; real* value; real lo, hi; bool integer; };  // a number flag and its range
+  const flag flags[] = {{"--seed", &seed, 1, 1e9, true}, {"--threads", &threads, 0, 256, true},
+      {"--blocks", &n_blocks, 2, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
+      {"--thickness", &thickness, 0.005, 2, false}, {"--strength-scale", &scale, 0.1, 10, false},
+      {"--rate", &rate, 1e-5, 0.1, false}, {"--step-displacement", &du, 1e-10, 1e-7, false},
+      {"--max-displacement", &u_max, 1e-6, 0.01, false}};
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    const flag* f = std::find_if(std::begin(flags), std::end(flags), [&](const flag& g) { return a == g.name; });
+    if (a == "--help") {
+      std::puts("brazilian [--out DIR] [--quick] [--seed 1..1e9] [--threads 0..256] [--blocks 2..2000]\n"
+                "  [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
+                "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
+                "  [--max-displacement 1e-6..0.01 m]: f_sp = 2 P_max / (pi D t) against f_T; --quick: 5 nm per step.");
+      return 0;
+    } else if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else if (a == "--quick") quick = true;
+    else if (f != std::end(flags)) {
+      const char* v = i + 1 < argc ? argv[++i] : "";
+      char* end = nullptr;
+      const real x = std::strtod(v, &end);
+      if (*v == 0 || *end != 0 || !(x >= f->lo && x <= f->hi) || (f->integer && x != std::floor(x)))
+        return std::fprintf(stderr, "brazilian: %s = '%s' must be %s in [%g, %g]\n", f->name, v,
+                            f->integer ? "an integer" : "a number", f->lo, f->hi), 2;
+      *f->value = x;
+    } else return std::fprintf(stderr, "brazilian: unknown or incomplete argument '%s' (see --help)\n", a.c_str()), 2;
+  }
+  if (static_cast<int>(sides) % 4 != 0)  // a flat at the top and at the bottom needs sides = 4k
+    return std::fprintf(stderr, "brazilian: --sides = %g must be a multiple of 4 (flats at top and bottom)\n", sides), 2;
+  if (quick) du = std::max<real>(du, 5e-9);
+  if (threads > 0) set_threads(static_cast<int>(threads));
+  io::run_record record(out, "brazilian", argc, argv);
+  try {
+    // ---- scene: geometry, materials, supports, loading ----
+    const real pi = std::numbers::pi, R = diameter / 2, a = R * std::cos(pi / sides), strip = 2 * R * std::sin(pi / sides);
+    // phase pi / sides puts a face across x and, with sides = 4k, across y: the strips at y = +-a.
+    const auto disc = geometry::cylinder_prism(vec3::Zero(), vec3::UnitZ(), R, thickness, static_cast<index_t>(sides), pi / sides);
+    const auto tess = geometry::random_voronoi(disc, static_cast<index_t>(n_blocks), static_cast<std::uint64_t>(seed));
+    const auto mesh = geometry::zone_blocks(tess);  // one zone per face triangle, as the prism
+    const zones::linear_elastic_tet::params concrete{280e9, 0.2, 2400};  // semi-rigid: 10 x the macro E
+    joint_law::params joint = law::study_prism_params(100);  // the 100-block prism's contacts: same block size
+    joint.tension.f_T *= scale, joint.shear.c_0 *= scale, joint.shear.c_res *= scale;
+    solver_options options;
+    options.mass_scaling_dt = du / rate;  // quasi-static: masses scaled so the strip moves du per step
+    model s(tess, mesh, concrete, contact::material_table<joint_law::params>(joint), {}, options);
+    const auto bottom = s.gridpoints_on_plane(1, -a, 1e-9 * diameter), top = s.gridpoints_on_plane(1, a, 1e-9 * diameter);
+    s.fix(bottom);                                 // bottom strip held
+    s.prescribe_velocity(top, vec3(0, -rate, 0));  // top strip pushed down at the rate
+    // ---- end of scene ----
+    io::ensure_directory(out);  // run.json "running"
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<double> u, p_top, p_bottom;
+    real p_max = 0, u_peak = 0, p_bottom_at_peak = 0, u_split = 0;  // u_split 0: not split yet
+    bool done = false;
+    const auto every = static_cast<index_t>(std::max<real>(1, std::round(2e-7 / du)));  // a sample per 0.2 um
+    // Split: across the middle two thirds of the diameter (|y| < D/3; the strips' wedges aside) no chain of
+    // intact contacts (tensile damage < 0.5, not slipped) joins a block on the flat x = -a to one on x = +a.
+    const auto left = s.blocks_on_plane(0, -a, 1e-9 * diameter), right = s.blocks_on_plane(0, a, 1e-9 * diameter);
+    std::vector<std::size_t> root(static_cast<std::size_t>(s.block_count()));
+    const auto split = [&](const model& m) {
+      std::iota(root.begin(), root.end(), std::size_t{0});
+      const auto find = [&](index_t block) {  // union-find root, halving the path
+        for (auto b = static_cast<std::size_t>(block);; b = root[b] = root[root[b]]) if (root[b] == b) return b;
+      };
+      const auto& c = m.contacts();
+      for (index_t i = 0; i < c.size(); ++i)
+        if (std::abs(c.position(i, m.gridpoints()).y()) < diameter / 3 &&
+            joint_law::tensile_damage(c.subcontact_params(i), c.state(i)) < 0.5 &&
+            !law::has(joint_law::status(c.state(i)), law::contact_status::slipped))
+          root[find(c.block_a(i))] = find(c.block_b(i));
+      for (index_t l : left)
+        for (index_t r : right)
+          if (find(l) == find(r)) return false;
+      return true;
+    };
+    const auto observe = [&](const model& m) {
+      const real p = -recorders::reaction_sum(m.gridpoints(), top).y(), pb = recorders::reaction_sum(m.gridpoints(), bottom).y();
+      u.push_back(rate * m.time()), p_top.push_back(p), p_bottom.push_back(pb);
+      if (p > p_max && u_split == 0) p_max = p, u_peak = u.back(), p_bottom_at_peak = pb;
+      if (u_split == 0 && split(m)) u_split = u.back();
+      done = u.back() >= u_max || (u_split > 0 && u.back() > 1.2 * u_split);
+    };
+    s.run_until([&](const model&) { return done; }, static_cast<std::int64_t>(2 * u_max / du), recorders::every(every, observe));
+    const double runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // The crack: sub-contacts with tensile damage >= 0.5 by area; near: within D/6 of the loaded diameter.
+    const auto& c = s.contacts();
+    real cracked = 0, near = 0;
+    for (index_t i = 0; i < c.size(); ++i)
+      if (joint_law::tensile_damage(c.subcontact_params(i), c.state(i)) >= 0.5)
+        cracked += c.area(i), near += std::abs(c.position(i, s.gridpoints()).x()) <= diameter / 6 ? c.area(i) : 0;
+    const real f_sp = 2 * p_max / (pi * diameter * thickness), f_t = law::study_prism_params(100).tension.f_T;  // calibrated prism peak
+    const real mismatch = (p_max - p_bottom_at_peak) / p_max;
+    io::write_csv(std::filesystem::path(out) / "curve.csv", {"u_m", "P_top_N", "P_bottom_N"}, {u, p_top, p_bottom});
+    io::summary_json j;
+    j.set("example", "brazilian").set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
+        .set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
+        .set("strength_scale", scale).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
+        .set("peak_load_N", p_max).set("peak_displacement_m", u_peak).set("split", u_split > 0).set("split_displacement_m", u_split)
+        .set("bottom_over_top_at_peak_rel", mismatch).set("f_sp_Pa", f_sp).set("f_T_Pa", f_t).set("f_sp_over_f_T", f_sp / f_t)
+        .set("ec2_ratio", 1 / 0.9).set("cracked_area_over_diametral", cracked / (diameter * thickness))
+        .set("crack_near_diameter_share", cracked > 0 ? near / cracked : 0.0).set("energy_balance_error_rel", s.energies().error_rel())
+        .set("threads", max_threads()).set("runtime_s", runtime_s);
+    j.write(std::filesystem::path(out) / "summary.json");
+    record.complete();
+    std::printf("brazilian: seed %d, P_max %.2f kN at %.1f um (split at %.1f um), f_sp %.3f MPa = %.3f f_T (EC2 1.11), "
+                "bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n", static_cast<int>(seed),
+                p_max * 1e-3, u_peak * 1e6, u_split * 1e6, f_sp * 1e-6, f_sp / f_t, 100 * mismatch,
+                100 * (cracked > 0 ? near / cracked : 0.0), s.energies().error_rel(), runtime_s);
+    return 0;
+  } catch (const std::exception& e) {
+    return std::fprintf(stderr, "brazilian: %s\n", e.what()), 1;
+  }
+}
