@@ -546,3 +546,16 @@ tessera_add_example_test(toppling ARGS --quick
 # 1 - 3/2 sin^2(alpha) = 0.9118 (quick: 0.9544, +4.7 %; the undamped penalty contact loses less).
 tessera_add_example_test(rocking ARGS --quick
   CHECKS "error_rel LESS 0.05" "error_rel GREATER -0.05" "error_omega_rel LESS 0.05" "impacts GREATER 2")
+
+# ---- brazilian: splitting test of a Voronoi disc (issue #40). Seeds 1-5 (full, 2 nm per step) give
+# f_sp / f_T 2.19-3.58 (two seeds not split by 0.3 mm); quick seed 1 (5 nm per step) 2.30. The band
+# holds the model where it is (well above EC2's 1.11, docs/validation.md says why); quasi-static:
+# top and bottom reactions within 5 % at the peak; the split is found; energy balance.
+tessera_add_example_test(brazilian
+  ARGS --quick --threads 1
+  CHECKS "f_sp_over_f_T GREATER 1.8"
+         "f_sp_over_f_T LESS 3.0"
+         "split STREQUAL ON"
+         "bottom_over_top_at_peak_rel LESS 0.05"
+         "bottom_over_top_at_peak_rel GREATER -0.05"
+         "energy_balance_error_rel LESS 1e-3")
