@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Compile-time benchmark (issue #40): compiles the README's consumer program
+# (tests/consumer/main.cpp, <tessera/tessera.hpp>, a deformable-block solver with face contacts)
+# and a small rigid-block scene (benchmarks/compile_time/rigid_scene.cpp, per-role headers,
+# detected dry joints), once with the solver compiled in the scene and once taking it from
+# tessera::instances (-DTESSERA_USE_INSTANCES: extern templates, compile only), and prints
+#
+#   compile_time <name> <seconds> s (user+sys)
+#
+# per program: the compiler's CPU time (user + sys of /usr/bin/time, or of bash's `times` where
+# /usr/bin/time is missing), not wall time, because the machines that run it are shared with
+# other compiles; with REPEAT=n (default 1) each is compiled n times and the median printed.
+# A figure, not a test: it fails only when a program does not compile, never on its time.
+# Usage: benchmarks/compile_time.sh            (from anywhere; CXX, CXXFLAGS, REPEAT, OUT_DIR)
+set -euo pipefail
+root="$(cd "$(dirname "$0")/.." && pwd)"
+cxx="${CXX:-g++}"
+# The flags of the issue's criterion (<= 15 s at -O2); CXXFLAGS='-O3 -DNDEBUG' for a Release build's.
+read -r -a flags <<< "${CXXFLAGS:--O2}"
+repeat="${REPEAT:-1}"
+out_dir="${OUT_DIR:-$(mktemp -d)}"
+mkdir -p "$out_dir"
+eigen="$(pkg-config --cflags-only-I eigen3 2>/dev/null || echo -I/usr/include/eigen3)"
+read -r -a eigen_flags <<< "$eigen"
+common=(-std=c++20 -fopenmp -I"$root/include" "${eigen_flags[@]}" "${flags[@]}")
+echo "compile_time: $cxx ${common[*]} -c, CPU time user+sys, median of $repeat"
+
+# cpu_seconds <output.o> <compiler args...>: compiles once, prints user+sys seconds.
+cpu_seconds() {
+  local obj="$1"; shift
+  local t="$out_dir/time.txt"
+  if [[ -x /usr/bin/time ]]; then
+    /usr/bin/time -f "%U %S" -o "$t" "$cxx" "${common[@]}" "$@" -c -o "$obj" || return 1
+    awk '{printf "%.1f\n", $1 + $2}' "$t"
+  else
+    # bash's `times` in a subshell: the children's user and sys time, in NmS.SSSs form.
+    ( "$cxx" "${common[@]}" "$@" -c -o "$obj" || exit 1; times ) | tail -1 |
+      awk '{u = $1; s = $2; sub(/s$/, "", u); sub(/s$/, "", s); split(u, a, "m"); split(s, b, "m");
+            printf "%.1f\n", a[1] * 60 + a[2] + b[1] * 60 + b[2]}'
+  fi
+}
+# measure <name> <compiler args...>
+measure() {
+  local name="$1"; shift
+  local runs=()
+  for ((k = 0; k < repeat; ++k)); do
+    local s
+    if ! s="$(cpu_seconds "$out_dir/$name.o" "$@")"; then
+      echo "compile_time: $name does not compile" >&2
+      exit 1
+    fi
+    runs+=("$s")
+  done
+  local median
+  median="$(printf '%s\n' "${runs[@]}" | sort -g | awk '{v[NR] = $1} END {print v[int((NR + 1) / 2)]}')"
+  echo "compile_time $name $median s (user+sys)"
+}
+
+measure consumer "$root/tests/consumer/main.cpp"
+measure rigid_scene "$root/benchmarks/compile_time/rigid_scene.cpp"
+measure rigid_scene_instances -DTESSERA_USE_INSTANCES "$root/benchmarks/compile_time/rigid_scene.cpp"
