@@ -26,7 +26,7 @@
 //             cohesion, never bonded, so a plate edge lifts off where the concrete pulls away.
 //             The support plate's axis is held, the loading plate's driven down at --rate after a
 //             half-cosine ramp. --plates tied: the gridpoints under each plate moved as one rigid
-//             plate hinged at its axis (beam_run.hpp hinged_plate), the support's held in z: what
+//             plate hinged at its axis (beam_plates.hpp hinged_plate), the support's held in z: what
 //             the study did ("nodes are subjected to a fixed velocity boundary condition ... the
 //             reaction forces are recorded from upper nodes", Sec. 4).
 //   measured  total load P = 2 x the support reaction (both half-spans; beam_run.hpp says why not
@@ -79,7 +79,7 @@ struct beam_options {
   real plate = 0.05;             ///< plate length along the span, support and load (m)
   /// "contact": steel plates of their own (contact::rigid_platen) touching the concrete through
   /// the plate-concrete pair (the beam's k_n, k_s, friction at phi_0, never bonded); "tied": the
-  /// gridpoints under each plate moved as one hinged plate (beam_run.hpp hinged_plate).
+  /// gridpoints under each plate moved as one hinged plate (beam_plates.hpp hinged_plate).
   std::string plates = "contact";
   real plate_thickness = 0.02;   ///< steel plate thickness (m): its mass and inertia ("contact")
   int bars = 4;                  ///< bars across the width

@@ -1,26 +1,7 @@
 #pragma once
-// One run of the RC beam (beam.hpp): supports and loading, the samples, the crack analysis of a
-// beam and the figures of beam_result.
-//
-// Cracks of a beam. Flexural and diagonal cracks do not cut the beam into pieces, so the
-// through-crack analysis of the ties (analysis::crack_graph) does not apply.
-// During the run (beam_cracks, for the first developed crack and the first inclined one):
-//   - a sub-contact is cracked when it is past its tensile peak (softened);
-//   - a face (the sub-contacts of one block pair) is cracked when at least half its area is;
-//   - cracked faces that share a block and whose centres lie within 1.5 mean block sizes belong
-//     to the same crack (union-find); a crack is kept when it spans at least a quarter of the
-//     depth; its inclination is the angle from the vertical of the area-weighted least-squares
-//     line x(y) through its sub-contacts (below 35 degrees: vertical, else inclined); its position
-//     the mean x of its lowest third.
-//   Once many faces have softened (past yield) these clusters merge into one, so:
-// At the end (beam_crack_profile): the opening profile along the span; a crack is a local maximum
-// of the opening in the lower third of the depth that reaches beam_loading::crack_width (0.1 mm,
-// a crack one sees), maxima closer than 0.75 block sizes being one crack. A flexural crack is a
-// vertical one in the constant-moment zone; the count and mean spacing are over that zone
-// mirrored about the symmetry face (the whole beam's zone, as the study counts).
-// Failure mode, from the widest crack: none when no crack reaches crack_width; inclined (35
-// degrees or more) and in the shear span -> diagonal_tension; else crushing when the compressive
-// cap has dissipated more than tensile cracking; else flexure.
+// One run of the RC beam (beam.hpp): supports and loading, the samples, the events and the
+// figures of beam_result. The crack analysis and the failure mode: beam_cracks.hpp; the tied
+// plates (--plates tied): beam_plates.hpp.
 //
 // The load. P = twice the support reaction (both half-spans): the force the beam delivers to its
 // supports, the load cell of a test. The force on the loading plate's gridpoints is larger by the
@@ -34,7 +15,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <map>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -42,137 +22,11 @@
 #include <vector>
 
 #include "rc_beam/beam.hpp"
+#include "rc_beam/beam_cracks.hpp"
+#include "rc_beam/beam_plates.hpp"
 #include "tessera/contact/platen.hpp"
 
 namespace tessera::scenes {
-
-struct beam_crack {
-  real x = 0;             ///< position along the span: mean x of its lowest third (m)
-  real y_min = 0, y_max = 0;
-  real angle_deg = 0;     ///< from the vertical
-  real width = 0;         ///< largest separation of its sub-contacts (m)
-  real area = 0;          ///< cracked face area (m^2)
-  [[nodiscard]] bool vertical() const { return angle_deg < 35; }
-};
-
-/// Opening of sub-contact i: the separation of its two gridpoints, opening and slip (m).
-template <class Contacts>
-[[nodiscard]] real subcontact_opening(const Contacts& c, const node_set& gp, index_t i) {
-  return (gp.position(c.node_b(i)) - gp.position(c.node_a(i))).norm();
-}
-
-/// Weighted least-squares line x(y) through points of a crack; its angle from the vertical.
-struct crack_line_fit {
-  double sw = 0, sx = 0, sy = 0, sxy = 0, syy = 0;
-  void add(double w, const vec3& p) {
-    sw += w, sx += w * p.x(), sy += w * p.y(), sxy += w * p.x() * p.y(), syy += w * p.y() * p.y();
-  }
-  /// Degrees from the vertical; 90 when the points lie at one height.
-  [[nodiscard]] real angle_deg() const {
-    const double my = sy / sw, var_y = syy / sw - my * my, cov = sxy / sw - (sx / sw) * my;
-    return var_y > 0 ? std::atan(std::abs(cov / var_y)) * 180 / std::numbers::pi : 90;
-  }
-};
-
-/// Crack analysis of a beam (see the file comment). Built once from the contact set; evaluate()
-/// allocates its report (not for the step loop).
-class beam_cracks {
- public:
-  template <class Contacts>
-  beam_cracks(const Contacts& c, const node_set& gp, real height, real cell_size)
-      : height_(height), cell_(cell_size) {
-    // Faces: contiguous runs of one block pair.
-    for (index_t i = 0; i < c.size(); ++i) {
-      const index_t a = c.block_a(i), b = c.block_b(i);
-      if (faces_.empty() || faces_.back().a != a || faces_.back().b != b || faces_.back().end != i)
-        faces_.push_back({a, b, i, i, vec3::Zero(), 0});
-      face& f = faces_.back();
-      f.end = i + 1;
-      f.centre += c.area(i) * c.position(i, gp);
-      f.area += c.area(i);
-    }
-    index_t blocks = 0;
-    for (face& f : faces_) {
-      if (f.area > 0) f.centre /= f.area;
-      blocks = std::max({blocks, f.a + 1, f.b + 1});
-    }
-    block_faces_.assign(static_cast<std::size_t>(blocks), {});
-    for (std::size_t k = 0; k < faces_.size(); ++k) {
-      block_faces_[static_cast<std::size_t>(faces_[k].a)].push_back(k);
-      block_faces_[static_cast<std::size_t>(faces_[k].b)].push_back(k);
-    }
-  }
-
-  /// Cracks whose sub-contacts are softened, and separated by w_open if w_open > 0.
-  template <class Contacts>
-  [[nodiscard]] std::vector<beam_crack> evaluate(const Contacts& c, const node_set& gp, real w_open) const {
-    const auto jump = [&](index_t i) { return subcontact_opening(c, gp, i); };
-    std::vector<char> cracked(faces_.size(), 0);
-    for (std::size_t k = 0; k < faces_.size(); ++k) {
-      real a = 0;
-      for (index_t i = faces_[k].first; i < faces_[k].end; ++i)
-        if (analysis::crack_graph::past_peak(c.state(i).flags) && (w_open <= 0 || jump(i) >= w_open)) a += c.area(i);
-      cracked[k] = a >= 0.5 * faces_[k].area && faces_[k].area > 0;
-    }
-    std::vector<std::size_t> parent(faces_.size());
-    for (std::size_t k = 0; k < parent.size(); ++k) parent[k] = k;
-    const auto find = [&](std::size_t k) {
-      while (parent[k] != k) k = parent[k] = parent[parent[k]];
-      return k;
-    };
-    const real reach2 = (1.5 * cell_) * (1.5 * cell_);
-    for (const auto& list : block_faces_)
-      for (std::size_t p = 0; p < list.size(); ++p)
-        for (std::size_t q = p + 1; q < list.size(); ++q) {
-          const std::size_t f = list[p], g = list[q];
-          if (cracked[f] && cracked[g] && (faces_[f].centre - faces_[g].centre).squaredNorm() <= reach2)
-            parent[find(f)] = find(g);
-        }
-    std::map<std::size_t, std::vector<std::size_t>> groups;
-    for (std::size_t k = 0; k < faces_.size(); ++k)
-      if (cracked[k]) groups[find(k)].push_back(k);
-    std::vector<beam_crack> out;
-    for (const auto& [root, list] : groups) {
-      beam_crack cr;
-      crack_line_fit fit;
-      cr.y_min = height_;
-      cr.y_max = 0;
-      for (std::size_t k : list) {
-        cr.area += faces_[k].area;
-        for (index_t i = faces_[k].first; i < faces_[k].end; ++i) {
-          const vec3 p = c.position(i, gp);
-          fit.add(c.area(i), p);
-          cr.y_min = std::min(cr.y_min, p.y());
-          cr.y_max = std::max(cr.y_max, p.y());
-          cr.width = std::max(cr.width, jump(i));
-        }
-      }
-      if (cr.y_max - cr.y_min < 0.25 * height_ || fit.sw <= 0) continue;
-      cr.angle_deg = fit.angle_deg();
-      double lw = 0, lx = 0;
-      const real low = cr.y_min + (cr.y_max - cr.y_min) / 3;
-      for (std::size_t k : list)
-        for (index_t i = faces_[k].first; i < faces_[k].end; ++i) {
-          const vec3 p = c.position(i, gp);
-          if (p.y() <= low) lw += c.area(i), lx += c.area(i) * p.x();
-        }
-      cr.x = lw > 0 ? lx / lw : fit.sx / fit.sw;
-      out.push_back(cr);
-    }
-    std::sort(out.begin(), out.end(), [](const beam_crack& p, const beam_crack& q) { return p.x < q.x; });
-    return out;
-  }
-
- private:
-  struct face {
-    index_t a, b, first, end;
-    vec3 centre;
-    real area;
-  };
-  real height_, cell_;
-  std::vector<face> faces_;
-  std::vector<std::vector<std::size_t>> block_faces_;
-};
 
 struct beam_loading {
   real rate = 5e-3;            ///< loading plate velocity (m/s)
@@ -255,111 +109,6 @@ struct beam_result {
   return rate * beam_first_mode_period(s, added) / (s.hand.first_crack_load / s.hand.initial_stiffness);
 }
 
-/// Gridpoints within [x0, x1] on the plane y = value.
-[[nodiscard]] inline bc::node_group beam_strip(const node_set& gp, real y, real x0, real x1, real tol,
-                                               const std::string& name) {
-  bc::node_group g;
-  g.name = name;
-  for (index_t i = 0; i < gp.size(); ++i) {
-    const real x = gp.reference(i, 0);
-    if (std::abs(gp.reference(i, 1) - y) <= tol && x >= x0 - tol && x <= x1 + tol) g.nodes.push_back(i);
-  }
-  return g;
-}
-
-/// The cracks of a beam at the end of a run, from its opening profile along the span: in bins of
-/// 5 mm along x, the largest opening (gridpoint separation) of the softened sub-contacts in the
-/// lower third of the depth; a crack is a bin whose opening is at least `width` and the largest
-/// within +-0.75 mean block sizes (neighbouring maxima closer than that are one crack). Its angle
-/// from the vertical: the opening-weighted least-squares line x(y) through the sub-contacts within
-/// 1.5 block sizes of it that opened at least 30 % of its width, over the whole depth.
-template <class Contacts>
-[[nodiscard]] std::vector<beam_crack> beam_crack_profile(const Contacts& c, const node_set& gp, real height,
-                                                         real cell, real width) {
-  constexpr real bin = 0.005;
-  real x_max = 0;
-  for (index_t i = 0; i < c.size(); ++i) x_max = std::max(x_max, c.position(i, gp).x());
-  const auto bins = static_cast<std::size_t>(x_max / bin) + 1;
-  std::vector<real> opening(bins, 0);
-  const auto jump = [&](index_t i) { return subcontact_opening(c, gp, i); };
-  for (index_t i = 0; i < c.size(); ++i) {
-    const vec3 p = c.position(i, gp);
-    if (p.y() > height / 3 || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
-    const auto k = std::min(bins - 1, static_cast<std::size_t>(std::max(real(0), p.x()) / bin));
-    opening[k] = std::max(opening[k], jump(i));
-  }
-  const auto reach = static_cast<std::size_t>(std::ceil(0.75 * cell / bin));
-  std::vector<beam_crack> out;
-  for (std::size_t k = 0; k < bins; ++k) {
-    if (opening[k] < width) continue;
-    bool peak = true;
-    for (std::size_t j = k > reach ? k - reach : 0; j <= std::min(bins - 1, k + reach) && peak; ++j)
-      peak = opening[j] < opening[k] || (opening[j] == opening[k] && j >= k);
-    if (!peak) continue;
-    beam_crack cr;
-    cr.x = (static_cast<real>(k) + 0.5) * bin;
-    cr.width = opening[k];
-    crack_line_fit fit;
-    cr.y_min = height;
-    for (index_t i = 0; i < c.size(); ++i) {
-      const vec3 p = c.position(i, gp);
-      if (std::abs(p.x() - cr.x) > 1.5 * cell || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
-      const real w = jump(i);
-      if (w < 0.3 * cr.width) continue;
-      fit.add(w, p);
-      cr.y_min = std::min(cr.y_min, p.y());
-      cr.y_max = std::max(cr.y_max, p.y());
-      cr.area += c.area(i);
-    }
-    if (fit.sw > 0) cr.angle_deg = fit.angle_deg();
-    out.push_back(cr);
-  }
-  return out;
-}
-
-/// A rigid plate on a hinge: the gridpoints under it move as one rigid plate that translates at a
-/// prescribed vertical velocity v_0 at its axis and turns freely about it (a roller bearing).
-/// Each step, before the update, the plate's rotation rate omega (v_y = v_0 + omega (x - x_c)) is
-/// advanced from the moment the concrete exerts on the plate, recovered from the last step's
-/// reactions (R = m dv/dt - F, central_difference.hpp), with the plate's inertia I = sum m_i
-/// (x_i - x_c)^2 (the gridpoints' own, mass-scaled, masses) and local damping, like any other
-/// degree of freedom. Without it the tied gridpoints of a 50 mm plate clamp the beam's rotation
-/// at the support and under the load (measured: the quick beam 5.4x stiffer than the hand value).
-class hinged_plate {
- public:
-  hinged_plate(const node_set& gp, bc::node_group group, real axis) : group_(std::move(group)) {
-    for (index_t n : group_.nodes) {
-      arm_.push_back(gp.reference(n, 0) - axis);
-      inertia_ += gp.mass(n) * arm_.back() * arm_.back();
-    }
-    v_last_.assign(arm_.size(), 0);
-  }
-  [[nodiscard]] const bc::node_group& group() const { return group_; }
-  /// Sets the next step's velocities; call before each step with the axis velocity v0.
-  void drive(node_set& gp, real v0, real dt, real gamma) {
-    if (inertia_ > 0 && dt > 0) {
-      real moment = 0;  // on the plate from the concrete, about the axis
-      for (std::size_t k = 0; k < arm_.size(); ++k) {
-        const index_t n = group_.nodes[k];
-        const real internal = gp.mass(n) * (gp.prescribed_velocity(n, 1) - v_last_[k]) / dt - gp.reaction(n, 1);
-        moment += internal * arm_[k];
-      }
-      const real sign = omega_ > 0 ? 1.0 : (omega_ < 0 ? -1.0 : 0.0);
-      omega_ += dt * (moment - gamma * std::abs(moment) * sign) / inertia_;
-    }
-    for (std::size_t k = 0; k < arm_.size(); ++k) {
-      const index_t n = group_.nodes[k];
-      v_last_[k] = gp.prescribed_velocity(n, 1);
-      gp.prescribed_velocity(n, 1) = v0 + omega_ * arm_[k];
-    }
-  }
-  [[nodiscard]] real rotation_rate() const { return omega_; }
-
- private:
-  bc::node_group group_;
-  std::vector<real> arm_, v_last_;
-  real inertia_ = 0, omega_ = 0;
-};
 
 /// Runs the beam with contact law Law. on_event(solver, tag) at "start" (every check passed, the
 /// first step next), "first_crack", "yield", "end" (the peak is not known until the end).
@@ -600,14 +349,7 @@ template <class Law, class OnEvent>
   const contact::contact_energies ce = s.contacts().energies();
   r.compression_dissipated = ce.dissipated_compression;
   r.tension_dissipated = ce.dissipated_tension;
-  if (r.widest.width < loading.crack_width)
-    r.failure_mode = "none";
-  else if (!r.widest.vertical() && r.widest.x > o.support_x() && r.widest.x < o.load_x() + o.plate / 2)
-    r.failure_mode = "diagonal_tension";
-  else if (r.compression_dissipated > r.tension_dissipated)
-    r.failure_mode = "crushing";
-  else
-    r.failure_mode = "flexure";
+  r.failure_mode = beam_failure_mode(r.widest, o, loading.crack_width, r.compression_dissipated, r.tension_dissipated);
   r.energy_balance_error = e.error_rel();
   r.boundary_work = e.boundary_work + e.applied_work;
   if (contact_plates) {

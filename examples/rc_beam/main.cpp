@@ -2,8 +2,8 @@
 // 2020, Sec. 4, Figures 16-18; DESIGN.md §6): flexural cracks in the constant-moment zone, yield
 // of the bars, failure by diagonal tension. The default geometry is PROVISIONAL (DESIGN.md §6:
 // the study's dimension figure is not in its text; Walraven's series-A1 beam is assumed) and every
-// output says so. The scene, the supports and the crack analysis: rc_beam/beam.hpp and
-// rc_beam/beam_run.hpp.
+// output says so. The scene: rc_beam/beam.hpp; the run: rc_beam/beam_run.hpp; the crack analysis
+// and the failure mode: rc_beam/beam_cracks.hpp; the tied plates: rc_beam/beam_plates.hpp.
 //
 // Outputs in --out DIR:
 //   curve.csv     midspan_deflection_m, load_N (total load P, both half-spans: twice the half
