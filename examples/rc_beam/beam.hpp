@@ -93,6 +93,16 @@ struct beam_options {
   real zone_edge = 0;
   real regularize = 0;           ///< short-edge regularisation of the Voronoi cells (0 = plain)
   std::string compression = "plastic";  ///< "plastic" (cap at f_c, the study) or "elastic"
+  /// "decoupled" (the study, DESIGN.md: cohesion c_0 until the contact breaks) or "coupled" (the
+  /// cohesion softens with the tensile strength, law::coulomb_coupled; built with the plastic cap
+  /// only: presets::coupled_beam_law)
+  std::string cohesion = "decoupled";
+  /// A shear failure also breaks the contact in tension (the law's slip_breaks_tension: 3DEC's
+  /// brittle Coulomb joint; opt-in, the study keeps its tension)
+  bool slip_breaks_tension = false;
+  /// Yield stress of the bars (Pa): the study's 440 MPa; a large value (1e12) keeps them elastic,
+  /// so that the beam can only fail in its concrete (issue #41 item 1)
+  real steel_yield = 440e6;
   /// Calibration (examples/calibrate --material beam, rc_beam --params): the contacts' tensile
   /// strength and with it the cohesion (c_0 = 2 x the scaled f_T) are study_beam_params' times
   /// strength_scale, their G_f times fracture_energy_scale; 1 and 1 = the study verbatim. The
@@ -110,7 +120,7 @@ struct beam_options {
 
 inline constexpr real beam_concrete_young = 25e9;  ///< E (study Sec. 4)
 inline constexpr real beam_steel_young = 210e9;
-inline constexpr real beam_steel_yield = 440e6;
+inline constexpr real beam_steel_yield = 440e6;  ///< the study's f_y (beam_options::steel_yield's default)
 
 /// Closed-form references of the default beam (elastic beam theory, total load P on two plates).
 struct beam_hand_checks {
@@ -130,6 +140,7 @@ struct beam_hand_checks {
   /// delta = (P/2) a (3 L^2 - 4 a^2) / (24 E I) + (P/2) a / (kappa G b h) (N/m).
   real initial_stiffness = 0;
   real lever_arm = 0;            ///< z = d - x/3 of the cracked elastic section (m)
+  real steel_yield = 0;          ///< f_y of the bars (Pa): beam_options::steel_yield
   real yield_load = 0;           ///< P_y = 2 A_s f_y z / a (N)
   /// Shear capacity without stirrups, P = 2 V_c with V_c = 0.15 k (100 rho f_c)^(1/3) b d
   /// (Eurocode 2's form, mean-value coefficient 0.15, k = min(2, 1 + sqrt(200 / d_mm))) (N).
@@ -169,7 +180,8 @@ struct beam_scene {
   const real rho = as / (b * d);
   const real x = d * (-n * rho + std::sqrt(n * rho * n * rho + 2 * n * rho));
   h.lever_arm = d - x / 3;
-  h.yield_load = 2 * as * beam_steel_yield * h.lever_arm / a;
+  h.steel_yield = o.steel_yield;
+  h.yield_load = 2 * as * o.steel_yield * h.lever_arm / a;
   const real d_mm = d * 1e3, k = std::min(2.0, 1 + std::sqrt(200 / d_mm));
   const real vc_mpa = 0.15 * k * std::cbrt(100 * rho * c.compression.f_c * 1e-6);
   h.shear_capacity_load = 2 * vc_mpa * 1e6 * b * d;
@@ -242,6 +254,13 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   require(std::isfinite(o.end_cover) && o.end_cover >= 0 && o.end_cover < o.support_x(), "rc_beam: --end-cover ",
           o.end_cover, " m must lie in [0, overhang = ", o.overhang, " m)");
   require(std::isfinite(o.zone_edge) && o.zone_edge >= 0, "rc_beam: --zone-edge ", o.zone_edge, " must be >= 0");
+  require(std::isfinite(o.steel_yield) && o.steel_yield > 0, "rc_beam: --steel-yield ", o.steel_yield,
+          " Pa must be finite and > 0");
+  require(o.cohesion == "decoupled" || o.cohesion == "coupled", "rc_beam: --cohesion '", o.cohesion,
+          "' must be decoupled or coupled");
+  require(o.cohesion == "decoupled" || o.compression == "plastic",
+          "rc_beam: --cohesion coupled is built with --compression plastic only (presets::coupled_beam_law), got "
+          "--compression ", o.compression);
   require(o.compression == "plastic" || o.compression == "elastic", "rc_beam: --compression '", o.compression,
           "' must be plastic or elastic");
   require(o.plates == "contact" || o.plates == "tied", "rc_beam: --plates '", o.plates, "' must be contact or tied");
@@ -255,7 +274,7 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   s.box.lo = vec3::Zero();
   s.box.hi = vec3(o.half_length(), o.height, o.width);
   beam_concrete_blocks(s.box, o.blocks, o, s.tess, s.mesh, s.block_material);
-  s.bar.steel = reinforcement::steel{beam_steel_young, beam_steel_yield, 7850.0, o.bar_diameter};
+  s.bar.steel = reinforcement::steel{beam_steel_young, o.steel_yield, 7850.0, o.bar_diameter};
   s.bar.bond = presets::tie_bond();
   const real bar_length = o.half_length() - o.end_cover;
   s.elements_per_bar = std::max<index_t>(2, std::llround(o.trusses_per_block * bar_length / s.hand.mean_block_size));

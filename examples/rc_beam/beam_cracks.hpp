@@ -31,6 +31,7 @@
 #include "rc_beam/beam.hpp"
 
 namespace tessera::scenes {
+
 struct beam_crack {
   real x = 0;             ///< position along the span: mean x of its lowest third (m)
   real y_min = 0, y_max = 0;
@@ -159,26 +160,27 @@ class beam_cracks {
   std::vector<std::vector<std::size_t>> block_faces_;
 };
 
-/// The cracks of a beam at the end of a run, from its opening profile along the span: in bins of
-/// 5 mm along x, the largest opening (gridpoint separation) of the softened sub-contacts in the
-/// lower third of the depth; a crack is a bin whose opening is at least `width` and the largest
-/// within +-0.75 mean block sizes (neighbouring maxima closer than that are one crack). Its angle
-/// from the vertical: the opening-weighted least-squares line x(y) through the sub-contacts within
-/// 1.5 block sizes of it that opened at least 30 % of its width, over the whole depth.
-template <class Contacts>
-[[nodiscard]] std::vector<beam_crack> beam_crack_profile(const Contacts& c, const node_set& gp, real height,
-                                                         real cell, real width) {
+/// Cracks as the maxima of an opening field along the span: in bins of 5 mm along x, the largest
+/// value opening(i) (m) of the sub-contacts at or below y_top; a crack is a bin whose value is at
+/// least `width` (> 0) and the largest within +-0.75 mean block sizes `cell` (neighbouring maxima
+/// closer than that are one crack). Its angle from the vertical: the opening-weighted least-squares
+/// line x(y) through the sub-contacts within 1.5 block sizes of it whose value is at least 30 % of
+/// its own, over the whole depth. opening(i) < 0 leaves sub-contact i out.
+template <class Contacts, class Opening>
+[[nodiscard]] std::vector<beam_crack> beam_opening_maxima(const Contacts& c, const node_set& gp, real height, real cell,
+                                                          real width, real y_top, Opening&& opening_of) {
   constexpr real bin = 0.005;
   real x_max = 0;
   for (index_t i = 0; i < c.size(); ++i) x_max = std::max(x_max, c.position(i, gp).x());
   const auto bins = static_cast<std::size_t>(x_max / bin) + 1;
   std::vector<real> opening(bins, 0);
-  const auto jump = [&](index_t i) { return subcontact_opening(c, gp, i); };
   for (index_t i = 0; i < c.size(); ++i) {
     const vec3 p = c.position(i, gp);
-    if (p.y() > height / 3 || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
+    if (p.y() > y_top) continue;
+    const real w = opening_of(i);
+    if (w < 0) continue;
     const auto k = std::min(bins - 1, static_cast<std::size_t>(std::max(real(0), p.x()) / bin));
-    opening[k] = std::max(opening[k], jump(i));
+    opening[k] = std::max(opening[k], w);
   }
   const auto reach = static_cast<std::size_t>(std::ceil(0.75 * cell / bin));
   std::vector<beam_crack> out;
@@ -195,9 +197,9 @@ template <class Contacts>
     cr.y_min = height;
     for (index_t i = 0; i < c.size(); ++i) {
       const vec3 p = c.position(i, gp);
-      if (std::abs(p.x() - cr.x) > 1.5 * cell || !analysis::crack_graph::past_peak(c.state(i).flags)) continue;
-      const real w = jump(i);
-      if (w < 0.3 * cr.width) continue;
+      if (std::abs(p.x() - cr.x) > 1.5 * cell) continue;
+      const real w = opening_of(i);
+      if (w < 0 || w < 0.3 * cr.width) continue;
       fit.add(w, p);
       cr.y_min = std::min(cr.y_min, p.y());
       cr.y_max = std::max(cr.y_max, p.y());
@@ -207,6 +209,17 @@ template <class Contacts>
     out.push_back(cr);
   }
   return out;
+}
+
+/// The cracks of a beam at the end of a run, from its opening profile along the span
+/// (beam_opening_maxima): the opening (gridpoint separation) of the softened sub-contacts, located
+/// in the lower third of the depth, reaching `width` (m).
+template <class Contacts>
+[[nodiscard]] std::vector<beam_crack> beam_crack_profile(const Contacts& c, const node_set& gp, real height,
+                                                         real cell, real width) {
+  return beam_opening_maxima(c, gp, height, cell, width, height / 3, [&](index_t i) {
+    return analysis::crack_graph::past_peak(c.state(i).flags) ? subcontact_opening(c, gp, i) : real(-1);
+  });
 }
 
 /// The failure mode of a beam from its widest crack at the end (file comment): "none" when it is

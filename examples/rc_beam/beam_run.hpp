@@ -24,6 +24,7 @@
 #include "rc_beam/beam.hpp"
 #include "rc_beam/beam_cracks.hpp"
 #include "rc_beam/beam_plates.hpp"
+#include "rc_beam/beam_post_peak.hpp"
 #include "tessera/contact/platen.hpp"
 
 namespace tessera::scenes {
@@ -40,6 +41,7 @@ struct beam_loading {
   index_t crack_every = 10;      ///< samples between crack analyses during the run
   real smoothing = 2e-5;       ///< deflection window of the smoothed load (m)
   real crack_width = 1e-4;     ///< opening at which a crack counts at the end of the run (m)
+  real history_step = 5e-5;    ///< deflection between the opening snapshots of beam_opening_history (m)
   real damping_gamma = 0.8;
   int threads = 0;
   bool progress = true;
@@ -86,6 +88,7 @@ struct beam_result {
   real mean_crack_spacing = 0;           ///< m, 0 with fewer than two
   std::string failure_mode = "none";
   beam_crack widest;
+  beam_post_peak_crack after_peak;  ///< the fastest-opening inclined crack after the peak (beam_post_peak.hpp)
   /// boundary_work: the work of the supports and, with --plates contact, of the plates (J)
   real energy_balance_error = 0, boundary_work = 0, contact_dissipated = 0, compression_dissipated = 0,
        tension_dissipated = 0, damping_dissipated = 0;
@@ -216,6 +219,7 @@ template <class Law, class OnEvent>
     if (s.contacts().position(i, gp).y() <= 0.1 * o.height && s.contacts().position(i, gp).x() >= o.load_x())
       soffit.push_back(i);
   real soffit_peak_load = 0, soffit_peak_deflection = 0;
+  beam_opening_history history(loading.history_step);
   const auto sample = [&](const solver_type& sv) {
     real fp = 0, fs = 0, u = 0, up = 0;  // up: the loading plate's vertical displacement
     if (contact_plates) {
@@ -239,6 +243,7 @@ template <class Law, class OnEvent>
     r.plate_load.push_back(-2 * fp);
     r.load_point_deflection.push_back(-up);
     if (load > max_load) max_load = load, r.peak_load = load, r.peak_deflection = defl;
+    history.record(sv.contacts(), sv.gridpoints(), defl, load);
     if (r.first_crack_load == 0) {
       // Mean bending stress of the soffit: sum A t_x n_x / sum A n_x^2 over its sub-contacts
       // (t = sigma_n n + tau; equals sigma_xx for a uniform stress field).
@@ -349,6 +354,8 @@ template <class Law, class OnEvent>
   const contact::contact_energies ce = s.contacts().energies();
   r.compression_dissipated = ce.dissipated_compression;
   r.tension_dissipated = ce.dissipated_tension;
+  r.after_peak = beam_fastest_inclined_after_peak(s.contacts(), gp, history, o, hand.mean_block_size,
+                                                  loading.crack_width, r.peak_load, r.peak_deflection);
   r.failure_mode = beam_failure_mode(r.widest, o, loading.crack_width, r.compression_dissipated, r.tension_dissipated);
   r.energy_balance_error = e.error_rel();
   r.boundary_work = e.boundary_work + e.applied_work;
@@ -385,11 +392,22 @@ template <class Law, class OnEvent>
   return q;
 }
 
+/// run_beam with the law of the scene's options: the study's (linear softening, plastic cap,
+/// decoupled cohesion), --compression elastic (linear_tie_law) or --cohesion coupled
+/// (coupled_beam_law; with the plastic cap only, make_beam refuses the other), each with the
+/// options' slip_breaks_tension.
 template <class OnEvent>
 [[nodiscard]] beam_result run_beam(const beam_scene& scene, const beam_loading& loading, OnEvent&& on_event) {
-  if (scene.options.compression == "elastic")
-    return run_beam<presets::linear_tie_law>(scene, beam_elastic_compression(scene.contact), loading, on_event);
-  return run_beam<presets::study_beam_law>(scene, scene.contact, loading, on_event);
+  const beam_options& o = scene.options;
+  auto contact = scene.contact;
+  contact.shear.slip_breaks_tension = o.slip_breaks_tension;
+  require(o.cohesion == "decoupled" || o.compression == "plastic", "rc_beam: --cohesion ", o.cohesion,
+          " is built with --compression plastic only, got --compression ", o.compression);
+  if (o.compression == "elastic")
+    return run_beam<presets::linear_tie_law>(scene, beam_elastic_compression(contact), loading, on_event);
+  if (o.cohesion == "coupled")
+    return run_beam<presets::coupled_beam_law>(scene, presets::with_coupled_cohesion(contact), loading, on_event);
+  return run_beam<presets::study_beam_law>(scene, contact, loading, on_event);
 }
 
 }  // namespace tessera::scenes

@@ -24,7 +24,9 @@
 //                 (hand_initial_stiffness_model_modulus_N_per_m, initial_stiffness_model_modulus_error_rel);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
-//                 the supports and plates did on the beam
+//                 the supports and plates did on the beam; the law options (cohesion,
+//                 slip_breaks_tension) and steel_yield_Pa; inclined_after_peak_* the fastest-opening
+//                 inclined crack after the peak and diagonal_crack_after_peak (beam_post_peak.hpp)
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -96,6 +98,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   namespace io = tessera::io;
   const auto& h = scene.hand;
   const auto& o = scene.options;
+  const auto& p = r.after_peak;
   io::write_csv(out / "curve.csv",
                 {"midspan_deflection_m", "load_N", "smoothed_load_N", "plate_load_N", "load_point_deflection_m"},
                 {r.deflection, r.load, r.smoothed_load, r.plate_load, r.load_point_deflection});
@@ -179,6 +182,9 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("blocks", o.blocks)
       .set("seed", o.seed)
       .set("compression", o.compression)
+      .set("cohesion", o.cohesion)
+      .set("slip_breaks_tension", o.slip_breaks_tension)
+      .set("steel_yield_Pa", o.steel_yield)
       .set("parameters", in.params.empty() ? "verbatim" : "calibrated")
       .set("params_file", in.params)
       .set("strength_scale", o.strength_scale)
@@ -241,6 +247,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
         .set("initial_stiffness_model_modulus_error_rel", rel(r.initial_stiffness, k_model));
   }
   js.set("hand_yield_load_N", h.yield_load)
+      .set("hand_steel_yield_Pa", h.steel_yield)
       .set("lever_arm_m", h.lever_arm)
       .set("steel_yielded", r.steel_yielded)
       .set("yield_load_N", r.yield_load)
@@ -262,6 +269,17 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("widest_crack_x_m", r.widest.x)
       .set("widest_crack_angle_deg", r.widest.angle_deg)
       .set("widest_crack_width_m", r.widest.width)
+      .set("inclined_after_peak_found", p.found)
+      .set("inclined_after_peak_x_m", p.x)
+      .set("inclined_after_peak_angle_deg", p.angle_deg)
+      .set("inclined_after_peak_top_m", p.y_max)
+      .set("inclined_after_peak_opening_increase_m", p.opening_increase)
+      .set("inclined_after_peak_opening_rate", p.opening_rate)
+      .set("inclined_after_peak_window_start_m", p.window_start_deflection)
+      .set("inclined_after_peak_window_end_m", p.window_end_deflection)
+      .set("inclined_after_peak_load_drop_N", p.load_drop)
+      .set("flexural_opening_rate_same_window", p.flexural_opening_rate)
+      .set("diagonal_crack_after_peak", p.diagonal)
       .set("end_deflection_m", r.deflection.empty() ? 0.0 : r.deflection.back())
       .set("boundary_work_J", r.boundary_work)
       .set("contact_dissipated_J", r.contact_dissipated)
@@ -281,11 +299,20 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
 
   char yield_buf[160];
   if (r.steel_yielded)
-    std::snprintf(yield_buf, sizeof yield_buf, "yield at %.2f kN (hand A_s f_y z %.2f, %+.1f %%)", r.yield_load * 1e-3,
-                  h.yield_load * 1e-3, 100 * rel(r.yield_load, h.yield_load));
+    std::snprintf(yield_buf, sizeof yield_buf, "yield at %.2f kN (hand A_s f_y z %.2f, f_y %.0f MPa, %+.1f %%)",
+                  r.yield_load * 1e-3, h.yield_load * 1e-3, h.steel_yield * 1e-6, 100 * rel(r.yield_load, h.yield_load));
   else
-    std::snprintf(yield_buf, sizeof yield_buf, "bars not yielded (hand A_s f_y z %.2f kN)", h.yield_load * 1e-3);
+    std::snprintf(yield_buf, sizeof yield_buf, "bars not yielded (hand A_s f_y z %.2f kN, f_y %.0f MPa)",
+                  h.yield_load * 1e-3, h.steel_yield * 1e-6);
   const std::string yield_text = yield_buf;
+  char after_buf[320] = "none in the shear span";
+  if (p.found)
+    std::snprintf(after_buf, sizeof after_buf,
+                  "x = %.0f mm, %.0f deg, +%.3f mm after the peak, %.2f mm/mm over deflection %.2f-%.2f mm (vertical "
+                  "cracks of the moment zone %.2f mm/mm), load drop %.2f kN; diagonal crack after the peak: %s",
+                  p.x * 1e3, p.angle_deg, p.opening_increase * 1e3, p.opening_rate, p.window_start_deflection * 1e3,
+                  p.window_end_deflection * 1e3, p.flexural_opening_rate, p.load_drop * 1e-3, p.diagonal ? "yes" : "no");
+  const std::string after_peak_text = after_buf;
   std::printf(
       "rc_beam (PROVISIONAL geometry): %d blocks%s, %lld sub-contacts (study %d), %.1f contact points over the depth,"
       " %.1f trusses per block\n"
@@ -295,6 +322,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN)\n"
       "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
       " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
+      "  fastest inclined crack after the peak: %s\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
       o.blocks, in.params.empty() ? "" : tessera::detail::concat(" (contact strength x ", o.strength_scale, ")").c_str(),
       static_cast<long long>(r.subcontacts), o.blocks == 500 ? 55228 : 27274, r.contact_points_over_depth,
@@ -305,7 +333,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
       yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
       h.shear_capacity_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
-      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, r.energy_balance_error, r.dt, r.added_mass_ratio,
+      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
       r.quasi_static_index, static_cast<long long>(r.steps), timer.seconds(), out.string().c_str());
 }
 
@@ -356,6 +384,14 @@ int main(int argc, char** argv) {
              "with the 250-block contacts", "N").within(8, 500);
   cli.option("--compression", b.compression, "contact law in compression: plastic (cap at f_c = 35 MPa) or elastic",
              "plastic|elastic").one_of({"plastic", "elastic"});
+  cli.option("--cohesion", b.cohesion,
+             "contact cohesion under tensile softening: decoupled (c_0 until broken, the study) or coupled (softens "
+             "with f_t/f_T; with --compression plastic only)", "decoupled|coupled").one_of({"decoupled", "coupled"});
+  cli.flag("--slip-breaks-tension", b.slip_breaks_tension,
+           "a contact that fails in shear is broken in tension too (3DEC's brittle Coulomb joint; the study keeps its "
+           "tension)");
+  cli.option("--steel-yield", b.steel_yield, "yield stress of the bars f_y (Pa); 440e6 the study's, 1e12 keeps them "
+             "elastic", "F_Y").greater_than(0);
   cli.option("--width", b.width, "beam width b (m)", "M").greater_than(0);
   cli.option("--height", b.height, "beam depth h (m)", "M").greater_than(0);
   cli.option("--depth", b.effective_depth, "effective depth d (m): bars at h - d above the soffit", "M").greater_than(0);

@@ -14,6 +14,8 @@
 // | study_beam_law | linear_softening | plastic_cap         | coulomb_residual | RC beam (Sec. 4)             |
 // | coupled_tie_law| power_softening  | elastic_compression | coulomb_coupled  | opt-in: cohesion softens with |
 // |                |                  |                     |                  | f_t (docs/model.md)           |
+// | coupled_beam_law| linear_softening| plastic_cap         | coulomb_coupled  | opt-in: the beam, cohesion    |
+// |                |                  |                     |                  | softening with f_t (rc_beam)  |
 //
 // The names live in tessera::presets; the end of this file also makes them reachable under the
 // names the examples and tests have always used (tessera::law::study_tie_law,
@@ -40,11 +42,13 @@ using study_tie_law = law::cohesive_frictional<law::power_softening, law::elasti
 using linear_tie_law = law::cohesive_frictional<law::linear_softening, law::elastic_compression, law::coulomb_residual>;
 using study_beam_law = law::cohesive_frictional<law::linear_softening, law::plastic_cap, law::coulomb_residual>;
 using coupled_tie_law = law::cohesive_frictional<law::power_softening, law::elastic_compression, law::coulomb_coupled>;
+using coupled_beam_law = law::cohesive_frictional<law::linear_softening, law::plastic_cap, law::coulomb_coupled>;
 
 static_assert(law::ContactLaw<study_tie_law>);
 static_assert(law::ContactLaw<linear_tie_law>);
 static_assert(law::ContactLaw<study_beam_law>);
 static_assert(law::ContactLaw<coupled_tie_law>);
+static_assert(law::ContactLaw<coupled_beam_law>);
 
 /// Contact parameters of the study's plain concrete prism (Table 1, DESIGN.md §4) for a
 /// tessellation of `blocks` blocks (100, 250, 500 or 750): k_n = 1160/1570/1980/2260 GPa/m,
@@ -123,6 +127,18 @@ static_assert(law::ContactLaw<coupled_tie_law>);
   return p;
 }
 
+/// The beam's contact with its cohesion softening together with the tensile strength
+/// (coulomb_coupled): identical stiffnesses, tension, compressive cap and shear parameters.
+[[nodiscard]] inline coupled_beam_law::params with_coupled_cohesion(const study_beam_law::params& decoupled) {
+  coupled_beam_law::params p;
+  p.k_n = decoupled.k_n;
+  p.k_s = decoupled.k_s;
+  p.tension = decoupled.tension;
+  p.compression = decoupled.compression;
+  p.shear = decoupled.shear;
+  return p;
+}
+
 /// Contact parameters of the study's RC beam in four-point bending (Sec. 4, Table 3) for 250 or
 /// 500 blocks: k_n = 500 / 625 GPa/m, f_T = 2.5 MPa, c_0 = 2 f_T, phi = 35 deg, f_c = 35 MPa,
 /// G_f = 60 N/m, linear softening. The study gives no shear stiffness for the beam; k_s = k_n G/E =
@@ -193,6 +209,7 @@ using coupled_rigid_prism_solver = solver<blocks::rigid, bonded_faces<coupled_ti
 
 // ---- the names examples and tests have always used ----
 namespace tessera::law {
+using presets::coupled_beam_law;
 using presets::coupled_tie_law;
 using presets::in_table1;
 using presets::linear_tie_law;

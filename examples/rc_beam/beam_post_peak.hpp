@@ -1,0 +1,154 @@
+#pragma once
+// The crack that opens fastest after the peak (issue #41 item 4). beam_failure_mode reads the
+// widest crack at the end; a diagonal crack that starts while a flexural crack is still the widest
+// does not show there. So the run keeps the opening of every sub-contact on a grid of deflection
+// (beam_opening_history), and after the run:
+//   1. the post-peak increment of each sub-contact, dw_i = w_i(end) - w_i(peak), where w is the
+//      separation of its two gridpoints (m) and "peak" the first snapshot at or past the peak's
+//      deflection, on the sub-contacts past their tensile peak at the end;
+//   2. the cracks of that increment field: its maxima along the span over the whole depth
+//      (beam_opening_maxima: 5 mm bins, maxima closer than 0.75 block sizes one crack, the angle of
+//      the increment-weighted line through the sub-contacts within 1.5 block sizes that gained at
+//      least 30 % of its increment), of at least 1 % of crack_width;
+//   3. the fastest inclined one: among the inclined (35 degrees or more from the vertical) in the
+//      shear span (support axis to the loading plate's far edge), the largest increment, i.e. the
+//      largest mean opening rate after the peak. Its opening W(j) at snapshot j is the largest
+//      opening of its sub-contacts (those of the line fit);
+//   4. its window: from the last snapshot at which it has gained at most 10 % of its increment to
+//      the first at which it has gained 90 %; its opening rate dW / d(deflection) over the window
+//      (m per m), and the load it takes off: the smoothed load at the window's start less that at
+//      its end (N). The same rate of the fastest vertical crack of the constant-moment zone over
+//      the same window, for comparison.
+// diagonal_crack_after_peak: the fastest inclined crack gains at least crack_width (a crack one
+// sees) after the peak, opens faster over its window than every vertical crack of the
+// constant-moment zone, and the load falls by at least 5 % of the peak over that window.
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "rc_beam/beam.hpp"
+#include "rc_beam/beam_cracks.hpp"
+
+namespace tessera::scenes {
+
+/// The openings (m, as float) of every sub-contact on a grid of mid-span deflection, with the
+/// smoothed load (N). At most max_snapshots: when full, every other snapshot is dropped and the
+/// grid step doubled, so memory stays at max_snapshots x sub-contacts x 4 bytes (250 blocks:
+/// 27 000 sub-contacts, 28 MB) whatever the run's length.
+class beam_opening_history {
+ public:
+  static constexpr std::size_t max_snapshots = 256;
+  explicit beam_opening_history(real step) : step_(step) {
+    require(step > 0, "beam_opening_history: deflection step ", step, " m must be > 0");
+  }
+  /// Records a snapshot when the deflection (m) has passed the next grid point.
+  template <class Contacts>
+  void record(const Contacts& c, const node_set& gp, real deflection, real load) {
+    if (!deflection_.empty() && deflection < deflection_.back() + step_) return;
+    std::vector<float> w(static_cast<std::size_t>(c.size()));
+    for (index_t i = 0; i < c.size(); ++i) w[static_cast<std::size_t>(i)] = static_cast<float>(subcontact_opening(c, gp, i));
+    opening_.push_back(std::move(w));
+    deflection_.push_back(deflection);
+    load_.push_back(load);
+    if (opening_.size() < max_snapshots) return;
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < opening_.size(); j += 2, ++kept) {
+      opening_[kept] = std::move(opening_[j]);
+      deflection_[kept] = deflection_[j];
+      load_[kept] = load_[j];
+    }
+    opening_.resize(kept), deflection_.resize(kept), load_.resize(kept);
+    step_ *= 2;
+  }
+  [[nodiscard]] std::size_t size() const { return opening_.size(); }
+  [[nodiscard]] real deflection(std::size_t j) const { return deflection_[j]; }
+  [[nodiscard]] real load(std::size_t j) const { return load_[j]; }
+  [[nodiscard]] real opening(std::size_t j, index_t i) const { return opening_[j][static_cast<std::size_t>(i)]; }
+
+ private:
+  real step_;
+  std::vector<real> deflection_, load_;
+  std::vector<std::vector<float>> opening_;
+};
+
+/// The fastest-opening inclined crack after the peak (file comment).
+struct beam_post_peak_crack {
+  bool found = false;                 ///< an inclined crack in the shear span opened after the peak
+  real x = 0, angle_deg = 0;          ///< its position (m) and angle from the vertical (deg)
+  real y_min = 0, y_max = 0;          ///< the height range of its sub-contacts (m)
+  real opening_increase = 0;          ///< W(end) - W(peak) (m)
+  real window_start_deflection = 0, window_end_deflection = 0;  ///< m
+  real opening_rate = 0;              ///< dW / d(deflection) over the window (m/m = mm per mm)
+  real load_drop = 0;                 ///< smoothed load at the window's start less at its end (N)
+  real flexural_opening_rate = 0;     ///< the fastest vertical crack of the moment zone, same window
+  bool diagonal = false;              ///< diagonal_crack_after_peak (file comment)
+};
+
+/// Finds the crack of the file comment from the history and the end state; peak_load (N) and
+/// peak_deflection (m) of the run, crack_width (m) beam_loading's.
+template <class Contacts>
+[[nodiscard]] beam_post_peak_crack beam_fastest_inclined_after_peak(const Contacts& c, const node_set& gp,
+                                                                    const beam_opening_history& h,
+                                                                    const beam_options& o, real cell,
+                                                                    real crack_width, real peak_load,
+                                                                    real peak_deflection) {
+  beam_post_peak_crack out;
+  std::size_t jp = 0;
+  while (jp < h.size() && h.deflection(jp) < peak_deflection) ++jp;
+  if (h.size() < 2 || jp + 1 >= h.size()) return out;  // no snapshot after the peak
+  const std::size_t je = h.size() - 1;
+  const auto increment = [&](index_t i) {
+    if (!analysis::crack_graph::past_peak(c.state(i).flags)) return real(-1);
+    return std::max(real(0), h.opening(je, i) - h.opening(jp, i));
+  };
+  const std::vector<beam_crack> cracks = beam_opening_maxima(c, gp, o.height, cell, 0.01 * crack_width, o.height, increment);
+  // The members of a crack, as beam_opening_maxima's line fit picks them, and their opening W(j).
+  const auto members = [&](const beam_crack& cr) {
+    std::vector<index_t> m;
+    for (index_t i = 0; i < c.size(); ++i) {
+      const real w = increment(i);
+      if (std::abs(c.position(i, gp).x() - cr.x) <= 1.5 * cell && w >= 0 && w >= 0.3 * cr.width) m.push_back(i);
+    }
+    return m;
+  };
+  const auto opening_at = [&](const std::vector<index_t>& m, std::size_t j) {
+    real w = 0;
+    for (index_t i : m) w = std::max(w, h.opening(j, i));
+    return w;
+  };
+  const beam_crack* best = nullptr;
+  for (const beam_crack& cr : cracks)
+    if (!cr.vertical() && cr.x > o.support_x() && cr.x < o.load_x() + o.plate / 2 && (!best || cr.width > best->width))
+      best = &cr;
+  if (!best) return out;
+  const std::vector<index_t> m = members(*best);
+  const real w0 = opening_at(m, jp), dw = opening_at(m, je) - w0;
+  if (dw <= 0) return out;
+  std::size_t ja = jp, jb = je;
+  for (std::size_t j = jp; j <= je; ++j)
+    if (opening_at(m, j) - w0 <= 0.1 * dw) ja = j;
+  for (std::size_t j = je + 1; j-- > ja;)
+    if (opening_at(m, j) - w0 >= 0.9 * dw) jb = j;
+  if (jb <= ja) jb = std::min(je, ja + 1);
+  const real span = h.deflection(jb) - h.deflection(ja);
+  out.found = true;
+  out.x = best->x;
+  out.angle_deg = best->angle_deg;
+  out.y_min = best->y_min;
+  out.y_max = best->y_max;
+  out.opening_increase = dw;
+  out.window_start_deflection = h.deflection(ja);
+  out.window_end_deflection = h.deflection(jb);
+  out.opening_rate = span > 0 ? (opening_at(m, jb) - opening_at(m, ja)) / span : 0;
+  out.load_drop = h.load(ja) - h.load(jb);
+  for (const beam_crack& cr : cracks)
+    if (cr.vertical() && cr.x >= o.load_x() && span > 0) {
+      const std::vector<index_t> v = members(cr);
+      out.flexural_opening_rate = std::max(out.flexural_opening_rate, (opening_at(v, jb) - opening_at(v, ja)) / span);
+    }
+  out.diagonal = dw >= crack_width && out.opening_rate > out.flexural_opening_rate && out.load_drop >= 0.05 * peak_load;
+  return out;
+}
+
+}  // namespace tessera::scenes
