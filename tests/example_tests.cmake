@@ -538,14 +538,21 @@ tessera_add_refusal_test(refuse_calibrate_beam_blocks calibrate
   "'300' is not a beam block count" --threads 1 --material beam --blocks 300)
 
 # Goodman-Bray toppling row (issue #40): the simulated critical friction angle within 5 % of the
-# limit-equilibrium value the driver computes (34.03 deg; quick: 35.17 deg, +3.4 %, 5 bisections).
-tessera_add_example_test(toppling ARGS --quick
+# limit-equilibrium value the driver computes (34.03 deg). Quick, gravity ramped over 0.2 s: 33.62 deg
+# (bracket 33.23-34.01, 5 bisections), -1.2 %, 59 537 steps, 0.3 s on one thread; full: -0.20 %;
+# gravity at once (--ramp 0): +3.4 %.
+tessera_add_example_test(toppling ARGS --quick --threads 1
   CHECKS "error_rel LESS 0.05" "error_rel GREATER -0.05" "reference_critical_friction_deg GREATER 34.0"
          "reference_critical_friction_deg LESS 34.1")
-# Housner's rocking block (issue #40): r from the amplitudes of the first three impacts within 5 % of
-# 1 - 3/2 sin^2(alpha) = 0.9118 (quick: 0.9544, +4.7 %; the undamped penalty contact loses less).
-tessera_add_example_test(rocking ARGS --quick
-  CHECKS "error_rel LESS 0.05" "error_rel GREATER -0.05" "error_omega_rel LESS 0.05" "impacts GREATER 2")
+# Housner's rocking block (issue #40). Between impacts the block turns about a rigid edge: the first
+# impact at acosh(alpha / (alpha - theta0)) / p = 0.3118 s within 1 % (quick +0.18 %; +0.11 .. +0.18 %
+# for k_n 1e7 .. 1e11). The restitution r is that of an elastic penalty impact, not Housner's plastic
+# one: over k_n 1e7 .. 1e11, tolerance 0.05 .. 1 mm and base pieces its error spans -0.9 % .. +8.5 %
+# (quick: 0.9544 against 0.9118, +4.7 %), so the check is that band, r < 1 (each impact loses
+# energy), 4 impacts in 2.5 s and the energy balance (quick 1.2e-4).
+tessera_add_example_test(rocking ARGS --quick --threads 1
+  CHECKS "first_impact_error_rel LESS 0.01" "first_impact_error_rel GREATER -0.01" "error_rel GREATER -0.02"
+         "error_rel LESS 0.10" "restitution LESS 1" "impacts GREATER 3" "energy_error_rel LESS 1e-3")
 
 # ---- brazilian: splitting test of a Voronoi disc (issue #40). Seeds 1-5 (full, 2 nm per step) give
 # f_sp / f_T 2.19-3.58 (two seeds not split by 0.3 mm); quick seed 1 (5 nm per step) 2.30. The band
