@@ -5,7 +5,8 @@
 //
 //   target_link_libraries(my_scene PRIVATE tessera::instances)   # brings tessera::tessera
 //   #include <tessera/instances.hpp>
-//   tessera::instances::rigid_dry_solver s(tess, mesh, {2400}, {law::dry_joint(1e10, 1e10, 30)}, {}, {});
+//   tessera::instances::rigid_dry_solver s(tess, mesh, blocks::rigid::params{2400},  // kg/m^3
+//       {law::dry_joint(1e10, 1e10, law::friction_angle::from_degrees(30)), 1e-3});  // Pa/m, Pa/m, phi; tolerance m
 //
 // Each alias below is declared `extern template` here and defined once in the library
 // (src/instances.cpp), so a translation unit that includes this header does not emit the
