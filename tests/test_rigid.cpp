@@ -1,7 +1,8 @@
 // Tests for blocks::rigid: exact mass properties, 6-DOF dynamics (constant force, torque-free
 // rotation), objectivity of slaved gridpoints under contacts, boundary conditions and
 // reactions, the 6-DOF stable step, and two rigid blocks pulled apart through the solver; the
-// solver's user layer ("[user_layer]": supports by block, stop conditions, the CSV recorder).
+// solver's user layer ("[user_layer]": supports by block, stop conditions, the CSV recorder) and
+// the step of rigid scenes with fully prescribed blocks ("[step_bound]").
 #include <catch2/catch.hpp>
 
 #include "support/hand_meshes.hpp"
@@ -1321,4 +1322,181 @@ TEST_CASE("user layer: every refusal names the value", "[rigid][user_layer]") {
   CHECK_THROWS_WITH(recorders::every_steps(0), Catch::Contains("k = 0"));
   CHECK_THROWS_WITH(recorders::every_seconds(-1), Catch::Contains("-1 s"));
   CHECK_FALSE(std::filesystem::exists(path));
+}
+
+namespace {
+
+/// A thin slab 1 x 1 x 0.02 m (48 kg at 2400 kg/m^3) under a 0.5 m cube (300 kg) standing on it:
+/// the light slab, not the cube, sets the 6-DOF bound while the slab is free.
+struct slab_scene {
+  geometry::tessellation tess;
+  geometry::block_mesh mesh;
+  slab_scene() {
+    const std::vector<geometry::convex_polyhedron> cells{
+        geometry::convex_polyhedron::box({-0.5, -0.5, -0.02}, {0.5, 0.5, 0}),
+        geometry::convex_polyhedron::box({-0.25, -0.25, 0}, {0.25, 0.25, 0.5})};
+    tess = geometry::separate_blocks(cells);
+    mesh = geometry::zone_blocks(tess);
+  }
+};
+
+/// The 6-DOF bound of block b by hand (blocks/rigid.hpp): 2 min(sqrt(m / (2 a k_t)),
+/// sqrt(I1 / (2 a k_r))), k_t = sum k_i, k_r = sum k_i |X_i - c|^2 over its gridpoints (s).
+template <class Solver>
+real hand_block_bound(const Solver& s, idx b) {
+  real k_t = 0, k_r = 0;
+  for (idx i : s.gridpoints_of_block(b).nodes) {
+    const real k = s.gridpoints().stiffness[i];
+    k_t += k;
+    k_r += k * (s.gridpoints().reference.row(i).transpose() - s.blocks().reference_centroid(b)).squaredNorm();
+  }
+  const real a = s.stiffness_amplification();
+  return 2 * std::min(std::sqrt(s.blocks().mass(b) / (2 * a * k_t)),
+                      std::sqrt(s.blocks().principal_moments(b).minCoeff() / (2 * a * k_r)));
+}
+
+}  // namespace
+
+TEST_CASE("step bound: a fixed slab no longer sets dt; free and partly held blocks keep theirs", "[rigid][step_bound]") {
+  const slab_scene sc;
+  const auto contacts = user_scene(0).contacts();
+  user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, contacts);
+  const real safety = s.options().safety;
+  const real slab = hand_block_bound(s, 0), cube = hand_block_bound(s, 1);
+  INFO("slab bound " << slab << " s, cube bound " << cube << " s");
+  REQUIRE(slab < 0.5 * cube);  // the scene's point: the light slab limits
+  SECTION("nothing held: the slab sets dt, and the first step keeps it") {
+    CHECK(s.dt() == Approx(safety * slab).epsilon(1e-12));
+    const real before = s.dt();
+    s.run(3);
+    CHECK(s.dt() == before);
+  }
+  SECTION("slab held in x only (rotations held, y and z free): dt unchanged") {
+    const real before = s.dt();
+    s.prescribe_block_velocity(0, vec3::Zero(), bc::components::x);
+    CHECK(s.dt() == before);
+    s.run(1);
+    CHECK(s.dt() == before);
+  }
+  SECTION("slab fixed: the cube sets dt, chosen by fix_block before the first step and kept") {
+    s.fix_block(0);
+    CHECK(s.dt() == Approx(safety * cube).epsilon(1e-12));
+    CHECK(s.gridpoint_block(s.critical_step().node) == 1);
+    CHECK(s.dt() / (safety * slab) > 2.0);
+    const real chosen = s.dt();
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.run(200);
+    CHECK(s.dt() == chosen);
+    CHECK(s.block_displacement(0).norm() == 0.0);
+    CHECK(std::abs(s.block_displacement(1).z()) < 1e-6);  // the cube rests on the slab (overlap ~ W / (k_n A))
+  }
+  SECTION("slab fixed through gridpoints() directly: the first step chooses the cube's step") {
+    bc::fix(s.gridpoints(), s.gridpoints_of_block(0));
+    CHECK(s.dt() == Approx(safety * slab).epsilon(1e-12));  // not seen yet
+    s.step();
+    CHECK(s.dt() == Approx(safety * cube).epsilon(1e-12));
+    CHECK(s.time() == s.dt());
+  }
+  SECTION("a slab left out of the bound and freed during the run is refused") {
+    s.fix_block(0);
+    s.run(2);
+    bc::release(s.gridpoints(), s.gridpoints_of_block(0), bc::components::z);
+    CHECK_THROWS_WITH(s.step(), Catch::Contains("block 0 was fully prescribed when the time step was chosen") &&
+                                    Catch::Contains("component(s) z are free now"));
+    CHECK(s.step_count() == 2);
+    s.compute_time_step();  // chosen again: the slab bounds it
+    CHECK(s.dt() == Approx(safety * slab).epsilon(1e-12));
+    s.run(1);
+    CHECK(s.step_count() == 3);
+  }
+  SECTION("every block fixed: the bound over all blocks is kept") {
+    s.fix_blocks({0, 1});
+    CHECK(s.dt() == Approx(safety * slab).epsilon(1e-12));
+    s.run(1);
+  }
+}
+
+TEST_CASE("step bound: an explicit dt is checked against the limit with the supports", "[rigid][step_bound]") {
+  const slab_scene sc;
+  const auto contacts = user_scene(0).contacts();
+  const user_damped automatic(sc.tess, sc.mesh, blocks::rigid::params{2400}, contacts);
+  const real safety = automatic.options().safety;
+  const real slab = hand_block_bound(automatic, 0), cube = hand_block_bound(automatic, 1);
+  SECTION("between the free-slab and the fixed-slab limits: accepted once the slab is fixed") {
+    solver_options o;
+    o.dt = 0.99 * safety * cube;
+    user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, contacts, {}, o);
+    s.fix_block(0);
+    s.run(2);
+    CHECK(s.dt() == o.dt);
+    CHECK(s.time() == Approx(2 * o.dt).epsilon(1e-15));
+  }
+  SECTION("above the fixed-slab limit: refused at the first step, nothing changed") {
+    solver_options o;
+    o.dt = 1.01 * safety * cube;
+    user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, contacts, {}, o);
+    s.fix_block(0);
+    CHECK_THROWS_WITH(s.step(), Catch::Contains("exceeds the stable limit") && Catch::Contains("of block 1"));
+    CHECK(s.step_count() == 0);
+    CHECK(s.time() == 0.0);
+  }
+  SECTION("between the limits with the slab free: refused at the first step, naming the slab") {
+    solver_options o;
+    o.dt = 2 * safety * slab;
+    user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, contacts, {}, o);
+    CHECK_THROWS_WITH(s.step(), Catch::Contains("exceeds the stable limit") && Catch::Contains("of block 0"));
+    CHECK(s.step_count() == 0);
+  }
+}
+
+TEST_CASE("step bound: with the lower block fixed, the bound stays below the free block's true critical step",
+          "[rigid][step_bound][timestep]") {
+  // The proof (blocks/rigid.hpp): the free DOFs see the fixed block as a forcing, so only the
+  // free block's 6 x 6 stiffness K_ff counts. K_ff by central differences of the contact forces
+  // reduced to the free block's force and moment, then 2 / sqrt(lambda_max(M_f^-1 K_ff)).
+  const vec3 size(0.05, 0.07, 0.04);
+  const auto tess = two_box_column(size);
+  const auto mesh = geometry::zone_blocks(tess);
+  rigid_undamped_solver s(tess, mesh, {2400}, stiff_elastic_contact(1.16e12, 0.482e12));
+  const real both = s.critical_step().dt;
+  s.fix_block(0);
+  const real free_only = s.critical_step().dt;
+  const blocks::rigid& r = s.blocks();
+  Eigen::Matrix<real, 6, 6> k;
+  const real h = 1e-9;
+  for (int j = 0; j < 6; ++j) {
+    Eigen::Matrix<real, 6, 1> q[2];
+    for (int side = 0; side < 2; ++side) {
+      node_set gp = s.gridpoints();
+      vec3 dv = vec3::Zero(), dth = vec3::Zero();
+      (j < 3 ? dv : dth)[j % 3] = side == 0 ? h : -h;
+      for (idx i = 0; i < gp.size(); ++i) {
+        if (r.gridpoint_block(i) != 1) continue;
+        const vec3 u = dv + dth.cross(gp.reference.row(i).transpose() - r.reference_centroid(1));
+        gp.displacement.row(i) = u.transpose();
+        gp.velocity.row(i) = (u / s.dt()).transpose();
+      }
+      gp.force.setZero();
+      auto contacts = s.contacts();
+      contacts.update(gp, s.dt());
+      q[side].setZero();
+      for (idx i = 0; i < gp.size(); ++i) {
+        if (r.gridpoint_block(i) != 1) continue;
+        const vec3 f = gp.force.row(i).transpose();
+        q[side].segment<3>(0) += f;
+        q[side].segment<3>(3) += (gp.reference.row(i).transpose() - r.reference_centroid(1)).cross(f);
+      }
+    }
+    k.col(j) = -(q[0] - q[1]) / (2 * h);
+  }
+  Eigen::Matrix<real, 6, 6> m = Eigen::Matrix<real, 6, 6>::Zero();
+  m.block<3, 3>(0, 0) = r.mass(1) * mat3::Identity();
+  m.block<3, 3>(3, 3) = r.inertia(1);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<real, 6, 6>> eig(0.5 * (k + k.transpose()), m);
+  const real true_critical = 2 / std::sqrt(eig.eigenvalues().maxCoeff());
+  INFO("both blocks " << both << " s, free block only " << free_only << " s, eigen (free block) " << true_critical << " s");
+  CHECK(free_only >= both);
+  CHECK(free_only <= true_critical);
+  CHECK(free_only >= 0.2 * true_critical);
+  CHECK(s.dt() == Approx(0.9 * free_only));
 }

@@ -65,6 +65,16 @@
 // blocks, integrator/timestep.hpp). The solver's safety factor multiplies dt_cr. The report names
 // the block's first gridpoint, m, and the equivalent stiffness k_eq (N/m) with 2 sqrt(m/(a k_eq)) = dt
 // (k_eq = 2 k_t, or 2 k_r m / I1 when rotation limits).
+// Fully prescribed blocks are skipped (fully_prescribed: all three translation components
+// prescribed, so the rotations are held too). Their six DOFs are set, not integrated: with u_p
+// the prescribed displacements, the free DOFs obey M_f a_f = -K_ff u_f - K_fp u_p(t), whose
+// stability is that of M_f^-1 K_ff (the u_p term is a forcing), and the bound above restricted to
+// u_p = 0 sums over the free blocks' gridpoints only, whose k_i already carry their contacts
+// with the prescribed blocks (each contact puts its stiffness on both sides). So a fixed base
+// no longer sets dt: on a 20-voussoir arch on a fixed slab dt grows x6 (docs/guide.md). When no
+// free block has a stiffness, every block counts as before. A block skipped when the step was
+// chosen (record_step_bound) and freed later is refused (check_step_bound, before each step of the
+// solver): the step does not bound it.
 // Mass scaling: a block whose bound is below the target gets m and I multiplied by ONE factor
 // lambda >= 1 (radius of gyration kept), the smallest that makes both bounds reach the target.
 //
@@ -82,6 +92,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -250,25 +261,41 @@ class rigid {
 
   // ---- time step and mass scaling (called by the solver instead of the nodal versions) ----
 
-  /// min over blocks of the translational and rotational bounds (see the file comment) from the
-  /// gridpoints' stiffness bounds k_i (N/m) assembled by contacts and bonds; a = stiffness
-  /// amplification of the damping. Blocks without stiffness are skipped.
+  /// min over blocks of the translational and rotational bounds (s; see the file comment) from
+  /// the gridpoints' stiffness bounds k_i (N/m) assembled by contacts and bonds; a = stiffness
+  /// amplification of the damping. Blocks without stiffness are skipped, and so are fully
+  /// prescribed blocks (fully_prescribed, as the gridpoints' constraints stand now) unless no
+  /// other block has a stiffness. Throws invalid_input for a < 1.
   [[nodiscard]] integrator::critical_step critical_time_step(const node_set& gridpoints, real amplification = 1) const {
     require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
-    integrator::critical_step out;
-    for (const body& bd : bodies_) {
-      const auto [k_t, k_r] = stiffness_bounds(gridpoints, bd);
-      if (k_t > 0) {
-        const real dt = 2 * std::sqrt(bd.mass / (2 * amplification * k_t));
-        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_t};
-      }
-      if (k_r > 0) {
-        const real i_min = bd.inertia.minCoeff();
-        const real dt = 2 * std::sqrt(i_min / (2 * amplification * k_r));
-        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_r * bd.mass / i_min};
-      }
-    }
-    return out;
+    const integrator::critical_step free = bound_over_blocks(gridpoints, amplification, true);
+    return std::isfinite(free.dt) ? free : bound_over_blocks(gridpoints, amplification, false);
+  }
+  /// True when every translation component of block b is prescribed on some gridpoint of it (then
+  /// its rotations are held too: all six DOFs are set, none integrated). Reads the gridpoints'
+  /// constraints as they stand. Throws invalid_input for a bad id.
+  [[nodiscard]] bool fully_prescribed(const node_set& gridpoints, index_t b) const {
+    const body& bd = at(b);
+    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
+    bool held[3] = {false, false, false};
+    for (index_t i = bd.first; i < bd.end; ++i)
+      for (int c = 0; c < 3; ++c) held[c] = held[c] || gridpoints.constraint(i, c) == prescribed;
+    return held[0] && held[1] && held[2];
+  }
+  /// Remembers which blocks critical_time_step(gridpoints) leaves out (fully prescribed, while a
+  /// free block has a stiffness), for check_step_bound. The solver calls it when it sets dt.
+  void record_step_bound(const node_set& gridpoints) {
+    unbounded_.clear();
+    if (!std::isfinite(bound_over_blocks(gridpoints, 1, true).dt)) return;  // every block counts
+    for (index_t b = 0; b < block_count(); ++b)
+      if (fully_prescribed(gridpoints, b)) unbounded_.push_back(b);
+  }
+  /// Throws invalid_input when a block left out of the step in use (record_step_bound) is no
+  /// longer fully prescribed: that step does not bound it. The solver calls it before each step
+  /// (O(gridpoints of the blocks left out), nothing when none was).
+  void check_step_bound(const node_set& gridpoints) const {
+    for (index_t b : unbounded_)
+      if (!fully_prescribed(gridpoints, b)) throw_unbounded(gridpoints, b);
   }
 
   /// Multiplies m and I of every block whose bound is below target_dt by the smallest common
@@ -460,6 +487,42 @@ class rigid {
                                        " m/s; a rigid block moves as one body (release one of them)"));
   }
 
+  [[noreturn]] void throw_unbounded(const node_set& gridpoints, index_t b) const {
+    const body& bd = at(b);
+    std::string freed;
+    for (int c = 0; c < 3; ++c) {
+      bool held = false;
+      for (index_t i = bd.first; i < bd.end; ++i)
+        held = held || gridpoints.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::prescribed);
+      if (!held) freed += "xyz"[c];
+    }
+    throw invalid_input(tessera::detail::concat(
+        "rigid blocks: block ", b, " was fully prescribed when the time step was chosen, so the step does not bound it, "
+        "and its translation component(s) ", freed, " are free now; call solver::compute_time_step() after freeing it "
+        "(the step may drop), or keep it prescribed"));
+  }
+
+  /// min over blocks (all, or only those not fully prescribed) of both bounds (critical_time_step).
+  [[nodiscard]] integrator::critical_step bound_over_blocks(const node_set& gridpoints, real amplification,
+                                                            bool skip_prescribed) const {
+    integrator::critical_step out;
+    for (index_t b = 0; b < block_count(); ++b) {
+      const body& bd = bodies_[static_cast<std::size_t>(b)];
+      if (skip_prescribed && fully_prescribed(gridpoints, b)) continue;
+      const auto [k_t, k_r] = stiffness_bounds(gridpoints, bd);
+      if (k_t > 0) {
+        const real dt = 2 * std::sqrt(bd.mass / (2 * amplification * k_t));
+        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_t};
+      }
+      if (k_r > 0) {
+        const real i_min = bd.inertia.minCoeff();
+        const real dt = 2 * std::sqrt(i_min / (2 * amplification * k_r));
+        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_r * bd.mass / i_min};
+      }
+    }
+    return out;
+  }
+
   /// Steps 2-5 of the file comment for block b.
   template <class Integrator>
   void integrate(const Integrator& integ, node_set& gp, index_t b, real dt) noexcept {
@@ -509,10 +572,17 @@ class rigid {
     bd.rotation = bd.orientation.toRotationMatrix();
     const mat3 change = bd.rotation - bd.axes;
     const real inv_dt = 1 / dt;
+    // detail::rotation_increment(phi, r) = sinc(t) phi x r + (sinc(t/2)^2 / 2) phi x (phi x r),
+    // t = |phi|, with its scalars taken out of the gridpoint loop (the same operations, so the
+    // same bits; a square root and two sincs less per gridpoint).
+    const real t = phi.norm(), s = detail::sinc(0.5 * t);
+    const real along = detail::sinc(t), across = 0.5 * s * s;
     for (index_t i = bd.first; i < bd.end; ++i) {
       const vec3 r = body_position(i);
       const vec3 u = bd.displacement + change * r;
-      const vec3 v = bd.velocity + rotation_old * detail::rotation_increment(phi, r) * inv_dt;
+      const vec3 phi_x_r = phi.cross(r);
+      const vec3 increment = along * phi_x_r + across * phi.cross(phi_x_r);
+      const vec3 v = bd.velocity + rotation_old * increment * inv_dt;
       for (int c = 0; c < 3; ++c) {
         gp.displacement(i, c) = u[c];
         gp.velocity(i, c) = v[c];
@@ -528,6 +598,7 @@ class rigid {
   std::vector<body> bodies_;
   std::vector<block_constraints> constraints_;  ///< per block, rebuilt every step
   std::vector<integrator::step_work> work_;     ///< per block energy increments of the step (summed in block order)
+  std::vector<index_t> unbounded_;              ///< blocks left out of the step in use (record_step_bound)
   std::vector<index_t> gridpoint_block_;
   soa3 body_position_;                          ///< r_i in the body principal frame (m)
   zone_stress_matrix zone_stress_;              ///< empty

@@ -324,7 +324,11 @@ class detected_contacts {
   /// prepare_step, every task, the gather (the unfused path, which blocks::rigid takes).
   void update(node_set& gridpoints, real dt) {
     prepare_step(gridpoints, dt);
-    parallel_for(task_count(), [&](std::int64_t t) { run_task(static_cast<index_t>(t), gridpoints, dt); }, 1);
+    // Tasks of >= task_subcontacts sub-contacts (some 30 000 instructions each): serial below
+    // 2 x serial_tasks tasks, where a fork/join per step costs more than it saves on a shared
+    // machine (a 21-block stack of 80 sub-contacts, 2 threads, load 8: 729 -> 26 us a step;
+    // notes in docs/performance.md). Same bits either way: a task writes only its sub-contacts.
+    parallel_for(task_count(), [&](std::int64_t t) { run_task(static_cast<index_t>(t), gridpoints, dt); }, serial_tasks);
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
   }
@@ -1411,6 +1415,8 @@ class detected_contacts {
 
   enum class feature_kind : std::uint8_t { face_a, face_b, edges };
   static constexpr index_t task_subcontacts = 64;
+  /// update() runs its tasks serially below 2 x this many (parallel_for's grain).
+  static constexpr std::int64_t serial_tasks = 2;
   static constexpr index_t normal_batch = 16;  ///< pairs whose normals run_task computes ahead
   /// Deformable blocks: the largest distance of a surface gridpoint from its block's affine fit
   /// that a rebuild accepts, as a fraction of the tolerance (the trigger keeps it in reserve).

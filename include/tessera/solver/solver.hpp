@@ -25,6 +25,15 @@
 // options.mass_scaling_ratio times the original mass), then dt = options.dt if given (it must
 // not exceed safety x the critical step, else invalid_input naming the limiting node and block),
 // else the mass-scaling target, else safety x critical step.
+// Rigid blocks: a fully prescribed block does not bound the step (blocks/rigid.hpp), and the
+// supports are set after construction, so the step is chosen again, from the supports as they
+// stand, by every support call of the solver (fix, prescribe_velocity, fix_block(s),
+// prescribe_block_velocity) before the first step, and once more at the first step (which also
+// sees constraints written straight into gridpoints()). Then dt stays: it never changes silently
+// once the run has started. An options.dt above the limit is refused then (invalid_input from the
+// first step, or from checkpoint), not at construction, since fixing a block raises the limit;
+// a block that was left out of the bound and is freed during the run is refused before the next
+// step (blocks::rigid::check_step_bound; call compute_time_step() to choose a step that bounds it).
 //
 // Thread safety: one solver is driven by one thread; its loops are parallel and deterministic
 // (bit-identical for any thread count). step() allocates nothing.
@@ -168,7 +177,10 @@ class solver {
       if constexpr (requires { blocks_.watch_zone_stress(reinforcement_.host_zones()); })
         blocks_.watch_zone_stress(reinforcement_.host_zones());
     }
-    compute_time_step();
+    if constexpr (Blocks::is_rigid)
+      compute_time_step_refusing(false);  // the supports come later: options.dt is checked at the first step
+    else
+      compute_time_step();
   }
 
   // ---- boundary conditions on the gridpoints (bar nodes: use bc:: on bar_nodes()) ----
@@ -176,9 +188,17 @@ class solver {
   [[nodiscard]] bc::node_group gridpoints_on_plane(int axis, real value, real tol) const {
     return bc::nodes_on_plane(gridpoints_, axis, value, tol);
   }
-  void fix(const bc::node_group& g, bc::components c = bc::components::xyz) { bc::fix(gridpoints_, g, c); }
+  /// Fixes components c of the gridpoints of g (bc::fix); rigid blocks: chooses the step again
+  /// before the first step (file comment).
+  void fix(const bc::node_group& g, bc::components c = bc::components::xyz) {
+    bc::fix(gridpoints_, g, c);
+    supports_changed();
+  }
+  /// Prescribes velocity v (m/s) on components c of the gridpoints of g (bc::prescribe_velocity);
+  /// rigid blocks: chooses the step again before the first step (file comment).
   void prescribe_velocity(const bc::node_group& g, const vec3& v, bc::components c = bc::components::xyz) {
     bc::prescribe_velocity(gridpoints_, g, v, c);
+    supports_changed();
   }
 
   // ---- supports, velocities and selections by block (rigid and deformable blocks) ----
@@ -243,7 +263,10 @@ class solver {
   /// invalid_input for a bad id or a component already prescribed with another velocity.
   void fix_block(index_t b) { prescribe_block_velocity(b, vec3::Zero(), bc::components::xyz); }
   /// fix_block for each listed block, all or none (validated first).
-  void fix_blocks(const std::vector<index_t>& list) { bc::fix(gridpoints_, gridpoints_of_blocks(list)); }
+  void fix_blocks(const std::vector<index_t>& list) {
+    bc::fix(gridpoints_, gridpoints_of_blocks(list));
+    supports_changed();
+  }
   /// Prescribes the translation velocity v (m/s, world) on components c of block b, on every
   /// gridpoint of it: a rigid block translates at v in those components and its rotations are held
   /// (free components stay free); a deformable block's gridpoints all move at v in them. Throws
@@ -253,6 +276,7 @@ class solver {
     require(v.allFinite(), "solver: prescribe_block_velocity: velocity (", v.transpose(), ") m/s of block ", b,
             " is not finite");
     bc::prescribe_velocity(gridpoints_, gridpoints_of_block(b), v, c);
+    supports_changed();
   }
   /// Initial condition: gives block b the rigid velocity field v + omega x (x - c) (v in m/s at
   /// the centroid c, omega in rad/s, world; x the current positions), as the half-step velocities
@@ -368,6 +392,14 @@ class solver {
   void step() {
     using clock = std::chrono::steady_clock;
     const auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
+    if constexpr (Blocks::is_rigid) {
+      // The step from the supports as they stand now (file comment), refusing an options.dt
+      // above it; later, a block the step left out must still be held. Both before anything changes.
+      if (step_ == 0)
+        choose_time_step(true);
+      else
+        blocks_.check_step_bound(gridpoints_);
+    }
     if (step_ == 0) initial_energy_ = stored_and_kinetic();
     if (!Blocks::is_rigid && gravity_ != vec3::Zero())
       gridpoints_.force = gravity_force_;
@@ -585,6 +617,8 @@ class solver {
     static_assert(requires { blocks_.checkpoint(ar); }, "this block model has no checkpoint(Archive&)");
     static_assert(requires { contacts_.checkpoint(ar); }, "this contact set has no checkpoint(Archive&)");
     static_assert(requires { reinforcement_.checkpoint(ar); }, "this reinforcement has no checkpoint(Archive&)");
+    if constexpr (Blocks::is_rigid)
+      if (step_ == 0) choose_time_step(true);  // the step the first step would take (file comment)
     ar.same("solver/dt", dt_);
     ar.scalar("solver/step", step_);
     ar.scalar("solver/time", time_);
@@ -599,8 +633,15 @@ class solver {
     reinforcement_.checkpoint(ar);
   }
 
-  /// Recomputes nodal stiffness bounds, mass scaling and dt (after changing options or masses).
-  void compute_time_step() {
+  /// Recomputes nodal stiffness bounds, mass scaling and dt (after changing options or masses;
+  /// rigid blocks: after freeing a block that was fully prescribed when dt was chosen). Throws
+  /// invalid_input for an options.dt above the stable limit.
+  void compute_time_step() { compute_time_step_refusing(true); }
+
+ private:
+  /// compute_time_step; with refuse_user_dt false an options.dt above the limit is kept for now
+  /// (rigid blocks at construction: the supports that raise the limit come later).
+  void compute_time_step_refusing(bool refuse_user_dt) {
     gridpoints_.stiffness.setZero();
     blocks_.add_stiffness_bounds(gridpoints_);
     contacts_.add_stiffness_bounds(gridpoints_);
@@ -641,10 +682,20 @@ class solver {
         scaled_ = true;
       }
     }
-    if constexpr (Blocks::is_rigid)
+    choose_time_step(refuse_user_dt);
+  }
+
+  /// The critical step from the nodal stiffness bounds and masses in place, and dt from it (file
+  /// comment); rigid blocks leave fully prescribed blocks out (blocks::rigid::critical_time_step).
+  /// O(gridpoints). refuse_user_dt: throw invalid_input for an options.dt above the limit.
+  void choose_time_step(bool refuse_user_dt) {
+    const real amplification = integrator_.stiffness_amplification();
+    if constexpr (Blocks::is_rigid) {
       critical_ = blocks_.critical_time_step(gridpoints_, amplification);  // 6-DOF bound per block
-    else
+      blocks_.record_step_bound(gridpoints_);
+    } else {
       critical_ = integrator::critical_time_step(gridpoints_, amplification);
+    }
     bool limited_by_bar = false;
     if constexpr (Reinforcement::enabled) {
       const auto bars = integrator::critical_time_step(reinforcement_.nodes(), amplification);
@@ -656,7 +707,7 @@ class solver {
     require(std::isfinite(critical_.dt), "solver: no node has a positive stiffness bound; cannot choose a time step");
     const real stable = options_.safety * critical_.dt;
     if (options_.dt > 0) {
-      require(options_.dt <= stable * (1 + 1e-12), "solver: time step dt = ", options_.dt,
+      require(!refuse_user_dt || options_.dt <= stable * (1 + 1e-12), "solver: time step dt = ", options_.dt,
               " s exceeds the stable limit ", stable, " s (safety ", options_.safety, " x 2 sqrt(m/(a k)), a = ",
               amplification, ") set by ",
               limited_by_bar ? detail::concat("bar node ", critical_.node)
@@ -672,7 +723,13 @@ class solver {
     }
   }
 
- private:
+  /// After a support call: rigid blocks choose the step again while no step was taken (a block
+  /// fixed now may no longer bound it); an options.dt above the limit is refused at the first step.
+  void supports_changed() {
+    if constexpr (Blocks::is_rigid)
+      if (step_ == 0) choose_time_step(false);
+  }
+
   // ---- blocks' gridpoints (block b owns gridpoints [block_first(b), block_end(b)), mesh CSR) ----
   void require_block(index_t b, const char* what) const {
     require(b >= 0 && b < block_count(), "solver: ", what, ": block ", b, " does not exist (", block_count(), " blocks)");
