@@ -1,0 +1,219 @@
+#pragma once
+// The contact patch of two convex polyhedra on their contact plane (contact_plane.hpp), the second
+// half of the narrow phase of contact detection: the corners from which a detecting contact set
+// makes its vertex sub-contacts, with their gaps, tributary areas and labels.
+//
+// Contact patch (contact_patch). The vertices of A within `tolerance` of A's supporting plane
+// (n.x >= max_A - tolerance) and those of B within it of B's (n.x <= min_B + tolerance) are
+// projected on the contact plane; their convex hulls are intersected. The patch is a polygon
+// (face-face contact), a segment (edge-face or parallel edges) or a point (vertex-face, crossing
+// edges); its corners are the sub-contact points. Per corner: the normal gap along n between the
+// surfaces of A and B through it (exact for planar faces: the exit of the line from A and its
+// entry into B, from the face planes), and the tributary area (a polygon's area split between
+// its corners through the mean of its corners: half of each of the two triangles (mean, corner,
+// neighbour) at the corner, >= 0 however thin the polygon; zero for a segment or point, for
+// which the caller supplies a nominal area: see docs/model.md). `tolerance` is the contact tolerance of 3DEC (the band in which a
+// vertex counts as touching); it must exceed the tilt of nearly parallel faces over their size,
+// else they read as an edge contact. A vertex of a neighbouring face that lies within the band
+// joins the patch too, so a corner's gap can exceed the plane's by up to one tolerance per block
+// (such a corner carries force only once it closes); no corner's gap is below the plane's.
+//
+// Cost: contact_patch_of O(V_A + V_B + F_A + F_B) per corner; it allocates its result and a few
+// small vectors (the touching points and their hulls). A pure function of its inputs:
+// deterministic, thread-safe.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "../../core/errors.hpp"
+#include "../../core/types.hpp"
+#include "../../geometry/convex_polyhedron.hpp"
+#include "../detail/convex_polygon2.hpp"
+#include "contact_plane.hpp"
+
+namespace tessera::contact::detection {
+
+/// Dimension of a contact patch.
+enum class patch_type : std::uint8_t { none, point, segment, polygon };
+
+/// The contact patch of a pair on its contact plane (see the file comment).
+struct contact_patch {
+  patch_type type = patch_type::none;
+  std::vector<vec3> points;  ///< corners on the contact plane (CCW about the normal for a polygon)
+  std::vector<real> gap;     ///< normal gap B - A through each corner (m; < 0 overlapping)
+  std::vector<real> area;    ///< tributary area of each corner (m^2; 0 for a segment or point)
+  /// What each corner is, as a corner_label: a vertex of A, a vertex of B, or the crossing of an
+  /// edge of A's touching hull with one of B's (vertex ids local to each polyhedron). A corner
+  /// keeps its label while the blocks move, so a detecting set keys its law state by it.
+  std::vector<std::uint64_t> label;
+  real total_area = 0;       ///< area of the polygon (m^2)
+};
+
+/// Labels of patch corners (contact_patch::label): the top two bits give the kind, the rest the
+/// vertex ids (15 bits each, so a polyhedron may have up to 32 767 vertices).
+namespace corner_label {
+inline constexpr int id_bits = 15;
+inline constexpr index_t max_vertices = (index_t{1} << id_bits) - 1;
+enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
+[[nodiscard]] constexpr std::uint64_t vertex_a(index_t v) noexcept { return static_cast<std::uint64_t>(v); }
+[[nodiscard]] constexpr std::uint64_t vertex_b(index_t v) noexcept {
+  return (std::uint64_t{1} << 62) | static_cast<std::uint64_t>(v);
+}
+/// Crossing of A's hull edge (a0, a1) with B's (b0, b1); each edge's ids in increasing order.
+[[nodiscard]] constexpr std::uint64_t crossing(index_t a0, index_t a1, index_t b0, index_t b1) noexcept {
+  const auto u = static_cast<std::uint64_t>(std::min(a0, a1)), v = static_cast<std::uint64_t>(std::max(a0, a1));
+  const auto x = static_cast<std::uint64_t>(std::min(b0, b1)), y = static_cast<std::uint64_t>(std::max(b0, b1));
+  return (std::uint64_t{2} << 62) | (u << 45) | (v << 30) | (x << 15) | y;
+}
+[[nodiscard]] constexpr kind kind_of(std::uint64_t label) noexcept { return static_cast<kind>(label >> 62); }
+}  // namespace corner_label
+
+namespace detail {
+
+/// Parameter t where the line x + t n leaves a convex polyhedron with outward face planes
+/// `faces`: the least bound of the faces facing along n; +inf if none does.
+[[nodiscard]] inline real exit_along(std::span<const geometry::plane> faces, const vec3& x, const vec3& n) {
+  real t = std::numeric_limits<real>::infinity();
+  for (const geometry::plane& f : faces) {
+    const real c = f.normal.dot(n);
+    if (c > 1e-12) t = std::min(t, (f.offset - f.normal.dot(x)) / c);
+  }
+  return t;
+}
+
+/// Index of the point nearest to q (the first of equals).
+[[nodiscard]] inline std::size_t nearest_point(const point2& q, const std::vector<point2>& points) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if ((points[i] - q).squaredNorm() < (points[best] - q).squaredNorm()) best = i;
+  return best;
+}
+/// Vertex id of the touching point equal to hull corner h (hull2 keeps input points as they are).
+[[nodiscard]] inline index_t hull_vertex(const point2& h, const std::vector<point2>& points, const std::vector<index_t>& ids) {
+  return ids[nearest_point(h, points)];
+}
+
+/// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
+/// (within 1e-6 of the hull's size); else the crossing of the nearest hull edges of A and B.
+[[nodiscard]] inline std::uint64_t label_corner(const point2& q, const std::vector<point2>& pa, const std::vector<index_t>& ids_a,
+                                                const std::vector<point2>& hull_a, const std::vector<point2>& pb,
+                                                const std::vector<index_t>& ids_b, const std::vector<point2>& hull_b) {
+  real size = 0;
+  for (const point2& h : hull_a) size = std::max(size, (h - hull_a.front()).norm());
+  for (const point2& h : hull_b) size = std::max(size, (h - hull_b.front()).norm());
+  const real on = 1e-6 * std::max(size, std::numeric_limits<real>::min());
+  if (const std::size_t i = nearest_point(q, pa); (pa[i] - q).norm() <= on) return corner_label::vertex_a(ids_a[i]);
+  if (const std::size_t i = nearest_point(q, pb); (pb[i] - q).norm() <= on) return corner_label::vertex_b(ids_b[i]);
+  // The hull edge (i, i + 1) nearest to q; a 1- or 2-point hull is its own edge.
+  const auto nearest_edge = [&](const std::vector<point2>& hull) {
+    std::size_t best = 0;
+    real best_d = std::numeric_limits<real>::infinity();
+    const std::size_t edges = hull.size() >= 3 ? hull.size() : 1;
+    for (std::size_t i = 0; i < edges; ++i) {
+      const point2& p = hull[i];
+      const point2 d = hull[(i + 1) % hull.size()] - p;
+      const real t = d.squaredNorm() > 0 ? std::clamp((q - p).dot(d) / d.squaredNorm(), real(0), real(1)) : real(0);
+      if (const real dist = (p + t * d - q).squaredNorm(); dist < best_d) {
+        best_d = dist;
+        best = i;
+      }
+    }
+    return std::pair{hull[best], hull[(best + 1) % hull.size()]};
+  };
+  const auto [a0, a1] = nearest_edge(hull_a);
+  const auto [b0, b1] = nearest_edge(hull_b);
+  return corner_label::crossing(hull_vertex(a0, pa, ids_a), hull_vertex(a1, pa, ids_a), hull_vertex(b0, pb, ids_b),
+                                hull_vertex(b1, pb, ids_b));
+}
+
+
+}  // namespace detail
+
+/// The contact patch of A and B on `plane` (common_plane's result), with vertices within
+/// `tolerance` (m, > 0) of either block's supporting plane counted as touching. An empty patch
+/// (type none) when the touching sets do not overlap on the plane. `faces_a`, `faces_b`: the
+/// blocks' face planes (append_face_planes); a list of another size is refused.
+[[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                                    const contact_plane& plane, real tolerance,
+                                                    std::span<const geometry::plane> faces_a,
+                                                    std::span<const geometry::plane> faces_b) {
+  require(std::isfinite(tolerance) && tolerance > 0, "detection: contact tolerance = ", tolerance,
+          " m must be finite and > 0");
+  require(faces_a.size() == static_cast<std::size_t>(a.face_count()) && faces_b.size() == static_cast<std::size_t>(b.face_count()),
+          "detection: contact_patch_of given ", faces_a.size(), " and ", faces_b.size(), " face planes for polyhedra of ",
+          a.face_count(), " and ", b.face_count(), " faces");
+  const vec3 n = plane.normal;
+  // Frame of the plane.
+  const vec3 t1 = (std::abs(n.x()) < 0.9 ? vec3::UnitX() : vec3::UnitY()).cross(n).normalized();
+  const vec3 t2 = n.cross(t1);
+  const auto to2 = [&](const vec3& x) { return detail::point2(t1.dot(x), t2.dot(x)); };
+  const real max_a = detail::support_max(a, n), min_b = detail::support_min(b, n);
+  require(a.vertex_count() <= corner_label::max_vertices && b.vertex_count() <= corner_label::max_vertices,
+          "detection: polyhedra of ", a.vertex_count(), " and ", b.vertex_count(), " vertices; at most ",
+          corner_label::max_vertices, " are supported");
+  std::vector<detail::point2> pa, pb;
+  std::vector<index_t> ids_a, ids_b;  // vertex id of each touching point
+  for (index_t v = 0; v < a.vertex_count(); ++v)
+    if (n.dot(a.vertex(v)) >= max_a - tolerance) {
+      pa.push_back(to2(a.vertex(v)));
+      ids_a.push_back(v);
+    }
+  for (index_t v = 0; v < b.vertex_count(); ++v)
+    if (n.dot(b.vertex(v)) <= min_b + tolerance) {
+      pb.push_back(to2(b.vertex(v)));
+      ids_b.push_back(v);
+    }
+  const real tol2 = 1e-9 * std::max(a.extent(), b.extent());
+  const std::vector<detail::point2> hull_a = detail::hull2(pa, tol2), hull_b = detail::hull2(pb, tol2);
+  const std::vector<detail::point2> patch = detail::intersect_hulls(hull_a, hull_b, tol2);
+
+  contact_patch out;
+  if (patch.empty()) return out;
+  out.type = patch.size() == 1 ? patch_type::point : patch.size() == 2 ? patch_type::segment : patch_type::polygon;
+  for (const detail::point2& q : patch) {
+    const vec3 x = plane.offset * n + q.x() * t1 + q.y() * t2;
+    // The line x + t n leaves A at t_a and enters B at t_b (B's entry along n is its exit along -n).
+    const real t_a = detail::exit_along(faces_a, x, n);
+    const real t_b = -detail::exit_along(faces_b, x, -n);
+    out.points.push_back(x);
+    out.gap.push_back(t_b - t_a);
+    out.label.push_back(detail::label_corner(q, pa, ids_a, hull_a, pb, ids_b, hull_b));
+  }
+  out.area.assign(patch.size(), 0.0);
+  if (out.type == patch_type::polygon) {
+    // Fan from the mean of the corners: it lies inside a convex polygon however thin, so every
+    // triangle has the polygon's orientation and every tributary area is >= 0. (The area
+    // centroid divides by the area: for a sliver it lands far outside and splits a near-zero
+    // area into huge areas of both signs.)
+    detail::point2 c = detail::point2::Zero();
+    for (const detail::point2& p : patch) c += p;
+    c /= static_cast<real>(patch.size());
+    real signed_total = 0;
+    for (std::size_t i = 0; i < patch.size(); ++i) signed_total += detail::cross2(c, patch[i], patch[(i + 1) % patch.size()]);
+    const real orientation = signed_total < 0 ? -1.0 : 1.0;
+    for (std::size_t i = 0; i < patch.size(); ++i) {
+      const std::size_t j = (i + 1) % patch.size();
+      const real tri = std::max<real>(0, 0.5 * orientation * detail::cross2(c, patch[i], patch[j]));
+      out.area[i] += 0.5 * tri;
+      out.area[j] += 0.5 * tri;
+      out.total_area += tri;
+    }
+  }
+  return out;
+}
+
+/// Overload that computes the face planes (for one-off queries and tests).
+[[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                                    const contact_plane& plane, real tolerance) {
+  std::vector<geometry::plane> faces_a, faces_b;
+  append_face_planes(a, faces_a);
+  append_face_planes(b, faces_b);
+  return contact_patch_of(a, b, plane, tolerance, faces_a, faces_b);
+}
+
+}  // namespace tessera::contact::detection
