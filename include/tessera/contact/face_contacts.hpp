@@ -12,7 +12,8 @@
 //
 // Creation (detail/face_pairs.hpp): one sub-contact per pair of coincident face gridpoints of
 // every shared face, its tributary area; block A is the lower cell id; the sub-contacts of a face
-// are contiguous, faces in tessellation::shared_faces order ("face s" = shared face s).
+// are contiguous, faces in tessellation::shared_faces order ("face s" = shared face s). The face
+// blocks of the kernel and the reference frames: detail/face_layout.hpp.
 //
 // Contact frame (detail/face_pairs.hpp, face_corners): one unit normal per shared face per step,
 // A -> B, the normalised vector area of the polygon through the midpoints of its corner pairs.
@@ -73,24 +74,15 @@
 #include "../geometry/tessellation.hpp"
 #include "../law/concepts.hpp"
 #include "concepts.hpp"
+#include "detail/face_layout.hpp"
 #include "detail/face_pairs.hpp"
 #include "detail/packed_states.hpp"
+#include "detail/subcontact_energies.hpp"
 #include "kinematics.hpp"
 #include "stiffness_bound.hpp"
 #include "material_table.hpp"
 
 namespace tessera::contact {
-
-namespace detail {
-/// A law state that reports its dissipated energy (J/m^2) per mechanism.
-template <class S>
-concept has_dissipation_split = requires(const S& s) {
-  { s.dissipated_tension } -> std::convertible_to<real>;
-  { s.dissipated_shear } -> std::convertible_to<real>;
-  { s.dissipated_compression } -> std::convertible_to<real>;
-};
-
-}  // namespace detail
 
 template <law::ContactLaw Law>
 class face_contacts {
@@ -155,8 +147,11 @@ class face_contacts {
     corners_ = std::move(pairs.corners);
     shared_faces_ = tess.shared_faces;
     initial_states();
-    build_face_blocks();
-    reference_frames(n_gridpoints);
+    // Face blocks and reference frames (detail/face_layout.hpp).
+    const auto n_faces = static_cast<index_t>(face_area_.size());
+    face_blocks_ = detail::face_blocks_of(n_faces, face_param_, first_subcontact_, block_subcontacts);
+    normal_ = detail::reference_normals(corners_, shared_faces_, n_faces, n_gridpoints);
+    previous_normal_ = normal_;
     detail::gather_slots gather = detail::build_gather(n_gridpoints, node_a_, node_b_);
     slot_offsets_ = std::move(gather.offsets);
     slot_subcontact_ = std::move(gather.subcontact);
@@ -402,14 +397,7 @@ class face_contacts {
     contact_energies e;
     for (std::size_t i = 0; i < node_a_.size(); ++i) {
       const auto& st = state(static_cast<index_t>(i));
-      const real a = area_[i];
-      e.stored += a * Law::stored_energy(face_params(face_[i]), st);
-      e.dissipated += a * Law::dissipated_energy(st);
-      if constexpr (detail::has_dissipation_split<state_type>) {
-        e.dissipated_tension += a * st.dissipated_tension;
-        e.dissipated_shear += a * st.dissipated_shear;
-        e.dissipated_compression += a * st.dissipated_compression;
-      }
+      detail::add_subcontact_energies<Law>(e, face_params(face_[i]), st, area_[i]);
     }
     return e;
   }
@@ -450,38 +438,6 @@ class face_contacts {
           state_[at(i)] = initial;
       }
     }
-  }
-  /// Face blocks: runs of consecutive faces with at least block_subcontacts sub-contacts (the
-  /// last one may have fewer) and one material-pair entry, the unit of the parallel face loop.
-  void build_face_blocks() {
-    const auto face_count = static_cast<index_t>(face_area_.size());
-    face_blocks_.assign(1, 0);
-    for (index_t s = 0; s < face_count; ++s)
-      if (s + 1 == face_count || face_param_[at(s) + 1] != face_param_[at(s)] ||
-          first_subcontact_[at(s) + 1] - first_subcontact_[at(face_blocks_.back())] >= block_subcontacts)
-        face_blocks_.push_back(s + 1);
-
-  }
-  /// Frames of the reference configuration (zero displacements); throws geometry_error for a
-  /// face whose polygon has no plane.
-  void reference_frames(index_t n_gridpoints) {
-    const auto face_count = static_cast<index_t>(face_area_.size());
-    // Reference frames; a face whose two sides cancel has no plane.
-    normal_.setZero(face_count, 3);
-    {
-      const soa3 u = soa3::Zero(n_gridpoints, 3);
-      const real* up[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
-      for (index_t s = 0; s < face_count; ++s) {
-        const triple area = corners_.area_vector(s, up);
-        const vec3 d(area.x, area.y, area.z);
-        require<geometry_error>(d.norm() > 0, "face_contacts: shared face ", s, " (cells ",
-                                shared_faces_[at(s)].cell_a, " and ", shared_faces_[at(s)].cell_b,
-                                "): zero vector area, the face polygon has no plane (degenerate face)");
-        normal_.row(s) = d.normalized().transpose();
-      }
-    }
-    previous_normal_ = normal_;
-
   }
 
   using triple = kinematics::triple;  ///< scalars in registers (kinematics.hpp)
