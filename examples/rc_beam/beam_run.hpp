@@ -25,6 +25,7 @@
 #include "rc_beam/beam_cracks.hpp"
 #include "rc_beam/beam_plates.hpp"
 #include "rc_beam/beam_post_peak.hpp"
+#include "rc_beam/beam_shear.hpp"
 #include "tessera/contact/platen.hpp"
 
 namespace tessera::scenes {
@@ -89,6 +90,9 @@ struct beam_result {
   std::string failure_mode = "none";
   beam_crack widest;
   beam_post_peak_crack after_peak;  ///< the fastest-opening inclined crack after the peak (beam_post_peak.hpp)
+  /// The shear across sections at a quarter, half and three quarters of the shear span
+  /// (beam_shear.hpp), at the first inclined crack in the shear span and at the peak (empty if none)
+  std::vector<beam_shear_split> shear_at_inclined_crack, shear_at_peak;
   /// boundary_work: the work of the supports and, with --plates contact, of the plates (J)
   real energy_balance_error = 0, boundary_work = 0, contact_dissipated = 0, compression_dissipated = 0,
        tension_dissipated = 0, damping_dissipated = 0;
@@ -220,6 +224,9 @@ template <class Law, class OnEvent>
       soffit.push_back(i);
   real soffit_peak_load = 0, soffit_peak_deflection = 0;
   beam_opening_history history(loading.history_step);
+  const beam_shear_sections shear_sections(
+      scene.tess, s.contacts(), s.reinforcement(), s.bar_nodes(),
+      {o.support_x() + 0.25 * o.shear_span, o.support_x() + 0.5 * o.shear_span, o.support_x() + 0.75 * o.shear_span});
   const auto sample = [&](const solver_type& sv) {
     real fp = 0, fs = 0, u = 0, up = 0;  // up: the loading plate's vertical displacement
     if (contact_plates) {
@@ -242,7 +249,10 @@ template <class Law, class OnEvent>
     r.smoothed_load.push_back(load);
     r.plate_load.push_back(-2 * fp);
     r.load_point_deflection.push_back(-up);
-    if (load > max_load) max_load = load, r.peak_load = load, r.peak_deflection = defl;
+    if (load > max_load) {
+      max_load = load, r.peak_load = load, r.peak_deflection = defl;
+      r.shear_at_peak = shear_sections.split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs);
+    }
     history.record(sv.contacts(), sv.gridpoints(), defl, load);
     if (r.first_crack_load == 0) {
       // Mean bending stress of the soffit: sum A t_x n_x / sum A n_x^2 over its sub-contacts
@@ -289,6 +299,7 @@ template <class Law, class OnEvent>
           r.first_inclined_crack_load = load;
           r.first_inclined_crack_deflection = defl;
           r.first_inclined_crack_x = c.x;
+          r.shear_at_inclined_crack = shear_sections.split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs);
           if (!first_found) r.inclined_before_vertical = true;
         }
       }

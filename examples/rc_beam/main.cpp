@@ -34,6 +34,7 @@
 #include <exception>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/calibration.hpp"
@@ -294,6 +295,21 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("steps", r.steps)
       .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
       .set("runtime_s", timer.seconds());
+  // Where the shear goes (beam_shear.hpp): per section in the shear span, at the first inclined
+  // crack there and at the peak; bars: the trusses' vertical share (axial only: no dowel action).
+  for (const auto& [when, table] : {std::pair{std::string("shear_at_first_inclined_crack_"), &r.shear_at_inclined_crack},
+                                    std::pair{std::string("shear_at_peak_"), &r.shear_at_peak}}) {
+    const char* names[] = {"x_m", "intact_N", "softening_N", "broken_or_slipped_N", "bars_N", "total_N", "reaction_N"};
+    std::vector<real> col[7];
+    real closure = 0;  // the largest |total / reaction - 1|: what the split leaves out (beam_shear.hpp)
+    for (const auto& sp : *table) {
+      const real row[7] = {sp.x, sp.intact, sp.softening, sp.broken_or_slipped, sp.bars, sp.total(), sp.reaction};
+      for (int k = 0; k < 7; ++k) col[k].push_back(row[k]);
+      if (sp.reaction > 0) closure = std::max(closure, std::abs(sp.total() / sp.reaction - 1));
+    }
+    for (int k = 0; k < 7; ++k) js.set(when + names[k], col[k]);
+    js.set(when + "closure_error_rel", closure);
+  }
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   js.write(out / "summary.json");
 
@@ -313,6 +329,14 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
                   p.x * 1e3, p.angle_deg, p.opening_increase * 1e3, p.opening_rate, p.window_start_deflection * 1e3,
                   p.window_end_deflection * 1e3, p.flexural_opening_rate, p.load_drop * 1e-3, p.diagonal ? "yes" : "no");
   const std::string after_peak_text = after_buf;
+  std::string shear_text = r.shear_at_peak.empty() ? "none" : "";
+  for (const auto& sp : r.shear_at_peak) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%s%.0f mm: %.1f + %.1f + %.1f + %.1f = %.1f kN (%.1f)", shear_text.empty() ? "" : "; ",
+                  sp.x * 1e3, sp.intact * 1e-3, sp.softening * 1e-3, sp.broken_or_slipped * 1e-3, sp.bars * 1e-3,
+                  sp.total() * 1e-3, sp.reaction * 1e-3);
+    shear_text += buf;
+  }
   std::printf(
       "rc_beam (PROVISIONAL geometry): %d blocks%s, %lld sub-contacts (study %d), %.1f contact points over the depth,"
       " %.1f trusses per block\n"
@@ -323,6 +347,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
       " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
       "  fastest inclined crack after the peak: %s\n"
+      "  shear at the peak (section x: intact + softening + broken/slipped + bars = total; P/2): %s\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
       o.blocks, in.params.empty() ? "" : tessera::detail::concat(" (contact strength x ", o.strength_scale, ")").c_str(),
       static_cast<long long>(r.subcontacts), o.blocks == 500 ? 55228 : 27274, r.contact_points_over_depth,
@@ -333,7 +358,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
       yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
       h.shear_capacity_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
-      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
+      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(), shear_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
       r.quasi_static_index, static_cast<long long>(r.steps), timer.seconds(), out.string().c_str());
 }
 
