@@ -326,8 +326,8 @@ class detected_contacts {
     prepare_step(gridpoints, dt);
     // Tasks of >= task_subcontacts sub-contacts (some 30 000 instructions each): serial below
     // 2 x serial_tasks tasks, where a fork/join per step costs more than it saves on a shared
-    // machine (a 21-block stack of 80 sub-contacts, 2 threads, load 8: 729 -> 26 us a step;
-    // notes in docs/performance.md). Same bits either way: a task writes only its sub-contacts.
+    // machine (a 21-block stack of 80 sub-contacts on 2 threads at load 8: 729 -> 26 us a
+    // step). Same bits either way: a task writes only its own sub-contacts.
     parallel_for(task_count(), [&](std::int64_t t) { run_task(static_cast<index_t>(t), gridpoints, dt); }, serial_tasks);
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });

@@ -4,6 +4,7 @@
 // thread count. Reductions go through fixed-order per-chunk partial sums.
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <vector>
@@ -110,19 +111,25 @@ void parallel_range_pair(std::int64_t n, F&& f, std::int64_t m, G&& g, std::int6
 }
 
 /// Sum of f(i) over [0, n) with a result independent of the thread count: partial sums
-/// over fixed chunks of `chunk` indices, added in chunk order.
+/// over fixed chunks of `chunk` indices, added in chunk order. Up to 64 chunks (64 x chunk
+/// terms) the partial sums live on the stack, so a call inside solver::step (the deformable
+/// blocks' gravity work) allocates nothing.
 template <class F>
 double deterministic_sum(std::int64_t n, F&& f, std::int64_t chunk = 1024) {
-  const std::int64_t chunks = (n + chunk - 1) / chunk;
-  std::vector<double> partial(static_cast<std::size_t>(std::max<std::int64_t>(chunks, 0)), 0.0);
+  const std::int64_t chunks = std::max<std::int64_t>((n + chunk - 1) / chunk, 0);
+  constexpr std::int64_t on_stack = 64;
+  std::array<double, on_stack> local{};
+  std::vector<double> heap;
+  if (chunks > on_stack) heap.assign(static_cast<std::size_t>(chunks), 0.0);
+  double* const partial = chunks > on_stack ? heap.data() : local.data();
   parallel_for(chunks, [&](std::int64_t c) {
     double s = 0.0;
     const std::int64_t end = std::min(n, (c + 1) * chunk);
     for (std::int64_t i = c * chunk; i < end; ++i) s += f(i);
-    partial[static_cast<std::size_t>(c)] = s;
+    partial[c] = s;
   }, 1);
   double total = 0.0;
-  for (double p : partial) total += p;
+  for (std::int64_t c = 0; c < chunks; ++c) total += partial[c];
   return total;
 }
 
