@@ -71,7 +71,8 @@
 // stability is that of M_f^-1 K_ff (the u_p term is a forcing), and the bound above restricted to
 // u_p = 0 sums over the free blocks' gridpoints only, whose k_i already carry their contacts
 // with the prescribed blocks (each contact puts its stiffness on both sides). So a fixed base
-// no longer sets dt: on a 20-voussoir arch on a fixed slab dt grows x6 (docs/guide.md). When no
+// no longer sets dt: on the issue #40 arch (20 voussoirs, r 4.5-5 m, on a 12 x 1 x 0.5 m slab
+// held by fix_block) dt grows x6.0, from 1.58e-5 to 9.47e-5 s. When no
 // free block has a stiffness, every block counts as before. A block skipped when the step was
 // chosen (record_step_bound) and freed later is refused (check_step_bound, before each step of the
 // solver): the step does not bound it.
