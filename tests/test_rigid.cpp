@@ -1286,7 +1286,7 @@ TEST_CASE("user layer: every refusal names the value", "[rigid][user_layer]") {
   user_scene sc(0.5);
   user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
   const real nan = std::numeric_limits<real>::quiet_NaN();
-  CHECK_THROWS_WITH(s.fix_block(7), Catch::Contains("block 7 does not exist"));
+  CHECK_THROWS_WITH(s.fix_block(7), Catch::Contains("fix_block: block 7 does not exist"));
   CHECK_THROWS_WITH(s.fix_blocks({0, -1}), Catch::Contains("block -1 does not exist"));
   CHECK_THROWS_WITH(s.prescribe_block_velocity(1, vec3(0, nan, 0)), Catch::Contains("nan") && Catch::Contains("block 1"));
   CHECK_THROWS_WITH(s.set_block_velocity(2, vec3::Zero()), Catch::Contains("block 2 does not exist"));

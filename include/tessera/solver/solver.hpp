@@ -261,7 +261,10 @@ class solver {
   /// translations and rotations held; deformable: every gridpoint fixed). The support's force on
   /// the block is recorders::reaction_sum(gridpoints(), gridpoints_of_block(b)) (N). Throws
   /// invalid_input for a bad id or a component already prescribed with another velocity.
-  void fix_block(index_t b) { prescribe_block_velocity(b, vec3::Zero(), bc::components::xyz); }
+  void fix_block(index_t b) {
+    require_block(b, "fix_block");  // named here, not as the prescribe_block_velocity it calls
+    prescribe_block_velocity(b, vec3::Zero(), bc::components::xyz);
+  }
   /// fix_block for each listed block, all or none (validated first).
   void fix_blocks(const std::vector<index_t>& list) {
     bc::fix(gridpoints_, gridpoints_of_blocks(list));
