@@ -97,7 +97,6 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "../core/errors.hpp"
@@ -112,6 +111,7 @@
 #include "../integrator/timestep.hpp"
 #include "concepts.hpp"
 #include "detail/rigid_rotation.hpp"
+#include "detail/symmetric_eigen3.hpp"
 
 namespace tessera::blocks {
 
@@ -176,12 +176,14 @@ class rigid {
       require<geometry_error>(mp.volume > 0, "rigid blocks: cell ", b, " has volume ", mp.volume,
                               " m^3; expected > 0 (faces CCW seen from outside)");
       const mat3 inertia = geometry::inertia_tensor(mp.second_moment, p.density);
-      const Eigen::SelfAdjointEigenSolver<mat3> eig(inertia);  // eigenvalues ascending
-      mat3 axes = eig.eigenvectors();
-      if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+      // Principal moments ascending and axes with det = +1 by 3x3 Jacobi rotations, not Eigen's
+      // SelfAdjointEigenSolver: this non-template function made GCC compile that solver in every
+      // translation unit including this header (issue #40 item 9).
+      const detail::symmetric_eigen3 eig = detail::symmetric_eigen_3x3(inertia);
+      const mat3& axes = eig.vectors;
       bd.mass = p.density * mp.volume;
       bd.weight_mass = bd.mass;
-      bd.inertia = eig.eigenvalues();
+      bd.inertia = eig.values;
       require<geometry_error>(bd.inertia.minCoeff() > 0, "rigid blocks: cell ", b, " has principal moments (",
                               bd.inertia.transpose(), ") kg m^2; expected all > 0");
       bd.centroid = mp.centroid;
