@@ -1693,7 +1693,7 @@ TEST_CASE("joints: law::bonded_joint names every field, refuses one not given", 
   CHECK_THROWS_WITH(law::bonded_joint(bad), Contains("tensile_strength f_T = 0 Pa must be finite and > 0"));
 }
 
-TEST_CASE("joints: a cube on a 20 deg incline with a 30 deg dry joint sticks; phi_res left 0 is refused", "[joints]") {
+TEST_CASE("joints: a cube on a 20 deg incline with a 30 deg dry joint sticks, and phi_res left 0 is refused", "[joints]") {
   // The level base and tilted gravity g (sin 20, 0, -cos 20), as examples/verification's incline.
   // Undamped, 0.2 s: a joint that sticks moves the cube only by its elastic shear W sin 20/(k_s A)
   // = 4 um (k_s = 1e9 Pa/m, A = 0.25 m^2), up to twice that as the undamped spring swings

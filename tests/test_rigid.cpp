@@ -1359,7 +1359,7 @@ real hand_block_bound(const Solver& s, idx b) {
 
 }  // namespace
 
-TEST_CASE("step bound: a fixed slab no longer sets dt; free and partly held blocks keep theirs", "[rigid][step_bound]") {
+TEST_CASE("step bound: a fixed slab no longer sets dt, and free and partly held blocks keep theirs", "[rigid][step_bound]") {
   const slab_scene sc;
   const auto contacts = user_scene(0).contacts();
   user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, contacts);
