@@ -131,8 +131,9 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "flexural_crack_N",
                          .title = "first cracking at the flexural strength (MC2010), hand", .style = "lines dt 2",
                          .x_scale = 1e3, .y_scale = 1e-3});
-  plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "yield_N",
-                         .title = "yield A_s f_y z, hand", .style = "lines dt 2", .x_scale = 1e3, .y_scale = 1e-3});
+  if (h.yield_load < 3 * std::max(r.peak_load, h.shear_capacity_load))  // bars that cannot yield: off the chart
+    plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "yield_N",
+                           .title = "yield A_s f_y z, hand", .style = "lines dt 2", .x_scale = 1e3, .y_scale = 1e-3});
   plot.series.push_back({.csv = out / "hand.csv", .x_column = "deflection_m", .y_column = "shear_capacity_N",
                          .title = "shear capacity (EC2 form), hand", .style = "lines dt 4", .x_scale = 1e3,
                          .y_scale = 1e-3});
