@@ -590,7 +590,7 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_law_options_quick
          "peak_load_N LESS 23.3e3"
          "shear_at_peak_closure_error_rel LESS 0.15"
          "energy_balance_error_rel LESS 1e-3"
-  TIMEOUT 900)
+  TIMEOUT 600)
 tessera_add_refusal_test(refuse_rc_beam_cohesion rc_beam "--cohesion: invalid value 'glued'" --threads 1 --cohesion glued)
 tessera_add_refusal_test(refuse_rc_beam_coupled_elastic rc_beam
   "--cohesion coupled is built with --compression plastic only" --threads 1 --quick --cohesion coupled --compression elastic)
