@@ -115,10 +115,12 @@ static_assert(law::ContactLaw<coupled_beam_law>);
   return p;
 }
 
-/// The same contact with its cohesion softening together with the tensile strength
-/// (coulomb_coupled): identical stiffnesses, tension, compression and shear parameters.
-[[nodiscard]] inline coupled_tie_law::params with_coupled_cohesion(const study_tie_law::params& decoupled) {
-  coupled_tie_law::params p;
+namespace detail {
+/// The params of law Coupled with the stiffnesses, tension, compression and shear parameters of
+/// `decoupled` (the two laws differ in their shear policy only).
+template <class Coupled, class DecoupledParams>
+[[nodiscard]] typename Coupled::params copy_to_coupled(const DecoupledParams& decoupled) {
+  typename Coupled::params p;
   p.k_n = decoupled.k_n;
   p.k_s = decoupled.k_s;
   p.tension = decoupled.tension;
@@ -126,17 +128,18 @@ static_assert(law::ContactLaw<coupled_beam_law>);
   p.shear = decoupled.shear;
   return p;
 }
+}  // namespace detail
+
+/// The same contact with its cohesion softening together with the tensile strength
+/// (coulomb_coupled): identical stiffnesses, tension, compression and shear parameters.
+[[nodiscard]] inline coupled_tie_law::params with_coupled_cohesion(const study_tie_law::params& decoupled) {
+  return detail::copy_to_coupled<coupled_tie_law>(decoupled);
+}
 
 /// The beam's contact with its cohesion softening together with the tensile strength
 /// (coulomb_coupled): identical stiffnesses, tension, compressive cap and shear parameters.
 [[nodiscard]] inline coupled_beam_law::params with_coupled_cohesion(const study_beam_law::params& decoupled) {
-  coupled_beam_law::params p;
-  p.k_n = decoupled.k_n;
-  p.k_s = decoupled.k_s;
-  p.tension = decoupled.tension;
-  p.compression = decoupled.compression;
-  p.shear = decoupled.shear;
-  return p;
+  return detail::copy_to_coupled<coupled_beam_law>(decoupled);
 }
 
 /// Contact parameters of the study's RC beam in four-point bending (Sec. 4, Table 3) for 250 or
