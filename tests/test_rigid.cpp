@@ -25,6 +25,8 @@
 
 #include <Eigen/Dense>
 
+#include <strings.h>  // POSIX index(), beside `using namespace tessera;` below
+
 #include "tessera/blocks.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/geometry/voronoi.hpp"
@@ -35,6 +37,12 @@
 #include "verification/cases.hpp"
 
 using namespace tessera;
+
+// `using namespace tessera;` at file scope must leave POSIX index() (<strings.h>, which standard
+// headers may pull in) callable unqualified: the handle type is tessera::index_t, and a
+// tessera::index would make this call ambiguous and the file fail to compile (issue #40 item 2).
+static_assert(std::is_pointer_v<decltype(index(static_cast<const char*>("tessera"), 's'))>,
+              "POSIX index() is reachable beside using namespace tessera");
 // <strings.h> declares a global index(); the tests spell tessera's handle type as idx.
 using idx = tessera::index_t;
 
