@@ -3,7 +3,8 @@
 # (tests/consumer/main.cpp, <tessera/tessera.hpp>, a deformable-block solver with face contacts)
 # and a small rigid-block scene (benchmarks/compile_time/rigid_scene.cpp, per-role headers,
 # detected dry joints), once with the solver compiled in the scene and once taking it from
-# tessera::instances (-DTESSERA_USE_INSTANCES: extern templates, compile only), and prints
+# tessera::instances (-DTESSERA_USE_INSTANCES: extern templates, compile only), and the README's
+# arch (tests/consumer/arch.cpp, which includes tessera/instances.hpp), and prints
 #
 #   compile_time <name> <seconds> s (user+sys)
 #
@@ -59,3 +60,5 @@ measure() {
 measure consumer "$root/tests/consumer/main.cpp"
 measure rigid_scene "$root/benchmarks/compile_time/rigid_scene.cpp"
 measure rigid_scene_instances -DTESSERA_USE_INSTANCES "$root/benchmarks/compile_time/rigid_scene.cpp"
+# The README's arch (tests/consumer/arch.cpp): per-role headers, its solver from tessera::instances.
+measure readme_arch "$root/tests/consumer/arch.cpp"

@@ -9,6 +9,7 @@
 #include <tessera/geometry.hpp>
 #include <tessera/law.hpp>
 #include <tessera/solver.hpp>
+#include <tessera/instances.hpp>  // its solver compiled once: link tessera::instances
 
 #include <cmath>
 #include <cstdio>
