@@ -1,0 +1,92 @@
+#pragma once
+// Voronoi and Laguerre (power) tessellations of a box by given generators (voronoi.hpp states the
+// method): the cells of power_cells.hpp, optional Lloyd relaxation, the cleanup of cleanup.hpp
+// that welds them into a conforming tessellation, and the optional regularization of
+// regularize.hpp.
+//
+// Cost and determinism: see voronoi.hpp. Thread safety: the free functions may be called
+// concurrently.
+
+#include <cmath>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "cleanup.hpp"
+#include "convex_polyhedron.hpp"
+#include "power_cells.hpp"
+#include "regularize.hpp"
+#include "tessellation.hpp"
+
+namespace tessera::geometry {
+
+struct tessellation_options {
+  /// Lloyd relaxation steps: each moves every generator to the centroid of its cell, which
+  /// makes cell sizes more uniform (0 = plain random tessellation).
+  int lloyd_iterations = 0;
+  /// Minimum distance between random generators (m); 0 = none (Poisson process).
+  real min_spacing = 0;
+  /// Weld tolerance relative to the mean cell size (V_box / N)^(1/3); see cleanup.hpp.
+  real cleanup_tolerance = 1e-9;
+  /// Regularization: edges shorter than min_edge_rel x the mean cell size are collapsed
+  /// (geometry/regularize.hpp; 0 = off; the examples take it as --regularize, default 0, and the
+  /// regularised runs of the examples use presets::study_regularization).
+  real min_edge_rel = 0;
+};
+
+namespace detail {
+
+inline tessellation power_tessellation(const aabb& box, std::span<const vec3> seeds_in, std::span<const real> weights,
+                                       const tessellation_options& options, const char* who) {
+  require_valid_box(box, who);
+  require(!seeds_in.empty(), who, ": no seeds (N = 0); at least one cell is required");
+  require(options.lloyd_iterations >= 0, who, ": lloyd_iterations = ", options.lloyd_iterations, " must be >= 0");
+  require(std::isfinite(options.cleanup_tolerance) && options.cleanup_tolerance > 0 && options.cleanup_tolerance < 1e-2,
+          who, ": cleanup_tolerance = ", options.cleanup_tolerance, " must be in (0, 1e-2)");
+  std::vector<vec3> seeds(seeds_in.begin(), seeds_in.end());
+  const real mean_size = std::cbrt(box.volume() / static_cast<real>(seeds.size()));
+  for (int it = 0;; ++it) {
+    const seed_grid grid(box, seeds, 2.0);
+    validate_seeds(box, seeds, grid, who);
+    std::vector<convex_polyhedron> cells = compute_cells(box, seeds, weights, grid);
+    if (it == options.lloyd_iterations) {
+      tessellation t = assemble_tessellation(box, cells, seeds, weights, options.cleanup_tolerance * mean_size);
+      if (options.min_edge_rel != 0) regularize(t, options.min_edge_rel);  // throws for < 0, > 0.5, NaN
+      return t;
+    }
+    // Lloyd step: x_i <- centroid of C_i (an empty Laguerre cell keeps its generator).
+    parallel_for(static_cast<std::int64_t>(seeds.size()), [&](std::int64_t c) {
+      const convex_polyhedron& p = cells[static_cast<std::size_t>(c)];
+      if (!p.empty()) seeds[static_cast<std::size_t>(c)] = p.centroid().cwiseMax(box.lo).cwiseMin(box.hi);
+    }, 64);
+  }
+}
+
+}  // namespace detail
+
+/// Voronoi tessellation of `box` by the generators `seeds` (m), after options.lloyd_iterations
+/// Lloyd steps (the returned tessellation stores the relaxed generators). Throws invalid_input
+/// for an empty or non-finite box, no seeds, a seed outside the box or coincident seeds.
+[[nodiscard]] inline tessellation voronoi(const aabb& box, std::span<const vec3> seeds,
+                                          const tessellation_options& options = {}) {
+  return detail::power_tessellation(box, seeds, {}, options, "voronoi");
+}
+
+/// Laguerre (power) tessellation: generator i has weight weights[i] (m^2); a larger weight
+/// grows the cell (the bisector with j moves by (w_i - w_j)/(2 d) toward j). Generators whose
+/// cell is empty are dropped (the tessellation then has fewer cells than seeds; `seeds` and
+/// `weights` of the result list the surviving generators). Throws invalid_input as voronoi(),
+/// and for a weight count different from the seed count or a non-finite weight.
+[[nodiscard]] inline tessellation laguerre(const aabb& box, std::span<const vec3> seeds, std::span<const real> weights,
+                                           const tessellation_options& options = {}) {
+  require(weights.size() == seeds.size(), "laguerre: ", weights.size(), " weights for ", seeds.size(),
+          " seeds; one weight (m^2) per seed is required");
+  for (std::size_t i = 0; i < weights.size(); ++i)
+    require(std::isfinite(weights[i]), "laguerre: weight ", i, " = ", weights[i], " m^2 must be finite");
+  return detail::power_tessellation(box, seeds, weights, options, "laguerre");
+}
+
+}  // namespace tessera::geometry
