@@ -85,6 +85,11 @@
 // Storage: one `body` record per block (its 6-DOF state is always read together) and the
 // gridpoint body coordinates as an N x 3 column-major array. advance allocates nothing.
 // Thread safety: const members are safe to call concurrently; advance is not.
+//
+// Where each job lives: the block record and its prescriptions in detail/rigid_body.hpp, steps
+// 1-5 of a block (reduction, integration, slaved gridpoints) in detail/rigid_motion.hpp, the
+// stable step, the blocks it leaves out and the mass scaling in detail/rigid_step_bound.hpp, the
+// rotation helpers in detail/rigid_rotation.hpp; this header holds the BlockModel and its state.
 
 #include <algorithm>
 #include <array>
@@ -93,7 +98,6 @@
 #include <cstdint>
 #include <limits>
 #include <span>
-#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -110,7 +114,10 @@
 #include "../integrator/concepts.hpp"
 #include "../integrator/timestep.hpp"
 #include "concepts.hpp"
+#include "detail/rigid_body.hpp"
+#include "detail/rigid_motion.hpp"
 #include "detail/rigid_rotation.hpp"
+#include "detail/rigid_step_bound.hpp"
 #include "detail/symmetric_eigen3.hpp"
 
 namespace tessera::blocks {
@@ -218,13 +225,20 @@ class rigid {
   template <class Integrator, class Work>
   void advance(const Integrator& integ, node_set& gridpoints, real dt, Work& work) {
     const std::int64_t n_b = block_count();
-    parallel_for(n_b, [&](std::int64_t b) { reduce(gridpoints, static_cast<index_t>(b)); }, 16);
+    parallel_for(n_b, [&](std::int64_t b) {
+      const auto k = static_cast<std::size_t>(b);
+      detail::reduce_rigid_block(gridpoints, body_position_, gravity_, bodies_[k], constraints_[k]);
+    }, 16);
     for (index_t b = 0; b < block_count(); ++b) {
       const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
       for (int c = 0; c < 3; ++c)
-        if (con.conflict[static_cast<std::size_t>(c)] != invalid_index) throw_conflict(gridpoints, b, c);
+        if (con.conflict[static_cast<std::size_t>(c)] != invalid_index)
+          detail::throw_rigid_conflict(gridpoints, b, con, c);
     }
-    parallel_for(n_b, [&](std::int64_t b) { integrate(integ, gridpoints, static_cast<index_t>(b), dt); }, 16);
+    parallel_for(n_b, [&](std::int64_t b) {
+      const auto k = static_cast<std::size_t>(b);
+      work_[k] = detail::integrate_rigid_block(integ, gridpoints, body_position_, bodies_[k], constraints_[k], dt);
+    }, 16);
     for (const integrator::step_work& w : work_) {
       work.boundary += w.boundary;
       work.damping += w.damping;
@@ -271,25 +285,23 @@ class rigid {
   /// other block has a stiffness. Throws invalid_input for a < 1.
   [[nodiscard]] integrator::critical_step critical_time_step(const node_set& gridpoints, real amplification = 1) const {
     require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
-    const integrator::critical_step free = bound_over_blocks(gridpoints, amplification, true);
-    return std::isfinite(free.dt) ? free : bound_over_blocks(gridpoints, amplification, false);
+    const integrator::critical_step free =
+        detail::rigid_step_bound(bodies_, gridpoints, body_position_, amplification, true);
+    return std::isfinite(free.dt) ? free
+                                  : detail::rigid_step_bound(bodies_, gridpoints, body_position_, amplification, false);
   }
   /// True when every translation component of block b is prescribed on some gridpoint of it (then
   /// its rotations are held too: all six DOFs are set, none integrated). Reads the gridpoints'
   /// constraints as they stand. Throws invalid_input for a bad id.
   [[nodiscard]] bool fully_prescribed(const node_set& gridpoints, index_t b) const {
-    const body& bd = at(b);
-    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-    bool held[3] = {false, false, false};
-    for (index_t i = bd.first; i < bd.end; ++i)
-      for (int c = 0; c < 3; ++c) held[c] = held[c] || gridpoints.constraint(i, c) == prescribed;
-    return held[0] && held[1] && held[2];
+    return detail::rigid_fully_prescribed(gridpoints, at(b));
   }
   /// Remembers which blocks critical_time_step(gridpoints) leaves out (fully prescribed, while a
   /// free block has a stiffness), for check_step_bound. The solver calls it when it sets dt.
   void record_step_bound(const node_set& gridpoints) {
     unbounded_.clear();
-    if (!std::isfinite(bound_over_blocks(gridpoints, 1, true).dt)) return;  // every block counts
+    // every block counts when no free block has a stiffness
+    if (!std::isfinite(detail::rigid_step_bound(bodies_, gridpoints, body_position_, 1, true).dt)) return;
     for (index_t b = 0; b < block_count(); ++b)
       if (fully_prescribed(gridpoints, b)) unbounded_.push_back(b);
   }
@@ -298,7 +310,7 @@ class rigid {
   /// (O(gridpoints of the blocks left out), nothing when none was).
   void check_step_bound(const node_set& gridpoints) const {
     for (index_t b : unbounded_)
-      if (!fully_prescribed(gridpoints, b)) throw_unbounded(gridpoints, b);
+      if (!fully_prescribed(gridpoints, b)) detail::throw_rigid_unbounded(gridpoints, b, at(b));
   }
 
   /// Multiplies m and I of every block whose bound is below target_dt by the smallest common
@@ -309,20 +321,8 @@ class rigid {
     require_positive(target_dt, "rigid blocks: mass-scaling target time step (s)");
     require(safety > 0 && safety <= 1, "rigid blocks: mass-scaling safety factor = ", safety, " must lie in (0, 1]");
     require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
-    integrator::mass_scaling_report rep;
-    // safety 2 sqrt(m / (2 a k)) >= dt*  <=>  m >= 2 a k (dt* / (2 safety))^2
-    const real c = 2 * amplification * (target_dt / (2 * safety)) * (target_dt / (2 * safety));
-    for (body& bd : bodies_) {
-      rep.original_mass += bd.mass;
-      const auto [k_t, k_r] = stiffness_bounds(gridpoints, bd);
-      const real factor = std::max({real(1), c * k_t / bd.mass, c * k_r / bd.inertia.minCoeff()});
-      if (factor > 1) {
-        rep.added_mass += (factor - 1) * bd.mass;
-        bd.mass *= factor;
-        bd.inertia *= factor;
-        ++rep.scaled_nodes;
-      }
-    }
+    const integrator::mass_scaling_report rep =
+        detail::scale_rigid_masses(bodies_, gridpoints, body_position_, target_dt, safety, amplification);
     share_masses(gridpoints);
     return rep;
   }
@@ -409,30 +409,8 @@ class rigid {
   [[nodiscard]] std::span<const params> materials() const { return materials_; }
 
  private:
-  struct body {
-    real mass = 0;                                     ///< m (kg, possibly scaled)
-    real weight_mass = 0;                              ///< unscaled m (kg), for the weight
-    vec3 inertia = vec3::Zero();                       ///< principal moments I1 <= I2 <= I3 (kg m^2, possibly scaled)
-    mat3 axes = mat3::Identity();                      ///< E, principal axes in the reference configuration
-    vec3 centroid = vec3::Zero();                      ///< reference centroid c (m)
-    vec3 displacement = vec3::Zero();                  ///< u_c (m)
-    vec3 velocity = vec3::Zero();                      ///< v (m/s), half step
-    vec3 angular_velocity = vec3::Zero();              ///< w (rad/s), body frame, half step
-    Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();       ///< q, full step
-    Eigen::Quaterniond half_orientation = Eigen::Quaterniond::Identity();  ///< q exp(w dt / 4), mid-step
-    mat3 rotation = mat3::Identity();                  ///< R(q)
-    vec3 force = vec3::Zero(), moment = vec3::Zero();  ///< F (N), M (N m, world)
-    vec3 reaction_force = vec3::Zero(), reaction_moment = vec3::Zero();
-    index_t first = 0, end = 0;                          ///< gridpoints [first, end)
-  };
-  /// Prescriptions found on a block's gridpoints in the last reduction.
-  struct block_constraints {
-    std::array<index_t, 3> count{0, 0, 0};               ///< gridpoints prescribing component c
-    std::array<index_t, 3> first{invalid_index, invalid_index, invalid_index};     ///< the first of them
-    std::array<index_t, 3> conflict{invalid_index, invalid_index, invalid_index};  ///< one disagreeing with it
-    vec3 velocity = vec3::Zero();                      ///< prescribed velocity (m/s)
-    [[nodiscard]] bool any() const { return count[0] + count[1] + count[2] > 0; }
-  };
+  using body = detail::rigid_body;
+  using block_constraints = detail::rigid_constraints;
 
   [[nodiscard]] const body& at(index_t b) const {
     require(b >= 0 && b < block_count(), "rigid blocks: block ", b, " does not exist (", block_count(), " blocks)");
@@ -442,158 +420,6 @@ class rigid {
   void share_masses(node_set& gridpoints) const {
     for (const body& bd : bodies_)
       for (index_t i = bd.first; i < bd.end; ++i) gridpoints.mass[i] = bd.mass / static_cast<real>(bd.end - bd.first);
-  }
-
-  /// k_t = sum_i k_i (N/m) and k_r = sum_i k_i |r_i|^2 (N m) over the block's gridpoints.
-  [[nodiscard]] std::array<real, 2> stiffness_bounds(const node_set& gridpoints, const body& bd) const {
-    real k_t = 0, k_r = 0;
-    for (index_t i = bd.first; i < bd.end; ++i) {
-      k_t += gridpoints.stiffness[i];
-      k_r += gridpoints.stiffness[i] * body_position_.row(i).squaredNorm();
-    }
-    return {k_t, k_r};
-  }
-
-  /// Step 1 of the file comment, plus the prescriptions of block b's gridpoints.
-  void reduce(const node_set& gp, index_t b) noexcept {
-    body& bd = bodies_[static_cast<std::size_t>(b)];
-    block_constraints& con = constraints_[static_cast<std::size_t>(b)];
-    con = block_constraints{};
-    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-    vec3 f_sum = vec3::Zero(), m_sum = vec3::Zero();
-    for (index_t i = bd.first; i < bd.end; ++i) {
-      const vec3 f(gp.force(i, 0), gp.force(i, 1), gp.force(i, 2));
-      const vec3 rho = bd.rotation * body_position(i);
-      f_sum += f;
-      m_sum += rho.cross(f);
-      for (int c = 0; c < 3; ++c) {
-        if (gp.constraint(i, c) != prescribed) continue;
-        const auto cs = static_cast<std::size_t>(c);
-        if (con.count[cs]++ == 0) {
-          con.first[cs] = i;
-          con.velocity[c] = gp.prescribed_velocity(i, c);
-        } else if (gp.prescribed_velocity(i, c) != con.velocity[c] && con.conflict[cs] == invalid_index) {
-          con.conflict[cs] = i;
-        }
-      }
-    }
-    bd.force = f_sum + bd.weight_mass * gravity_;
-    bd.moment = m_sum;
-  }
-
-  [[noreturn]] void throw_conflict(const node_set& gp, index_t b, int c) const {
-    const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
-    const index_t i = con.first[static_cast<std::size_t>(c)], j = con.conflict[static_cast<std::size_t>(c)];
-    throw invalid_input(tessera::detail::concat("rigid blocks: block ", b, " has conflicting prescribed velocities in component ",
-                                       "xyz"[c], ": gridpoint ", i, " prescribes ", gp.prescribed_velocity(i, c),
-                                       " m/s, gridpoint ", j, " prescribes ", gp.prescribed_velocity(j, c),
-                                       " m/s; a rigid block moves as one body (release one of them)"));
-  }
-
-  [[noreturn]] void throw_unbounded(const node_set& gridpoints, index_t b) const {
-    const body& bd = at(b);
-    std::string freed;
-    for (int c = 0; c < 3; ++c) {
-      bool held = false;
-      for (index_t i = bd.first; i < bd.end; ++i)
-        held = held || gridpoints.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::prescribed);
-      if (!held) freed += "xyz"[c];
-    }
-    throw invalid_input(tessera::detail::concat(
-        "rigid blocks: block ", b, " was fully prescribed when the time step was chosen, so the step does not bound it, "
-        "and its translation component(s) ", freed, " are free now; call solver::compute_time_step() after freeing it "
-        "(the step may drop), or keep it prescribed"));
-  }
-
-  /// min over blocks (all, or only those not fully prescribed) of both bounds (critical_time_step).
-  [[nodiscard]] integrator::critical_step bound_over_blocks(const node_set& gridpoints, real amplification,
-                                                            bool skip_prescribed) const {
-    integrator::critical_step out;
-    for (index_t b = 0; b < block_count(); ++b) {
-      const body& bd = bodies_[static_cast<std::size_t>(b)];
-      if (skip_prescribed && fully_prescribed(gridpoints, b)) continue;
-      const auto [k_t, k_r] = stiffness_bounds(gridpoints, bd);
-      if (k_t > 0) {
-        const real dt = 2 * std::sqrt(bd.mass / (2 * amplification * k_t));
-        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_t};
-      }
-      if (k_r > 0) {
-        const real i_min = bd.inertia.minCoeff();
-        const real dt = 2 * std::sqrt(i_min / (2 * amplification * k_r));
-        if (dt < out.dt) out = {dt, bd.first, bd.mass, 2 * k_r * bd.mass / i_min};
-      }
-    }
-    return out;
-  }
-
-  /// Steps 2-5 of the file comment for block b.
-  template <class Integrator>
-  void integrate(const Integrator& integ, node_set& gp, index_t b, real dt) noexcept {
-    body& bd = bodies_[static_cast<std::size_t>(b)];
-    const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
-    constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
-    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-    integrator::step_work w;
-
-    // Translation, per world component.
-    vec3 reaction = vec3::Zero();
-    for (int c = 0; c < 3; ++c) {
-      const std::uint8_t kind = con.count[static_cast<std::size_t>(c)] > 0 ? prescribed : free;
-      bd.velocity[c] = integ.advance_dof(bd.force[c], bd.mass, bd.velocity[c], kind, con.velocity[c], dt, reaction[c], w);
-    }
-    bd.displacement += bd.velocity * dt;
-    bd.reaction_force = reaction;
-
-    // Rotation: Euler's equations per principal component, gyroscopic term at wm (fixed point).
-    const std::uint8_t rotation_kind = con.any() ? prescribed : free;
-    const vec3 torque = bd.rotation.transpose() * bd.moment;
-    const vec3 w_old = bd.angular_velocity;
-    vec3 w_new = w_old, moment_reaction = vec3::Zero();
-    integrator::step_work rotation_work;
-    constexpr int max_iterations = 20;
-    for (int it = 0; it < max_iterations; ++it) {
-      const vec3 wm = 0.5 * (w_old + w_new);
-      const vec3 t = torque - wm.cross(bd.inertia.cwiseProduct(wm));
-      rotation_work = {};
-      vec3 next;
-      for (int k = 0; k < 3; ++k)
-        next[k] = integ.advance_dof(t[k], bd.inertia[k], w_old[k], rotation_kind, 0.0, dt, moment_reaction[k], rotation_work);
-      const real change = (next - w_new).cwiseAbs().maxCoeff();
-      w_new = next;
-      if (change <= 1e-15 * w_new.cwiseAbs().maxCoeff()) break;
-    }
-    w.boundary += rotation_work.boundary;
-    w.damping += rotation_work.damping;
-    bd.angular_velocity = w_new;
-    bd.reaction_moment = bd.rotation * moment_reaction;
-
-    // Orientation by the exponential map; gridpoints slaved with the secant velocity.
-    const vec3 phi = w_new * dt;
-    const mat3 rotation_old = bd.rotation;
-    bd.half_orientation = (bd.orientation * detail::rotation_vector_quaternion(0.5 * phi)).normalized();
-    bd.orientation = (bd.orientation * detail::rotation_vector_quaternion(phi)).normalized();
-    bd.rotation = bd.orientation.toRotationMatrix();
-    const mat3 change = bd.rotation - bd.axes;
-    const real inv_dt = 1 / dt;
-    // detail::rotation_increment(phi, r) = sinc(t) phi x r + (sinc(t/2)^2 / 2) phi x (phi x r),
-    // t = |phi|, with its scalars taken out of the gridpoint loop (the same operations, so the
-    // same bits; a square root and two sincs less per gridpoint).
-    const real t = phi.norm(), s = detail::sinc(0.5 * t);
-    const real along = detail::sinc(t), across = 0.5 * s * s;
-    for (index_t i = bd.first; i < bd.end; ++i) {
-      const vec3 r = body_position(i);
-      const vec3 u = bd.displacement + change * r;
-      const vec3 phi_x_r = phi.cross(r);
-      const vec3 increment = along * phi_x_r + across * phi.cross(phi_x_r);
-      const vec3 v = bd.velocity + rotation_old * increment * inv_dt;
-      for (int c = 0; c < 3; ++c) {
-        gp.displacement(i, c) = u[c];
-        gp.velocity(i, c) = v[c];
-        const auto cs = static_cast<std::size_t>(c);
-        gp.reaction(i, c) = gp.constraint(i, c) == prescribed ? reaction[c] / static_cast<real>(con.count[cs]) : 0.0;
-      }
-    }
-    work_[static_cast<std::size_t>(b)] = w;
   }
 
   std::vector<params> materials_;
