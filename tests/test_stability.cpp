@@ -30,6 +30,7 @@
 
 #include <Eigen/Dense>
 
+#include "tessera/analysis/spectral_bound.hpp"
 #include "tessera/blocks.hpp"
 #include "tessera/contact/platen.hpp"
 #include "tessera/presets.hpp"
@@ -215,6 +216,28 @@ real check_step_against_eigenvalue(const Solver& s, const char* scene) {
   return damped_true;
 }
 
+/// Three cubes of edge 0.05 m on two stiff contact faces (k_n = 1.16e12 Pa/m), handed to f.
+template <class F>
+void with_three_cube_column(F&& f) {
+  const auto tess = cube_column(3, 0.05);
+  const auto mesh = geometry::zone_blocks(tess);
+  prism_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12));
+  f(s);
+}
+
+/// Two cubes of edge 0.05 m on one contact face with an 8-element tie bar along z through both
+/// (zones + contact + axial + bond springs), handed to f.
+template <class F>
+void with_two_cubes_and_bar(F&& f) {
+  const real a = 0.05;
+  const auto tess = cube_column(2, a);
+  const auto mesh = geometry::zone_blocks(tess);
+  truss::params bars{reinforcement::pulatsu2020::tie_steel(), reinforcement::pulatsu2020::tie_bond(),
+                     {reinforcement::bar{vec3(0.02, 0.03, 0.005), vec3(0.02, 0.03, 2 * a - 0.005), 8, true}}};
+  tie_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12), bars);
+  f(s);
+}
+
 }  // namespace
 
 // =============================================================================================
@@ -312,10 +335,7 @@ TEST_CASE("step checker: non-finite state and the checker policy", "[stability][
 
 TEST_CASE("automatic time step <= 2 / sqrt((1 + gamma) lambda_max(M^-1 K)) of small assembled scenes", "[stability][timestep]") {
   SECTION("three cubes on two stiff contact faces") {
-    const auto tess = cube_column(3, 0.05);
-    const auto mesh = geometry::zone_blocks(tess);
-    prism_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12));
-    check_step_against_eigenvalue(s, "3-cube column");
+    with_three_cube_column([](const auto& s) { check_step_against_eigenvalue(s, "3-cube column"); });
   }
   SECTION("three cubes, contact stiffness 1e15 Pa/m (contacts govern)") {
     const auto tess = cube_column(3, 0.05);
@@ -334,14 +354,138 @@ TEST_CASE("automatic time step <= 2 / sqrt((1 + gamma) lambda_max(M^-1 K)) of sm
     check_step_against_eigenvalue(s, "4 Voronoi blocks");
   }
   SECTION("two cubes with an embedded bar (zones + contact + axial + bond springs)") {
-    const real a = 0.05;
-    const auto tess = cube_column(2, a);
-    const auto mesh = geometry::zone_blocks(tess);
-    truss::params bars{reinforcement::pulatsu2020::tie_steel(), reinforcement::pulatsu2020::tie_bond(),
-                       {reinforcement::bar{vec3(0.02, 0.03, 0.005), vec3(0.02, 0.03, 2 * a - 0.005), 8, true}}};
-    tie_solver s(tess, mesh, concrete_block, elastic_contact(1.16e12, 0.482e12), bars);
-    REQUIRE(s.bar_nodes().size() == 9);
-    check_step_against_eigenvalue(s, "2 cubes + bar");
+    with_two_cubes_and_bar([](auto& s) {
+      REQUIRE(s.bar_nodes().size() == 9);
+      check_step_against_eigenvalue(s, "2 cubes + bar");
+    });
+  }
+}
+
+// =============================================================================================
+// How sharp the Gershgorin step is: lambda_max(M^-1 K) by Lanczos (analysis/spectral_bound.hpp)
+// =============================================================================================
+
+namespace {
+
+/// The Gershgorin bound of a spring system as the solver forms it: nodes with the given masses and
+/// row sums of |K| as stiffness bounds, lambda_G = 4 / dt_cr^2 (integrator::critical_time_step).
+real gershgorin_of(const std::vector<real>& masses, const std::vector<real>& row_sums) {
+  node_set nodes;
+  nodes.resize(static_cast<idx>(masses.size()));
+  for (std::size_t i = 0; i < masses.size(); ++i) {
+    nodes.mass[static_cast<idx>(i)] = masses[i];
+    nodes.stiffness[static_cast<idx>(i)] = row_sums[i];
+  }
+  const real dt = integrator::critical_time_step(nodes).dt;
+  return 4 / (dt * dt);
+}
+
+}  // namespace
+
+TEST_CASE("spectral bound: lambda_max of spring systems with closed forms, below their Gershgorin bounds", "[spectral]") {
+  SECTION("two masses on one spring: omega^2 = k (1/m1 + 1/m2)") {
+    const real k = 2e6, m1 = 1.5, m2 = 4.5;  // N/m, kg
+    Eigen::VectorXd m(2);
+    m << m1, m2;
+    const auto spring = [&](const Eigen::VectorXd& v, Eigen::VectorXd& kv) {
+      kv[0] = k * (v[0] - v[1]);
+      kv[1] = k * (v[1] - v[0]);
+    };
+    const auto e = analysis::estimate_max_frequency_squared(m, spring);
+    const real exact = k * (1 / m1 + 1 / m2);  // 1.7778e6 1/s^2
+    CHECK(std::abs(e.lambda_max - exact) <= 1e-6 * exact);
+    CHECK(e.iterations <= 2);
+    const real bound = gershgorin_of({m1, m2}, {2 * k, 2 * k});  // max 2k / m_i = 2.667e6: 1.5 x exact
+    CHECK(bound >= e.lambda_max);
+    CHECK(bound == Approx(2 * k / m1).epsilon(1e-12));
+  }
+  SECTION("fixed-free chain of n equal masses: 4 k/m sin^2((2n - 1) pi / (2 (2n + 1)))") {
+    // K = k tridiag(-1, 2, -1) with K_nn = k (free end); eigenvalues 4 k/m sin^2((2j - 1) pi / (2 (2n + 1))).
+    const int n = 40;
+    const real k = 5e8, mass = 0.3;  // N/m, kg
+    const Eigen::VectorXd m = Eigen::VectorXd::Constant(n, mass);
+    const auto chain = [&](const Eigen::VectorXd& v, Eigen::VectorXd& kv) {
+      for (int i = 0; i < n; ++i) {
+        const real left = i > 0 ? v[i - 1] : 0;  // the wall at i = -1
+        kv[i] = k * (v[i] - left);
+        if (i + 1 < n) kv[i] += k * (v[i] - v[i + 1]);
+      }
+    };
+    const real s = std::sin((2 * n - 1) * std::numbers::pi / (2 * (2 * n + 1)));
+    const real exact = 4 * k / mass * s * s;  // 6.6566e9 1/s^2, 0.9985 x the 4 k / m of the interior rows
+    const auto e = analysis::estimate_max_frequency_squared(m, chain);
+    INFO("lambda_max " << e.lambda_max << " against " << exact << ", " << e.iterations << " iterations, residual "
+                       << e.residual);
+    CHECK(std::abs(e.lambda_max - exact) <= 1e-6 * exact);
+    CHECK(e.lambda_max <= exact * (1 + 1e-12));  // a Rayleigh quotient: never above the true value
+    CHECK(e.iterations <= n);                    // the Krylov space is the whole space by then
+    std::vector<real> rows(n, 4 * k);
+    rows.front() = 3 * k;  // |K| row 0: diagonal 2k (wall spring + next) and one off-diagonal k
+    rows.back() = 2 * k;
+    const real bound = gershgorin_of(std::vector<real>(n, mass), rows);
+    CHECK(bound >= e.lambda_max);
+    CHECK(bound / e.lambda_max == Approx(1 / (s * s)).epsilon(1e-6));  // 4k/m over lambda_max
+    // Few iterations give a lower estimate, never a higher one.
+    analysis::spectral_options few;
+    few.iterations = 5;
+    const auto rough = analysis::estimate_max_frequency_squared(m, chain, few);
+    CHECK(rough.iterations == 5);
+    CHECK(rough.lambda_max <= e.lambda_max * (1 + 1e-12));
+    CHECK(rough.residual > few.tolerance);
+  }
+  SECTION("refusals before any product") {
+    int products = 0;
+    const auto count = [&](const Eigen::VectorXd& v, Eigen::VectorXd& kv) {
+      ++products;
+      kv = v;
+    };
+    analysis::spectral_options bad;
+    bad.iterations = 0;
+    CHECK_THROWS_AS(analysis::estimate_max_frequency_squared(Eigen::VectorXd::Ones(3), count, bad), invalid_input);
+    bad = {};
+    bad.tolerance = 0;
+    CHECK_THROWS_AS(analysis::estimate_max_frequency_squared(Eigen::VectorXd::Ones(3), count, bad), invalid_input);
+    Eigen::VectorXd zero_mass = Eigen::VectorXd::Ones(3);
+    zero_mass[1] = 0;
+    CHECK_THROWS_WITH(analysis::estimate_max_frequency_squared(zero_mass, count),
+                      Catch::Contains("degree of freedom 1 has mass 0 kg"));
+    CHECK_THROWS_AS(analysis::estimate_max_frequency_squared(Eigen::VectorXd(0), count), invalid_input);
+    CHECK(products == 0);
+  }
+}
+
+TEST_CASE("spectral bound: a solver's lambda_max by Lanczos on its kernels equals the dense eigen-solve", "[spectral]") {
+  // The dense reference assembles K column by column from the same force kernels (assemble above)
+  // and solves the symmetric eigenproblem; Lanczos uses products only. Agreement to 1e-6 relative
+  // checks the operator (free dofs, masses, contact increment, bars), not just the eigen-solver.
+  const auto compare = [](const auto& s, const char* scene) {
+    const auto sharp = analysis::estimate_max_frequency_squared(s);
+    const real dense = assemble(s, 1e-9).lambda_max();
+    INFO(scene << ": Lanczos " << sharp.estimate.lambda_max << " 1/s^2 in " << sharp.estimate.iterations
+               << " iterations (residual " << sharp.estimate.residual << "), dense " << dense << ", Gershgorin "
+               << sharp.gershgorin << " (ratio " << sharp.ratio() << ")");
+    CHECK(std::abs(sharp.estimate.lambda_max - dense) <= 1e-6 * dense);
+    CHECK(sharp.gershgorin >= sharp.estimate.lambda_max);
+    CHECK(sharp.gershgorin_step() == Approx(s.critical_step().dt).epsilon(1e-12));
+    CHECK(sharp.spectral_step() >= s.critical_step().dt);
+    // The solver is left as it was.
+    CHECK(s.gridpoints().displacement.isZero(0));
+    CHECK(s.energies().contact_stored == 0);
+  };
+  SECTION("three cubes on two stiff contact faces") {
+    with_three_cube_column([&](const auto& s) { compare(s, "3-cube column"); });
+  }
+  SECTION("two cubes with an embedded bar (zones + contact + axial + bond springs)") {
+    with_two_cubes_and_bar([&](auto& s) {
+      compare(s, "2 cubes + bar");
+      // Fixed components leave the operator: by eigenvalue interlacing the estimate can only fall.
+      const real free_lambda = analysis::estimate_max_frequency_squared(s).estimate.lambda_max;
+      s.fix(s.gridpoints_on_plane(2, 0, 1e-9));
+      const auto held = analysis::estimate_max_frequency_squared(s);
+      CHECK(held.estimate.dofs < 3 * (s.gridpoints().size() + s.bar_nodes().size()));
+      CHECK(held.estimate.lambda_max <= free_lambda * (1 + 1e-9));
+      CHECK(held.estimate.lambda_max >= 0.5 * free_lambda);  // the stiffest mode is local, not the support's
+    });
   }
 }
 
