@@ -980,6 +980,95 @@ TEST_CASE("voronoi: a welded vertex stays within the weld tolerance of every bis
   CHECK(outside < 1e-7);  // 9.3e-8 m
 }
 
+TEST_CASE("power_centre: the point of equal power distance, or false when the planes fix none", "[geometry][cleanup]") {
+  const aabb box{vec3(0, 0, 0), vec3(1, 1, 1)};
+  const std::vector<vec3> seeds{vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1)};
+  vec3 x;
+  // the four corners of a right tetrahedron: six bisectors through the circumcentre (1/2, 1/2, 1/2)
+  const std::vector<tessera::index_t> four{0, 1, 2, 3};
+  REQUIRE(power_centre(four, seeds, {}, box, x));
+  CHECK((x - vec3(0.5, 0.5, 0.5)).cwiseAbs().maxCoeff() < 1e-15);
+  // w_0 = 0.5 m^2 moves the plane of 0 and 1 to x = 1/2 + (w_0 - w_1) / (2 d) = 0.75 m; with the
+  // box sides y = 0 (side 2) and z = 1 (side 5) the point is (0.75, 0, 1)
+  const std::vector<real> weights{0.5, 0, 0, 0};
+  const std::vector<tessera::index_t> pair_and_sides{0, 1, boundary_tag(2), boundary_tag(5)};
+  REQUIRE(power_centre(pair_and_sides, seeds, weights, box, x));
+  CHECK((x - vec3(0.75, 0, 1)).cwiseAbs().maxCoeff() < 1e-15);
+  // one plane, or three parallel ones (generators on a line), fix no point
+  const std::vector<tessera::index_t> pair{0, 1};
+  CHECK_FALSE(power_centre(pair, seeds, {}, box, x));
+  const std::vector<vec3> on_a_line{vec3(0, 0, 0), vec3(0.5, 0, 0), vec3(1, 0, 0)};
+  const std::vector<tessera::index_t> three{0, 1, 2};
+  CHECK_FALSE(power_centre(three, on_a_line, {}, box, x));
+}
+
+TEST_CASE("weld_vertices: points within tol, chains of them and shared keys become one vertex", "[geometry][cleanup]") {
+  using tessera::index_t;
+  const aabb domain{vec3(0, 0, 0), vec3(1, 1, 1)};
+  const real tol = 1e-9;
+  SECTION("by distance, transitively, at the lowest index or the best-conditioned member") {
+    // 0-1 and 1-2 are 0.8e-9 m apart (within tol), 0-2 are 1.6e-9 m: one vertex by the chain
+    const std::vector<vec3> points{vec3(0.5, 0.5, 0.5), vec3(0.5 + 0.8e-9, 0.5, 0.5), vec3(0.5 + 1.6e-9, 0.5, 0.5),
+                                   vec3(0.25, 0.5, 0.5)};
+    const welded_points w = weld_vertices(points, tol, domain);
+    REQUIRE(w.vertices.size() == 2);
+    CHECK(w.global_id == std::vector<index_t>{0, 0, 0, 1});
+    CHECK(w.vertices[0] == points[0]);
+    CHECK(w.vertices[1] == points[3]);
+    const std::vector<real> conditioning{0.1, 0.9, 0.5, 1};
+    CHECK(weld_vertices(points, tol, domain, {}, conditioning).vertices[0] == points[1]);
+  }
+  SECTION("by key up to 1e4 tol apart") {
+    // 0 and 1 share a key 5e-6 m apart (within 1e4 tol = 1e-5 m); 2 is as close with another key;
+    // 3 has the key of 0 and 1 but lies 2e-5 m away
+    const std::vector<vec3> points{vec3(0.5, 0.5, 0.5), vec3(0.5 + 5e-6, 0.5, 0.5), vec3(0.5, 0.5 + 5e-6, 0.5),
+                                   vec3(0.5, 0.5, 0.5 + 2e-5)};
+    const vertex_key k{0, 1, 2, 3}, other{0, 1, 2, 4};
+    const std::vector<vertex_key> keys{k, k, other, k};
+    const welded_points w = weld_vertices(points, tol, domain, keys);
+    CHECK(w.global_id == std::vector<index_t>{0, 0, 1, 2});
+    CHECK(w.vertices.size() == 3);
+  }
+  SECTION("coordinates within tol of a side are snapped onto it") {
+    const std::vector<vec3> points{vec3(0.5e-9, 0.3, 1 - 0.5e-9)};
+    const welded_points w = weld_vertices(points, tol, domain);
+    REQUIRE(w.vertices.size() == 1);
+    CHECK(w.vertices[0] == vec3(0, 0.3, 1));
+  }
+}
+
+TEST_CASE("clean_loop and match_twins: repeats and spikes leave a loop, twins pair reversed", "[geometry][cleanup]") {
+  using tessera::index_t;
+  std::vector<index_t> loop{1, 2, 2, 3, 4, 1};  // a collapsed edge and a repeat across the seam
+  clean_loop(loop);
+  CHECK(loop == std::vector<index_t>{1, 2, 3, 4});
+  loop = {1, 2, 3, 2, 4};  // the spike 2-3-2 of a collapsed sliver
+  clean_loop(loop);
+  CHECK(loop == std::vector<index_t>{1, 2, 4});
+  loop = {5, 6, 5};  // fewer than 3 distinct vertices: no face
+  clean_loop(loop);
+  CHECK(loop.empty());
+
+  const aabb box{vec3(0, 0, 0), vec3(1, 1, 1)};
+  const std::vector<vec3> seeds{vec3(0.25, 0.5, 0.5), vec3(0.75, 0.5, 0.5)};
+  tessellation t = voronoi(box, seeds);
+  REQUIRE(t.shared_faces.size() == 1);
+  const std::vector<index_t> twins = t.face_twin;
+  const index_t f = t.shared_faces[0].face_a;
+  t.shared_faces.clear();
+  match_twins(t);
+  CHECK(t.face_twin == twins);
+  REQUIRE(t.shared_faces.size() == 1);
+  CHECK(t.shared_faces[0].face_a == f);
+  // the same loop in the same direction on both sides is not a twin
+  std::reverse(t.face_vertices.begin() + t.face_offsets[static_cast<std::size_t>(f)],
+               t.face_vertices.begin() + t.face_offsets[static_cast<std::size_t>(f) + 1]);
+  t.shared_faces.clear();
+  CHECK_THROWS_AS(match_twins(t), tessera::geometry_error);
+  t.shared_faces.clear();
+  CHECK_THROWS_WITH(match_twins(t), Contains("are not the same loop reversed"));
+}
+
 TEST_CASE("csr: rows in entry order, empty rows, offsets count the entries", "[csr]") {
   using tessera::index_t;
   const std::vector<index_t> row_of{2, 0, 2, 3, 0, 2};  // row 1 stays empty
