@@ -29,7 +29,6 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
-#include <thread>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -37,6 +36,7 @@
 
 #include <unistd.h>
 
+#include "common/threads.hpp"
 #include "tessera/core/errors.hpp"
 
 namespace tessera::cli {
@@ -107,52 +107,7 @@ template <class T>
   }
 }
 
-/// Busy and total jiffies of all CPUs from the first line of /proc/stat; false if unreadable.
-inline bool read_cpu_jiffies(unsigned long long& busy, unsigned long long& total) {
-  std::FILE* f = std::fopen("/proc/stat", "r");
-  if (f == nullptr) return false;
-  unsigned long long v[8] = {};
-  const int n = std::fscanf(f, "cpu %llu %llu %llu %llu %llu %llu %llu %llu", &v[0], &v[1], &v[2], &v[3], &v[4], &v[5],
-                            &v[6], &v[7]);
-  std::fclose(f);
-  if (n < 4) return false;
-  const unsigned long long idle = v[3] + v[4];  // idle + iowait
-  busy = v[0] + v[1] + v[2] + v[5] + v[6] + v[7];
-  total = busy + idle;
-  return true;
-}
 }  // namespace detail
-
-/// The thread count for `--threads 0` (auto): one thread per core that other processes leave
-/// idle, at least 1; 0 (the OpenMP default) when OMP_NUM_THREADS is set or the load cannot be
-/// read. The load is what the other processes use NOW: the CPU time /proc/stat counts over 0.2 s
-/// while this program waits (the 1-minute load average, the fallback, still remembers a build that
-/// has just finished). Why: the solver meets two OpenMP barriers per time step, and a thread that
-/// shares its core with another process stalls every barrier (measured on 2 cores with a compile
-/// job on one: the RC tie took 151 s on 2 threads against 19 s on 1). Results do not depend on
-/// the thread count, only the run time does. Prints a note on stderr when it picks fewer threads
-/// than there are cores.
-inline int auto_threads(const std::string& program) {
-  if (std::getenv("OMP_NUM_THREADS") != nullptr) return 0;
-  const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  if (cores <= 1) return 0;
-  double busy_cores = 0;
-  const char* how = "CPU use of other processes";
-  unsigned long long b0 = 0, t0 = 0, b1 = 0, t1 = 0;
-  if (detail::read_cpu_jiffies(b0, t0)) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    if (!detail::read_cpu_jiffies(b1, t1) || t1 <= t0) return 0;
-    busy_cores = static_cast<double>(cores) * static_cast<double>(b1 - b0) / static_cast<double>(t1 - t0);
-  } else {
-    how = "load average";
-    if (getloadavg(&busy_cores, 1) != 1) return 0;
-  }
-  const int idle = std::clamp(cores - static_cast<int>(std::lround(busy_cores)), 1, cores);
-  if (idle < cores)
-    std::fprintf(stderr, "%s: %s %.2f on %d cores, running on %d thread%s (--threads N overrides)\n", program.c_str(),
-                 how, busy_cores, cores, idle, idle == 1 ? "" : "s");
-  return idle;
-}
 
 /// Prints an error that ended a run as "<program>: <message>" on stderr, without doubling the
 /// prefix when the message already starts with it (the drivers' own checks name themselves).
@@ -184,7 +139,7 @@ struct standard_options {
   std::string out;          ///< output directory (default results/<program>)
   bool quick = false;       ///< reduced run for tests
   std::uint64_t seed = 1;   ///< random seed (tessellation, perturbations)
-  int threads = 0;          ///< OpenMP threads; 0 on the command line = auto_threads() after parsing
+  int threads = 0;          ///< OpenMP threads; 0 on the command line = choose_threads() after parsing (auto)
 };
 
 class parser {
@@ -267,8 +222,10 @@ class parser {
     flag("--quick", s.quick, "reduced run (used by the tests); changes only the values not given on the command line");
     option("--seed", s.seed, "random seed", "N");
     option("--threads", s.threads,
-           "worker threads (0 = one per core that other processes leave idle, measured over 0.2 s at start, "
-           "at least 1; the OpenMP default if OMP_NUM_THREADS is set)",
+           "worker threads: N > 0 runs N threads throughout; 0 (auto) starts on one per core that other "
+           "processes leave idle (measured over 0.2 s) and every few seconds of run tries fewer or more and keeps "
+           "the faster, so a run that loses a core to another program falls back to fewer threads (same results; "
+           "the OpenMP default if OMP_NUM_THREADS is set)",
            "N").within(0, max_threads);
     standard_ = &s;
     return *this;
@@ -351,7 +308,7 @@ class parser {
       std::cout << usage();
       std::exit(0);
     }
-    if (standard_ != nullptr && standard_->threads == 0) standard_->threads = auto_threads(program_);
+    if (standard_ != nullptr && standard_->threads == 0) standard_->threads = choose_threads(program_, 0);
   }
   void parse_or_exit(int argc, char** argv) { parse_or_exit(argc, const_cast<const char* const*>(argv)); }
 
