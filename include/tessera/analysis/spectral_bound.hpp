@@ -49,6 +49,9 @@ namespace tessera::analysis {
 struct spectral_options {
   int iterations = 200;      ///< most Lanczos steps (operator products), >= 1
   real tolerance = 1e-8;     ///< stop when ||A y - theta y|| / theta falls below this (> 0, < 1)
+  /// ... but not before this many steps: a Ritz pair can converge to a large eigenvalue of one
+  /// sliver zone before a larger one elsewhere has entered the Krylov space (>= 1)
+  int min_iterations = 30;
   real probe = 1e-9;         ///< largest nodal probe displacement h max|v_i| (m) of the difference quotient
   std::uint64_t seed = 1;    ///< seed of the random start vector (the estimate is deterministic for a seed)
 };
@@ -74,6 +77,7 @@ template <class StiffnessTimes>
   const index_t n = dof_mass.size();
   require(n > 0, "spectral bound: no free degree of freedom to estimate lambda_max over");
   require(o.iterations >= 1, "spectral bound: iterations = ", o.iterations, " must be >= 1");
+  require(o.min_iterations >= 1, "spectral bound: min_iterations = ", o.min_iterations, " must be >= 1");
   require(std::isfinite(o.tolerance) && o.tolerance > 0 && o.tolerance < 1, "spectral bound: tolerance = ", o.tolerance,
           " must lie in (0, 1)");
   for (index_t i = 0; i < n; ++i)
@@ -120,7 +124,7 @@ template <class StiffnessTimes>
     const real scale = std::max(std::abs(out.lambda_max), std::numeric_limits<real>::min());
     out.residual = b * std::abs(tri.eigenvectors()(k - 1, top)) / scale;
     // An invariant subspace (b ~ 0 against the operator's size) makes the Ritz values exact.
-    if (out.residual <= o.tolerance || b <= 1e-14 * scale) break;
+    if ((out.residual <= o.tolerance && j + 1 >= o.min_iterations) || b <= 1e-14 * scale) break;
     beta.push_back(b);
     q.push_back(z / b);
   }
