@@ -36,7 +36,7 @@ struct thread_governor_params {
   double probe_interval_s = 2.0;  ///< run time on a count before probing another (s), times the backoff
   double window_s = 0.2;          ///< length of each of the two measurement windows (s)
   double margin = 0.1;            ///< a probed count is kept when its time per step < (1 - margin) x the current's
-  int max_backoff = 8;            ///< a lost probe doubles the interval, up to max_backoff x probe_interval_s
+  int max_backoff = 4;            ///< a lost probe doubles the interval, up to max_backoff x probe_interval_s
   int settle_steps = 2;           ///< steps after a switch that no window counts (threads waking, caches)
 };
 
