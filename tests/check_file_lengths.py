@@ -20,7 +20,6 @@ DIRS = ["include", "examples"]
 PENDING = {
     "include/tessera/contact/detected_contacts.hpp",
     "include/tessera/solver/solver.hpp",
-    "examples/common/cli.hpp",
 }
 
 
