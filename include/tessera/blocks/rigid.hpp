@@ -224,6 +224,13 @@ class rigid {
   /// prescriptions within one block (before any state changes).
   template <class Integrator, class Work>
   void advance(const Integrator& integ, node_set& gridpoints, real dt, Work& work) {
+    advance(integ, gridpoints, dt, work, dt);
+  }
+  /// The same with the velocity update over kick_dt (s, > 0): (dt_before + dt) / 2 in the step
+  /// where the solver changes dt (solver.hpp, "Time step"), the variable-step central
+  /// difference v(t + dt/2) = v(t - dt_before/2) + a(t) (dt_before + dt) / 2.
+  template <class Integrator, class Work>
+  void advance(const Integrator& integ, node_set& gridpoints, real dt, Work& work, real kick_dt) {
     const std::int64_t n_b = block_count();
     parallel_for(n_b, [&](std::int64_t b) {
       const auto k = static_cast<std::size_t>(b);
@@ -237,7 +244,7 @@ class rigid {
     }
     parallel_for(n_b, [&](std::int64_t b) {
       const auto k = static_cast<std::size_t>(b);
-      work_[k] = detail::integrate_rigid_block(integ, gridpoints, body_position_, bodies_[k], constraints_[k], dt);
+      work_[k] = detail::integrate_rigid_block(integ, gridpoints, body_position_, bodies_[k], constraints_[k], dt, kick_dt);
     }, 16);
     for (const integrator::step_work& w : work_) {
       work.boundary += w.boundary;

@@ -52,11 +52,28 @@
 // the frame gridpoints with the weights w: resultant and moment about any point are exact. Each
 // pair sums its sub-contacts' shares per frame gridpoint (eight sums), which the gather reads.
 //
-// Stable step. add_stiffness_bounds puts on each block's vertex farthest from its centroid the
-// bound 4 k_row A of every contact the block could carry: A = min(S, sum of the other blocks' S)
-// bounds its contact area (x 2 for the nominal areas of corner contacts and overlapping patches),
-// k_row is the row bound of the stiffest material entry (stiffness_bound.hpp). So blocks::rigid's
-// 6-DOF bound (k_t = 4 k_row A, k_r = 4 k_row A r_max^2) holds for any contacts that appear later.
+// Stable step (rigid blocks). add_stiffness_bounds puts a bound per block on its vertex farthest
+// from its centroid (distance r_max), from which blocks::rigid's 6-DOF bound takes k_t = k and
+// k_r = k r_max^2. params::step_bound chooses which contacts it covers:
+// - present_contacts (default): the sub-contacts that exist until the next rebuild. Each
+//   sub-contact i couples its two material points by [K -K; -K K], K = a_i (k_s I + (k_n - k_s)
+//   n n^T), whose row sum is at most 2 k_row a_i on either side (stiffness_bound.hpp; k_row of
+//   the pair's own table entry, a_i the tributary or nominal area its springs use, so no margin
+//   for nominal areas is needed). So the block carries k = sum_i 2 k_row a_i over the
+//   sub-contacts of its pairs, times max(1, max_i |rho_i|^2 / r_max^2) (rho_i: centroid to the
+//   material point, fixed in the body; a corner of a patch can lie up to the tolerance outside
+//   the block), and k_r = k r_max^2 >= sum_i 2 k_row a_i |rho_i|^2 as the proof in
+//   blocks/rigid.hpp needs. Why this is stable until the next rebuild: between rebuilds the
+//   sub-contact set, its areas, its material points and its pairs' law entries are fixed, and new
+//   contacts appear only at rebuilds; every sub-contact's stiffness stays within its row bound for
+//   any normal it turns to. The bound changes at every rebuild (recomputed there, and after a
+//   checkpoint load, from the sub-contacts' areas and weights), so the solver chooses dt again
+//   after each rebuild (solver.hpp, "Time step"). With no sub-contact at all it falls back to:
+// - whole_surface: every contact the block could ever carry: k = 4 k_row A, A = min(S, sum of the
+//   other blocks' S) bounds its contact area (x 2 for the nominal areas of corner contacts and
+//   overlapping patches), k_row the row bound of the stiffest material entry. It holds for any
+//   contacts that appear later, so a dt chosen once from it stays stable for the whole run: the
+//   solver uses it when dt does not follow the rebuilds (a given solver_options::dt, mass scaling).
 //
 // Deformable blocks (params::deformable_blocks). Detection reads each block's affine fit: the map
 // F = d D^-1 of its frame (four vertex gridpoints) applied to its reference polyhedron, so the
@@ -122,6 +139,10 @@
 
 namespace tessera::contact {
 
+/// Which contacts detected_contacts::add_stiffness_bounds covers for rigid blocks (file comment,
+/// "Stable step"): those present until the next rebuild, or every contact a block could carry.
+enum class step_bound_scope { present_contacts, whole_surface };
+
 template <law::ContactLaw Law>
 class detected_contacts {
   template <std::integral I>
@@ -177,6 +198,11 @@ class detected_contacts {
     /// that coincide up to round-off) is accepted. true: any initial overlap is accepted, its
     /// springs loaded from the start (the run's initial energy), for scenes that mean it.
     bool allow_initial_overlap = false;
+    /// Rigid blocks: the stable step from the sub-contacts present until the next rebuild
+    /// (present_contacts; the solver chooses dt again after each rebuild) or from every contact a
+    /// block could carry (whole_surface; a dt that holds for the whole run). File comment,
+    /// "Stable step". Deformable blocks keep their per-gridpoint bound either way.
+    step_bound_scope step_bound = step_bound_scope::present_contacts;
 
     params() = default;
     params(material_table<params_type> table, real tol, index_t interval = 1000, bool bond = false,
@@ -220,7 +246,10 @@ class detected_contacts {
     shapes_.resize(at(n_b));
     edges_.resize(at(n_b));
     real row_max = 0;
-    for (const params_type& q : law_params_) row_max = std::max(row_max, stiffness_row_bound_per_area<Law>(q));
+    for (const params_type& q : law_params_) {
+      entry_row_bound_.push_back(stiffness_row_bound_per_area<Law>(q));
+      row_max = std::max(row_max, entry_row_bound_.back());
+    }
     for (index_t b = 0; b < n_b; ++b) {
       material_[at(b)] = mesh.material(b);
       build_block(tess, mesh, b);
@@ -240,6 +269,8 @@ class detected_contacts {
     }
     current_ = shapes_;
     boxes_.resize(at(n_b));
+    present_bound_.resize(at(n_b));
+    present_reach2_.resize(at(n_b));
     rebuild(nullptr);
   }
 
@@ -332,17 +363,19 @@ class detected_contacts {
     parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
                  [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
   }
-  /// The bound of every contact a block could carry, on its farthest vertex (file comment).
-  void add_stiffness_bounds(node_set& gridpoints) const {
-    require(gridpoints.size() == gridpoint_count_ && gridpoints.stiffness.size() == gridpoint_count_,
-            "detected_contacts::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints, expected ",
-            gridpoint_count_);
-    if (options_.deformable_blocks) {
-      for (index_t g = 0; g < gridpoint_count_; ++g) gridpoints.stiffness[g] += gridpoint_bound_[at(g)];
-      return;
-    }
-    for (const block_data& b : blocks_) gridpoints.stiffness[b.farthest] += b.stiffness_bound;
+  /// Adds the contacts' stiffness bounds (N/m) to gridpoints.stiffness, as params::step_bound
+  /// says (file comment, "Stable step"): rigid blocks, per block on its farthest vertex, from the
+  /// sub-contacts present (valid until the next rebuild) or from its whole surface (valid for the
+  /// whole run; also when no sub-contact exists); deformable blocks, per surface gridpoint. Throws
+  /// invalid_input for a node_set of another model.
+  void add_stiffness_bounds(node_set& gridpoints) const { add_bounds(gridpoints, options_.step_bound); }
+  /// The same with step_bound_scope::whole_surface, whatever params::step_bound says: the bound
+  /// for a dt chosen once for the whole run (the solver's given dt or mass scaling).
+  void add_whole_surface_stiffness_bounds(node_set& gridpoints) const {
+    add_bounds(gridpoints, step_bound_scope::whole_surface);
   }
+  /// params::step_bound.
+  [[nodiscard]] step_bound_scope step_bound() const { return options_.step_bound; }
   /// params::deformable_blocks.
   [[nodiscard]] bool deformable_blocks() const { return options_.deformable_blocks; }
   /// Deformable blocks: the largest distance (m) of a surface gridpoint from its block's affine
@@ -379,6 +412,8 @@ class detected_contacts {
   [[nodiscard]] vec3 position_b(index_t i, const node_set& gp) const { return point(i, false, gp); }
 
   // ---- rebuild statistics ----
+  /// Detection passes so far, the construction's included (the solver chooses dt again when it
+  /// changes, file comment "Stable step").
   [[nodiscard]] index_t rebuild_count() const { return rebuilds_; }
   /// Rebuilds at which a per-sub-contact or per-pair array had to grow (allocate).
   [[nodiscard]] index_t growth_count() const { return growths_; }
@@ -497,6 +532,51 @@ class detected_contacts {
   }
 
  private:
+  void add_bounds(node_set& gridpoints, step_bound_scope scope) const {
+    require(gridpoints.size() == gridpoint_count_ && gridpoints.stiffness.size() == gridpoint_count_,
+            "detected_contacts::add_stiffness_bounds: node_set has ", gridpoints.size(), " gridpoints, expected ",
+            gridpoint_count_);
+    if (options_.deformable_blocks) {
+      for (index_t g = 0; g < gridpoint_count_; ++g) gridpoints.stiffness[g] += gridpoint_bound_[at(g)];
+      return;
+    }
+    const bool present = scope == step_bound_scope::present_contacts && size() > 0;
+    for (std::size_t b = 0; b < blocks_.size(); ++b)
+      gridpoints.stiffness[blocks_[b].farthest] += present ? present_bound_[b] : blocks_[b].stiffness_bound;
+  }
+
+  /// Rigid blocks: per block, the bound of its present sub-contacts on its farthest vertex (file
+  /// comment, "Stable step"), from the pairs' law entries, the areas and the weights (so a
+  /// checkpoint load gets the same bits as the rebuild). Allocates nothing.
+  void bound_present_contacts() {
+    std::fill(present_bound_.begin(), present_bound_.end(), 0.0);
+    std::fill(present_reach2_.begin(), present_reach2_.end(), 0.0);
+    for (std::size_t k = 0; k < pair_a_.size(); ++k) {
+      const real per_area = 2 * entry_row_bound_[at(pair_param_[k])];
+      const std::array<index_t, 2> ab{pair_a_[k], pair_b_[k]};
+      for (int side = 0; side < 2; ++side) {
+        const block_data& bd = blocks_[at(ab[at(side)])];
+        // The material point in the block's reference frame: X0 + D (w1, w2, w3), rigid motion
+        // keeps its distance from the centroid.
+        const mat3 d = frame_matrix(bd, nullptr);
+        const vec3 x0 = reference_.row(bd.frame[0]).transpose();
+        real k_sum = 0, reach2 = 0;
+        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+          k_sum += per_area * area_[i];
+          const int w = 4 * side;
+          const vec3 local(weight_[at(w + 1)][i], weight_[at(w + 2)][i], weight_[at(w + 3)][i]);
+          reach2 = std::max(reach2, (x0 + d * local - bd.centroid).squaredNorm());
+        }
+        present_bound_[at(ab[at(side)])] += k_sum;
+        present_reach2_[at(ab[at(side)])] = std::max(present_reach2_[at(ab[at(side)])], reach2);
+      }
+    }
+    for (std::size_t b = 0; b < blocks_.size(); ++b) {
+      const real far2 = (reference_.row(blocks_[b].farthest).transpose() - blocks_[b].centroid).squaredNorm();
+      if (present_reach2_[b] > far2) present_bound_[b] *= present_reach2_[b] / far2;
+    }
+  }
+
   struct block_data {
     std::array<index_t, 4> frame{};  ///< vertex gridpoints spanning the block
     mat3 reference_inverse = mat3::Identity();  ///< [X1-X0 X2-X0 X3-X0]^-1
@@ -505,6 +585,7 @@ class detected_contacts {
     real stiffness_bound = 0;                   ///< N/m, on `farthest`
     real nominal_area = 0;                      ///< S / (3 V), m^2
     real surface = 0;                           ///< S, m^2
+    vec3 centroid = vec3::Zero();               ///< reference centroid (m)
     index_t watch_begin = 0, watch_end = 0;  ///< its watched gridpoints (rigid: vertices; deformable: surface)
     // deformable blocks only
     index_t zone_begin = 0, zone_end = 0;    ///< its surface zones, into surface_zones_
@@ -850,6 +931,7 @@ class detected_contacts {
     real surface = 0;
     for (index_t f = 0; f < s.face_count(); ++f) surface += s.face_area(f);
     bd.farthest = gp(arg_max([&](const vec3& x) { return (x - c).squaredNorm(); }));
+    bd.centroid = c;
     bd.surface = surface;
     bd.nominal_area = surface / (3 * static_cast<real>(nv));
   }
@@ -1263,7 +1345,10 @@ class detected_contacts {
           slot_weight_[e] = s < 4 ? weight_[at(s)][item] : -weight_[at(s)][item];
         }
       }
-    if (rigid) pair_force_.assign(24 * n_pairs, 0.0);
+    if (rigid) {
+      pair_force_.assign(24 * n_pairs, 0.0);
+      bound_present_contacts();
+    }
     contact_gridpoints_.clear();
     for (index_t g = 0; g < gridpoint_count_; ++g)
       if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
@@ -1427,6 +1512,7 @@ class detected_contacts {
   params options_;
   material_table<params_type> table_;
   std::vector<params_type> law_params_;
+  std::vector<real> entry_row_bound_;  ///< per table entry, stiffness_row_bound_per_area (Pa/m)
   std::vector<int> material_;
   index_t gridpoint_count_ = 0;
   soa3 reference_;                                 ///< reference gridpoint positions (m)
@@ -1446,6 +1532,9 @@ class detected_contacts {
   std::vector<geometry::convex_polyhedron> shapes_, current_;  ///< reference and current geometry
   std::vector<detection::polyhedron_edges> edges_;
   std::vector<aabb> boxes_;
+  // rigid blocks: the stable step from the sub-contacts present (bound_present_contacts)
+  std::vector<real> present_bound_;   ///< per block, N/m on its farthest vertex
+  std::vector<real> present_reach2_;  ///< per block, largest |material point - centroid|^2 (m^2)
   soa3 rebuild_u_;                                 ///< vertex displacements at the last rebuild
   index_t steps_since_rebuild_ = 0;
   detection::detection_result result_;

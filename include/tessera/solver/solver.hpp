@@ -34,6 +34,21 @@
 // first step, or from checkpoint), not at construction, since fixing a block raises the limit;
 // a block that was left out of the bound and is freed during the run is refused before the next
 // step (blocks::rigid::check_step_bound; call compute_time_step() to choose a step that bounds it).
+// A contact set whose bound covers only the contacts present until its next rebuild
+// (contact::detected_contacts with rigid blocks, params::step_bound = present_contacts) changes
+// its bound at every rebuild: when dt is automatic (no options.dt, no mass scaling) the solver
+// then assembles the nodal bounds again and chooses dt again, in the step whose contact update
+// rebuilt, after that update (which used the step that moved the blocks to where they are) and
+// before the blocks are integrated with the new dt. The kick of that step is the variable-step
+// central difference, v(t + dt'/2) = v(t - dt/2) + a(t) (dt + dt') / 2, then u(t + dt') =
+// u(t) + v(t + dt'/2) dt' (blocks::rigid::advance with kick_dt; second order, and the kinetic
+// energy change equals the work F.v (dt + dt')/2 the books take); each step is stable for the
+// contacts present while it is used. Time and gravity work are booked with the dt of each step,
+// boundary work and damping with the kick's; a checkpoint saves dt, so a restart continues with
+// the same steps. With a
+// given options.dt or mass scaling the contact set gives the bound of every contact that can
+// ever appear (add_whole_surface_stiffness_bounds), so the check of options.dt holds for the
+// whole run and dt never changes, as above.
 //
 // Thread safety: one solver is driven by one thread; its loops are parallel and deterministic
 // (bit-identical for any thread count). step() allocates nothing.
@@ -404,6 +419,7 @@ class solver {
         blocks_.check_step_bound(gridpoints_);
     }
     if (step_ == 0) initial_energy_ = stored_and_kinetic();
+    [[maybe_unused]] real kick_dt = dt_;  // the velocity update's step (file comment, "Time step")
     if (!Blocks::is_rigid && gravity_ != vec3::Zero())
       gridpoints_.force = gravity_force_;
     else
@@ -488,6 +504,14 @@ class solver {
       phases_.zones += std::chrono::duration<double>(contacts - zones).count();
       contacts_.update(gridpoints_, dt_);
       phases_.contacts += since(contacts);
+      // (Rigid blocks take this unfused path.) A rebuild changed the contact set's bound: dt
+      // chosen again before the integration (file comment, "Time step").
+      if constexpr (rebuilds_choose_dt)
+        if (contacts_.rebuild_count() != bound_rebuilds_) {
+          const real before = dt_;
+          bound_after_rebuild();
+          kick_dt = 0.5 * (before + dt_);  // = dt_ to the bit when dt did not change
+        }
     }
     if constexpr (Reinforcement::enabled) {
       const auto bars = clock::now();
@@ -496,7 +520,10 @@ class solver {
     }
     const auto integration = clock::now();
     integrator::step_work work;
-    blocks_.advance(integrator_, gridpoints_, dt_, work);
+    if constexpr (rebuilds_choose_dt)
+      blocks_.advance(integrator_, gridpoints_, dt_, work, kick_dt);
+    else
+      blocks_.advance(integrator_, gridpoints_, dt_, work);
     if constexpr (Reinforcement::enabled) integrator_.advance(reinforcement_.nodes(), dt_, work);
     phases_.integration += since(integration);
     finish_step(work);
@@ -622,7 +649,12 @@ class solver {
     static_assert(requires { reinforcement_.checkpoint(ar); }, "this reinforcement has no checkpoint(Archive&)");
     if constexpr (Blocks::is_rigid)
       if (step_ == 0) choose_time_step(true);  // the step the first step would take (file comment)
-    ar.same("solver/dt", dt_);
+    // A dt that follows the contact rebuilds (file comment) is state: saved and loaded. Any
+    // other is the model's own and must match.
+    if (rebuilds_choose_dt && dt_follows_rebuilds())
+      ar.scalar("solver/dt", dt_);
+    else
+      ar.same("solver/dt", dt_);
     ar.scalar("solver/step", step_);
     ar.scalar("solver/time", time_);
     ar.scalar("solver/boundary_work", boundary_work_);
@@ -634,6 +666,9 @@ class solver {
     blocks_.checkpoint(ar);
     contacts_.checkpoint(ar);
     reinforcement_.checkpoint(ar);
+    // The loaded dt is the one chosen at the file's last rebuild.
+    if constexpr (requires { contacts_.rebuild_count(); })
+      if (ar.loading()) bound_rebuilds_ = contacts_.rebuild_count();
   }
 
   /// Recomputes nodal stiffness bounds, mass scaling and dt (after changing options or masses;
@@ -642,14 +677,16 @@ class solver {
   void compute_time_step() { compute_time_step_refusing(true); }
 
  private:
+  /// Rigid blocks on a contact set that rebuilds: dt is chosen again after each rebuild when
+  /// automatic (file comment, "Time step").
+  static constexpr bool rebuilds_choose_dt = Blocks::is_rigid && requires(const contact_set_type& c) {
+    c.rebuild_count();
+  };
+
   /// compute_time_step; with refuse_user_dt false an options.dt above the limit is kept for now
   /// (rigid blocks at construction: the supports that raise the limit come later).
   void compute_time_step_refusing(bool refuse_user_dt) {
-    gridpoints_.stiffness.setZero();
-    blocks_.add_stiffness_bounds(gridpoints_);
-    contacts_.add_stiffness_bounds(gridpoints_);
-    if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
-    if (applied_stiffness_.size() == gridpoints_.size()) gridpoints_.stiffness += applied_stiffness_;
+    assemble_stiffness_bounds();
     const real amplification = integrator_.stiffness_amplification();
     if (options_.mass_scaling_ratio > 0) {
       // Resolved once, on the unscaled masses; later calls keep the step it gave.
@@ -686,6 +723,40 @@ class solver {
       }
     }
     choose_time_step(refuse_user_dt);
+  }
+
+  /// True when dt is automatic (no options.dt, no mass scaling), so it may change at a contact
+  /// rebuild (file comment, "Time step").
+  [[nodiscard]] bool dt_follows_rebuilds() const {
+    return options_.dt == 0 && options_.mass_scaling_dt == 0 && options_.mass_scaling_ratio == 0;
+  }
+
+  /// The nodal stiffness bounds of blocks, contacts, bonds and applied forces. A contact set whose
+  /// bound holds only until its next rebuild gives the bound of every contact it could carry
+  /// when dt does not follow the rebuilds (file comment).
+  void assemble_stiffness_bounds() {
+    gridpoints_.stiffness.setZero();
+    blocks_.add_stiffness_bounds(gridpoints_);
+    if constexpr (requires { contacts_.add_whole_surface_stiffness_bounds(gridpoints_); }) {
+      if (dt_follows_rebuilds())
+        contacts_.add_stiffness_bounds(gridpoints_);
+      else
+        contacts_.add_whole_surface_stiffness_bounds(gridpoints_);
+    } else {
+      contacts_.add_stiffness_bounds(gridpoints_);
+    }
+    if constexpr (requires { contacts_.rebuild_count(); }) bound_rebuilds_ = contacts_.rebuild_count();
+    if constexpr (Reinforcement::enabled) reinforcement_.add_stiffness_bounds(gridpoints_);
+    if (applied_stiffness_.size() == gridpoints_.size()) gridpoints_.stiffness += applied_stiffness_;
+  }
+
+  /// After a contact rebuild inside step(): with an automatic dt, the bounds of the contacts now
+  /// present and dt from them (allocates nothing; O(gridpoints)).
+  void bound_after_rebuild() {
+    if constexpr (requires { contacts_.rebuild_count(); }) bound_rebuilds_ = contacts_.rebuild_count();
+    if (!dt_follows_rebuilds()) return;
+    assemble_stiffness_bounds();
+    choose_time_step(true);
   }
 
   /// The critical step from the nodal stiffness bounds and masses in place, and dt from it (file
@@ -840,6 +911,7 @@ class solver {
   Integrator integrator_{};
   Checker checker_{};
   real dt_ = 0;
+  index_t bound_rebuilds_ = 0;  ///< the contact set's rebuild count when the bounds were assembled
   real time_ = 0;
   std::int64_t step_ = 0;
   real boundary_work_ = 0;

@@ -62,10 +62,12 @@ inline void reduce_rigid_block(const node_set& gp, const soa3& body_position, co
 /// Steps 2-5 of rigid.hpp's file comment for block `bd` with the prescriptions `con` of its
 /// reduction: translation, rotation, orientation and the slaved gridpoints (displacement, secant
 /// velocity, reaction share). Returns the boundary work and damping dissipation of the step (J).
+/// kick_dt (s): the step of the velocity update, (dt_before + dt) / 2 in the step where dt
+/// changes (solver.hpp, "Time step"), else dt.
 template <class Integrator>
 [[nodiscard]] integrator::step_work integrate_rigid_block(const Integrator& integ, node_set& gp,
                                                           const soa3& body_position, rigid_body& bd,
-                                                          const rigid_constraints& con, real dt) noexcept {
+                                                          const rigid_constraints& con, real dt, real kick_dt) noexcept {
   constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
   constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
   integrator::step_work w;
@@ -74,7 +76,7 @@ template <class Integrator>
   vec3 reaction = vec3::Zero();
   for (int c = 0; c < 3; ++c) {
     const std::uint8_t kind = con.count[static_cast<std::size_t>(c)] > 0 ? prescribed : free;
-    bd.velocity[c] = integ.advance_dof(bd.force[c], bd.mass, bd.velocity[c], kind, con.velocity[c], dt, reaction[c], w);
+    bd.velocity[c] = integ.advance_dof(bd.force[c], bd.mass, bd.velocity[c], kind, con.velocity[c], kick_dt, reaction[c], w);
   }
   bd.displacement += bd.velocity * dt;
   bd.reaction_force = reaction;
@@ -92,7 +94,7 @@ template <class Integrator>
     rotation_work = {};
     vec3 next;
     for (int k = 0; k < 3; ++k)
-      next[k] = integ.advance_dof(t[k], bd.inertia[k], w_old[k], rotation_kind, 0.0, dt, moment_reaction[k], rotation_work);
+      next[k] = integ.advance_dof(t[k], bd.inertia[k], w_old[k], rotation_kind, 0.0, kick_dt, moment_reaction[k], rotation_work);
     const real change = (next - w_new).cwiseAbs().maxCoeff();
     w_new = next;
     if (change <= 1e-15 * w_new.cwiseAbs().maxCoeff()) break;
