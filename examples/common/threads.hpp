@@ -43,7 +43,7 @@ inline bool read_cpu_jiffies(unsigned long long& busy, unsigned long long& total
 /// shares its core with another process stalls every barrier (measured on 2 cores with a compile
 /// job on one: the RC tie took 151 s on 2 threads against 19 s on 1). Results do not depend on
 /// the thread count, only the run time does. Prints a note on stderr when it picks fewer threads
-/// than there are cores.
+/// than there are cores. choose_threads() then lets the thread governor revise the count as the run goes.
 inline int auto_threads(const std::string& program) {
   if (std::getenv("OMP_NUM_THREADS") != nullptr) return 0;
   const int cores = static_cast<int>(std::thread::hardware_concurrency());
@@ -61,8 +61,8 @@ inline int auto_threads(const std::string& program) {
   }
   const int idle = std::clamp(cores - static_cast<int>(std::lround(busy_cores)), 1, cores);
   if (idle < cores)
-    std::fprintf(stderr, "%s: %s %.2f on %d cores, running on %d thread%s (--threads N overrides)\n", program.c_str(),
-                 how, busy_cores, cores, idle, idle == 1 ? "" : "s");
+    std::fprintf(stderr, "%s: %s %.2f on %d cores, starting on %d thread%s (--threads N fixes N)\n", program.c_str(), how,
+                 busy_cores, cores, idle, idle == 1 ? "" : "s");
   return idle;
 }
 

@@ -68,6 +68,7 @@
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/parallel.hpp"
+#include "../core/thread_governor.hpp"
 #include "../core/types.hpp"
 #include "../geometry/block_mesh.hpp"
 #include "../geometry/tessellation.hpp"
@@ -408,6 +409,7 @@ class solver {
   /// Advances the model by one time step (see the file comment). One function on purpose (about
   /// 85 lines): the step order of docs/architecture.md, with its fused parallel region, in one place.
   void step() {
+    thread_governor_step();  // this step's thread count, while a governor runs (core/thread_governor.hpp)
     using clock = std::chrono::steady_clock;
     const auto since = [](clock::time_point t) { return std::chrono::duration<double>(clock::now() - t).count(); };
     if constexpr (Blocks::is_rigid) {
