@@ -104,7 +104,7 @@ void study(const char* scene, const Solver& unscaled, real target_dt, real targe
     an::spectral_options other = o;
     other.seed = o.seed + 1;
     const real again = an::estimate_max_frequency_squared(scaled, other).estimate.lambda_max;
-    std::fprintf(stderr, "%s, scaled to dt*: lambda_max %.9g (seed %llu) and %.9g (seed %llu), relative difference %.1e\n",
+    std::fprintf(stderr, "%s, scaled to dt*: lambda_max %.9g (Lanczos start %llu) and %.9g (start %llu), relative difference %.1e\n",
                  scene, r.estimate.lambda_max, static_cast<unsigned long long>(o.seed), again,
                  static_cast<unsigned long long>(other.seed), std::abs(again - r.estimate.lambda_max) / r.estimate.lambda_max);
   }

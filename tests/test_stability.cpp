@@ -471,6 +471,13 @@ TEST_CASE("spectral bound: a solver's lambda_max by Lanczos on its kernels equal
     // The solver is left as it was.
     CHECK(s.gridpoints().displacement.isZero(0));
     CHECK(s.energies().contact_stored == 0);
+    // Refusals of the solver's own option, before any force is evaluated.
+    analysis::spectral_options bad;
+    bad.probe = 0;
+    CHECK_THROWS_WITH(analysis::estimate_max_frequency_squared(s, bad), Catch::Contains("probe displacement = 0 m"));
+    bad = {};
+    bad.min_iterations = 0;
+    CHECK_THROWS_AS(analysis::estimate_max_frequency_squared(s, bad), invalid_input);
   };
   SECTION("three cubes on two stiff contact faces") {
     with_three_cube_column([&](const auto& s) { compare(s, "3-cube column"); });
