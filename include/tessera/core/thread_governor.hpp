@@ -12,7 +12,8 @@
 // time per step over one window on the current count and over one window on a neighbouring count
 // (half or double, within [1, max]), and keeps the neighbour when it is faster by the margin. A
 // lost probe doubles the interval (up to max_backoff x), a won one resets it, so a run that loses
-// a core falls back to fewer threads within seconds and climbs back when the core frees.
+// a core falls back to fewer threads within seconds and climbs back when the core frees. A probe
+// whose first quarter window is already twice as slow as the current count ends there.
 // A window's time per step is the mean of the middle two of its four quarter means (each quarter
 // at least window_s / 4 of run time), so one slow step (a rebuild, a snapshot written by an
 // observer) does not decide.
@@ -78,9 +79,13 @@ class thread_governor {
         ++probes_;
         start_window(phase::measuring_probe, params_.settle_steps);
         break;
-      case phase::measuring_probe:
-        if (!add_to_window(step_seconds)) break;
-        if (window_time() < (1 - params_.margin) * current_time_) {
+      case phase::measuring_probe: {
+        const bool done = add_to_window(step_seconds);
+        // A probe of a count on the cliff (a core taken) ends after its first quarter window when
+        // that is already twice as slow: such a probe costs a quarter window, not a whole one.
+        const bool hopeless = quarter_ == 1 && quarter_steps_ == 0 && quarter_mean_[0] > 2 * current_time_;
+        if (!done && !hopeless) break;
+        if (done && window_time() < (1 - params_.margin) * current_time_) {
           backoff_ = 1;  // a change of load: look again soon
           ++switches_;
         } else {
@@ -90,6 +95,7 @@ class thread_governor {
         phase_ = phase::running;
         since_probe_ = 0;
         break;
+      }
     }
     return current_;
   }
