@@ -45,10 +45,9 @@
 // energy change equals the work F.v (dt + dt')/2 the books take); each step is stable for the
 // contacts present while it is used. Time and gravity work are booked with the dt of each step,
 // boundary work and damping with the kick's; a checkpoint saves dt, so a restart continues with
-// the same steps. With a
-// given options.dt or mass scaling the contact set gives the bound of every contact that can
-// ever appear (add_whole_surface_stiffness_bounds), so the check of options.dt holds for the
-// whole run and dt never changes, as above.
+// the same steps. With a given options.dt or mass scaling the contact set gives the bound of
+// every contact that can ever appear (add_whole_surface_stiffness_bounds), so the check of
+// options.dt holds for the whole run and dt never changes, as above.
 //
 // Thread safety: one solver is driven by one thread; its loops are parallel and deterministic
 // (bit-identical for any thread count). step() allocates nothing.
@@ -753,7 +752,8 @@ class solver {
   }
 
   /// After a contact rebuild inside step(): with an automatic dt, the bounds of the contacts now
-  /// present and dt from them (allocates nothing; O(gridpoints)).
+  /// present and dt from them (O(gridpoints); allocates only when more blocks are fully
+  /// prescribed than at the last choice, blocks::rigid::record_step_bound).
   void bound_after_rebuild() {
     if constexpr (requires { contacts_.rebuild_count(); }) bound_rebuilds_ = contacts_.rebuild_count();
     if (!dt_follows_rebuilds()) return;
