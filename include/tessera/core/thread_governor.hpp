@@ -13,7 +13,9 @@
 // (half or double, within [1, max]), and keeps the neighbour when it is faster by the margin. A
 // lost probe doubles the interval (up to max_backoff x), a won one resets it, so a run that loses
 // a core falls back to fewer threads within seconds and climbs back when the core frees. A probe
-// whose first quarter window is already twice as slow as the current count ends there.
+// whose first quarter window is already twice as slow as the current count ends there; a quarter
+// window on the current count twice as slow as its last measurement starts a probe at once (a load
+// that came since is met within about half a second, not a probe interval).
 // A window's time per step is the mean of the middle two of its four quarter means (each quarter
 // at least window_s / 4 of run time), so one slow step (a rebuild, a snapshot written by an
 // observer) does not decide.
@@ -69,7 +71,8 @@ class thread_governor {
     switch (phase_) {
       case phase::running:
         since_probe_ += step_seconds;
-        if (since_probe_ >= params_.probe_interval_s * backoff_) start_window(phase::measuring_current, 0);
+        if (since_probe_ >= params_.probe_interval_s * backoff_ || slowed_down(step_seconds))
+          start_window(phase::measuring_current, 0);
         break;
       case phase::measuring_current:
         if (!add_to_window(step_seconds)) break;
@@ -86,13 +89,15 @@ class thread_governor {
         const bool hopeless = quarter_ == 1 && quarter_steps_ == 0 && quarter_mean_[0] > 2 * current_time_;
         if (!done && !hopeless) break;
         if (done && window_time() < (1 - params_.margin) * current_time_) {
+          reference_time_ = window_time();
           backoff_ = 1;  // a change of load: look again soon
           ++switches_;
         } else {
+          reference_time_ = current_time_;
           current_ = previous_;
           backoff_ = std::min(2 * backoff_, params_.max_backoff);
         }
-        phase_ = phase::running;
+        start_window(phase::running, 0);
         since_probe_ = 0;
         break;
       }
@@ -105,8 +110,9 @@ class thread_governor {
   void restart_at(int threads) {
     require(threads >= 1 && threads <= max_, "thread_governor: threads = ", threads, " must be in [1, ", max_, "]");
     current_ = threads;
-    phase_ = phase::running;
+    start_window(phase::running, 0);
     since_probe_ = 0;
+    reference_time_ = 0;
   }
 
   [[nodiscard]] int threads() const { return current_; }
@@ -130,6 +136,7 @@ class thread_governor {
     phase_ = p;
     skip_ = skip;
     quarter_ = 0;
+    slow_quarters_ = 0;
     quarter_time_ = 0;
     quarter_steps_ = 0;
   }
@@ -147,6 +154,20 @@ class thread_governor {
     quarter_steps_ = 0;
     return ++quarter_ == 4;
   }
+  /// While running: true when two quarter windows in a row have a time per step above twice the
+  /// current count's last measured one (a core was taken since; one slow step fills one quarter
+  /// at most), so the next probe comes now rather than after the interval. Needs a measurement
+  /// first (none before the first probe ends).
+  bool slowed_down(double step_seconds) {
+    if (reference_time_ <= 0) return false;
+    quarter_time_ += step_seconds;
+    ++quarter_steps_;
+    if (quarter_time_ < 0.25 * params_.window_s) return false;
+    slow_quarters_ = quarter_time_ / quarter_steps_ > 2 * reference_time_ ? slow_quarters_ + 1 : 0;
+    quarter_time_ = 0;
+    quarter_steps_ = 0;
+    return slow_quarters_ >= 2;
+  }
   /// Time per step of the window (s): mean of the middle two quarter means.
   [[nodiscard]] double window_time() {
     std::sort(quarter_mean_.begin(), quarter_mean_.end());
@@ -163,10 +184,12 @@ class thread_governor {
   bool probe_up_ = false;
   int skip_ = 0;
   int quarter_ = 0;
+  int slow_quarters_ = 0;  ///< quarter windows in a row, while running, above twice reference_time_
   double quarter_time_ = 0;
   int quarter_steps_ = 0;
   std::array<double, 4> quarter_mean_{};
   double current_time_ = 0;
+  double reference_time_ = 0;  ///< the current count's time per step at the last probe (s); 0 = none yet
   int probes_ = 0;
   int switches_ = 0;
 };
