@@ -67,31 +67,47 @@ void record_motion(result& r, const Solver& s, index_t b) {
   r.z.push_back(s.blocks().displacement(b).z());
   r.rotation.push_back(std::atan2(rot(0, 2), rot(2, 2)));
 }
-/// Steps s through `duration` s (gravity(t) while t <= ramp_s), calling record() about 2 000 times
-/// and at the end; returns the step count and top() (the moving block's displacement) at mid-run.
-/// solver::run_until with stop::after_steps; the observers run after each step k in this order:
-/// the mid-run sample, the record, then the gravity of step k + 1 while the tilt ramps.
+/// Steps s through `duration` s of simulated time (gravity(t) while t <= ramp_s), calling record()
+/// about 2 000 times (every duration / 2000 s) and at the end; returns the step count and top()
+/// (the moving block's displacement) at mid-run (the first step at or past duration / 2). By time,
+/// not by a step count fixed at the start: rigid blocks on detected contacts choose dt again at
+/// each rebuild (docs/model.md, "Stable step"). The run ends at the first step whose time reaches
+/// the duration (within 1e-9 of a step, so a constant dt gives ceil(duration / dt) steps);
+/// step_count bounds it. The observers run after each step in this order: the mid-run sample, the
+/// record, then the gravity of the next step while the tilt ramps.
 template <class Solver, class Top, class Record>
 std::pair<index_t, vec3> step_through(Solver& s, real duration, const gravity_field& gravity, Top&& top, Record&& record) {
-  const index_t steps = step_count(duration, s.dt());
-  const index_t every = std::max<index_t>(1, steps / 2000);
-  const std::int64_t first = s.step_count();
+  const real t0 = s.time(), every = duration / 2000;
+  // The largest count the run may take: the step may only shrink by what the contacts present can
+  // add, so 100 x the steps at the start's dt is a guard against a runaway, not a limit a run meets.
+  const index_t most = step_count(100 * duration, s.dt());
+  const auto reached = [&](const Solver& sv, real t) { return sv.time() - t0 + 1e-9 * sv.dt() >= t; };
   vec3 at_half = vec3::Zero();
+  bool half_taken = false;
+  real next_sample = every;
   const auto ramp = [&] {
     if (s.time() <= ramp_s) s.set_gravity(gravity(s.time()));
   };
   ramp();  // the gravity of step 1
-  s.run_until(
-      stop::after_steps(steps), steps,
+  const run_result run = s.run_until(
+      stop::when([&](const Solver& sv) { return reached(sv, duration); }, "the duration reached"), most,
       [&](const Solver& sv) {
-        if (sv.step_count() - first == steps / 2) at_half = top();
+        if (!half_taken && reached(sv, duration / 2)) {
+          at_half = top();
+          half_taken = true;
+        }
       },
       [&](const Solver& sv) {
-        const std::int64_t k = sv.step_count() - first;
-        if (k % every == 0 || k == steps) record();
+        const bool end = reached(sv, duration);
+        if (end || reached(sv, next_sample)) {
+          record();
+          while (reached(sv, next_sample)) next_sample += every;
+        }
       },
       [&](const Solver&) { ramp(); });
-  return {steps, at_half};
+  require(!run.hit_max_steps, "verification: ", duration, " s not reached in ", most, " steps (dt fell to ", s.dt(),
+          " s)");
+  return {static_cast<index_t>(run.steps), at_half};
 }
 /// The run's closing figures: step and contact statistics, energy balance, final geometry.
 template <class Solver>
