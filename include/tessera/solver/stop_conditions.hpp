@@ -226,7 +226,11 @@ struct window {
   require(n >= 1, "stop::over_steps: window of ", n, " steps must be >= 1");
   return {n, 0};
 }
-/// A window of t_s seconds of simulated time (t_s > 0).
+/// A window of t_s seconds of simulated time (t_s > 0), counted as ceil(t_s / dt) steps of the dt
+/// in use when run_until starts. Rigid blocks on detected contacts with an automatic step choose dt
+/// again at each rebuild (docs/model.md, "Stable step"), so there the window spans t_s x (dt now /
+/// dt at the start): longer when the step grew, shorter when contacts appeared. over_steps(n)
+/// counts steps whatever dt does.
 [[nodiscard]] inline window over_time(real t_s) {
   require(std::isfinite(t_s) && t_s > 0, "stop::over_time: window of ", t_s, " s must be finite and > 0");
   return {0, t_s};
