@@ -69,6 +69,20 @@ TEST_CASE("thread governor: a lost core sends a two-thread run to one thread", "
   CHECK(g.probes() <= 18);
 }
 
+TEST_CASE("thread governor: a lost probe of a count whose steps each fill a quarter window costs one step",
+          "[threads][governor]") {
+  // The cliff of the quick RC tie beside a one-core load: 60 ms a step on 2 threads, 0.5 ms on 1.
+  // Each probe of 2 ends at its first step (>= 0.05 s, > 2 x 0.5 ms), settling steps included:
+  // about 15 probes in 60 s cost 15 x 0.06 = 0.9 s (3 steps each would be 2.7 s).
+  thread_governor g(1, 2, test_params());
+  const simulated_run r = simulate(g, 60.0, [](int threads, double) { return threads == 2 ? 60e-3 : 0.5e-3; });
+  CHECK(r.final_threads == 1);
+  CHECK(g.switches() == 0);
+  CHECK(g.probes() >= 13);
+  CHECK(r.seconds_on[2] < 0.06 * g.probes() + 1e-9);
+  CHECK(r.seconds_on[2] > 0.06 * (g.probes() - 1) - 1e-9);  // the last probe may end the run before its step
+}
+
 TEST_CASE("thread governor: an idle machine takes the faster count and keeps it", "[threads][governor]") {
   // Idle: 2 threads 0.6 ms a step, 1 thread 1 ms; starting on 1, the first probe (after 1 s) wins.
   thread_governor g(1, 2, test_params());

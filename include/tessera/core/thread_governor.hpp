@@ -13,7 +13,7 @@
 // (half or double, within [1, max]), and keeps the neighbour when it is faster by the margin. A
 // lost probe doubles the interval (up to max_backoff x), a won one resets it, so a run that loses
 // a core falls back to fewer threads within seconds and climbs back when the core frees. A probe
-// whose first quarter window is already twice as slow as the current count ends there; a quarter
+// whose first quarter window (or one step as long) is already twice as slow ends there; a quarter
 // window on the current count twice as slow as its last measurement starts a probe at once (a load
 // that came since is met within about half a second, not a probe interval).
 // A window's time per step is the mean of the middle two of its four quarter means (each quarter
@@ -83,10 +83,14 @@ class thread_governor {
         start_window(phase::measuring_probe, params_.settle_steps);
         break;
       case phase::measuring_probe: {
-        const bool done = add_to_window(step_seconds);
-        // A probe of a count on the cliff (a core taken) ends after its first quarter window when
-        // that is already twice as slow: such a probe costs a quarter window, not a whole one.
-        const bool hopeless = quarter_ == 1 && quarter_steps_ == 0 && quarter_mean_[0] > 2 * current_time_;
+        // A probe of a count on the cliff (a core taken) ends as soon as it is clearly slower: after
+        // one step (settling steps included) that alone fills a quarter window at twice the
+        // current count's time per step, or after a first quarter window twice as slow. Such a
+        // probe costs a step or a quarter window, not a whole window.
+        const bool slow_step = step_seconds >= 0.25 * params_.window_s && step_seconds > 2 * current_time_;
+        const bool done = !slow_step && add_to_window(step_seconds);
+        const bool hopeless =
+            slow_step || (quarter_ == 1 && quarter_steps_ == 0 && quarter_mean_[0] > 2 * current_time_);
         if (!done && !hopeless) break;
         if (done && window_time() < (1 - params_.margin) * current_time_) {
           reference_time_ = window_time();
