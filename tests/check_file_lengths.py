@@ -19,7 +19,6 @@ DIRS = ["include", "examples"]
 # Relative to ROOT, with '/' separators.
 PENDING = {
     "include/tessera/contact/detected_contacts.hpp",
-    "include/tessera/solver/solver.hpp",
 }
 
 

@@ -1,10 +1,15 @@
 #pragma once
 // Module header for solver/. Owners add their headers here as they land.
 #include "core.hpp"
+#include "solver/applied_forces.hpp"
 #include "solver/balance.hpp"
 #include "solver/boundary.hpp"
 #include "solver/energy.hpp"
+#include "solver/options.hpp"
 #include "solver/recorders.hpp"
+#include "solver/run.hpp"
 #include "solver/step_checker.hpp"
 #include "solver/stop_conditions.hpp"
+#include "solver/supports.hpp"
+#include "solver/time_step.hpp"
 #include "solver/solver.hpp"

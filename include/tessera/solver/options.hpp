@@ -1,0 +1,74 @@
+#pragma once
+// The plain types a scene hands to a solver and reads back from it: solver_options (run-time
+// options, SI), run_result (what solver::run_until did) and phase_times (where the step's time
+// went), and the check of the options that the solver (solver/solver.hpp) makes when it is built.
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "../core/errors.hpp"
+#include "../core/types.hpp"
+#include "../integrator/timestep.hpp"
+
+namespace tessera {
+
+/// Time spent in each phase of the step since the solver was built (s). zones and contacts are
+/// summed over threads (on one thread their wall time; on several the thread time, so
+/// zones / (zone count x steps) is the per-core cost of a zone-step), the others are wall time:
+/// bars (their axial and bond forces), integration (gather of the contact and bar host forces
+/// and the integrator; on the unfused path the integrator alone), recorders (the observers of run
+/// and run_until). A few clock reads per step and thread (about 0.1 us).
+struct phase_times {
+  double zones = 0;
+  double contacts = 0;
+  double bars = 0;
+  double integration = 0;
+  double recorders = 0;
+};
+
+/// What solver::run_until did: the steps it took, why it stopped and whether max_steps ran out
+/// first. Converts to the step count, so `std::int64_t n = s.run_until(...)` still reads it.
+struct run_result {
+  std::int64_t steps = 0;      ///< steps taken by this call
+  std::string reason;          ///< the stop condition's reason() (e.g. "t - t0 = 0.5 s >= 0.5 s"), or "max_steps = N reached"
+  bool hit_max_steps = false;  ///< true when max_steps ran out before the condition held
+  operator std::int64_t() const { return steps; }  // NOLINT(google-explicit-constructor): old callers read the count
+};
+
+/// Run-time options of a solver (SI).
+struct solver_options {
+  real safety = integrator::default_safety;  ///< dt = safety x min_i 2 sqrt(m_i / k_i), in (0, 1]
+  real dt = 0;                 ///< user time step (s); 0 = automatic. Above the stable limit -> invalid_input
+  real mass_scaling_dt = 0;    ///< > 0: raise nodal masses so this step (s) is stable, and use it
+  /// > 0 (instead of mass_scaling_dt): scale masses to the step at which the added mass is this
+  /// multiple of the original mass (integrator::step_for_added_mass; deformable blocks). Resolved
+  /// into mass_scaling_dt when the solver is built (options().mass_scaling_dt then holds the step).
+  real mass_scaling_ratio = 0;
+  real damping_gamma = 0.8;    ///< local damping constant (ignored by no_damping)
+  int threads = 0;             ///< OpenMP threads; 0 = leave the current setting
+  index_t check_interval = 100;  ///< steps between step-checker passes
+};
+
+namespace detail {
+
+/// The solver's refusals of bad options (invalid_input naming the value), before anything is
+/// built; rigid_blocks: the solver's blocks are rigid (an added-mass ratio is for deformable ones).
+inline void require_valid_options(const solver_options& options, bool rigid_blocks) {
+  require(options.safety > 0 && options.safety <= 1, "solver: safety factor = ", options.safety,
+          " must lie in (0, 1]");
+  require_non_negative(options.dt, "solver: user time step dt (s)");
+  require_non_negative(options.mass_scaling_dt, "solver: mass-scaling target time step (s)");
+  require(std::isfinite(options.mass_scaling_ratio) && options.mass_scaling_ratio >= 0,
+          "solver: mass-scaling added-mass ratio = ", options.mass_scaling_ratio, " must be finite and >= 0");
+  require(options.mass_scaling_ratio == 0 || options.mass_scaling_dt == 0,
+          "solver: give a mass-scaling time step (", options.mass_scaling_dt, " s) or an added-mass ratio (",
+          options.mass_scaling_ratio, "), not both");
+  require(options.mass_scaling_ratio == 0 || !rigid_blocks, "solver: an added-mass ratio (",
+          options.mass_scaling_ratio, ") is for deformable blocks; give rigid blocks a mass-scaling time step");
+  require(options.check_interval >= 1, "solver: check_interval = ", options.check_interval, " must be >= 1");
+}
+
+}  // namespace detail
+
+}  // namespace tessera
