@@ -3,6 +3,7 @@
 #include "core.hpp"
 #include "contact/concepts.hpp"
 #include "contact/detected_contacts.hpp"
+#include "contact/detected/params.hpp"
 #include "contact/face_contacts.hpp"
 #include "contact/material_table.hpp"
 #include "contact/platen.hpp"

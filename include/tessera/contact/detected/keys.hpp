@@ -1,0 +1,88 @@
+#pragma once
+// The keys of detected_contacts' sub-contacts (contact/detected_contacts.hpp) and their merge at a
+// rebuild. Not a public interface.
+//
+// Each corner of a touching pair's patch is one sub-contact, keyed by (block a, block b, corner
+// label): a vertex of A, a vertex of B, or the crossing of an edge of A with an edge of B
+// (detection::corner_label). Deformable blocks add the gridpoint sub-contacts of a face-to-face
+// patch (detected/deformable_fit.hpp), labelled by the gridpoint and its side (node_label). Keys
+// are kept sorted by (a, b, label); at a rebuild the new keys, sorted the same way, are merged
+// with the old ones in one pass (seek_old_key), so a corner that persists is found again and
+// keeps its law state (detected/rebuild.hpp).
+//
+// Cost: seek_old_key is amortised O(1) per new key over a rebuild's merge, previous_node_side a
+// binary search over the old pairs; no allocation. Thread safety: they read their arguments only.
+
+#include <concepts>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "../../core/types.hpp"
+
+namespace tessera::contact::detail {
+
+/// An index handle as a std::size_t, for the detected/ headers' array subscripts.
+template <std::integral I>
+[[nodiscard]] constexpr std::size_t at(I i) noexcept {
+  return static_cast<std::size_t>(i);
+}
+
+/// A gridpoint sub-contact of a deformable patch (collect_nodes).
+struct node_contact {
+  std::uint64_t label = 0;
+  index_t gridpoint = 0;
+  real area = 0, gap = 0;
+};
+/// Label of a gridpoint sub-contact: kind 3 (beside corner_label's 0-2), bit 61 the side (B),
+/// the gridpoint below; and its three readers.
+[[nodiscard]] constexpr std::uint64_t node_label(index_t g, bool side_b) noexcept {
+  return (std::uint64_t{3} << 62) | (side_b ? std::uint64_t{1} << 61 : 0) | static_cast<std::uint64_t>(g);
+}
+[[nodiscard]] constexpr bool is_node_label(std::uint64_t label) noexcept { return (label >> 62) == 3; }
+[[nodiscard]] constexpr bool node_label_side_b(std::uint64_t label) noexcept { return ((label >> 61) & 1U) != 0; }
+[[nodiscard]] constexpr index_t node_label_gridpoint(std::uint64_t label) noexcept {
+  return static_cast<index_t>(label & ((std::uint64_t{1} << 61) - 1));
+}
+
+/// The side whose gridpoints pair (a, b) used at the last rebuild: 0 A, 1 B, -1 corners or no
+/// such pair. Reads the old pairs (pair_a, pair_b, pair_first: sorted by (a, b)) and their
+/// sub-contacts' labels, before the rebuild replaces them.
+[[nodiscard]] inline int previous_node_side(const std::vector<index_t>& pair_a, const std::vector<index_t>& pair_b,
+                                     const std::vector<index_t>& pair_first,
+                                     const std::vector<std::uint64_t>& key_label, index_t a, index_t b) {
+  const auto n_old = static_cast<std::ptrdiff_t>(pair_a.size());
+  std::ptrdiff_t lo = 0, hi = n_old;
+  while (lo < hi) {  // first old pair >= (a, b)
+    const std::ptrdiff_t mid = (lo + hi) / 2;
+    const auto m = static_cast<std::size_t>(mid);
+    if (pair_a[m] < a || (pair_a[m] == a && pair_b[m] < b))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  const auto k = static_cast<std::size_t>(lo);
+  if (lo == n_old || pair_a[k] != a || pair_b[k] != b || pair_first[k + 1] == pair_first[k]) return -1;
+  const std::uint64_t label = key_label[at(pair_first[k])];
+  if (!is_node_label(label)) return -1;
+  return node_label_side_b(label) ? 1 : 0;
+}
+
+/// The merge of sorted keys at a rebuild: advances `old` over the old sub-contacts whose key
+/// (pair_a[pair[o]], pair_b[pair[o]], key_label[o]) comes before (a, b, label), and says whether
+/// the one it stops at has that key (then the sub-contact persists). Called with the new keys in
+/// increasing order and `old` starting at 0, it visits every old sub-contact once.
+[[nodiscard]] inline bool seek_old_key(std::size_t& old, index_t a, index_t b, std::uint64_t label,
+                                       const std::vector<index_t>& pair_a, const std::vector<index_t>& pair_b,
+                                       const std::vector<index_t>& pair,
+                                       const std::vector<std::uint64_t>& key_label) noexcept {
+  const std::size_t n_old = key_label.size();
+  const auto before = [&](std::size_t o) {
+    const index_t oa = pair_a[at(pair[o])], ob = pair_b[at(pair[o])];
+    return oa < a || (oa == a && (ob < b || (ob == b && key_label[o] < label)));
+  };
+  while (old < n_old && before(old)) ++old;
+  return old < n_old && pair_a[at(pair[old])] == a && pair_b[at(pair[old])] == b && key_label[old] == label;
+}
+
+}  // namespace tessera::contact::detail

@@ -1,0 +1,401 @@
+#pragma once
+// The rebuild pass of detected_contacts (contact/detected_contacts.hpp): one detection pass on the
+// blocks' current geometry and the merge of its corners with the sub-contacts so far.
+//
+// Rebuilds. At construction and whenever a block vertex has moved more than tolerance / 2 since
+// the last rebuild (or after max_rebuild_interval steps), prepare_step runs a detection pass on
+// the blocks' current geometry: grid broad phase with boxes enlarged by the tolerance, common
+// plane and contact patch of every candidate pair (common_plane.hpp). Guarantee: between
+// rebuilds no vertex moves more than tolerance / 2, so two blocks whose gap was above the
+// tolerance at the last rebuild cannot have closed it: no contact is missed. The check reads
+// every block vertex once per step (no velocity bound to guess).
+//
+// Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a, block
+// b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an edge of B
+// (detection::corner_label). Keys are kept sorted (detected/keys.hpp); at a rebuild the new corners
+// are merged with the old ones, so a corner that persists keeps its law state (stresses, slip,
+// damage) and a new one starts in Law::unbonded_state with its opening u_n = its geometric gap at t
+// (a corner found open by g carries force only once g has closed; after construction a corner born
+// overlapped starts at u_n = 0); its first update takes no increment, since the gap already holds
+// the motion up to t. A persisting corner whose tributary area changes keeps its dissipated energy
+// (the per-area fields rescaled) and, if the area grows, its force (Law::scale_stresses): a rebuild
+// can take elastic energy out of the springs, never put it in. What it takes is booked as the
+// rebuild exchange (energies()). Tributary areas come from the patch polygon; a segment or point
+// patch (a block on its edge or corner) gives each corner the nominal area min over the two blocks
+// of S / (3 V) (S the block's surface area, V its vertex count: a third of a vertex's share of the
+// surface, a quarter of a face for a cube).
+//
+// Bonded faces (params::bond_faces): at construction the corners of a face-to-face patch whose
+// faces coincide, between a material pair the table declares bonded, start intact (state_type{})
+// instead: the faces a tessellation's blocks start on are bonded, and a bonded face that breaks
+// keeps its residual state through the rebuilds for as long as its corners persist (the
+// hand-over of a broken face to detected contacts: its crack can slide onto new neighbours,
+// close and reopen). scale_stresses keeps a grown corner's force in tension too until it softens.
+//
+// After the merge: each pair's normal features in its blocks' frames, each sub-contact's weights
+// in its blocks' frames (detected/frames.hpp) or zones (detected/deformable_fit.hpp), and the
+// tasks and gather slots (index_subcontacts, also after a checkpoint load).
+//
+// Cost: docs/performance.md "Contact detection kernels". The only allocations of a run: the
+// per-sub-contact, per-pair and gather arrays grow (and keep their capacity; growth_count()).
+//
+// Definitions of detected_contacts<Law>'s private members (declared in the class); it includes the
+// class and the class includes it, so either header can come first.
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+
+#include "../../core/errors.hpp"
+#include "../../core/nodes.hpp"
+#include "../../core/types.hpp"
+#include "../detection/detect.hpp"
+#include "../detected_contacts.hpp"
+#include "keys.hpp"
+#include "refusals.hpp"
+
+namespace tessera::contact {
+
+/// One detection pass on the current geometry and the merge of the sub-contacts (file comment).
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::rebuild(const node_set* gp) {
+  const auto started = std::chrono::steady_clock::now();
+  // The springs' energy before and after (the construction's pass sets the initial energy).
+  const real stored_before = gp != nullptr ? stored_energy() : 0.0;
+  ++rebuilds_;
+  steps_since_rebuild_ = 0;
+  const std::size_t capacity_before = storage_capacity();
+  const auto n_b = static_cast<index_t>(blocks_.size());
+  real deviation = 0;
+  for (index_t b = 0; b < n_b; ++b) {
+    const block_data& bd = blocks_[at(b)];
+    const mat3 map = rotation(bd, gp);
+    const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
+    current_[at(b)] = shapes_[at(b)].transformed(map, translation);
+    boxes_[at(b)] = current_[at(b)].bounds();
+    // A deformable block is detected by its affine fit (the frame's map of its reference
+    // shape): how far its surface gridpoints are from it.
+    if (options_.deformable_blocks)
+      for (index_t w = bd.watch_begin; w < bd.watch_end; ++w) {
+        const index_t g = watch_gridpoints_[at(w)];
+        const vec3 fit = map * reference_.row(g).transpose() + translation;
+        deviation = std::max(deviation, (position(g, gp) - fit).norm());
+      }
+  }
+  if (options_.deformable_blocks) {
+    require<geometry_error>(deviation <= max_deviation_fraction * options_.tolerance,
+                            "detected_contacts: a deformable block's surface lies ", deviation,
+                            " m from its affine fit, more than ", max_deviation_fraction,
+                            " x the contact tolerance (", options_.tolerance,
+                            " m); detection reads the fit, so raise the tolerance (or stiffen the blocks)");
+    max_deviation_ = deviation;
+  }
+  rebuild_u_.resize(static_cast<index_t>(watch_gridpoints_.size()), 3);
+  for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      rebuild_u_(static_cast<index_t>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
+  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_);
+  if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
+
+  // New pairs and their corners, sorted by label within a pair (pairs come increasing).
+  const std::size_t n_pairs = result_.pairs.size();
+  new_pair_a_.clear();
+  new_pair_b_.clear();
+  new_label_.clear();
+  new_area_.clear();
+  new_point_.clear();
+  new_gap_.clear();
+  new_pair_first_.assign(1, 0);
+  for (std::size_t k = 0; k < n_pairs; ++k) {
+    const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+    // Deformable blocks: a face-to-face patch's sub-contacts at surface gridpoints.
+    if (options_.deformable_blocks && result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
+      for (const node_contact& c : node_scratch_) {
+        new_label_.push_back(c.label);
+        new_area_.push_back(c.area);
+        new_point_.push_back(position(c.gridpoint, gp));
+        new_gap_.push_back(c.gap);
+      }
+      new_pair_a_.push_back(result_.pairs[k].a);
+      new_pair_b_.push_back(result_.pairs[k].b);
+      new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+      continue;
+    }
+    order_.clear();
+    for (std::size_t j = first; j < last; ++j) order_.push_back(j);
+    std::sort(order_.begin(), order_.end(), [&](std::size_t x, std::size_t y) {
+      return result_.label[x] < result_.label[y] || (result_.label[x] == result_.label[y] && x < y);
+    });
+    const bool polygon = result_.type[k] == detection::patch_type::polygon;
+    const real nominal =
+        std::min(blocks_[at(result_.pairs[k].a)].nominal_area, blocks_[at(result_.pairs[k].b)].nominal_area);
+    for (std::size_t j : order_) {
+      // A sliver polygon's corner keeps a floor of 1e-6 of the nominal area, so that areas stay
+      // > 0 and the ratios of a rebuild (below) stay finite.
+      const real a = polygon ? std::max(result_.area[j], 1e-6 * nominal) : nominal;
+      // A label met twice (a corner within round-off of another) keeps its first point and
+      // takes the other's area.
+      if (new_label_.size() > at(new_pair_first_.back()) && new_label_.back() == result_.label[j]) {
+        if (polygon) new_area_.back() += a;
+        continue;
+      }
+      new_label_.push_back(result_.label[j]);
+      new_area_.push_back(a);
+      new_point_.push_back(result_.point[j]);
+      new_gap_.push_back(result_.gap[j]);
+    }
+    new_pair_a_.push_back(result_.pairs[k].a);
+    new_pair_b_.push_back(result_.pairs[k].b);
+    new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+  }
+  const std::size_t n = new_label_.size();
+
+  // Merge the states: old and new keys are both sorted by (a, b, label).
+  new_state_.resize(n);
+  new_fresh_.assign(n, 0);
+  kept_last_ = 0;
+  kept_old_.assign(key_label_.size(), 0);
+  std::size_t old = 0;
+  const std::size_t n_old = key_label_.size();
+  for (std::size_t k = 0; k < n_pairs; ++k) {
+    const index_t a = new_pair_a_[k], b = new_pair_b_[k];
+    const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
+    for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+      if (detail::seek_old_key(old, a, b, new_label_[i], pair_a_, pair_b_, pair_, key_label_)) {
+        new_state_[i] = state_[old];
+        // A tributary area that grows keeps the corner's force (stresses scaled down), one that
+        // shrinks keeps its stresses: either way the spring's energy can only drop, so a
+        // rebuild never feeds energy into the scene.
+        // The energy it dissipated (per area in the state) stays what it was.
+        if (const real a_old = area_[old]; new_area_[i] != a_old) {
+          state_type& st = new_state_[i];
+          const real r = a_old / new_area_[i];
+          if (r < 1) Law::scale_stresses(p, st, r);
+          st.dissipated_tension *= r;
+          st.dissipated_shear *= r;
+          st.dissipated_compression *= r;
+        }
+        kept_old_[old] = 1;
+        ++kept_last_;
+      } else {
+        // params::bond_faces: at construction, the coinciding faces of a bonded material pair.
+        const bool bonded = gp == nullptr && options_.bond_faces &&
+                            result_.type[k] == detection::patch_type::polygon &&
+                            table_.get(material_[at(a)], material_[at(b)]).bonded &&
+                            std::abs(new_gap_[i]) <= bond_gap_fraction * options_.tolerance;
+        state_type s = bonded ? state_type{} : Law::unbonded_state(p);
+        if (bonded) ++bonded_at_start_;
+        // At construction a corner takes its gap (a scene may start in contact, e.g. at its
+        // static overlap: that energy is the run's initial energy). Later a corner that is
+        // born overlapped (a new crossing of two edges inside a loaded patch) starts at zero
+        // opening: its overlap is the neighbours' share, and a spring born compressed would
+        // inject energy that no force supplied.
+        s.u_n = gp == nullptr ? new_gap_[i] : std::max<real>(new_gap_[i], 0);
+        // A zero increment sets the stresses of that opening (compression if it overlaps), so
+        // the energy it holds is in the books from the start.
+        // (The law books that energy as work done on the contact; it was not: undo its entry.)
+        const state_type unbonded = s;
+        Law::update(p, s, 0, vec3::Zero(), result_.planes[k].normal);
+        s.dissipated_tension = unbonded.dissipated_tension;
+        s.dissipated_shear = unbonded.dissipated_shear;
+        s.dissipated_compression = unbonded.dissipated_compression;
+        new_state_[i] = s;
+        new_fresh_[i] = 1;
+      }
+    }
+  }
+  // Sub-contacts that end keep what they dissipated in the books; what they still stored leaves
+  // the springs through the rebuild exchange.
+  for (std::size_t o = 0; o < n_old; ++o) {
+    if (kept_old_[o] != 0) continue;
+    const contact_energies e = energies_of(o);
+    retired_.dissipated += e.dissipated;
+    retired_.dissipated_tension += e.dissipated_tension;
+    retired_.dissipated_shear += e.dissipated_shear;
+    retired_.dissipated_compression += e.dissipated_compression;
+  }
+  state_.swap(new_state_);
+  fresh_.swap(new_fresh_);
+
+  // Per pair: blocks, parameters, normal feature, normals.
+  pair_a_.assign(new_pair_a_.begin(), new_pair_a_.end());
+  pair_b_.assign(new_pair_b_.begin(), new_pair_b_.end());
+  pair_param_.resize(n_pairs);
+  feature_.resize(n_pairs);
+  feature_a_.resize(n_pairs);
+  feature_b_.resize(n_pairs);
+  side_a_.resize(n_pairs);
+  side_b_.resize(n_pairs);
+  for (soa3& m : normal_) m.resize(static_cast<index_t>(n_pairs), 3);
+  for (std::size_t k = 0; k < n_pairs; ++k) {
+    const index_t a = pair_a_[k], b = pair_b_[k];
+    pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
+    const detection::contact_plane& plane = result_.planes[k];
+    // The feature in each block's reference frame: n = R_a fa (face of A), -R_b fb (face of B),
+    // or +-(R_a ea x R_b eb) (edges), so that n equals the plane's normal now.
+    const mat3 ra = rotation(blocks_[at(a)], gp), rb = rotation(blocks_[at(b)], gp);
+    const vec3 n = plane.normal;
+    if (plane.source == detection::plane_source::edge_edge) {
+      const auto& ea = edges_[at(a)].list[at(plane.feature_a)];
+      const auto& eb = edges_[at(b)].list[at(plane.feature_b)];
+      const vec3 da = shapes_[at(a)].vertex(ea.v) - shapes_[at(a)].vertex(ea.u);
+      const vec3 db = shapes_[at(b)].vertex(eb.v) - shapes_[at(b)].vertex(eb.u);
+      const real sign = (ra * da).cross(rb * db).dot(n) >= 0 ? 1.0 : -1.0;
+      feature_[k] = feature_kind::edges;
+      feature_a_[k] = sign * da;
+      feature_b_[k] = db;
+    } else if (plane.source == detection::plane_source::face_b) {
+      feature_[k] = feature_kind::face_b;
+      feature_b_[k] = -(rb.transpose() * n);  // R is a rotation (rigid blocks): R^-1 = R^T
+      feature_a_[k] = vec3::Zero();
+    } else {
+      feature_[k] = feature_kind::face_a;
+      feature_a_[k] = ra.transpose() * n;
+      feature_b_[k] = vec3::Zero();
+    }
+    // Faces of A and B parallel to the plane (within parallel_cos): a vertex of B is pushed by
+    // A's face, whose normal turns with A, and a vertex of A by B's face.
+    side_a_[k] = side_b_[k] = vec3::Zero();
+    real best_a = parallel_cos, best_b = parallel_cos;
+    // (The face normals of this pass's planes: workspace_.faces_of, face_normal to the bit.)
+    const auto faces_a = workspace_.faces_of(at(a)), faces_b = workspace_.faces_of(at(b));
+    for (const geometry::plane& fa : faces_a)
+      if (const vec3& m = fa.normal; m.dot(n) > best_a) {
+        best_a = m.dot(n);
+        side_a_[k] = ra.transpose() * m;
+      }
+    for (const geometry::plane& fb : faces_b)
+      if (const vec3& m = fb.normal; -m.dot(n) > best_b) {
+        best_b = -m.dot(n);
+        side_b_[k] = rb.transpose() * m;
+      }
+    // Face normals map through R (rigid) or F^-T (deformable: n0 = F^T n above).
+    const mat3 na = options_.deformable_blocks ? mat3(ra.inverse().transpose()) : ra;
+    const mat3 nb = options_.deformable_blocks ? mat3(rb.inverse().transpose()) : rb;
+    for (int j = 0; j < 3; ++j) {
+      const vec3 nj = j == 0 || normal_is_plane(k, j) ? n : j == 1 ? vec3(na * side_a_[k]) : vec3(-(nb * side_b_[k]));
+      normal_[at(j)].row(static_cast<index_t>(k)) = nj.transpose();
+    }
+  }
+
+  // Per sub-contact: pair, area, weights.
+  pair_.resize(n);
+  key_label_.assign(new_label_.begin(), new_label_.end());
+  corner_normal_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto k = at(std::upper_bound(new_pair_first_.begin(), new_pair_first_.end(), static_cast<index_t>(i)) -
+                      new_pair_first_.begin() - 1);
+    // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
+    const std::uint64_t label = key_label_[i];
+    const bool node = detail::is_node_label(label), node_b = node && detail::node_label_side_b(label);
+    const auto kind = detection::corner_label::kind_of(label);
+    const bool of_b = node ? node_b : kind == detection::corner_label::kind::vertex_b;
+    const bool of_a = node ? !node_b : kind == detection::corner_label::kind::vertex_a;
+    corner_normal_[i] = of_b && side_a_[k].squaredNorm() > 0 ? 1 : of_a && side_b_[k].squaredNorm() > 0 ? 2 : 0;
+  }
+  area_.resize(n);
+  for (auto& w : weight_) w.resize(n);
+  for (auto& f : force_) f.assign(n, 0.0);
+  if (options_.deformable_blocks) {
+    for (auto& v : node_) v.resize(n);
+    for (std::size_t k = 0; k < n_pairs; ++k)
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+        pair_[i] = static_cast<index_t>(k);
+        area_[i] = new_area_[i];
+        place_zoned(i, pair_a_[k], pair_b_[k], gp);
+      }
+  } else {
+    for (std::size_t k = 0; k < n_pairs; ++k) {
+      const index_t a = pair_a_[k], b = pair_b_[k];
+      const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
+      const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+        pair_[i] = static_cast<index_t>(k);
+        area_[i] = new_area_[i];
+        const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
+        weight_[0][i] = 1 - la.sum();
+        weight_[4][i] = 1 - lb.sum();
+        for (int c = 0; c < 3; ++c) {
+          weight_[at(1 + c)][i] = la[c];
+          weight_[at(5 + c)][i] = lb[c];
+        }
+      }
+    }
+  }
+  pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
+  index_subcontacts();
+
+  peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index_t>(n));
+  if (storage_capacity() > capacity_before) ++growths_;
+  if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
+  rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+}
+
+/// Tasks (runs of pairs with at least task_subcontacts sub-contacts) and gather slots, from the
+/// pairs' first sub-contacts and the sub-contacts' pairs and weights: after a rebuild or a load.
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::index_subcontacts() {
+  const std::size_t n_pairs = pair_a_.size(), n = pair_.size();
+  pair_tasks_.assign(1, 0);
+  for (std::size_t k = 0; k < n_pairs; ++k)
+    if (k + 1 == n_pairs || pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
+      pair_tasks_.push_back(static_cast<index_t>(k + 1));
+
+  // Gather slots, by a counting sort over slot (item, s), s = 0-7 (A's four, then B's four), so
+  // that each gridpoint's slots come in increasing item order. Rigid blocks: the items are the
+  // pairs, slot s the offset of the pair's sum for its block's frame gridpoint s % 4 in
+  // pair_force_. Deformable blocks: the items are the sub-contacts, slot s gridpoint node_[s]
+  // (none: invalid_index) with its weight (A's +w, B's -w: force_ holds the force on A).
+  const bool rigid = !options_.deformable_blocks;
+  const std::size_t items = rigid ? n_pairs : n;
+  const auto slot_gridpoint = [&](std::size_t item, int s) {
+    return rigid ? blocks_[at(s < 4 ? pair_a_[item] : pair_b_[item])].frame[at(s % 4)] : node_[at(s)][item];
+  };
+  slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
+  for (std::size_t item = 0; item < items; ++item)
+    for (int s = 0; s < 8; ++s)
+      if (const index_t g = slot_gridpoint(item, s); g != invalid_index) ++slot_offsets_[at(g) + 1];
+  for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
+  slot_source_.resize(at(slot_offsets_.back()));
+  slot_weight_.resize(rigid ? 0 : at(slot_offsets_.back()));
+  fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
+  for (std::size_t item = 0; item < items; ++item)
+    for (int s = 0; s < 8; ++s) {
+      const index_t g = slot_gridpoint(item, s);
+      if (g == invalid_index) continue;
+      const auto e = at(fill_[at(g)]++);
+      if (rigid) {
+        slot_source_[e] = static_cast<index_t>(24 * item + 3 * at(s));
+      } else {
+        slot_source_[e] = static_cast<index_t>(item);
+        slot_weight_[e] = s < 4 ? weight_[at(s)][item] : -weight_[at(s)][item];
+      }
+    }
+  if (rigid) {
+    pair_force_.assign(24 * n_pairs, 0.0);
+    bound_present_contacts();
+  }
+  contact_gridpoints_.clear();
+  for (index_t g = 0; g < gridpoint_count_; ++g)
+    if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
+}
+
+/// Capacity of the arrays a rebuild grows with the sub-contacts, pairs and gather slots (the
+/// growth count compares it before and after).
+template <law::ContactLaw Law>
+[[nodiscard]] inline std::size_t detected_contacts<Law>::storage_capacity() const noexcept {
+  return key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() + pair_force_.capacity();
+}
+
+/// Elastic energy of the current sub-contacts (J), summed in sub-contact order.
+template <law::ContactLaw Law>
+[[nodiscard]] inline real detected_contacts<Law>::stored_energy() const {
+  real e = 0;
+  for (index_t i = 0; i < size(); ++i) e += energies_of(at(i)).stored;
+  return e;
+}
+
+}  // namespace tessera::contact

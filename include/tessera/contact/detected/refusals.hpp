@@ -1,0 +1,84 @@
+#pragma once
+// What detected_contacts (contact/detected_contacts.hpp) refuses at construction (issue #40
+// items 3 and 5): a material pair whose residual friction is 0 beside a non-zero phi_0 (or,
+// starting unbonded, whose residual cohesion is 0 beside c_0 > 0), since every detected corner
+// starts on the residual limit; and two blocks that overlap by more than the tolerance
+// (params::allow_initial_overlap opts in). Not a public interface.
+//
+// Cost: O(materials^2) and O(candidate pairs), once. Thread safety: they read their arguments only.
+
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "../../core/errors.hpp"
+#include "../../core/types.hpp"
+#include "../../geometry/block_mesh.hpp"
+#include "../detection/detect.hpp"
+#include "../material_table.hpp"
+
+namespace tessera::contact::detail {
+
+/// The trap of a detected set (issue #40 item 3): its corners start unbonded, on the residual
+/// Coulomb limit c_res + sigma_c tan(phi_res), so a residual value left at 0 beside a non-zero
+/// initial one silently gives joints weaker than the user wrote. Refused, per material pair in
+/// use (the blocks' material ids), when the law has those fields:
+///   phi_res = 0 while phi_0 > 0: always (new corners, and broken bonds, slide on phi_res);
+///   c_res = 0 while c_0 > 0: when the pair starts unbonded (bond_faces off, or never_bonded),
+///     since then c_0 is never used.
+/// Frictionless joints are phi_0 = phi_res = 0; law::dry_joint fills both angles.
+/// `table`: the law parameters per material pair; `bond_faces`: params::bond_faces.
+template <class LawParams>
+void refuse_unused_strengths(const material_table<LawParams>& table, const geometry::block_mesh& mesh,
+                             bool bond_faces) {
+  if constexpr (requires(const LawParams& q) {
+                  q.shear.phi_0.radians();
+                  q.shear.phi_res.radians();
+                  real(q.shear.c_0);
+                  real(q.shear.c_res);
+                }) {
+    std::vector<int> ids;
+    for (index_t b = 0; b < mesh.block_count(); ++b) ids.push_back(mesh.material(b));
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      for (std::size_t j = i; j < ids.size(); ++j) {
+        const auto& e = table.get(ids[i], ids[j]);
+        const auto& sh = e.params.shear;
+        require(!(sh.phi_res.radians() == 0 && sh.phi_0.radians() > 0), "detected_contacts: material pair (",
+                ids[i], ", ", ids[j], ") has residual friction phi_res = 0 deg while phi_0 = ", sh.phi_0.degrees(),
+                " deg: detected contacts start unbonded and slide at phi_res (so do broken bonds), which makes "
+                "these joints frictionless. Set shear.phi_res (e.g. = phi_0), or build the params with "
+                "law::dry_joint(k_n, k_s, phi); for frictionless joints write phi_0 = phi_res = 0");
+        const bool starts_bonded = bond_faces && e.bonded;
+        require(starts_bonded || !(sh.c_res == 0 && sh.c_0 > 0), "detected_contacts: material pair (", ids[i],
+                ", ", ids[j], ") has residual cohesion c_res = 0 Pa while c_0 = ", sh.c_0,
+                " Pa, and its contacts start unbonded (",
+                bond_faces ? "the table declares the pair never_bonded" : "bond_faces is false",
+                "), on the residual cohesion c_res: c_0 would never be used. Set shear.c_res, or "
+                "c_0 = 0 for a cohesionless joint (law::dry_joint), or bond_faces = true for faces that start "
+                "bonded (law::bonded_joint)");
+      }
+  }
+}
+
+/// params::allow_initial_overlap is false: refuses, after the construction's detection pass,
+/// a candidate pair whose penetration depth -g (the common plane's gap, exact for overlapping
+/// convex blocks: common_plane.hpp) exceeds the tolerance. Names the deepest such pair.
+/// `workspace`: that pass's (its candidate pairs and their common planes); `tolerance` in m.
+inline void refuse_initial_overlaps(const detection::detection_workspace& workspace, real tolerance) {
+  const auto& planes = workspace.planes;
+  const auto& pairs = workspace.candidates;
+  std::size_t deepest = planes.size();
+  for (std::size_t k = 0; k < planes.size(); ++k)
+    if (-planes[k].gap > tolerance && (deepest == planes.size() || planes[k].gap < planes[deepest].gap))
+      deepest = k;
+  if (deepest == planes.size()) return;
+  throw invalid_input(tessera::detail::concat(
+      "detected_contacts: blocks ", pairs[deepest].a, " and ", pairs[deepest].b, " overlap by ", -planes[deepest].gap,
+      " m at the start, more than the contact tolerance ", tolerance,
+      " m (a placement error: the overlap's springs would push them apart with energy no force supplied); move "
+      "them apart, or set params::allow_initial_overlap = true if the overlap is meant"));
+}
+
+}  // namespace tessera::contact::detail

@@ -1,0 +1,177 @@
+#pragma once
+// The step of detected_contacts' sub-contacts between rebuilds (contact/detected_contacts.hpp,
+// run_task): each pair's normals turned with its blocks, then each sub-contact's relative motion,
+// law update and force, handed to the frame gridpoints.
+//
+// The pair's unit normal n turns with the feature the plane came from: a face of A (R_a n0), a
+// face of B (-R_b n0), or an edge of each (R_a e_a x R_b e_b), R = the block's rotation from its
+// frame (detected/frames.hpp; deformable blocks: face normals through F^-T, edges through F). A
+// pair keeps three normals: the plane's, and those of A's and B's faces parallel to the plane,
+// which push B's and A's vertices. Then, as for face_contacts (kinematics.hpp), du = (v_b(p) -
+// v_a(p)) dt - (n_prev x n) x (x_b(p) - x_a(p)), split along n, Law::update, and the force area
+// (sigma_n n + tau) on A's side (B gets its opposite), handed to the frame gridpoints with the
+// weights w: resultant and moment about any point are exact. Each pair sums its sub-contacts'
+// shares per frame gridpoint (eight sums), which the gather reads.
+//
+// Cost: O(sub-contacts of the pair), no allocation. Thread safety: a pair writes only its own
+// normals, sub-contacts and frame-gridpoint sums, so distinct pairs may run on distinct threads.
+//
+// Definitions of detected_contacts<Law>'s private members (declared in the class); it includes the
+// class and the class includes it, so either header can come first.
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <iterator>
+
+#include "../../core/nodes.hpp"
+#include "../../core/types.hpp"
+#include "../kinematics.hpp"
+#include "../detected_contacts.hpp"
+
+namespace tessera::contact {
+
+/// Normal j of pair k now (0 the plane's feature, 1 A's parallel face, 2 B's), from the
+/// blocks' motions: face normals through normal_map, edges through rotation.
+template <law::ContactLaw Law>
+[[nodiscard]] inline typename detected_contacts<Law>::triple detected_contacts<Law>::pair_normal(
+    std::size_t k, int j, const block_motion& ma, const block_motion& mb) const {
+  vec3 n;
+  if (j == 1 && side_a_[k].squaredNorm() > 0) {
+    n = ma.normal_map * side_a_[k];
+  } else if (j == 2 && side_b_[k].squaredNorm() > 0) {
+    n = -(mb.normal_map * side_b_[k]);
+  } else {
+    switch (feature_[k]) {
+      case feature_kind::face_a: n = ma.normal_map * feature_a_[k]; break;
+      case feature_kind::face_b: n = -(mb.normal_map * feature_b_[k]); break;
+      default: n = (ma.rotation * feature_a_[k]).cross(mb.rotation * feature_b_[k]);
+    }
+  }
+  const real len = n.norm();
+  const auto row = static_cast<index_t>(k);
+  if (!(len > 0)) return {normal_[at(j)](row, 0), normal_[at(j)](row, 1), normal_[at(j)](row, 2)};
+  return {n.x() / len, n.y() / len, n.z() / len};
+}
+
+/// Whether normal j (1 or 2) of pair k is the plane's normal to the bit: the pair has no face
+/// parallel to the plane on that side (pair_normal takes the feature's branch), or the
+/// parallel face is the plane's own feature (a face pair: the same body-frame vector through
+/// the same map). The rebuild starts such a normal from the plane's.
+template <law::ContactLaw Law>
+[[nodiscard]] inline bool detected_contacts<Law>::normal_is_plane(std::size_t k, int j) const noexcept {
+  if (j == 1)
+    return side_a_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_a && side_a_[k] == feature_a_[k]);
+  return side_b_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_b && side_b_[k] == feature_b_[k]);
+}
+
+/// The pair's three normals now (stored for the next step) and their tilts since the last.
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::turn_normals(std::size_t k, std::array<triple, 3>& normals,
+                                                 std::array<triple, 3>& tilts) noexcept {
+  const auto row = static_cast<index_t>(k);
+  const block_motion& ma = motion_[at(pair_a_[k])];
+  const block_motion& mb = motion_[at(pair_b_[k])];
+  for (int j = 0; j < 3; ++j) {
+    soa3& m = normal_[at(j)];
+    // A normal that is the plane's to the bit (normal_is_plane's) is copied, not computed again.
+    if (j > 0 && normal_is_plane(k, j)) {
+      m(row, 0) = normals[0].x;
+      m(row, 1) = normals[0].y;
+      m(row, 2) = normals[0].z;
+      normals[at(j)] = normals[0];
+      tilts[at(j)] = tilts[0];
+      continue;
+    }
+    const triple n_prev{m(row, 0), m(row, 1), m(row, 2)};
+    const triple n = pair_normal(k, j, ma, mb);
+    m(row, 0) = n.x;
+    m(row, 1) = n.y;
+    m(row, 2) = n.z;
+    normals[at(j)] = n;
+    tilts[at(j)] = kinematics::tilt(n_prev, n);
+  }
+}
+
+/// update_pair for deformable blocks: each material point is its four gridpoints' weighted sum
+/// (a zone's barycentric interpolation, or one surface gridpoint), read from the gridpoints.
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::update_pair_zoned(index_t pk, real dt, const node_set& gp,
+                                                      const std::array<triple, 3>& normals,
+                                                      const std::array<triple, 3>& tilts) noexcept {
+  const auto k = at(pk);
+  const params_type& p = law_params_[at(pair_param_[k])];
+  for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+    real gap[3] = {0, 0, 0}, dv[3] = {0, 0, 0};
+    for (int slot = 0; slot < 8; ++slot) {
+      const index_t g = node_[at(slot)][i];
+      if (g == invalid_index) continue;
+      const real w = slot < 4 ? -weight_[at(slot)][i] : weight_[at(slot)][i];
+      for (int c = 0; c < 3; ++c) {
+        gap[c] += w * (reference_(g, c) + gp.displacement(g, c));
+        dv[c] += w * gp.velocity(g, c);
+      }
+    }
+    advance(i, p, {dv[0], dv[1], dv[2]}, {gap[0], gap[1], gap[2]}, normals[corner_normal_[i]],
+            tilts[corner_normal_[i]], dt);
+  }
+}
+
+/// The sub-contacts of pair pk (rigid blocks), with the pair's normals and tilts this step.
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::update_pair(index_t pk, real dt, const std::array<triple, 3>& normals,
+                                                const std::array<triple, 3>& tilts) noexcept {
+  const auto k = at(pk);
+  const block_motion& ma = motion_[at(pair_a_[k])];
+  const block_motion& mb = motion_[at(pair_b_[k])];
+  const params_type& p = law_params_[at(pair_param_[k])];
+  // The two bodies' points relative to A's frame origin: x_b(p) - x_a(p) and v_b(p) - v_a(p).
+  const vec3 dx0 = mb.x0 - ma.x0, dv0 = mb.v0 - ma.v0;
+  // The force on each frame gridpoint of the two blocks, summed here over the pair's
+  // sub-contacts (the gather then reads 8 sums per pair, not 8 weights per sub-contact).
+  real sum[24] = {};
+  for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+    const triple& n = normals[corner_normal_[i]];
+    const triple& tilt = tilts[corner_normal_[i]];
+    const vec3 la(weight_[1][i], weight_[2][i], weight_[3][i]), lb(weight_[5][i], weight_[6][i], weight_[7][i]);
+    const vec3 g = dx0 + mb.d * lb - ma.d * la, w = dv0 + mb.dv * lb - ma.dv * la;
+    const triple f = advance(i, p, {w.x(), w.y(), w.z()}, {g.x(), g.y(), g.z()}, n, tilt, dt);
+    for (int s = 0; s < 8; ++s) {
+      const real ws = s < 4 ? weight_[at(s)][i] : -weight_[at(s)][i];
+      sum[3 * s] += ws * f.x;
+      sum[3 * s + 1] += ws * f.y;
+      sum[3 * s + 2] += ws * f.z;
+    }
+  }
+  std::copy(std::begin(sum), std::end(sum), pair_force_.begin() + static_cast<std::ptrdiff_t>(24 * k));
+}
+
+/// The law step and force of sub-contact i from its relative velocity dv (m/s) and gap (m),
+/// the normal n and the tilt of its plane. A sub-contact created at this step's rebuild
+/// already holds its gap at t: its increment is zero. The law advances a copy of the state
+/// kept in registers, so the traction is not read back from state_[i] right after the law
+/// stored it (perf annotate showed that load stalled on store forwarding: a 32-byte store read
+/// by a 16-byte load at offset 8; the step time did not move measurably, the law's division
+/// took the stall's place).
+/// Returns the force on A's side (N), also stored in force_.
+template <law::ContactLaw Law>
+[[gnu::always_inline]] inline typename detected_contacts<Law>::triple detected_contacts<Law>::advance(
+    std::size_t i, const params_type& p, const triple& dv, const triple& gap, const triple& n, const triple& tilt,
+    real dt) noexcept {
+  const vec3 normal(n.x, n.y, n.z);
+  kinematics::normal_split s{0, {0, 0, 0}};
+  if (fresh_[i] == 0) [[likely]]
+    s = kinematics::split(kinematics::relative_increment(dv, gap, tilt, dt), n);
+  fresh_[i] = 0;
+  state_type st = state_[i];
+  Law::update(p, st, s.du_n, vec3(s.du_s.x, s.du_s.y, s.du_s.z), normal);
+  state_[i] = st;
+  const vec3 traction = st.sigma_n * normal + vec3(st.tau);
+  const triple f{area_[i] * traction[0], area_[i] * traction[1], area_[i] * traction[2]};
+  force_[0][i] = f.x;
+  force_[1][i] = f.y;
+  force_[2][i] = f.z;
+  return f;
+}
+
+}  // namespace tessera::contact
