@@ -1766,3 +1766,115 @@ TEST_CASE("joints: an initial overlap deeper than the tolerance is refused namin
 }
 
 }  // namespace tessera::test_joints
+
+// ---- the rooms of detected_contacts that hold behaviour of their own (contact/detected/) ----
+
+namespace tessera::test_detected {
+namespace {
+using geometry::convex_polyhedron;
+}  // namespace
+
+TEST_CASE("detected keys: the merge of sorted keys finds each persisting corner once, gridpoint labels read back",
+          "[detected]") {
+  using contact::detail::node_label;
+  // Gridpoint labels: kind 3 in the top two bits, the side in bit 61, the gridpoint below; the
+  // corner labels' kinds 0-2 are not gridpoint labels.
+  const std::uint64_t on_b = node_label(123456789, true), on_a = node_label(123456789, false);
+  CHECK(contact::detail::is_node_label(on_b));
+  CHECK(contact::detail::node_label_side_b(on_b));
+  CHECK_FALSE(contact::detail::node_label_side_b(on_a));
+  CHECK(contact::detail::node_label_gridpoint(on_b) == 123456789);
+  CHECK(contact::detail::node_label_gridpoint(on_a) == 123456789);
+  CHECK_FALSE(contact::detail::is_node_label(std::uint64_t{2} << 62));
+  CHECK(on_a < on_b);  // side A's gridpoint labels sort first
+  // Old sub-contacts, sorted by (a, b, label): pairs (0, 1), (0, 2), (1, 2).
+  const std::vector<index_t> pair_a{0, 0, 1}, pair_b{1, 2, 2}, pair_first{0, 3, 4, 6};
+  const std::vector<index_t> pair{0, 0, 0, 1, 2, 2};
+  const std::vector<std::uint64_t> label{5, 9, 12, on_b, 1, 7};
+  // New keys in increasing order: (0,1,9) persists as old 1, (0,1,10) is new (the cursor stops at
+  // (0,1,12)), (0,2,on_b) persists as old 3, (1,2,7) as old 5, (1,3,0) is new past the end.
+  struct key {
+    index_t a, b;
+    std::uint64_t label;
+    bool found;
+    std::size_t old;
+  };
+  const std::vector<key> keys{{0, 1, 9, true, 1}, {0, 1, 10, false, 2}, {0, 2, on_b, true, 3}, {1, 2, 7, true, 5},
+                              {1, 3, 0, false, 6}};
+  std::size_t old = 0;
+  for (const key& k : keys) {
+    INFO("key (" << k.a << ", " << k.b << ", " << k.label << ")");
+    CHECK(contact::detail::seek_old_key(old, k.a, k.b, k.label, pair_a, pair_b, pair, label) == k.found);
+    CHECK(old == k.old);
+  }
+  // The side a pair's gridpoint sub-contacts used at the last rebuild: B for (0, 2), none for the
+  // corners of (0, 1) and for a pair that did not exist.
+  CHECK(contact::detail::previous_node_side(pair_a, pair_b, pair_first, label, 0, 2) == 1);
+  CHECK(contact::detail::previous_node_side(pair_a, pair_b, pair_first, label, 0, 1) == -1);
+  CHECK(contact::detail::previous_node_side(pair_a, pair_b, pair_first, label, 1, 3) == -1);
+  const std::vector<std::uint64_t> on_a_side{5, 9, 12, on_a, 1, 7};
+  CHECK(contact::detail::previous_node_side(pair_a, pair_b, pair_first, on_a_side, 0, 2) == 0);
+}
+
+TEST_CASE("detected frames: a block's affine weights reproduce a point, which moves with a rigid motion of the frame",
+          "[detected]") {
+  // One 2 x 1 x 0.5 m box: 8 vertices, 12 edges, surface S = 7 m^2, centroid (1, 0.5, 0.25) m.
+  const geometry::tessellation tess = geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({0, 0, 0}, {2, 1, 0.5})});
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  soa3 reference(mesh.gridpoint_count(), 3);
+  for (index_t g = 0; g < mesh.gridpoint_count(); ++g)
+    reference.row(g) = mesh.gridpoints[static_cast<std::size_t>(g)].transpose();
+  std::vector<index_t> vertex_gridpoints;
+  contact::detail::detected_block bd;
+  convex_polyhedron shape;
+  contact::detection::polyhedron_edges edges;
+  contact::detail::build_block_frame(tess, mesh, 0, vertex_gridpoints, bd, shape, edges);
+  CHECK(vertex_gridpoints.size() == 8);
+  CHECK(edges.list.size() == 12);
+  CHECK(bd.surface == Approx(7).epsilon(1e-14));
+  CHECK(bd.nominal_area == Approx(7.0 / 24).epsilon(1e-14));  // S / (3 V)
+  CHECK((bd.centroid - vec3(1, 0.5, 0.25)).norm() < 1e-14);
+  // The farthest vertex from the centroid is a corner: sqrt(1 + 0.25 + 0.0625) m away.
+  CHECK((reference.row(bd.farthest).transpose() - bd.centroid).norm() == Approx(std::sqrt(1.3125)).epsilon(1e-14));
+  // The frame spans the block: a corner, the far end of its diagonal, the corner farthest from
+  // that line and the one farthest from their plane; |det d| = 1 m^3 whichever corner starts.
+  CHECK(std::abs(contact::detail::frame_matrix(reference, bd, nullptr).determinant()) == Approx(1).epsilon(1e-14));
+  // A point's affine weights (sum 1) reproduce it: x = sum_k w_k x_k.
+  const vec3 p(0.3, 0.7, 0.1);
+  const vec3 x0 = contact::detail::gridpoint_position(reference, bd.frame[0], nullptr);
+  const vec3 l = contact::detail::frame_inverse(reference, bd, nullptr) * (p - x0);
+  const std::array<real, 4> w{1 - l.sum(), l.x(), l.y(), l.z()};
+  vec3 x = vec3::Zero();
+  for (std::size_t k = 0; k < 4; ++k) x += w[k] * reference.row(bd.frame[k]).transpose();
+  CHECK((x - p).norm() < 1e-14);
+  // A rigid motion of the gridpoints (30 deg about z, then a shift) moves the point with the same
+  // weights to R p + t, and the frame's rotation and the block's motion read R and the velocity.
+  const mat3 r = Eigen::AngleAxis<real>(std::numbers::pi / 6, vec3::UnitZ()).toRotationMatrix();
+  const vec3 t(0.4, -0.2, 1.5), omega(0, 0, 2.0), v_t(1.0, 0.5, 0);  // rad/s, m/s
+  node_set gp;
+  gp.resize(mesh.gridpoint_count());
+  for (index_t g = 0; g < mesh.gridpoint_count(); ++g) {
+    const vec3 xg = reference.row(g).transpose();
+    gp.displacement.row(g) = (r * xg + t - xg).transpose();
+    gp.velocity.row(g) = (v_t + omega.cross(r * xg + t)).transpose();
+  }
+  CHECK((contact::detail::frame_rotation(reference, bd, &gp) - r).norm() < 1e-14);
+  const contact::detail::block_motion m = contact::detail::motion_of(reference, bd, gp, false);
+  CHECK((m.rotation - r).norm() < 1e-14);
+  CHECK((m.normal_map - r).norm() < 1e-14);
+  vec3 moved = vec3::Zero(), velocity = vec3::Zero();
+  for (int k = 0; k < 4; ++k) {
+    const index_t g = bd.frame[static_cast<std::size_t>(k)];
+    moved += w[static_cast<std::size_t>(k)] * contact::detail::gridpoint_position(reference, g, &gp);
+    velocity += w[static_cast<std::size_t>(k)] * gp.velocity.row(g).transpose();
+  }
+  CHECK((moved - (r * p + t)).norm() < 1e-14);
+  CHECK((m.x0 + m.d * l - (r * p + t)).norm() < 1e-14);
+  CHECK((m.v0 + m.dv * l - (v_t + omega.cross(r * p + t))).norm() < 1e-13);
+  CHECK((velocity - (v_t + omega.cross(r * p + t))).norm() < 1e-13);
+  // A deformable block's face normals turn with F^-T: for a rigid motion F^-T = R as well.
+  CHECK((contact::detail::motion_of(reference, bd, gp, true).normal_map - r).norm() < 1e-14);
+}
+
+}  // namespace tessera::test_detected
