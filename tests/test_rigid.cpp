@@ -1746,3 +1746,26 @@ TEST_CASE("step bound: a cube dropped on a resting one halves its step's stiffne
   // energy tests of detected contacts allow 1e-3.
   CHECK(s.energies().error_rel() < 1e-3);
 }
+
+TEST_CASE("step bound: a block that covers more than the tolerance in one step is refused, naming it",
+          "[rigid][step_bound][detected]") {
+  // The rebuild follows the motion once it passes tolerance / 2, so every gap up to the tolerance
+  // is seen before it closes, provided no step covers more than that margin. Cube 2 of the
+  // column, 1 cm above cube 1, thrown down at 3 tolerances per step: after one step its vertices
+  // moved 3 tolerances, past twice the trigger, and the next step refuses (block 2 named) rather
+  // than rebuild into an overlap. At 0.2 tolerance per step it runs on.
+  const auto tess = cube_column(1, 0.01);
+  const auto mesh = geometry::zone_blocks(tess);
+  const auto thrown = [&](real tolerances_per_step) {
+    user_rigid s(tess, mesh, blocks::rigid::params{2400}, user_scene(0).contacts());
+    s.fix_block(0);
+    s.set_block_velocity(2, vec3(0, 0, -tolerances_per_step * s.contacts().tolerance() / s.dt()));
+    const real dt = s.dt();
+    s.step();
+    s.step();
+    CHECK(s.dt() == dt);
+    return s.block_displacement(2).z();
+  };
+  CHECK_THROWS_WITH(thrown(3.0), Catch::Contains("block 2 moved") && Catch::Contains("more than the tolerance"));
+  CHECK(thrown(0.2) == Approx(-0.4 * user_scene(0).contacts().tolerance).epsilon(1e-9));
+}

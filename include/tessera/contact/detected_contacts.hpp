@@ -182,6 +182,8 @@ class detected_contacts {
     // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
     // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
     const real half = 0.5 * options_.tolerance - max_deviation_;
+    // Past twice the trigger, one step covered more than it: refuse (detected/refusals.hpp).
+    if (half > 0 && moved2 > 4 * half * half) detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, options_.tolerance);
     if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
   }
   [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()) - 1; }
@@ -342,6 +344,8 @@ class detected_contacts {
   void checkpoint(Archive& ar);
 
  private:
+
+
   // Defined, each with its doc comment, in the detected/ header named above its group.
   // detected/step_bound.hpp
   void add_bounds(node_set& gridpoints, step_bound_scope scope) const;

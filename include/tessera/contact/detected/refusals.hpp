@@ -3,11 +3,13 @@
 // items 3 and 5): a material pair whose residual friction is 0 beside a non-zero phi_0 (or,
 // starting unbonded, whose residual cohesion is 0 beside c_0 > 0), since every detected corner
 // starts on the residual limit; and two blocks that overlap by more than the tolerance
-// (params::allow_initial_overlap opts in). Not a public interface.
+// (params::allow_initial_overlap opts in). During a run, prepare_step refuses a step that moved a
+// vertex farther than the rebuild trigger can follow (refuse_fast_motion). Not a public interface.
 //
 // Cost: O(materials^2) and O(candidate pairs), once. Thread safety: they read their arguments only.
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -79,6 +81,23 @@ inline void refuse_initial_overlaps(const detection::detection_workspace& worksp
       " m at the start, more than the contact tolerance ", tolerance,
       " m (a placement error: the overlap's springs would push them apart with energy no force supplied); move "
       "them apart, or set params::allow_initial_overlap = true if the overlap is meant"));
+}
+
+/// prepare_step's refusal during a run. The rebuild comes at the first step whose motion since the
+/// last rebuild passes tolerance / 2 (less the deformable fit's deviation), so every gap of up to
+/// the tolerance is seen before it closes; a watched vertex already past twice that covered more
+/// than the trigger's margin in ONE step, so blocks may overlap by more than the tolerance unseen
+/// (the same depth the constructor refuses), and the rebuild would load a spring by the overlap.
+/// `moved2`: per block, the squared largest motion (m^2) of its watched gridpoints; `largest`: their
+/// maximum; `steps`: steps since the last rebuild; `tolerance`: params::tolerance (m).
+[[noreturn]] inline void refuse_fast_motion(const std::vector<real>& moved2, real largest, index_t steps, real tolerance) {
+  const auto b = std::find(moved2.begin(), moved2.end(), largest) - moved2.begin();
+  throw invalid_input(tessera::detail::concat(
+      "detected_contacts: a vertex of block ", b, " moved ", std::sqrt(largest), " m in the ", steps,
+      " step(s) since the last contact rebuild, more than the tolerance ", tolerance,
+      " m (the rebuild comes once it passes tolerance / 2, so one step covered more than that): blocks may overlap "
+      "by more than the tolerance unseen; the blocks move too fast for the step: lower the time step "
+      "(solver_options::safety or dt) or raise the contact tolerance"));
 }
 
 }  // namespace tessera::contact::detail
