@@ -36,7 +36,7 @@
 
 #include <unistd.h>
 
-#include "common/threads.hpp"
+#include "threads.hpp"
 #include "tessera/core/errors.hpp"
 
 namespace tessera::cli {
