@@ -4,17 +4,31 @@
 # Needs root (or sudo) only when something is missing.
 # --fuzz also installs clang 14 with libFuzzer and its sanitizer runtimes (cmake/run-fuzzers.sh);
 # the main build does not need them.
+# Optional packages (Open MPI and METIS, for the distributed step: CMake options TESSERA_MPI and
+# TESSERA_METIS) are tried after the required ones; when they cannot be installed the script
+# says so and succeeds, and tessera builds without them.
 set -euo pipefail
 packages=(g++ cmake make libeigen3-dev catch2 libbenchmark-dev gnuplot-nox python3-vtk9)
+optional=(libopenmpi-dev openmpi-bin libmetis-dev)
 if [[ "${1:-}" == "--fuzz" ]]; then packages+=(clang-14 libclang-rt-14-dev); fi
+is_installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 missing=()
-for p in "${packages[@]}"; do
-  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
-done
+for p in "${packages[@]}"; do is_installed "$p" || missing+=("$p"); done
+missing_optional=()
+for p in "${optional[@]}"; do is_installed "$p" || missing_optional+=("$p"); done
+sudo_cmd=()
+[[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo)
+apt_get() { "${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get "$@"; }
+updated=0
 if ((${#missing[@]})); then
   echo "install-deps: installing ${missing[*]}" >&2
-  sudo_cmd=()
-  [[ $(id -u) -eq 0 ]] || sudo_cmd=(sudo)
-  "${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -qq
-  "${sudo_cmd[@]}" env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"
+  apt_get update -qq
+  updated=1
+  apt_get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+if ((${#missing_optional[@]})); then
+  echo "install-deps: installing the optional ${missing_optional[*]} (MPI and METIS, the distributed step)" >&2
+  if ! { ((updated)) || apt_get update -qq; } || ! apt_get install -y -qq --no-install-recommends "${missing_optional[@]}"; then
+    echo "install-deps: the optional ${missing_optional[*]} could not be installed; tessera builds without MPI/METIS" >&2
+  fi
 fi
