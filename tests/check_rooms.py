@@ -11,7 +11,7 @@ import sys
 
 # Lowest first. A room may include itself and any room to its left.
 ORDER = ["core", "geometry", "law", "integrator", "blocks", "contact", "reinforcement", "io", "solver",
-         "analysis", "presets", "instances"]
+         "distributed", "analysis", "presets", "instances"]
 RANK = {room: k for k, room in enumerate(ORDER)}
 
 
