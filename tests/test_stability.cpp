@@ -42,6 +42,7 @@
 #include "tessera/io/checkpoint.hpp"
 #include "tessera/reinforcement.hpp"
 #include "tessera/solver.hpp"
+#include "tessera/solver/implicit/quasi_static.hpp"
 
 using namespace tessera;
 // <strings.h> declares a global index(); the tests spell tessera's handle type as idx.
@@ -1443,4 +1444,165 @@ TEST_CASE("checkpoint: files of another model, damaged or truncated, are refused
                          {"cannot open", "missing/a.ckpt"});
   CHECK_FALSE(std::filesystem::exists(dir / "missing"));
   std::filesystem::remove_all(dir);
+}
+
+// =============================================================================================
+// Implicit quasi-static solve (issue #43, candidate 3): closed forms a wrong assembly fails
+// =============================================================================================
+
+namespace {
+
+using linear_law = prism_linear_solver::law_type;
+using implicit_model = implicit::quasi_static<zones::linear_elastic_tet, linear_law>;
+
+/// n cubes of edge a in a column (zoned), bottom on z rollers with the origin held in x and y and
+/// the corner (a, 0, 0) in y (no rigid motion, free lateral contraction), the top gridpoints
+/// prescribed along z at 1 m/s: the solution of a pull is uniform uniaxial stress in every
+/// block. Hands the solver, its mesh and the top group to f.
+template <class F>
+void with_pulled_column(int n, real a, real young, const linear_law::params& law_params, F&& f) {
+  const auto tess = cube_column(n, a);
+  const auto mesh = geometry::zone_blocks(tess);
+  prism_linear_solver s(tess, mesh, zones::linear_elastic_tet::params{young, 0.2, 2400}, law_params);
+  const real tol = 1e-9 * a;
+  s.fix(s.gridpoints_on_plane(2, 0.0, tol), bc::components::z);
+  s.fix(bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return x.norm() <= tol; }, "origin"), bc::components::xy);
+  s.fix(bc::nodes_where(s.gridpoints(), [&](const vec3& x) { return (x - vec3(a, 0, 0)).norm() <= tol; }, "x corner"),
+        bc::components::y);
+  const bc::node_group top = s.gridpoints_on_plane(2, n * a, tol);
+  s.prescribe_velocity(top, vec3(0, 0, 1), bc::components::z);
+  f(s, mesh, top);
+}
+
+/// The study's 100-block contact with linear softening (k_n = 1.16e12 Pa/m, f_T = 2.15 MPa,
+/// G_f = 60 N/m).
+linear_law::params linear_study_contact() { return law::with_linear_softening(law::study_prism_params(100)); }
+
+}  // namespace
+
+TEST_CASE("implicit: one block of zones pulled uniaxially gives the reaction E A / L to round-off", "[implicit]") {
+  const real a = 0.05, young = 28e9, poisson = 0.2, delta = 1e-5;
+  with_pulled_column(1, a, young, linear_study_contact(), [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
+                                                              const bc::node_group& top) {
+    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+    implicit::increment_options o;
+    o.force_tolerance = 1e-9 * young * a * delta;  // 1e-9 of the reaction E A delta / L
+    const auto r = q.solve_increment(delta, o);  // 1 m/s over 1e-5 s of pseudo-time: delta = 10 um
+    REQUIRE(r.converged);
+    const real expected = young * a * a * delta / a;
+    INFO(mesh.zone_count() << " zones: reaction " << q.reaction_sum(top).z() << " N, E A delta / L = " << expected << " N");
+    CHECK(mesh.zone_count() > 1);
+    CHECK(std::abs(q.reaction_sum(top).z() - expected) <= 1e-12 * expected);
+    // Uniform strain: lateral contraction -nu delta / L at x = a, every gridpoint.
+    for (idx i = 0; i < s.gridpoints().size(); ++i) {
+      const vec3 x = s.gridpoints().reference.row(i).transpose();
+      CHECK(std::abs(q.displacement(i, 0) + poisson * delta * x.x() / a) <= 1e-12 * delta);
+      CHECK(std::abs(q.displacement(i, 2) - delta * x.z() / a) <= 1e-12 * delta);
+    }
+    // A linear elastic increment: one factorisation, one solve.
+    CHECK(q.counts().factorizations == 1);
+    CHECK(q.counts().solves == 1);
+  });
+}
+
+TEST_CASE("implicit: two blocks on one bonded face, assembled K equals the kernels' and the series stiffness",
+          "[implicit]") {
+  const real a = 0.05, young = 28e9;
+  const linear_law::params p = linear_study_contact();
+  with_pulled_column(2, a, young, p, [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
+                                         const bc::node_group& top) {
+    // K assembled from zones and sub-contact springs against -dF/du of the solver's own force
+    // kernels by central differences (assemble, above), every entry.
+    const Eigen::MatrixXd k = Eigen::MatrixXd(implicit::elastic_stiffness(mesh, s.blocks(), s.contacts()));
+    const assembled_system fd = assemble(s, 1e-9);
+    const real scale = k.cwiseAbs().maxCoeff();
+    INFO("max |K - K_fd| / max |K| = " << (k - fd.stiffness).cwiseAbs().maxCoeff() / scale);
+    CHECK((k - fd.stiffness).cwiseAbs().maxCoeff() <= 1e-6 * scale);
+    CHECK((k - k.transpose()).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+    // A rigid translation stores nothing: K t = 0 for t = (1, 0, 0) on every gridpoint, etc.
+    for (int c = 0; c < 3; ++c) {
+      Eigen::VectorXd t = Eigen::VectorXd::Zero(k.rows());
+      for (idx i = 0; i < s.gridpoints().size(); ++i) t[3 * i + c] = 1;
+      CHECK((k * t).cwiseAbs().maxCoeff() <= 1e-12 * scale);
+    }
+    // Block, contact and block in series: F / delta = 1 / (2 a / (E A) + 1 / (k_n A)).
+    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+    const real delta = 1e-6, area = a * a;
+    implicit::increment_options o;
+    o.force_tolerance = 1e-9 * p.tension.f_T * area;
+    REQUIRE(q.solve_increment(delta, o).converged);
+    const real expected = 1 / (2 * a / (young * area) + 1 / (p.k_n * area));
+    INFO(s.contacts().size() << " sub-contacts: F / delta = " << q.reaction_sum(top).z() / delta << " N/m, series "
+                             << expected << " N/m");
+    CHECK(std::abs(q.reaction_sum(top).z() / delta - expected) <= 1e-12 * expected);
+    // Every sub-contact opens by sigma / k_n with sigma = F / A.
+    for (idx i = 0; i < s.contacts().size(); ++i)
+      CHECK(std::abs(q.gap(i).z() - q.reaction_sum(top).z() / (area * p.k_n)) <= 1e-12 * delta);
+  });
+}
+
+TEST_CASE("implicit: secant iterations through increments trace the linear softening curve of one bonded face",
+          "[implicit]") {
+  // Two cubes on one face, pulled apart. With K_b = E A / (2 a) the blocks in series, the peak
+  // f_T A at U_peak = f_T A (1 / K_b + 1 / (k_n A)); past it the face opens w = U - F / K_b along
+  // f_t(w) = f_T (1 - (w - eta) / (zeta - eta)), so
+  //     F(U) = f_T A (1 - (U - eta) / L_s) / (1 - f_T A / (K_b L_s)),   L_s = zeta - eta,
+  // until w = zeta, where the face breaks (F = 0). K_b L_s > f_T A: no snap-back.
+  const real a = 0.05, young = 28e9, area = a * a;
+  const linear_law::params p = linear_study_contact();
+  const real f_t = p.tension.f_T, eta = f_t / p.k_n, zeta = 2 * p.tension.G_f / f_t, l_s = zeta - eta;
+  const real k_b = young * area / (2 * a);
+  const real u_peak = f_t * area * (1 / k_b + 1 / (p.k_n * area));
+  REQUIRE(k_b * l_s > f_t * area);
+  const auto exact = [&](real u) {
+    if (u <= u_peak) return u / (1 / k_b + 1 / (p.k_n * area));
+    return std::max(real(0), f_t * area * (1 - (u - eta) / l_s) / (1 - f_t * area / (k_b * l_s)));
+  };
+  with_pulled_column(2, a, young, p, [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
+                                         const bc::node_group& top) {
+    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+    implicit::increment_options o;
+    // The out-of-balance tolerance 1e-9 f_T A per component bounds the error of the reaction by
+    // (free components, 54 here) x 1e-9 f_T A < 1e-7 f_T A; the curve is checked to 1e-6 f_T A,
+    // which a secant that left the envelope (a wrong u_n, area or weight) misses by orders.
+    o.force_tolerance = 1e-9 * f_t * area;
+    real u = 0, peak = 0;
+    int increments = 0;
+    while (u < 1.4 * zeta) {
+      const real du = u < u_peak ? u_peak / 8 : zeta / 25;  // lands on the peak, then 25 steps to zeta
+      const auto r = q.solve_increment(du, o);
+      INFO("U = " << u + du << " m: converged " << r.converged << " in " << r.iterations << " iterations, residual "
+                  << r.max_residual << " N");
+      REQUIRE(r.converged);
+      CHECK(r.iterations <= 12);
+      u += du;
+      ++increments;
+      const real f = q.reaction_sum(top).z();
+      peak = std::max(peak, f);
+      INFO("F = " << f << " N, closed form " << exact(u) << " N");
+      CHECK(std::abs(f - exact(u)) <= 1e-6 * f_t * area);
+      // The face's sub-contacts: softening past the peak, broken past zeta, on the envelope.
+      if (u > u_peak * (1 + 1e-9) && u < zeta) CHECK(r.softening == s.contacts().size());
+      if (u > zeta + f_t * area / k_b) CHECK(r.broken == s.contacts().size());
+    }
+    CHECK(peak == Approx(f_t * area).epsilon(1e-9));
+    CHECK(increments > 30);
+    INFO("factorisations " << q.counts().factorizations << ", solves " << q.counts().solves);
+    CHECK(q.counts().analyses == 1);  // one sparsity pattern for every state
+  });
+}
+
+TEST_CASE("implicit: bad increments and tolerances are refused before the model changes", "[implicit][errors]") {
+  with_pulled_column(1, 0.05, 28e9, linear_study_contact(), [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
+                                                                const bc::node_group&) {
+    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+    implicit::increment_options o;
+    CHECK_THROWS_WITH(q.solve_increment(1e-6, o), Catch::Contains("force tolerance (N)"));
+    o.force_tolerance = 1e-3;
+    CHECK_THROWS_WITH(q.solve_increment(-1e-6, o), Catch::Contains("increment duration = -1e-06 s"));
+    o.stiffness_floor = 1;
+    CHECK_THROWS_WITH(q.solve_increment(1e-6, o), Catch::Contains("stiffness floor = 1 must lie in [0, 1)"));
+    CHECK(q.counts().increments == 0);
+    CHECK(q.displacements().cwiseAbs().maxCoeff() == 0);
+  });
 }

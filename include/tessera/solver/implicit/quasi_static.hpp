@@ -1,0 +1,345 @@
+#pragma once
+// implicit::quasi_static<Zone, Law>: the static equilibrium of a model of deformable blocks and
+// bonded face contacts, advanced in increments of prescribed displacement and solved with a
+// sparse Cholesky factorisation (Eigen::SimplicialLDLT) of the secant stiffness (stiffness.hpp),
+// instead of stepping the equations of motion (issue #43, candidate 3).
+//
+// Model. Small displacements: the zones are linear elastic about the reference state (K_z of
+// stiffness.hpp, the linearisation of the co-rotated zone kernel), the sub-contacts keep the
+// normals they had when the model was made, and their stresses come from the contact law itself,
+// Law::update, so the law's envelope, limits and flags are the explicit solver's. The forces on
+// the gridpoints (N) are
+//     f(u) = -K_zones u + sum_i f_i(state_i),   f_i on b = -A_i (sigma_n n + tau), on a the opposite,
+// and equilibrium is f = 0 on every free component; a prescribed component's reaction (N, the force
+// the support exerts on the gridpoint) is -f there.
+//
+// Supports. Read from the node_set's constraint flags and prescribed velocities when the model is
+// made (solver/boundary.hpp, supports.hpp): an increment of duration dt (s of pseudo-time) moves
+// each prescribed component by its prescribed velocity x dt (m); a fixed component stays at zero.
+//
+// Increment (solve_increment). The prescribed components move; then, from the states committed at
+// the last equilibrium, secant iterations
+//     1. each sub-contact's state = Law::update(committed state, relative displacement since
+//        the last equilibrium, its normal): one law step from the committed state, so a
+//        monotonic branch is followed in closed form (the softening envelope at the total opening);
+//     2. the out-of-balance force r = f(u) on the free components; converged when max |r| <=
+//        force_tolerance (N);
+//     3. K_sec of the states of step 1 on the free components (with a floor of stiffness_floor x k
+//        on sub-contacts whose secant is zero, so a block freed by cracks keeps K non-singular; the
+//        floor shapes the iteration only, not the equilibrium it converges to), factorised when
+//        a secant changed since the last factorisation (elastic branch: once), then
+//        K_sec du = r, u += du.
+// On convergence the states are committed; otherwise the model returns to its last equilibrium
+// (displacements and states) and reports the residual, so the caller can retry with a smaller
+// increment. The secant iteration converges at a rate set by how far the secant is from the
+// tangent; it fails when the load path snaps back (a softening branch steeper than the
+// unloading of the rest of the model), which displacement control cannot follow.
+//
+// Counts and times (counts()): increments, iterations, force evaluations, factorisations (with
+// symbolic analyses), solves, and wall-clock seconds in assembly, factorisation, solves and force
+// evaluations.
+//
+// Cost: memory of the factor (fill-in of a 3D mesh); per iteration O(zones + sub-contacts) for the
+// forces and one triangular solve pair; a factorisation where secants changed. Not thread-safe.
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "../../core/errors.hpp"
+#include "../../core/nodes.hpp"
+#include "../../core/types.hpp"
+#include "../boundary.hpp"
+#include "stiffness.hpp"
+
+namespace tessera::implicit {
+
+/// Settings of one increment.
+struct increment_options {
+  real force_tolerance = 0;     ///< converged when the largest free out-of-balance component <= this (N), > 0
+  int max_iterations = 50;      ///< secant iterations (linear solves) before giving up, >= 1
+  real stiffness_floor = 1e-6;  ///< a zero secant is replaced by this x k_n (k_s) in K only, in [0, 1)
+  bool aitken = true;           ///< relax the secant steps by Aitken's factor (file comment)
+  /// true: K_sec of the latest states factorised in every iteration; false: once per increment
+  /// (the states at its start), the iterations then reuse that factor
+  bool refactor_each_iteration = true;
+};
+
+/// What one increment did.
+struct increment_result {
+  bool converged = false;
+  int iterations = 0;          ///< linear solves
+  real max_residual = 0;       ///< largest free out-of-balance component at the end (N)
+  index_t softening = 0;       ///< sub-contacts softening in tension (or broken) after the increment
+  index_t broken = 0;          ///< sub-contacts broken in tension after the increment
+  index_t slipped = 0;         ///< sub-contacts that have slipped after the increment
+};
+
+/// Work done so far, for the comparison with the explicit solver.
+struct solve_counts {
+  std::int64_t increments = 0, iterations = 0, force_evaluations = 0, analyses = 0, factorizations = 0, solves = 0;
+  double assembly_s = 0, factorization_s = 0, solve_s = 0, force_s = 0;  ///< wall-clock seconds
+  [[nodiscard]] double total_s() const { return assembly_s + factorization_s + solve_s + force_s; }
+};
+
+template <zones::ZoneModel Zone, SecantLaw Law>
+class quasi_static {
+ public:
+  using state_type = typename Law::state;
+
+  /// The model of `blocks` (built from `mesh`) and `contacts`, with the supports and the current
+  /// displacements of `gridpoints` (the solver's node_set; displacements must be zero: the zones
+  /// are linear about the reference state). Copies the contact states as the committed ones.
+  /// Throws invalid_input for a mesh that is not the blocks', a node_set of another size or with
+  /// non-zero displacements, or no free component.
+  quasi_static(const geometry::block_mesh& mesh, const blocks::deformable<Zone>& blocks,
+               const contact::face_contacts<Law>& contacts, const node_set& gridpoints)
+      : contacts_(&contacts) {
+    const index_t n_gp = mesh.gridpoint_count();
+    require(gridpoints.size() == n_gp, "quasi_static: node_set has ", gridpoints.size(), " gridpoints, the mesh ", n_gp);
+    require(gridpoints.displacement.cwiseAbs().maxCoeff() == 0, "quasi_static: the gridpoints are displaced by up to ",
+            gridpoints.displacement.cwiseAbs().maxCoeff(), " m; the model starts from the reference state");
+    const auto timer = clock::now();
+    std::vector<triplet> t;
+    add_zone_stiffness(mesh, blocks, t);
+    zones_.resize(3 * n_gp, 3 * n_gp);
+    zones_.setFromTriplets(t.begin(), t.end());
+    free_index_.assign(static_cast<std::size_t>(3 * n_gp), -1);
+    velocity_.setZero(3 * n_gp);
+    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
+    for (index_t i = 0; i < n_gp; ++i)
+      for (int c = 0; c < 3; ++c) {
+        const index_t dof = 3 * i + c;
+        if (gridpoints.constraint(i, c) == prescribed) {
+          velocity_[dof] = gridpoints.prescribed_velocity(i, c);
+        } else {
+          free_index_[static_cast<std::size_t>(dof)] = static_cast<index_t>(free_dofs_.size());
+          free_dofs_.push_back(dof);
+        }
+      }
+    require(!free_dofs_.empty(), "quasi_static: every component of the ", n_gp, " gridpoints is prescribed");
+    // The zones' part of K on the free components, once.
+    std::vector<triplet> free_t;
+    for (const triplet& e : t) {
+      const index_t r = free_index_[static_cast<std::size_t>(e.row())], c = free_index_[static_cast<std::size_t>(e.col())];
+      if (r >= 0 && c >= 0) free_t.emplace_back(r, c, e.value());
+    }
+    const auto n_free = static_cast<index_t>(free_dofs_.size());
+    zones_free_.resize(n_free, n_free);
+    zones_free_.setFromTriplets(free_t.begin(), free_t.end());
+    const auto n_c = static_cast<std::size_t>(contacts.size());
+    normals_.resize(n_c);
+    committed_.resize(n_c);
+    committed_gap_.assign(n_c, vec3::Zero());
+    for (index_t i = 0; i < contacts.size(); ++i) {
+      normals_[static_cast<std::size_t>(i)] = contacts.normal(i);
+      committed_[static_cast<std::size_t>(i)] = state_type(contacts.state(i));
+    }
+    trial_ = committed_;
+    u_.setZero(3 * n_gp);
+    committed_u_ = u_;
+    force_.setZero(3 * n_gp);
+    counts_.assembly_s += seconds_since(timer);
+    evaluate_forces();
+  }
+
+  /// Moves the prescribed components by prescribed velocity x duration (m; duration in s of
+  /// pseudo-time, >= 0) and iterates to equilibrium (file comment). Throws invalid_input for bad
+  /// options or a negative or non-finite duration, before anything changes.
+  increment_result solve_increment(real duration, const increment_options& o) {
+    require(std::isfinite(duration) && duration >= 0, "quasi_static: increment duration = ", duration,
+            " s must be finite and >= 0");
+    require_positive(o.force_tolerance, "quasi_static: force tolerance (N)");
+    require(o.max_iterations >= 1, "quasi_static: max_iterations = ", o.max_iterations, " must be >= 1");
+    require(o.stiffness_floor >= 0 && o.stiffness_floor < 1, "quasi_static: stiffness floor = ", o.stiffness_floor,
+            " must lie in [0, 1)");
+    ++counts_.increments;
+    u_ += duration * velocity_;
+    increment_result r;
+    real omega = 1;  // relaxation of the secant step (Aitken)
+    Eigen::VectorXd previous_du;
+    for (;;) {
+      evaluate_forces();
+      r.max_residual = max_free_residual();
+      if (r.max_residual <= o.force_tolerance) {
+        r.converged = true;
+        break;
+      }
+      if (r.iterations == o.max_iterations) break;
+      if (r.iterations == 0 || o.refactor_each_iteration) factorize_secant(o.stiffness_floor);
+      const auto timer = clock::now();
+      Eigen::VectorXd rhs(static_cast<index_t>(free_dofs_.size()));
+      for (std::size_t k = 0; k < free_dofs_.size(); ++k) rhs[static_cast<index_t>(k)] = force_[free_dofs_[k]];
+      const Eigen::VectorXd du = factor_.solve(rhs);
+      require(factor_.info() == Eigen::Success && du.allFinite(), "quasi_static: the linear solve failed (",
+              "K_sec singular or not positive definite) in iteration ", r.iterations + 1);
+      // Aitken's relaxation of the fixed-point step du = G(u) - u (Irons and Tuck; Kuttler and
+      // Wall 2008): omega_k = -omega_{k-1} du_{k-1}.(du_k - du_{k-1}) / |du_k - du_{k-1}|^2.
+      if (r.iterations > 0 && o.aitken) {
+        const Eigen::VectorXd change = du - previous_du;
+        const real change2 = change.squaredNorm();
+        if (change2 > 0) omega = -omega * previous_du.dot(change) / change2;
+      }
+      previous_du = du;
+      for (std::size_t k = 0; k < free_dofs_.size(); ++k) u_[free_dofs_[k]] += omega * du[static_cast<index_t>(k)];
+      ++counts_.solves;
+      ++r.iterations;
+      counts_.solve_s += seconds_since(timer);
+    }
+    counts_.iterations += r.iterations;
+    if (r.converged) {
+      committed_ = trial_;
+      committed_u_ = u_;
+      for (index_t i = 0; i < contacts_->size(); ++i) committed_gap_[static_cast<std::size_t>(i)] = gap(i);
+    } else {
+      u_ = committed_u_;
+      evaluate_forces();
+    }
+    for (const state_type& s : committed_) {
+      const law::contact_status f = Law::status(s);
+      r.softening += law::has(f, law::contact_status::softening) || law::has(f, law::contact_status::broken_tension);
+      r.broken += law::has(f, law::contact_status::broken_tension);
+      r.slipped += law::has(f, law::contact_status::slipped);
+    }
+    return r;
+  }
+
+  // ---- read-outs ----
+  /// Displacement (m) of gridpoint i, component c, at the last equilibrium.
+  [[nodiscard]] real displacement(index_t i, int c) const { return u_[3 * i + c]; }
+  /// All displacements (m), dof 3 i + c.
+  [[nodiscard]] const Eigen::VectorXd& displacements() const { return u_; }
+  /// Sum of the support reactions (N) over the gridpoints of `group` at the last equilibrium:
+  /// -f on their prescribed components (f: zone and contact forces), 0 on their free ones.
+  [[nodiscard]] vec3 reaction_sum(const bc::node_group& group) const {
+    vec3 sum = vec3::Zero();
+    for (const index_t i : group.nodes)
+      for (int c = 0; c < 3; ++c)
+        if (free_index_[static_cast<std::size_t>(3 * i + c)] < 0) sum[c] -= force_[3 * i + c];
+    return sum;
+  }
+  /// Mean displacement (m) of the gridpoints of `group`.
+  [[nodiscard]] vec3 mean_displacement(const bc::node_group& group) const {
+    vec3 sum = vec3::Zero();
+    for (const index_t i : group.nodes) sum += u_.segment<3>(3 * i);
+    return sum / static_cast<real>(group.size());
+  }
+  /// Committed law state of sub-contact i.
+  [[nodiscard]] const state_type& state(index_t i) const { return committed_[static_cast<std::size_t>(i)]; }
+  /// Relative displacement u_b - u_a (m) of sub-contact i.
+  [[nodiscard]] vec3 gap(index_t i) const {
+    return u_.segment<3>(3 * contacts_->node_b(i)) - u_.segment<3>(3 * contacts_->node_a(i));
+  }
+  /// The zones' stiffness (N/m) over all dofs, no supports.
+  [[nodiscard]] const sparse_matrix& zone_stiffness() const { return zones_; }
+  [[nodiscard]] index_t free_dof_count() const { return static_cast<index_t>(free_dofs_.size()); }
+  /// Non-zeros of the last Cholesky factor (L), 0 before the first factorisation.
+  [[nodiscard]] std::int64_t factor_nonzeros() const { return factor_nonzeros_; }
+  [[nodiscard]] const solve_counts& counts() const { return counts_; }
+
+ private:
+  using clock = std::chrono::steady_clock;
+  [[nodiscard]] static double seconds_since(clock::time_point t) {
+    return std::chrono::duration<double>(clock::now() - t).count();
+  }
+
+  /// Trial states from the committed ones (step 1) and f(u) into force_.
+  void evaluate_forces() {
+    const auto timer = clock::now();
+    force_.noalias() = -(zones_ * u_);
+    for (index_t i = 0; i < contacts_->size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const vec3& n = normals_[k];
+      const vec3 step = gap(i) - committed_gap_[k];
+      const real du_n = step.dot(n);
+      state_type s = committed_[k];
+      Law::update(contacts_->subcontact_params(i), s, du_n, vec3(step - du_n * n), n);
+      trial_[k] = s;
+      const vec3 f = contacts_->area(i) * (s.sigma_n * n + vec3(s.tau));  // force on node a
+      force_.segment<3>(3 * contacts_->node_a(i)) += f;
+      force_.segment<3>(3 * contacts_->node_b(i)) -= f;
+    }
+    ++counts_.force_evaluations;
+    counts_.force_s += seconds_since(timer);
+  }
+
+  [[nodiscard]] real max_free_residual() const {
+    real m = 0;
+    for (const index_t dof : free_dofs_) m = std::max(m, std::abs(force_[dof]));
+    return m;
+  }
+
+  /// K_sec of the trial states on the free components, factorised unless the secants are those of
+  /// the last factorisation (step 3).
+  void factorize_secant(real floor) {
+    const auto timer = clock::now();
+    const auto n_c = static_cast<std::size_t>(contacts_->size());
+    std::vector<secant_stiffness> secants(n_c);
+    for (index_t i = 0; i < contacts_->size(); ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      const auto& p = contacts_->subcontact_params(i);
+      const vec3 d = gap(i);
+      const vec3 slip = d - d.dot(normals_[k]) * normals_[k];
+      secant_stiffness s = subcontact_secant<Law>(p, trial_[k], slip.norm());
+      s.normal = std::max(s.normal, floor * Law::normal_stiffness(p));
+      s.shear = std::max(s.shear, floor * Law::shear_stiffness(p));
+      secants[k] = s;
+    }
+    if (factored_ && secants == factored_secants_) {
+      counts_.assembly_s += seconds_since(timer);
+      return;
+    }
+    std::vector<triplet> all, free_t;
+    add_contact_stiffness(*contacts_, normals_, secants, all);
+    free_t.reserve(all.size());
+    for (const triplet& e : all) {
+      const index_t r = free_index_[static_cast<std::size_t>(e.row())], c = free_index_[static_cast<std::size_t>(e.col())];
+      if (r >= 0 && c >= 0) free_t.emplace_back(r, c, e.value());
+    }
+    const auto n_free = static_cast<index_t>(free_dofs_.size());
+    sparse_matrix k(n_free, n_free);
+    k.setFromTriplets(free_t.begin(), free_t.end());
+    k += zones_free_;
+    counts_.assembly_s += seconds_since(timer);
+    const auto factor_timer = clock::now();
+    if (!factored_ || k.nonZeros() != pattern_nonzeros_) {
+      factor_.analyzePattern(k);
+      pattern_nonzeros_ = k.nonZeros();
+      ++counts_.analyses;
+    }
+    factor_.factorize(k);
+    require(factor_.info() == Eigen::Success, "quasi_static: the factorisation of K_sec failed (", k.rows(),
+            " free dofs); a part of the model is free to move (no support, every contact broken)?");
+    factor_nonzeros_ = static_cast<std::int64_t>(factor_.matrixL().nestedExpression().nonZeros());
+    factored_ = true;
+    factored_secants_ = std::move(secants);
+    ++counts_.factorizations;
+    counts_.factorization_s += seconds_since(factor_timer);
+  }
+
+  const contact::face_contacts<Law>* contacts_ = nullptr;
+  sparse_matrix zones_;       ///< K of the zones, all dofs (N/m)
+  sparse_matrix zones_free_;  ///< ... on the free dofs
+  std::vector<index_t> free_index_;  ///< per dof: its index among the free dofs, -1 if prescribed
+  std::vector<index_t> free_dofs_;   ///< the free dofs, increasing
+  Eigen::VectorXd velocity_;         ///< per dof: prescribed velocity (m/s), 0 on free dofs
+  std::vector<vec3> normals_;        ///< per sub-contact: unit normal A -> B, fixed
+  std::vector<state_type> committed_, trial_;
+  std::vector<vec3> committed_gap_;  ///< per sub-contact: u_b - u_a at the last equilibrium (m)
+  Eigen::VectorXd u_, committed_u_;  ///< displacements (m), dof 3 i + c
+  Eigen::VectorXd force_;            ///< f(u) of the last evaluation (N)
+  Eigen::SimplicialLDLT<sparse_matrix> factor_;
+  std::vector<secant_stiffness> factored_secants_;
+  bool factored_ = false;
+  index_t pattern_nonzeros_ = 0;
+  std::int64_t factor_nonzeros_ = 0;
+  solve_counts counts_;
+};
+
+}  // namespace tessera::implicit
