@@ -2,6 +2,14 @@
 // and its refusals, recursive coordinate bisection on regular grids (exact slabs, imbalance 1),
 // METIS against it where METIS is built in, the figures of both on the 100-block prism, and the
 // ownership rules (contact owners, ghosts, bar nodes) on a row of four blocks. No MPI needed.
+//
+// Built a second time as test_distributed_mpi where TESSERA_MPI is on (TESSERA_TEST_MPI_MAIN:
+// its own main inside MPI_Init/MPI_Finalize), whose "[mpi]" case runs under mpirun: rank 0
+// partitions the prism and broadcasts the map, every rank checks it against its own partition,
+// and neighbours check that their ghost sets and halo orders agree by exchanging them.
+#ifdef TESSERA_TEST_MPI_MAIN
+#define CATCH_CONFIG_RUNNER
+#endif
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -280,3 +288,95 @@ TEST_CASE("ownership of sub-contacts, ghosts and bar nodes on a row of four bloc
     CHECK_THROWS_WITH(distributed::rank_ownership(map, 2, mesh, wrong), Contains("sub-contact 4 names gridpoint"));
   }
 }
+
+#ifdef TESSERA_HAVE_MPI
+#include <mpi.h>
+
+namespace {
+/// Sends `out` to rank `peer` and returns what `peer` sent (sizes first), non-blocking both ways.
+std::vector<index_t> swap_with(int peer, const std::vector<index_t>& out) {
+  static_assert(sizeof(index_t) == sizeof(int));
+  int n_out = static_cast<int>(out.size()), n_in = 0;
+  MPI_Sendrecv(&n_out, 1, MPI_INT, peer, 0, &n_in, 1, MPI_INT, peer, 0, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+  std::vector<index_t> in(static_cast<std::size_t>(n_in));
+  MPI_Request req[2];
+  MPI_Irecv(in.data(), n_in, MPI_INT, peer, 1, MPI_COMM_WORLD, &req[0]);
+  MPI_Isend(out.data(), n_out, MPI_INT, peer, 1, MPI_COMM_WORLD, &req[1]);
+  MPI_Waitall(2, req, MPI_STATUSES_IGNORE);
+  return in;
+}
+}  // namespace
+
+TEST_CASE("ranks agree on the prism's partition and their ghosts are symmetric", "[mpi]") {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const prism p;  // every rank builds the scene: the same bits (random_voronoi is deterministic)
+  distributed::block_graph_input in = distributed::blocks_of_mesh(p.mesh);
+  distributed::add_face_subcontacts(in, p.tess, p.mesh);
+  const distributed::block_graph g(in);
+#ifdef TESSERA_HAVE_METIS
+  const auto partition = [&] { return distributed::partition_blocks_metis(g, size); };
+#else
+  const auto partition = [&] { return distributed::partition_blocks_rcb(g, size); };
+#endif
+  // Rank 0's map, broadcast; every rank's own partition must be the same map.
+  std::vector<int> map = rank == 0 ? partition() : std::vector<int>(static_cast<std::size_t>(g.block_count()), -1);
+  MPI_Bcast(map.data(), g.block_count(), MPI_INT, 0, MPI_COMM_WORLD);
+  CHECK(map == partition());
+  const auto pairs = distributed::face_contact_pairs(p.tess, p.mesh);
+  const distributed::rank_ownership own(map, size, p.mesh, pairs);
+  for (int peer = 0; peer < size; ++peer) {
+    if (peer == rank) continue;
+    // From this rank's side alone: its blocks and gridpoints that a sub-contact joins to the peer's.
+    std::vector<index_t> touching_blocks, sent_gridpoints;
+    for (const auto& c : pairs) {
+      const int ra = own.block_rank(c.block_a), rb = own.block_rank(c.block_b);
+      if (ra == rank && rb == peer) {
+        touching_blocks.push_back(c.block_a);
+        sent_gridpoints.push_back(c.node_a);
+      } else if (rb == rank && ra == peer) {
+        touching_blocks.push_back(c.block_b);
+        sent_gridpoints.push_back(c.node_b);
+      }
+    }
+    for (auto* v : {&touching_blocks, &sent_gridpoints}) {
+      std::sort(v->begin(), v->end());
+      v->erase(std::unique(v->begin(), v->end()), v->end());
+    }
+    // The peer's ghosts from this rank are exactly these, in the same order.
+    const std::vector<index_t> peer_touching = swap_with(peer, touching_blocks);
+    CHECK(peer_touching == own.ghost_blocks_from(rank, peer));
+    const std::vector<index_t> peer_sent = swap_with(peer, sent_gridpoints);
+    CHECK(peer_sent == own.ghost_gridpoints_from(rank, peer));
+    // A first halo: the reference positions of the sent gridpoints, no indices; the receiver reads
+    // them in its ghost order and finds its own mesh's positions, bit for bit.
+    const std::vector<index_t> expect = own.ghost_gridpoints_from(rank, peer);
+    std::vector<double> out(3 * sent_gridpoints.size()), got(3 * expect.size());
+    for (std::size_t k = 0; k < sent_gridpoints.size(); ++k)
+      for (int d = 0; d < 3; ++d) out[3 * k + static_cast<std::size_t>(d)] = p.mesh.gridpoints[static_cast<std::size_t>(sent_gridpoints[k])][d];
+    MPI_Request req[2];
+    MPI_Irecv(got.data(), static_cast<int>(got.size()), MPI_DOUBLE, peer, 2, MPI_COMM_WORLD, &req[0]);
+    MPI_Isend(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, peer, 2, MPI_COMM_WORLD, &req[1]);
+    MPI_Waitall(2, req, MPI_STATUSES_IGNORE);
+    bool same = true;
+    for (std::size_t k = 0; k < expect.size(); ++k)
+      for (int d = 0; d < 3; ++d)
+        same = same && got[3 * k + static_cast<std::size_t>(d)] == p.mesh.gridpoints[static_cast<std::size_t>(expect[k])][d];
+    CHECK(same);
+    std::printf("rank %d of %d: %zu blocks, from rank %d %zu ghost blocks and %zu ghost gridpoints\n", rank, size,
+                own.owned_blocks(rank).size(), peer, peer_touching.size(), expect.size());
+  }
+}
+#endif
+
+#ifdef TESSERA_TEST_MPI_MAIN
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  const int failed = Catch::Session().run(argc, argv);
+  int any = 0;
+  MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return any == 0 ? 0 : 1;
+}
+#endif
