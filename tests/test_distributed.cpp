@@ -18,6 +18,7 @@
 #include <numeric>
 #include <vector>
 
+#include "tessera/contact/face_contacts.hpp"
 #include "tessera/distributed/block_graph.hpp"
 #include "tessera/distributed/ownership.hpp"
 #include "tessera/distributed/partition.hpp"
@@ -44,6 +45,31 @@ distributed::block_graph_input grid_input(int nx, int ny, int nz) {
       }
   return in;
 }
+
+/// A linear spring without failure: all face_contacts needs to be built, for its sub-contacts' order.
+struct spring_law {
+  struct params {
+    real k_n = 1e12;  ///< Pa/m
+    real k_s = 1e12;  ///< Pa/m
+  };
+  struct state {
+    real sigma_n = 0;
+    vec3 tau = vec3::Zero();
+    real u_n = 0;
+  };
+  static void validate(const params&) {}
+  static real normal_stiffness(const params& p) { return p.k_n; }
+  static real shear_stiffness(const params& p) { return p.k_s; }
+  static void update(const params& p, state& s, real du_n, const vec3& du_s, const vec3&) noexcept {
+    s.u_n += du_n;
+    s.sigma_n += p.k_n * du_n;
+    s.tau += p.k_s * du_s;
+  }
+  static law::contact_status status(const state&) { return law::contact_status::intact; }
+  static real tensile_damage(const params&, const state&) { return 0; }
+  static real dissipated_energy(const state&) { return 0; }
+  static real stored_energy(const params&, const state&) { return 0; }
+};
 
 /// The study's prism, 68 x 68 x 600 mm in 100 Voronoi blocks (seed 1), zoned as the drivers do.
 struct prism {
@@ -173,6 +199,22 @@ TEST_CASE("the 100-block prism's graph and its partitions", "[scene]") {
   const real edges = std::accumulate(g.adjacency_weights().begin(), g.adjacency_weights().end(), real(0));
   CHECK(edges == 2.0 * static_cast<real>(pairs.size()));
   CHECK(g.edge_count() == static_cast<index_t>(p.tess.shared_faces.size()));  // one face per pair of Voronoi cells
+  // The pairs are face_contacts' own sub-contacts, in its order, and its graph is the same graph.
+  const contact::face_contacts<spring_law> set(p.tess, p.mesh, spring_law::params{});
+  const std::vector<distributed::contact_pair> of_set = distributed::contact_pairs_of(set);
+  REQUIRE(of_set.size() == pairs.size());
+  bool same_pairs = true;
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    same_pairs = same_pairs && of_set[i].block_a == pairs[i].block_a && of_set[i].block_b == pairs[i].block_b &&
+                 of_set[i].node_a == pairs[i].node_a && of_set[i].node_b == pairs[i].node_b;
+  CHECK(same_pairs);
+  distributed::block_graph_input from_set = distributed::blocks_of_mesh(p.mesh);
+  distributed::add_subcontacts(from_set, set);
+  const distributed::block_graph gs(from_set);
+  CHECK(gs.weights() == g.weights());
+  CHECK(gs.offsets() == g.offsets());
+  CHECK(gs.adjacency() == g.adjacency());
+  CHECK(gs.adjacency_weights() == g.adjacency_weights());
   const real heaviest = *std::max_element(g.weights().begin(), g.weights().end());
   for (const int ranks : {2, 3}) {
     const std::vector<int> rcb = distributed::partition_blocks_rcb(g, ranks);
