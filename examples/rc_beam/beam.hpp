@@ -3,13 +3,15 @@
 // the half-symmetric scene, its hand values, one run and the crack analysis of a beam. Used by
 // examples/rc_beam.
 //
-//   geometry  half beam, x along the span from the beam end (0) to the symmetry face (L_h =
-//             overhang + shear span + half the constant-moment zone), y up from the soffit, z
-//             across the width. Default: Walraven's series-A1 beam as DESIGN.md decides it,
+//   geometry  half beam (--span half, the default), x along the span from the beam end (0) to the
+//             symmetry face (L_h = overhang + shear span + half the constant-moment zone), y up
+//             from the soffit, z across the width; --span full: the whole beam, x from 0 to 2 L_h,
+//             both shear spans (beam_span.hpp). Default: Walraven's series-A1 beam as DESIGN.md decides it,
 //             PROVISIONAL (the study's Figure 16 is not in its text): b = 200, h = 150,
 //             d = 125 mm, support 100 mm from the end, shear span a = 375 mm, constant-moment zone
 //             500 mm (L_h = 725 mm), 50 mm plates at support and load
-//   blocks    --blocks random Voronoi blocks (250 / 500), their faces refined to a 30 mm target
+//   blocks    --blocks random Voronoi blocks (250 / 500) in the half beam (2 x --blocks in the full
+//             beam, so that the block size and the contacts are the half model's), their faces refined to a 30 mm target
 //             edge so that faces carry gridpoints inside them (about 16 contact points over the
 //             depth; the study: at least ten), semi-rigid: 10 E = 250 GPa, nu = 0.2, 2400 kg/m^3
 //   contacts  study_beam_params: k_n 500 / 625 GPa/m, k_s = k_n / 2.4, f_T 2.5 MPa, c = 2 f_T,
@@ -18,7 +20,9 @@
 //   bars      4 Ø8 (201 mm^2) at y = h - d, evenly across the width, from x = end cover to the
 //             symmetry face; 210 GPa, 440 MPa; about four trusses per block along the bar; bond
 //             xi = 4 per unit length, c_bond = 1e9 N/m
-//   supports  symmetry face x = L_h: every gridpoint and the bars' last nodes held in x (rollers);
+//   supports  half beam: symmetry face x = L_h: every gridpoint and the bars' last nodes held in x
+//             (rollers); full beam: no symmetry condition, both supports roll, the beam held in x
+//             at the one gridpoint nearest the centre of the mid-span section (beam_span.hpp);
 //             plates (--plates contact, the default): two rigid steel plates, 50 x 200 x 20 mm
 //             (--plate, --plate-thickness), each a contact::rigid_platen hinged at its axis (free
 //             to turn about z and to roll in x, held in z) and touching the concrete through the
@@ -29,9 +33,10 @@
 //             plate hinged at its axis (beam_plates.hpp hinged_plate), the support's held in z: what
 //             the study did ("nodes are subjected to a fixed velocity boundary condition ... the
 //             reaction forces are recorded from upper nodes", Sec. 4).
-//   measured  total load P = 2 x the support reaction (both half-spans; beam_run.hpp says why not
-//             the plate force); mid-span deflection = mean y displacement (down +) of the soffit
-//             gridpoints on the symmetry face.
+//   measured  total load P = 2 x the support reaction of the half beam, the sum of the two of the
+//             full beam (both half-spans; beam_run.hpp says why not the plate force); mid-span
+//             deflection = mean y displacement (down +) of the soffit gridpoints on the symmetry
+//             face (half), at mid-span on a line fitted to the soffit near it (full, beam_span.hpp).
 //
 // Quasi-static check (beam_quasi_static_index): during one period T_1 of the beam's first
 // bending mode with the mass-scaled masses, T_1 = 2 pi sqrt(M (1 + added) / (2 K_0)) (M the whole
@@ -109,6 +114,15 @@ struct beam_options {
   /// hand values stay at the concrete's f_T.
   real strength_scale = 1;
   real fracture_energy_scale = 1;
+  /// "half" (the half beam with its symmetry face) or "full" (the whole beam, 2 x `blocks` blocks:
+  /// `blocks` stays the count of one half, so block size, contacts and hand values are the half's)
+  std::string span = "half";
+  [[nodiscard]] bool full() const { return span == "full"; }
+  /// Length of the modelled concrete along x (m): L_h, or 2 L_h for the full beam.
+  [[nodiscard]] real model_length() const { return full() ? 2 * half_length() : half_length(); }
+  [[nodiscard]] int model_blocks() const { return full() ? 2 * blocks : blocks; }
+  /// The twin of x across mid-span (m): the right span's position of a left-span one.
+  [[nodiscard]] real mirror(real x) const { return 2 * half_length() - x; }
   [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
   /// The half beam's volume (m^3).
   [[nodiscard]] real half_volume() const { return half_length() * height * width; }
@@ -117,6 +131,19 @@ struct beam_options {
   /// The zoning target edge in effect: zone_edge, or h / 5 when it is 0.
   [[nodiscard]] real face_zone_edge() const { return zone_edge > 0 ? zone_edge : height / 5; }
 };
+
+/// The shear span holding x (m): 0 the left one (from the support axis to `reach` m past the load
+/// axis), 1 its twin in the full beam, -1 neither.
+[[nodiscard]] inline int beam_shear_span_of(const beam_options& o, real x, real reach) {
+  if (x > o.support_x() && x < o.load_x() + reach) return 0;
+  if (o.full() && x > o.mirror(o.load_x()) - reach && x < o.mirror(o.support_x())) return 1;
+  return -1;
+}
+/// Whether x (m) lies in the constant-moment zone: from the load axis to the symmetry face (half)
+/// or to the other load axis (full).
+[[nodiscard]] inline bool beam_in_moment_zone(const beam_options& o, real x) {
+  return x >= o.load_x() && (!o.full() || x <= o.mirror(o.load_x()));
+}
 
 inline constexpr real beam_concrete_young = 25e9;  ///< E (study Sec. 4)
 inline constexpr real beam_steel_young = 210e9;
@@ -264,7 +291,8 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   require(o.compression == "plastic" || o.compression == "elastic", "rc_beam: --compression '", o.compression,
           "' must be plastic or elastic");
   require(o.plates == "contact" || o.plates == "tied", "rc_beam: --plates '", o.plates, "' must be contact or tied");
-  require_zone_budget(o, o.half_volume(), o.blocks, "rc_beam");
+  require(o.span == "half" || o.span == "full", "rc_beam: --span '", o.span, "' must be half or full");
+  require_zone_budget(o, o.full() ? 2 * o.half_volume() : o.half_volume(), o.model_blocks(), "rc_beam");
   beam_scene s;
   s.options = o;
   require_calibration_scales(o, "rc_beam");
@@ -272,16 +300,17 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   s.hand = beam_hand(o, s.contact);  // at the concrete's f_T, before the calibration scales
   scale_beam_contacts(s.contact, o.strength_scale, o.fracture_energy_scale);
   s.box.lo = vec3::Zero();
-  s.box.hi = vec3(o.half_length(), o.height, o.width);
-  beam_concrete_blocks(s.box, o.blocks, o, s.tess, s.mesh, s.block_material);
+  s.box.hi = vec3(o.model_length(), o.height, o.width);
+  beam_concrete_blocks(s.box, o.model_blocks(), o, s.tess, s.mesh, s.block_material);
   s.bar.steel = reinforcement::steel{beam_steel_young, o.steel_yield, 7850.0, o.bar_diameter};
   s.bar.bond = presets::tie_bond();
-  const real bar_length = o.half_length() - o.end_cover;
+  const real bar_end = o.full() ? o.mirror(o.end_cover) : o.half_length();  // the far cover or the symmetry face
+  const real bar_length = bar_end - o.end_cover;
   s.elements_per_bar = std::max<index_t>(2, std::llround(o.trusses_per_block * bar_length / s.hand.mean_block_size));
   for (int i = 0; i < o.bars; ++i) {
     const real zc = o.width * (2 * i + 1) / (2.0 * o.bars);
     const real y = o.height - o.effective_depth;
-    s.bar.bars.push_back(reinforcement::bar{vec3(o.end_cover, y, zc), vec3(o.half_length(), y, zc), s.elements_per_bar, true});
+    s.bar.bars.push_back(reinforcement::bar{vec3(o.end_cover, y, zc), vec3(bar_end, y, zc), s.elements_per_bar, true});
   }
   return s;
 }

@@ -16,7 +16,8 @@
 // of the opening in the lower third of the depth that reaches beam_loading::crack_width (0.1 mm,
 // a crack one sees), maxima closer than 0.75 block sizes being one crack. A flexural crack is a
 // vertical one in the constant-moment zone; the count and mean spacing are over that zone
-// mirrored about the symmetry face (the whole beam's zone, as the study counts).
+// mirrored about the symmetry face (the whole beam's zone, as the study counts; the full beam's
+// zone as it is).
 // Failure mode (beam_failure_mode), from the widest crack: none when no crack reaches crack_width;
 // inclined (35 degrees or more) and in the shear span -> diagonal_tension; else crushing when the
 // compressive cap has dissipated more than tensile cracking; else flexure.
@@ -224,12 +225,13 @@ template <class Contacts>
 
 /// The failure mode of a beam from its widest crack at the end (file comment): "none" when it is
 /// narrower than `crack_width` (m); "diagonal_tension" when it is inclined and lies in the shear
-/// span (between the support axis and the loading plate's far edge); else "crushing" when the
+/// span (between the support axis and the loading plate's far edge, either span of the full beam);
+/// else "crushing" when the
 /// compressive cap dissipated more than tensile cracking (J), else "flexure".
 [[nodiscard]] inline std::string beam_failure_mode(const beam_crack& widest, const beam_options& o, real crack_width,
                                                    real compression_dissipated, real tension_dissipated) {
   if (widest.width < crack_width) return "none";
-  if (!widest.vertical() && widest.x > o.support_x() && widest.x < o.load_x() + o.plate / 2) return "diagonal_tension";
+  if (!widest.vertical() && beam_shear_span_of(o, widest.x, o.plate / 2) >= 0) return "diagonal_tension";
   if (compression_dissipated > tension_dissipated) return "crushing";
   return "flexure";
 }

@@ -11,7 +11,8 @@
 //      the increment-weighted line through the sub-contacts within 1.5 block sizes that gained at
 //      least 30 % of its increment), of at least 1 % of crack_width;
 //   3. the fastest inclined one: among the inclined (35 degrees or more from the vertical) in the
-//      shear span (support axis to the loading plate's far edge), the largest increment, i.e. the
+//      shear span (support axis to the loading plate's far edge; in the full beam the span asked
+//      for, beam_shear_span_of), the largest increment, i.e. the
 //      largest mean opening rate after the peak. Its opening W(j) at snapshot j is the largest
 //      opening of its sub-contacts (those of the line fit);
 //   4. its window: from the last snapshot at which it has gained at most 10 % of its increment to
@@ -86,13 +87,14 @@ struct beam_post_peak_crack {
 };
 
 /// Finds the crack of the file comment from the history and the end state; peak_load (N) and
-/// peak_deflection (m) of the run, crack_width (m) beam_loading's.
+/// peak_deflection (m) of the run, crack_width (m) beam_loading's, shear_span the one to search
+/// (0 the left, 1 the full beam's right: beam_shear_span_of).
 template <class Contacts>
 [[nodiscard]] beam_post_peak_crack beam_fastest_inclined_after_peak(const Contacts& c, const node_set& gp,
                                                                     const beam_opening_history& h,
                                                                     const beam_options& o, real cell,
                                                                     real crack_width, real peak_load,
-                                                                    real peak_deflection) {
+                                                                    real peak_deflection, int shear_span = 0) {
   beam_post_peak_crack out;
   std::size_t jp = 0;
   while (jp < h.size() && h.deflection(jp) < peak_deflection) ++jp;
@@ -119,7 +121,7 @@ template <class Contacts>
   };
   const beam_crack* best = nullptr;
   for (const beam_crack& cr : cracks)
-    if (!cr.vertical() && cr.x > o.support_x() && cr.x < o.load_x() + o.plate / 2 && (!best || cr.width > best->width))
+    if (!cr.vertical() && beam_shear_span_of(o, cr.x, o.plate / 2) == shear_span && (!best || cr.width > best->width))
       best = &cr;
   if (!best) return out;
   const std::vector<index_t> m = members(*best);
@@ -143,7 +145,7 @@ template <class Contacts>
   out.opening_rate = span > 0 ? (opening_at(m, jb) - opening_at(m, ja)) / span : 0;
   out.load_drop = h.load(ja) - h.load(jb);
   for (const beam_crack& cr : cracks)
-    if (cr.vertical() && cr.x >= o.load_x() && span > 0) {
+    if (cr.vertical() && beam_in_moment_zone(o, cr.x) && span > 0) {
       const std::vector<index_t> v = members(cr);
       out.flexural_opening_rate = std::max(out.flexural_opening_rate, (opening_at(v, jb) - opening_at(v, ja)) / span);
     }

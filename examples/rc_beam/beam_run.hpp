@@ -3,9 +3,9 @@
 // figures of beam_result. The crack analysis and the failure mode: beam_cracks.hpp; the tied
 // plates (--plates tied): beam_plates.hpp.
 //
-// The load. P = twice the support reaction (both half-spans): the force the beam delivers to its
-// supports, the load cell of a test. The force on the loading plate's gridpoints is larger by the
-// local damping's drag on the beam, which moves down as it deflects (F_d = -0.8 |F| sgn(v)
+// The load. P = twice the support reaction (both half-spans; the full beam, --span full: the sum of
+// its two, beam_span.hpp): the force the beam delivers to its supports, the load cell of a test.
+// The force on the loading plate's gridpoints is larger by the local damping's drag on the beam, which moves down as it deflects (F_d = -0.8 |F| sgn(v)
 // opposes the motion even in steady deflection; measured on the 250-block beam: 10 kN on a 56 kN
 // plateau). curve.csv keeps both. The events (first crack, peak, failure) read the load smoothed
 // over beam_loading::smoothing of deflection (the reactions of a mass-scaled explicit run
@@ -26,6 +26,7 @@
 #include "rc_beam/beam_plates.hpp"
 #include "rc_beam/beam_post_peak.hpp"
 #include "rc_beam/beam_shear.hpp"
+#include "rc_beam/beam_span.hpp"
 #include "tessera/contact/platen.hpp"
 
 namespace tessera::scenes {
@@ -50,9 +51,10 @@ struct beam_loading {
 
 struct beam_result {
   /// --plates contact: the support and loading plates' sub-contacts, those in contact at the end,
-  /// their rotations (rad) and the mass added to the two plates for the step (kg)
-  std::array<std::size_t, 2> plate_subcontacts{}, plate_in_contact{};
-  std::array<real, 2> plate_rotation{};
+  /// their rotations (rad) and the mass added to the plates for the step (kg); [2], [3] the full
+  /// beam's right support and loading plates
+  std::array<std::size_t, 4> plate_subcontacts{}, plate_in_contact{};
+  std::array<real, 4> plate_rotation{};
   real plate_added_mass = 0;
   /// load = P = 2 x the support reaction; plate_load = 2 x the force on the loading plate
   std::vector<real> deflection, load, plate_load, load_point_deflection;
@@ -84,8 +86,8 @@ struct beam_result {
   real yield_load = 0, yield_deflection = 0;
   real peak_load = 0, peak_deflection = 0;
   std::vector<beam_crack> final_cracks;  ///< cracks at the end (beam_crack_profile)
-  std::vector<real> flexural_crack_positions;  ///< in the constant-moment zone (half model), m
-  int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (mirrored)
+  std::vector<real> flexural_crack_positions;  ///< in the modelled constant-moment zone, m
+  int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (half: mirrored)
   real mean_crack_spacing = 0;           ///< m, 0 with fewer than two
   std::string failure_mode = "none";
   beam_crack widest;
@@ -93,6 +95,12 @@ struct beam_result {
   /// The shear across sections at a quarter, half and three quarters of the shear span
   /// (beam_shear.hpp), at the first inclined crack in the shear span and at the peak (empty if none)
   std::vector<beam_shear_split> shear_at_inclined_crack, shear_at_peak;
+  int first_inclined_crack_span = -1;  ///< the shear span of the first inclined crack (beam_shear_span_of)
+  /// The full beam's spans (beam_span.hpp): each one's reaction, inclined cracks, widest crack and
+  /// shear at the peak; failing_span "left", "right" or "none"
+  std::array<beam_span_figures, 2> spans;
+  std::string failing_span = "none";
+  beam_elastic_check elastic;  ///< the load at half the hand first-cracking deflection (beam_span.hpp)
   /// boundary_work: the work of the supports and, with --plates contact, of the plates (J)
   real energy_balance_error = 0, boundary_work = 0, contact_dissipated = 0, compression_dissipated = 0,
        tension_dissipated = 0, damping_dissipated = 0;
@@ -107,7 +115,8 @@ struct beam_result {
 
 /// T_1 of the beam's first bending mode with masses scaled by (1 + added) (beam.hpp file comment).
 [[nodiscard]] inline real beam_first_mode_period(const beam_scene& s, real added) {
-  const real mass = 2 * s.box.volume() * s.block_material.density;  // whole beam, half of it modal
+  // the whole beam (the half model's twice), half of it modal
+  const real mass = (s.options.full() ? 1 : 2) * s.box.volume() * s.block_material.density;
   return 2 * std::numbers::pi * std::sqrt(mass * (1 + added) / (2 * s.hand.initial_stiffness));
 }
 
@@ -136,7 +145,8 @@ template <class Law, class OnEvent>
   // Steel plates of their own (--plates contact): registered before the mass scaling is read,
   // since their contact springs join the gridpoints' stiffness bounds.
   const bool contact_plates = o.plates == "contact";
-  std::optional<contact::rigid_platen<Law>> support_platen, loading_platen;
+  const int sides = o.full() ? 2 : 1;  // the full beam's right support and loading plate: side 1
+  std::array<std::optional<contact::rigid_platen<Law>>, 2> support_platen, loading_platen;
   if (contact_plates) {
     auto plate = law_params;  // the plate-concrete pair: frictional at phi_0, no cohesion, never bonded
     plate.shear.c_res = 0;
@@ -148,16 +158,19 @@ template <class Law, class OnEvent>
     m.hinge_axis = vec3::UnitZ();
     m.damping_gamma = loading.damping_gamma;
     const real z = 0.5 * o.width;
-    support_platen.emplace(scene.mesh,
-                           contact::platen_geometry{vec3(o.support_x(), 0, z), vec3::UnitY(), vec3::UnitX(), 0.5 * o.plate,
-                                                    0.5 * o.width, tol},
-                           m, plate);
-    loading_platen.emplace(scene.mesh,
-                           contact::platen_geometry{vec3(o.load_x(), o.height, z), -vec3::UnitY(), vec3::UnitX(),
-                                                    0.5 * o.plate, 0.5 * o.width, tol},
-                           m, plate);
-    support_platen->attach(s);
-    loading_platen->attach(s);
+    for (int k = 0; k < sides; ++k) {
+      const real xs = k == 0 ? o.support_x() : o.mirror(o.support_x()), xl = k == 0 ? o.load_x() : o.mirror(o.load_x());
+      support_platen[k].emplace(scene.mesh,
+                                contact::platen_geometry{vec3(xs, 0, z), vec3::UnitY(), vec3::UnitX(), 0.5 * o.plate,
+                                                         0.5 * o.width, tol},
+                                m, plate);
+      loading_platen[k].emplace(scene.mesh,
+                                contact::platen_geometry{vec3(xl, o.height, z), -vec3::UnitY(), vec3::UnitX(),
+                                                         0.5 * o.plate, 0.5 * o.width, tol},
+                                m, plate);
+      support_platen[k]->attach(s);
+      loading_platen[k]->attach(s);
+    }
   }
   beam_result r;
   const auto& ms = s.mass_scaling();
@@ -172,40 +185,61 @@ template <class Law, class OnEvent>
         " m/s or less mass scaling (--added-mass / --dt)"));
 
   node_set& gp = s.gridpoints();
-  s.fix(s.gridpoints_on_plane(0, L, tol), bc::along(0));
-  const bc::node_group support =
-      beam_strip(gp, 0, o.support_x() - o.plate / 2, o.support_x() + o.plate / 2, tol, "support plate");
-  const bc::node_group plate = beam_strip(gp, o.height, o.load_x() - o.plate / 2, o.load_x() + o.plate / 2, tol, "loading plate");
-  require(!support.nodes.empty() && !plate.nodes.empty(), "rc_beam: no gridpoints under a plate");
-  std::optional<hinged_plate> support_plate, loading_plate;
-  if (!contact_plates) {
-    s.fix(support, bc::along(1) | bc::along(2));
-    bc::prescribe_velocity(gp, plate, vec3::Zero(), bc::along(1));
-    support_plate.emplace(gp, support, o.support_x());
-    loading_plate.emplace(gp, plate, o.load_x());
+  if (!o.full()) s.fix(s.gridpoints_on_plane(0, L, tol), bc::along(0));
+  std::array<bc::node_group, 2> support, plate;  // the gridpoints under each plate, [1] the full beam's right
+  std::array<std::optional<hinged_plate>, 2> support_plate, loading_plate;
+  for (int k = 0; k < sides; ++k) {
+    const real xs = k == 0 ? o.support_x() : o.mirror(o.support_x()), xl = k == 0 ? o.load_x() : o.mirror(o.load_x());
+    support[k] = beam_strip(gp, 0, xs - o.plate / 2, xs + o.plate / 2, tol, "support plate");
+    plate[k] = beam_strip(gp, o.height, xl - o.plate / 2, xl + o.plate / 2, tol, "loading plate");
+    require(!support[k].nodes.empty() && !plate[k].nodes.empty(), "rc_beam: no gridpoints under a plate");
+    if (contact_plates) continue;
+    s.fix(support[k], bc::along(1) | bc::along(2));
+    bc::prescribe_velocity(gp, plate[k], vec3::Zero(), bc::along(1));
+    support_plate[k].emplace(gp, support[k], xs);
+    loading_plate[k].emplace(gp, plate[k], xl);
   }
-  for (int b = 0; b < o.bars; ++b) {
-    const index_t last = s.reinforcement().bar_nodes(b).second - 1;
-    bc::fix(s.bar_nodes(), bc::node_group{{last}, "bar end on the symmetry face"}, bc::along(0));
+  if (o.full()) {  // held in x: the gridpoint nearest the middle of the mid-span section (beam_span.hpp)
+    const vec3 centre(L, 0.5 * o.height, 0.5 * o.width);
+    const auto distance2 = [&](index_t i) { return (gp.reference.row(i).transpose() - centre).squaredNorm(); };
+    index_t pin = 0;
+    for (index_t i = 1; i < gp.size(); ++i)
+      if (distance2(i) < distance2(pin)) pin = i;
+    s.fix(bc::node_group{{pin}, "mid-span pin"}, bc::along(0));
   }
-  std::vector<index_t> midspan;
-  for (index_t i = 0; i < gp.size(); ++i)
-    if (std::abs(gp.reference(i, 0) - L) <= tol && std::abs(gp.reference(i, 1)) <= tol) midspan.push_back(i);
-  require(!midspan.empty(), "rc_beam: no soffit gridpoint on the symmetry face");
+  if (!o.full())
+    for (int b = 0; b < o.bars; ++b) {
+      const index_t last = s.reinforcement().bar_nodes(b).second - 1;
+      bc::fix(s.bar_nodes(), bc::node_group{{last}, "bar end on the symmetry face"}, bc::along(0));
+    }
+  const beam_midspan_gauge midspan(gp, o, hand.mean_block_size, tol);
 
   const real ramp = loading.ramp_time >= 0 ? loading.ramp_time : beam_first_mode_period(scene, r.added_mass_ratio);
   r.ramp_time = ramp;
+  std::optional<beam_spreader> spreader;
+  if (o.full()) spreader.emplace(0.1 * (ms.original_mass + ms.added_mass));
   const auto drive = [&](const solver_type& sv) {
     const real t = sv.time() + 0.5 * sv.dt();
     const real v = t >= ramp ? loading.rate : 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
-    if (contact_plates) {
-      loading_platen->set_velocity(vec3(0, -v, 0));
-      loading_platen->update(s);
-      support_platen->update(s);
-    } else {
-      loading_plate->drive(gp, -v, sv.dt(), loading.damping_gamma);
-      support_plate->drive(gp, 0, sv.dt(), loading.damping_gamma);
+    real tilt = 0;  // the full beam's spreader: the left plate moves down at v + tilt, the right at v - tilt
+    if (o.full()) {
+      std::array<real, 2> f{};  // each loading plate's downward force on the beam at the last step
+      for (int k = 0; k < 2; ++k)
+        if (contact_plates)
+          f[k] = loading_platen[k]->force().y();
+        else
+          for (index_t n : plate[k].nodes) f[k] -= gp.reaction(n, 1);
+      tilt = spreader->advance(f[0], f[1], sv.dt(), loading.damping_gamma);
     }
+    for (int k = 0; k < sides; ++k)
+      if (contact_plates) {
+        loading_platen[k]->set_velocity(vec3(0, o.full() ? -(v + (k == 0 ? tilt : -tilt)) : -v, 0));
+        loading_platen[k]->update(s);
+        support_platen[k]->update(s);
+      } else {
+        loading_plate[k]->drive(gp, o.full() ? -(v + (k == 0 ? tilt : -tilt)) : -v, sv.dt(), loading.damping_gamma);
+        support_plate[k]->drive(gp, 0, sv.dt(), loading.damping_gamma);
+      }
   };
   if (contact_plates) drive(s);  // the plates' forces for the first step
 
@@ -220,38 +254,48 @@ template <class Law, class OnEvent>
   index_t samples = 0;
   std::vector<index_t> soffit;  // sub-contacts of the constant-moment zone's soffit (y <= h/10)
   for (index_t i = 0; i < s.contacts().size(); ++i)
-    if (s.contacts().position(i, gp).y() <= 0.1 * o.height && s.contacts().position(i, gp).x() >= o.load_x())
+    if (s.contacts().position(i, gp).y() <= 0.1 * o.height && beam_in_moment_zone(o, s.contacts().position(i, gp).x()))
       soffit.push_back(i);
   real soffit_peak_load = 0, soffit_peak_deflection = 0;
   beam_opening_history history(loading.history_step);
-  const beam_shear_sections shear_sections(
-      scene.tess, s.contacts(), s.reinforcement(), s.bar_nodes(),
-      {o.support_x() + 0.25 * o.shear_span, o.support_x() + 0.5 * o.shear_span, o.support_x() + 0.75 * o.shear_span});
+  std::array<std::optional<beam_shear_sections>, 2> shear_sections;  // [1] the full beam's right span
+  for (int k = 0; k < sides; ++k) {
+    std::vector<real> xs;
+    for (real f : {0.25, 0.5, 0.75}) xs.push_back(k == 0 ? o.support_x() + f * o.shear_span : o.mirror(o.support_x() + f * o.shear_span));
+    shear_sections[k].emplace(scene.tess, s.contacts(), s.reinforcement(), s.bar_nodes(), xs, k == 1);
+  }
   const auto sample = [&](const solver_type& sv) {
-    real fp = 0, fs = 0, u = 0, up = 0;  // up: the loading plate's vertical displacement
-    if (contact_plates) {
-      // The forces the plates put on the concrete, and the loading plate's own travel.
-      fp = -loading_platen->force().y();
-      fs = -support_platen->force().y();
-      up = loading_platen->displacement().y();
-    } else {
-      for (index_t n : plate.nodes) fp += sv.gridpoints().reaction(n, 1), up += sv.gridpoints().displacement(n, 1);
-      up /= static_cast<real>(plate.nodes.size());  // the mean over the tied gridpoints
-      for (index_t n : support.nodes) fs += sv.gridpoints().reaction(n, 1);
-    }
-    for (index_t n : midspan) u += sv.gridpoints().displacement(n, 1);
-    const real raw = 2 * fs, defl = -u / static_cast<real>(midspan.size());
+    // Per side: the loading and support plates' forces on the concrete, the loading plate's travel
+    std::array<real, 2> fp{}, fs{}, up{};
+    for (int k = 0; k < sides; ++k)
+      if (contact_plates) {
+        fp[k] = -loading_platen[k]->force().y();
+        fs[k] = -support_platen[k]->force().y();
+        up[k] = loading_platen[k]->displacement().y();
+      } else {
+        for (index_t n : plate[k].nodes) fp[k] += sv.gridpoints().reaction(n, 1), up[k] += sv.gridpoints().displacement(n, 1);
+        up[k] /= static_cast<real>(plate[k].nodes.size());  // the mean over the tied gridpoints
+        for (index_t n : support[k].nodes) fs[k] += sv.gridpoints().reaction(n, 1);
+      }
+    const real raw = o.full() ? fs[0] + fs[1] : 2 * fs[0], defl = midspan.deflection(sv.gridpoints());
+    if (o.full())
+      for (int k = 0; k < 2; ++k) r.spans[k].reaction.push_back(fs[k]), r.spans[k].plate_load.push_back(-fp[k]);
     r.deflection.push_back(defl);
     r.load.push_back(raw);
     window_sum += raw;
     if (r.load.size() > window) window_sum -= r.load[r.load.size() - 1 - window];
     const real load = window_sum / static_cast<real>(std::min(window, r.load.size()));
     r.smoothed_load.push_back(load);
-    r.plate_load.push_back(-2 * fp);
-    r.load_point_deflection.push_back(-up);
+    r.plate_load.push_back(o.full() ? -(fp[0] + fp[1]) : -2 * fp[0]);
+    r.load_point_deflection.push_back(o.full() ? -0.5 * (up[0] + up[1]) : -up[0]);
     if (load > max_load) {
       max_load = load, r.peak_load = load, r.peak_deflection = defl;
-      r.shear_at_peak = shear_sections.split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs);
+      r.shear_at_peak = shear_sections[0]->split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs[0]);
+      for (int k = 0; k < sides && o.full(); ++k) {
+        r.spans[k].reaction_at_peak = fs[k];
+        r.spans[k].plate_load_at_peak = -fp[k];
+        r.spans[k].shear_at_peak = shear_sections[k]->split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs[k]);
+      }
     }
     history.record(sv.contacts(), sv.gridpoints(), defl, load);
     if (r.first_crack_load == 0) {
@@ -280,7 +324,9 @@ template <class Law, class OnEvent>
       }
     }
     r.crack_count.push_back(-1);
-    if (samples++ % loading.crack_every == 0 && (!first_found || !inclined_found)) {
+    const bool spans_open = o.full() && (r.spans[0].first_inclined_crack_deflection < 0 ||
+                                         r.spans[1].first_inclined_crack_deflection < 0);
+    if (samples++ % loading.crack_every == 0 && (!first_found || !inclined_found || spans_open)) {
       const auto cracks = analyser.evaluate(sv.contacts(), sv.gridpoints(), 0);
       r.crack_count.back() = static_cast<real>(cracks.size());
       for (const beam_crack& c : cracks) {
@@ -294,12 +340,19 @@ template <class Law, class OnEvent>
         }
         // An inclined crack in the shear span: a diagonal (shear) crack. A short tortuous crack in
         // the constant-moment zone can fit an inclined line too; it is a flexural crack.
-        if (!c.vertical() && !inclined_found && c.x > o.support_x() && c.x < o.load_x()) {
+        const int span = c.vertical() ? -1 : beam_shear_span_of(o, c.x, 0);
+        if (span >= 0 && o.full() && r.spans[span].first_inclined_crack_deflection < 0) {
+          r.spans[span].first_inclined_crack_load = load;
+          r.spans[span].first_inclined_crack_deflection = defl;
+          r.spans[span].first_inclined_crack_x = c.x;
+        }
+        if (span >= 0 && !inclined_found) {
           inclined_found = true;
           r.first_inclined_crack_load = load;
           r.first_inclined_crack_deflection = defl;
           r.first_inclined_crack_x = c.x;
-          r.shear_at_inclined_crack = shear_sections.split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs);
+          r.first_inclined_crack_span = span;
+          r.shear_at_inclined_crack = shear_sections[span]->split(sv.contacts(), sv.reinforcement(), sv.bar_nodes(), fs[span]);
           if (!first_found) r.inclined_before_vertical = true;
         }
       }
@@ -349,14 +402,15 @@ template <class Law, class OnEvent>
 
   // Final cracks: the opening profile along the span (beam_crack_profile).
   r.final_cracks = beam_crack_profile(s.contacts(), gp, o.height, hand.mean_block_size, loading.crack_width);
-  const real zone0 = o.load_x();
   std::vector<real> mirrored;
   for (const beam_crack& c : r.final_cracks) {
     if (c.width > r.widest.width) r.widest = c;
-    if (!c.vertical() || c.x < zone0) continue;
+    beam_crack& half_widest = r.spans[c.x < L ? 0 : 1].widest;
+    if (o.full() && c.width > half_widest.width) half_widest = c;
+    if (!c.vertical() || !beam_in_moment_zone(o, c.x)) continue;
     r.flexural_crack_positions.push_back(c.x);
     mirrored.push_back(c.x);
-    if (L - c.x > 0.5 * hand.mean_block_size) mirrored.push_back(2 * L - c.x);  // its twin across the symmetry face
+    if (!o.full() && L - c.x > 0.5 * hand.mean_block_size) mirrored.push_back(2 * L - c.x);  // its twin across the symmetry face
   }
   std::sort(mirrored.begin(), mirrored.end());
   r.flexural_cracks = static_cast<int>(mirrored.size());
@@ -367,14 +421,26 @@ template <class Law, class OnEvent>
   r.tension_dissipated = ce.dissipated_tension;
   r.after_peak = beam_fastest_inclined_after_peak(s.contacts(), gp, history, o, hand.mean_block_size,
                                                   loading.crack_width, r.peak_load, r.peak_deflection);
+  for (int k = 0; k < sides && o.full(); ++k) {
+    r.spans[k].after_peak = k == 0 ? r.after_peak
+                                   : beam_fastest_inclined_after_peak(s.contacts(), gp, history, o, hand.mean_block_size,
+                                                                      loading.crack_width, r.peak_load, r.peak_deflection, 1);
+    // The fastest of both spans: the larger opening after the peak (the rule within one span)
+    if (k == 1 && r.spans[1].after_peak.found &&
+        (!r.after_peak.found || r.spans[1].after_peak.opening_increase > r.after_peak.opening_increase))
+      r.after_peak = r.spans[1].after_peak;
+  }
   r.failure_mode = beam_failure_mode(r.widest, o, loading.crack_width, r.compression_dissipated, r.tension_dissipated);
+  r.failing_span = beam_failing_span(o, r.widest, r.failure_mode);
+  r.elastic = beam_elastic_load(r.deflection, r.load, hand, o.full() ? &r.spans : nullptr);
   r.energy_balance_error = e.error_rel();
   r.boundary_work = e.boundary_work + e.applied_work;
-  if (contact_plates) {
-    r.plate_subcontacts = {support_platen->size(), loading_platen->size()};
-    r.plate_in_contact = {support_platen->in_contact(), loading_platen->in_contact()};
-    r.plate_rotation = {support_platen->rotation(), loading_platen->rotation()};
-    r.plate_added_mass = support_platen->added_mass() + loading_platen->added_mass();
+  for (int k = 0; k < sides && contact_plates; ++k) {
+    const auto j = static_cast<std::size_t>(2 * k);
+    r.plate_subcontacts[j] = support_platen[k]->size(), r.plate_subcontacts[j + 1] = loading_platen[k]->size();
+    r.plate_in_contact[j] = support_platen[k]->in_contact(), r.plate_in_contact[j + 1] = loading_platen[k]->in_contact();
+    r.plate_rotation[j] = support_platen[k]->rotation(), r.plate_rotation[j + 1] = loading_platen[k]->rotation();
+    r.plate_added_mass += support_platen[k]->added_mass() + loading_platen[k]->added_mass();
   }
   r.contact_dissipated = e.contact_dissipated;
   r.damping_dissipated = e.damping_dissipated;
@@ -388,7 +454,8 @@ template <class Law, class OnEvent>
   for (index_t i = 0; i < s.contacts().size(); ++i) areas.push_back(s.contacts().area(i));
   std::nth_element(areas.begin(), areas.begin() + static_cast<std::ptrdiff_t>(areas.size() / 2), areas.end());
   r.contact_points_over_depth = areas.empty() ? 0 : o.height / std::sqrt(areas[areas.size() / 2]);
-  r.trusses_per_block = static_cast<real>(scene.elements_per_bar) * hand.mean_block_size / (L - o.end_cover);
+  r.trusses_per_block = static_cast<real>(scene.elements_per_bar) * hand.mean_block_size /
+                        ((o.full() ? o.mirror(o.end_cover) : L) - o.end_cover);
   r.runtime_s = timer.seconds();
   return r;
 }

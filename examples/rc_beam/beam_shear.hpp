@@ -17,6 +17,8 @@
 //     concrete moves their nodes apart vertically (no dowel action, as the study's cables);
 //   - not counted: bond springs whose bar node and host zone lie on different sides (a bond
 //     spring acts along the bar's axis, so it carries no vertical force either).
+// In the full beam's right span (support_on_right) the support is on the right part, so the signs
+// turn: V = +sum F_left,y, the force the left part puts on the right one.
 // Quasi-static equilibrium of the left part asks V = the support reaction, P/2; the table gives
 // both (their ratio, closure, shows what the split leaves out: inertia and damping of a
 // mass-scaled run, the bond springs).
@@ -42,8 +44,8 @@ class beam_shear_sections {
  public:
   template <class Contacts, class Bar>
   beam_shear_sections(const geometry::tessellation& tess, const Contacts& c, const Bar& bar, const node_set& bar_nodes,
-                      const std::vector<real>& sections)
-      : x_(sections) {
+                      const std::vector<real>& sections, bool support_on_right = false)
+      : x_(sections), side_(support_on_right ? -1.0 : 1.0) {
     std::vector<real> centre_x(static_cast<std::size_t>(tess.cell_count()), 0);
     for (index_t cell = 0; cell < tess.cell_count(); ++cell) {
       real sum = 0;
@@ -57,7 +59,7 @@ class beam_shear_sections {
       for (index_t i = 0; i < c.size(); ++i) {
         const bool a_left = centre_x[static_cast<std::size_t>(c.block_a(i))] < xs;
         const bool b_left = centre_x[static_cast<std::size_t>(c.block_b(i))] < xs;
-        if (a_left != b_left) list.push_back({i, b_left ? 1.0 : -1.0});
+        if (a_left != b_left) list.push_back({i, (b_left ? 1.0 : -1.0) * side_});
       }
       contacts_.push_back(std::move(list));
       std::vector<index_t> elements;
@@ -94,7 +96,7 @@ class beam_shear_sections {
         const real n = chord.norm();
         // The left node pulls the element's left end; on the left part the element pulls towards
         // the right node with its tension N along the chord.
-        const real toward_right = bar_nodes.reference(b, 0) > bar_nodes.reference(a, 0) ? 1.0 : -1.0;
+        const real toward_right = (bar_nodes.reference(b, 0) > bar_nodes.reference(a, 0) ? 1.0 : -1.0) * side_;
         if (n > 0) s.bars -= toward_right * bar.axial_force(e) * chord.y() / n;
       }
       out.push_back(s);
@@ -106,9 +108,10 @@ class beam_shear_sections {
  private:
   struct crossing {
     index_t subcontact;
-    real sign;  ///< +1: block b is on the left, -1: block a is
+    real sign;  ///< +1: block b is on the left, -1: block a is (turned in the right span)
   };
   std::vector<real> x_;
+  real side_;  ///< +1, or -1 with the support on the right
   std::vector<std::vector<crossing>> contacts_;
   std::vector<std::vector<index_t>> elements_;
 };

@@ -8,7 +8,7 @@
 // Outputs in --out DIR:
 //   curve.csv     midspan_deflection_m, load_N (total load P, both half-spans: twice the half
 //                 model's support reaction, or of the force the support plate puts on the
-//                 concrete), smoothed_load_N (over 0.02 mm of deflection),
+//                 concrete; the sum of the full beam's two), smoothed_load_N (over 0.02 mm of deflection),
 //                 plate_load_N (twice the force on the loading plate: larger by the local damping's
 //                 drag, beam_run.hpp), load_point_deflection_m (of the loading plate)
 //   curve.png     load against mid-span deflection with the hand first-cracking, yield and shear
@@ -26,7 +26,10 @@
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
 //                 the supports and plates did on the beam; the law options (cohesion,
 //                 slip_breaks_tension) and steel_yield_Pa; inclined_after_peak_* the fastest-opening
-//                 inclined crack after the peak and diagonal_crack_after_peak (beam_post_peak.hpp)
+//                 inclined crack after the peak and diagonal_crack_after_peak (beam_post_peak.hpp);
+//                 span, elastic_check_* (the load at half the hand first-cracking deflection); with
+//                 --span full, failing_span and the left_* / right_* figures of each span
+//                 (beam_span.hpp), right_support_plate_* / right_loading_plate_* with its plates
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -114,7 +117,8 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
     io::write_csv(out / "hand_stiffness.csv", {"deflection_m", "load_N"}, {k0x, k0y});
   }
   io::plot_spec plot;
-  plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.blocks, " blocks, seed ", o.seed, ", ",
+  plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.span, " beam, ", o.blocks,
+                                       o.full() ? " blocks per half" : " blocks", ", seed ", o.seed, ", ",
                                        o.compression, " compression",
                                        in.params.empty() ? "" : tessera::detail::concat(", strength x ", o.strength_scale));
   plot.xlabel = "mid-span deflection (mm)";
@@ -145,29 +149,8 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   for (real w : snaps.crack_w) point_size.push_back(0.25 + 2.5 * (w_max > 0 ? w / w_max : 0));
   io::write_csv(out / "cracks.csv", {"x_m", "y_m", "width_m", "point_size"},
                 {snaps.crack_x, snaps.crack_y, snaps.crack_w, point_size});
-  io::plot_spec cp;
-  cp.title = tessera::detail::concat("cracked contacts at the end (side view; point size grows with the opening, largest ",
-                                     w_max * 1e3, " mm), ", o.blocks, " blocks");
-  cp.xlabel = "x along the span from the beam end (mm); symmetry face on the right";
-  cp.ylabel = "y (mm)";
-  cp.width_px = 1400;
-  cp.height_px = 520;
+  tessera::scenes::plot_beam_crack_map(out, o, w_max);
   const real L = o.half_length();
-  cp.preamble = {tessera::detail::concat("set size ratio -1"),
-                 tessera::detail::concat("set xrange [-5:", L * 1e3 + 5, "]"),
-                 tessera::detail::concat("set yrange [-25:", o.height * 1e3 + 25, "]"),
-                 tessera::detail::concat("set object 1 rect from 0,0 to ", L * 1e3, ",", o.height * 1e3,
-                                         " fs empty border lc rgb 'gray40'"),
-                 tessera::detail::concat("set object 2 rect from ", (o.support_x() - o.plate / 2) * 1e3, ",-8 to ",
-                                         (o.support_x() + o.plate / 2) * 1e3, ",0 fs solid 0.6 lc rgb 'gray20'"),
-                 tessera::detail::concat("set object 3 rect from ", (o.load_x() - o.plate / 2) * 1e3, ",",
-                                         o.height * 1e3, " to ", (o.load_x() + o.plate / 2) * 1e3, ",",
-                                         o.height * 1e3 + 8, " fs solid 0.6 lc rgb 'gray20'"),
-                 "set key off"};
-  cp.series.push_back({.csv = out / "cracks.csv", .x_column = "x_m", .y_column = "y_m", .title = "opened",
-                       .style = "points pt 7 ps variable lc rgb 'red'", .x_scale = 1e3, .y_scale = 1e3});
-  cp.variable_sizes.push_back({0, "point_size", 1.0});
-  io::plot_png(out / "cracks.png", cp);
 
   std::vector<real> crack_x, crack_angle, crack_width, crack_top;
   for (const auto& c : r.final_cracks)
@@ -182,6 +165,8 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
                                             : "rigid, hinged: the gridpoints under each plate move as one plate "
                                               "turning about its axis"))
       .set("blocks", o.blocks)
+      .set("span", o.span)
+      .set("model_blocks", o.model_blocks())
       .set("seed", o.seed)
       .set("compression", o.compression)
       .set("cohesion", o.cohesion)
@@ -207,6 +192,13 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
         .set("support_plate_rotation_rad", r.plate_rotation[0])
         .set("loading_plate_rotation_rad", r.plate_rotation[1])
         .set("plate_added_mass_kg", r.plate_added_mass);
+  if (o.plates == "contact" && o.full())
+    js.set("right_support_plate_subcontacts", static_cast<std::int64_t>(r.plate_subcontacts[2]))
+        .set("right_loading_plate_subcontacts", static_cast<std::int64_t>(r.plate_subcontacts[3]))
+        .set("right_support_plate_in_contact_at_end", static_cast<std::int64_t>(r.plate_in_contact[2]))
+        .set("right_loading_plate_in_contact_at_end", static_cast<std::int64_t>(r.plate_in_contact[3]))
+        .set("right_support_plate_rotation_rad", r.plate_rotation[2])
+        .set("right_loading_plate_rotation_rad", r.plate_rotation[3]);
   js.set("bars", o.bars)
       .set("bar_diameter_m", o.bar_diameter)
       .set("half_length_m", L)
@@ -233,14 +225,23 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("developed_crack_deflection_m", r.developed_crack_deflection)
       .set("first_crack_x_m", r.first_crack_x)
       .set("first_crack_angle_deg", r.first_crack_angle_deg)
-      .set("first_crack_in_moment_zone", r.first_crack_x >= o.load_x() - 0.5 * h.mean_block_size)
+      .set("first_crack_in_moment_zone", r.first_crack_x >= o.load_x() - 0.5 * h.mean_block_size &&
+                                             (!o.full() || r.first_crack_x <= o.mirror(o.load_x()) + 0.5 * h.mean_block_size))
       .set("first_inclined_crack_load_N", r.first_inclined_crack_load)
       .set("first_inclined_crack_deflection_m", r.first_inclined_crack_deflection)
       .set("first_inclined_crack_x_m", r.first_inclined_crack_x)
+      .set("first_inclined_crack_span", r.first_inclined_crack_span < 0 ? "none" : (r.first_inclined_crack_span == 0 ? "left" : "right"))
       .set("vertical_cracks_first", r.developed_crack_load > 0 && !r.inclined_before_vertical)
       .set("hand_initial_stiffness_N_per_m", h.initial_stiffness)
       .set("initial_stiffness_N_per_m", r.initial_stiffness)
-      .set("initial_stiffness_error_rel", rel(r.initial_stiffness, h.initial_stiffness));
+      .set("initial_stiffness_error_rel", rel(r.initial_stiffness, h.initial_stiffness))
+      .set("elastic_check_deflection_m", r.elastic.deflection)
+      .set("elastic_check_load_N", r.elastic.load)
+      .set("elastic_check_samples", r.elastic.samples);
+  if (o.full())
+    js.set("elastic_check_reaction_asymmetry_rel", r.elastic.reaction_asymmetry)
+        .set("elastic_check_plate_load_asymmetry_rel", r.elastic.plate_load_asymmetry)
+        .set("failing_span", r.failing_span);
   if (in.model_young > 0) {
     // The hand stiffness is proportional to E (bending and shear, G = E / 2.4).
     const real k_model = h.initial_stiffness * in.model_young / tessera::scenes::beam_concrete_young;
@@ -311,6 +312,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
     for (int k = 0; k < 7; ++k) js.set(when + names[k], col[k]);
     js.set(when + "closure_error_rel", closure);
   }
+  if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   js.write(out / "summary.json");
 
@@ -347,7 +349,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN)\n"
       "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
       " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
-      "  fastest inclined crack after the peak: %s\n"
+      "  fastest inclined crack after the peak: %s%s\n"
       "  shear at the peak (section x: intact + softening + broken/slipped + bars = total; P/2): %s\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
       o.blocks, in.params.empty() ? "" : tessera::detail::concat(" (contact strength x ", o.strength_scale, ")").c_str(),
@@ -359,7 +361,10 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
       yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
       h.shear_capacity_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
-      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(), shear_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
+      r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(),
+      o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
+                                         r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
+                                         " kN (left / right)").c_str() : "", shear_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
       r.quasi_static_index, static_cast<long long>(r.steps), timer.seconds(), out.string().c_str());
 }
 
@@ -397,7 +402,8 @@ int main(int argc, char** argv) {
   inputs in;
   tessera::cli::parser cli(
       "rc_beam",
-      "Reinforced-concrete beam without stirrups in four-point bending, half-symmetric (Pulatsu et al. 2020, Sec. 4):\n"
+      "Reinforced-concrete beam without stirrups in four-point bending, half-symmetric or whole (--span; Pulatsu et al.\n"
+      "2020, Sec. 4):\n"
       "flexural cracks, yield of the bars, diagonal tension. Default geometry PROVISIONAL (DESIGN.md 6): Walraven's\n"
       "series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm, constant-moment zone 500 mm, 4 x 8 mm bars.\n"
       "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.");
@@ -407,7 +413,12 @@ int main(int argc, char** argv) {
   auto& l = in.loading;
   l.added_mass_ratio = 20;  // quasi-static index 0.63 at 5 mm/s (beam.hpp)
   cli.option("--blocks", b.blocks, "Voronoi blocks of the half beam: 250 or 500 (the study's), or 8..249 for a coarse run "
-             "with the 250-block contacts", "N").within(8, 500);
+             "with the 250-block contacts; with --span full, of ONE half span (the full beam has about 2N, at the half "
+             "model's block size and contacts)", "N").within(8, 500);
+  cli.option("--span", b.span, "half: the half beam with a symmetry face at mid-span (forces symmetric cracks); full: "
+             "the whole beam, both shear spans, supports and loading plates (on a spreader: equal plate loads), no "
+             "symmetry condition", "half|full")
+      .one_of({"half", "full"});
   cli.option("--compression", b.compression, "contact law in compression: plastic (cap at f_c = 35 MPa) or elastic",
              "plastic|elastic").one_of({"plastic", "elastic"});
   cli.option("--cohesion", b.cohesion,
