@@ -310,6 +310,21 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   /// Time spent in each phase of the steps so far (see phase_times).
   [[nodiscard]] const phase_times& phases() const { return phases_; }
 
+  // ---- for a driver that runs the pieces of step() itself (distributed/stepper.hpp) ----
+  /// The contact set, to run its step pieces (prepare_step, update_faces, add_force) directly.
+  [[nodiscard]] contact_set_type& contacts_for_step() { return contacts_; }
+  /// The integrator, whose advance_dof integrates one component as advance does.
+  [[nodiscard]] const Integrator& integrator() const { return integrator_; }
+  /// Closes a step whose pieces a driver ran: books the work of its integration (J), advances the
+  /// step count by one and the time by dt. No gravity work and no step checker: such a driver
+  /// refuses gravity and runs its own checks.
+  void close_external_step(const integrator::step_work& work) {
+    boundary_work_ += work.boundary;
+    damping_dissipated_ += work.damping;
+    ++step_;
+    time_ += dt_;
+  }
+
   /// Unbalanced force of the last step over free components (solver/balance.hpp): of the
   /// gridpoints (deformable blocks) or of the blocks' translations (rigid blocks: the block force
   /// with the weight, moments left out), then of the bar nodes (max_node counts on from the
