@@ -1,0 +1,304 @@
+#pragma once
+// distributed::stepper<Solver>: the time step of a run split by blocks over MPI ranks
+// (docs/architecture.md, "The distributed step"), for deformable blocks bonded by
+// contact::face_contacts (no reinforcement, no detected contacts, no gravity or applied forces
+// yet). Every rank builds the whole model (a solver over every block: the memory of one process
+// per rank, acceptable while a scene fits one machine's memory many times over) and the same
+// rank_ownership; the stepper restricts the solver's step to what its rank evaluates and owns:
+//
+//   zone tasks of own blocks (force rows zeroed, then the block's zone sums)  ─┐ one parallel
+//   faces whose two blocks are own                                           ─┘ region
+//   wait for the halo (u(t), v(t - dt/2) of the ghost gridpoints)
+//   faces with a ghost block (evaluated here and on the ghost's rank, from the same inputs)
+//   per own block: gather each gridpoint's contact forces (face_contacts::add_force, increasing
+//     global sub-contact order), then integrate its components (the integrator's advance_dof)
+//   send u(t + dt), v(t + dt/2) of own gridpoints that are ghosts elsewhere (non-blocking; it
+//     completes in the next step, behind the zone tasks and the interior faces)
+//
+// Why the bits are one process's: docs/architecture.md. Each own gridpoint's force is zero plus
+// its block's zone sum plus its contact sum, the terms and order of solver::step; every
+// sub-contact that touches it is evaluated on this rank from u and v that are the owners' bits;
+// integration is per component. The motion of every own gridpoint, the state of every evaluated
+// sub-contact and the reactions of own prescribed components are therefore one process's, to the
+// bit, for any rank count and any thread count per rank (CTests distributed_mpi_step_2 and _3).
+//
+// What is not the same bits: the energy books. The boundary and damping work of a step are sums
+// over every gridpoint, in one process by fixed chunks of the whole set; a rank books its own
+// gridpoints' (block by block, in the solver's books and its own), and summed_energies adds the
+// ranks' shares in rank order: one process's values to round-off, not to the bit
+// (docs/architecture.md says what the bits would need). Rows of other ranks' gridpoints on a rank
+// are stale but for the ghosts (see finish_exchange), so the solver's energies() and
+// unbalanced_force() on a rank are not the model's.
+// Reaction sums over a node group spread over ranks: gathered_reaction_sum below.
+//
+// Cost per step: the rank's zones and evaluated sub-contacts, O(own gridpoints), one exchange;
+// nothing allocated inside step(). Not thread-safe (one thread drives it; its loops are parallel).
+//
+// Only where MPI is built in (TESSERA_HAVE_MPI: link tessera::mpi).
+
+#ifdef TESSERA_HAVE_MPI
+#include <mpi.h>
+
+#include <algorithm>
+#include <concepts>
+#include <cstdint>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/parallel.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../integrator/concepts.hpp"
+#include "../solver/boundary.hpp"
+#include "halo_exchange.hpp"
+#include "ownership.hpp"
+
+namespace tessera::distributed {
+
+template <class Solver>
+class stepper {
+  static_assert(!Solver::blocks_type::is_rigid, "distributed::stepper: rigid blocks are not distributed yet");
+  static_assert(!Solver::reinforcement_type::enabled, "distributed::stepper: reinforcement is not distributed yet");
+  static_assert(requires(typename Solver::contact_set_type& c, const node_set& gp, index_t i) {
+    c.update_faces(i, i, gp, real(0));
+    c.face(i);
+  }, "distributed::stepper: the contact set must be a face_contacts (bonded faces); detected contacts are not distributed yet");
+
+ public:
+  /// The step of this process's rank in `comm` for `s`, built on every rank from the same scene
+  /// (`mesh` the block_mesh it was built from), under `own`, built on every rank from the same
+  /// map and the solver's sub-contacts (contact_pairs_of(s.contacts())). `tag` keeps the halo's
+  /// messages apart. Throws invalid_input when the communicator's size is not own.ranks(), when
+  /// the mesh or the ownership do not match the solver (gridpoints, blocks, sub-contacts), when a
+  /// block has no zones, or when gravity or applied forces are set (not distributed yet).
+  stepper(Solver& s, const geometry::block_mesh& mesh, const rank_ownership& own, MPI_Comm comm, int tag = 44)
+      : solver_(&s), halo_(own, comm, tag) {
+    MPI_Comm_rank(comm, &rank_);
+    MPI_Comm_size(comm, &ranks_);
+    rank_shares_.resize(3 * static_cast<std::size_t>(ranks_));
+    const auto& contacts = s.contacts();
+    require(mesh.gridpoint_count() == s.gridpoints().size(), "distributed::stepper: the mesh has ",
+            mesh.gridpoint_count(), " gridpoints, the solver ", s.gridpoints().size());
+    require(mesh.block_count() == s.blocks().block_count(), "distributed::stepper: the mesh has ", mesh.block_count(),
+            " blocks, the solver ", s.blocks().block_count());
+    // Zone task t is block t when every block has zones (blocks::deformable: one task per block
+    // with zones, in block order).
+    require(s.blocks().zone_task_count() == s.blocks().block_count(), "distributed::stepper: ",
+            s.blocks().block_count() - s.blocks().zone_task_count(), " block(s) have no zones");
+    require(s.gravity() == vec3::Zero(), "distributed::stepper: gravity (", s.gravity().transpose(),
+            ") m/s^2 is not distributed yet; set it to zero");
+    require(s.applied_nodes().empty(), "distributed::stepper: ", s.applied_nodes().size(),
+            " gridpoint(s) carry applied forces, which are not distributed yet");
+    std::vector<char> evaluated_face(static_cast<std::size_t>(contacts.face_count()), 0);
+    for (const index_t i : own.evaluated_contacts(rank_)) {
+      require(i >= 0 && i < contacts.subcontact_count(), "distributed::stepper: the ownership names sub-contact ", i,
+              "; the solver has ", contacts.subcontact_count());
+      evaluated_face[static_cast<std::size_t>(contacts.face(i))] = 1;
+    }
+    // Own blocks, and the blocks' gridpoint ranges (contiguous per block in the mesh).
+    const auto owned = own.owned_blocks(rank_);
+    own_blocks_.assign(owned.begin(), owned.end());
+    block_gridpoint_offsets_ = mesh.block_gridpoint_offsets;
+    for (const index_t b : own_blocks_)
+      for (index_t g = block_gridpoint_offsets_[at(b)]; g < block_gridpoint_offsets_[at(b) + 1]; ++g) own_gridpoints_.push_back(g);
+    is_own_block_.assign(static_cast<std::size_t>(mesh.block_count()), 0);
+    for (const index_t b : own_blocks_) is_own_block_[at(b)] = 1;
+    // Evaluated faces split into those with both blocks here (no ghost: they overlap the halo)
+    // and those with a ghost block, each cut into tasks of consecutive faces with about
+    // face_task_subcontacts sub-contacts.
+    for (index_t f = 0; f < contacts.face_count(); ++f) {
+      if (!evaluated_face[at(f)]) continue;
+      const auto& sf = contacts.shared_face(f);
+      const bool interior = is_own_block_[at(sf.cell_a)] && is_own_block_[at(sf.cell_b)];
+      std::vector<index_t>& tasks = interior ? interior_faces_ : boundary_faces_;
+      std::vector<index_t>& last = interior ? interior_last_ : boundary_last_;
+      const bool extends = !tasks.empty() && last.back() == f &&
+                           contacts.first_subcontact(f) - contacts.first_subcontact(tasks.back()) < face_task_subcontacts;
+      if (extends) {
+        last.back() = f + 1;
+      } else {
+        tasks.push_back(f);
+        last.push_back(f + 1);
+      }
+    }
+    block_work_.resize(own_blocks_.size());
+  }
+
+  stepper(const stepper&) = delete;
+  stepper& operator=(const stepper&) = delete;
+
+  /// Advances this rank's part of the model by one step (file comment). Every rank of the
+  /// communicator must call it, the same number of times.
+  void step() {
+    Solver& s = *solver_;
+    node_set& gp = s.gridpoints();
+    auto& contacts = s.contacts_for_step();
+    const real dt = s.dt();
+    if (!in_flight_) start_exchange();  // the first step: the ghosts as they stand now
+    contacts.prepare_step(gp, dt);
+    const auto own_block_count = static_cast<std::int64_t>(own_blocks_.size());
+    parallel_range_pair(
+        own_block_count, [&](std::int64_t k0, std::int64_t k1) { add_zone_forces(k0, k1, gp); },
+        static_cast<std::int64_t>(interior_faces_.size()),
+        [&](std::int64_t j) { contacts.update_faces(interior_faces_[at(j)], interior_last_[at(j)], gp, dt); }, 16);
+    halo_.finish(gp);
+    in_flight_ = false;
+    parallel_for(static_cast<std::int64_t>(boundary_faces_.size()),
+                 [&](std::int64_t j) { contacts.update_faces(boundary_faces_[at(j)], boundary_last_[at(j)], gp, dt); }, 2);
+    const auto& integ = s.integrator();
+    parallel_for(own_block_count, [&](std::int64_t k) {
+      const index_t b = own_blocks_[at(k)];
+      const index_t g0 = block_gridpoint_offsets_[at(b)], g1 = block_gridpoint_offsets_[at(b) + 1];
+      for (index_t g = g0; g < g1; ++g) contacts.add_force(g, gp);
+      integrator::step_work w;
+      for (int c = 0; c < 3; ++c)
+        for (index_t g = g0; g < g1; ++g) {
+          gp.velocity(g, c) = integ.advance_dof(gp.force(g, c), gp.mass[g], gp.velocity(g, c), gp.constraint(g, c),
+                                                gp.prescribed_velocity(g, c), dt, gp.reaction(g, c), w);
+          gp.displacement(g, c) += gp.velocity(g, c) * dt;
+        }
+      block_work_[at(k)] = w;
+    }, 4);
+    integrator::step_work work;
+    for (const auto& w : block_work_) {
+      work.boundary += w.boundary;
+      work.damping += w.damping;
+    }
+    s.close_external_step(work);
+    boundary_work_ += work.boundary;
+    damping_dissipated_ += work.damping;
+    start_exchange();
+  }
+
+  /// Energy terms of the whole model now, from every rank's share (J): the work of the support
+  /// reactions and the local damping summed over the steps (each rank books its own gridpoints,
+  /// block by block), and the kinetic energy of the gridpoints (1/2 m v^2 at the half step, own
+  /// gridpoints in increasing order). The rank shares are gathered and added in rank order, so
+  /// every rank gets the same bits; they are one process's to round-off only (another summation
+  /// order: about 1e-15 relative a step; test_distributed_step checks 1e-12 after 600 steps).
+  /// Every rank of `comm` must call it. Allocates nothing; one MPI_Allgather of 3 reals a rank.
+  struct energy_sums {
+    real boundary_work = 0;       ///< J
+    real damping_dissipated = 0;  ///< J
+    real kinetic = 0;             ///< J
+  };
+  [[nodiscard]] energy_sums summed_energies(MPI_Comm comm) const {
+    const node_set& gp = solver_->gridpoints();
+    real kinetic = 0;
+    for (const index_t g : own_gridpoints_) kinetic += 0.5 * gp.mass[g] * gp.velocity.row(g).squaredNorm();
+    const double mine[3] = {boundary_work_, damping_dissipated_, kinetic};
+    MPI_Allgather(mine, 3, MPI_DOUBLE, rank_shares_.data(), 3, MPI_DOUBLE, comm);
+    energy_sums e;
+    for (int r = 0; r < ranks_; ++r) {
+      e.boundary_work += rank_shares_[3 * static_cast<std::size_t>(r)];
+      e.damping_dissipated += rank_shares_[3 * static_cast<std::size_t>(r) + 1];
+      e.kinetic += rank_shares_[3 * static_cast<std::size_t>(r) + 2];
+    }
+    return e;
+  }
+
+  /// Completes the exchange the last step started, so the ghosts' rows hold u(t) and v(t - dt/2)
+  /// of their owners now (for a reader of ghost rows between steps; step() completes it anyway).
+  /// Every rank must call it.
+  void finish_exchange() {
+    if (!in_flight_) return;
+    halo_.finish(solver_->gridpoints());
+    in_flight_ = false;
+  }
+
+  [[nodiscard]] int rank() const { return rank_; }
+  /// Blocks of this rank, increasing.
+  [[nodiscard]] const std::vector<index_t>& own_blocks() const { return own_blocks_; }
+  /// Gridpoints of this rank's blocks, increasing.
+  [[nodiscard]] const std::vector<index_t>& own_gridpoints() const { return own_gridpoints_; }
+  [[nodiscard]] bool owns_block(index_t b) const { return is_own_block_[at(b)] != 0; }
+  [[nodiscard]] const halo_exchange& halo() const { return halo_; }
+  /// Face tasks this rank evaluates without ghosts and with a ghost block.
+  [[nodiscard]] std::size_t interior_face_tasks() const { return interior_faces_.size(); }
+  [[nodiscard]] std::size_t boundary_face_tasks() const { return boundary_faces_.size(); }
+
+ private:
+  template <std::integral I>
+  [[nodiscard]] static constexpr std::size_t at(I i) noexcept {
+    return static_cast<std::size_t>(i);
+  }
+
+  /// Zone forces of own blocks own_blocks_[k0, k1): each run of consecutive block ids at once
+  /// (one task per block, so their rotations are computed in lane packs as the solver does).
+  void add_zone_forces(std::int64_t k0, std::int64_t k1, node_set& gp) {
+    auto& blocks = solver_->blocks();
+    for (std::int64_t k = k0; k < k1;) {
+      std::int64_t e = k + 1;
+      while (e < k1 && own_blocks_[at(e)] == own_blocks_[at(e - 1)] + 1) ++e;
+      const index_t b0 = own_blocks_[at(k)], b1 = own_blocks_[at(e - 1)] + 1;
+      // solver::step starts the forces from zero (no gravity, no applied forces: refused).
+      for (index_t g = block_gridpoint_offsets_[at(b0)]; g < block_gridpoint_offsets_[at(b1)]; ++g)
+        for (int c = 0; c < 3; ++c) gp.force(g, c) = 0;
+      blocks.add_zone_forces_of_tasks(b0, b1, gp);
+      k = e;
+    }
+  }
+
+  void start_exchange() {
+    halo_.start(solver_->gridpoints());
+    in_flight_ = true;
+  }
+
+  /// Sub-contacts per face task (at least, but for the last task of a run of faces).
+  static constexpr index_t face_task_subcontacts = 64;
+
+  Solver* solver_;
+  halo_exchange halo_;
+  int rank_ = 0;
+  bool in_flight_ = false;
+  std::vector<index_t> own_blocks_;
+  std::vector<index_t> own_gridpoints_;
+  std::vector<char> is_own_block_;
+  std::vector<index_t> block_gridpoint_offsets_;
+  std::vector<index_t> interior_faces_, interior_last_;  ///< face tasks [first, last) with both blocks own
+  std::vector<index_t> boundary_faces_, boundary_last_;  ///< face tasks [first, last) with a ghost block
+  std::vector<integrator::step_work> block_work_;        ///< per own block: its integration work this step
+  real boundary_work_ = 0, damping_dissipated_ = 0;      ///< this rank's books (J): its own gridpoints' work
+  int ranks_ = 1;                                        ///< ranks of the communicator
+  mutable std::vector<double> rank_shares_;              ///< summed_energies' gathered shares
+};
+
+/// The sum over `group` (in its order, as recorders::reaction_sum) of the support reactions (N)
+/// of a node group spread over ranks: each rank sends the rows of its own gridpoints, every rank
+/// receives all rows in group order and sums them as one process does, so the result is one
+/// process's to the bit on every rank. Every rank of `comm` must call it with the same group.
+/// Allocates (a sampling call, not one for every step).
+[[nodiscard]] inline vec3 gathered_reaction_sum(const node_set& gridpoints, const bc::node_group& group,
+                                                const rank_ownership& own, MPI_Comm comm) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  require(size == own.ranks(), "gathered_reaction_sum: the communicator has ", size, " ranks, the ownership ",
+          own.ranks());
+  std::vector<double> mine;
+  std::vector<int> counts(static_cast<std::size_t>(size), 0), offsets(static_cast<std::size_t>(size) + 1, 0);
+  for (const index_t g : group.nodes) {
+    const int r = own.gridpoint_rank(g);
+    counts[static_cast<std::size_t>(r)] += 3;
+    if (r == rank)
+      for (int c = 0; c < 3; ++c) mine.push_back(gridpoints.reaction(g, c));
+  }
+  for (int r = 0; r < size; ++r) offsets[static_cast<std::size_t>(r) + 1] = offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)];
+  std::vector<double> all(static_cast<std::size_t>(offsets.back()));
+  MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, all.data(), counts.data(), offsets.data(),
+                 MPI_DOUBLE, comm);
+  // Each rank's rows arrived in group order: walk the group, taking the next row of its owner.
+  std::vector<int> next(offsets.begin(), offsets.end() - 1);
+  vec3 sum = vec3::Zero();
+  for (const index_t g : group.nodes) {
+    int& k = next[static_cast<std::size_t>(own.gridpoint_rank(g))];
+    sum += vec3(all[static_cast<std::size_t>(k)], all[static_cast<std::size_t>(k) + 1], all[static_cast<std::size_t>(k) + 2]);
+    k += 3;
+  }
+  return sum;
+}
+
+}  // namespace tessera::distributed
+
+#endif  // TESSERA_HAVE_MPI

@@ -1,0 +1,268 @@
+// The distributed step (include/tessera/distributed/stepper.hpp) against one process, under
+// mpiexec (CTests distributed_mpi_step_2 and _3): the study's 100-block prism (the scene of
+// examples/direct_tension: deformable semi-rigid blocks, the power-softening tie law), bottom
+// fixed, top pulled along z, run on every rank twice: once as one process (the reference, the
+// whole model stepped by solver::step) and once split over the ranks. Every few steps each rank
+// compares, bit for bit, u, v and the reactions of its own gridpoints, the law state of every
+// sub-contact it evaluates, and the load on the pulled platen gathered over the ranks in group
+// order; at the end also its ghosts after the last exchange. The run goes through the first
+// softening of contacts (checked), so the law's nonlinear branches are exercised. A last section
+// shows that a bit comparison sees the order of a gather: summed in another order, the contact
+// forces of some gridpoint and the platen load take other bits.
+#define CATCH_CONFIG_RUNNER
+#include <catch2/catch.hpp>
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "tessera/distributed/block_graph.hpp"
+#include "tessera/distributed/ownership.hpp"
+#include "tessera/distributed/partition.hpp"
+#include "tessera/distributed/stepper.hpp"
+#include "tessera/geometry/voronoi.hpp"
+#include "tessera/geometry/zoning.hpp"
+#include "tessera/presets/pulatsu2020.hpp"
+#include "tessera/solver/recorders.hpp"
+#include "tessera/solver/solver.hpp"
+
+using namespace tessera;
+using prism_law = prism_solver::law_type;
+
+namespace {
+/// The direct tension prism of examples/common/scenes.hpp (make_prism, 100 blocks, seed 1):
+/// 68 x 68 x 600 mm, blocks of 10 x concrete (E 28 GPa, nu 0.2, 2400 kg/m^3), Table 1's contacts
+/// with cohesion 2 f_T and residual cohesion 0.01 c_0.
+struct prism_scene {
+  geometry::tessellation tess;
+  geometry::block_mesh mesh;
+  zones::linear_elastic_tet::params block{10 * 28e9, 0.2, 2400};
+  law::study_tie_law::params contact = law::scaled_prism_params(100);
+  real length = 0.6;
+  prism_scene() {
+    tess = geometry::random_voronoi(aabb{vec3::Zero(), vec3(0.068, 0.068, length)}, 100, 1);
+    mesh = geometry::zone_blocks(tess);
+    contact.shear.c_0 = 2 * contact.tension.f_T;
+    contact.shear.c_res = 0.01 * contact.shear.c_0;
+  }
+};
+
+/// The pull: top velocity (m/s) and top displacement per step (m), the latter setting the mass
+/// scaling's target step dt = du / rate. Larger than the driver's quick 5 nm a step so that
+/// contacts soften within a few hundred steps of a test.
+constexpr real pull_rate = 0.005;
+constexpr real pull_step_displacement = 50e-9;
+
+solver_options pull_options() {
+  solver_options o;
+  o.mass_scaling_dt = pull_step_displacement / pull_rate;
+  return o;
+}
+
+/// Bottom fixed, top fixed transversally and pulled along z (examples/direct_tension's supports).
+void support_and_pull(prism_solver& s, real length) {
+  const real tol = 1e-9 * length;
+  s.fix(s.gridpoints_on_plane(2, 0.0, tol));
+  const bc::node_group top = s.gridpoints_on_plane(2, length, tol);
+  s.fix(top, bc::transverse_to(2));
+  s.prescribe_velocity(top, vec3(0, 0, pull_rate), bc::components::z);
+}
+
+[[nodiscard]] bool same_bits(real a, real b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+/// Rows of `rows` (u, v or reactions) of the gridpoints in `which` whose bits differ from `ref`'s.
+[[nodiscard]] index_t differing_rows(const soa3& rows, const soa3& ref, const std::vector<index_t>& which) {
+  index_t n = 0;
+  for (const index_t g : which) {
+    bool same = true;
+    for (int c = 0; c < 3; ++c) same = same && same_bits(rows(g, c), ref(g, c));
+    n += same ? 0 : 1;
+  }
+  return n;
+}
+
+/// Sub-contacts in `which` whose law state (sigma_n, tau, u_n, tensile damage) differs in bits.
+template <class Contacts>
+[[nodiscard]] index_t differing_states(const Contacts& c, const Contacts& ref, std::span<const index_t> which) {
+  index_t n = 0;
+  for (const index_t i : which) {
+    const auto& a = c.state(i);
+    const auto& b = ref.state(i);
+    const bool same = same_bits(a.sigma_n, b.sigma_n) && same_bits(a.tau.x(), b.tau.x()) &&
+                      same_bits(a.tau.y(), b.tau.y()) && same_bits(a.tau.z(), b.tau.z()) &&
+                      same_bits(a.u_n, b.u_n) && same_bits(a.u_soft, b.u_soft) &&
+                      same_bits(a.dissipated_tension, b.dissipated_tension) &&
+                      same_bits(prism_law::tensile_damage(c.subcontact_params(i), a),
+                                prism_law::tensile_damage(ref.subcontact_params(i), b));
+    n += same ? 0 : 1;
+  }
+  return n;
+}
+
+[[nodiscard]] index_t summed_over_ranks(index_t n) {
+  long long mine = n, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return static_cast<index_t>(all);
+}
+}  // namespace
+
+/// One split of the model: its solver (the whole model, stepped by the ranks' stepper), the
+/// ownership of a block -> rank map and the stepper, with the mismatches its comparisons found.
+struct split_run {
+  const char* name;
+  std::unique_ptr<prism_solver> solver;
+  std::unique_ptr<distributed::rank_ownership> own;
+  std::unique_ptr<distributed::stepper<prism_solver>> step;
+  index_t bad_u = 0, bad_v = 0, bad_reaction = 0, bad_state = 0, bad_load = 0;
+};
+
+TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][step]") {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const prism_scene scene;
+  prism_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  support_and_pull(reference, scene.length);
+  const bc::node_group top = reference.gridpoints_on_plane(2, scene.length, 1e-9 * scene.length);
+
+  // Two block -> rank maps, rank 0's, broadcast: slabs by bisection, and (where built in) METIS's
+  // ragged cut through the Voronoi blocks. Both splits step side by side, their halos apart by tag.
+  distributed::block_graph_input in = distributed::blocks_of_mesh(scene.mesh);
+  distributed::add_subcontacts(in, reference.contacts());
+  const distributed::block_graph graph(in);
+  const auto pairs = distributed::contact_pairs_of(reference.contacts());
+  std::vector<split_run> splits;
+  for (const char* name : {"RCB", "METIS"}) {
+    std::vector<int> map(static_cast<std::size_t>(graph.block_count()), -1);
+    if (rank == 0) {
+#ifdef TESSERA_HAVE_METIS
+      map = name[0] == 'R' ? distributed::partition_blocks_rcb(graph, size) : distributed::partition_blocks_metis(graph, size);
+#else
+      if (name[0] != 'R') continue;
+      map = distributed::partition_blocks_rcb(graph, size);
+#endif
+    }
+    MPI_Bcast(map.data(), graph.block_count(), MPI_INT, 0, MPI_COMM_WORLD);
+    split_run run{name,
+                  std::make_unique<prism_solver>(scene.tess, scene.mesh, scene.block, scene.contact,
+                                                 reinforcement::none::params{}, pull_options()),
+                  nullptr, nullptr};
+    support_and_pull(*run.solver, scene.length);
+    run.own = std::make_unique<distributed::rank_ownership>(map, size, scene.mesh, pairs);
+    run.step = std::make_unique<distributed::stepper<prism_solver>>(*run.solver, scene.mesh, *run.own, MPI_COMM_WORLD,
+                                                                    44 + static_cast<int>(splits.size()));
+    splits.push_back(std::move(run));
+  }
+
+  constexpr int steps = 600, every = 50;
+  index_t compared = 0;
+  for (int k = 1; k <= steps; ++k) {
+    reference.step();
+    for (auto& r : splits) r.step->step();
+    if (k % every != 0 && k != 1) continue;
+    ++compared;
+    const vec3 load_ref = recorders::reaction_sum(reference.gridpoints(), top);
+    for (auto& r : splits) {
+      const std::vector<index_t>& mine = r.step->own_gridpoints();
+      const node_set& gp = r.solver->gridpoints();
+      r.bad_u += differing_rows(gp.displacement, reference.gridpoints().displacement, mine);
+      r.bad_v += differing_rows(gp.velocity, reference.gridpoints().velocity, mine);
+      r.bad_reaction += differing_rows(gp.reaction, reference.gridpoints().reaction, mine);
+      r.bad_state += differing_states(r.solver->contacts(), reference.contacts(), r.own->evaluated_contacts(rank));
+      const vec3 load = distributed::gathered_reaction_sum(gp, top, *r.own, MPI_COMM_WORLD);
+      r.bad_load += same_bits(load.x(), load_ref.x()) && same_bits(load.y(), load_ref.y()) && same_bits(load.z(), load_ref.z()) ? 0 : 1;
+      if (rank == 0 && k % 200 == 0)
+        std::printf("step %d, %s: platen load %.6f kN (one process %.6f kN)\n", k, r.name, load.z() * 1e-3,
+                    load_ref.z() * 1e-3);
+    }
+  }
+  const energy_balance e_ref = reference.energies();
+  for (auto& r : splits) {
+    INFO(r.name << " split on " << size << " ranks, rank " << rank);
+    const prism_solver& s = *r.solver;
+    CHECK(s.step_count() == reference.step_count());
+    CHECK(same_bits(s.time(), reference.time()));
+    CHECK(r.bad_u == 0);
+    CHECK(r.bad_v == 0);
+    CHECK(r.bad_reaction == 0);
+    CHECK(r.bad_state == 0);
+    CHECK(r.bad_load == 0);
+    // The ghosts, once the last exchange is complete, hold their owners' bits too.
+    r.step->finish_exchange();
+    const auto ghosts = r.own->ghost_gridpoints(rank);
+    const std::vector<index_t> ghost_list(ghosts.begin(), ghosts.end());
+    CHECK(differing_rows(s.gridpoints().displacement, reference.gridpoints().displacement, ghost_list) == 0);
+    CHECK(differing_rows(s.gridpoints().velocity, reference.gridpoints().velocity, ghost_list) == 0);
+    // Every gridpoint is compared on exactly one rank, every sub-contact on one or two.
+    CHECK(summed_over_ranks(static_cast<index_t>(r.step->own_gridpoints().size())) == scene.mesh.gridpoint_count());
+    CHECK(summed_over_ranks(static_cast<index_t>(r.own->evaluated_contacts(rank).size())) >=
+          reference.contacts().subcontact_count());
+    // The energy books, summed over the ranks: one process's to round-off (stepper::summed_energies).
+    const auto e = r.step->summed_energies(MPI_COMM_WORLD);
+    const auto relative = [](real a, real b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); };
+    CHECK(relative(e.boundary_work, e_ref.boundary_work) <= 1e-12);
+    CHECK(relative(e.damping_dissipated, e_ref.damping_dissipated) <= 1e-12);
+    CHECK(relative(e.kinetic, e_ref.kinetic) <= 1e-12);
+    if (rank == 0)
+      std::printf("%s on %d ranks, %d steps compared %lld times: rank 0 owns %zu gridpoints, evaluates %zu "
+                  "sub-contacts, has %zu ghost gridpoints, sends %zu bytes a step; energy sums against one process: "
+                  "boundary work %.3g, damping %.3g, kinetic %.3g relative\n",
+                  r.name, size, steps, static_cast<long long>(compared), r.step->own_gridpoints().size(),
+                  r.own->evaluated_contacts(rank).size(), ghosts.size(), r.step->halo().bytes_sent(),
+                  relative(e.boundary_work, e_ref.boundary_work), relative(e.damping_dissipated, e_ref.damping_dissipated),
+                  relative(e.kinetic, e_ref.kinetic));
+  }
+
+  // The run reaches the law's softening: some sub-contacts carry tensile damage.
+  index_t softened = 0;
+  for (index_t i = 0; i < reference.contacts().subcontact_count(); ++i)
+    softened += prism_law::tensile_damage(reference.contacts().subcontact_params(i), reference.contacts().state(i)) > 0;
+  if (rank == 0)
+    std::printf("%lld of %lld sub-contacts softened\n", static_cast<long long>(softened),
+                static_cast<long long>(reference.contacts().subcontact_count()));
+  CHECK(softened > 0);
+
+  // The comparison sees the order of a gather: the contact forces on a gridpoint summed in
+  // decreasing sub-contact order, and the platen's reactions summed backwards, take other bits
+  // for some gridpoint and for the load, so a gather out of order would have failed above.
+  const auto& c = reference.contacts();
+  std::vector<std::vector<std::pair<index_t, real>>> terms(static_cast<std::size_t>(scene.mesh.gridpoint_count()));
+  for (index_t i = 0; i < c.subcontact_count(); ++i) {
+    terms[static_cast<std::size_t>(c.node_a(i))].push_back({i, -1});  // node A receives -force(i)
+    terms[static_cast<std::size_t>(c.node_b(i))].push_back({i, +1});
+  }
+  index_t order_sensitive = 0;
+  for (const auto& t : terms) {
+    real forward = 0, backward = 0;
+    for (auto it = t.begin(); it != t.end(); ++it) forward += it->second * c.force(it->first).z();
+    for (auto it = t.rbegin(); it != t.rend(); ++it) backward += it->second * c.force(it->first).z();
+    order_sensitive += same_bits(forward, backward) ? 0 : 1;
+  }
+  real load_backward = 0;
+  for (auto it = top.nodes.rbegin(); it != top.nodes.rend(); ++it) load_backward += reference.gridpoints().reaction(*it, 2);
+  if (rank == 0)
+    std::printf("gather order: %lld gridpoints whose contact force z takes other bits summed backwards; platen load "
+                "backwards %s\n",
+                static_cast<long long>(order_sensitive),
+                same_bits(load_backward, recorders::reaction_sum(reference.gridpoints(), top).z()) ? "the same" : "other bits");
+  CHECK(order_sensitive > 0);
+  CHECK_FALSE(same_bits(load_backward, recorders::reaction_sum(reference.gridpoints(), top).z()));
+}
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  set_threads(1);  // ranks share the machine's cores; the threads' bits are test_threads' matter
+  const int failed = Catch::Session().run(argc, argv);
+  int any = 0;
+  MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  MPI_Finalize();
+  return any == 0 ? 0 : 1;
+}
