@@ -58,6 +58,7 @@ using triplet = Eigen::Triplet<real>;
 /// | L::normal_stiffness(p)        | k_n (Pa/m)                                                     |
 /// | L::shear_stiffness(p)         | k_s (Pa/m)                                                     |
 /// | L::status(s)                  | law::contact_status bits: softening, broken_tension, slipped   |
+/// | L::tensile_strength(p, s)     | current tensile strength f_t (Pa), lowered as the crack opens   |
 /// | s.sigma_n, s.u_n, s.u_p       | normal stress (Pa), total and irreversible opening (m)          |
 /// | s.tau                         | shear stress vector (Pa)                                       |
 template <class L>
@@ -65,6 +66,7 @@ concept SecantLaw = law::ContactLaw<L> && requires(const typename L::params& p, 
   { L::normal_stiffness(p) } -> std::convertible_to<real>;
   { L::shear_stiffness(p) } -> std::convertible_to<real>;
   { L::status(s) } -> std::same_as<law::contact_status>;
+  { L::tensile_strength(p, s) } -> std::convertible_to<real>;
   { s.sigma_n } -> std::convertible_to<real>;
   { s.u_n } -> std::convertible_to<real>;
   { s.u_p } -> std::convertible_to<real>;
@@ -80,7 +82,7 @@ struct secant_stiffness {
 
 /// The secant stiffnesses of a sub-contact in state s with total tangential relative
 /// displacement of magnitude slip (m) (file comment): broken in tension and open (u_n > u_p):
-/// zero; normal stress in tension on a softened branch: sigma_n / u_n, at most k_n; otherwise k_n;
+/// zero; softening, in tension: sigma_n / u_n, at most k_n; otherwise k_n;
 /// slipped: |tau| / slip, at most k_s (k_s for no slip); otherwise k_s.
 template <SecantLaw L>
 [[nodiscard]] secant_stiffness subcontact_secant(const typename L::params& p, const typename L::state& s,
@@ -89,7 +91,10 @@ template <SecantLaw L>
   const law::contact_status flags = L::status(s);
   if (law::has(flags, law::contact_status::broken_tension) && s.u_n > s.u_p) return {0, 0};
   secant_stiffness k{k_n, k_s};
-  if (s.sigma_n > 0 && s.u_n > 0) k.normal = std::min(k_n, s.sigma_n / s.u_n);
+  // An intact contact keeps k_n exactly (sigma_n / u_n would differ from it by round-off, and the
+  // solve refactorises when a secant changes).
+  if (law::has(flags, law::contact_status::softening) && s.sigma_n > 0 && s.u_n > 0)
+    k.normal = std::min(k_n, s.sigma_n / s.u_n);
   if (law::has(flags, law::contact_status::slipped) && slip > 0) k.shear = std::min(k_s, s.tau.norm() / slip);
   return k;
 }

@@ -1,0 +1,244 @@
+// implicit_prism: the implicit quasi-static solve (include/tessera/solver/implicit/, issue #43
+// candidate 3) against the explicit run on the elastic branch of the direct tension prism.
+//
+// Scene: examples/direct_tension's prism (common/scenes.hpp make_prism, power softening, 100
+// blocks by default), bottom fixed, top fixed transversally and pulled along z.
+//
+// Implicit: the model is made from the solver's blocks, contacts and supports (the top's
+// prescribed velocity 1 m/s, so pseudo-time is top displacement); a first increment of
+// --probe metres (elastic), whose sub-contact stresses give, by linearity, the top displacement
+// U_el at which the first sub-contact reaches f_T (or its Coulomb limit); a second increment to
+// (1 - 1e-6) U_el, checked to leave every sub-contact intact. Times: assembly (zone K once,
+// contact K per factorisation), factorisation, solves, force evaluations.
+//
+// Explicit: scenes::run_direct_tension<prism_solver> with the driver's defaults (2 nm per step,
+// mass scaling, half-cosine ramp) and --threads, stopped at the first sample with top
+// displacement >= U_el: its run time and steps, and its stress-displacement curve.
+//
+// Stiffness both ways: the mean axial stress 0.5 (R_top - R_bottom) / A over the strain U / L
+// (Pa); the explicit one as the least-squares slope of its samples between 0.3 and 1 U_el (past
+// the ramp) and as the secant at its last sample; its inertia error is |R_top + R_bottom| / 2 A
+// over the stress at the last sample.
+//
+// --through-peak: the implicit solve continues past U_el in increments of --increment x U_el,
+// each retried at half the size up to 6 times when the secant iterations do not converge, and
+// reports per increment the stress, iterations and softening / broken sub-contacts, until the
+// stress has fallen below 0.5 x its peak or an increment fails at the smallest size.
+//
+//   implicit_prism [--blocks N] [--seed N] [--threads N] [--no-explicit] [--through-peak]
+//                  [--increment R] [--tolerance R] [--max-iterations K] [--refactor]
+// The out-of-balance tolerance (default 1e-6 f_T A per free component) lies far below the
+// explicit run's own inertia error (|R_top + R_bottom| / 2 of 1e-2 of the stress, printed).
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <ctime>
+#include <exception>
+#include <string>
+
+#include "common/cli.hpp"
+#include "common/scenes.hpp"
+#include "direct_tension/tension_test.hpp"
+#include "tessera/presets.hpp"
+#include "tessera/solver.hpp"
+#include "tessera/solver/implicit/quasi_static.hpp"
+
+namespace {
+namespace sc = tessera::scenes;
+namespace im = tessera::implicit;
+using tessera::index_t;
+using tessera::real;
+using tessera::vec3;
+using model = im::quasi_static<tessera::zones::linear_elastic_tet, tessera::prism_solver::law_type>;
+
+/// Processor time of this process since `start` (s): the machine is shared, so wall-clock
+/// times are printed beside it.
+double cpu_seconds_since(std::clock_t start) { return static_cast<double>(std::clock() - start) / CLOCKS_PER_SEC; }
+
+/// U at which the most loaded sub-contact of `q` reaches its tensile strength or its shear limit,
+/// from its stresses at the present (elastic) top displacement u (m), by linearity.
+real elastic_limit(const model& q, const tessera::prism_solver& s, real u) {
+  using law = tessera::prism_solver::law_type;
+  real ratio = 0;
+  for (index_t i = 0; i < s.contacts().size(); ++i) {
+    const auto& st = q.state(i);
+    const auto& p = s.contacts().subcontact_params(i);
+    ratio = std::max(ratio, st.sigma_n / law::tension_policy::peak_strength(p.tension));
+    // Coulomb limit c_0 - sigma_n tan(phi_0) scales with U too: |tau| = r (c_0 - sigma_n tan) at r
+    const real tan_phi = p.shear.phi_0.tan();
+    const real tau = st.tau.norm();
+    if (tau > 0) ratio = std::max(ratio, (tau + st.sigma_n * tan_phi) / p.shear.c_0);
+  }
+  return u / ratio;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int blocks = 100, threads = 1, max_iterations = 300;
+  std::uint64_t seed = 1;
+  bool no_explicit = false, through_peak = false, refactor = false;
+  real increment = 0.1, probe = 1e-6, tolerance = 1e-6;
+  tessera::cli::parser cli("implicit_prism",
+                           "The implicit quasi-static solve against the explicit run on the elastic branch of the\n"
+                           "direct tension prism (issue #43, candidate 3).");
+  cli.option("--blocks", blocks, "prism blocks", "N").within(2, 2000);
+  cli.option("--seed", seed, "tessellation seed", "N");
+  cli.option("--threads", threads, "threads of the explicit run", "N").within(1, 64);
+  cli.option("--probe", probe, "top displacement of the first (elastic) increment (m)", "M").within(1e-9, 1e-4);
+  cli.option("--increment", increment, "increments past the elastic limit, x U_el", "R").within(1e-4, 1);
+  cli.option("--tolerance", tolerance, "out-of-balance tolerance per component, x f_T A", "R").within(1e-14, 1e-2);
+  cli.option("--max-iterations", max_iterations, "secant iterations per increment", "K").within(1, 10000);
+  cli.flag("--no-explicit", no_explicit, "skip the explicit run");
+  cli.flag("--through-peak", through_peak, "carry the implicit solve past the elastic limit");
+  cli.flag("--refactor", refactor, "factorise in every iteration, not once per increment");
+  cli.parse_or_exit(argc, argv);
+  try {
+    sc::prism_options po;
+    po.blocks = blocks;
+    po.seed = seed;
+    const sc::prism_scene scene = sc::make_prism(po);
+    const real length = scene.length(), area = scene.cross_section(), f_t = scene.contact.tension.f_T;
+
+    // ---- implicit ----
+    const tessera::cli::wall_timer build_timer;
+    tessera::prism_solver s(scene.tess, scene.mesh, scene.block_material, scene.contact);
+    const real tol = 1e-9 * length;
+    const auto bottom = s.gridpoints_on_plane(2, 0.0, tol);
+    const auto top = s.gridpoints_on_plane(2, length, tol);
+    s.fix(bottom);
+    s.fix(top, tessera::bc::transverse_to(2));
+    s.prescribe_velocity(top, vec3(0, 0, 1), tessera::bc::components::z);
+    const double solver_build_s = build_timer.seconds();
+    const tessera::cli::wall_timer implicit_timer;
+    const std::clock_t implicit_cpu = std::clock();
+    model q(scene.mesh, s.blocks(), s.contacts(), s.gridpoints());
+    im::increment_options o;
+    o.force_tolerance = tolerance * f_t * area;  // per component, against the prism's strength
+    o.max_iterations = max_iterations;
+    o.refactor_each_iteration = refactor;
+    const auto stress = [&] { return 0.5 * (q.reaction_sum(top).z() - q.reaction_sum(bottom).z()) / area; };
+    auto r = q.solve_increment(probe, o);
+    tessera::require(r.converged && r.softening == 0 && r.slipped == 0, "implicit_prism: the probe increment of ",
+                     probe, " m is not elastic; give a smaller --probe");
+    const real u_el = elastic_limit(q, s, probe);
+    r = q.solve_increment((1 - 1e-6) * u_el - probe, o);
+    const double implicit_s = implicit_timer.seconds();
+    const double implicit_cpu_s = cpu_seconds_since(implicit_cpu);
+    const real sigma_el = stress();
+    const real modulus_implicit = sigma_el / (q.mean_displacement(top).z() / length);
+    const auto& c = q.counts();
+    std::printf("## Implicit, %d blocks (seed %llu): %lld gridpoints, %lld zones, %lld sub-contacts, %lld free dofs\n\n",
+                blocks, static_cast<unsigned long long>(seed), static_cast<long long>(scene.mesh.gridpoint_count()),
+                static_cast<long long>(scene.mesh.zone_count()), static_cast<long long>(s.contacts().size()),
+                static_cast<long long>(q.free_dof_count()));
+    std::printf("- elastic limit: U_el = %.6g m (first sub-contact at f_T or its Coulomb limit), stress %.6g Pa there\n",
+                u_el, sigma_el);
+    std::printf("- at (1 - 1e-6) U_el: converged %d, softening %lld, slipped %lld, residual %.3g N\n", r.converged,
+                static_cast<long long>(r.softening), static_cast<long long>(r.slipped), r.max_residual);
+    std::printf("- modulus sigma / (U / L) = %.8g Pa\n", modulus_implicit);
+    std::printf("- time %.3f s, CPU %.3f s (model assembly and 2 increments; solver and supports %.3f s before): assembly %.3f s, "
+                "factorisation %.3f s (%lld, %lld symbolic), solves %.3f s (%lld), force evaluations %.3f s (%lld); "
+                "factor L %lld non-zeros\n\n",
+                implicit_s, implicit_cpu_s, solver_build_s, c.assembly_s, c.factorization_s, static_cast<long long>(c.factorizations),
+                static_cast<long long>(c.analyses), c.solve_s, static_cast<long long>(c.solves), c.force_s,
+                static_cast<long long>(c.force_evaluations), static_cast<long long>(q.factor_nonzeros()));
+    std::fflush(stdout);
+
+    // ---- explicit ----
+    if (!no_explicit) {
+      sc::tension_loading in;
+      in.threads = threads;
+      in.max_displacement = u_el;
+      in.stop_at_separation = false;
+      in.progress = false;
+      const std::clock_t explicit_cpu = std::clock();
+      const sc::tension_result e = sc::run_direct_tension<tessera::prism_solver>(scene, scene.contact, in);
+      const double explicit_cpu_s = cpu_seconds_since(explicit_cpu);
+      const std::size_t last = e.displacement.size() - 1;
+      const real u_last = e.displacement[last], sigma_last = e.stress[last];
+      real sxx = 0, sxy = 0, sx = 0, sy = 0, n = 0;
+      for (std::size_t k = 0; k <= last; ++k) {
+        const real x = e.displacement[k] / length, y = e.stress[k];
+        if (e.displacement[k] < 0.3 * u_el) continue;
+        sxx += x * x, sxy += x * y, sx += x, sy += y, n += 1;
+      }
+      const real slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+      const real inertia = 0.5 * std::abs(e.stress_top[last] - e.stress_bottom[last]) / std::abs(sigma_last);
+      std::printf("## Explicit to U_el (direct_tension defaults: %.3g m per step, dt %.4g s, %d thread(s))\n\n",
+                  in.step_displacement, e.dt, threads);
+      std::printf("- %lld steps, %.3f s, CPU %.3f s (solver construction and mass scaling included), stopped at U = "
+                  "%.6g m\n",
+                  static_cast<long long>(e.steps), e.runtime_s, explicit_cpu_s, u_last);
+      std::printf("- stress there %.6g Pa (implicit at that U: %.6g Pa, %+.3e relative); inertia |R_top + R_bottom| / 2 "
+                  "over the stress: %.3e\n",
+                  sigma_last, modulus_implicit * u_last / length,
+                  sigma_last / (modulus_implicit * u_last / length) - 1, inertia);
+      std::printf("- modulus: least-squares slope over 0.3-1 U_el %.8g Pa (%+.3e against the implicit), secant at the "
+                  "last sample %.8g Pa (%+.3e)\n",
+                  slope, slope / modulus_implicit - 1, sigma_last / (u_last / length),
+                  sigma_last / (u_last / length) / modulus_implicit - 1);
+      std::printf("- softening area at the stop %.4g m^2, tensile dissipation %.4g J\n\n", e.process_zone_area,
+                  e.dissipated_tension);
+      std::fflush(stdout);
+    }
+
+    // ---- implicit past the elastic limit ----
+    if (through_peak) {
+      std::printf("## Implicit past U_el: increments of %.3g U_el, halved up to 6 times on failure%s\n\n", increment,
+                  refactor ? ", factorised in every iteration" : "");
+      std::printf("| U (m) | stress (Pa) | increment (m) | iterations | softening | broken | slipped | time (s) |\n"
+                  "|---|---|---|---|---|---|---|---|\n");
+      const std::clock_t peak_cpu = std::clock();
+      real peak = sigma_el, u = (1 - 1e-6) * u_el, u_peak = u;
+      double time_to_peak_s = c.total_s(), cpu_to_peak_s = implicit_cpu_s;
+      bool failed = false;
+      while (!failed) {
+        real du = increment * u_el;
+        im::increment_result step;
+        int halvings = 0;
+        for (;; ++halvings) {
+          step = q.solve_increment(du, o);
+          if (step.converged || halvings == 6) break;
+          std::printf("| (%.6g) | not converged, residual %.3g N after %d iterations; %lld advancing, %lld reversals "
+                      "in the last | %.3g | | %lld | %lld | %lld | %.2f |\n",
+                      u + du, step.max_residual, step.iterations, static_cast<long long>(step.advancing),
+                      static_cast<long long>(step.reversals), du, static_cast<long long>(step.softening),
+                      static_cast<long long>(step.broken), static_cast<long long>(step.slipped), q.counts().total_s());
+          du *= 0.5;
+        }
+        if (!step.converged) {
+          failed = true;
+          break;
+        }
+        u += du;
+        const real sigma = stress();
+        if (sigma > peak) {
+          peak = sigma;
+          u_peak = u;
+          time_to_peak_s = q.counts().total_s();
+          cpu_to_peak_s = implicit_cpu_s + cpu_seconds_since(peak_cpu);
+        }
+        std::printf("| %.6g | %.6g | %.3g | %d | %lld | %lld | %lld | %.2f |\n", u, sigma, du, step.iterations,
+                    static_cast<long long>(step.softening), static_cast<long long>(step.broken),
+                    static_cast<long long>(step.slipped), q.counts().total_s());
+        std::fflush(stdout);
+        if (sigma < 0.5 * peak) break;
+      }
+      const auto& t = q.counts();
+      std::printf("\n- peak %.6g Pa at U = %.6g m, reached after %.2f s (CPU %.2f s) of implicit work from the start\n",
+                  peak, u_peak, time_to_peak_s, cpu_to_peak_s);
+      std::printf("- %s; peak %.6g Pa; %lld increments, %lld iterations, %lld factorisations, %lld solves; time %.2f s "
+                  "(assembly %.2f, factorisation %.2f, solves %.2f, forces %.2f)\n",
+                  failed ? "stopped: an increment did not converge at 1/64 of its size" : "reached 0.5 x peak", peak,
+                  static_cast<long long>(t.increments), static_cast<long long>(t.iterations),
+                  static_cast<long long>(t.factorizations), static_cast<long long>(t.solves), t.total_s(), t.assembly_s,
+                  t.factorization_s, t.solve_s, t.force_s);
+    }
+  } catch (const std::exception& e) {
+    tessera::cli::print_error("implicit_prism", e);
+    return 1;
+  }
+  return 0;
+}
