@@ -40,6 +40,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <array>
 #include <concepts>
 #include <cstdint>
 #include <vector>
@@ -49,8 +50,11 @@
 #include "../core/parallel.hpp"
 #include "../core/types.hpp"
 #include "../geometry/block_mesh.hpp"
+#include "../contact/concepts.hpp"
+#include "../contact/detail/subcontact_energies.hpp"
 #include "../integrator/concepts.hpp"
 #include "../solver/boundary.hpp"
+#include "../solver/energy.hpp"
 #include "halo_exchange.hpp"
 #include "ownership.hpp"
 
@@ -76,7 +80,8 @@ class stepper {
       : solver_(&s), halo_(own, comm, tag) {
     MPI_Comm_rank(comm, &rank_);
     MPI_Comm_size(comm, &ranks_);
-    rank_shares_.resize(3 * static_cast<std::size_t>(ranks_));
+    rank_shares_.resize(static_cast<std::size_t>(share_count) * static_cast<std::size_t>(ranks_));
+    own_displacement_.resize(s.gridpoints().size());
     const auto& contacts = s.contacts();
     require(mesh.gridpoint_count() == s.gridpoints().size(), "distributed::stepper: the mesh has ",
             mesh.gridpoint_count(), " gridpoints, the solver ", s.gridpoints().size());
@@ -95,6 +100,7 @@ class stepper {
       require(i >= 0 && i < contacts.subcontact_count(), "distributed::stepper: the ownership names sub-contact ", i,
               "; the solver has ", contacts.subcontact_count());
       evaluated_face[static_cast<std::size_t>(contacts.face(i))] = 1;
+      if (own.contact_owner(i) == rank_) owned_contacts_.push_back(i);
     }
     // Own blocks, and the blocks' gridpoint ranges (contiguous per block in the mesh).
     const auto owned = own.owned_blocks(rank_);
@@ -135,6 +141,11 @@ class stepper {
     node_set& gp = s.gridpoints();
     auto& contacts = s.contacts_for_step();
     const real dt = s.dt();
+    if (s.step_count() == 0) {
+      // The balance's initial energy, this rank's share (summed_energies), before anything moves.
+      const auto share = rank_share();
+      initial_ = share[3] + share[4] + share[5];
+    }
     if (!in_flight_) start_exchange();  // the first step: the ghosts as they stand now
     contacts.prepare_step(gp, dt);
     const auto own_block_count = static_cast<std::int64_t>(own_blocks_.size());
@@ -171,30 +182,32 @@ class stepper {
     start_exchange();
   }
 
-  /// Energy terms of the whole model now, from every rank's share (J): the work of the support
-  /// reactions and the local damping summed over the steps (each rank books its own gridpoints,
-  /// block by block), and the kinetic energy of the gridpoints (1/2 m v^2 at the half step, own
-  /// gridpoints in increasing order). The rank shares are gathered and added in rank order, so
-  /// every rank gets the same bits; they are one process's to round-off only (another summation
-  /// order: about 1e-15 relative a step; test_distributed_step checks 1e-12 after 600 steps).
-  /// Every rank of `comm` must call it. Allocates nothing; one MPI_Allgather of 3 reals a rank.
-  struct energy_sums {
-    real boundary_work = 0;       ///< J
-    real damping_dissipated = 0;  ///< J
-    real kinetic = 0;             ///< J
-  };
-  [[nodiscard]] energy_sums summed_energies(MPI_Comm comm) const {
-    const node_set& gp = solver_->gridpoints();
-    real kinetic = 0;
-    for (const index_t g : own_gridpoints_) kinetic += 0.5 * gp.mass[g] * gp.velocity.row(g).squaredNorm();
-    const double mine[3] = {boundary_work_, damping_dissipated_, kinetic};
-    MPI_Allgather(mine, 3, MPI_DOUBLE, rank_shares_.data(), 3, MPI_DOUBLE, comm);
-    energy_sums e;
-    for (int r = 0; r < ranks_; ++r) {
-      e.boundary_work += rank_shares_[3 * static_cast<std::size_t>(r)];
-      e.damping_dissipated += rank_shares_[3 * static_cast<std::size_t>(r) + 1];
-      e.kinetic += rank_shares_[3 * static_cast<std::size_t>(r) + 2];
-    }
+  /// The energy balance of the whole model now (J), from every rank's share: the work of the
+  /// support reactions and the local damping summed over the steps (each rank books its own
+  /// gridpoints, block by block), the kinetic energy of its gridpoints (1/2 m v^2, half-step v),
+  /// the elastic energy of its blocks' zones (blocks' stored_energy, with rotations of the
+  /// current displacements), the contact energies of the sub-contacts it owns (stored,
+  /// dissipated, its tensile part) and, as `initial`, the kinetic and stored energy before the
+  /// first step. The shares are gathered and added in rank order, so every rank gets the same
+  /// bits; they are one process's (solver::energies) to round-off only, another summation order
+  /// (test_distributed_step holds every term within 1e-12 relative after 600 steps). Every rank of
+  /// `comm` must call it. O(own gridpoints + zones + owned sub-contacts); allocates (the zones'
+  /// rotations, as blocks' stored_energy does): a call for samples, not for every step.
+  [[nodiscard]] energy_balance summed_energies(MPI_Comm comm) const {
+    const std::array<double, share_count> mine = rank_share();
+    MPI_Allgather(mine.data(), share_count, MPI_DOUBLE, rank_shares_.data(), share_count, MPI_DOUBLE, comm);
+    std::array<double, share_count> sum{};
+    for (int r = 0; r < ranks_; ++r)
+      for (int k = 0; k < share_count; ++k) sum[at(k)] += rank_shares_[at(r * share_count + k)];
+    energy_balance e;
+    e.initial = sum[0];
+    e.boundary_work = sum[1];
+    e.damping_dissipated = sum[2];
+    e.kinetic = sum[3];
+    e.block_elastic = sum[4];
+    e.contact_stored = sum[5];
+    e.contact_dissipated = sum[6];
+    e.contact_dissipated_tension = sum[7];
     return e;
   }
 
@@ -240,6 +253,26 @@ class stepper {
     }
   }
 
+  static constexpr int share_count = 8;  ///< the terms summed_energies gathers from each rank
+  /// This rank's shares, in summed_energies' order: initial, boundary work, damping, kinetic,
+  /// zones' elastic energy, contact stored, dissipated and dissipated in tension (J).
+  [[nodiscard]] std::array<double, share_count> rank_share() const {
+    const Solver& s = *solver_;
+    const node_set& gp = s.gridpoints();
+    real kinetic = 0;
+    for (const index_t g : own_gridpoints_) kinetic += 0.5 * gp.mass[g] * gp.velocity.row(g).squaredNorm();
+    // The zones' energy from a copy of the displacements in which every other rank's gridpoint is
+    // at rest: their blocks, whose rotations this rank never updates (the identity), then add
+    // exact zeros, and the sum is that of this rank's zones.
+    for (const index_t g : own_gridpoints_) own_displacement_.displacement.row(g) = gp.displacement.row(g);
+    const real zones = s.blocks().stored_energy(own_displacement_);
+    contact::contact_energies c;
+    for (const index_t i : owned_contacts_)
+      contact::detail::add_subcontact_energies<typename Solver::law_type>(c, s.contacts().subcontact_params(i),
+                                                                        s.contacts().state(i), s.contacts().area(i));
+    return {initial_, boundary_work_, damping_dissipated_, kinetic, zones, c.stored, c.dissipated, c.dissipated_tension};
+  }
+
   void start_exchange() {
     halo_.start(solver_->gridpoints());
     in_flight_ = true;
@@ -260,6 +293,9 @@ class stepper {
   std::vector<index_t> boundary_faces_, boundary_last_;  ///< face tasks [first, last) with a ghost block
   std::vector<integrator::step_work> block_work_;        ///< per own block: its integration work this step
   real boundary_work_ = 0, damping_dissipated_ = 0;      ///< this rank's books (J): its own gridpoints' work
+  real initial_ = 0;                                     ///< this rank's kinetic + stored energy before step 1 (J)
+  std::vector<index_t> owned_contacts_;                  ///< sub-contacts this rank books, increasing
+  mutable node_set own_displacement_;                    ///< rank_share's copy: own rows' u, the rest 0
   int ranks_ = 1;                                        ///< ranks of the communicator
   mutable std::vector<double> rank_shares_;              ///< summed_energies' gathered shares
 };
