@@ -20,13 +20,15 @@
 // the ramp) and as the secant at its last sample; its inertia error is |R_top + R_bottom| / 2 A
 // over the stress at the last sample.
 //
-// --through-peak: the implicit solve continues past U_el in increments of --increment x U_el,
-// each retried at half the size up to 6 times when the secant iterations do not converge, and
+// --through-peak: the implicit solve continues past U_el in increments of --increment x U_el; an
+// increment whose secant iterations do not converge is retried with the line search
+// (increment_options::line_search) and then at half the size, up to 6 times; it
 // reports per increment the stress, iterations and softening / broken sub-contacts, until the
 // stress has fallen below 0.5 x its peak or an increment fails at the smallest size.
 //
 //   implicit_prism [--blocks N] [--seed N] [--threads N] [--no-explicit] [--through-peak]
-//                  [--increment R] [--tolerance R] [--max-iterations K] [--refactor]
+//                  [--increment R] [--tolerance R] [--max-iterations K] [--refactor] [--no-aitken] [--line-search]
+//                  [--no-fallback]
 // The out-of-balance tolerance (default 1e-6 f_T A per free component) lies far below the
 // explicit run's own inertia error (|R_top + R_bottom| / 2 of 1e-2 of the stress, printed).
 #include <algorithm>
@@ -78,7 +80,8 @@ real elastic_limit(const model& q, const tessera::prism_solver& s, real u) {
 int main(int argc, char** argv) {
   int blocks = 100, threads = 1, max_iterations = 300;
   std::uint64_t seed = 1;
-  bool no_explicit = false, through_peak = false, refactor = false;
+  bool no_explicit = false, through_peak = false, refactor = false, no_aitken = false, line_search = false,
+       no_fallback = false;
   real increment = 0.1, probe = 1e-6, tolerance = 1e-6;
   tessera::cli::parser cli("implicit_prism",
                            "The implicit quasi-static solve against the explicit run on the elastic branch of the\n"
@@ -93,6 +96,9 @@ int main(int argc, char** argv) {
   cli.flag("--no-explicit", no_explicit, "skip the explicit run");
   cli.flag("--through-peak", through_peak, "carry the implicit solve past the elastic limit");
   cli.flag("--refactor", refactor, "factorise in every iteration, not once per increment");
+  cli.flag("--no-aitken", no_aitken, "plain secant steps, without Aitken's relaxation");
+  cli.flag("--line-search", line_search, "secant steps lengthened or shortened by a line search on the energy");
+  cli.flag("--no-fallback", no_fallback, "past U_el, no retry of a failed increment with the line search");
   cli.parse_or_exit(argc, argv);
   try {
     sc::prism_options po;
@@ -118,6 +124,8 @@ int main(int argc, char** argv) {
     o.force_tolerance = tolerance * f_t * area;  // per component, against the prism's strength
     o.max_iterations = max_iterations;
     o.refactor_each_iteration = refactor;
+    o.aitken = !no_aitken;
+    o.line_search = line_search;
     const auto stress = [&] { return 0.5 * (q.reaction_sum(top).z() - q.reaction_sum(bottom).z()) / area; };
     auto r = q.solve_increment(probe, o);
     tessera::require(r.converged && r.softening == 0 && r.slipped == 0, "implicit_prism: the probe increment of ",
@@ -186,26 +194,40 @@ int main(int argc, char** argv) {
 
     // ---- implicit past the elastic limit ----
     if (through_peak) {
-      std::printf("## Implicit past U_el: increments of %.3g U_el, halved up to 6 times on failure%s\n\n", increment,
+      std::printf("## Implicit past U_el: increments of %.3g U_el, retried with the line search and halved up to 6 "
+                  "times on failure%s\n\n", increment,
                   refactor ? ", factorised in every iteration" : "");
       std::printf("| U (m) | stress (Pa) | increment (m) | iterations | softening | broken | slipped | time (s) |\n"
                   "|---|---|---|---|---|---|---|---|\n");
       const std::clock_t peak_cpu = std::clock();
       real peak = sigma_el, u = (1 - 1e-6) * u_el, u_peak = u;
       double time_to_peak_s = c.total_s(), cpu_to_peak_s = implicit_cpu_s;
+      const auto report_failure = [&](real at, real size, const im::increment_result& step, const char* how) {
+        std::printf("| (%.6g) | not converged%s, residual %.3g N after %d iterations; %lld advancing, %lld reversals "
+                    "in the last | %.3g | | %lld | %lld | %lld | %.2f |\n",
+                    at, how, step.max_residual, step.iterations, static_cast<long long>(step.advancing),
+                    static_cast<long long>(step.reversals), size, static_cast<long long>(step.softening),
+                    static_cast<long long>(step.broken), static_cast<long long>(step.slipped), q.counts().total_s());
+      };
       bool failed = false;
       while (!failed) {
         real du = increment * u_el;
         im::increment_result step;
         int halvings = 0;
         for (;; ++halvings) {
+          // The options as given, then (unless they search already) the same increment with the
+          // line search, which settles where the plain or Aitken steps hop between cracks.
+          bool searched = o.line_search;
           step = q.solve_increment(du, o);
+          if (!step.converged && !searched && !no_fallback) {
+            report_failure(u + du, du, step, "");
+            im::increment_options with_search = o;
+            with_search.line_search = true;
+            step = q.solve_increment(du, with_search);
+            searched = true;
+          }
           if (step.converged || halvings == 6) break;
-          std::printf("| (%.6g) | not converged, residual %.3g N after %d iterations; %lld advancing, %lld reversals "
-                      "in the last | %.3g | | %lld | %lld | %lld | %.2f |\n",
-                      u + du, step.max_residual, step.iterations, static_cast<long long>(step.advancing),
-                      static_cast<long long>(step.reversals), du, static_cast<long long>(step.softening),
-                      static_cast<long long>(step.broken), static_cast<long long>(step.slipped), q.counts().total_s());
+          report_failure(u + du, du, step, searched ? ", line search" : "");
           du *= 0.5;
         }
         if (!step.converged) {
