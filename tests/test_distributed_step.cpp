@@ -9,7 +9,9 @@
 // order; at the end also its ghosts after the last exchange. The run goes through the first
 // softening of contacts (checked), so the law's nonlinear branches are exercised. A last section
 // shows that a bit comparison sees the order of a gather: summed in another order, the contact
-// forces of some gridpoint and the platen load take other bits.
+// forces of some gridpoint and the platen load take other bits. The second case ("[bars]") is
+// the reinforced tie on the same prism (one bar on the axis, pulled by its end through the bond):
+// own gridpoints and own bar nodes compared bit for bit, ghost bar nodes in the halo.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
@@ -33,6 +35,7 @@
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/presets/pulatsu2020.hpp"
+#include "tessera/reinforcement/embedded_truss.hpp"
 #include "tessera/solver/recorders.hpp"
 #include "tessera/solver/solver.hpp"
 
@@ -109,6 +112,25 @@ template <class Contacts>
   return n;
 }
 
+/// Rank 0's block -> rank map of `graph` over the communicator's ranks, broadcast: METIS's
+/// (where built in, when asked) or slabs by bisection.
+[[nodiscard]] std::vector<int> broadcast_map(const distributed::block_graph& graph, bool metis) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  std::vector<int> map(static_cast<std::size_t>(graph.block_count()), -1);
+  if (rank == 0) {
+#ifdef TESSERA_HAVE_METIS
+    map = metis ? distributed::partition_blocks_metis(graph, size) : distributed::partition_blocks_rcb(graph, size);
+#else
+    (void)metis;
+    map = distributed::partition_blocks_rcb(graph, size);
+#endif
+  }
+  MPI_Bcast(map.data(), graph.block_count(), MPI_INT, 0, MPI_COMM_WORLD);
+  return map;
+}
+
 [[nodiscard]] index_t summed_over_ranks(index_t n) {
   long long mine = n, all = 0;
   MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
@@ -145,16 +167,10 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
   const auto pairs = distributed::contact_pairs_of(reference.contacts());
   std::vector<split_run> splits;
   for (const char* name : {"RCB", "METIS"}) {
-    std::vector<int> map(static_cast<std::size_t>(graph.block_count()), -1);
-    if (rank == 0) {
-#ifdef TESSERA_HAVE_METIS
-      map = name[0] == 'R' ? distributed::partition_blocks_rcb(graph, size) : distributed::partition_blocks_metis(graph, size);
-#else
-      if (name[0] != 'R') continue;
-      map = distributed::partition_blocks_rcb(graph, size);
+#ifndef TESSERA_HAVE_METIS
+    if (name[0] != 'R') continue;
 #endif
-    }
-    MPI_Bcast(map.data(), graph.block_count(), MPI_INT, 0, MPI_COMM_WORLD);
+    const std::vector<int> map = broadcast_map(graph, name[0] != 'R');
     // The METIS split steps on 2 threads a rank: its bits must not depend on that either.
     split_run run{name, name[0] == 'R' ? 1 : 2,
                   std::make_unique<prism_solver>(scene.tess, scene.mesh, scene.block, scene.contact,
@@ -274,6 +290,88 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
                 same_bits(load_backward, recorders::reaction_sum(reference.gridpoints(), top).z()) ? "the same" : "other bits");
   CHECK(order_sensitive > 0);
   CHECK_FALSE(same_bits(load_backward, recorders::reaction_sum(reference.gridpoints(), top).z()));
+}
+
+namespace {
+/// The study's tie (examples/common/rc_tie_scene.hpp) on the test prism: one 8 mm bar on the axis
+/// in 96 elements, bonded to the zones; rollers on the concrete end faces; the first bar node
+/// fixed, the last pulled along z.
+using tie_truss = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
+using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<law::study_tie_law>, tie_truss>;
+constexpr real tie_pull_rate = 0.05;  ///< m/s: with dt = 1 us, 50 nm a step (cracks within 2 000 steps)
+constexpr real tie_dt = 1e-6;         ///< s, the tie driver's mass-scaling target
+
+void hold_and_pull_bar(tie_solver& s, real length) {
+  const real tol = 1e-9 * length;
+  s.fix(s.gridpoints_on_plane(2, 0.0, tol), bc::transverse_to(2));
+  s.fix(s.gridpoints_on_plane(2, length, tol), bc::transverse_to(2));
+  const auto [first, end] = s.reinforcement().bar_nodes(0);
+  bc::fix(s.bar_nodes(), bc::node_group{{first}, "fixed bar end"});
+  bc::prescribe_velocity(s.bar_nodes(), bc::node_group{{end - 1}, "pulled bar end"}, vec3(0, 0, tie_pull_rate));
+}
+}  // namespace
+
+TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi][step][bars]") {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const prism_scene scene;
+  const auto bar = reinforcement::pulatsu2020::tie_reinforcement(vec3(0.034, 0.034, 0), vec3(0.034, 0.034, scene.length));
+  solver_options options;
+  options.mass_scaling_dt = tie_dt;
+  tie_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, bar, options);
+  tie_solver split(scene.tess, scene.mesh, scene.block, scene.contact, bar, options);
+  hold_and_pull_bar(reference, scene.length);
+  hold_and_pull_bar(split, scene.length);
+
+  // METIS's map where built in, over the graph with the bar elements' edges.
+  distributed::block_graph_input in = distributed::blocks_of_mesh(scene.mesh);
+  distributed::add_subcontacts(in, split.contacts());
+  distributed::add_bar_elements(in, scene.mesh, split.reinforcement());
+  const distributed::block_graph graph(in);
+  const std::vector<int> map = broadcast_map(graph, true);
+  const distributed::rank_ownership own(map, size, scene.mesh, distributed::contact_pairs_of(split.contacts()),
+                                        distributed::bar_node_host_blocks(scene.mesh, split.reinforcement()),
+                                        distributed::bar_element_pairs(split.reinforcement()));
+  distributed::stepper<tie_solver> step(split, scene.mesh, own, MPI_COMM_WORLD);
+  std::vector<index_t> own_bar_nodes;
+  for (index_t n = 0; n < own.bar_node_count(); ++n)
+    if (own.bar_node_rank(n) == rank) own_bar_nodes.push_back(n);
+
+  constexpr int steps = 2000, every = 100;
+  index_t bad_gridpoints = 0, bad_bar_nodes = 0, bad_state = 0;
+  for (int k = 1; k <= steps; ++k) {
+    reference.step();
+    step.step();
+    if (k % every != 0) continue;
+    const node_set &gp = split.gridpoints(), &gp_ref = reference.gridpoints();
+    const node_set &bars = split.bar_nodes(), &bars_ref = reference.bar_nodes();
+    for (soa3 node_set::*m : {&node_set::displacement, &node_set::velocity, &node_set::reaction}) {
+      bad_gridpoints += differing_rows(gp.*m, gp_ref.*m, step.own_gridpoints());
+      bad_bar_nodes += differing_rows(bars.*m, bars_ref.*m, own_bar_nodes);
+    }
+    bad_state += differing_states(split.contacts(), reference.contacts(), own.evaluated_contacts(rank));
+  }
+  INFO("rank " << rank << " of " << size);
+  CHECK(bad_gridpoints == 0);
+  CHECK(bad_bar_nodes == 0);
+  CHECK(bad_state == 0);
+  step.finish_exchange();
+  const auto ghost_bars = own.ghost_bar_nodes(rank);
+  const std::vector<index_t> ghost_bar_list(ghost_bars.begin(), ghost_bars.end());
+  CHECK(!ghost_bar_list.empty());  // the bar crosses this rank's cut: bar nodes travel in the halo
+  CHECK(differing_rows(split.bar_nodes().displacement, reference.bar_nodes().displacement, ghost_bar_list) == 0);
+  CHECK(summed_over_ranks(static_cast<index_t>(own_bar_nodes.size())) == reference.bar_nodes().size());
+  index_t softened = 0;
+  for (index_t i = 0; i < reference.contacts().subcontact_count(); ++i)
+    softened += prism_law::tensile_damage(reference.contacts().subcontact_params(i), reference.contacts().state(i)) > 0;
+  CHECK(softened > 0);
+  const real bar_force = -reference.bar_nodes().reaction(reference.reinforcement().bar_nodes(0).first, 2);
+  if (rank == 0)
+    std::printf("tie on %d ranks, %d steps: rank 0 owns %zu of %lld bar nodes, has %zu ghost bar nodes, sends %zu "
+                "bytes a step; bar force at the fixed end %.3f kN, %lld sub-contacts softened\n",
+                size, steps, own_bar_nodes.size(), static_cast<long long>(reference.bar_nodes().size()),
+                ghost_bar_list.size(), step.halo().bytes_sent(), bar_force * 1e-3, static_cast<long long>(softened));
 }
 
 int main(int argc, char** argv) {

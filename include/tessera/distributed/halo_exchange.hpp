@@ -8,6 +8,8 @@
 // Order without indices: both sides list a neighbour's share in increasing global gridpoint id
 // (rank_ownership::ghost_gridpoints_from), so a message is 6 reals per gridpoint (u then v, x y z
 // each), 48 bytes, and nothing else. MPI copies the bytes, so a ghost holds its owner's bits.
+// With reinforcement, the ghost bar nodes (rank_ownership::ghost_bar_nodes_from) ride in the same
+// message after the gridpoints, 48 bytes each: still one message per neighbour and step.
 //
 // This is the foundation's form: the node_set is indexed by global gridpoint id on every rank
 // (its rows of other ranks' blocks that are not ghosts are left alone); a rank's local numbering
@@ -38,7 +40,9 @@ class halo_exchange {
   /// The exchange of this process's rank in `comm` under `own` (which every rank builds from the
   /// same map). `tag` keeps its messages apart from the caller's. Throws invalid_input when the
   /// communicator's size is not own.ranks() or the tag is negative.
-  halo_exchange(const rank_ownership& own, MPI_Comm comm, int tag = 44) : comm_(comm), tag_(tag) {
+  /// With `with_bar_nodes`, the ghost bar nodes too (start and finish then take the bar nodes).
+  halo_exchange(const rank_ownership& own, MPI_Comm comm, int tag = 44, bool with_bar_nodes = false)
+      : comm_(comm), tag_(tag), with_bar_nodes_(with_bar_nodes) {
     int size = 0;
     MPI_Comm_rank(comm, &rank_);
     MPI_Comm_size(comm, &size);
@@ -46,13 +50,15 @@ class halo_exchange {
     require(tag >= 0, "halo_exchange: tag = ", tag, " must be >= 0");
     for (int peer = 0; peer < size; ++peer) {
       if (peer == rank_) continue;
-      std::vector<index_t> send = own.ghost_gridpoints_from(peer, rank_);  // ours, ghosts there
-      std::vector<index_t> receive = own.ghost_gridpoints_from(rank_, peer);
-      if (send.empty() && receive.empty()) continue;
-      neighbours_.push_back({peer, std::move(send), std::move(receive), {}, {}});
-      auto& n = neighbours_.back();
-      n.send_buffer.resize(values_per_gridpoint * n.send.size());
-      n.receive_buffer.resize(values_per_gridpoint * n.receive.size());
+      neighbour n{peer, own.ghost_gridpoints_from(peer, rank_), own.ghost_gridpoints_from(rank_, peer), {}, {}, {}, {}};
+      if (with_bar_nodes) {
+        n.send_bars = own.ghost_bar_nodes_from(peer, rank_);  // ours, ghosts there
+        n.receive_bars = own.ghost_bar_nodes_from(rank_, peer);
+      }
+      if (n.send.empty() && n.receive.empty() && n.send_bars.empty() && n.receive_bars.empty()) continue;
+      n.send_buffer.resize(values_per_gridpoint * (n.send.size() + n.send_bars.size()));
+      n.receive_buffer.resize(values_per_gridpoint * (n.receive.size() + n.receive_bars.size()));
+      neighbours_.push_back(std::move(n));
     }
     requests_.resize(2 * neighbours_.size());
   }
@@ -60,40 +66,29 @@ class halo_exchange {
   /// Posts the receives of the ghosts' u and v and the sends of this rank's (packed from
   /// `gridpoints` now). Every rank of the communicator must call it.
   void start(const node_set& gridpoints) {
-    require(!in_flight_, "halo_exchange: start() called again before finish()");
-    std::size_t r = 0;
-    for (auto& n : neighbours_)
-      MPI_Irecv(n.receive_buffer.data(), static_cast<int>(n.receive_buffer.size()), MPI_DOUBLE, n.peer, tag_, comm_,
-                &requests_[r++]);
-    for (auto& n : neighbours_) {
-      std::size_t k = 0;
-      for (const index_t g : n.send) {
-        for (int d = 0; d < 3; ++d) n.send_buffer[k++] = gridpoints.displacement(g, d);
-        for (int d = 0; d < 3; ++d) n.send_buffer[k++] = gridpoints.velocity(g, d);
-      }
-      MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.peer, tag_, comm_,
-                &requests_[r++]);
-    }
-    in_flight_ = true;
+    require(!with_bar_nodes_, "halo_exchange: built with bar nodes; call start(gridpoints, bar_nodes)");
+    start_exchange(gridpoints, nullptr);
+  }
+  /// The same with the ghost bar nodes (an exchange built with_bar_nodes).
+  void start(const node_set& gridpoints, const node_set& bar_nodes) {
+    require(with_bar_nodes_, "halo_exchange: built without bar nodes; call start(gridpoints)");
+    start_exchange(gridpoints, &bar_nodes);
   }
 
   /// Waits for the exchange and writes the received u and v into the ghosts' rows.
   void finish(node_set& gridpoints) {
-    require(in_flight_, "halo_exchange: finish() without start()");
-    MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
-    for (const auto& n : neighbours_) {
-      std::size_t k = 0;
-      for (const index_t g : n.receive) {
-        for (int d = 0; d < 3; ++d) gridpoints.displacement(g, d) = n.receive_buffer[k++];
-        for (int d = 0; d < 3; ++d) gridpoints.velocity(g, d) = n.receive_buffer[k++];
-      }
-    }
-    in_flight_ = false;
+    require(!with_bar_nodes_, "halo_exchange: built with bar nodes; call finish(gridpoints, bar_nodes)");
+    finish_exchange(gridpoints, nullptr);
+  }
+  /// The same with the ghost bar nodes.
+  void finish(node_set& gridpoints, node_set& bar_nodes) {
+    require(with_bar_nodes_, "halo_exchange: built without bar nodes; call finish(gridpoints)");
+    finish_exchange(gridpoints, &bar_nodes);
   }
 
   /// Ranks this rank exchanges with.
   [[nodiscard]] std::size_t neighbour_count() const { return neighbours_.size(); }
-  /// Bytes this rank sends in one exchange (48 per gridpoint it shares).
+  /// Bytes this rank sends in one exchange (48 per gridpoint or bar node it shares).
   [[nodiscard]] std::size_t bytes_sent() const {
     std::size_t b = 0;
     for (const auto& n : neighbours_) b += n.send_buffer.size() * sizeof(double);
@@ -113,14 +108,57 @@ class halo_exchange {
     int peer;
     std::vector<index_t> send;     ///< own gridpoints that are ghosts on peer, increasing
     std::vector<index_t> receive;  ///< ghosts owned by peer, increasing
+    std::vector<index_t> send_bars, receive_bars;  ///< the same for bar nodes (with_bar_nodes_)
     std::vector<double> send_buffer, receive_buffer;
   };
+
+  void start_exchange(const node_set& gridpoints, const node_set* bar_nodes) {
+    require(!in_flight_, "halo_exchange: start() called again before finish()");
+    std::size_t r = 0;
+    for (auto& n : neighbours_)
+      MPI_Irecv(n.receive_buffer.data(), static_cast<int>(n.receive_buffer.size()), MPI_DOUBLE, n.peer, tag_, comm_,
+                &requests_[r++]);
+    for (auto& n : neighbours_) {
+      std::size_t k = 0;
+      pack(gridpoints, n.send, n.send_buffer, k);
+      if (bar_nodes != nullptr) pack(*bar_nodes, n.send_bars, n.send_buffer, k);
+      MPI_Isend(n.send_buffer.data(), static_cast<int>(n.send_buffer.size()), MPI_DOUBLE, n.peer, tag_, comm_,
+                &requests_[r++]);
+    }
+    in_flight_ = true;
+  }
+
+  void finish_exchange(node_set& gridpoints, node_set* bar_nodes) {
+    require(in_flight_, "halo_exchange: finish() without start()");
+    MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
+    for (const auto& n : neighbours_) {
+      std::size_t k = 0;
+      unpack(n.receive_buffer, k, n.receive, gridpoints);
+      if (bar_nodes != nullptr) unpack(n.receive_buffer, k, n.receive_bars, *bar_nodes);
+    }
+    in_flight_ = false;
+  }
+  /// u then v of each node of `list` into buffer from k on.
+  static void pack(const node_set& nodes, const std::vector<index_t>& list, std::vector<double>& buffer, std::size_t& k) {
+    for (const index_t g : list) {
+      for (int d = 0; d < 3; ++d) buffer[k++] = nodes.displacement(g, d);
+      for (int d = 0; d < 3; ++d) buffer[k++] = nodes.velocity(g, d);
+    }
+  }
+  static void unpack(const std::vector<double>& buffer, std::size_t& k, const std::vector<index_t>& list, node_set& nodes) {
+    for (const index_t g : list) {
+      for (int d = 0; d < 3; ++d) nodes.displacement(g, d) = buffer[k++];
+      for (int d = 0; d < 3; ++d) nodes.velocity(g, d) = buffer[k++];
+    }
+  }
+
   MPI_Comm comm_;
   int tag_ = 44;
   int rank_ = 0;
   std::vector<neighbour> neighbours_;
   std::vector<MPI_Request> requests_;
   bool in_flight_ = false;
+  bool with_bar_nodes_ = false;
 };
 
 }  // namespace tessera::distributed

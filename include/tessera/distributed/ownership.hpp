@@ -223,6 +223,15 @@ class rank_ownership {
       if (gridpoint_rank(g) == s) out.push_back(g);
     return out;
   }
+  /// Rank r's ghost bar nodes owned by rank s, increasing: the bar part of what s sends r.
+  [[nodiscard]] std::vector<index_t> ghost_bar_nodes_from(int r, int s) const {
+    std::vector<index_t> out;
+    for (const index_t n : ghost_bar_nodes(r))
+      if (bar_node_rank(n) == s) out.push_back(n);
+    return out;
+  }
+  /// Bar nodes the ownership was built with (0 without reinforcement).
+  [[nodiscard]] index_t bar_node_count() const { return static_cast<index_t>(bar_node_rank_.size()); }
   /// Rank r's ghost blocks owned by rank s, increasing.
   [[nodiscard]] std::vector<index_t> ghost_blocks_from(int r, int s) const {
     std::vector<index_t> out;

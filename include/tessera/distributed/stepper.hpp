@@ -1,8 +1,8 @@
 #pragma once
 // distributed::stepper<Solver>: the time step of a run split by blocks over MPI ranks
 // (docs/architecture.md, "The distributed step"), for deformable blocks bonded by
-// contact::face_contacts (no reinforcement, no detected contacts, no gravity or applied forces
-// yet). Every rank builds the whole model (a solver over every block: the memory of one process
+// contact::face_contacts, with or without bars embedded in them (reinforcement::embedded_truss);
+// no detected contacts, rigid blocks, gravity or applied forces yet. Every rank builds the whole model (a solver over every block: the memory of one process
 // per rank, acceptable while a scene fits one machine's memory many times over) and the same
 // rank_ownership; the stepper restricts the solver's step to what its rank evaluates and owns:
 //
@@ -10,15 +10,21 @@
 //   faces whose two blocks are own                                           ─┘ region
 //   wait for the halo (u(t), v(t - dt/2) of the ghost gridpoints)
 //   faces with a ghost block (evaluated here and on the ghost's rank, from the same inputs)
+//   bars: every element and bond (serial, O(bar nodes)); an own bar node's elements read own and
+//     ghost bar nodes, its bond its host zone (own) and that zone's stress from this step's task
 //   per own block: gather each gridpoint's contact forces (face_contacts::add_force, increasing
-//     global sub-contact order), then integrate its components (the integrator's advance_dof)
-//   send u(t + dt), v(t + dt/2) of own gridpoints that are ghosts elsewhere (non-blocking; it
-//     completes in the next step, behind the zone tasks and the interior faces)
+//     global sub-contact order) and its bonds' host shares, then integrate its components (the
+//     integrator's advance_dof); then the own bar nodes
+//   send u(t + dt), v(t + dt/2) of own gridpoints and bar nodes that are ghosts elsewhere
+//     (non-blocking, one message a neighbour; it completes in the next step, behind the zone
+//     tasks and the interior faces)
 //
 // Why the bits are one process's: docs/architecture.md. Each own gridpoint's force is zero plus
-// its block's zone sum plus its contact sum, the terms and order of solver::step; every
-// sub-contact that touches it is evaluated on this rank from u and v that are the owners' bits;
-// integration is per component. The motion of every own gridpoint, the state of every evaluated
+// its block's zone sum plus its contact sum plus its bonds' host shares, the terms and order of
+// solver::step; every sub-contact and bar element that touches it is evaluated on this rank from
+// u and v that are the owners' bits; integration is per component. The bars' loop over all
+// elements and bonds on every rank is the simple form (bars are O(100) nodes each); restricting
+// it to the rank's evaluated elements and own nodes needs the truss to loop over a subset. The motion of every own gridpoint, the state of every evaluated
 // sub-contact and the reactions of own prescribed components are therefore one process's, to the
 // bit, for any rank count and any thread count per rank (CTests distributed_mpi_step_2 and _3).
 //
@@ -63,7 +69,13 @@ namespace tessera::distributed {
 template <class Solver>
 class stepper {
   static_assert(!Solver::blocks_type::is_rigid, "distributed::stepper: rigid blocks are not distributed yet");
-  static_assert(!Solver::reinforcement_type::enabled, "distributed::stepper: reinforcement is not distributed yet");
+  /// Bars embedded in the blocks (reinforcement::embedded_truss): their nodes owned by the rank of
+  /// their host block, their elements evaluated by the ranks of both nodes (rank_ownership).
+  static constexpr bool bars = Solver::reinforcement_type::enabled;
+  static_assert(!bars || requires(typename Solver::reinforcement_type& rf, const node_set& gp, node_set& out, index_t i) {
+    rf.compute_forces(gp, zone_stress_matrix{});
+    rf.add_host_forces(i, i, out);
+  }, "distributed::stepper: reinforcement must hand its host forces to the gather (embedded_truss)");
   static_assert(requires(typename Solver::contact_set_type& c, const node_set& gp, index_t i) {
     c.update_faces(i, i, gp, real(0));
     c.face(i);
@@ -77,7 +89,7 @@ class stepper {
   /// the mesh or the ownership do not match the solver (gridpoints, blocks, sub-contacts), when a
   /// block has no zones, or when gravity or applied forces are set (not distributed yet).
   stepper(Solver& s, const geometry::block_mesh& mesh, const rank_ownership& own, MPI_Comm comm, int tag = 44)
-      : solver_(&s), halo_(own, comm, tag) {
+      : solver_(&s), halo_(own, comm, tag, bars) {
     MPI_Comm_rank(comm, &rank_);
     MPI_Comm_size(comm, &ranks_);
     rank_shares_.resize(static_cast<std::size_t>(share_count) * static_cast<std::size_t>(ranks_));
@@ -129,6 +141,13 @@ class stepper {
       }
     }
     block_work_.resize(own_blocks_.size());
+    if constexpr (bars) {
+      require(own.bar_node_count() == s.bar_nodes().size(), "distributed::stepper: the ownership has ",
+              own.bar_node_count(), " bar nodes, the solver ", s.bar_nodes().size(),
+              "; build it with bar_node_host_blocks and bar_element_pairs");
+      for (index_t n = 0; n < own.bar_node_count(); ++n)
+        if (own.bar_node_rank(n) == rank_) own_bar_nodes_.push_back(n);
+    }
   }
 
   stepper(const stepper&) = delete;
@@ -153,22 +172,23 @@ class stepper {
         own_block_count, [&](std::int64_t k0, std::int64_t k1) { add_zone_forces(k0, k1, gp); },
         static_cast<std::int64_t>(interior_faces_.size()),
         [&](std::int64_t j) { contacts.update_faces(interior_faces_[at(j)], interior_last_[at(j)], gp, dt); }, 16);
-    halo_.finish(gp);
-    in_flight_ = false;
+    finish_halo();
     parallel_for(static_cast<std::int64_t>(boundary_faces_.size()),
                  [&](std::int64_t j) { contacts.update_faces(boundary_faces_[at(j)], boundary_last_[at(j)], gp, dt); }, 2);
+    if constexpr (bars) {
+      // Every element and bond (a serial loop over the bars, as in one process): those with a
+      // node here read own and ghost u only; the rest read stale rows and nothing reads them.
+      s.bar_nodes().force.setZero();
+      s.reinforcement().compute_forces(gp, s.blocks().zone_stress_rows());
+    }
     const auto& integ = s.integrator();
     parallel_for(own_block_count, [&](std::int64_t k) {
       const index_t b = own_blocks_[at(k)];
       const index_t g0 = block_gridpoint_offsets_[at(b)], g1 = block_gridpoint_offsets_[at(b) + 1];
       for (index_t g = g0; g < g1; ++g) contacts.add_force(g, gp);
+      if constexpr (bars) s.reinforcement().add_host_forces(g0, g1, gp);  // after the contacts, as the solver
       integrator::step_work w;
-      for (int c = 0; c < 3; ++c)
-        for (index_t g = g0; g < g1; ++g) {
-          gp.velocity(g, c) = integ.advance_dof(gp.force(g, c), gp.mass[g], gp.velocity(g, c), gp.constraint(g, c),
-                                                gp.prescribed_velocity(g, c), dt, gp.reaction(g, c), w);
-          gp.displacement(g, c) += gp.velocity(g, c) * dt;
-        }
+      for (index_t g = g0; g < g1; ++g) advance_node(integ, gp, g, dt, w);
       block_work_[at(k)] = w;
     }, 4);
     integrator::step_work work;
@@ -176,6 +196,8 @@ class stepper {
       work.boundary += w.boundary;
       work.damping += w.damping;
     }
+    if constexpr (bars)
+      for (const index_t n : own_bar_nodes_) advance_node(integ, s.bar_nodes(), n, dt, work);
     s.close_external_step(work);
     boundary_work_ += work.boundary;
     damping_dissipated_ += work.damping;
@@ -188,7 +210,8 @@ class stepper {
   /// the elastic energy of its blocks' zones (blocks' stored_energy, with rotations of the
   /// current displacements), the contact energies of the sub-contacts it owns (stored,
   /// dissipated, its tensile part) and, as `initial`, the kinetic and stored energy before the
-  /// first step. The shares are gathered and added in rank order, so every rank gets the same
+  /// first step. Bars: their nodes' kinetic energy is in; their stored and dissipated energies
+  /// are not summed yet (left 0), nor are they in `initial`. The shares are gathered and added in rank order, so every rank gets the same
   /// bits; they are one process's (solver::energies) to round-off only, another summation order
   /// (test_distributed_step holds every term within 1e-12 relative after 600 steps). Every rank of
   /// `comm` must call it. O(own gridpoints + zones + owned sub-contacts); allocates (the zones'
@@ -215,9 +238,7 @@ class stepper {
   /// of their owners now (for a reader of ghost rows between steps; step() completes it anyway).
   /// Every rank must call it.
   void finish_exchange() {
-    if (!in_flight_) return;
-    halo_.finish(solver_->gridpoints());
-    in_flight_ = false;
+    if (in_flight_) finish_halo();
   }
 
   [[nodiscard]] int rank() const { return rank_; }
@@ -261,6 +282,9 @@ class stepper {
     const node_set& gp = s.gridpoints();
     real kinetic = 0;
     for (const index_t g : own_gridpoints_) kinetic += 0.5 * gp.mass[g] * gp.velocity.row(g).squaredNorm();
+    if constexpr (bars)
+      for (const index_t n : own_bar_nodes_)
+        kinetic += 0.5 * s.bar_nodes().mass[n] * s.bar_nodes().velocity.row(n).squaredNorm();
     // The zones' energy from a copy of the displacements in which every other rank's gridpoint is
     // at rest: their blocks, whose rotations this rank never updates (the identity), then add
     // exact zeros, and the sum is that of this rank's zones.
@@ -273,9 +297,30 @@ class stepper {
     return {initial_, boundary_work_, damping_dissipated_, kinetic, zones, c.stored, c.dissipated, c.dissipated_tension};
   }
 
+  /// The three components of node i, each as the integrator's advance does it (advance_dof).
+  template <class Integrator>
+  static void advance_node(const Integrator& integ, node_set& nodes, index_t i, real dt, integrator::step_work& w) {
+    for (int c = 0; c < 3; ++c) {
+      nodes.velocity(i, c) = integ.advance_dof(nodes.force(i, c), nodes.mass[i], nodes.velocity(i, c),
+                                               nodes.constraint(i, c), nodes.prescribed_velocity(i, c), dt,
+                                               nodes.reaction(i, c), w);
+      nodes.displacement(i, c) += nodes.velocity(i, c) * dt;
+    }
+  }
+
   void start_exchange() {
-    halo_.start(solver_->gridpoints());
+    if constexpr (bars)
+      halo_.start(solver_->gridpoints(), solver_->bar_nodes());
+    else
+      halo_.start(solver_->gridpoints());
     in_flight_ = true;
+  }
+  void finish_halo() {
+    if constexpr (bars)
+      halo_.finish(solver_->gridpoints(), solver_->bar_nodes());
+    else
+      halo_.finish(solver_->gridpoints());
+    in_flight_ = false;
   }
 
   /// Sub-contacts per face task (at least, but for the last task of a run of faces).
@@ -295,6 +340,7 @@ class stepper {
   real boundary_work_ = 0, damping_dissipated_ = 0;      ///< this rank's books (J): its own gridpoints' work
   real initial_ = 0;                                     ///< this rank's kinetic + stored energy before step 1 (J)
   std::vector<index_t> owned_contacts_;                  ///< sub-contacts this rank books, increasing
+  std::vector<index_t> own_bar_nodes_;                   ///< bar nodes of this rank, increasing
   mutable node_set own_displacement_;                    ///< rank_share's copy: own rows' u, the rest 0
   int ranks_ = 1;                                        ///< ranks of the communicator
   mutable std::vector<double> rank_shares_;              ///< summed_energies' gathered shares
