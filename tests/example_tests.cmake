@@ -466,6 +466,9 @@ tessera_add_example_test(rc_beam
          "first_crack_flexural_error_rel LESS 0.25"
          "first_crack_flexural_error_rel GREATER -0.25"
          "energy_balance_error_rel LESS 1e-3"
+         "span STREQUAL half"
+         "elastic_check_load_N GREATER 8.07e3"
+         "elastic_check_load_N LESS 8.16e3"
   TIMEOUT 600)
 tessera_add_example_test(rc_beam NAME example_rc_beam_tied_quick
   ARGS --quick --threads 2 --no-vtk --plates tied
@@ -596,3 +599,43 @@ tessera_add_refusal_test(refuse_rc_beam_coupled_elastic rc_beam
   "--cohesion coupled is built with --compression plastic only" --threads 1 --quick --cohesion coupled --compression elastic)
 tessera_add_refusal_test(refuse_rc_beam_steel_yield rc_beam "--steel-yield: value '0' must be > 0" --threads 1 --steel-yield 0)
 tessera_add_refusal_test(refuse_rc_beam_steel_yield_nan rc_beam "--steel-yield: invalid value 'nan'" --threads 1 --steel-yield nan)
+# ---- rc_beam --span full (issue #41 item 3): the whole beam, 120 blocks (--blocks 60 per half
+# span), both supports and loading plates, the plates on a spreader (equal loads), held in x at
+# mid-span (examples/rc_beam/beam_span.hpp); 28 s of CPU on one thread. Checks, in the elastic
+# stage (beam_span.hpp's window: deflections of 0.06-0.18 mm, around half the hand first-cracking
+# deflection, 0.122 mm):
+#   - the load at 0.122 mm against the half model's (the default quick test above pins it at
+#     8115 N): 7883 N, -2.9 % (measured). Tolerance -15 % / +5 %: the full beam's blocks are another
+#     tessellation, and the half model's own value moves by 10 % between seeds (8115, 8933, 8408 N
+#     for seeds 1-3); and the full beam is softer on the whole (seeds 1-3: 7883, 7789, 7232 N, -2.9,
+#     -12.8, -14.0 % against the half model of the same seed). A likely cause, not measured apart:
+#     the half model's symmetry face is a plane without joints (mirrored, its cells at mid-span
+#     merge with their twins), a joint row fewer in the constant-moment zone. A load or deflection
+#     read for one span only (P = one reaction) misses the band by a factor near 2.
+#   - symmetry: the two support reactions over the window, (R_left - R_right) / (R_left + R_right),
+#     within 3 % (measured 1.1 %; seeds 2, 3: 0.4, 0.7 %): with equal plate loads statics asks 0,
+#     the rest is the local damping's drag and the inertia of the mass-scaled run (a pin at the
+#     left support instead of mid-span gave 6.2 %); the two loading plates' loads within 1 %
+#     (measured 0.3 %; seeds 2, 3: -0.1, 0.07 %: the spreader);
+#   - each plate touches the beam; the first crack vertical and in the constant-moment zone; the
+#     energy balance with four plates.
+tessera_add_example_test(rc_beam NAME example_rc_beam_span_full_quick
+  ARGS --quick --threads 1 --no-vtk --span full
+  FILES curve.csv cracks.csv
+  CHECKS "span STREQUAL full"
+         "model_blocks EQUAL 120"
+         "support_plate_subcontacts GREATER 20"
+         "loading_plate_subcontacts GREATER 20"
+         "right_support_plate_subcontacts GREATER 20"
+         "right_loading_plate_subcontacts GREATER 20"
+         "elastic_check_load_N GREATER 6.90e3"
+         "elastic_check_load_N LESS 8.52e3"
+         "elastic_check_reaction_asymmetry_rel LESS 0.03"
+         "elastic_check_reaction_asymmetry_rel GREATER -0.03"
+         "elastic_check_plate_load_asymmetry_rel LESS 0.01"
+         "elastic_check_plate_load_asymmetry_rel GREATER -0.01"
+         "first_crack_in_moment_zone STREQUAL ON"
+         "vertical_cracks_first STREQUAL ON"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 900)
+tessera_add_refusal_test(refuse_rc_beam_span rc_beam "--span: invalid value 'quarter'" --threads 1 --span quarter)

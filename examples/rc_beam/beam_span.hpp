@@ -25,6 +25,9 @@
 //     (beam_failure_mode), the fastest-opening inclined crack after the peak in each shear span
 //     (beam_post_peak.hpp). The failing span: the half of the beam that holds the widest crack at
 //     the end (with diagonal tension, its shear span).
+//   - summary.json keeps the half model's keys for the whole beam (inclined_after_peak_* the
+//     faster of the two spans' cracks, shear_at_peak_* the left span's, shear_at_first_inclined_
+//     crack_* the span of first_inclined_crack_span) and adds left_* and right_* per span.
 //   - the elastic check (both models): the load at the deflection delta_e = P_cr / (2 K_0) (half the
 //     hand deflection at first cracking, f_T-based), from a least-squares line of the raw load over
 //     [delta_e / 2, 3 delta_e / 2] (a centred fit: the smoothed load lags); in the full beam, the

@@ -402,10 +402,10 @@ int main(int argc, char** argv) {
   inputs in;
   tessera::cli::parser cli(
       "rc_beam",
-      "Reinforced-concrete beam without stirrups in four-point bending, half-symmetric or whole (--span; Pulatsu et al.\n"
-      "2020, Sec. 4):\n"
-      "flexural cracks, yield of the bars, diagonal tension. Default geometry PROVISIONAL (DESIGN.md 6): Walraven's\n"
-      "series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm, constant-moment zone 500 mm, 4 x 8 mm bars.\n"
+      "Reinforced-concrete beam without stirrups in four-point bending (Pulatsu et al. 2020, Sec. 4), the half beam with\n"
+      "its symmetry face or the whole beam (--span): flexural cracks, yield of the bars, diagonal tension. Default\n"
+      "geometry PROVISIONAL (DESIGN.md 6): Walraven's series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm,\n"
+      "constant-moment zone 500 mm, 4 x 8 mm bars.\n"
       "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.");
   cli.add_standard(in.common);
   bool no_vtk = false;
