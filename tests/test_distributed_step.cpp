@@ -11,11 +11,14 @@
 // shows that a bit comparison sees the order of a gather: summed in another order, the contact
 // forces of some gridpoint and the platen load take other bits. The second case ("[bars]") is
 // the reinforced tie on the same prism (one bar on the axis, pulled by its end through the bond):
-// own gridpoints and own bar nodes compared bit for bit, ghost bar nodes in the halo.
+// own gridpoints and own bar nodes compared bit for bit, ghost bar nodes in the halo. The third
+// ("[checkpoint]") saves a split run per rank halfway and restarts it: the same bits again.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
 #include <mpi.h>
+
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -23,7 +26,9 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <string>
 #include <span>
 #include <utility>
 #include <vector>
@@ -34,6 +39,7 @@
 #include "tessera/distributed/stepper.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
+#include "tessera/io/checkpoint.hpp"
 #include "tessera/presets/pulatsu2020.hpp"
 #include "tessera/reinforcement/embedded_truss.hpp"
 #include "tessera/solver/recorders.hpp"
@@ -112,12 +118,18 @@ template <class Contacts>
   return n;
 }
 
-/// Rank 0's block -> rank map of `graph` over the communicator's ranks, broadcast: METIS's
-/// (where built in, when asked) or slabs by bisection.
-[[nodiscard]] std::vector<int> broadcast_map(const distributed::block_graph& graph, bool metis) {
+/// This process's rank in MPI_COMM_WORLD and the number of ranks.
+[[nodiscard]] std::pair<int, int> rank_and_size() {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return {rank, size};
+}
+
+/// Rank 0's block -> rank map of `graph` over the communicator's ranks, broadcast: METIS's
+/// (where built in, when asked) or slabs by bisection.
+[[nodiscard]] std::vector<int> broadcast_map(const distributed::block_graph& graph, bool metis) {
+  const auto [rank, size] = rank_and_size();
   std::vector<int> map(static_cast<std::size_t>(graph.block_count()), -1);
   if (rank == 0) {
 #ifdef TESSERA_HAVE_METIS
@@ -150,9 +162,7 @@ struct split_run {
 };
 
 TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][step]") {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = rank_and_size();
   const prism_scene scene;
   prism_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
   support_and_pull(reference, scene.length);
@@ -312,9 +322,7 @@ void hold_and_pull_bar(tie_solver& s, real length) {
 }  // namespace
 
 TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi][step][bars]") {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  const auto [rank, size] = rank_and_size();
   const prism_scene scene;
   const auto bar = reinforcement::pulatsu2020::tie_reinforcement(vec3(0.034, 0.034, 0), vec3(0.034, 0.034, scene.length));
   solver_options options;
@@ -372,6 +380,44 @@ TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi]
                 "bytes a step; bar force at the fixed end %.3f kN, %lld sub-contacts softened\n",
                 size, steps, own_bar_nodes.size(), static_cast<long long>(reference.bar_nodes().size()),
                 ghost_bar_list.size(), step.halo().bytes_sent(), bar_force * 1e-3, static_cast<long long>(softened));
+}
+
+TEST_CASE("a split run saved per rank restarts to the same bits", "[mpi][step][checkpoint]") {
+  const auto [rank, size] = rank_and_size();
+  const prism_scene scene;
+  prism_solver run(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  prism_solver restarted(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  support_and_pull(run, scene.length);
+  support_and_pull(restarted, scene.length);
+  distributed::block_graph_input in = distributed::blocks_of_mesh(scene.mesh);
+  distributed::add_subcontacts(in, run.contacts());
+  const distributed::rank_ownership own(broadcast_map(distributed::block_graph(in), true), size, scene.mesh,
+                                        distributed::contact_pairs_of(run.contacts()));
+  distributed::stepper<prism_solver> step(run, scene.mesh, own, MPI_COMM_WORLD);
+  // One file per rank, each its rank's whole solver (stale rows of other ranks' blocks included:
+  // they restart as they were), in a folder named after rank 0's process.
+  long long id = static_cast<long long>(::getpid());
+  MPI_Bcast(&id, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("tessera_split_" + std::to_string(id));
+  std::filesystem::create_directories(folder);
+  const std::filesystem::path file = folder / ("rank_" + std::to_string(rank) + ".ckpt");
+  constexpr int before = 300, after = 300;  // the second half crosses the peak (the first test)
+  for (int k = 0; k < before; ++k) step.step();
+  step.finish_exchange();  // the ghosts' rows current, so the file holds what the next step reads
+  io::save_checkpoint(run, file, "distributed step test");
+  for (int k = 0; k < after; ++k) step.step();
+  io::load_checkpoint(restarted, file);
+  distributed::stepper<prism_solver> step_again(restarted, scene.mesh, own, MPI_COMM_WORLD, 46);
+  for (int k = 0; k < after; ++k) step_again.step();
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove_all(folder);
+  INFO("rank " << rank << " of " << size);
+  CHECK(restarted.step_count() == run.step_count());
+  index_t bad = 0;
+  for (soa3 node_set::*m : {&node_set::displacement, &node_set::velocity, &node_set::reaction})
+    bad += differing_rows(restarted.gridpoints().*m, run.gridpoints().*m, step.own_gridpoints());
+  CHECK(bad == 0);
+  CHECK(differing_states(restarted.contacts(), run.contacts(), own.evaluated_contacts(rank)) == 0);
 }
 
 int main(int argc, char** argv) {

@@ -2,13 +2,14 @@
 // distributed::stepper<Solver>: the time step of a run split by blocks over MPI ranks
 // (docs/architecture.md, "The distributed step"), for deformable blocks bonded by
 // contact::face_contacts, with or without bars embedded in them (reinforcement::embedded_truss);
-// no detected contacts, rigid blocks, gravity or applied forces yet. Every rank builds the whole model (a solver over every block: the memory of one process
-// per rank, acceptable while a scene fits one machine's memory many times over) and the same
-// rank_ownership; the stepper restricts the solver's step to what its rank evaluates and owns:
+// no detected contacts, rigid blocks, gravity or applied forces yet. Every rank builds the whole
+// model (a solver over every block: the memory of one process per rank, acceptable while a scene
+// fits one machine's memory many times over) and the same rank_ownership; the stepper restricts
+// the solver's step to what its rank evaluates and owns:
 //
 //   zone tasks of own blocks (force rows zeroed, then the block's zone sums)  ─┐ one parallel
 //   faces whose two blocks are own                                           ─┘ region
-//   wait for the halo (u(t), v(t - dt/2) of the ghost gridpoints)
+//   wait for the halo (u(t), v(t - dt/2) of the ghost gridpoints and ghost bar nodes)
 //   faces with a ghost block (evaluated here and on the ghost's rank, from the same inputs)
 //   bars: every element and bond (serial, O(bar nodes)); an own bar node's elements read own and
 //     ghost bar nodes, its bond its host zone (own) and that zone's stress from this step's task
@@ -22,16 +23,17 @@
 // Why the bits are one process's: docs/architecture.md. Each own gridpoint's force is zero plus
 // its block's zone sum plus its contact sum plus its bonds' host shares, the terms and order of
 // solver::step; every sub-contact and bar element that touches it is evaluated on this rank from
-// u and v that are the owners' bits; integration is per component. The bars' loop over all
-// elements and bonds on every rank is the simple form (bars are O(100) nodes each); restricting
-// it to the rank's evaluated elements and own nodes needs the truss to loop over a subset. The motion of every own gridpoint, the state of every evaluated
-// sub-contact and the reactions of own prescribed components are therefore one process's, to the
-// bit, for any rank count and any thread count per rank (CTests distributed_mpi_step_2 and _3).
+// u and v that are the owners' bits; integration is per component. The motion of every own
+// gridpoint and bar node, the state of every evaluated sub-contact and the reactions of own
+// prescribed components are therefore one process's, to the bit, for any rank count and any
+// thread count per rank (CTests distributed_mpi_step_2 and _3). The bars' loop over all elements
+// and bonds on every rank is the simple form (bars are O(100) nodes each); restricting it to the
+// rank's evaluated elements and own nodes needs the truss to loop over a subset.
 //
 // What is not the same bits: the energy books. The boundary and damping work of a step are sums
 // over every gridpoint, in one process by fixed chunks of the whole set; a rank books its own
-// gridpoints' (block by block, in the solver's books and its own), and summed_energies adds the
-// ranks' shares in rank order: one process's values to round-off, not to the bit
+// gridpoints' (block by block, in its solver's books), and summed_energies adds the ranks'
+// shares in rank order: one process's values to round-off, not to the bit
 // (docs/architecture.md says what the bits would need). Rows of other ranks' gridpoints on a rank
 // are stale but for the ghosts (see finish_exchange), so the solver's energies() and
 // unbalanced_force() on a rank are not the model's.
@@ -199,8 +201,6 @@ class stepper {
     if constexpr (bars)
       for (const index_t n : own_bar_nodes_) advance_node(integ, s.bar_nodes(), n, dt, work);
     s.close_external_step(work);
-    boundary_work_ += work.boundary;
-    damping_dissipated_ += work.damping;
     start_exchange();
   }
 
@@ -294,7 +294,11 @@ class stepper {
     for (const index_t i : owned_contacts_)
       contact::detail::add_subcontact_energies<typename Solver::law_type>(c, s.contacts().subcontact_params(i),
                                                                         s.contacts().state(i), s.contacts().area(i));
-    return {initial_, boundary_work_, damping_dissipated_, kinetic, zones, c.stored, c.dissipated, c.dissipated_tension};
+    // The work books are the solver's (close_external_step adds each step's rank share), so a
+    // checkpoint of the solver keeps them.
+    const energy_balance books = s.energies();
+    return {initial_, books.boundary_work, books.damping_dissipated, kinetic, zones, c.stored, c.dissipated,
+            c.dissipated_tension};
   }
 
   /// The three components of node i, each as the integrator's advance does it (advance_dof).
@@ -337,7 +341,6 @@ class stepper {
   std::vector<index_t> interior_faces_, interior_last_;  ///< face tasks [first, last) with both blocks own
   std::vector<index_t> boundary_faces_, boundary_last_;  ///< face tasks [first, last) with a ghost block
   std::vector<integrator::step_work> block_work_;        ///< per own block: its integration work this step
-  real boundary_work_ = 0, damping_dissipated_ = 0;      ///< this rank's books (J): its own gridpoints' work
   real initial_ = 0;                                     ///< this rank's kinetic + stored energy before step 1 (J)
   std::vector<index_t> owned_contacts_;                  ///< sub-contacts this rank books, increasing
   std::vector<index_t> own_bar_nodes_;                   ///< bar nodes of this rank, increasing
