@@ -156,9 +156,13 @@ class stepper {
   stepper& operator=(const stepper&) = delete;
 
   /// Advances this rank's part of the model by one step (file comment). Every rank of the
-  /// communicator must call it, the same number of times.
+  /// communicator must call it, the same number of times. Throws invalid_input, before anything
+  /// changes, when gravity or applied forces were set since the stepper was built (every rank
+  /// throws alike: the model is the same on all).
   void step() {
     Solver& s = *solver_;
+    require(s.gravity() == vec3::Zero() && s.applied_nodes().empty(),
+            "distributed::stepper: gravity or applied forces were set on the solver; they are not distributed yet");
     node_set& gp = s.gridpoints();
     auto& contacts = s.contacts_for_step();
     const real dt = s.dt();
@@ -211,10 +215,10 @@ class stepper {
   /// current displacements), the contact energies of the sub-contacts it owns (stored,
   /// dissipated, its tensile part) and, as `initial`, the kinetic and stored energy before the
   /// first step. Bars: their nodes' kinetic energy is in; their stored and dissipated energies
-  /// are not summed yet (left 0), nor are they in `initial`. The shares are gathered and added in rank order, so every rank gets the same
-  /// bits; they are one process's (solver::energies) to round-off only, another summation order
-  /// (test_distributed_step holds every term within 1e-12 relative after 600 steps). Every rank of
-  /// `comm` must call it. O(own gridpoints + zones + owned sub-contacts); allocates (the zones'
+  /// are not summed yet (left 0), nor are they in `initial`. The shares are gathered and added in
+  /// rank order, so every rank gets the same bits; they are one process's (solver::energies) to
+  /// round-off only, another summation order (test_distributed_step holds every term within
+  /// 1e-12 relative after 600 steps). Every rank of `comm` must call it. O(own gridpoints + zones + owned sub-contacts); allocates (the zones'
   /// rotations, as blocks' stored_energy does): a call for samples, not for every step.
   [[nodiscard]] energy_balance summed_energies(MPI_Comm comm) const {
     const std::array<double, share_count> mine = rank_share();
@@ -286,8 +290,9 @@ class stepper {
       for (const index_t n : own_bar_nodes_)
         kinetic += 0.5 * s.bar_nodes().mass[n] * s.bar_nodes().velocity.row(n).squaredNorm();
     // The zones' energy from a copy of the displacements in which every other rank's gridpoint is
-    // at rest: their blocks, whose rotations this rank never updates (the identity), then add
-    // exact zeros, and the sum is that of this rank's zones.
+    // at rest: their blocks, whose rotations this rank never updates (the identity, also after
+    // loading this rank's own checkpoint), then add exact zeros, and the sum is that of this
+    // rank's zones.
     for (const index_t g : own_gridpoints_) own_displacement_.displacement.row(g) = gp.displacement.row(g);
     const real zones = s.blocks().stored_energy(own_displacement_);
     contact::contact_energies c;
