@@ -12,7 +12,8 @@
 // forces of some gridpoint and the platen load take other bits. The second case ("[bars]") is
 // the reinforced tie on the same prism (one bar on the axis, pulled by its end through the bond):
 // own gridpoints and own bar nodes compared bit for bit, ghost bar nodes in the halo. The third
-// ("[checkpoint]") saves a split run per rank halfway and restarts it: the same bits again.
+// ("[checkpoint]") saves a split run per rank halfway and restarts it: the same bits again; then
+// a NaN on one rank makes every rank's non-finite check throw.
 #define CATCH_CONFIG_RUNNER
 #include <catch2/catch.hpp>
 
@@ -27,6 +28,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 #include <span>
@@ -418,6 +420,15 @@ TEST_CASE("a split run saved per rank restarts to the same bits", "[mpi][step][c
     bad += differing_rows(restarted.gridpoints().*m, run.gridpoints().*m, step.own_gridpoints());
   CHECK(bad == 0);
   CHECK(differing_states(restarted.contacts(), run.contacts(), own.evaluated_contacts(rank)) == 0);
+
+  // The non-finite check across ranks: a velocity made NaN on the last rank's first gridpoint
+  // makes every rank throw, naming that gridpoint; a finite model passes on every rank.
+  CHECK_NOTHROW(step_again.check_finite(MPI_COMM_WORLD));
+  const auto last_blocks = own.owned_blocks(size - 1);
+  const index_t victim = scene.mesh.block_gridpoint_offsets[static_cast<std::size_t>(last_blocks.front())];
+  if (rank == size - 1) restarted.gridpoints().velocity(victim, 1) = std::numeric_limits<real>::quiet_NaN();
+  CHECK_THROWS_WITH(step_again.check_finite(MPI_COMM_WORLD),
+                    Catch::Matchers::Contains("gridpoint " + std::to_string(victim) + " "));
 }
 
 int main(int argc, char** argv) {
