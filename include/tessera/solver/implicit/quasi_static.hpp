@@ -41,6 +41,34 @@
 // path branches (several cracks that could open, one of which unloads the others): the iterates
 // then hop between cracking patterns (increment_result::reversals).
 //
+// Path following (solve_controlled_increment). Past the peak the load path of a softening model
+// can snap back: the prescribed displacement must decrease while the cracks open on. The
+// increment is then controlled by the opening of the cracks, not by the supports: the prescribed
+// displacements are lambda x velocity (lambda the pseudo-time, s), lambda an extra unknown, and
+// the extra equation
+//     sum_{i in S} A_i sigma_i n_i . (d_i - d_i^0) = Delta_tau   (J),
+// S the sub-contacts softening in tension at the last equilibrium, or intact within 1e-3 of their
+// tensile strength (so the control can start at the peak of a face that has not softened yet),
+// with sigma_i > 0 their committed normal stress, d_i^0 their relative displacement there: the work of the committed crack
+// tractions on the opening increment, to first order the energy the increment dissipates in the
+// cracks (a softening sub-contact advancing on its envelope dissipates sigma dw; one closing
+// returns its elastic energy), a linear form of u in the spirit of the dissipation-based
+// arc-length of Gutierrez (2004) and Verhoosel, Remmers and Gutierrez (2009) and of the
+// crack-opening control with the pattern weighted by the crack stresses. Each iteration is the
+// bordered solve with the factor of the increment's first iteration,
+//     a = K_sec^-1 r,   b = -K_sec^-1 K_fp v   (b once per factorisation the mode uses),
+//     du_f = a + dlambda b,   dlambda from the constraint (linear: met exactly after every iteration),
+// K_fp v the coupling of the free components to a unit motion of the prescribed ones. Because the
+// constraint fixes the crack openings' projection, a single localising crack is driven in closed
+// form by its law, so the iteration follows a snap-back (dlambda < 0) that displacement control
+// cannot. No Aitken or line search in this mode. What no scalar control removes: where the
+// tangent of the modes the constraint leaves free is negative (several softening cracks of
+// which one can localise and unload the others, a bifurcation), the secant iteration, whose
+// factor is positive definite, moves away from that equilibrium or hops between cracking
+// patterns; on the 100-block prism this happens at the peak (benchmarks/implicit_prism
+// --path-following). control_fraction restricts the control set to the sub-contacts that opened
+// most in the last increment.
+//
 // Counts and times (counts()): increments, iterations, force evaluations, factorisations (with
 // symbolic analyses), solves, and wall-clock seconds in assembly, factorisation, solves and force
 // evaluations.
@@ -78,6 +106,10 @@ struct increment_options {
   /// the factor (on the 100-block prism to its peak 45 factorisations and 3.6 s against 3585 and
   /// 84 s); true: K_sec of the latest states factorised in every iteration
   bool refactor_each_iteration = false;
+  /// solve_controlled_increment: the control set keeps only the sub-contacts whose opening in the
+  /// last converged increment was at least this fraction of the largest one (the localising
+  /// crack), in [0, 1]; 0 keeps every softening one
+  real control_fraction = 0;
 };
 
 /// What one increment did.
@@ -141,17 +173,22 @@ class quasi_static {
     require(!free_dofs_.empty(), "quasi_static: every component of the ", n_gp, " gridpoints is prescribed");
     // The zones' part of K on the free components, once.
     std::vector<triplet> free_t;
+    const auto n_free = static_cast<index_t>(free_dofs_.size());
+    zones_coupling_.setZero(n_free);  // K_fp v of the zones (N/s)
     for (const triplet& e : t) {
       const index_t r = free_index_[static_cast<std::size_t>(e.row())], c = free_index_[static_cast<std::size_t>(e.col())];
-      if (r >= 0 && c >= 0) free_t.emplace_back(r, c, e.value());
+      if (r >= 0 && c >= 0)
+        free_t.emplace_back(r, c, e.value());
+      else if (r >= 0)
+        zones_coupling_[r] += e.value() * velocity_[e.col()];
     }
-    const auto n_free = static_cast<index_t>(free_dofs_.size());
     zones_free_.resize(n_free, n_free);
     zones_free_.setFromTriplets(free_t.begin(), free_t.end());
     const auto n_c = static_cast<std::size_t>(contacts.size());
     normals_.resize(n_c);
     committed_.resize(n_c);
     committed_gap_.assign(n_c, vec3::Zero());
+    last_opening_.assign(n_c, 0);
     for (index_t i = 0; i < contacts.size(); ++i) {
       normals_[static_cast<std::size_t>(i)] = contacts.normal(i);
       committed_[static_cast<std::size_t>(i)] = state_type(contacts.state(i));
@@ -165,18 +202,93 @@ class quasi_static {
     evaluate_forces();
   }
 
+  /// One increment under crack-opening control (file comment, path following): the prescribed
+  /// components move by dlambda x velocity with dlambda found with the displacements, so that the
+  /// committed crack tractions do the work `crack_work` (J, > 0) on the opening increment of the
+  /// softening sub-contacts. Throws invalid_input for bad options, a crack_work that is not
+  /// positive and finite, or no sub-contact softening in tension (or at its tensile strength) at
+  /// the last equilibrium (use solve_increment there), before anything changes. On failure the model
+  /// returns to its last equilibrium.
+  increment_result solve_controlled_increment(real crack_work, const increment_options& o) {
+    require(std::isfinite(crack_work) && crack_work > 0, "quasi_static: crack work per increment = ", crack_work,
+            " J must be finite and > 0");
+    require_valid(o);
+    require(o.control_fraction >= 0 && o.control_fraction <= 1, "quasi_static: control fraction = ",
+            o.control_fraction, " must lie in [0, 1]");
+    // The constraint's weights on all dofs: A sigma n on b, -A sigma n on a.
+    Eigen::VectorXd weight = Eigen::VectorXd::Zero(u_.size());
+    index_t controlling = 0;
+    real widest = 0;
+    for (const real w : last_opening_) widest = std::max(widest, w);
+    for (index_t i = 0; i < contacts_->size(); ++i) {
+      const state_type& st = committed_[static_cast<std::size_t>(i)];
+      const law::contact_status f = Law::status(st);
+      const auto& p = contacts_->subcontact_params(i);
+      const bool at_strength = st.sigma_n >= (1 - strength_fraction) * Law::tensile_strength(p, st);
+      if (!(law::has(f, law::contact_status::softening) || at_strength) ||
+          law::has(f, law::contact_status::broken_tension) || !(st.sigma_n > 0) ||
+          (o.control_fraction > 0 && !(last_opening_[static_cast<std::size_t>(i)] >= o.control_fraction * widest)))
+        continue;
+      const vec3 w = contacts_->area(i) * st.sigma_n * normals_[static_cast<std::size_t>(i)];
+      weight.segment<3>(3 * contacts_->node_b(i)) += w;
+      weight.segment<3>(3 * contacts_->node_a(i)) -= w;
+      ++controlling;
+    }
+    require(controlling > 0, "quasi_static: no sub-contact softens in tension or stands at its tensile strength at the ",
+            "last equilibrium; the crack-opening control needs one (advance with solve_increment)");
+    ++counts_.increments;
+    increment_result r;
+    evaluations_in_increment_ = 0;
+    const real weight_v = weight.dot(velocity_);  // d(constraint)/d(lambda) through the prescribed components
+    Eigen::VectorXd weight_free(static_cast<index_t>(free_dofs_.size()));
+    for (std::size_t k = 0; k < free_dofs_.size(); ++k) weight_free[static_cast<index_t>(k)] = weight[free_dofs_[k]];
+    evaluate_forces();
+    for (;;) {
+      if (r.iterations > 0) {
+        r.max_residual = max_free_residual();
+        if (r.max_residual <= o.force_tolerance) {
+          r.converged = true;
+          break;
+        }
+        if (r.iterations == o.max_iterations) break;
+      }
+      const Eigen::VectorXd a = secant_step(r.iterations, o);
+      const auto timer = clock::now();
+      if (unit_response_stale_) {
+        // The free components' response to a unit rate of the prescribed ones: one
+        // back-substitution per factorisation that a controlled increment uses.
+        unit_response_ = -factor_.solve(coupling_);
+        unit_response_stale_ = false;
+        ++counts_.solves;
+      }
+      // constraint: weight . (u + a + dlambda (b, v) - u_0) = crack_work
+      const real reached = weight.dot(u_ - committed_u_) + weight_free.dot(a);
+      const real per_lambda = weight_free.dot(unit_response_) + weight_v;
+      require(std::isfinite(per_lambda) && per_lambda != 0, "quasi_static: the crack-opening control does not depend on ",
+              "the load factor (", per_lambda, " J/s)");
+      const real dlambda = (crack_work - reached) / per_lambda;
+      for (std::size_t k = 0; k < free_dofs_.size(); ++k)
+        u_[free_dofs_[k]] += a[static_cast<index_t>(k)] + dlambda * unit_response_[static_cast<index_t>(k)];
+      u_ += dlambda * velocity_;
+      time_ += dlambda;
+      counts_.solve_s += seconds_since(timer);
+      ++r.iterations;
+      evaluate_forces();
+    }
+    finish_increment(r);
+    return r;
+  }
+
   /// Moves the prescribed components by prescribed velocity x duration (m; duration in s of
   /// pseudo-time, >= 0) and iterates to equilibrium (file comment). Throws invalid_input for bad
   /// options or a negative or non-finite duration, before anything changes.
   increment_result solve_increment(real duration, const increment_options& o) {
     require(std::isfinite(duration) && duration >= 0, "quasi_static: increment duration = ", duration,
             " s must be finite and >= 0");
-    require_positive(o.force_tolerance, "quasi_static: force tolerance (N)");
-    require(o.max_iterations >= 1, "quasi_static: max_iterations = ", o.max_iterations, " must be >= 1");
-    require(o.stiffness_floor >= 0 && o.stiffness_floor < 1, "quasi_static: stiffness floor = ", o.stiffness_floor,
-            " must lie in [0, 1)");
+    require_valid(o);
     ++counts_.increments;
     u_ += duration * velocity_;
+    time_ += duration;
     increment_result r;
     evaluations_in_increment_ = 0;
     real omega = 1;  // relaxation of the secant step (Aitken)
@@ -189,18 +301,8 @@ class quasi_static {
         break;
       }
       if (r.iterations == o.max_iterations) break;
-      // The first iteration of an increment factorises the secants of the last equilibrium (the
-      // trial states of step 1 see the prescribed jump alone, on the supported gridpoints).
-      if (r.iterations == 0)
-        factorize_secant(o.stiffness_floor, committed_, committed_gap_);
-      else if (o.refactor_each_iteration)
-        factorize_secant(o.stiffness_floor, trial_, current_gaps());
+      const Eigen::VectorXd du = secant_step(r.iterations, o);
       const auto timer = clock::now();
-      Eigen::VectorXd rhs(static_cast<index_t>(free_dofs_.size()));
-      for (std::size_t k = 0; k < free_dofs_.size(); ++k) rhs[static_cast<index_t>(k)] = force_[free_dofs_[k]];
-      const Eigen::VectorXd du = factor_.solve(rhs);
-      require(factor_.info() == Eigen::Success && du.allFinite(), "quasi_static: the linear solve failed (",
-              "K_sec singular or not positive definite) in iteration ", r.iterations + 1);
       // Aitken's relaxation of the fixed-point step du = G(u) - u (Irons and Tuck; Kuttler and
       // Wall 2008): omega_k = -omega_{k-1} du_{k-1}.(du_k - du_{k-1}) / |du_k - du_{k-1}|^2.
       if (r.iterations > 0 && o.aitken && !o.line_search) {
@@ -209,7 +311,6 @@ class quasi_static {
         if (change2 > 0) omega = -omega * previous_du.dot(change) / change2;
       }
       previous_du = du;
-      ++counts_.solves;
       counts_.solve_s += seconds_since(timer);
       Eigen::VectorXd step = Eigen::VectorXd::Zero(u_.size());  // on the free dofs
       for (std::size_t k = 0; k < free_dofs_.size(); ++k) step[free_dofs_[k]] = omega * du[static_cast<index_t>(k)];
@@ -219,27 +320,18 @@ class quasi_static {
         u_ += step;
       ++r.iterations;
     }
-    counts_.iterations += r.iterations;
-    if (r.converged) {
-      committed_ = trial_;
-      committed_u_ = u_;
-      for (index_t i = 0; i < contacts_->size(); ++i) committed_gap_[static_cast<std::size_t>(i)] = gap(i);
-    } else {
-      u_ = committed_u_;
-      evaluate_forces();
-    }
-    for (const state_type& s : committed_) {
-      const law::contact_status f = Law::status(s);
-      r.softening += law::has(f, law::contact_status::softening) || law::has(f, law::contact_status::broken_tension);
-      r.broken += law::has(f, law::contact_status::broken_tension);
-      r.slipped += law::has(f, law::contact_status::slipped);
-    }
-    r.advancing = advancing_count_;
-    r.reversals = reversal_count_;
+    finish_increment(r);
     return r;
   }
 
   // ---- read-outs ----
+  /// Pseudo-time lambda (s) at the last equilibrium: the prescribed components are displaced by
+  /// lambda x their prescribed velocity.
+  [[nodiscard]] real prescribed_time() const { return time_; }
+  /// Energy dissipated in the sub-contacts (J) at the last equilibrium: sum of area x the law's
+  /// dissipated_tension (tension) and of area x its other dissipation fields (shear, compression).
+  [[nodiscard]] real dissipated_tension() const { return dissipated(&state_type::dissipated_tension); }
+  [[nodiscard]] real dissipated_shear() const { return dissipated(&state_type::dissipated_shear); }
   /// Displacement (m) of gridpoint i, component c, at the last equilibrium.
   [[nodiscard]] real displacement(index_t i, int c) const { return u_[3 * i + c]; }
   /// All displacements (m), dof 3 i + c.
@@ -277,6 +369,68 @@ class quasi_static {
   [[nodiscard]] static double seconds_since(clock::time_point t) {
     return std::chrono::duration<double>(clock::now() - t).count();
   }
+
+  [[nodiscard]] real dissipated(real state_type::*field) const {
+    real sum = 0;
+    for (index_t i = 0; i < contacts_->size(); ++i) sum += contacts_->area(i) * committed_[static_cast<std::size_t>(i)].*field;
+    return sum;
+  }
+
+  /// Commits a converged increment or returns to the last equilibrium; counts into r.
+  void finish_increment(increment_result& r) {
+    counts_.iterations += r.iterations;
+    if (r.converged) {
+      committed_ = trial_;
+      committed_u_ = u_;
+      committed_time_ = time_;
+      for (index_t i = 0; i < contacts_->size(); ++i) {
+        const auto k = static_cast<std::size_t>(i);
+        last_opening_[k] = (gap(i) - committed_gap_[k]).dot(normals_[k]);
+        committed_gap_[k] = gap(i);
+      }
+    } else {
+      u_ = committed_u_;
+      time_ = committed_time_;
+      evaluate_forces();
+    }
+    for (const state_type& s : committed_) {
+      const law::contact_status f = Law::status(s);
+      r.softening += law::has(f, law::contact_status::softening) || law::has(f, law::contact_status::broken_tension);
+      r.broken += law::has(f, law::contact_status::broken_tension);
+      r.slipped += law::has(f, law::contact_status::slipped);
+    }
+    r.advancing = advancing_count_;
+    r.reversals = reversal_count_;
+  }
+
+  static void require_valid(const increment_options& o) {
+    require_positive(o.force_tolerance, "quasi_static: force tolerance (N)");
+    require(o.max_iterations >= 1, "quasi_static: max_iterations = ", o.max_iterations, " must be >= 1");
+    require(o.stiffness_floor >= 0 && o.stiffness_floor < 1, "quasi_static: stiffness floor = ", o.stiffness_floor,
+            " must lie in [0, 1)");
+  }
+
+  /// K_sec^-1 r on the free components (step 3): the first iteration of an increment factorises
+  /// the secants of the last equilibrium (the trial states of step 1 see the prescribed jump
+  /// alone, on the supported gridpoints), later ones those of the latest states when asked.
+  Eigen::VectorXd secant_step(int iteration, const increment_options& o) {
+    if (iteration == 0)
+      factorize_secant(o.stiffness_floor, committed_, committed_gap_);
+    else if (o.refactor_each_iteration)
+      factorize_secant(o.stiffness_floor, trial_, current_gaps());
+    const auto timer = clock::now();
+    Eigen::VectorXd rhs(static_cast<index_t>(free_dofs_.size()));
+    for (std::size_t k = 0; k < free_dofs_.size(); ++k) rhs[static_cast<index_t>(k)] = force_[free_dofs_[k]];
+    Eigen::VectorXd du = factor_.solve(rhs);
+    require(factor_.info() == Eigen::Success && du.allFinite(), "quasi_static: the linear solve failed (",
+            "K_sec singular or not positive definite) in iteration ", iteration + 1);
+    ++counts_.solves;
+    counts_.solve_s += seconds_since(timer);
+    return du;
+  }
+
+  /// An intact sub-contact within this fraction of its tensile strength joins the control set.
+  static constexpr real strength_fraction = 1e-3;
 
   /// Trial states from the committed ones (step 1) and f(u) into force_.
   void evaluate_forces() {
@@ -389,9 +543,13 @@ class quasi_static {
     std::vector<triplet> all, free_t;
     add_contact_stiffness(*contacts_, normals_, secants, all);
     free_t.reserve(all.size());
+    coupling_ = zones_coupling_;
     for (const triplet& e : all) {
       const index_t r = free_index_[static_cast<std::size_t>(e.row())], c = free_index_[static_cast<std::size_t>(e.col())];
-      if (r >= 0 && c >= 0) free_t.emplace_back(r, c, e.value());
+      if (r >= 0 && c >= 0)
+        free_t.emplace_back(r, c, e.value());
+      else if (r >= 0)
+        coupling_[r] += e.value() * velocity_[e.col()];
     }
     const auto n_free = static_cast<index_t>(free_dofs_.size());
     sparse_matrix k(n_free, n_free);
@@ -412,6 +570,7 @@ class quasi_static {
     factored_secants_ = std::move(secants);
     ++counts_.factorizations;
     counts_.factorization_s += seconds_since(factor_timer);
+    unit_response_stale_ = true;
   }
 
   const contact::face_contacts<Law>* contacts_ = nullptr;
@@ -423,10 +582,15 @@ class quasi_static {
   std::vector<vec3> normals_;        ///< per sub-contact: unit normal A -> B, fixed
   std::vector<state_type> committed_, trial_;
   std::vector<vec3> committed_gap_;  ///< per sub-contact: u_b - u_a at the last equilibrium (m)
+  std::vector<real> last_opening_;   ///< per sub-contact: normal opening in the last converged increment (m)
   std::vector<char> advancing_;      ///< per sub-contact: the last iterate lowers its tensile strength
   index_t advancing_count_ = 0, reversal_count_ = 0;
   int evaluations_in_increment_ = 0;
   Eigen::VectorXd u_, committed_u_;  ///< displacements (m), dof 3 i + c
+  real time_ = 0, committed_time_ = 0;  ///< pseudo-time lambda (s): prescribed displacement / velocity
+  Eigen::VectorXd zones_coupling_, coupling_;  ///< K_fp v on the free dofs: zones, zones + factorised contacts (N/s)
+  Eigen::VectorXd unit_response_;    ///< -K_sec^-1 K_fp v on the free dofs (m/s)
+  bool unit_response_stale_ = true;  ///< unit_response_ is not that of the present factor
   Eigen::VectorXd force_;            ///< f(u) of the last evaluation (N)
   Eigen::SimplicialLDLT<sparse_matrix> factor_;
   std::vector<secant_stiffness> factored_secants_;
