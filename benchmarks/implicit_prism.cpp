@@ -26,7 +26,16 @@
 // reports per increment the stress, iterations and softening / broken sub-contacts, until the
 // stress has fallen below 0.5 x its peak or an increment fails at the smallest size.
 //
+// --path-following: past U_el, displacement increments of --increment x U_el while the stress
+// rises and the increment converges (no line search), then increments under crack-opening control
+// (quasi_static::solve_controlled_increment: the work of the committed crack tractions on the
+// opening increment, --crack-work J to start, x 1.5 after an increment of at most 6 iterations,
+// up to 8 halvings on failure, at most --max-crack-work) until the top displacement reaches
+// --until; per increment U, stress, pseudo-time, dissipated energy, iterations into --curve FILE
+// (csv) and a summary with counts and CPU time.
+//
 //   implicit_prism [--blocks N] [--seed N] [--threads N] [--no-explicit] [--through-peak]
+//                  [--path-following] [--until U] [--crack-work J] [--max-crack-work J] [--curve FILE]
 //                  [--increment R] [--tolerance R] [--max-iterations K] [--refactor] [--no-aitken] [--line-search]
 //                  [--no-fallback]
 // The out-of-balance tolerance (default 1e-6 f_T A per free component) lies far below the
@@ -82,7 +91,10 @@ int main(int argc, char** argv) {
   std::uint64_t seed = 1;
   bool no_explicit = false, through_peak = false, refactor = false, no_aitken = false, line_search = false,
        no_fallback = false;
-  real increment = 0.1, probe = 1e-6, tolerance = 1e-6;
+  real increment = 0.1, probe = 1e-6, tolerance = 1e-6, until = 150e-6, crack_work = 1e-3, max_crack_work = 1e-2;
+  bool path_following = false;
+  real control_fraction = 0;
+  std::string curve_file;
   tessera::cli::parser cli("implicit_prism",
                            "The implicit quasi-static solve against the explicit run on the elastic branch of the\n"
                            "direct tension prism (issue #43, candidate 3).");
@@ -98,6 +110,14 @@ int main(int argc, char** argv) {
   cli.flag("--refactor", refactor, "factorise in every iteration, not once per increment");
   cli.flag("--no-aitken", no_aitken, "plain secant steps, without Aitken's relaxation");
   cli.flag("--line-search", line_search, "secant steps lengthened or shortened by a line search on the energy");
+  cli.flag("--path-following", path_following, "past U_el, crack-opening control after the peak (file comment)");
+  cli.option("--until", until, "path following: stop at this top displacement (m)", "U").within(1e-6, 1e-2);
+  cli.option("--crack-work", crack_work, "path following: first crack work per increment (J)", "J").within(1e-9, 1);
+  cli.option("--max-crack-work", max_crack_work, "path following: largest crack work per increment (J)", "J")
+      .within(1e-9, 1);
+  cli.option("--control-fraction", control_fraction, "path following: control set, the sub-contacts that opened at least "
+             "this x the widest in the last increment (0: every softening one)", "R").within(0, 1);
+  cli.option("--curve", curve_file, "path following: write the curve here (csv)", "FILE");
   cli.flag("--no-fallback", no_fallback, "past U_el, no retry of a failed increment with the line search");
   cli.parse_or_exit(argc, argv);
   try {
@@ -190,6 +210,90 @@ int main(int argc, char** argv) {
       std::printf("- softening area at the stop %.4g m^2, tensile dissipation %.4g J\n\n", e.process_zone_area,
                   e.dissipated_tension);
       std::fflush(stdout);
+    }
+
+    // ---- implicit past the elastic limit, path following ----
+    if (path_following) {
+      const std::clock_t pf_cpu = std::clock();
+      std::FILE* curve = curve_file.empty() ? nullptr : std::fopen(curve_file.c_str(), "w");
+      tessera::require(curve_file.empty() || curve != nullptr, "implicit_prism: cannot open ", curve_file);
+      if (curve) std::fprintf(curve, "displacement_m,stress_Pa,pseudo_time_s,dissipated_tension_J,dissipated_shear_J,"
+                                     "iterations,controlled\n");
+      const auto sample = [&](int iterations, int controlled) {
+        if (curve)
+          std::fprintf(curve, "%.9g,%.9g,%.9g,%.9g,%.9g,%d,%d\n", q.mean_displacement(top).z(), stress(),
+                       q.prescribed_time(), q.dissipated_tension(), q.dissipated_shear(), iterations, controlled);
+      };
+      sample(r.iterations, 0);
+      // Displacement control while the stress rises.
+      real previous = stress(), peak = previous, u_peak = q.mean_displacement(top).z();
+      std::int64_t displacement_increments = 0, controlled_increments = 0, failed_attempts = 0;
+      o.control_fraction = control_fraction;
+      im::increment_options plain = o;
+      plain.line_search = false;
+      for (;;) {
+        const auto step = q.solve_increment(increment * u_el, plain);
+        if (!step.converged) {
+          ++failed_attempts;
+          break;
+        }
+        ++displacement_increments;
+        sample(step.iterations, 0);
+        const real now = stress();
+        if (now > peak) peak = now, u_peak = q.mean_displacement(top).z();
+        if (now < previous) break;
+        previous = now;
+      }
+      std::printf("## Path following: displacement control to U = %.6g m (stress %.6g Pa), then crack-opening control\n\n",
+                  q.mean_displacement(top).z(), stress());
+      std::printf("| U (m) | stress (Pa) | crack work (J) | iterations | dissipated tension (J) | softening | broken |\n"
+                  "|---|---|---|---|---|---|---|\n");
+      real work = crack_work;
+      bool failed = false;
+      int line = 0;
+      while (q.mean_displacement(top).z() < until) {
+        im::increment_result step;
+        int halvings = 0;
+        for (;; ++halvings) {
+          step = q.solve_controlled_increment(work, o);
+          if (step.converged || halvings == 8) break;
+          ++failed_attempts;
+          work *= 0.5;
+        }
+        if (!step.converged) {
+          failed = true;
+          std::printf("| stopped: no convergence at crack work %.3g J, residual %.3g N, %lld advancing, %lld reversals |\n",
+                      work, step.max_residual, static_cast<long long>(step.advancing),
+                      static_cast<long long>(step.reversals));
+          break;
+        }
+        ++controlled_increments;
+        sample(step.iterations, 1);
+        const real now = stress();
+        if (now > peak) peak = now, u_peak = q.mean_displacement(top).z();
+        if (line++ % 10 == 0)
+          std::printf("| %.6g | %.6g | %.3g | %d | %.6g | %lld | %lld |\n", q.mean_displacement(top).z(), now, work,
+                      step.iterations, q.dissipated_tension(), static_cast<long long>(step.softening),
+                      static_cast<long long>(step.broken));
+        std::fflush(stdout);
+        if (step.iterations <= 6) work = std::min(max_crack_work, 1.5 * work);
+      }
+      if (curve) std::fclose(curve);
+      const auto& t = q.counts();
+      std::printf("\n- %s at U = %.6g m, stress %.6g Pa; peak %.6g Pa at U = %.6g m\n",
+                  failed ? "stopped (no convergence)" : "reached --until", q.mean_displacement(top).z(), stress(), peak,
+                  u_peak);
+      std::printf("- dissipated: tension %.6g J, shear %.6g J\n", q.dissipated_tension(), q.dissipated_shear());
+      std::printf("- increments: %lld under displacement control, %lld under crack-opening control, %lld failed attempts; "
+                  "in all %lld increments, %lld iterations, %lld factorisations, %lld solves\n",
+                  static_cast<long long>(displacement_increments), static_cast<long long>(controlled_increments),
+                  static_cast<long long>(failed_attempts), static_cast<long long>(t.increments),
+                  static_cast<long long>(t.iterations), static_cast<long long>(t.factorizations),
+                  static_cast<long long>(t.solves));
+      std::printf("- CPU %.2f s past U_el (%.2f s from the start); work %.2f s (assembly %.2f, factorisation %.2f, "
+                  "solves %.2f, forces %.2f)\n",
+                  cpu_seconds_since(pf_cpu), implicit_cpu_s + cpu_seconds_since(pf_cpu), t.total_s(), t.assembly_s,
+                  t.factorization_s, t.solve_s, t.force_s);
     }
 
     // ---- implicit past the elastic limit ----
