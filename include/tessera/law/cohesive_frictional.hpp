@@ -79,6 +79,7 @@
 #include "compression.hpp"
 #include "concepts.hpp"
 #include "detail/validation.hpp"
+#include "lane_masks.hpp"
 #include "shear.hpp"
 #include "tension.hpp"
 
@@ -263,13 +264,16 @@ struct cohesive_frictional {
     const T sigma_old = x.sigma_n;
     x.u_n = x.u_n + x.du_n;
     const T trial = k_n * (x.u_n - x.u_p);
-    M broken = (flags & bit(contact_status::broken_tension)) != 0;
-    M slipped = (flags & bit(contact_status::slipped)) != 0;
-    const M softening = (flags & bit(contact_status::softening)) != 0;
+    // Masks by bitwise operations only (lane_masks.hpp: integer lane compares are slow on SSE2).
+    using detail::mask_not;
+    using detail::mask_select;
+    M broken = detail::flag_mask<M>(flags, bit(contact_status::broken_tension));
+    M slipped = detail::flag_mask<M>(flags, bit(contact_status::slipped));
+    const M softening = detail::flag_mask<M>(flags, bit(contact_status::softening));
     // Not broken: returned onto the envelope when trial > 0 and trial > f_t; broken: min(0, trial).
-    T sigma = lanes::select(broken & ((trial < real(0)) == 0), T{}, trial);
-    const M beyond_envelope = (broken == 0) & (trial > real(0)) & (trial > x.f_t);
-    M elastic = beyond_envelope == 0;
+    T sigma = mask_select(broken & mask_not(trial < real(0)), T{}, trial);
+    const M beyond_envelope = mask_not(broken) & (trial > real(0)) & (trial > x.f_t);
+    M elastic = mask_not(beyond_envelope);
     if constexpr (requires { Tension::lane_strength(p.tension, k_n, x.u_soft); }) {
       // A softening contact pushed further along its envelope, unless the step exhausts it. The
       // softening flag, which every unbroken state with u_soft > 0 carries, lets a caller that
@@ -278,18 +282,18 @@ struct cohesive_frictional {
       if (lanes::any(advance)) [[unlikely]] {
         const T u_soft = x.u_soft + (trial - x.f_t) / k_n;
         const T f_new = Tension::lane_strength(p.tension, k_n, u_soft);
-        const M on_envelope = advance & (Tension::lane_exhausted(p.tension, f_new) == 0);
-        x.u_soft = lanes::select(on_envelope, u_soft, x.u_soft);
-        x.u_p = lanes::select(on_envelope, x.u_n - f_new / k_n, x.u_p);
-        x.f_t = lanes::select(on_envelope, f_new, x.f_t);
-        sigma = lanes::select(on_envelope, f_new, sigma);
+        const M on_envelope = advance & mask_not(Tension::lane_exhausted(p.tension, f_new));
+        x.u_soft = mask_select(on_envelope, u_soft, x.u_soft);
+        x.u_p = mask_select(on_envelope, x.u_n - f_new / k_n, x.u_p);
+        x.f_t = mask_select(on_envelope, f_new, x.f_t);
+        sigma = mask_select(on_envelope, f_new, sigma);
         elastic = elastic | on_envelope;
       }
     }
     if constexpr (Transitions) {
       if (!elastic) [[unlikely]]  // the peak reached, or the envelope exhausted: flags change
         sigma = tension_transition(p, x, flags, trial);
-      broken = (flags & bit(contact_status::broken_tension)) != 0;
+      broken = detail::flag_mask<M>(flags, bit(contact_status::broken_tension));
     }
     if constexpr (Compression::bounded) {
       const real f_c = Compression::strength(p.compression);
@@ -299,7 +303,7 @@ struct cohesive_frictional {
           x.u_p = x.u_n + f_c / k_n;
         }
       } else {
-        elastic = elastic & ((sigma < -f_c) == 0);
+        elastic = elastic & mask_not(sigma < -f_c);
       }
     }
     x.sigma_n = sigma;
@@ -313,12 +317,12 @@ struct cohesive_frictional {
     if constexpr (Shear::couples_tension) {
       const real f_peak = Tension::peak_strength(p.tension);
       const T softened = f_peak > 0 ? x.f_t / f_peak : T{};
-      fraction = lanes::select((x.u_soft > real(0)) & (broken == 0), softened, fraction);
+      fraction = mask_select((x.u_soft > real(0)) & mask_not(broken), softened, fraction);
     }
     T tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
     const M open = broken & (x.u_n > x.u_p);
     // Beyond the limit: a lane that has slipped before slides on it; a first slip changes the flags.
-    const M beyond = (open == 0) & (trial_sq > tau_max * tau_max);
+    const M beyond = mask_not(open) & (trial_sq > tau_max * tau_max);
     if constexpr (Transitions) {
       if (beyond && !slipped) [[unlikely]] {
         flags = flags | bit(contact_status::slipped);
@@ -328,7 +332,7 @@ struct cohesive_frictional {
           if (p.shear.slip_breaks_tension) break_on_slip(p, x, flags);
       }
     } else {
-      elastic = elastic & ((beyond & (slipped == 0)) == 0);
+      elastic = elastic & mask_not(beyond & mask_not(slipped));
     }
     const M limited = open | (beyond & slipped);
     if (lanes::any(limited)) [[unlikely]] {
@@ -336,15 +340,15 @@ struct cohesive_frictional {
       // under compression), and scaling the stress up would create energy; the stress then stays.
       const T ratio = tau_max / lanes::sqrt(trial_sq);
       const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
-      c0 = lanes::select(open, T{}, lanes::select(beyond, c0 * scale, c0));
-      c1 = lanes::select(open, T{}, lanes::select(beyond, c1 * scale, c1));
-      c2 = lanes::select(open, T{}, lanes::select(beyond, c2 * scale, c2));
+      c0 = mask_select(open, T{}, mask_select(beyond, c0 * scale, c0));
+      c1 = mask_select(open, T{}, mask_select(beyond, c1 * scale, c1));
+      c2 = mask_select(open, T{}, mask_select(beyond, c2 * scale, c2));
       const real inv_k_s = 1 / k_s;
       const T w0 = x.ds0 - (c0 - x.tau0) * inv_k_s, w1 = x.ds1 - (c1 - x.tau1) * inv_k_s,
               w2 = x.ds2 - (c2 - x.tau2) * inv_k_s;
       const T dissipated = x.dissipated_shear +
                            real(0.5) * (((x.tau0 + c0) * w0 + (x.tau1 + c1) * w1) + (x.tau2 + c2) * w2);
-      x.dissipated_shear = lanes::select(limited, dissipated, x.dissipated_shear);
+      x.dissipated_shear = mask_select(limited, dissipated, x.dissipated_shear);
     }
     x.tau0 = c0;
     x.tau1 = c1;

@@ -41,6 +41,7 @@
 #include "../core/types.hpp"
 #include "concepts.hpp"
 #include "detail/validation.hpp"
+#include "lane_masks.hpp"
 
 namespace tessera::law {
 
@@ -93,8 +94,8 @@ template <class C, class T>
 template <class Params, class T, class M>
 [[nodiscard, gnu::always_inline]] inline T coulomb_limit_lanes(const Params& p, T sigma_n, M slipped, M broken,
                                                               T c_intact) noexcept {
-  const T c = lanes::select(slipped | broken, lanes::splat<T>(p.c_res), c_intact);
-  const T tan_phi = lanes::select(slipped | broken, lanes::splat<T>(p.phi_res.tan()), lanes::splat<T>(p.phi_0.tan()));
+  const T c = mask_select(slipped | broken, lanes::splat<T>(p.c_res), c_intact);
+  const T tan_phi = mask_select(slipped | broken, lanes::splat<T>(p.phi_res.tan()), lanes::splat<T>(p.phi_0.tan()));
   return coulomb_line(c, tan_phi, sigma_n);
 }
 /// coulomb_limit_lanes of one contact in damage state `flags`.

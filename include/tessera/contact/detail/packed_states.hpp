@@ -34,6 +34,7 @@
 #include "../../core/lanes.hpp"
 #include "../../core/types.hpp"
 #include "../../law/concepts.hpp"
+#include "../../law/lane_masks.hpp"
 
 namespace tessera::contact::detail {
 
@@ -139,17 +140,24 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
   // intact lane that update_elastic accepts leaves u_p, u_soft, f_t and dissipated_shear
   // unchanged, so those are not stored.
   const real f_t_virgin = Law::tensile_strength(p, typename Law::state{});
+  // Column indices as constants (called in place, column() would compare the names every call).
   using columns = state_columns<Law>;
-  real* const sigma_n = s.col(columns::column("sigma_n")).data();
-  real* const tau0 = s.col(columns::column("tau")).data();
-  real* const tau1 = s.col(columns::column("tau") + 1).data();
-  real* const tau2 = s.col(columns::column("tau") + 2).data();
-  real* const u_n = s.col(columns::column("u_n")).data();
-  real* const u_p = s.col(columns::column("u_p")).data();
-  real* const u_soft = s.col(columns::column("u_soft")).data();
-  real* const dissipated_tension = s.col(columns::column("dissipated_tension")).data();
-  real* const dissipated_shear = s.col(columns::column("dissipated_shear")).data();
-  real* const dissipated_compression = s.col(columns::column("dissipated_compression")).data();
+  constexpr std::size_t sigma_n_column = columns::column("sigma_n"), tau_column = columns::column("tau"),
+                        u_n_column = columns::column("u_n"), u_p_column = columns::column("u_p"),
+                        u_soft_column = columns::column("u_soft"),
+                        dissipated_tension_column = columns::column("dissipated_tension"),
+                        dissipated_shear_column = columns::column("dissipated_shear"),
+                        dissipated_compression_column = columns::column("dissipated_compression");
+  real* const sigma_n = s.col(sigma_n_column).data();
+  real* const tau0 = s.col(tau_column).data();
+  real* const tau1 = s.col(tau_column + 1).data();
+  real* const tau2 = s.col(tau_column + 2).data();
+  real* const u_n = s.col(u_n_column).data();
+  real* const u_p = s.col(u_p_column).data();
+  real* const u_soft = s.col(u_soft_column).data();
+  real* const dissipated_tension = s.col(dissipated_tension_column).data();
+  real* const dissipated_shear = s.col(dissipated_shear_column).data();
+  real* const dissipated_compression = s.col(dissipated_compression_column).data();
   real* const f_t = s.f_t.data();
   const auto lanes_at = [&]<class T, bool Damaged>(std::size_t i, auto flags) __attribute__((always_inline)) {
     using lanes::load;
@@ -164,20 +172,20 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
                                               Damaged ? load<T>(&f_t[i]) : lanes::splat<T>(f_t_virgin)};
     const auto old = x;
     const auto elastic = Law::update_elastic(p, flags, x);
-    using lanes::select;
+    using law::detail::mask_blend;  // xor, and, xor: `elastic` is no comparison (lane_masks.hpp)
     using lanes::store;
-    store(&sigma_n[i], select(elastic, x.sigma_n, old.sigma_n));
-    store(&tau0[i], select(elastic, x.tau0, old.tau0));
-    store(&tau1[i], select(elastic, x.tau1, old.tau1));
-    store(&tau2[i], select(elastic, x.tau2, old.tau2));
-    store(&u_n[i], select(elastic, x.u_n, old.u_n));
-    store(&dissipated_tension[i], select(elastic, x.dissipated_tension, old.dissipated_tension));
-    store(&dissipated_compression[i], select(elastic, x.dissipated_compression, old.dissipated_compression));
+    store(&sigma_n[i], mask_blend(elastic, x.sigma_n, old.sigma_n));
+    store(&tau0[i], mask_blend(elastic, x.tau0, old.tau0));
+    store(&tau1[i], mask_blend(elastic, x.tau1, old.tau1));
+    store(&tau2[i], mask_blend(elastic, x.tau2, old.tau2));
+    store(&u_n[i], mask_blend(elastic, x.u_n, old.u_n));
+    store(&dissipated_tension[i], mask_blend(elastic, x.dissipated_tension, old.dissipated_tension));
+    store(&dissipated_compression[i], mask_blend(elastic, x.dissipated_compression, old.dissipated_compression));
     if constexpr (Damaged) {
-      store(&dissipated_shear[i], select(elastic, x.dissipated_shear, old.dissipated_shear));
-      store(&u_p[i], select(elastic, x.u_p, old.u_p));
-      store(&u_soft[i], select(elastic, x.u_soft, old.u_soft));
-      store(&f_t[i], select(elastic, x.f_t, old.f_t));
+      store(&dissipated_shear[i], mask_blend(elastic, x.dissipated_shear, old.dissipated_shear));
+      store(&u_p[i], mask_blend(elastic, x.u_p, old.u_p));
+      store(&u_soft[i], mask_blend(elastic, x.u_soft, old.u_soft));
+      store(&f_t[i], mask_blend(elastic, x.f_t, old.f_t));
     }
     const T a = load<T>(&area[i]);
     store(&force[0][i], a * (x.sigma_n * x.n0 + x.tau0));
@@ -188,7 +196,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
   std::size_t i = first;
   for (; i + lanes::width <= last; i += lanes::width) {
     const auto flags = lanes::load_lanes<lanes::pack>(&s.flags[i]);
-    if (lanes::any(flags != 0))
+    if (lanes::any(flags))  // any lane with a damage bit
       lanes_at.template operator()<lanes::pack, true>(i, flags);
     else
       lanes_at.template operator()<lanes::pack, false>(i, decltype(flags){});
