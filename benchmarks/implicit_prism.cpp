@@ -94,6 +94,7 @@ int main(int argc, char** argv) {
   real increment = 0.1, probe = 1e-6, tolerance = 1e-6, until = 150e-6, crack_work = 1e-3, max_crack_work = 1e-2;
   bool path_following = false;
   real control_fraction = 0;
+  bool unload_outside = false;
   std::string curve_file;
   tessera::cli::parser cli("implicit_prism",
                            "The implicit quasi-static solve against the explicit run on the elastic branch of the\n"
@@ -117,6 +118,8 @@ int main(int argc, char** argv) {
       .within(1e-9, 1);
   cli.option("--control-fraction", control_fraction, "path following: control set, the sub-contacts that opened at least "
              "this x the widest in the last increment (0: every softening one)", "R").within(0, 1);
+  cli.flag("--unload-outside", unload_outside, "path following: softening sub-contacts outside the control set enter K "
+           "with k_n, k_s (expected to unload)");
   cli.option("--curve", curve_file, "path following: write the curve here (csv)", "FILE");
   cli.flag("--no-fallback", no_fallback, "past U_el, no retry of a failed increment with the line search");
   cli.parse_or_exit(argc, argv);
@@ -229,6 +232,7 @@ int main(int argc, char** argv) {
       real previous = stress(), peak = previous, u_peak = q.mean_displacement(top).z();
       std::int64_t displacement_increments = 0, controlled_increments = 0, failed_attempts = 0;
       o.control_fraction = control_fraction;
+      o.unload_outside_control = unload_outside;
       im::increment_options plain = o;
       plain.line_search = false;
       for (;;) {
