@@ -17,60 +17,8 @@
 // made (solver/boundary.hpp, supports.hpp): an increment of duration dt (s of pseudo-time) moves
 // each prescribed component by its prescribed velocity x dt (m); a fixed component stays at zero.
 //
-// Increment (solve_increment). The prescribed components move; then, from the states committed at
-// the last equilibrium, secant iterations
-//     1. each sub-contact's state = Law::update(committed state, relative displacement since
-//        the last equilibrium, its normal): one law step from the committed state, so a
-//        monotonic branch is followed in closed form (the softening envelope at the total opening);
-//     2. the out-of-balance force r = f(u) on the free components; converged when max |r| <=
-//        force_tolerance (N);
-//     3. K_sec on the free components, of the last equilibrium's states in the first iteration of
-//        an increment and of the states of step 1 after it (with a floor of stiffness_floor x k
-//        on sub-contacts whose secant is zero, so a block freed by cracks keeps K non-singular; the
-//        floor shapes the iteration only, not the equilibrium it converges to), factorised when
-//        a secant changed since the last factorisation (elastic branch: once), then
-//        K_sec du = r, u += omega du, omega = 1 in the first iteration and Aitken's factor after it
-//        (increment_options::aitken; it speeds the linear convergence of the secant iteration on a
-//        softening branch several-fold). With refactor_each_iteration = false the factor of the
-//        first iteration serves the whole increment (more iterations, no factorisation).
-// On convergence the states are committed; otherwise the model returns to its last equilibrium
-// (displacements and states) and reports the residual, so the caller can retry with a smaller
-// increment. The secant iteration converges at a rate set by how far the secant is from the
-// tangent; it fails when the load path snaps back (a softening branch steeper than the
-// unloading of the rest of the model), which displacement control cannot follow, and where the
-// path branches (several cracks that could open, one of which unloads the others): the iterates
-// then hop between cracking patterns (increment_result::reversals).
-//
-// Path following (solve_controlled_increment). Past the peak the load path of a softening model
-// can snap back: the prescribed displacement must decrease while the cracks open on. The
-// increment is then controlled by the opening of the cracks, not by the supports: the prescribed
-// displacements are lambda x velocity (lambda the pseudo-time, s), lambda an extra unknown, and
-// the extra equation
-//     sum_{i in S} A_i sigma_i n_i . (d_i - d_i^0) = Delta_tau   (J),
-// S the sub-contacts softening in tension at the last equilibrium, or intact within 1e-3 of their
-// tensile strength (so the control can start at the peak of a face that has not softened yet),
-// with sigma_i > 0 their committed normal stress, d_i^0 their relative displacement there: the work of the committed crack
-// tractions on the opening increment, to first order the energy the increment dissipates in the
-// cracks (a softening sub-contact advancing on its envelope dissipates sigma dw; one closing
-// returns its elastic energy), a linear form of u in the spirit of the dissipation-based
-// arc-length of Gutierrez (2004) and Verhoosel, Remmers and Gutierrez (2009) and of the
-// crack-opening control with the pattern weighted by the crack stresses. Each iteration is the
-// bordered solve with the factor of the increment's first iteration,
-//     a = K_sec^-1 r,   b = -K_sec^-1 K_fp v   (b once per factorisation the mode uses),
-//     du_f = a + dlambda b,   dlambda from the constraint (linear: met exactly after every iteration),
-// K_fp v the coupling of the free components to a unit motion of the prescribed ones. Because the
-// constraint fixes the crack openings' projection, a single localising crack is driven in closed
-// form by its law, so the iteration follows a snap-back (dlambda < 0) that displacement control
-// cannot. No Aitken or line search in this mode. What no scalar control removes: where the
-// tangent of the modes the constraint leaves free is negative (several softening cracks of
-// which one can localise and unload the others, a bifurcation), the secant iteration, whose
-// factor is positive definite, moves away from that equilibrium or hops between cracking
-// patterns; on the 100-block prism this happens at the peak (benchmarks/implicit_prism
-// --path-following). control_fraction restricts the control set to the sub-contacts that opened
-// most in the last increment; unload_outside_control factorises the softening sub-contacts
-// outside it with their unloading stiffnesses k_n, k_s, the tangent of the branch on which they
-// unload while the controlled crack opens: with both (0.5, true) the prism's solve passes that
-// peak, along a snap-back of the top displacement (76.22 -> 75.56 um), and stops at 77.9 um.
+// Increments: displacement control (solve_increment) and crack-opening control
+// (solve_controlled_increment), their iterations, options and results: increment.hpp.
 //
 // Counts and times (counts()): increments, iterations, force evaluations, factorisations (with
 // symbolic analyses), solves, and wall-clock seconds in assembly, factorisation, solves and force
@@ -93,54 +41,10 @@
 #include "../../core/nodes.hpp"
 #include "../../core/types.hpp"
 #include "../boundary.hpp"
+#include "increment.hpp"
 #include "stiffness.hpp"
 
 namespace tessera::implicit {
-
-/// Settings of one increment.
-struct increment_options {
-  real force_tolerance = 0;     ///< converged when the largest free out-of-balance component <= this (N), > 0
-  int max_iterations = 50;      ///< secant iterations (linear solves) before giving up, >= 1
-  real stiffness_floor = 1e-6;  ///< a zero secant is replaced by this x k_n (k_s) in K only, in [0, 1)
-  bool aitken = true;           ///< relax the secant steps by Aitken's factor (file comment)
-  /// step length by a line search on the energy instead (search_along; Aitken is then off)
-  bool line_search = false;
-  /// false: K_sec of the last equilibrium factorised once per increment, its iterations reuse
-  /// the factor (on the 100-block prism to its peak 45 factorisations and 3.6 s against 3585 and
-  /// 84 s); true: K_sec of the latest states factorised in every iteration
-  bool refactor_each_iteration = false;
-  /// solve_controlled_increment: the control set keeps only the sub-contacts whose opening in the
-  /// last converged increment was at least this fraction of the largest one (the localising
-  /// crack), in [0, 1]; 0 keeps every softening one
-  real control_fraction = 0;
-  /// solve_controlled_increment: softening sub-contacts outside the control set enter K with
-  /// their elastic (unloading) stiffnesses k_n, k_s instead of their secants, so the iteration
-  /// expects them to unload while the controlled crack opens
-  bool unload_outside_control = false;
-};
-
-/// What one increment did.
-struct increment_result {
-  bool converged = false;
-  int iterations = 0;          ///< linear solves
-  real max_residual = 0;       ///< largest free out-of-balance component at the end (N)
-  index_t softening = 0;       ///< sub-contacts softening in tension (or broken) after the increment
-  index_t broken = 0;          ///< sub-contacts broken in tension after the increment
-  index_t slipped = 0;         ///< sub-contacts that have slipped after the increment
-  /// Sub-contacts whose tensile strength the last iterate lowers (advancing along the envelope),
-  /// and how many of them changed between advancing and not in the last iteration: a count that
-  /// stays high while the residual stalls marks an iteration that hops between cracking patterns
-  /// (a bifurcation of the equilibrium path), which secant iterations cannot settle.
-  index_t advancing = 0;
-  index_t reversals = 0;
-};
-
-/// Work done so far, for the comparison with the explicit solver.
-struct solve_counts {
-  std::int64_t increments = 0, iterations = 0, force_evaluations = 0, analyses = 0, factorizations = 0, solves = 0;
-  double assembly_s = 0, factorization_s = 0, solve_s = 0, force_s = 0;  ///< wall-clock seconds
-  [[nodiscard]] double total_s() const { return assembly_s + factorization_s + solve_s + force_s; }
-};
 
 template <zones::ZoneModel Zone, SecantLaw Law>
 class quasi_static {
@@ -220,7 +124,7 @@ class quasi_static {
   increment_result solve_controlled_increment(real crack_work, const increment_options& o) {
     require(std::isfinite(crack_work) && crack_work > 0, "quasi_static: crack work per increment = ", crack_work,
             " J must be finite and > 0");
-    require_valid(o);
+    require_valid_increment_options(o);
     require(o.control_fraction >= 0 && o.control_fraction <= 1, "quasi_static: control fraction = ",
             o.control_fraction, " must lie in [0, 1]");
     // The constraint's weights on all dofs: A sigma n on b, -A sigma n on a.
@@ -297,7 +201,7 @@ class quasi_static {
   increment_result solve_increment(real duration, const increment_options& o) {
     require(std::isfinite(duration) && duration >= 0, "quasi_static: increment duration = ", duration,
             " s must be finite and >= 0");
-    require_valid(o);
+    require_valid_increment_options(o);
     ++counts_.increments;
     u_ += duration * velocity_;
     time_ += duration;
@@ -415,13 +319,6 @@ class quasi_static {
     r.reversals = reversal_count_;
   }
 
-  static void require_valid(const increment_options& o) {
-    require_positive(o.force_tolerance, "quasi_static: force tolerance (N)");
-    require(o.max_iterations >= 1, "quasi_static: max_iterations = ", o.max_iterations, " must be >= 1");
-    require(o.stiffness_floor >= 0 && o.stiffness_floor < 1, "quasi_static: stiffness floor = ", o.stiffness_floor,
-            " must lie in [0, 1)");
-  }
-
   /// K_sec^-1 r on the free components (step 3): the first iteration of an increment factorises
   /// the secants of the last equilibrium (the trial states of step 1 see the prescribed jump
   /// alone, on the supported gridpoints), later ones those of the latest states when asked.
@@ -472,50 +369,20 @@ class quasi_static {
     counts_.force_s += seconds_since(timer);
   }
 
-  /// u += alpha step with alpha where the energy stops falling along the step: a root of the
-  /// directional derivative g(alpha) = -f(u + alpha step) . step (f = -grad of the energy, zone
-  /// and contact work), by regula falsi (Illinois) on [0, 1] when g(1) > 0, else alpha = 1
-  /// extended by doublings up to 8 while g stays negative; at most 8 force evaluations. A descent
-  /// step of the secant direction (K_sec positive definite: g(0) = -f . K^-1 f < 0) lets the
-  /// iterates settle on a branch of lower energy where plain steps hop between cracking patterns.
+  /// u += alpha step with alpha where the energy stops falling along the step
+  /// (energy_line_search, increment.hpp), the forces evaluated at the new u.
   void search_along(const Eigen::VectorXd& step) {
     const Eigen::VectorXd base = u_;
-    const auto slope = [&](real alpha) {
-      u_ = base + alpha * step;
-      evaluate_forces();
-      return -force_.dot(step);
-    };
     const real g0 = -force_.dot(step);
     if (!(g0 < 0)) {  // not a descent direction (round-off at convergence): the plain step
       u_ = base + step;
       return;
     }
-    real a = 0, ga = g0, b = 1, gb = slope(1);
-    int evaluations = 1;
-    while (gb < 0 && b < 8 && evaluations < 8) {
-      a = b, ga = gb;
-      b *= 2;
-      gb = slope(b);
-      ++evaluations;
-    }
-    if (gb < 0) return;  // still descending at the largest step: keep it (u_ = base + b step)
-    real alpha = b;
-    int side = 0;
-    while (evaluations < 8 && std::abs(gb) > 0.5 * std::abs(g0)) {
-      alpha = (a * gb - b * ga) / (gb - ga);
-      const real g = slope(alpha);
-      ++evaluations;
-      if (g > 0) {
-        b = alpha, gb = g;
-        if (side == -1) ga *= 0.5;
-        side = -1;
-      } else {
-        a = alpha, ga = g;
-        if (side == 1) gb *= 0.5;
-        side = 1;
-      }
-      if (std::abs(g) <= 0.5 * std::abs(g0)) break;
-    }
+    const real alpha = energy_line_search(g0, [&](real a) {
+      u_ = base + a * step;
+      evaluate_forces();
+      return -force_.dot(step);
+    });
     u_ = base + alpha * step;
   }
 
