@@ -159,14 +159,7 @@ class quasi_static {
     evaluate_forces();
     controlled_ = true;
     for (;;) {
-      if (r.iterations > 0) {
-        r.max_residual = max_free_residual();
-        if (r.max_residual <= o.force_tolerance) {
-          r.converged = true;
-          break;
-        }
-        if (r.iterations == o.max_iterations) break;
-      }
+      if (r.iterations > 0 && increment_done(r, o)) break;
       const Eigen::VectorXd a = secant_step(r.iterations, o);
       const auto timer = clock::now();
       if (unit_response_stale_) {
@@ -211,12 +204,7 @@ class quasi_static {
     Eigen::VectorXd previous_du;
     for (;;) {
       evaluate_forces();
-      r.max_residual = max_free_residual();
-      if (r.max_residual <= o.force_tolerance) {
-        r.converged = true;
-        break;
-      }
-      if (r.iterations == o.max_iterations) break;
+      if (increment_done(r, o)) break;
       const Eigen::VectorXd du = secant_step(r.iterations, o);
       const auto timer = clock::now();
       // Aitken's relaxation of the fixed-point step du = G(u) - u (Irons and Tuck; Kuttler and
@@ -384,6 +372,15 @@ class quasi_static {
       return -force_.dot(step);
     });
     u_ = base + alpha * step;
+  }
+
+  /// The increment's end test, the one both kinds of increment use: records the largest free
+  /// out-of-balance component of the last force evaluation in r; true when it is within the
+  /// tolerance (r.converged) or the iterations are spent.
+  [[nodiscard]] bool increment_done(increment_result& r, const increment_options& o) const {
+    r.max_residual = max_free_residual();
+    r.converged = r.max_residual <= o.force_tolerance;
+    return r.converged || r.iterations == o.max_iterations;
   }
 
   [[nodiscard]] real max_free_residual() const {
