@@ -123,6 +123,8 @@ struct beam_options {
   [[nodiscard]] int model_blocks() const { return full() ? 2 * blocks : blocks; }
   /// The twin of x across mid-span (m): the right span's position of a left-span one.
   [[nodiscard]] real mirror(real x) const { return 2 * half_length() - x; }
+  /// A left-span position x (m) on side k of the full beam: x itself for k = 0, mirrored for k = 1.
+  [[nodiscard]] real on_side(int k, real x) const { return k == 0 ? x : mirror(x); }
   [[nodiscard]] real half_length() const { return overhang + shear_span + 0.5 * moment_zone; }
   /// The half beam's volume (m^3).
   [[nodiscard]] real half_volume() const { return half_length() * height * width; }

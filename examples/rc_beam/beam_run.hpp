@@ -159,7 +159,7 @@ template <class Law, class OnEvent>
     m.damping_gamma = loading.damping_gamma;
     const real z = 0.5 * o.width;
     for (int k = 0; k < sides; ++k) {
-      const real xs = k == 0 ? o.support_x() : o.mirror(o.support_x()), xl = k == 0 ? o.load_x() : o.mirror(o.load_x());
+      const real xs = o.on_side(k, o.support_x()), xl = o.on_side(k, o.load_x());
       support_platen[k].emplace(scene.mesh,
                                 contact::platen_geometry{vec3(xs, 0, z), vec3::UnitY(), vec3::UnitX(), 0.5 * o.plate,
                                                          0.5 * o.width, tol},
@@ -189,7 +189,7 @@ template <class Law, class OnEvent>
   std::array<bc::node_group, 2> support, plate;  // the gridpoints under each plate, [1] the full beam's right
   std::array<std::optional<hinged_plate>, 2> support_plate, loading_plate;
   for (int k = 0; k < sides; ++k) {
-    const real xs = k == 0 ? o.support_x() : o.mirror(o.support_x()), xl = k == 0 ? o.load_x() : o.mirror(o.load_x());
+    const real xs = o.on_side(k, o.support_x()), xl = o.on_side(k, o.load_x());
     support[k] = beam_strip(gp, 0, xs - o.plate / 2, xs + o.plate / 2, tol, "support plate");
     plate[k] = beam_strip(gp, o.height, xl - o.plate / 2, xl + o.plate / 2, tol, "loading plate");
     require(!support[k].nodes.empty() && !plate[k].nodes.empty(), "rc_beam: no gridpoints under a plate");
@@ -231,15 +231,17 @@ template <class Law, class OnEvent>
           for (index_t n : plate[k].nodes) f[k] -= gp.reaction(n, 1);
       tilt = spreader->advance(f[0], f[1], sv.dt(), loading.damping_gamma);
     }
-    for (int k = 0; k < sides; ++k)
+    for (int k = 0; k < sides; ++k) {
+      const real down = o.full() ? v + (k == 0 ? tilt : -tilt) : v;  // plate k's downward speed (m/s)
       if (contact_plates) {
-        loading_platen[k]->set_velocity(vec3(0, o.full() ? -(v + (k == 0 ? tilt : -tilt)) : -v, 0));
+        loading_platen[k]->set_velocity(vec3(0, -down, 0));
         loading_platen[k]->update(s);
         support_platen[k]->update(s);
       } else {
-        loading_plate[k]->drive(gp, o.full() ? -(v + (k == 0 ? tilt : -tilt)) : -v, sv.dt(), loading.damping_gamma);
+        loading_plate[k]->drive(gp, -down, sv.dt(), loading.damping_gamma);
         support_plate[k]->drive(gp, 0, sv.dt(), loading.damping_gamma);
       }
+    }
   };
   if (contact_plates) drive(s);  // the plates' forces for the first step
 
@@ -261,7 +263,7 @@ template <class Law, class OnEvent>
   std::array<std::optional<beam_shear_sections>, 2> shear_sections;  // [1] the full beam's right span
   for (int k = 0; k < sides; ++k) {
     std::vector<real> xs;
-    for (real f : {0.25, 0.5, 0.75}) xs.push_back(k == 0 ? o.support_x() + f * o.shear_span : o.mirror(o.support_x() + f * o.shear_span));
+    for (real f : {0.25, 0.5, 0.75}) xs.push_back(o.on_side(k, o.support_x() + f * o.shear_span));
     shear_sections[k].emplace(scene.tess, s.contacts(), s.reinforcement(), s.bar_nodes(), xs, k == 1);
   }
   const auto sample = [&](const solver_type& sv) {

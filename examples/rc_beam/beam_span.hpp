@@ -183,7 +183,7 @@ inline void plot_beam_crack_map(const std::filesystem::path& out, const beam_opt
                                          " fs empty border lc rgb 'gray40'"),
                  "set key off"};
   for (int k = 0; k < (o.full() ? 2 : 1); ++k) {  // the plates: support below, loading above
-    const real xs = k == 0 ? o.support_x() : o.mirror(o.support_x()), xl = k == 0 ? o.load_x() : o.mirror(o.load_x());
+    const real xs = o.on_side(k, o.support_x()), xl = o.on_side(k, o.load_x());
     cp.preamble.push_back(detail::concat("set object ", 2 + 2 * k, " rect from ", (xs - o.plate / 2) * 1e3,
                                                   ",-8 to ", (xs + o.plate / 2) * 1e3, ",0 fs solid 0.6 lc rgb 'gray20'"));
     cp.preamble.push_back(detail::concat("set object ", 3 + 2 * k, " rect from ", (xl - o.plate / 2) * 1e3, ",",
