@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/mpi_run.hpp"
 #include "common/rc_tie_scene.hpp"
 #include "tessera/analysis.hpp"
 
@@ -298,16 +299,16 @@ template <class Blocks, class Law, class OnEvent>
   tie_recorder<solver_type> recorder(s, scene, loading, ends);
   on_event(std::as_const(s), std::string("start"));  // every check has passed: the run begins
   bool done = false;
-  s.run_until([&](const solver_type&) { return done; }, std::int64_t{1} << 40, pull,
-              recorders::every(loading.sample, [&](const solver_type& sv) {
-                done = recorder.sample(sv, on_event);
-                tie_result& rr = recorder.result();
-                if (sv.time() > ramp) {
-                  control.update(rr.unbalanced_ratio.back());
-                  rr.max_unbalanced_ratio = std::max(rr.max_unbalanced_ratio, rr.unbalanced_ratio.back());
-                }
-                rr.rate_factor.push_back(control.factor());
-              }));
+  // s.run_until in one process; split over MPI ranks under mpirun (common/mpi_run.hpp).
+  run_sampled(s, scene.prism.mesh, done, pull, loading.sample, [&](const solver_type& sv) {
+    done = recorder.sample(sv, on_event);
+    tie_result& rr = recorder.result();
+    if (sv.time() > ramp) {
+      control.update(rr.unbalanced_ratio.back());
+      rr.max_unbalanced_ratio = std::max(rr.max_unbalanced_ratio, rr.unbalanced_ratio.back());
+    }
+    rr.rate_factor.push_back(control.factor());
+  });
   recorder.finish_progress();
   on_event(std::as_const(s), std::string("end"));
 

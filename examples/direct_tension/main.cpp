@@ -298,6 +298,7 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
+  tessera::scenes::set_split_figures(js);
   js.write(out / "summary.json");
 }
 
@@ -359,6 +360,7 @@ int run(inputs& in) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tessera::scenes::mpi_session mpi(argc, argv);
   inputs in;
   auto& ld = in.loading;
   tessera::cli::parser cli(
@@ -366,7 +368,9 @@ int main(int argc, char** argv) {
       "Plain-concrete prism (68 x 68 x 600 mm) pulled to complete separation (Pulatsu et al. 2020, Sec. 3):\n"
       "peak stress vs f_T = 2.15 MPa, fracture energy vs G_f x crack area, energy balance.\n"
       "--quick: 5 nm per step (peak +3 % against 2 nm), stopped at 70 % of the peak on the softening\n"
-      "branch (no separation, so no fracture-energy figure); about 17 000 steps.");
+      "branch (no separation, so no fracture-energy figure); about 17 000 steps.\n"
+      "Under mpirun -np N (builds with MPI): the same run split over N ranks, the same curve.csv to the bit;\n"
+      "rank 0 writes --out (not with --rigid).");
   cli.add_standard(in.common);
   cli.option("--blocks", in.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N").one_of_numbers({100, 250, 500, 750});
   cli.option("--seeds", in.seeds, "number of random tessellations (seed, seed+1, ...); envelope of their curves", "K").within(1, 1000);
@@ -406,6 +410,13 @@ int main(int argc, char** argv) {
   }
   // run.json is written when the output directory is created (after the checks), listing each
   // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
+  try {
+    mpi.require_splittable(!in.rigid, "direct_tension --rigid");
+  } catch (const std::exception& e) {
+    if (mpi.rank() == 0) tessera::cli::print_error("direct_tension", e);
+    return 2;
+  }
+  mpi.route_output(in.common.out);  // under mpirun: rank 0 writes --out
   tessera::io::run_record record(in.common.out, "direct_tension", argc, argv);
   try {
     const int status = run(in);

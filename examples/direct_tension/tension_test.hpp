@@ -70,6 +70,7 @@
 #include "tessera/io/vtk_contacts.hpp"
 #include "common/scenes.hpp"
 #include "tessera/law/concepts.hpp"
+#include "../common/mpi_run.hpp"
 #include "../common/phase_report.hpp"
 #include "../common/quasi_static.hpp"
 #include "tessera/presets.hpp"
@@ -397,7 +398,7 @@ template <class Solver, class LawParams>
                       tessera::detail::concat("u = ", u * 1e3, " mm, sigma = ", sigma * 1e-6, " MPa, peak ",
                                               r.peak_stress * 1e-6, " MPa"));
   };
-  s.run_until([&](const Solver&) { return stop; }, std::int64_t{1} << 40, ramp, rec::every(in.sample, observe));
+  run_sampled(s, scene.mesh, stop, ramp, in.sample, observe);  // split over MPI ranks under mpirun
   progress.finish();
 
   for (std::size_t k = 0; k < indicator_samples_to_peak; ++k)

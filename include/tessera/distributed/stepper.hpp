@@ -49,6 +49,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <concepts>
 #include <cstdint>
 #include <limits>
@@ -274,6 +275,12 @@ class stepper {
   }
 
   [[nodiscard]] int rank() const { return rank_; }
+  /// This rank's share of the kinetic and stored energy before the first step (J; 0 before it).
+  [[nodiscard]] real initial_energy_share() const { return initial_; }
+  /// Wall time this rank spent in the halo since it was built (s): packing and posting the
+  /// sends, and waiting for and unpacking what arrives (the wait includes a slower neighbour's
+  /// lag, so it measures imbalance too).
+  [[nodiscard]] double halo_seconds() const { return halo_seconds_; }
   /// Blocks of this rank, increasing.
   [[nodiscard]] const std::vector<index_t>& own_blocks() const { return own_blocks_; }
   /// Gridpoints of this rank's blocks, increasing.
@@ -346,18 +353,22 @@ class stepper {
   }
 
   void start_exchange() {
+    const auto t0 = std::chrono::steady_clock::now();
     if constexpr (bars)
       halo_.start(solver_->gridpoints(), solver_->bar_nodes());
     else
       halo_.start(solver_->gridpoints());
     in_flight_ = true;
+    halo_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   void finish_halo() {
+    const auto t0 = std::chrono::steady_clock::now();
     if constexpr (bars)
       halo_.finish(solver_->gridpoints(), solver_->bar_nodes());
     else
       halo_.finish(solver_->gridpoints());
     in_flight_ = false;
+    halo_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
 
   /// Sub-contacts per face task (at least, but for the last task of a run of faces).
@@ -379,6 +390,7 @@ class stepper {
   std::vector<index_t> own_bar_nodes_;                   ///< bar nodes of this rank, increasing
   mutable node_set own_displacement_;                    ///< rank_share's copy: own rows' u, the rest 0
   int ranks_ = 1;                                        ///< ranks of the communicator
+  double halo_seconds_ = 0;                              ///< halo_seconds()
   mutable std::vector<double> rank_shares_;              ///< summed_energies' gathered shares
 };
 
