@@ -1,0 +1,122 @@
+#pragma once
+// The study's 100-block prism pulled along z, and the bit comparisons, shared by the distributed
+// tests run under mpiexec (test_distributed_step.cpp, test_distributed_gather.cpp).
+#include <mpi.h>
+
+#include <bit>
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include "tessera/distributed/block_graph.hpp"
+#include "tessera/distributed/partition.hpp"
+#include "tessera/geometry/voronoi.hpp"
+#include "tessera/geometry/zoning.hpp"
+#include "tessera/presets/pulatsu2020.hpp"
+#include "tessera/solver.hpp"
+
+namespace split_test {
+using namespace tessera;
+using prism_law = prism_solver::law_type;
+
+/// The direct tension prism of examples/common/scenes.hpp (make_prism, 100 blocks, seed 1):
+/// 68 x 68 x 600 mm, blocks of 10 x concrete (E 28 GPa, nu 0.2, 2400 kg/m^3), Table 1's contacts
+/// with cohesion 2 f_T and residual cohesion 0.01 c_0.
+struct prism_scene {
+  geometry::tessellation tess;
+  geometry::block_mesh mesh;
+  zones::linear_elastic_tet::params block{10 * 28e9, 0.2, 2400};
+  law::study_tie_law::params contact = law::scaled_prism_params(100);
+  real length = 0.6;
+  prism_scene() {
+    tess = geometry::random_voronoi(aabb{vec3::Zero(), vec3(0.068, 0.068, length)}, 100, 1);
+    mesh = geometry::zone_blocks(tess);
+    contact.shear.c_0 = 2 * contact.tension.f_T;
+    contact.shear.c_res = 0.01 * contact.shear.c_0;
+  }
+};
+
+/// The pull: top velocity (m/s) and top displacement per step (m), the latter setting the mass
+/// scaling's target step dt = du / rate. Larger than the driver's quick 5 nm a step so that
+/// contacts soften within a few hundred steps of a test.
+constexpr real pull_rate = 0.005;
+constexpr real pull_step_displacement = 50e-9;
+
+inline solver_options pull_options() {
+  solver_options o;
+  o.mass_scaling_dt = pull_step_displacement / pull_rate;
+  return o;
+}
+
+/// Bottom fixed, top fixed transversally and pulled along z (examples/direct_tension's supports).
+inline void support_and_pull(prism_solver& s, real length) {
+  const real tol = 1e-9 * length;
+  s.fix(s.gridpoints_on_plane(2, 0.0, tol));
+  const bc::node_group top = s.gridpoints_on_plane(2, length, tol);
+  s.fix(top, bc::transverse_to(2));
+  s.prescribe_velocity(top, vec3(0, 0, pull_rate), bc::components::z);
+}
+
+[[nodiscard]] inline bool same_bits(real a, real b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+
+/// Rows of `rows` (u, v or reactions) of the gridpoints in `which` whose bits differ from `ref`'s.
+[[nodiscard]] inline index_t differing_rows(const soa3& rows, const soa3& ref, const std::vector<index_t>& which) {
+  index_t n = 0;
+  for (const index_t g : which) {
+    bool same = true;
+    for (int c = 0; c < 3; ++c) same = same && same_bits(rows(g, c), ref(g, c));
+    n += same ? 0 : 1;
+  }
+  return n;
+}
+
+/// Sub-contacts in `which` whose law state (sigma_n, tau, u_n, tensile damage) differs in bits.
+template <class Contacts>
+[[nodiscard]] index_t differing_states(const Contacts& c, const Contacts& ref, std::span<const index_t> which) {
+  index_t n = 0;
+  for (const index_t i : which) {
+    const auto& a = c.state(i);
+    const auto& b = ref.state(i);
+    const bool same = same_bits(a.sigma_n, b.sigma_n) && same_bits(a.tau.x(), b.tau.x()) &&
+                      same_bits(a.tau.y(), b.tau.y()) && same_bits(a.tau.z(), b.tau.z()) &&
+                      same_bits(a.u_n, b.u_n) && same_bits(a.u_soft, b.u_soft) &&
+                      same_bits(a.dissipated_tension, b.dissipated_tension) &&
+                      same_bits(prism_law::tensile_damage(c.subcontact_params(i), a),
+                                prism_law::tensile_damage(ref.subcontact_params(i), b));
+    n += same ? 0 : 1;
+  }
+  return n;
+}
+
+/// This process's rank in MPI_COMM_WORLD and the number of ranks.
+[[nodiscard]] inline std::pair<int, int> rank_and_size() {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return {rank, size};
+}
+
+/// Rank 0's block -> rank map of `graph` over the communicator's ranks, broadcast: METIS's
+/// (where built in, when asked) or slabs by bisection.
+[[nodiscard]] inline std::vector<int> broadcast_map(const distributed::block_graph& graph, bool metis) {
+  const auto [rank, size] = rank_and_size();
+  std::vector<int> map(static_cast<std::size_t>(graph.block_count()), -1);
+  if (rank == 0) {
+#ifdef TESSERA_HAVE_METIS
+    map = metis ? distributed::partition_blocks_metis(graph, size) : distributed::partition_blocks_rcb(graph, size);
+#else
+    (void)metis;
+    map = distributed::partition_blocks_rcb(graph, size);
+#endif
+  }
+  MPI_Bcast(map.data(), graph.block_count(), MPI_INT, 0, MPI_COMM_WORLD);
+  return map;
+}
+
+[[nodiscard]] inline index_t summed_over_ranks(index_t n) {
+  long long mine = n, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  return static_cast<index_t>(all);
+}
+}  // namespace split_test

@@ -1,0 +1,112 @@
+// distributed::split_run and its state_gather (include/tessera/distributed/split_run.hpp,
+// gather.hpp) under mpiexec, part of test_distributed_step (CTests distributed_mpi_step_2/3):
+// the study's 100-block prism pulled past its first softening, stepped as one process (the
+// reference) and split over the ranks. After a gather, every rank's solver holds the reference's
+// state: every gridpoint's u, v, reaction and force and every sub-contact's state to the bit, the
+// unbalanced force to the bit, the energies' state terms to the bit and the work books to
+// round-off. A gather midway must not disturb the split (its books are put back before the next
+// step), and a checkpoint rank 0 writes after a gather is one of the whole model: a one-process
+// solver loads it and steps on with the reference's bits.
+#include <catch2/catch.hpp>
+
+#include <mpi.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "support/split_prism.hpp"
+#include "tessera/distributed/split_run.hpp"
+#include "tessera/io/checkpoint.hpp"
+
+using namespace tessera;
+using namespace split_test;
+
+namespace {
+/// Every gridpoint's row of u, v, reactions and forces whose bits differ from the reference's.
+[[nodiscard]] index_t differing_gridpoints(const prism_solver& s, const prism_solver& ref) {
+  std::vector<index_t> all(static_cast<std::size_t>(ref.gridpoints().size()));
+  for (std::size_t g = 0; g < all.size(); ++g) all[g] = static_cast<index_t>(g);
+  index_t bad = 0;
+  for (soa3 node_set::*m : {&node_set::displacement, &node_set::velocity, &node_set::reaction, &node_set::force})
+    bad += differing_rows(s.gridpoints().*m, ref.gridpoints().*m, all);
+  return bad;
+}
+[[nodiscard]] index_t differing_subcontacts(const prism_solver& s, const prism_solver& ref) {
+  std::vector<index_t> all(static_cast<std::size_t>(ref.contacts().subcontact_count()));
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = static_cast<index_t>(i);
+  return differing_states(s.contacts(), ref.contacts(), all);
+}
+}  // namespace
+
+TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi][step][gather]") {
+  const auto [rank, size] = rank_and_size();
+  const prism_scene scene;
+  prism_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  prism_solver split(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  support_and_pull(reference, scene.length);
+  support_and_pull(split, scene.length);
+  distributed::split_run<prism_solver> run(split, scene.mesh, MPI_COMM_WORLD);
+  INFO("rank " << rank << " of " << size);
+
+  // Before any step nothing differs; a gather midway (step 250) must leave the split's bits alone.
+  constexpr int steps = 500;
+  for (int k = 1; k <= steps; ++k) {
+    reference.step();
+    run.step();
+    if (k == 250) run.gather_state();
+  }
+  // Without a gather the other ranks' rows are stale on a rank: the comparison sees it.
+  if (size > 1) CHECK(differing_gridpoints(split, reference) > 0);
+  run.gather_state();
+  CHECK(split.step_count() == reference.step_count());
+  CHECK(differing_gridpoints(split, reference) == 0);
+  CHECK(differing_subcontacts(split, reference) == 0);
+  index_t softened = 0;
+  for (index_t i = 0; i < reference.contacts().subcontact_count(); ++i)
+    softened += reference.contacts().state(i).u_soft > 0 ? 1 : 0;
+  CHECK(softened > 0);  // the law's softening branch is in the comparison
+  const out_of_balance ub = split.unbalanced_force(), ub_ref = reference.unbalanced_force();
+  CHECK(same_bits(ub.max_force, ub_ref.max_force));
+  CHECK(ub.max_node == ub_ref.max_node);
+  const energy_balance e = split.energies(), e_ref = reference.energies();
+  CHECK(same_bits(e.kinetic, e_ref.kinetic));
+  CHECK(same_bits(e.block_elastic, e_ref.block_elastic));
+  CHECK(same_bits(e.contact_stored, e_ref.contact_stored));
+  CHECK(same_bits(e.contact_dissipated, e_ref.contact_dissipated));
+  // The books: sums over the ranks' gridpoints, another order than one process's.
+  CHECK(std::abs(e.boundary_work - e_ref.boundary_work) <= 1e-12 * std::abs(e_ref.boundary_work));
+  CHECK(std::abs(e.damping_dissipated - e_ref.damping_dissipated) <= 1e-12 * std::abs(e_ref.damping_dissipated));
+  CHECK(e_ref.boundary_work > 0);
+
+  // The split's figures, the same on every rank.
+  const distributed::split_figures f = run.figures();
+  CHECK(f.ranks == size);
+  CHECK(f.steps == steps);
+  CHECK(f.weight_imbalance >= 1.0);
+  CHECK(f.weight_imbalance < 1.1);
+  if (size > 1) CHECK(f.halo_bytes_per_step > 0);
+
+  // A gathered checkpoint, written by rank 0, is the whole model's: one process loads it and
+  // steps on with the reference's bits.
+  long long id = static_cast<long long>(::getpid());
+  MPI_Bcast(&id, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  const std::filesystem::path file =
+      std::filesystem::temp_directory_path() / ("tessera_gathered_" + std::to_string(id) + ".ckpt");
+  if (rank == 0) io::save_checkpoint(split, file, "gathered split run");
+  MPI_Barrier(MPI_COMM_WORLD);
+  prism_solver alone(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  support_and_pull(alone, scene.length);
+  io::load_checkpoint(alone, file);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove(file);
+  for (int k = 0; k < 100; ++k) {
+    alone.step();
+    reference.step();
+  }
+  CHECK(differing_gridpoints(alone, reference) == 0);
+  CHECK(differing_subcontacts(alone, reference) == 0);
+}
