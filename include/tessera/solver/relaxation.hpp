@@ -1,0 +1,316 @@
+#pragma once
+// Kinetic dynamic relaxation (KDR; Barnes 1977, Topping and Khan 1994): the static equilibrium of
+// a solver's model, found with the solver's own undamped explicit steps whose free velocities are
+// zeroed at every peak of the kinetic energy, and load increments of prescribed displacement each
+// held until the unbalanced-force ratio falls below a tolerance, as 3DEC's `solve ratio` (issue
+// #43, candidate 2; measured against the explicit ramp and the implicit solve in
+// docs/performance.md).
+//
+// Why it converges. Undamped, the model oscillates about its equilibrium; the kinetic energy of
+// the dominant mode peaks where that mode passes through it. Zeroing every velocity there drops
+// the mode's energy and restarts the motion from near the equilibrium, so each reset removes most
+// of the energy left; the higher modes, which peak at other steps, go at later resets. Steps to a
+// tolerance grow with the lowest mode's period in steps, sqrt(lambda_max / lambda_min) of
+// M^-1 K, so the masses should all sit at their stability limit (Underwood's fictitious masses):
+// kinetic_relaxation_options scales every gridpoint to one step and turns the local damping off.
+//
+// The peak and the correction. After step n the solver holds u_{n+1}, v_{n+1/2} and F_n (the
+// unbalanced force of the step). When the free kinetic energy of v_{n+1/2} is below that of
+// v_{n-1/2}, the peak was at the half step n - 1/2, where the displacement was about
+// u* = u_n - dt/2 v_{n-1/2} = u_{n+1} - 1.5 dt v_{n+1/2} + 0.5 dt^2 M^-1 F_n (Topping and Khan's
+// correction; exact for the undamped step, since v_{n+1/2} - v_{n-1/2} = dt M^-1 F_n; with local
+// damping F_n is short of the force that moved v by the damping force, an error of at most
+// gamma dt^2 |F| / 2m per component). With back_up_to_peak false, u* = u_{n+1} (plain zeroing).
+//
+// Consistency with the contact laws. The solver's contacts advance their states by the relative
+// velocity of the last half step times dt (contact/face_contacts.hpp), and the step that follows
+// step n is the one that hands them the increment u_{n+1} - u_n. Writing u* and v = 0 straight
+// into the node_set would leave the contact springs out of step with the displacements. So a reset
+// writes u = u* and v = w = (u* - u_n) / dt on every free component, takes one solver step (the
+// contacts advance by exactly u* - u_n, the zones see u*), and then takes w back out of that step's
+// update and halves its kick (v = dt M^-1 F* / 2, u = u* + v dt: the leapfrog start from rest; a
+// full kick makes frequent resets unstable at the solver's step). The model ends the step as if it
+// had started from rest at u*, and its contacts followed every displacement it had
+// (test_relaxation). The reset step is counted.
+// Prescribed components are never touched; rigid blocks are refused (their velocities live in the
+// block model).
+//
+// The ratio. max over free nodes of the unbalanced force (solver::unbalanced_force, solver/
+// balance.hpp) over a reference force the caller gives (N; e.g. f_T A of a cracking section, or the
+// reaction of the load), checked every check_interval steps; when it holds, the velocities are
+// zeroed once more (one reset step, without back-up) so the next increment starts from rest, and
+// the ratio of that step is the one returned. 3DEC divides by the mean applied gridpoint force
+// instead; a caller's reference keeps the tolerance a statement about the figures read.
+//
+// Energy books: the resets remove kinetic energy the solver's books do not see;
+// relaxation_result::kinetic_removed adds it up (J of pseudo-time with the scaled masses: the
+// 1/2 m v^2 of the zeroed half-step velocities; the back-up also changes the stored energy a
+// little, which is not booked), so the solver's energy balance no longer closes in a relaxed run.
+//
+// Cost: one pass over the free components per step (kinetic energy) and one serial pass over the
+// nodes per check; the steps are the solver's. Thread safety: as the solver (one thread).
+
+#include <cmath>
+#include <cstdint>
+
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/types.hpp"
+#include "options.hpp"
+
+namespace tessera {
+
+/// How a relaxation runs and when it stops (SI).
+struct relaxation_options {
+  real reference_force = 0;            ///< N, > 0: the ratio is max nodal unbalanced force / this
+  real ratio_tolerance = 1e-4;         ///< > 0: equilibrium when the ratio is at most this
+  std::int64_t max_steps = 1'000'000;  ///< >= 1: steps one relaxation (one increment) may take
+  std::int64_t check_interval = 10;    ///< >= 1: steps between ratio checks
+  bool back_up_to_peak = true;         ///< displacements moved back to the kinetic-energy peak at each reset
+  /// advance: during the ramp the free components move along the last increment's change of
+  /// displacement scaled to this increment (a linear predictor), instead of following the load
+  /// dynamically; the first increment, with no last one, follows it dynamically.
+  bool extrapolate = false;
+};
+
+/// What a relaxation (or an increment and its relaxation) did.
+struct relaxation_result {
+  std::int64_t steps = 0;       ///< solver steps taken, reset steps and the ramp included
+  std::int64_t ramp_steps = 0;  ///< of them, the steps that moved the prescribed components
+  std::int64_t resets = 0;      ///< kinetic-energy peaks at which the free velocities were zeroed
+  real ratio = 0;               ///< unbalanced ratio at the end
+  bool converged = false;       ///< ratio <= tolerance within max_steps
+  real kinetic_removed = 0;     ///< J: kinetic energy the resets zeroed
+
+  void add(const relaxation_result& r) {
+    steps += r.steps, ramp_steps += r.ramp_steps, resets += r.resets, kinetic_removed += r.kinetic_removed;
+    ratio = r.ratio, converged = r.converged;
+  }
+};
+
+/// Refuses options that cannot stop a relaxation (invalid_input naming the value).
+inline void require_valid_relaxation(const relaxation_options& o) {
+  require(std::isfinite(o.reference_force) && o.reference_force > 0, "relaxation: reference force = ",
+          o.reference_force, " N must be finite and > 0");
+  require(std::isfinite(o.ratio_tolerance) && o.ratio_tolerance > 0, "relaxation: ratio tolerance = ",
+          o.ratio_tolerance, " must be finite and > 0");
+  require(o.max_steps >= 1, "relaxation: max_steps = ", o.max_steps, " must be >= 1");
+  require(o.check_interval >= 1, "relaxation: check_interval = ", o.check_interval, " must be >= 1");
+}
+
+/// Solver options for kinetic relaxation from `base`: no local damping (damping_gamma = 0) and
+/// every gridpoint's mass scaled so that a step of 1 s of pseudo-time is stable, which makes each
+/// mass proportional to its nodal stiffness bound (the time is then no physical time; the contact
+/// laws do not depend on it).
+[[nodiscard]] inline solver_options kinetic_relaxation_options(solver_options base) {
+  base.damping_gamma = 0;
+  base.mass_scaling_ratio = 0;
+  base.mass_scaling_dt = 1;
+  base.dt = 0;
+  return base;
+}
+
+/// Kinetic dynamic relaxation of a solver of deformable blocks (file comment). The gridpoints'
+/// prescribed velocities when it is built are the pattern of the load (m/s): advance(duration,
+/// ...) moves each prescribed component by pattern x duration; they are set to zero (held) at once.
+template <class Solver>
+class kinetic_relaxation {
+ public:
+  explicit kinetic_relaxation(Solver& s) : s_(s) {
+    static_assert(!Solver::blocks_type::is_rigid, "kinetic_relaxation: rigid blocks keep their velocities in the "
+                                                  "block model; only deformable blocks are relaxed");
+    pattern_ = s_.gridpoints().prescribed_velocity;
+    s_.gridpoints().prescribed_velocity.setZero();
+    offset_.setZero(s_.gridpoints().size(), 3);
+    if constexpr (Solver::reinforcement_type::enabled) bar_offset_.setZero(s_.bar_nodes().size(), 3);
+  }
+
+  /// Steps with the supports held until the ratio is at most o.ratio_tolerance or o.max_steps
+  /// were taken, zeroing the free velocities at every kinetic-energy peak. Throws invalid_input
+  /// for bad options (require_valid_relaxation) before anything changes.
+  relaxation_result relax(const relaxation_options& o) {
+    require_valid_relaxation(o);
+    relaxation_result r;
+    previous_ = free_kinetic_energy();
+    std::int64_t next_check = o.check_interval;
+    while (r.steps < o.max_steps) {
+      step_with_resets(o, r);
+      if (r.steps < next_check) continue;
+      next_check = r.steps + o.check_interval;
+      r.ratio = ratio(o);
+      if (r.ratio <= o.ratio_tolerance) {
+        reset(false, r);  // at rest for what follows
+        r.ratio = ratio(o);
+        r.converged = true;
+        break;
+      }
+    }
+    totals_.add(r);
+    return r;
+  }
+
+  /// One load increment: the prescribed components move by pattern x duration (m; duration in s
+  /// of pseudo-time, >= 0) at a constant speed over ramp_steps (>= 1) steps, with resets at the
+  /// kinetic-energy peaks, then are held while the model relaxes (relax). Throws invalid_input for
+  /// a bad duration, ramp or options before anything changes.
+  relaxation_result advance(real duration, std::int64_t ramp_steps, const relaxation_options& o) {
+    require(std::isfinite(duration) && duration >= 0, "relaxation: increment duration = ", duration,
+            " s must be finite and >= 0");
+    require(ramp_steps >= 1, "relaxation: ramp_steps = ", ramp_steps, " must be >= 1");
+    require_valid_relaxation(o);
+    relaxation_result r;
+    previous_ = free_kinetic_energy();
+    const real speed = 1 / (static_cast<real>(ramp_steps) * s_.dt());  // 1/s: a displacement over the ramp
+    s_.gridpoints().prescribed_velocity = pattern_ * (duration * speed);
+    const bool predict = o.extrapolate && last_duration_ > 0;
+    const real scale = predict ? duration / last_duration_ * speed : 0;
+    start_ = s_.gridpoints().displacement;
+    if constexpr (Solver::reinforcement_type::enabled) bar_start_ = s_.bar_nodes().displacement;
+    while (r.steps < ramp_steps) {
+      if (!predict) {
+        step_with_resets(o, r);
+        continue;
+      }
+      s_.step();
+      ++r.steps;
+      impose_free_velocity(s_.gridpoints(), change_, scale);
+      if constexpr (Solver::reinforcement_type::enabled) impose_free_velocity(s_.bar_nodes(), bar_change_, scale);
+    }
+    s_.gridpoints().prescribed_velocity.setZero();
+    if (predict) reset(false, r);  // from the imposed motion to rest
+    r.ramp_steps = r.steps;
+    time_ += duration;
+    totals_.add(r);
+    const relaxation_result hold = relax(o);
+    r.add(hold);
+    change_ = s_.gridpoints().displacement - start_;
+    if constexpr (Solver::reinforcement_type::enabled) bar_change_ = s_.bar_nodes().displacement - bar_start_;
+    last_duration_ = duration;
+    return r;
+  }
+
+  /// Pseudo-time of the increments so far (s): prescribed components moved by pattern x this.
+  [[nodiscard]] real prescribed_time() const { return time_; }
+  /// Everything every relax and advance did (steps, resets, kinetic energy removed).
+  [[nodiscard]] const relaxation_result& totals() const { return totals_; }
+
+ private:
+  /// One solver step, then a reset if the free kinetic energy fell (the peak was at the last half
+  /// step); counts into r.
+  void step_with_resets(const relaxation_options& o, relaxation_result& r) {
+    s_.step();
+    ++r.steps;
+    const real now = free_kinetic_energy();
+    if (now < previous_) {
+      reset(o.back_up_to_peak, r);
+      previous_ = free_kinetic_energy();
+    } else {
+      previous_ = now;
+    }
+  }
+
+  [[nodiscard]] real ratio(const relaxation_options& o) const {
+    return s_.unbalanced_force().max_force / o.reference_force;
+  }
+
+  /// Sum of 1/2 m v^2 over the free components of gridpoints and bar nodes (J).
+  [[nodiscard]] real free_kinetic_energy() const {
+    real e = free_kinetic_energy(s_.gridpoints());
+    if constexpr (Solver::reinforcement_type::enabled) e += free_kinetic_energy(s_.bar_nodes());
+    return e;
+  }
+  [[nodiscard]] static real free_kinetic_energy(const node_set& n) {
+    real e = 0;
+    for (int c = 0; c < 3; ++c)
+      for (index_t i = 0; i < n.size(); ++i)
+        if (n.constraint(i, c) == free_) e += n.mass[i] * n.velocity(i, c) * n.velocity(i, c);
+    return 0.5 * e;
+  }
+
+  /// Zeroes the free velocities at the displacement of the kinetic-energy peak (back_up) or at
+  /// the present one, through one solver step that hands the contacts the matching increment
+  /// (file comment); counts the step and the reset into r.
+  void reset(bool back_up, relaxation_result& r) {
+    r.kinetic_removed += free_kinetic_energy();
+    prepare_reset(s_.gridpoints(), offset_, back_up);
+    if constexpr (Solver::reinforcement_type::enabled) prepare_reset(s_.bar_nodes(), bar_offset_, back_up);
+    s_.step();
+    finish_reset(s_.gridpoints(), offset_);
+    if constexpr (Solver::reinforcement_type::enabled) finish_reset(s_.bar_nodes(), bar_offset_);
+    ++r.steps;
+    ++r.resets;
+  }
+  /// u = u*, v = w = (u* - u_n) / dt on the free components; w kept in `offset` (0 elsewhere).
+  void prepare_reset(node_set& n, soa3& offset, bool back_up) const {
+    const real dt = s_.dt();
+    for (int c = 0; c < 3; ++c)
+      for (index_t i = 0; i < n.size(); ++i) {
+        if (n.constraint(i, c) != free_) {
+          offset(i, c) = 0;
+          continue;
+        }
+        const real v = n.velocity(i, c);
+        // u* - u_{n+1}: back to the peak, or nothing.
+        const real shift = back_up ? dt * (-1.5 * v + 0.5 * dt * n.force(i, c) / n.mass[i]) : real(0);
+        n.displacement(i, c) += shift;
+        offset(i, c) = v + shift / dt;
+        n.velocity(i, c) = offset(i, c);
+      }
+  }
+  /// After a step: the free components of `n` moved at velocity w = scale x change (m/s) instead
+  /// of what the step gave (v_step): v = w, u -= (v_step - w) dt, so the contacts of the next step
+  /// see the increment w dt that the displacements took.
+  void impose_free_velocity(node_set& n, const soa3& change, real scale) const {
+    const real dt = s_.dt();
+    for (int c = 0; c < 3; ++c)
+      for (index_t i = 0; i < n.size(); ++i) {
+        if (n.constraint(i, c) != free_) continue;
+        const real w = scale * change(i, c);
+        n.displacement(i, c) -= (n.velocity(i, c) - w) * dt;
+        n.velocity(i, c) = w;
+      }
+  }
+
+  /// Takes the offset back out of the step just taken and halves its kick: with v' the velocity
+  /// the step gave, v = (v' - w) / 2 = dt M^-1 F / 2, the leapfrog start from rest, and
+  /// u = u* + v dt. (The full kick, v = dt M^-1 F, makes a reset in every step the iteration
+  /// u += dt^2 M^-1 F, unstable above dt = sqrt(2 / lambda_max); the half kick is stable up to the
+  /// leapfrog limit 2 / sqrt(lambda_max), and the solver's step is just under it.)
+  void finish_reset(node_set& n, const soa3& offset) const {
+    const real dt = s_.dt();
+    for (int c = 0; c < 3; ++c)
+      for (index_t i = 0; i < n.size(); ++i) {
+        if (n.constraint(i, c) != free_) continue;
+        const real v_step = n.velocity(i, c), v = 0.5 * (v_step - offset(i, c));
+        n.displacement(i, c) += (v - v_step) * dt;
+        n.velocity(i, c) = v;
+      }
+  }
+
+  static constexpr auto free_ = static_cast<std::uint8_t>(dof_constraint::free);
+  Solver& s_;
+  soa3 pattern_;     ///< prescribed velocities when built: the load pattern (m/s)
+  soa3 offset_;      ///< w of the reset step, gridpoints (m/s)
+  soa3 bar_offset_;  ///< w of the reset step, bar nodes (m/s)
+  soa3 start_, bar_start_;    ///< displacements at the start of the increment (m)
+  soa3 change_, bar_change_;  ///< their change over the last increment (m)
+  real last_duration_ = 0;    ///< the last increment's duration (s; 0 before the first)
+  real previous_ = 0;  ///< free kinetic energy after the last step (J)
+  real time_ = 0;
+  relaxation_result totals_;
+};
+
+/// Relaxes `s` with its supports as they stand (normally held: zero prescribed velocities) to
+/// the ratio o.ratio_tolerance (kinetic_relaxation::relax; file comment). Throws invalid_input for
+/// bad options before anything changes.
+template <class Solver>
+relaxation_result relax_to_equilibrium(Solver& s, const relaxation_options& o) {
+  require_valid_relaxation(o);
+  const soa3 held = s.gridpoints().prescribed_velocity;
+  kinetic_relaxation<Solver> k(s);
+  const relaxation_result r = k.relax(o);
+  s.gridpoints().prescribed_velocity = held;
+  return r;
+}
+
+}  // namespace tessera
