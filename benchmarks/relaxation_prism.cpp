@@ -31,7 +31,9 @@
 #include <string>
 
 #include "common/cli.hpp"
+#include "common/rc_tie_run.hpp"
 #include "common/scenes.hpp"
+#include "tessera/analysis/curves.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 #include "tessera/solver/implicit/quasi_static.hpp"
@@ -70,6 +72,72 @@ real tensile_limit(const model& q, const tessera::prism_solver& s, real u) {
   return u / most;
 }
 
+/// The RC tie (common/rc_tie_scene.hpp, 100 blocks, its supports) pulled symmetrically at the bar
+/// ends by KDR increments of `increment` m of elongation to `until`, each relaxed to `tolerance`
+/// x N_cr (the ratio's reference), ramps extrapolated (o.extrapolate) except right after a load
+/// drop. Prints K0 (band slope 10-60 % of the first peak), the first drop (> 5 % N_cr) and the
+/// plateau (mean force over the last quarter of the elongation), steps, resets, CPU time.
+int run_tie_mode(std::uint64_t seed, int threads, real increment, real until, const tessera::relaxation_options& base) {
+  namespace an = tessera::analysis;
+  const sc::tie_scene scene = sc::make_tie({.blocks = 100, .seed = seed});
+  tessera::solver_options so = tessera::kinetic_relaxation_options({});
+  so.threads = threads;
+  // The tie's solver without the step checker: its energy bound counts only the booked work, and
+  // the extrapolated ramps move the model outside the books (solver/relaxation.hpp).
+  using tie_type = tessera::solver<sc::deformable_blocks, tessera::presets::bonded_faces<tessera::law::study_tie_law>,
+                                   sc::tie_bar, tessera::integrator::central_difference<tessera::integrator::local_damping>,
+                                   tessera::checks::no_step_checker>;
+  const std::clock_t cpu = std::clock();
+  tie_type s(scene.prism.tess, scene.prism.mesh, scene.prism.block_material, scene.prism.contact, scene.bar, so);
+  const sc::tie_ends ends = sc::hold_tie_ends(s, scene);
+  s.bar_nodes().prescribed_velocity(ends.last, 2) = 0.5;  // elongation rate 1 m/s of pseudo-time
+  s.bar_nodes().prescribed_velocity(ends.first, 2) = -0.5;
+  tessera::kinetic_relaxation<tie_type> k(s);
+  tessera::relaxation_options o = base;
+  o.reference_force = scene.hand.cracking_force;
+  std::vector<real> elongation{0}, force{0};
+  const real drop = 0.05 * scene.hand.cracking_force;
+  std::printf("## RC tie, 100 blocks (seed %llu): N_cr %.5g N, f_y A_s %.5g N, K (shear lag) %.5g N/m; increments of "
+              "%.3g m, tolerance %.3g x N_cr\n\n| elongation (mm) | force (kN) | steps | resets | CPU (s) |\n|---|---|---|---|---|\n",
+              static_cast<unsigned long long>(seed), scene.hand.cracking_force, scene.hand.yield_force,
+              scene.hand.bonded_stiffness, increment, o.ratio_tolerance);
+  std::int64_t failures = 0;
+  while (elongation.back() < until) {
+    const auto r = k.advance(increment, 10, o);
+    if (!r.converged) ++failures;
+    const auto& bar = s.bar_nodes();
+    elongation.push_back(bar.displacement(ends.last, 2) - bar.displacement(ends.first, 2));
+    force.push_back(0.5 * (bar.reaction(ends.last, 2) - bar.reaction(ends.first, 2)));
+    // A load drop: the next ramp follows the load dynamically (extrapolating a snap repeats it).
+    o.extrapolate = base.extrapolate && force.back() > force[force.size() - 2] - drop;
+    if (elongation.size() % 10 == 0 || !r.converged)
+      std::printf("| %.4f | %.4f | %lld | %lld%s | %.2f |\n", elongation.back() * 1e3, force.back() * 1e-3,
+                  static_cast<long long>(r.steps), static_cast<long long>(r.resets), r.converged ? "" : " (not converged)",
+                  cpu_seconds_since(cpu));
+    std::fflush(stdout);
+  }
+  const auto drops = an::find_load_drops(elongation, force, drop, force.size());
+  real first_drop = 0;
+  std::size_t first_peak = force.size() - 1;
+  for (const auto& d : drops)
+    if (d.peak_force >= 0.5 * scene.hand.cracking_force) {
+      first_drop = d.peak_force, first_peak = d.sample;
+      break;
+    }
+  const real k0 = an::band_slope(elongation, force, first_peak + 1, 0.1 * first_drop, 0.6 * first_drop);
+  std::size_t tail = 0;
+  while (tail < elongation.size() && elongation[tail] < 0.75 * elongation.back()) ++tail;
+  const auto& t = k.totals();
+  std::printf("\n- K0 %.5g N/m (%+.2f %% against the shear-lag stiffness), first drop %.5g N (%.3f N_cr), %zu drops, "
+              "plateau %.5g N (%.3f f_y A_s)\n- %lld steps (%lld in ramps), %lld resets, %lld increments not converged, "
+              "CPU %.2f s\n",
+              k0, 100 * (k0 / scene.hand.bonded_stiffness - 1), first_drop, first_drop / scene.hand.cracking_force,
+              drops.size(), an::tail_mean(force, tail), an::tail_mean(force, tail) / scene.hand.yield_force,
+              static_cast<long long>(t.steps), static_cast<long long>(t.ramp_steps), static_cast<long long>(t.resets),
+              static_cast<long long>(failures), cpu_seconds_since(cpu));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -78,7 +146,7 @@ int main(int argc, char** argv) {
   real increment = 2e-6, tolerance = 1e-3, until = 9e-5, stop_below = 0.5, first_fraction = 1, gamma = 0,
        elastic_tolerance = 0;
   std::int64_t max_steps = 200000;
-  bool plain = false, extrapolate = false, elastic_only = false;
+  bool plain = false, extrapolate = false, elastic_only = false, tie = false;
   std::string curve_file;
   tessera::cli::parser cli("relaxation_prism",
                            "Kinetic dynamic relaxation on the direct tension prism (issue #43, candidate 2).");
@@ -98,9 +166,18 @@ int main(int argc, char** argv) {
   cli.flag("--plain-zeroing", plain, "zero the velocities without backing up to the kinetic-energy peak");
   cli.flag("--extrapolate", extrapolate, "free gridpoints follow the last increment's field during the ramp");
   cli.flag("--elastic-only", elastic_only, "stop at the elastic limit");
+  cli.flag("--tie", tie, "the RC tie instead of the prism (--increment: elongation; --until: last elongation)");
   cli.option("--curve", curve_file, "write U, stress, steps per increment here (csv)", "FILE");
   cli.parse_or_exit(argc, argv);
   try {
+    if (tie) {
+      tessera::relaxation_options o;
+      o.ratio_tolerance = tolerance;
+      o.max_steps = max_steps;
+      o.back_up_to_peak = !plain;
+      o.extrapolate = extrapolate;
+      return run_tie_mode(seed, threads, increment, until, o);
+    }
     const sc::prism_scene scene = sc::make_prism({.blocks = blocks, .seed = seed});
     const real length = scene.length(), area = scene.cross_section(), f_t = scene.contact.tension.f_T;
 
