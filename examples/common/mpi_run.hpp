@@ -7,7 +7,8 @@
 // - mpi_session (in main, before parsing) calls MPI_Init only when the process was started by an
 //   MPI launcher (OMPI_COMM_WORLD_SIZE, PMI_SIZE or PMIX_RANK in the environment), so a driver run
 //   by hand never starts MPI. Rank 0 writes --out and the console; every other rank writes into a
-//   scratch directory it removes at exit, and its stdout goes to /dev/null (errors stay on stderr).
+//   scratch directory it removes at exit, its stdout goes to /dev/null and its progress line is off
+//   (errors stay on stderr).
 // - run_sampled replaces the driver's `s.run_until(done, ..., per_step, every(sample, sampler))`:
 //   one process runs exactly that; split over ranks, each rank steps its part
 //   (distributed::split_run) and, at every sample, gathers the whole model's state, so the
@@ -101,6 +102,7 @@ class mpi_session {
                tessera::detail::concat("tessera_rank", rank_, "_", static_cast<long long>(::getpid()));
     out = scratch_.string();
     if (std::freopen("/dev/null", "w", stdout) == nullptr) std::perror("mpi_session: stdout to /dev/null");
+    ::setenv("TESSERA_PROGRESS", "0", 1);  // rank 0's progress line is the run's
   }
 
   /// The split figures of the last run_sampled (ranks = 1 when it ran as one process).
