@@ -232,16 +232,24 @@ class state_gather {
   /// owner's part of received_ (unpack pass).
   template <class Owner, class At>
   void gather_rows(std::size_t count, Owner&& owner, At&& at, std::size_t size) {
-    for (std::size_t i = 0; i < count; ++i) {
+    // Runs of consecutive rows with one owner and adjacent bytes move as one block (the rows of
+    // a block's gridpoints, a rank's sub-contacts): one copy a run, not one a row.
+    for (std::size_t i = 0; i < count;) {
       const int r = owner(i);
-      if (r < 0) continue;
-      if (mode_ == pass::pack) {
-        if (r == rank_) send_.insert(send_.end(), at(i), at(i) + size);
-      } else {
-        int& k = cursor_[static_cast<std::size_t>(r)];
-        std::memcpy(at(i), received_.data() + k, size);
-        k += static_cast<int>(size);
+      unsigned char* first = at(i);
+      std::size_t n = 1;
+      while (i + n < count && owner(i + n) == r && at(i + n) == first + n * size) ++n;
+      if (r >= 0) {
+        const std::size_t bytes = n * size;
+        if (mode_ == pass::pack) {
+          if (r == rank_) send_.insert(send_.end(), first, first + bytes);
+        } else {
+          int& k = cursor_[static_cast<std::size_t>(r)];
+          std::memcpy(first, received_.data() + k, bytes);
+          k += static_cast<int>(bytes);
+        }
       }
+      i += n;
     }
   }
 
