@@ -73,7 +73,9 @@ struct relaxation_options {
   bool back_up_to_peak = true;         ///< displacements moved back to the kinetic-energy peak at each reset
   /// advance: during the ramp the free components move along the last increment's change of
   /// displacement scaled to this increment (a linear predictor), instead of following the load
-  /// dynamically; the first increment, with no last one, follows it dynamically.
+  /// dynamically; the first increment, with no last one, follows it dynamically. Switch it off
+  /// for the increment after a load drop: extrapolating an increment in which a crack snapped
+  /// open repeats the snap (measured on the prism: the blocks unloaded into compression).
   bool extrapolate = false;
 };
 
