@@ -128,11 +128,13 @@ class mpi_session {
 /// Steps `s` (built from `mesh`) until `done` is set, calling per_step(s) after every step and
 /// sampler(s) every `sample` steps (by step count): s.run_until in one process; split over the
 /// session's ranks with the whole model's state gathered before each sample (file comment), and
-/// once more at the end. Throws invalid_input when the session has more than one rank and the
-/// solver cannot be split (rigid blocks, detected contacts).
+/// once more at the end. per_step may read the u, v and reactions of `rows_per_step` (gridpoints:
+/// a rigid platen's, a hinged plate's) and write applied forces; split, those rows are made
+/// current on every rank after each step (split_run::share_rows). Throws invalid_input when the
+/// session has more than one rank and the solver cannot be split (rigid blocks, detected contacts).
 template <class Solver, class PerStep, class Sampler>
 void run_sampled(Solver& s, [[maybe_unused]] const geometry::block_mesh& mesh, const bool& done, PerStep&& per_step,
-                 index_t sample, Sampler&& sampler) {
+                 index_t sample, Sampler&& sampler, [[maybe_unused]] const std::vector<index_t>& rows_per_step = {}) {
   mpi_session* session = mpi_session::current();
   if (session == nullptr || !session->split()) {
     s.run_until([&](const Solver&) { return done; }, std::int64_t{1} << 40, per_step,
@@ -143,9 +145,11 @@ void run_sampled(Solver& s, [[maybe_unused]] const geometry::block_mesh& mesh, c
 #ifdef TESSERA_HAVE_MPI
   if constexpr (distributed::splittable<Solver>) {
     distributed::split_run<Solver> run(s, mesh, MPI_COMM_WORLD);
+    run.set_shared_rows(rows_per_step);
     bool gathered = false;
     while (!done) {
       run.step();
+      run.share_rows();
       per_step(std::as_const(s));
       gathered = s.step_count() % sample == 0;
       if (gathered) {

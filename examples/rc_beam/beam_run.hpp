@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/mpi_run.hpp"
 #include "rc_beam/beam.hpp"
 #include "rc_beam/beam_cracks.hpp"
 #include "rc_beam/beam_plates.hpp"
@@ -383,8 +384,18 @@ template <class Law, class OnEvent>
                       tessera::detail::concat("deflection ", defl * 1e3, " mm, P = ", load * 1e-3, " kN",
                                               first_found ? ", cracked" : "", r.steel_yielded ? ", yielded" : ""));
   };
-  s.run_until([&](const solver_type&) { return done; }, std::int64_t{1} << 40, drive,
-              recorders::every(loading.sample, sample));
+  // The gridpoints `drive` reads between steps (under the plates): current on every rank when the
+  // run is split over MPI ranks (common/mpi_run.hpp); one process: s.run_until.
+  std::vector<index_t> plate_rows;
+  for (int k = 0; k < sides; ++k) {
+    if (contact_plates) {
+      for (const auto* p : {&*support_platen[k], &*loading_platen[k]})
+        for (std::size_t j = 0; j < p->size(); ++j) plate_rows.push_back(p->node(j));
+    } else {
+      for (const auto* g : {&support[k], &plate[k]}) plate_rows.insert(plate_rows.end(), g->nodes.begin(), g->nodes.end());
+    }
+  }
+  run_sampled(s, scene.mesh, done, drive, loading.sample, sample, plate_rows);
   progress.finish();
   on_event(std::as_const(s), std::string("end"));
 

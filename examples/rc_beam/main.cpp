@@ -314,6 +314,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   }
   if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
+  tessera::scenes::set_split_figures(js);
   js.write(out / "summary.json");
 
   char yield_buf[160];
@@ -399,6 +400,7 @@ int run(inputs in) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tessera::scenes::mpi_session mpi(argc, argv);
   inputs in;
   tessera::cli::parser cli(
       "rc_beam",
@@ -406,7 +408,8 @@ int main(int argc, char** argv) {
       "its symmetry face or the whole beam (--span): flexural cracks, yield of the bars, diagonal tension. Default\n"
       "geometry PROVISIONAL (DESIGN.md 6): Walraven's series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm,\n"
       "constant-moment zone 500 mm, 4 x 8 mm bars.\n"
-      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.");
+      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.\n"
+      "Under mpirun -np N (builds with MPI): split over N ranks, the same curve.csv to the bit; rank 0 writes --out.");
   cli.add_standard(in.common);
   bool no_vtk = false;
   auto& b = in.beam;
@@ -469,6 +472,13 @@ int main(int argc, char** argv) {
     if (!cli.given("--max-deflection")) l.max_deflection = 2e-3;
     l.first_crack_only = 2;
   }
+  try {
+    mpi.require_splittable(true, "rc_beam");
+  } catch (const std::exception& e) {
+    if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);
+    return 2;
+  }
+  mpi.route_output(in.common.out);  // under mpirun: rank 0 writes --out
   tessera::io::run_record record(in.common.out, "rc_beam", argc, argv);
   try {
     const int status = run(in);

@@ -115,14 +115,17 @@ class state_gather {
   }
 
   /// Replaces `s`'s work books by their sum over the ranks (in rank order; initial_share is this
-  /// rank's share of the initial energy, distributed::stepper::initial_energy_share) and returns
-  /// this rank's own books, for put_books. Every rank must call it.
+  /// rank's share of the initial energy, distributed::stepper::initial_energy_share, and
+  /// applied_pending the work of its applied forces over the last step, not booked yet:
+  /// stepper::pending_applied_work) and returns this rank's own books, for put_books. Every rank
+  /// must call it.
   template <class Solver>
-  [[nodiscard]] books gather_books(Solver& s, double initial_share) {
+  [[nodiscard]] books gather_books(Solver& s, double initial_share, double applied_pending = 0) {
     mode_ = pass::read_books;
     s.checkpoint(*this);
     const books mine = own_books_;  // as the rank's solver holds them, to put back
     books share = mine;
+    share[3] += applied_pending;
     share[4] = initial_share;
     std::vector<double> all(static_cast<std::size_t>(ranks_) * share.size());
     MPI_Allgather(share.data(), static_cast<int>(share.size()), MPI_DOUBLE, all.data(), static_cast<int>(share.size()),

@@ -22,13 +22,15 @@
 // the whole model, loadable by one process. Per-rank checkpoints for a split restart are taken
 // after step(), before any gather.
 //
-// What splits: as distributed::stepper (deformable blocks, bonded faces, embedded bars; no rigid
-// blocks, detected contacts, gravity or applied forces). Every rank must call every member
+// What splits: as distributed::stepper (deformable blocks, bonded faces, embedded bars, applied
+// forces such as a rigid platen's, whose inputs set_shared_rows / share_rows keep current on every
+// rank; no rigid blocks, detected contacts or gravity). Every rank must call every member
 // function, the same number of times. Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
 #include <mpi.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <string>
@@ -93,7 +95,7 @@ class split_run {
  public:
   /// Splits `s` (built from `mesh`, identically on every rank of `comm`) over the communicator's
   /// ranks with `how`. Throws invalid_input as rank_ownership and stepper do (a rank without
-  /// blocks, rigid blocks, gravity or applied forces set), and for partitioner::metis where METIS
+  /// blocks, rigid blocks, gravity set), and for partitioner::metis where METIS
   /// is not built in.
   split_run(Solver& s, const geometry::block_mesh& mesh, MPI_Comm comm, partitioner how = default_partitioner())
       : solver_(&s), comm_(comm), how_(how), graph_(graph_of(s, mesh)), map_(partition(graph_, comm, how)),
@@ -128,9 +130,51 @@ class split_run {
     step_seconds_ += std::chrono::duration<double>(t0 - w0).count();
     stepper_.check_finite(comm_);
     gather_.gather(*solver_);
-    if (!gathered_) own_books_ = gather_.gather_books(*solver_, stepper_.initial_energy_share());
+    if (!gathered_)
+      own_books_ = gather_.gather_books(*solver_, stepper_.initial_energy_share(), stepper_.pending_applied_work());
     gathered_ = true;
     gather_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+
+  /// Gridpoints whose u, v and reactions a callback between steps reads on every rank (a
+  /// contact::rigid_platen's contact gridpoints, a hinged plate's): share_rows() then gives every
+  /// rank their owners' rows. Throws invalid_input for a gridpoint that does not exist. Allocates
+  /// here, not in share_rows.
+  void set_shared_rows(std::vector<index_t> gridpoints) {
+    std::sort(gridpoints.begin(), gridpoints.end());
+    gridpoints.erase(std::unique(gridpoints.begin(), gridpoints.end()), gridpoints.end());
+    const index_t n = solver_->gridpoints().size();
+    shared_by_rank_.assign(static_cast<std::size_t>(own_.ranks()), {});
+    for (const index_t g : gridpoints) {
+      require(g >= 0 && g < n, "distributed::split_run: shared gridpoint ", g, " is not one of the ", n);
+      shared_by_rank_[static_cast<std::size_t>(own_.gridpoint_rank(g))].push_back(g);
+    }
+    shared_counts_.assign(static_cast<std::size_t>(own_.ranks()), 0);
+    shared_offsets_.assign(static_cast<std::size_t>(own_.ranks()) + 1, 0);
+    for (int r = 0; r < own_.ranks(); ++r) {
+      shared_counts_[static_cast<std::size_t>(r)] = static_cast<int>(shared_by_rank_[static_cast<std::size_t>(r)].size()) * 9;
+      shared_offsets_[static_cast<std::size_t>(r) + 1] = shared_offsets_[static_cast<std::size_t>(r)] + shared_counts_[static_cast<std::size_t>(r)];
+    }
+    shared_send_.resize(static_cast<std::size_t>(shared_counts_[static_cast<std::size_t>(rank_)]));
+    shared_receive_.resize(static_cast<std::size_t>(shared_offsets_.back()));
+  }
+  /// Every rank's rows of the shared gridpoints (set_shared_rows) take their owners' u, v and
+  /// reactions: one MPI_Allgatherv of 72 bytes a row. Every rank must call it, after step().
+  void share_rows() {
+    if (shared_by_rank_.empty()) return;
+    node_set& gp = solver_->gridpoints();
+    std::size_t k = 0;
+    for (const index_t g : shared_by_rank_[static_cast<std::size_t>(rank_)])
+      for (const soa3* m : {&gp.displacement, &gp.velocity, &gp.reaction})
+        for (int c = 0; c < 3; ++c) shared_send_[k++] = (*m)(g, c);
+    MPI_Allgatherv(shared_send_.data(), static_cast<int>(shared_send_.size()), MPI_DOUBLE, shared_receive_.data(),
+                   shared_counts_.data(), shared_offsets_.data(), MPI_DOUBLE, comm_);
+    for (int r = 0; r < own_.ranks(); ++r) {
+      k = static_cast<std::size_t>(shared_offsets_[static_cast<std::size_t>(r)]);
+      for (const index_t g : shared_by_rank_[static_cast<std::size_t>(r)])
+        for (soa3* m : {&gp.displacement, &gp.velocity, &gp.reaction})
+          for (int c = 0; c < 3; ++c) (*m)(g, c) = shared_receive_[k++];
+    }
   }
 
   /// The split's figures so far, reduced over the ranks (every rank must call it).
@@ -219,6 +263,9 @@ class split_run {
   bool gathered_ = false;
   std::int64_t steps_ = 0;
   double step_seconds_ = 0, gather_seconds_ = 0;
+  std::vector<std::vector<index_t>> shared_by_rank_;  ///< set_shared_rows' gridpoints by owner, increasing
+  std::vector<int> shared_counts_, shared_offsets_;    ///< their doubles per rank, and offsets
+  std::vector<double> shared_send_, shared_receive_;
 };
 
 }  // namespace tessera::distributed

@@ -1,8 +1,10 @@
 #pragma once
 // distributed::stepper<Solver>: the time step of a run split by blocks over MPI ranks
 // (docs/architecture.md, "The distributed step"), for deformable blocks bonded by
-// contact::face_contacts, with or without bars embedded in them (reinforcement::embedded_truss);
-// no detected contacts, rigid blocks, gravity or applied forces yet. Every rank builds the whole
+// contact::face_contacts, with or without bars embedded in them (reinforcement::embedded_truss)
+// and applied forces (a contact::rigid_platen's; the caller keeps their rows and whatever they are
+// computed from current on every rank: split_run::share_rows); no detected contacts, rigid blocks
+// or gravity yet. Every rank builds the whole
 // model (a solver over every block: the memory of one process per rank, acceptable while a scene
 // fits one machine's memory many times over) and the same rank_ownership; the stepper restricts
 // the solver's step to what its rank evaluates and owns:
@@ -91,7 +93,7 @@ class stepper {
   /// map and the solver's sub-contacts (contact_pairs_of(s.contacts())). `tag` keeps the halo's
   /// messages apart. Throws invalid_input when the communicator's size is not own.ranks(), when
   /// the mesh or the ownership do not match the solver (gridpoints, blocks, sub-contacts), when a
-  /// block has no zones, or when gravity or applied forces are set (not distributed yet).
+  /// block has no zones, or when gravity is set (not distributed yet).
   stepper(Solver& s, const geometry::block_mesh& mesh, const rank_ownership& own, MPI_Comm comm, int tag = 44)
       : solver_(&s), halo_(own, comm, tag, bars) {
     MPI_Comm_rank(comm, &rank_);
@@ -109,8 +111,11 @@ class stepper {
             s.blocks().block_count() - s.blocks().zone_task_count(), " block(s) have no zones");
     require(s.gravity() == vec3::Zero(), "distributed::stepper: gravity (", s.gravity().transpose(),
             ") m/s^2 is not distributed yet; set it to zero");
-    require(s.applied_nodes().empty(), "distributed::stepper: ", s.applied_nodes().size(),
-            " gridpoint(s) carry applied forces, which are not distributed yet");
+    // Applied forces (a contact::rigid_platen's): each own registered gridpoint starts its force
+    // from its applied row, as solver::step does; the caller keeps the rows current on every rank.
+    applied_count_ = s.applied_nodes().size();
+    applied_slot_.assign(static_cast<std::size_t>(s.gridpoints().size()), invalid_index);
+    for (std::size_t j = 0; j < s.applied_nodes().size(); ++j) applied_slot_[at(s.applied_nodes()[j])] = static_cast<index_t>(j);
     std::vector<char> evaluated_face(static_cast<std::size_t>(contacts.face_count()), 0);
     for (const index_t i : own.evaluated_contacts(rank_)) {
       require(i >= 0 && i < contacts.subcontact_count(), "distributed::stepper: the ownership names sub-contact ", i,
@@ -144,6 +149,9 @@ class stepper {
         last.push_back(f + 1);
       }
     }
+    for (const index_t g : own_gridpoints_)
+      if (applied_slot_[at(g)] != invalid_index) own_applied_.push_back(g);
+    applied_previous_.setZero(static_cast<index_t>(own_applied_.size()), 3);
     block_work_.resize(own_blocks_.size());
     if constexpr (bars) {
       require(own.bar_node_count() == s.bar_nodes().size(), "distributed::stepper: the ownership has ",
@@ -159,12 +167,13 @@ class stepper {
 
   /// Advances this rank's part of the model by one step (file comment). Every rank of the
   /// communicator must call it, the same number of times. Throws invalid_input, before anything
-  /// changes, when gravity or applied forces were set since the stepper was built (every rank
-  /// throws alike: the model is the same on all).
+  /// changes, when gravity was set or applied forces registered since the stepper was built (every
+  /// rank throws alike: the model is the same on all).
   void step() {
     Solver& s = *solver_;
-    require(s.gravity() == vec3::Zero() && s.applied_nodes().empty(),
-            "distributed::stepper: gravity or applied forces were set on the solver; they are not distributed yet");
+    require(s.gravity() == vec3::Zero(), "distributed::stepper: gravity was set on the solver; it is not distributed yet");
+    require(s.applied_nodes().size() == applied_count_, "distributed::stepper: ", s.applied_nodes().size(),
+            " gridpoints carry applied forces, ", applied_count_, " when the stepper was built; build it after them");
     node_set& gp = s.gridpoints();
     auto& contacts = s.contacts_for_step();
     const real dt = s.dt();
@@ -174,6 +183,18 @@ class stepper {
       initial_ = share[3] + share[4] + share[5];
     }
     if (!in_flight_) start_exchange();  // the first step: the ghosts as they stand now
+    real applied_work = 0;  // the last step's work of the own applied forces, booked now (solver::step)
+    if (!own_applied_.empty()) {
+      const soa3& applied = s.applied_forces();
+      for (std::size_t j = 0; j < own_applied_.size(); ++j) {
+        const index_t g = own_applied_[j], k = static_cast<index_t>(j);
+        if (applied_active_)
+          for (int c = 0; c < 3; ++c) applied_work += 0.5 * (applied_previous_(k, c) + applied(g, c)) * gp.velocity(g, c);
+        applied_previous_.row(k) = applied.row(g);
+      }
+      applied_work *= dt;
+      applied_active_ = true;
+    }
     contacts.prepare_step(gp, dt);
     const auto own_block_count = static_cast<std::int64_t>(own_blocks_.size());
     parallel_range_pair(
@@ -206,7 +227,7 @@ class stepper {
     }
     if constexpr (bars)
       for (const index_t n : own_bar_nodes_) advance_node(integ, s.bar_nodes(), n, dt, work);
-    s.close_external_step(work);
+    s.close_external_step(work, applied_work);
     start_exchange();
   }
 
@@ -275,6 +296,19 @@ class stepper {
   }
 
   [[nodiscard]] int rank() const { return rank_; }
+  /// The work of the own applied forces over the last step (J), booked at the next step once
+  /// their closing values are written (solver::energies adds the same pending share).
+  [[nodiscard]] real pending_applied_work() const {
+    if (!applied_active_ || own_applied_.empty()) return 0;
+    const Solver& s = *solver_;
+    const soa3& applied = s.applied_forces();
+    real w = 0;
+    for (std::size_t j = 0; j < own_applied_.size(); ++j) {
+      const index_t g = own_applied_[j], k = static_cast<index_t>(j);
+      for (int c = 0; c < 3; ++c) w += 0.5 * (applied_previous_(k, c) + applied(g, c)) * s.gridpoints().velocity(g, c);
+    }
+    return w * s.dt();
+  }
   /// This rank's share of the kinetic and stored energy before the first step (J; 0 before it).
   [[nodiscard]] real initial_energy_share() const { return initial_; }
   /// Wall time this rank spent in the halo since it was built (s): packing and posting the
@@ -305,9 +339,13 @@ class stepper {
       std::int64_t e = k + 1;
       while (e < k1 && own_blocks_[at(e)] == own_blocks_[at(e - 1)] + 1) ++e;
       const index_t b0 = own_blocks_[at(k)], b1 = own_blocks_[at(e - 1)] + 1;
-      // solver::step starts the forces from zero (no gravity, no applied forces: refused).
-      for (index_t g = block_gridpoint_offsets_[at(b0)]; g < block_gridpoint_offsets_[at(b1)]; ++g)
+      // solver::step starts the forces from zero (no gravity: refused) plus the applied forces.
+      const soa3* applied = applied_count_ > 0 ? &solver_->applied_forces() : nullptr;
+      for (index_t g = block_gridpoint_offsets_[at(b0)]; g < block_gridpoint_offsets_[at(b1)]; ++g) {
         for (int c = 0; c < 3; ++c) gp.force(g, c) = 0;
+        if (applied != nullptr && applied_slot_[at(g)] != invalid_index)
+          for (int c = 0; c < 3; ++c) gp.force(g, c) += (*applied)(g, c);
+      }
       blocks.add_zone_forces_of_tasks(b0, b1, gp);
       k = e;
     }
@@ -391,6 +429,11 @@ class stepper {
   mutable node_set own_displacement_;                    ///< rank_share's copy: own rows' u, the rest 0
   int ranks_ = 1;                                        ///< ranks of the communicator
   double halo_seconds_ = 0;                              ///< halo_seconds()
+  std::size_t applied_count_ = 0;                        ///< the solver's applied gridpoints when built
+  std::vector<index_t> applied_slot_;                    ///< per gridpoint: its applied_nodes() index, or invalid
+  std::vector<index_t> own_applied_;                     ///< own applied gridpoints, increasing
+  soa3 applied_previous_;                                ///< their forces applied by the last step (N)
+  bool applied_active_ = false;                          ///< the last step applied them (their work is pending)
   mutable std::vector<double> rank_shares_;              ///< summed_energies' gathered shares
 };
 
