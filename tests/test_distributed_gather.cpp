@@ -6,7 +6,8 @@
 // unbalanced force to the bit, the energies' state terms to the bit and the work books to
 // round-off. A gather midway must not disturb the split (its books are put back before the next
 // step), and a checkpoint rank 0 writes after a gather is one of the whole model: a one-process
-// solver loads it and steps on with the reference's bits.
+// solver loads it and steps on with the reference's bits. The refusals: gravity, applied forces
+// registered after the split was built, a shared row that does not exist.
 #include <catch2/catch.hpp>
 
 #include <mpi.h>
@@ -109,4 +110,24 @@ TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi]
   }
   CHECK(differing_gridpoints(alone, reference) == 0);
   CHECK(differing_subcontacts(alone, reference) == 0);
+}
+
+TEST_CASE("split_run refuses gravity, and applied forces registered after it was built", "[mpi][step][gather]") {
+  const prism_scene scene;
+  prism_solver heavy(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  support_and_pull(heavy, scene.length);
+  heavy.set_gravity(vec3(0, 0, -9.81));
+  CHECK_THROWS_WITH(distributed::split_run<prism_solver>(heavy, scene.mesh, MPI_COMM_WORLD),
+                    Catch::Matchers::Contains("gravity"));
+
+  prism_solver s(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
+  support_and_pull(s, scene.length);
+  distributed::split_run<prism_solver> run(s, scene.mesh, MPI_COMM_WORLD);
+  run.step();
+  const std::vector<index_t> loaded{0};
+  const std::vector<real> stiffness{0.0};
+  s.register_applied_forces(loaded, stiffness);
+  CHECK_THROWS_WITH(run.step(), Catch::Matchers::Contains("1 gridpoints carry applied forces, 0 when the stepper was built"));
+  CHECK_THROWS_WITH(run.set_shared_rows({s.gridpoints().size()}), Catch::Matchers::Contains("is not one of the"));
+  run.step_of_rank().finish_exchange();  // the first step's halo, still in flight
 }
