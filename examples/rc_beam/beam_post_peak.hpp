@@ -2,10 +2,11 @@
 // The crack that opens fastest after the peak (issue #41 item 4). beam_failure_mode reads the
 // widest crack at the end; a diagonal crack that starts while a flexural crack is still the widest
 // does not show there. So the run keeps the opening of every sub-contact on a grid of deflection
-// (beam_opening_history), and after the run:
+// (beam_opening_history; a finer grid and the end state where the run stopped within one grid
+// step of its peak), and after the run:
 //   1. the post-peak increment of each sub-contact, dw_i = w_i(end) - w_i(peak), where w is the
-//      separation of its two gridpoints (m) and "peak" the first snapshot at or past the peak's
-//      deflection, on the sub-contacts past their tensile peak at the end;
+//      separation of its two gridpoints (m), "end" the last snapshot and "peak" the first snapshot
+//      at or past the peak's deflection, on the sub-contacts past their tensile peak at the end;
 //   2. the cracks of that increment field: its maxima along the span over the whole depth
 //      (beam_opening_maxima: 5 mm bins, maxima closer than 0.75 block sizes one crack, the angle of
 //      the increment-weighted line through the sub-contacts within 1.5 block sizes that gained at
@@ -37,18 +38,32 @@ namespace tessera::scenes {
 /// smoothed load (N). At most max_snapshots: when full, every other snapshot is dropped and the
 /// grid step doubled, so memory stays at max_snapshots x sub-contacts x 4 bytes (250 blocks:
 /// 27 000 sub-contacts, 28 MB) whatever the run's length.
+/// Beside the grid it keeps the last recent_snapshots on a grid ten times finer (about 3 grid
+/// steps; a tenth more memory). A brittle failure can stop the run (beam_loading::failure_drop) a
+/// grid step or two after its peak: the grid then holds one or two snapshots from the peak on, the
+/// last of them short of the stop, too few to see the failing crack open. finish() then puts the
+/// fine snapshots and the end state in place of the grid's last ones; a run that ends more than
+/// about three grid steps past its peak keeps its grid as it was.
 class beam_opening_history {
  public:
   static constexpr std::size_t max_snapshots = 256;
+  static constexpr std::size_t recent_snapshots = 30;
   explicit beam_opening_history(real step) : step_(step) {
     require(step > 0, "beam_opening_history: deflection step ", step, " m must be > 0");
   }
-  /// Records a snapshot when the deflection (m) has passed the next grid point.
+  /// Records a snapshot when the deflection (m) has passed the next grid point, and a fine one
+  /// when it has passed the next point of the fine grid (a tenth of the step).
   template <class Contacts>
   void record(const Contacts& c, const node_set& gp, real deflection, real load) {
-    if (!deflection_.empty() && deflection < deflection_.back() + step_) return;
-    std::vector<float> w(static_cast<std::size_t>(c.size()));
-    for (index_t i = 0; i < c.size(); ++i) w[static_cast<std::size_t>(i)] = static_cast<float>(subcontact_opening(c, gp, i));
+    const bool coarse = deflection_.empty() || deflection >= deflection_.back() + step_;
+    const bool fine = recent_.empty() || deflection >= recent_.back().deflection + 0.1 * step_;
+    if (!coarse && !fine) return;
+    std::vector<float> w = openings(c, gp);
+    if (fine) {
+      recent_.push_back({deflection, load, w});
+      if (recent_.size() > recent_snapshots) recent_.erase(recent_.begin());
+    }
+    if (!coarse) return;
     opening_.push_back(std::move(w));
     deflection_.push_back(deflection);
     load_.push_back(load);
@@ -62,15 +77,45 @@ class beam_opening_history {
     opening_.resize(kept), deflection_.resize(kept), load_.resize(kept);
     step_ *= 2;
   }
+  /// At the end of the run (deflection m, smoothed load N): if the peak (peak_deflection, m)
+  /// lies within the fine snapshots' reach, the grid's snapshots from the first fine one on give
+  /// way to the fine snapshots and the end state (class comment).
+  template <class Contacts>
+  void finish(const Contacts& c, const node_set& gp, real deflection, real load, real peak_deflection) {
+    if (recent_.empty() || peak_deflection < recent_.front().deflection) return;
+    // The end state last. As the load falls the mid-span can spring back: the end state then takes
+    // the place of the fine snapshots at or past its deflection, so the grid stays increasing.
+    while (!recent_.empty() && recent_.back().deflection >= deflection) recent_.pop_back();
+    recent_.push_back({deflection, load, openings(c, gp)});
+    while (!deflection_.empty() && deflection_.back() >= recent_.front().deflection)
+      opening_.pop_back(), deflection_.pop_back(), load_.pop_back();
+    for (snapshot& f : recent_) {
+      opening_.push_back(std::move(f.opening));
+      deflection_.push_back(f.deflection);
+      load_.push_back(f.load);
+    }
+    recent_.clear();
+  }
   [[nodiscard]] std::size_t size() const { return opening_.size(); }
   [[nodiscard]] real deflection(std::size_t j) const { return deflection_[j]; }
   [[nodiscard]] real load(std::size_t j) const { return load_[j]; }
   [[nodiscard]] real opening(std::size_t j, index_t i) const { return opening_[j][static_cast<std::size_t>(i)]; }
 
  private:
+  struct snapshot {
+    real deflection, load;
+    std::vector<float> opening;
+  };
+  template <class Contacts>
+  [[nodiscard]] static std::vector<float> openings(const Contacts& c, const node_set& gp) {
+    std::vector<float> w(static_cast<std::size_t>(c.size()));
+    for (index_t i = 0; i < c.size(); ++i) w[static_cast<std::size_t>(i)] = static_cast<float>(subcontact_opening(c, gp, i));
+    return w;
+  }
   real step_;
   std::vector<real> deflection_, load_;
   std::vector<std::vector<float>> opening_;
+  std::vector<snapshot> recent_;
 };
 
 /// The fastest-opening inclined crack after the peak (file comment).

@@ -432,6 +432,8 @@ template <class Law, class OnEvent>
   const contact::contact_energies ce = s.contacts().energies();
   r.compression_dissipated = ce.dissipated_compression;
   r.tension_dissipated = ce.dissipated_tension;
+  if (!r.deflection.empty())
+    history.finish(s.contacts(), gp, r.deflection.back(), r.smoothed_load.back(), r.peak_deflection);
   r.after_peak = beam_fastest_inclined_after_peak(s.contacts(), gp, history, o, hand.mean_block_size,
                                                   loading.crack_width, r.peak_load, r.peak_deflection);
   for (int k = 0; k < sides && o.full(); ++k) {
