@@ -2,7 +2,9 @@
 // The RC beam's supports and loading without plates of their own (--plates tied, beam.hpp): the
 // gridpoints under a plate (beam_strip) moved as one rigid plate hinged at its axis (hinged_plate).
 
+#include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -66,5 +68,25 @@ class hinged_plate {
   std::vector<real> arm_, v_last_;
   real inertia_ = 0, omega_ = 0;
 };
+
+/// The gridpoints the plates' update reads between steps, side by side: those under each steel
+/// plate (contact::rigid_platen, where built) or each tied plate's strip. A run split over MPI
+/// ranks keeps their rows current on every rank (common/mpi_run.hpp run_sampled).
+template <class Platen>
+[[nodiscard]] std::vector<index_t> beam_plate_rows(int sides, const std::array<std::optional<Platen>, 2>& support_platen,
+                                                   const std::array<std::optional<Platen>, 2>& loading_platen,
+                                                   const std::array<bc::node_group, 2>& support,
+                                                   const std::array<bc::node_group, 2>& plate) {
+  std::vector<index_t> rows;
+  for (int k = 0; k < sides; ++k) {
+    if (support_platen[k] && loading_platen[k]) {
+      for (const Platen* p : {&*support_platen[k], &*loading_platen[k]})
+        for (std::size_t j = 0; j < p->size(); ++j) rows.push_back(p->node(j));
+    } else {
+      for (const bc::node_group* g : {&support[k], &plate[k]}) rows.insert(rows.end(), g->nodes.begin(), g->nodes.end());
+    }
+  }
+  return rows;
+}
 
 }  // namespace tessera::scenes

@@ -384,18 +384,9 @@ template <class Law, class OnEvent>
                       tessera::detail::concat("deflection ", defl * 1e3, " mm, P = ", load * 1e-3, " kN",
                                               first_found ? ", cracked" : "", r.steel_yielded ? ", yielded" : ""));
   };
-  // The gridpoints `drive` reads between steps (under the plates): current on every rank when the
-  // run is split over MPI ranks (common/mpi_run.hpp); one process: s.run_until.
-  std::vector<index_t> plate_rows;
-  for (int k = 0; k < sides; ++k) {
-    if (contact_plates) {
-      for (const auto* p : {&*support_platen[k], &*loading_platen[k]})
-        for (std::size_t j = 0; j < p->size(); ++j) plate_rows.push_back(p->node(j));
-    } else {
-      for (const auto* g : {&support[k], &plate[k]}) plate_rows.insert(plate_rows.end(), g->nodes.begin(), g->nodes.end());
-    }
-  }
-  run_sampled(s, scene.mesh, done, drive, loading.sample, sample, plate_rows);
+  // One process: s.run_until; split over MPI ranks, the plates' gridpoints kept current on every rank.
+  run_sampled(s, scene.mesh, done, drive, loading.sample, sample,
+              beam_plate_rows(sides, support_platen, loading_platen, support, plate));
   progress.finish();
   on_event(std::as_const(s), std::string("end"));
 

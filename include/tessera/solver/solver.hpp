@@ -315,9 +315,8 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   [[nodiscard]] contact_set_type& contacts_for_step() { return contacts_; }
   /// The integrator, whose advance_dof integrates one component as advance does.
   [[nodiscard]] const Integrator& integrator() const { return integrator_; }
-  /// Closes a step whose pieces a driver ran: books the work of its integration and the work of
-  /// the applied forces it booked (J), advances the step count by one and the time by dt. No
-  /// gravity work and no step checker: such a driver refuses gravity and runs its own checks.
+  /// Closes a step whose pieces a driver ran: books its integration's and applied forces' work (J),
+  /// advances step and time. No gravity work, no step checker (such a driver runs its own checks).
   void close_external_step(const integrator::step_work& work, real applied_work = 0) {
     boundary_work_ += work.boundary;
     damping_dissipated_ += work.damping;
