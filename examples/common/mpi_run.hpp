@@ -32,9 +32,10 @@
 #include "tessera/io/json.hpp"
 #include "tessera/solver/recorders.hpp"
 
+#include <unistd.h>
+
 #ifdef TESSERA_HAVE_MPI
 #include <mpi.h>
-#include <unistd.h>
 
 #include "tessera/distributed/split_run.hpp"
 #endif

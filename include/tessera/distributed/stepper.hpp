@@ -65,6 +65,7 @@
 #include "../contact/concepts.hpp"
 #include "../contact/detail/subcontact_energies.hpp"
 #include "../integrator/concepts.hpp"
+#include "../solver/applied_forces.hpp"
 #include "../solver/boundary.hpp"
 #include "../solver/energy.hpp"
 #include "halo_exchange.hpp"
@@ -183,16 +184,11 @@ class stepper {
       initial_ = share[3] + share[4] + share[5];
     }
     if (!in_flight_) start_exchange();  // the first step: the ghosts as they stand now
-    real applied_work = 0;  // the last step's work of the own applied forces, booked now (solver::step)
+    // The last step's work of the own applied forces, booked now (solver::step).
+    const real applied_work = pending_applied_work();
     if (!own_applied_.empty()) {
       const soa3& applied = s.applied_forces();
-      for (std::size_t j = 0; j < own_applied_.size(); ++j) {
-        const index_t g = own_applied_[j], k = static_cast<index_t>(j);
-        if (applied_active_)
-          for (int c = 0; c < 3; ++c) applied_work += 0.5 * (applied_previous_(k, c) + applied(g, c)) * gp.velocity(g, c);
-        applied_previous_.row(k) = applied.row(g);
-      }
-      applied_work *= dt;
+      for (std::size_t j = 0; j < own_applied_.size(); ++j) applied_previous_.row(static_cast<index_t>(j)) = applied.row(own_applied_[j]);
       applied_active_ = true;
     }
     contacts.prepare_step(gp, dt);
@@ -301,13 +297,7 @@ class stepper {
   [[nodiscard]] real pending_applied_work() const {
     if (!applied_active_ || own_applied_.empty()) return 0;
     const Solver& s = *solver_;
-    const soa3& applied = s.applied_forces();
-    real w = 0;
-    for (std::size_t j = 0; j < own_applied_.size(); ++j) {
-      const index_t g = own_applied_[j], k = static_cast<index_t>(j);
-      for (int c = 0; c < 3; ++c) w += 0.5 * (applied_previous_(k, c) + applied(g, c)) * s.gridpoints().velocity(g, c);
-    }
-    return w * s.dt();
+    return tessera::detail::applied_work_of_step(own_applied_, applied_previous_, s.applied_forces(), s.gridpoints(), s.dt());
   }
   /// This rank's share of the kinetic and stored energy before the first step (J; 0 before it).
   [[nodiscard]] real initial_energy_share() const { return initial_; }
