@@ -46,10 +46,8 @@ namespace {
 TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi][step][gather]") {
   const auto [rank, size] = rank_and_size();
   const prism_scene scene;
-  prism_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  prism_solver split(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  support_and_pull(reference, scene.length);
-  support_and_pull(split, scene.length);
+  pulled_prism reference(scene);
+  pulled_prism split(scene);
   distributed::split_run<prism_solver> run(split, scene.mesh, MPI_COMM_WORLD);
   INFO("rank " << rank << " of " << size);
 
@@ -99,8 +97,7 @@ TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi]
       std::filesystem::temp_directory_path() / ("tessera_gathered_" + std::to_string(id) + ".ckpt");
   if (rank == 0) io::save_checkpoint(split, file, "gathered split run");
   MPI_Barrier(MPI_COMM_WORLD);
-  prism_solver alone(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  support_and_pull(alone, scene.length);
+  pulled_prism alone(scene);
   io::load_checkpoint(alone, file);
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank == 0) std::filesystem::remove(file);
@@ -114,14 +111,12 @@ TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi]
 
 TEST_CASE("split_run refuses gravity, and applied forces registered after it was built", "[mpi][step][gather]") {
   const prism_scene scene;
-  prism_solver heavy(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  support_and_pull(heavy, scene.length);
+  pulled_prism heavy(scene);
   heavy.set_gravity(vec3(0, 0, -9.81));
   CHECK_THROWS_WITH(distributed::split_run<prism_solver>(heavy, scene.mesh, MPI_COMM_WORLD),
                     Catch::Matchers::Contains("gravity"));
 
-  prism_solver s(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  support_and_pull(s, scene.length);
+  pulled_prism s(scene);
   distributed::split_run<prism_solver> run(s, scene.mesh, MPI_COMM_WORLD);
   run.step();
   const std::vector<index_t> loaded{0};

@@ -57,7 +57,7 @@ using namespace split_test;
 struct split_run {
   const char* name;
   int threads;  ///< OpenMP threads of its steps on every rank
-  std::unique_ptr<prism_solver> solver;
+  std::unique_ptr<pulled_prism> solver;
   std::unique_ptr<distributed::rank_ownership> own;
   std::unique_ptr<distributed::stepper<prism_solver>> step;
   index_t bad_u = 0, bad_v = 0, bad_reaction = 0, bad_state = 0, bad_load = 0;
@@ -66,8 +66,7 @@ struct split_run {
 TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][step]") {
   const auto [rank, size] = rank_and_size();
   const prism_scene scene;
-  prism_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  support_and_pull(reference, scene.length);
+  pulled_prism reference(scene);
   const bc::node_group top = reference.gridpoints_on_plane(2, scene.length, 1e-9 * scene.length);
 
   // Two block -> rank maps, rank 0's, broadcast: slabs by bisection (1 thread a rank), and (where
@@ -84,11 +83,7 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
 #endif
     const std::vector<int> map = broadcast_map(graph, name[0] != 'R');
     // The METIS split steps on 2 threads a rank: its bits must not depend on that either.
-    split_run run{name, name[0] == 'R' ? 1 : 2,
-                  std::make_unique<prism_solver>(scene.tess, scene.mesh, scene.block, scene.contact,
-                                                 reinforcement::none::params{}, pull_options()),
-                  nullptr, nullptr};
-    support_and_pull(*run.solver, scene.length);
+    split_run run{name, name[0] == 'R' ? 1 : 2, std::make_unique<pulled_prism>(scene), nullptr, nullptr};
     run.own = std::make_unique<distributed::rank_ownership>(map, size, scene.mesh, pairs);
     run.step = std::make_unique<distributed::stepper<prism_solver>>(*run.solver, scene.mesh, *run.own, MPI_COMM_WORLD,
                                                                     44 + static_cast<int>(splits.size()));
@@ -287,10 +282,8 @@ TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi]
 TEST_CASE("a split run saved per rank restarts to the same bits", "[mpi][step][checkpoint]") {
   const auto [rank, size] = rank_and_size();
   const prism_scene scene;
-  prism_solver run(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  prism_solver restarted(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options());
-  support_and_pull(run, scene.length);
-  support_and_pull(restarted, scene.length);
+  pulled_prism run(scene);
+  pulled_prism restarted(scene);
   distributed::block_graph_input in = distributed::blocks_of_mesh(scene.mesh);
   distributed::add_subcontacts(in, run.contacts());
   const distributed::rank_ownership own(broadcast_map(distributed::block_graph(in), true), size, scene.mesh,

@@ -58,6 +58,15 @@ inline void support_and_pull(prism_solver& s, real length) {
   s.prescribe_velocity(top, vec3(0, 0, pull_rate), bc::components::z);
 }
 
+/// A prism solver of `scene` with the pull's options, supported and pulled (support_and_pull): the
+/// solver every split test starts from, the reference as well as each rank's.
+struct pulled_prism : prism_solver {
+  explicit pulled_prism(const prism_scene& scene)
+      : prism_solver(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options()) {
+    support_and_pull(*this, scene.length);
+  }
+};
+
 [[nodiscard]] inline bool same_bits(real a, real b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 
 /// Rows of `rows` (u, v or reactions) of the gridpoints in `which` whose bits differ from `ref`'s.
