@@ -86,13 +86,14 @@ class mpi_session {
 
   /// Refuses, before anything is written, a run that cannot be split: started by an MPI launcher
   /// with more than one rank where the driver was built without MPI (every rank would run the
-  /// whole model and write the same files), or a scene that does not split (`splits` false:
-  /// rigid blocks, detected contacts). Throws invalid_input naming the rank count.
-  void require_splittable(bool splits, const char* what) const {
+  /// whole model and write the same files), or a scene or scheme that does not split (`splits`
+  /// false; `why` says what: rigid blocks, detected contacts, kinetic relaxation). Throws
+  /// invalid_input naming the rank count.
+  void require_splittable(bool splits, const char* what,
+                          const char* why = "rigid blocks and detected contacts are not distributed yet") const {
     require(launched_ranks_ <= 1, "started on ", launched_ranks_, " MPI ranks, but this driver was built without MPI "
             "(CMake TESSERA_MPI off); run it as one process, or build with Open MPI installed");
-    require(!split() || splits, what, " cannot run split over ", ranks_, " MPI ranks: rigid blocks and detected "
-            "contacts are not distributed yet; run it as one process");
+    require(!split() || splits, what, " cannot run split over ", ranks_, " MPI ranks: ", why, "; run it as one process");
   }
 
   /// On ranks other than 0: `out` becomes a scratch directory (removed when the session ends)

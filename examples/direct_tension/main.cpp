@@ -11,7 +11,9 @@
 //             (no rotation) and pulled along z at --rate after a half-cosine ramp
 //   solver    central differences, local damping gamma = 0.8, masses scaled so that one step
 //             moves the top by --step-displacement (dt* = du* / rate); quasi-static loading and
-//             the stop criterion are explained in direct_tension/tension_test.hpp
+//             the stop criterion are explained in direct_tension/tension_test.hpp; or
+//             (--scheme relaxation) kinetic dynamic relaxation: the top moved in increments,
+//             each relaxed to static equilibrium (solver/relaxation.hpp)
 //
 // Outputs in --out DIR: curve.csv (top displacement m, mean axial stress from the top and the
 // bottom reactions Pa, the largest nodal unbalanced force over f_T A), contacts_{peak,end}.vtp (sub-contacts with status, damage and every field
@@ -63,6 +65,9 @@ struct inputs {
   std::string params;             // calibrated.json (examples/calibrate); empty = the study verbatim
   scenes::calibration_entry calibrated;  // its entry for --blocks (scales 1 without --params)
   scenes::tension_loading loading;
+  std::string scheme = "explicit";  // explicit | relaxation (kinetic dynamic relaxation)
+  std::vector<std::string> explicit_flags_given;  // flags of the explicit ramp on the command line
+  std::vector<std::string> relax_flags_given;     // flags of the relaxation on the command line
 };
 
 void write_zones_vtu(const fs::path& path, const scenes::prism_scene& scene, const scenes::tension_snapshot& s) {
@@ -119,6 +124,19 @@ void check_inputs(inputs& in) {
                    "' must be 'decoupled' or 'coupled'");
   tessera::require(in.cohesion == "decoupled" || in.softening == "power",
                    "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
+  tessera::require(in.scheme == "explicit" || in.scheme == "relaxation", "direct_tension: --scheme '", in.scheme,
+                   "' must be 'explicit' or 'relaxation'");
+  tessera::require(in.scheme == "relaxation" || in.relax_flags_given.empty(), "direct_tension: ",
+                   in.relax_flags_given.empty() ? "" : in.relax_flags_given.front(),
+                   " applies to --scheme relaxation, and this run is --scheme ", in.scheme);
+  if (in.scheme == "relaxation") {
+    tessera::require(!in.rigid, "direct_tension: --scheme relaxation relaxes deformable blocks; --rigid is not relaxed");
+    tessera::require(in.explicit_flags_given.empty(), "direct_tension: ",
+                     in.explicit_flags_given.empty() ? "" : in.explicit_flags_given.front(),
+                     " sets the explicit ramp; with --scheme relaxation the top moves by --relax-increment instead");
+    tessera::require(in.loading.relax_increment <= in.loading.max_displacement, "direct_tension: --relax-increment ",
+                     in.loading.relax_increment, " m exceeds --max-displacement ", in.loading.max_displacement, " m");
+  }
   if (!in.params.empty()) {
     tessera::require(in.cohesion == "decoupled", "direct_tension: --params ", in.params,
                      ": calibrations are fitted with decoupled cohesion, this run uses --cohesion ", in.cohesion);
@@ -295,6 +313,13 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
       .set("ramp_time_s", r.ramp_time)
       .set("tail_speedup", in.loading.tail_speedup)
       .set("tail_start_displacement_m", r.tail_displacement)
+      .set("scheme", in.scheme)
+      .set("relaxation_increment_m", in.loading.relax_increment)
+      .set("relaxation_tolerance", in.loading.relax_tolerance)
+      .set("relaxation_increments", r.relax_increments)
+      .set("relaxation_unconverged_increments", r.relax_unconverged)
+      .set("relaxation_resets", r.relax_resets)
+      .set("relaxation_kinetic_removed_J", r.relax_kinetic_removed)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
@@ -385,6 +410,17 @@ int main(int argc, char** argv) {
              "FILE");
   cli.flag("--slip-breaks-tension", in.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
+  cli.option("--scheme", in.scheme,
+             "explicit: central differences with local damping along a ramped pull (the study's scheme); "
+             "relaxation: kinetic dynamic relaxation, the top moved in increments each relaxed to static "
+             "equilibrium (docs/guide.md; not with --rigid or under mpirun)",
+             "explicit|relaxation").one_of({"explicit", "relaxation"});
+  cli.option("--relax-increment", ld.relax_increment, "with --scheme relaxation: top displacement per increment (m)", "M")
+      .greater_than(0);
+  cli.option("--relax-tolerance", ld.relax_tolerance,
+             "with --scheme relaxation: an increment is relaxed once the largest nodal unbalanced force is at most "
+             "this x f_T A",
+             "R").greater_than(0).at_most(1);
   cli.option("--rate", ld.rate, "top velocity after the ramp (m/s)", "V").greater_than(0);
   cli.flag("--rigid", in.rigid, "rigid blocks instead of deformable semi-rigid ones");
   cli.option("--step-displacement", ld.step_displacement,
@@ -402,6 +438,11 @@ int main(int argc, char** argv) {
              "REL").within(0, tessera::geometry::max_regularization);
   cli.parse_or_exit(argc, argv);
   ld.platen_restraint = !free_platen;
+  ld.relaxation = in.scheme == "relaxation";
+  for (const char* f : {"--rate", "--step-displacement", "--dt", "--ramp-transits", "--tail-speedup", "--sample"})
+    if (cli.given(f)) in.explicit_flags_given.emplace_back(f);
+  for (const char* f : {"--relax-increment", "--relax-tolerance"})
+    if (cli.given(f)) in.relax_flags_given.emplace_back(f);
   if (in.common.quick) {  // reduced run; a value given on the command line is kept
     if (!cli.given("--step-displacement") && !cli.given("--dt")) ld.step_displacement = 5e-9;
     ld.stop_at_separation = false;
@@ -411,7 +452,10 @@ int main(int argc, char** argv) {
   // run.json is written when the output directory is created (after the checks), listing each
   // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
   try {
-    mpi.require_splittable(!in.rigid, "direct_tension --rigid");
+    if (in.rigid) mpi.require_splittable(false, "direct_tension --rigid");
+    if (ld.relaxation)
+      mpi.require_splittable(false, "direct_tension --scheme relaxation", "kinetic relaxation is not distributed");
+    mpi.require_splittable(true, "direct_tension");
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("direct_tension", e);
     return 2;

@@ -58,6 +58,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -75,6 +76,7 @@
 #include "../common/quasi_static.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
+#include "tessera/solver/relaxation.hpp"
 
 namespace tessera::scenes {
 
@@ -96,6 +98,13 @@ struct tension_loading {
   bool keep_fields = false;        ///< keep contact and zone snapshots at the peak and the end
   std::string label = "direct_tension";  ///< progress-line label
   bool progress = true;            ///< show a progress line on stderr
+  /// Kinetic dynamic relaxation (solver/relaxation.hpp) instead of the explicit ramp: the top moved
+  /// in increments of relax_increment (m) over relax_ramp steps, each held until the largest nodal
+  /// unbalanced force is at most relax_tolerance x f_T A (at most relax_max_steps steps), one
+  /// sample per increment; rate, step_displacement, dt, ramp and tail do not apply. Deformable blocks only.
+  bool relaxation = false;
+  real relax_increment = 2e-6, relax_tolerance = 1e-3;
+  std::int64_t relax_ramp = 10, relax_max_steps = 1'000'000;
   /// Called once the run's checks have passed, before its first step (the driver creates its
   /// output directory there, so run.json says "running" from the run's first minute).
   std::function<void()> on_start;
@@ -146,6 +155,10 @@ struct tension_result {
   // run
   real tail_displacement = 0;  ///< top displacement where the tail speed-up began (m; 0 = none)
   real dt = 0, ramp_time = 0, transit_time = 0, added_mass_ratio = 0;
+  /// With loading.relaxation: increments, those that hit relax_max_steps before the tolerance,
+  /// kinetic-energy resets, and the kinetic energy the resets removed (J; outside the energy books).
+  std::int64_t relax_increments = 0, relax_unconverged = 0, relax_resets = 0;
+  real relax_kinetic_removed = 0;
   std::int64_t steps = 0, subcontacts = 0, zones = 0, gridpoints = 0, blocks = 0;
   phase_times phases;  ///< time per phase of the step (solver::phases)
   double runtime_s = 0;
@@ -279,6 +292,31 @@ void read_tension_end(tension_result& r, const Solver& s, const prism_scene& sce
   r.blocks = scene.tess.cell_count();
 }
 
+/// The pull by kinetic relaxation (tension_loading::relaxation): increments of the top with the
+/// linear predictor on the ramps until the stress has fallen 5 % below its peak (past a snap the
+/// predictor would repeat it; relaxation_options::extrapolate), `observe` after each, until `stop`.
+template <class Solver, class Observe>
+void relax_tension(Solver& s, const tension_loading& in, real reference_force, const bool& stop, Observe&& observe,
+                   tension_result& r) {
+  require_positive(in.relax_increment, "direct tension: relaxation increment (m)");
+  require_positive(in.relax_tolerance, "direct tension: relaxation tolerance");
+  kinetic_relaxation<Solver> k(s);
+  relaxation_options o;
+  o.reference_force = reference_force;
+  o.ratio_tolerance = in.relax_tolerance;
+  o.max_steps = in.relax_max_steps;
+  o.extrapolate = true;
+  while (!stop) {
+    const relaxation_result step = k.advance(in.relax_increment, in.relax_ramp, o);
+    ++r.relax_increments;
+    r.relax_unconverged += step.converged ? 0 : 1;
+    observe(s);
+    if (r.stress.back() < 0.95 * r.peak_stress) o.extrapolate = false;
+  }
+  r.relax_resets = k.totals().resets;
+  r.relax_kinetic_removed = k.totals().kinetic_removed;
+}
+
 /// Runs the direct tension test on `scene` with solver type Solver and contact parameters
 /// `law_params` (see the file comment). Throws what the solver throws (invalid_input,
 /// numerical_instability).
@@ -298,6 +336,7 @@ template <class Solver, class LawParams>
 
   solver_options opt;
   if (in.mass_scaling) opt.mass_scaling_dt = in.dt > 0 ? in.dt : in.step_displacement / in.rate;
+  if (in.relaxation) opt = kinetic_relaxation_options(opt);  // no damping, masses at dt = 1 s
   opt.threads = in.threads;
   Solver s(scene.tess, scene.mesh, scene.block_material, law_params, {}, opt);
 
@@ -307,14 +346,16 @@ template <class Solver, class LawParams>
   const bc::node_group top = s.gridpoints_on_plane(2, length, tol);
   s.fix(bottom);
   if (in.platen_restraint) s.fix(top, bc::transverse_to(2));
-  s.prescribe_velocity(top, vec3::Zero(), bc::components::z);
+  // Relaxation: 1 m/s of pseudo-time, the load pattern kinetic_relaxation moves in increments.
+  s.prescribe_velocity(top, vec3(0, 0, in.relaxation ? 1 : 0), bc::components::z);
 
   tension_result r;
   const real total_mass = s.mass_scaling().original_mass + s.mass_scaling().added_mass;
   const real mass = total_mass > 0 ? total_mass : s.gridpoints().mass.sum();
   r.transit_time = length * std::sqrt(mass / (length * area) / scene.young);
-  r.ramp_time = in.ramp_transits * r.transit_time;
-  require_quasi_static("direct_tension", in.rate, length, scene.young, concrete_density,
+  r.ramp_time = in.relaxation ? 0 : in.ramp_transits * r.transit_time;
+  if (!in.relaxation)
+    require_quasi_static("direct_tension", in.rate, length, scene.young, concrete_density,
                        s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0,
                        f_t);
   // v(t) = v0 (1 - cos(pi t / T_r)) / 2 over the ramp, and on the tail (from t_tail) the same
@@ -336,7 +377,7 @@ template <class Solver, class LawParams>
     }
     bc::update_velocity(s.gridpoints(), top, vec3(0, 0, in.rate * factor), bc::components::z);
   };
-  ramp(s);
+  if (!in.relaxation) ramp(s);
 
   // The separation test: no load path left between the blocks on the two supports.
   const index_t n_blocks = scene.tess.cell_count();
@@ -398,12 +439,22 @@ template <class Solver, class LawParams>
                       tessera::detail::concat("u = ", u * 1e3, " mm, sigma = ", sigma * 1e-6, " MPa, peak ",
                                               r.peak_stress * 1e-6, " MPa"));
   };
-  run_sampled(s, scene.mesh, stop, ramp, in.sample, observe);  // split over MPI ranks under mpirun
+  if constexpr (!Solver::blocks_type::is_rigid) {
+    if (in.relaxation) relax_tension(s, in, f_t * area, stop, observe, r);
+  } else {
+    require(!in.relaxation, "direct tension: kinetic relaxation takes deformable blocks, not rigid ones");
+  }
+  if (!in.relaxation) run_sampled(s, scene.mesh, stop, ramp, in.sample, observe);  // split under mpirun
   progress.finish();
 
   for (std::size_t k = 0; k < indicator_samples_to_peak; ++k)
     r.reaction_imbalance_max = std::max(r.reaction_imbalance_max, imbalance[k]);
   read_tension_end(r, s, scene, in);
+  if (in.relaxation) {
+    // The resets remove kinetic energy, and the ramps move the huge relaxation masses of the top:
+    // neither the boundary work nor the balance is a figure of the model (non-finite: null).
+    r.boundary_work = r.energy_balance_error = std::numeric_limits<real>::quiet_NaN();
+  }
   r.runtime_s = timer.seconds();
   return r;
 }
