@@ -24,7 +24,7 @@
 //
 // What splits: as distributed::stepper (deformable blocks, bonded faces, embedded bars, applied
 // forces such as a rigid platen's, whose inputs set_shared_rows / share_rows keep current on every
-// rank; no rigid blocks, detected contacts or gravity). Every rank must call every member
+// rank, gravity; no rigid blocks or detected contacts). Every rank must call every member
 // function, the same number of times. Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
@@ -95,8 +95,7 @@ class split_run {
  public:
   /// Splits `s` (built from `mesh`, identically on every rank of `comm`) over the communicator's
   /// ranks with `how`. Throws invalid_input as rank_ownership and stepper do (a rank without
-  /// blocks, rigid blocks, gravity set), and for partitioner::metis where METIS
-  /// is not built in.
+  /// blocks, rigid blocks), and for partitioner::metis where METIS is not built in.
   split_run(Solver& s, const geometry::block_mesh& mesh, MPI_Comm comm, partitioner how = default_partitioner())
       : solver_(&s), comm_(comm), how_(how), graph_(graph_of(s, mesh)), map_(partition(graph_, comm, how)),
         own_(make_ownership(map_, ranks_of(comm), mesh, s)), stepper_(s, mesh, own_, comm), gather_(s, mesh, own_, comm) {

@@ -3,8 +3,9 @@
 // (docs/architecture.md, "The distributed step"), for deformable blocks bonded by
 // contact::face_contacts, with or without bars embedded in them (reinforcement::embedded_truss)
 // and applied forces (a contact::rigid_platen's; the caller keeps their rows and whatever they are
-// computed from current on every rank: split_run::share_rows); no detected contacts, rigid blocks
-// or gravity yet. Every rank builds the whole
+// computed from current on every rank: split_run::share_rows) and gravity (each own gridpoint's
+// force starts from its weight, as in solver::step); no detected contacts or rigid blocks yet.
+// Every rank builds the whole
 // model (a solver over every block: the memory of one process per rank, acceptable while a scene
 // fits one machine's memory many times over) and the same rank_ownership; the stepper restricts
 // the solver's step to what its rank evaluates and owns:
@@ -93,8 +94,8 @@ class stepper {
   /// (`mesh` the block_mesh it was built from), under `own`, built on every rank from the same
   /// map and the solver's sub-contacts (contact_pairs_of(s.contacts())). `tag` keeps the halo's
   /// messages apart. Throws invalid_input when the communicator's size is not own.ranks(), when
-  /// the mesh or the ownership do not match the solver (gridpoints, blocks, sub-contacts), when a
-  /// block has no zones, or when gravity is set (not distributed yet).
+  /// the mesh or the ownership do not match the solver (gridpoints, blocks, sub-contacts), or when a
+  /// block has no zones.
   stepper(Solver& s, const geometry::block_mesh& mesh, const rank_ownership& own, MPI_Comm comm, int tag = 44)
       : solver_(&s), halo_(own, comm, tag, bars) {
     MPI_Comm_rank(comm, &rank_);
@@ -110,8 +111,6 @@ class stepper {
     // with zones, in block order).
     require(s.blocks().zone_task_count() == s.blocks().block_count(), "distributed::stepper: ",
             s.blocks().block_count() - s.blocks().zone_task_count(), " block(s) have no zones");
-    require(s.gravity() == vec3::Zero(), "distributed::stepper: gravity (", s.gravity().transpose(),
-            ") m/s^2 is not distributed yet; set it to zero");
     // Applied forces (a contact::rigid_platen's): each own registered gridpoint starts its force
     // from its applied row, as solver::step does; the caller keeps the rows current on every rank.
     applied_count_ = s.applied_nodes().size();
@@ -154,6 +153,7 @@ class stepper {
       if (applied_slot_[at(g)] != invalid_index) own_applied_.push_back(g);
     applied_previous_.setZero(static_cast<index_t>(own_applied_.size()), 3);
     block_work_.resize(own_blocks_.size());
+    block_gravity_power_.resize(own_blocks_.size());
     if constexpr (bars) {
       require(own.bar_node_count() == s.bar_nodes().size(), "distributed::stepper: the ownership has ",
               own.bar_node_count(), " bar nodes, the solver ", s.bar_nodes().size(),
@@ -168,11 +168,11 @@ class stepper {
 
   /// Advances this rank's part of the model by one step (file comment). Every rank of the
   /// communicator must call it, the same number of times. Throws invalid_input, before anything
-  /// changes, when gravity was set or applied forces registered since the stepper was built (every
-  /// rank throws alike: the model is the same on all).
+  /// changes, when applied forces were registered since the stepper was built (every rank throws
+  /// alike: the model is the same on all). Gravity set or changed between steps is taken as
+  /// solver::step takes it.
   void step() {
     Solver& s = *solver_;
-    require(s.gravity() == vec3::Zero(), "distributed::stepper: gravity was set on the solver; it is not distributed yet");
     require(s.applied_nodes().size() == applied_count_, "distributed::stepper: ", s.applied_nodes().size(),
             " gridpoints carry applied forces, ", applied_count_, " when the stepper was built; build it after them");
     node_set& gp = s.gridpoints();
@@ -192,6 +192,7 @@ class stepper {
       applied_active_ = true;
     }
     contacts.prepare_step(gp, dt);
+    const bool weighted = s.gravity() != vec3::Zero();
     const auto own_block_count = static_cast<std::int64_t>(own_blocks_.size());
     parallel_range_pair(
         own_block_count, [&](std::int64_t k0, std::int64_t k1) { add_zone_forces(k0, k1, gp); },
@@ -215,20 +216,23 @@ class stepper {
       integrator::step_work w;
       for (index_t g = g0; g < g1; ++g) advance_node(integ, gp, g, dt, w);
       block_work_[at(k)] = w;
+      if (weighted) block_gravity_power_[at(k)] = gravity_power(gp, g0, g1);
     }, 4);
     integrator::step_work work;
-    for (const auto& w : block_work_) {
-      work.boundary += w.boundary;
-      work.damping += w.damping;
+    real gravity_work = 0;  // weight x half-step velocity x dt, as solver::step books it
+    for (std::size_t k = 0; k < block_work_.size(); ++k) {
+      work.boundary += block_work_[k].boundary;
+      work.damping += block_work_[k].damping;
+      if (weighted) gravity_work += block_gravity_power_[k] * dt;
     }
     if constexpr (bars)
       for (const index_t n : own_bar_nodes_) advance_node(integ, s.bar_nodes(), n, dt, work);
-    s.close_external_step(work, applied_work);
+    s.close_external_step(work, applied_work, gravity_work);
     start_exchange();
   }
 
   /// The energy balance of the whole model now (J), from every rank's share: the work of the
-  /// support reactions and the local damping summed over the steps (each rank books its own
+  /// support reactions, the local damping and gravity summed over the steps (each rank books its own
   /// gridpoints, block by block), the kinetic energy of its gridpoints (1/2 m v^2, half-step v),
   /// the elastic energy of its blocks' zones (blocks' stored_energy, with rotations of the
   /// current displacements), the contact energies of the sub-contacts it owns (stored,
@@ -254,6 +258,7 @@ class stepper {
     e.contact_stored = sum[5];
     e.contact_dissipated = sum[6];
     e.contact_dissipated_tension = sum[7];
+    e.gravity_work = sum[8];
     return e;
   }
 
@@ -329,10 +334,11 @@ class stepper {
       std::int64_t e = k + 1;
       while (e < k1 && own_blocks_[at(e)] == own_blocks_[at(e - 1)] + 1) ++e;
       const index_t b0 = own_blocks_[at(k)], b1 = own_blocks_[at(e - 1)] + 1;
-      // solver::step starts the forces from zero (no gravity: refused) plus the applied forces.
+      // solver::step starts the forces from the weights (zero without gravity) plus the applied forces.
       const soa3* applied = applied_count_ > 0 ? &solver_->applied_forces() : nullptr;
+      const soa3* weight = solver_->gravity() != vec3::Zero() ? &solver_->gravity_forces() : nullptr;
       for (index_t g = block_gridpoint_offsets_[at(b0)]; g < block_gridpoint_offsets_[at(b1)]; ++g) {
-        for (int c = 0; c < 3; ++c) gp.force(g, c) = 0;
+        for (int c = 0; c < 3; ++c) gp.force(g, c) = weight != nullptr ? (*weight)(g, c) : real(0);
         if (applied != nullptr && applied_slot_[at(g)] != invalid_index)
           for (int c = 0; c < 3; ++c) gp.force(g, c) += (*applied)(g, c);
       }
@@ -341,9 +347,18 @@ class stepper {
     }
   }
 
-  static constexpr int share_count = 8;  ///< the terms summed_energies gathers from each rank
+  /// sum over gridpoints [g0, g1) of their weight . v (W): the gravity power of a block.
+  [[nodiscard]] real gravity_power(const node_set& gp, index_t g0, index_t g1) const {
+    const soa3& w = solver_->gravity_forces();
+    real p = 0;
+    for (index_t g = g0; g < g1; ++g)
+      p += (w(g, 0) * gp.velocity(g, 0) + w(g, 1) * gp.velocity(g, 1)) + w(g, 2) * gp.velocity(g, 2);
+    return p;
+  }
+
+  static constexpr int share_count = 9;  ///< the terms summed_energies gathers from each rank
   /// This rank's shares, in summed_energies' order: initial, boundary work, damping, kinetic,
-  /// zones' elastic energy, contact stored, dissipated and dissipated in tension (J).
+  /// zones' elastic energy, contact stored, dissipated and dissipated in tension, gravity work (J).
   [[nodiscard]] std::array<double, share_count> rank_share() const {
     const Solver& s = *solver_;
     const node_set& gp = s.gridpoints();
@@ -366,7 +381,7 @@ class stepper {
     // checkpoint of the solver keeps them.
     const energy_balance books = s.energies();
     return {initial_, books.boundary_work, books.damping_dissipated, kinetic, zones, c.stored, c.dissipated,
-            c.dissipated_tension};
+            c.dissipated_tension, books.gravity_work};
   }
 
   /// The three components of node i, each as the integrator's advance does it (advance_dof).
@@ -413,6 +428,7 @@ class stepper {
   std::vector<index_t> interior_faces_, interior_last_;  ///< face tasks [first, last) with both blocks own
   std::vector<index_t> boundary_faces_, boundary_last_;  ///< face tasks [first, last) with a ghost block
   std::vector<integrator::step_work> block_work_;        ///< per own block: its integration work this step
+  std::vector<real> block_gravity_power_;                ///< per own block: its gravity power this step (W)
   real initial_ = 0;                                     ///< this rank's kinetic + stored energy before step 1 (J)
   std::vector<index_t> owned_contacts_;                  ///< sub-contacts this rank books, increasing
   std::vector<index_t> own_bar_nodes_;                   ///< bar nodes of this rank, increasing

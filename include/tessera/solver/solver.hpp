@@ -1,11 +1,9 @@
 #pragma once
 // tessera::solver<Blocks, Contacts, Reinforcement, Integrator, Checker> — the composed model of a
 // scene: blocks (deformable zones or rigid bodies) on one node_set of gridpoints, a contact set
-// (contact::ContactSet: contact::face_contacts<Law> for the bonded faces of a tessellation, or a
-// detecting set) that evaluates its contact law per sub-contact, optional embedded reinforcement, boundary
-// conditions, the stable time step, energy bookkeeping and a step checker. Each policy is
-// checked by its concept, and what a scene does not use is not compiled in (reinforcement::none
-// removes every bar call, no_step_checker the checks).
+// (contact::ContactSet: face_contacts<Law> for a tessellation's bonded faces, or a detecting set),
+// optional embedded reinforcement, boundary conditions, the stable time step, energy books and a
+// step checker. Each policy is checked by its concept; what a scene does not use is not compiled.
 //
 // One step (docs/architecture.md, study eq. 1):
 //   1. zero gridpoint and bar-node forces (gridpoints start from their weights under gravity and
@@ -27,8 +25,8 @@
 // members are the solver's: supports, velocities and selections by block (supports.hpp), forces
 // applied from outside the model (applied_forces.hpp), run and run_until (run.hpp).
 //
-// Thread safety: one solver is driven by one thread; its loops are parallel and deterministic
-// (bit-identical for any thread count). step() allocates nothing.
+// Thread safety: one solver, one driving thread; its loops are parallel and bit-identical for
+// any thread count. step() allocates nothing.
 
 #include <chrono>
 #include <cstdint>
@@ -69,8 +67,7 @@ template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement
 class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>>,
                public solver_applied_forces<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>>,
                public solver_runs<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>> {
-  // The supports, the applied forces and the runs reach the state through the solver (their
-  // file comments).
+  // The supports, the applied forces and the runs reach the state through the solver.
   friend class solver_supports<solver>;
   friend class solver_applied_forces<solver>;
   friend class solver_runs<solver>;
@@ -159,6 +156,8 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
     }
   }
   [[nodiscard]] const vec3& gravity() const { return gravity_; }
+  /// Deformable blocks: each gridpoint's weight m0_i g (N), where each step's forces start; empty without gravity.
+  [[nodiscard]] const soa3& gravity_forces() const { return gravity_force_; }
 
   /// Advances the model by one time step (see the file comment). One function on purpose (about
   /// 85 lines): the step order of docs/architecture.md, with its fused parallel region, in one place.
@@ -315,12 +314,13 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   [[nodiscard]] contact_set_type& contacts_for_step() { return contacts_; }
   /// The integrator, whose advance_dof integrates one component as advance does.
   [[nodiscard]] const Integrator& integrator() const { return integrator_; }
-  /// Closes a step whose pieces a driver ran: books its integration's and applied forces' work (J),
-  /// advances step and time. No gravity work, no step checker (such a driver runs its own checks).
-  void close_external_step(const integrator::step_work& work, real applied_work = 0) {
+  /// Closes a step whose pieces a driver ran: books its integration's, applied forces' and gravity's
+  /// work (J), advances step and time. No step checker (such a driver runs its own checks).
+  void close_external_step(const integrator::step_work& work, real applied_work = 0, real gravity_work = 0) {
     boundary_work_ += work.boundary;
     damping_dissipated_ += work.damping;
     applied_work_ += applied_work;
+    gravity_work_ += gravity_work;
     ++step_;
     time_ += dt_;
   }
