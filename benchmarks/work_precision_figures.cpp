@@ -534,8 +534,8 @@ int main(int argc, char** argv) {
                            "Error against run time as DESIGN.md section 7 defines it: every accuracy setting of a scene on K\n"
                            "seeds; figure by figure (seed means) against the converged setting and the hand values, the\n"
                            "distance between K-seed mean curves beside the seed band, run time and steps.\n"
-                           "--quick: 2 seeds, two or three coarse settings (and the prism's three relaxation settings), the prism stopped\n"
-                           "at 70 % of its peak.");
+                           "--quick: 2 seeds, two or three coarse settings (and the prism's three relaxation settings), the prism\n"
+                           "stopped at 70 % of its peak.");
   cli.add_standard(common);
   cli.option("--scene", scene, "scene").one_of({"prism", "tie"});
   cli.option("--seeds", seeds, "seeds per setting (seed, seed+1, ...)", "K").within(1, 100);
