@@ -83,7 +83,7 @@ if [[ $quick == 1 ]]; then
   add calibrate_beam 5 "$bin/calibrate --quick --material beam"
   beam_list+=(quick_calibrated)
   add beam_quick_calibrated 8 "$bin/rc_beam --quick --no-vtk --params $cal_beam"
-  add work_precision_prism 15 "$wp --scene prism --quick"
+  add work_precision_prism 120 "$wp --scene prism --quick"
   add work_precision_tie 20 "$wp --scene tie --quick"
 else
   blocks_list=(100 250 500)
@@ -112,7 +112,7 @@ else
     beam_list+=("${b}_calibrated")
     add "beam_${b}_calibrated" $([[ $b == 250 ]] && echo 780 || echo 1140) "$bin/rc_beam --blocks $b --seed 1 --no-vtk --params $cal_beam"
   done
-  add work_precision_prism 440 "$wp --scene prism"
+  add work_precision_prism 1700 "$wp --scene prism"
   add work_precision_tie 440 "$wp --scene tie"
 fi
 
