@@ -298,14 +298,12 @@ void read_tension_end(tension_result& r, const Solver& s, const prism_scene& sce
 template <class Solver, class Observe>
 void relax_tension(Solver& s, const tension_loading& in, real reference_force, const bool& stop, Observe&& observe,
                    tension_result& r) {
-  require_positive(in.relax_increment, "direct tension: relaxation increment (m)");
-  require_positive(in.relax_tolerance, "direct tension: relaxation tolerance");
-  kinetic_relaxation<Solver> k(s);
   relaxation_options o;
   o.reference_force = reference_force;
   o.ratio_tolerance = in.relax_tolerance;
   o.max_steps = in.relax_max_steps;
   o.extrapolate = true;
+  kinetic_relaxation<Solver> k(s);
   while (!stop) {
     const relaxation_result step = k.advance(in.relax_increment, in.relax_ramp, o);
     ++r.relax_increments;
@@ -332,6 +330,11 @@ template <class Solver, class LawParams>
   require_positive(in.step_displacement, "direct tension: displacement per step (m)");
   require_non_negative(in.ramp_transits, "direct tension: ramp duration (wave transits)");
   require_positive(in.tail_speedup, "direct tension: tail speed-up factor");
+  if (in.relaxation) {  // before anything is built or written; the options as advance checks them
+    require(!Solver::blocks_type::is_rigid, "direct tension: kinetic relaxation takes deformable blocks, not rigid ones");
+    require_positive(in.relax_increment, "direct tension: relaxation increment (m)");
+    require_valid_relaxation({.reference_force = 1, .ratio_tolerance = in.relax_tolerance, .max_steps = in.relax_max_steps});
+  }
   const cli::wall_timer timer;
 
   solver_options opt;
@@ -439,12 +442,11 @@ template <class Solver, class LawParams>
                       tessera::detail::concat("u = ", u * 1e3, " mm, sigma = ", sigma * 1e-6, " MPa, peak ",
                                               r.peak_stress * 1e-6, " MPa"));
   };
-  if constexpr (!Solver::blocks_type::is_rigid) {
-    if (in.relaxation) relax_tension(s, in, f_t * area, stop, observe, r);
-  } else {
-    require(!in.relaxation, "direct tension: kinetic relaxation takes deformable blocks, not rigid ones");
+  if (!in.relaxation) {
+    run_sampled(s, scene.mesh, stop, ramp, in.sample, observe);  // split over MPI ranks under mpirun
+  } else if constexpr (!Solver::blocks_type::is_rigid) {
+    relax_tension(s, in, f_t * area, stop, observe, r);
   }
-  if (!in.relaxation) run_sampled(s, scene.mesh, stop, ramp, in.sample, observe);  // split under mpirun
   progress.finish();
 
   for (std::size_t k = 0; k < indicator_samples_to_peak; ++k)

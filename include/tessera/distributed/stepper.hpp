@@ -68,6 +68,7 @@
 #include "../integrator/concepts.hpp"
 #include "../solver/applied_forces.hpp"
 #include "../solver/boundary.hpp"
+#include "../solver/detail/energy_books.hpp"
 #include "../solver/energy.hpp"
 #include "halo_exchange.hpp"
 #include "ownership.hpp"
@@ -349,10 +350,8 @@ class stepper {
 
   /// sum over gridpoints [g0, g1) of their weight . v (W): the gravity power of a block.
   [[nodiscard]] real gravity_power(const node_set& gp, index_t g0, index_t g1) const {
-    const soa3& w = solver_->gravity_forces();
     real p = 0;
-    for (index_t g = g0; g < g1; ++g)
-      p += (w(g, 0) * gp.velocity(g, 0) + w(g, 1) * gp.velocity(g, 1)) + w(g, 2) * gp.velocity(g, 2);
+    for (index_t g = g0; g < g1; ++g) p += tessera::detail::weight_power(solver_->gravity_forces(), gp, g);
     return p;
   }
 

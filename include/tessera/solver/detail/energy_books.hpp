@@ -57,13 +57,16 @@ void add_state_energies(energy_balance& e, const Blocks& blocks, const node_set&
   }
 }
 
+/// Power of gridpoint i's weight (W): (m0_i g) . v_i, the term gravity_work_of_step sums.
+[[nodiscard]] inline real weight_power(const soa3& gravity_force, const node_set& gridpoints, std::int64_t i) {
+  return (gravity_force(i, 0) * gridpoints.velocity(i, 0) + gravity_force(i, 1) * gridpoints.velocity(i, 1)) +
+         gravity_force(i, 2) * gridpoints.velocity(i, 2);
+}
+
 /// Work of the gridpoints' weights over one step (J): sum_i (m0_i g) . v_i(t + dt/2) dt, the exact
 /// work of a constant force (deformable blocks; gravity_force one row per gridpoint, N).
 [[nodiscard]] inline real gravity_work_of_step(const soa3& gravity_force, const node_set& gridpoints, real dt) {
-  return deterministic_sum(gridpoints.size(), [&](std::int64_t i) {
-           return (gravity_force(i, 0) * gridpoints.velocity(i, 0) + gravity_force(i, 1) * gridpoints.velocity(i, 1)) +
-                  gravity_force(i, 2) * gridpoints.velocity(i, 2);
-         }) * dt;
+  return deterministic_sum(gridpoints.size(), [&](std::int64_t i) { return weight_power(gravity_force, gridpoints, i); }) * dt;
 }
 
 /// Unbalanced force of the last step over free components (solver::unbalanced_force): of the
