@@ -54,6 +54,7 @@
 // Cost: one pass over the free components per step (kinetic energy) and one serial pass over the
 // nodes per check; the steps are the solver's. Thread safety: as the solver (one thread).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -77,6 +78,11 @@ struct relaxation_options {
   /// for the increment after a load drop: extrapolating an increment in which a crack snapped
   /// open repeats the snap (measured on the prism: the blocks unloaded into compression).
   bool extrapolate = false;
+  /// The ratio also takes each block's resultant: the sum over a block's gridpoints of their
+  /// unbalanced forces (free components), largest over the blocks, over reference_force. A slow
+  /// mode (a run of blocks sliding along a bar, a floating piece) leaves every nodal force small
+  /// while they add up over a block; this catches it at one pass over the gridpoints a check.
+  bool block_resultant = false;
 };
 
 /// What a relaxation (or an increment and its relaxation) did.
@@ -223,8 +229,30 @@ class kinetic_relaxation {
     }
   }
 
-  [[nodiscard]] real ratio(const relaxation_options& o) const {
-    return s_.unbalanced_force().max_force / o.reference_force;
+  [[nodiscard]] real ratio(const relaxation_options& o) {
+    real worst = s_.unbalanced_force().max_force;
+    if (o.block_resultant) worst = std::max(worst, largest_block_resultant());
+    return worst / o.reference_force;
+  }
+
+  /// Largest |sum of a block's gridpoint forces over their free components| (N); serial, in
+  /// gridpoint order (the same bits for every thread count).
+  [[nodiscard]] real largest_block_resultant() {
+    const node_set& g = s_.gridpoints();
+    if (block_sum_.rows() == 0) {
+      index_t blocks = 0;
+      for (index_t i = 0; i < g.size(); ++i) blocks = std::max(blocks, s_.gridpoint_block(i) + 1);
+      block_sum_.setZero(blocks, 3);
+    }
+    block_sum_.setZero();
+    for (index_t i = 0; i < g.size(); ++i) {
+      const index_t b = s_.gridpoint_block(i);
+      for (int c = 0; c < 3; ++c)
+        if (g.constraint(i, c) == free_) block_sum_(b, c) += g.force(i, c);
+    }
+    real worst = 0;
+    for (index_t b = 0; b < block_sum_.rows(); ++b) worst = std::max(worst, block_sum_.row(b).norm());
+    return worst;
   }
 
   /// Sum of 1/2 m v^2 over the free components of gridpoints and bar nodes (J).
@@ -310,6 +338,7 @@ class kinetic_relaxation {
   soa3 change_, bar_change_;  ///< their change over the last increment (m)
   real last_duration_ = 0;    ///< the last increment's duration (s; 0 before the first)
   real previous_ = 0;  ///< free kinetic energy after the last step (J)
+  soa3 block_sum_;     ///< per block: resultant of the free gridpoint forces (N; block_resultant)
   real time_ = 0;
   relaxation_result totals_;
 };
