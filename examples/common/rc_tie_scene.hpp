@@ -49,9 +49,11 @@ namespace tessera::scenes {
 using tie_bar = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
 /// Blocks (deformable semi-rigid tets, or rigid 6-DOF bodies), the given contact law with the
 /// contact set's pack path (law::with_elastic_packs: same bits as Law without FMA contraction,
-/// faster on the tie), the embedded bar.
-template <class Blocks, class Law>
-using tie_solver = solver<Blocks, presets::bonded_faces<Law>, tie_bar>;
+/// faster on the tie), the embedded bar. Checker: the step checker (checks::no_step_checker for a
+/// kinetic relaxation, whose resets and ramps move the model outside the energy books).
+template <class Blocks, class Law, class Checker = checks::default_step_checker>
+using tie_solver = solver<Blocks, presets::bonded_faces<Law>, tie_bar,
+                          integrator::central_difference<integrator::local_damping>, Checker>;
 using deformable_blocks = blocks::deformable<zones::linear_elastic_tet>;
 
 struct tie_options {
@@ -216,6 +218,14 @@ struct tie_loading {
   /// DESIGN.md keeps the tensile strength of a contact that slipped).
   bool slip_breaks_tension = false;
   std::string progress_label;   ///< non-empty: a progress line on stderr with this label
+  /// Kinetic dynamic relaxation (solver/relaxation.hpp) instead of the explicit pull: the bar ends
+  /// moved apart by relax_increment (m of elongation) over relax_ramp steps, each increment held
+  /// until the largest nodal unbalanced force is at most relax_tolerance x N_cr (at most
+  /// relax_max_steps steps), one sample per increment; rate, ramp_time, dt, added_mass_ratio,
+  /// damping_gamma, sample and rate_control are not used. Deformable blocks, one process.
+  bool relaxation = false;
+  real relax_increment = 1e-5, relax_tolerance = 1e-3;
+  std::int64_t relax_ramp = 10, relax_max_steps = 1'000'000;
 };
 
 /// Mass-scaled time step for a tie of `blocks` blocks that keeps the added mass near the
@@ -282,6 +292,10 @@ struct tie_result {
   phase_times phases;  ///< time per phase of the step (solver::phases)
   double runtime_s = 0;
   bool yielded = false;
+  /// With tie_loading::relaxation: increments, those that hit relax_max_steps before the
+  /// tolerance, kinetic-energy resets, and the kinetic energy they removed (J of pseudo-time).
+  std::int64_t relax_increments = 0, relax_unconverged = 0, relax_resets = 0;
+  real relax_kinetic_removed = 0;
 };
 
 }  // namespace tessera::scenes

@@ -34,6 +34,7 @@
 
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
+#include "common/relaxed_scheme.hpp"
 #include "common/scenes.hpp"
 #include "direct_tension/tension_test.hpp"
 #include "tessera/io/atomic_file.hpp"
@@ -124,19 +125,16 @@ void check_inputs(inputs& in) {
                    "' must be 'decoupled' or 'coupled'");
   tessera::require(in.cohesion == "decoupled" || in.softening == "power",
                    "direct_tension: --cohesion coupled is built with power softening only, got --softening ", in.softening);
-  tessera::require(in.scheme == "explicit" || in.scheme == "relaxation", "direct_tension: --scheme '", in.scheme,
-                   "' must be 'explicit' or 'relaxation'");
-  tessera::require(in.scheme == "relaxation" || in.relax_flags_given.empty(), "direct_tension: ",
-                   in.relax_flags_given.empty() ? "" : in.relax_flags_given.front(),
-                   " applies to --scheme relaxation, and this run is --scheme ", in.scheme);
-  if (in.scheme == "relaxation") {
-    tessera::require(!in.rigid, "direct_tension: --scheme relaxation relaxes deformable blocks; --rigid is not relaxed");
-    tessera::require(in.explicit_flags_given.empty(), "direct_tension: ",
-                     in.explicit_flags_given.empty() ? "" : in.explicit_flags_given.front(),
-                     " sets the explicit ramp; with --scheme relaxation the top moves by --relax-increment instead");
-    tessera::require(in.loading.relax_increment <= in.loading.max_displacement, "direct_tension: --relax-increment ",
-                     in.loading.relax_increment, " m exceeds --max-displacement ", in.loading.max_displacement, " m");
-  }
+  tessera::scenes::check_scheme_flags({.driver = "direct_tension",
+                                       .scheme = in.scheme,
+                                       .explicit_given = in.explicit_flags_given,
+                                       .relax_given = in.relax_flags_given,
+                                       .rigid = in.rigid,
+                                       .explicit_load = "ramp",
+                                       .moves = "the top moves",
+                                       .increment = in.loading.relax_increment,
+                                       .last = in.loading.max_displacement,
+                                       .last_flag = "--max-displacement"});
   if (!in.params.empty()) {
     tessera::require(in.cohesion == "decoupled", "direct_tension: --params ", in.params,
                      ": calibrations are fitted with decoupled cohesion, this run uses --cohesion ", in.cohesion);
@@ -313,15 +311,9 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
       .set("ramp_time_s", r.ramp_time)
       .set("tail_speedup", in.loading.tail_speedup)
       .set("tail_start_displacement_m", r.tail_displacement)
-      .set("scheme", in.scheme)
-      .set("relaxation_increment_m", in.loading.relax_increment)
-      .set("relaxation_tolerance", in.loading.relax_tolerance)
-      .set("relaxation_increments", r.relax_increments)
-      .set("relaxation_unconverged_increments", r.relax_unconverged)
-      .set("relaxation_resets", r.relax_resets)
-      .set("relaxation_kinetic_removed_J", r.relax_kinetic_removed)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
+  tessera::scenes::set_scheme_figures(js, in.scheme, in.loading.relax_increment, in.loading.relax_tolerance, r);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   tessera::scenes::set_split_figures(js);
   js.write(out / "summary.json");

@@ -16,7 +16,10 @@
 //             unbalanced force / N_cr, tessera/solver/balance.hpp): --min-rate-factor x --rate
 //             while it is over --balance-high, rising by --rate-growth a sample to
 //             --max-rate-factor x --rate while it is under --balance-low
-//   solver    central differences, local damping 0.8, masses scaled to the step --dt
+//   solver    central differences, local damping 0.8, masses scaled to the step --dt; or
+//             (--scheme relaxation) kinetic dynamic relaxation: the bar ends moved apart by
+//             --relax-increment, each increment relaxed to static equilibrium
+//             (solver/relaxation.hpp; docs/guide.md)
 //   stop      --post-yield x the elongation at which the tie yields past it (yield: the bar flows
 //             plastically, rc_tie_run.hpp), or at --max-elongation
 //
@@ -24,7 +27,8 @@
 //   curve.csv        elongation_m, force_N (force = tension at the fixed bar end), pulled_end_force_N,
 //                    concrete_stress_Pa (the concrete's mean axial stress over the middle two
 //                    thirds), softened_subcontacts (past their tensile peak), unbalanced_ratio
-//                    (largest nodal unbalanced force / N_cr), rate_factor (on --rate, from then on)
+//                    (largest nodal unbalanced force / N_cr), rate_factor (on --rate, from then on;
+//                    nan with --scheme relaxation, which has no rate)
 //   bare_bar.csv     the bare bar, elastic-perfectly plastic (closed form) on the same range
 //   curve.png        both curves (gnuplot)
 //   <tag>_contacts.vtp, <tag>_bar.vtp, <tag>_zones.vtu for tag = drop1, drop2, ..., yield, end:
@@ -70,6 +74,7 @@
 
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
+#include "common/relaxed_scheme.hpp"
 #include "common/rc_tie_run.hpp"
 #include "common/snapshots.hpp"
 #include "tessera/io/atomic_file.hpp"
@@ -91,6 +96,9 @@ struct inputs {
   tessera::scenes::tie_loading loading;
   bool write_vtk = true;
   std::string params;  // calibrated.json (examples/calibrate); empty = the study verbatim
+  std::string scheme = "explicit";                // explicit | relaxation (kinetic dynamic relaxation)
+  std::vector<std::string> explicit_flags_given;  // flags of the explicit pull on the command line
+  std::vector<std::string> relax_flags_given;     // flags of the relaxation on the command line
 };
 
 /// |value - reference| / |reference|.
@@ -252,6 +260,7 @@ void write_summary(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("added_mass_ratio", r.added_mass_ratio)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
+  tessera::scenes::set_scheme_figures(js, in.scheme, in.loading.relax_increment, in.loading.relax_tolerance, r);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   tessera::scenes::set_split_figures(js);
   js.write(out / "summary.json");
@@ -289,6 +298,10 @@ void print_report(const fs::path& out, const tessera::scenes::tie_scene& scene, 
               r.energy_balance_error, static_cast<long long>(r.subcontacts),
               static_cast<long long>(r.zones), r.dt, r.added_mass_ratio, static_cast<long long>(r.steps), timer.seconds(),
               out.string().c_str());
+  if (r.relax_increments > 0)  // the dt and added mass above are the relaxation's (1 s of pseudo-time)
+    std::printf("  kinetic relaxation: %lld increments (%lld not converged), %lld kinetic-energy resets\n",
+                static_cast<long long>(r.relax_increments), static_cast<long long>(r.relax_unconverged),
+                static_cast<long long>(r.relax_resets));
 }
 
 int run(inputs in) {
@@ -305,11 +318,23 @@ int run(inputs in) {
     in.tie.strength_scale = e.strength_scale;
     in.tie.fracture_energy_scale = e.fracture_energy_scale;
   }
+  tessera::scenes::check_scheme_flags({.driver = "rc_tie",
+                                       .scheme = in.scheme,
+                                       .explicit_given = in.explicit_flags_given,
+                                       .relax_given = in.relax_flags_given,
+                                       .rigid = in.tie.rigid,
+                                       .explicit_load = "pull",
+                                       .moves = "the bar ends move",
+                                       .increment = in.loading.relax_increment,
+                                       .last = in.loading.max_elongation,
+                                       .last_flag = "--max-elongation"});
   const tessera::scenes::tie_scene scene = tessera::scenes::make_tie(in.tie);  // checks the options first
   const auto& hand = scene.hand;
 
   tessera::scenes::bar_snapshots snapshots(out, scene.prism.mesh, "tie.pvd", in.write_vtk && !in.tie.bare);
-  const tessera::scenes::tie_result r = tessera::scenes::run_tie(scene, in.loading, snapshots);
+  const tessera::scenes::tie_result r = in.loading.relaxation
+                                            ? tessera::scenes::run_tie<true>(scene, in.loading, snapshots)
+                                            : tessera::scenes::run_tie<false>(scene, in.loading, snapshots);
   io::ensure_directory(out);  // after the run's own checks (quasi-static rate, stable step) passed
 
   const sampled_curve bare = bare_bar_curve(hand, r.end_elongation);
@@ -358,6 +383,17 @@ int main(int argc, char** argv) {
   cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R").greater_than(0);
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
+  cli.option("--scheme", in.scheme,
+             "explicit: central differences with local damping along a ramped pull (the study's scheme); "
+             "relaxation: kinetic dynamic relaxation, the bar ends moved apart in increments each relaxed to static "
+             "equilibrium (docs/guide.md; not with --rigid or under mpirun)",
+             "explicit|relaxation").one_of({"explicit", "relaxation"});
+  cli.option("--relax-increment", in.loading.relax_increment,
+             "with --scheme relaxation: elongation per increment (m)", "M").greater_than(0);
+  cli.option("--relax-tolerance", in.loading.relax_tolerance,
+             "with --scheme relaxation: an increment is relaxed once the largest nodal unbalanced force and the "
+             "largest block resultant are at most this x N_cr",
+             "R").greater_than(0).at_most(1);
   cli.option("--rate", in.loading.rate, "elongation rate of the bar (m/s)", "V").greater_than(0);
   cli.option("--min-rate-factor", in.loading.rate_control.min_factor,
              "out-of-balance rate control: the rate drops to F x --rate as soon as the largest nodal unbalanced "
@@ -403,6 +439,12 @@ int main(int argc, char** argv) {
   in.tie.bond_basis = bond_basis == "node" ? tessera::reinforcement::stiffness_basis::per_node
                                            : tessera::reinforcement::stiffness_basis::per_unit_length;
   in.write_vtk = !no_vtk;
+  in.loading.relaxation = in.scheme == "relaxation";
+  for (const char* f : {"--rate", "--min-rate-factor", "--max-rate-factor", "--balance-low", "--balance-high",
+                        "--rate-growth", "--ramp", "--dt", "--added-mass", "--damping", "--sample"})
+    if (cli.given(f)) in.explicit_flags_given.emplace_back(f);
+  for (const char* f : {"--relax-increment", "--relax-tolerance"})
+    if (cli.given(f)) in.relax_flags_given.emplace_back(f);
   if (dt_text == "auto") {
     in.loading.dt = tessera::scenes::scaled_tie_dt(in.tie.blocks);  // same added mass for every block count
   } else {
@@ -426,6 +468,8 @@ int main(int argc, char** argv) {
   // run.json is written when the output directory is created (after the checks), listing each
   // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
   try {
+    if (in.loading.relaxation)
+      mpi.require_splittable(false, "rc_tie --scheme relaxation", "kinetic relaxation is not distributed");
     mpi.require_splittable(!in.tie.rigid, "rc_tie --rigid");
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_tie", e);

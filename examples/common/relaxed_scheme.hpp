@@ -1,0 +1,60 @@
+#pragma once
+// The --scheme switch the drivers share (direct_tension, rc_tie): explicit (central differences
+// with local damping along a ramped load) or relaxation (kinetic dynamic relaxation,
+// tessera/solver/relaxation.hpp). One check of the flags given beside it, and the keys it adds to
+// summary.json.
+
+#include <string>
+#include <vector>
+
+#include "tessera/core/errors.hpp"
+#include "tessera/core/types.hpp"
+#include "tessera/io/json.hpp"
+
+namespace tessera::scenes {
+
+/// What a driver's --scheme refuses, before anything is built or written (invalid_input naming
+/// the flag or value): a scheme other than explicit or relaxation; a relaxation flag
+/// (relax_given) without --scheme relaxation; and with it, a flag of the explicit loading
+/// (explicit_given), rigid blocks, or an increment above the run's last displacement.
+struct scheme_flags {
+  const char* driver = "";       ///< "direct_tension", "rc_tie"
+  std::string scheme;            ///< --scheme's value
+  std::vector<std::string> explicit_given, relax_given;
+  bool rigid = false;
+  const char* explicit_load = "";  ///< "ramp", "pull"
+  const char* moves = "";          ///< "the top moves", "the bar ends move"
+  real increment = 0, last = 0;    ///< --relax-increment and the run's last displacement (m)
+  const char* last_flag = "";      ///< "--max-displacement", "--max-elongation"
+};
+
+inline void check_scheme_flags(const scheme_flags& f) {
+  require(f.scheme == "explicit" || f.scheme == "relaxation", f.driver, ": --scheme '", f.scheme,
+          "' must be 'explicit' or 'relaxation'");
+  require(f.scheme == "relaxation" || f.relax_given.empty(), f.driver, ": ",
+          f.relax_given.empty() ? "" : f.relax_given.front(), " applies to --scheme relaxation, and this run is --scheme ",
+          f.scheme);
+  if (f.scheme != "relaxation") return;
+  require(!f.rigid, f.driver, ": --scheme relaxation relaxes deformable blocks; --rigid is not relaxed");
+  require(f.explicit_given.empty(), f.driver, ": ", f.explicit_given.empty() ? "" : f.explicit_given.front(),
+          " sets the explicit ", f.explicit_load, "; with --scheme relaxation ", f.moves, " by --relax-increment instead");
+  require(f.increment <= f.last, f.driver, ": --relax-increment ", f.increment, " m exceeds ", f.last_flag, " ", f.last,
+          " m");
+}
+
+/// summary.json's keys of the scheme: scheme, the relaxation's increment (m) and tolerance, and
+/// the run's counts (Result: relax_increments, relax_unconverged, relax_resets,
+/// relax_kinetic_removed; zero in an explicit run).
+template <class Result>
+void set_scheme_figures(io::summary_json& js, const std::string& scheme, real increment, real tolerance,
+                        const Result& r) {
+  js.set("scheme", scheme)
+      .set("relaxation_increment_m", increment)
+      .set("relaxation_tolerance", tolerance)
+      .set("relaxation_increments", r.relax_increments)
+      .set("relaxation_unconverged_increments", r.relax_unconverged)
+      .set("relaxation_resets", r.relax_resets)
+      .set("relaxation_kinetic_removed_J", r.relax_kinetic_removed);
+}
+
+}  // namespace tessera::scenes
