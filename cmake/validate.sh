@@ -113,7 +113,9 @@ else
     add "beam_${b}_calibrated" $([[ $b == 250 ]] && echo 780 || echo 1140) "$bin/rc_beam --blocks $b --seed 1 --no-vtk --params $cal_beam"
   done
   add work_precision_prism 1700 "$wp --scene prism"
-  add work_precision_tie 440 "$wp --scene tie"
+  # Tie: 5 seeds x (11 explicit settings + kdr_10um_T1e-3); the converged setting alone took
+  # 107 s a seed and the relaxation 105 s on 2 threads (2026-11-28), about 460 s a seed in all.
+  add work_precision_tie 2300 "$wp --scene tie"
 fi
 
 # With --resume, a run whose run.json says "complete" is kept; the estimate counts the others.
