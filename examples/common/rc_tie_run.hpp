@@ -270,7 +270,7 @@ void relax_tie(Solver& s, const tie_scene& scene, const tie_loading& loading, Sa
   o.extrapolate = true;
   o.block_resultant = true;
   kinetic_relaxation<Solver> k(s);
-  const real drop = 0.05 * scene.hand.cracking_force;
+  const real drop = tie_recorder<Solver>::drop_threshold(scene);  // the recorder's load drop
   real peak = 0;
   bool done = false;
   while (!done) {
