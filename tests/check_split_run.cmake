@@ -3,6 +3,9 @@
 # (issue #44: the drivers under mpirun give one process's bits). CMake script mode:
 #   -DEXE=<driver> -DMPIEXEC=<mpiexec> -DNP=<ranks> -DMPIFLAGS=<a|b> -DOUT=<dir> -DARGS=<a|b>
 #   -DSAME=<f1|f2>
+# and optionally -DPYTHON=<python3> -DBOOKS_FILE=<csv> -DBOOKS=<col1|col2>: the CSV must be the
+# same bits but in those columns (energy books summed in another order), which must agree within
+# 1e-9 of their largest magnitude (tests/compare_csv_books.py).
 cmake_minimum_required(VERSION 3.22)
 string(REPLACE "|" ";" args "${ARGS}")
 string(REPLACE "|" ";" mpiflags "${MPIFLAGS}")
@@ -32,6 +35,16 @@ foreach(f IN LISTS same)
     list(APPEND failed "${f} differs between one process and ${NP} ranks")
   endif()
 endforeach()
+if(BOOKS_FILE)
+  string(REPLACE "|" ";" books "${BOOKS}")
+  execute_process(COMMAND "${PYTHON}" "${CMAKE_CURRENT_LIST_DIR}/compare_csv_books.py" "${OUT}/one/${BOOKS_FILE}"
+                          "${OUT}/split/${BOOKS_FILE}" 1e-9 ${books}
+                  RESULT_VARIABLE books_rc OUTPUT_VARIABLE books_out)
+  message("${BOOKS_FILE}: ${books_out}")
+  if(NOT books_rc EQUAL 0)
+    list(APPEND failed "${BOOKS_FILE} differs between one process and ${NP} ranks: ${books_out}")
+  endif()
+endif()
 file(READ "${OUT}/split/summary.json" summary)
 string(JSON ranks ERROR_VARIABLE json_error GET "${summary}" mpi_ranks)
 if(json_error OR NOT ranks EQUAL NP)

@@ -744,5 +744,18 @@ if(TESSERA_MPI)
       set_tests_properties(example_${ex}_mpi_${ranks} PROPERTIES TIMEOUT 900 PROCESSORS ${ranks} LABELS "example;mpi"
                            ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMP_WAIT_POLICY=PASSIVE")
     endforeach()
+    # The quick rubble (issue #44 item 5): rigid blocks on detected contacts, split by blocks
+    # (distributed::rigid_stepper). The VTK snapshots (every gridpoint) are one process's bytes;
+    # curve.csv too, but for the rebuild exchange, a book each rank sums over its own contacts.
+    if(Python3_Interpreter_FOUND)
+      add_test(NAME example_rubble_mpi_${ranks}
+               COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:rubble> -DMPIEXEC=${MPIEXEC_EXECUTABLE} -DNP=${ranks}
+                       "-DMPIFLAGS=${split_mpiflags}" -DOUT=${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rubble_mpi_${ranks}
+                       "-DARGS=--quick|--threads|1" "-DSAME=blocks_0010.vtu|blocks_0020.vtu"
+                       -DPYTHON=${Python3_EXECUTABLE} -DBOOKS_FILE=curve.csv -DBOOKS=rebuild_exchange_J
+                       -P ${CMAKE_CURRENT_LIST_DIR}/check_split_run.cmake)
+      set_tests_properties(example_rubble_mpi_${ranks} PROPERTIES TIMEOUT 900 PROCESSORS ${ranks} LABELS "example;mpi"
+                           ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMP_WAIT_POLICY=PASSIVE")
+    endif()
   endforeach()
 endif()

@@ -16,8 +16,10 @@
 //   the energy balance to round-off; distributed/gather.hpp).
 // - The split's figures (ranks, partition, halo bytes and time per step, imbalance) go into
 //   summary.json through set_split_figures; "mpi_ranks" is there in every run.
-// What splits is what distributed::stepper covers: deformable blocks with bonded faces and
-// embedded bars. A rigid-block or detected-contact scene under more than one rank is refused.
+// What splits through run_sampled is what distributed::stepper covers: deformable blocks with
+// bonded faces and embedded bars; rubble steps its rigid blocks on detected contacts with
+// distributed::rigid_stepper itself. Any other rigid-block or detected-contact scene under more
+// than one rank is refused.
 
 #include <cstdio>
 #include <cstdlib>

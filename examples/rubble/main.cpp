@@ -12,22 +12,32 @@
 //   curve.csv      t_s, kinetic_J, contact_stored_J, rebuild_exchange_J, subcontacts, rebuilds,
 //                  top_z_m (highest block centroid)
 //   blocks_NNNN.vtu + rubble.pvd   the blocks at --frames instants (unless --no-vtk)
+// Under mpirun -np N (builds with MPI): the same run split over N ranks by blocks
+// (distributed::rigid_stepper: each rank integrates its blocks and evaluates their contacts,
+// detection is done whole on every rank), the same motion to the bit; rank 0 writes --out.
 // Exit status 0 when the run finished, 1 on an error, 2 on bad flags.
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+#include <array>
 #include <string>
 #include <vector>
 
 #include "common/cli.hpp"
+#include "common/mpi_run.hpp"
 #include "common/phase_report.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/run_record.hpp"
 #include "tessera/io/vtk.hpp"
 #include "verification/cases.hpp"
+
+#ifdef TESSERA_HAVE_MPI
+#include "tessera/distributed/rigid_stepper.hpp"
+#endif
 
 namespace {
 
@@ -66,6 +76,75 @@ std::vector<geometry::convex_polyhedron> scene_cells(const inputs& in) {
   }
   return cells;
 }
+
+/// The run's steps: solver::step as one process; under mpirun over N ranks, this rank's part
+/// (distributed::rigid_stepper, blocks cut by partition_moving_blocks) with the energies summed
+/// over the ranks and the split's figures for summary.json (common/mpi_run.hpp).
+class split_stepping {
+ public:
+  split_stepping(solver_type& s, [[maybe_unused]] const geometry::block_mesh& mesh) {
+#ifdef TESSERA_HAVE_MPI
+    const scenes::mpi_session* session = scenes::mpi_session::current();
+    if (session != nullptr && session->split()) {
+      map_ = distributed::partition_moving_blocks(mesh, session->ranks());
+      stepper_ = std::make_unique<distributed::rigid_stepper<solver_type>>(s, map_, MPI_COMM_WORLD);
+    }
+#else
+    (void)s;
+#endif
+  }
+  void step(solver_type& s) {
+#ifdef TESSERA_HAVE_MPI
+    if (stepper_) return stepper_->step();
+#endif
+    s.step();
+  }
+  /// Every rank must call it at the same steps when split (a collective).
+  [[nodiscard]] energy_balance energies(const solver_type& s) const {
+#ifdef TESSERA_HAVE_MPI
+    if (stepper_) {
+      stepper_->check_finite();
+      return stepper_->summed_energies();
+    }
+#endif
+    return s.energies();
+  }
+  /// The split's figures into the session, for set_split_figures (a collective when split).
+  void report() const {
+#ifdef TESSERA_HAVE_MPI
+    if (!stepper_) return;
+    scenes::mpi_session& session = *scenes::mpi_session::current();
+    distributed::split_figures& f = session.last_split.figures;
+    session.last_split.ranks = stepper_->ranks();
+    f.ranks = stepper_->ranks();
+    f.partitioner = "rcb";
+    f.rank_blocks.clear();
+    for (int r = 0; r < f.ranks; ++r) f.rank_blocks.push_back(static_cast<index_t>(stepper_->rank_blocks(r).size()));
+    const auto most = *std::max_element(f.rank_blocks.begin(), f.rank_blocks.end());
+    f.weight_imbalance = static_cast<real>(most) * f.ranks / static_cast<real>(map_.size());
+    f.edge_cut = 0;  // the contacts across the cut change as blocks move
+    f.steps = stepper_->steps();
+    f.halo_bytes_per_step = stepper_->exchange_bytes_per_step();
+    f.max_rank_halo_bytes_per_step = static_cast<double>(most) * blocks::rigid::body_state_size * sizeof(double) * (f.ranks - 1);
+    const double steps = std::max<double>(1, static_cast<double>(f.steps));
+    std::array<double, 3> mine{stepper_->exchange_seconds() / steps, stepper_->step_seconds() / steps,
+                               (stepper_->step_seconds() - stepper_->exchange_seconds()) / steps},
+        most_s{}, sum{};
+    MPI_Allreduce(mine.data(), most_s.data(), 3, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+    MPI_Allreduce(mine.data(), sum.data(), 3, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+    f.halo_seconds_per_step = most_s[0];
+    f.step_seconds_per_step = most_s[1];
+    f.time_imbalance = sum[2] > 0 ? most_s[2] * f.ranks / sum[2] : 1.0;
+    f.gather_seconds = 0;
+#endif
+  }
+
+ private:
+#ifdef TESSERA_HAVE_MPI
+  std::vector<int> map_;
+  std::unique_ptr<distributed::rigid_stepper<solver_type>> stepper_;
+#endif
+};
 
 void validate(const inputs& in) {
   require(in.blocks >= 2 && in.blocks <= 20000, "rubble: --blocks = ", in.blocks, " must lie in [2, 20000]");
@@ -121,14 +200,16 @@ int run(const inputs& in) {
     io::vtk::write_blocks_vtu(out / name, ver::moved(tess, mesh, s.gridpoints()), io::vtk::format::binary);
     pvd.add(s.time(), out / name);
   };
+  // Under mpirun: this rank's blocks (common/mpi_run.hpp, distributed/rigid_stepper.hpp).
+  split_stepping split(s, mesh);
   snapshot(0);
   double subcontact_steps = 0;  // sum over the steps of the sub-contacts the step updated
   for (index_t k = 1; k <= steps; ++k) {
-    s.step();
+    split.step(s);
     subcontact_steps += static_cast<double>(s.contacts().subcontact_count());
     if (k % every == 0 || k == steps) {
       t.push_back(s.time());
-      const energy_balance e = s.energies();
+      const energy_balance e = split.energies(s);
       kinetic.push_back(e.kinetic);
       stored.push_back(e.contact_stored);
       exchange.push_back(e.contact_rebuild_exchange);
@@ -139,6 +220,8 @@ int run(const inputs& in) {
     if (k % frame_every == 0 || k == steps) snapshot(k);
   }
   const double runtime_s = timer.seconds();
+  const energy_balance end = split.energies(s);
+  split.report();
 
   // The heap: height of the highest centroid, horizontal spread of the centroids beyond the cube.
   real spread = 0;
@@ -170,16 +253,17 @@ int run(const inputs& in) {
       .set("storage_growths", static_cast<std::int64_t>(s.contacts().growth_count()))
       .set("subcontacts", static_cast<std::int64_t>(s.contacts().subcontact_count()))
       .set("subcontacts_peak", static_cast<std::int64_t>(s.contacts().peak_subcontacts()))
-      .set("kinetic_end_J", s.energies().kinetic)
-      .set("gravity_work_J", s.energies().gravity_work)
-      .set("contact_rebuild_exchange_J", s.energies().contact_rebuild_exchange)
-      .set("energy_error_rel", s.energies().error_rel())
+      .set("kinetic_end_J", end.kinetic)
+      .set("gravity_work_J", end.gravity_work)
+      .set("contact_rebuild_exchange_J", end.contact_rebuild_exchange)
+      .set("energy_error_rel", end.error_rel())
       .set("top_z_start_m", top.empty() ? 0.0 : top.front())
       .set("top_z_end_m", top_z())
       .set("spread_m", spread)
       .set("threads", max_threads())
       .set("rebuild_s", s.contacts().rebuild_seconds())
       .set("runtime_s", runtime_s);
+  tessera::scenes::set_split_figures(j);
   // Per-entity cost (common/phase_report.hpp) over the mean sub-contact count; the contact phase
   // includes the rebuilds, so the per-step cost without them is given beside.
   const double mean_subcontacts = steps > 0 ? subcontact_steps / static_cast<double>(steps) : 0.0;
@@ -196,8 +280,8 @@ int run(const inputs& in) {
               static_cast<long long>(s.contacts().peak_subcontacts()));
   std::printf("  highest centroid %.4g m, spread beyond the cube %.4g m, runtime_s %.2f (rebuilds %.2f s)\n", top_z(),
               spread, runtime_s, s.contacts().rebuild_seconds());
-  std::printf("  gravity work %.4g J, rebuild exchange %.3g J, energy balance error %.2g\n", s.energies().gravity_work,
-              s.energies().contact_rebuild_exchange, s.energies().error_rel());
+  std::printf("  gravity work %.4g J, rebuild exchange %.3g J, energy balance error %.2g\n", end.gravity_work,
+              end.contact_rebuild_exchange, end.error_rel());
   std::printf("  wrote %s/{summary.json, curve.csv%s}\n", out.string().c_str(), in.vtk ? ", rubble.pvd, blocks_*.vtu" : "");
   return 0;
 }
@@ -205,12 +289,15 @@ int run(const inputs& in) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tessera::scenes::mpi_session mpi(argc, argv);
   inputs in;
   bool no_vtk = false;
   cli::parser cli("rubble",
                   "A cube of random Voronoi blocks, each shrunk by --gap so none touch, dropped --lift onto a floor\n"
                   "under gravity: rigid blocks, all contacts detected (frictional joints, no cohesion). VTK series\n"
-                  "for ParaView, sub-contact and rebuild counts, run time. --quick: 100 blocks for 0.1 s.");
+                  "for ParaView, sub-contact and rebuild counts, run time. --quick: 100 blocks for 0.1 s.\n"
+                  "Under mpirun -np N (builds with MPI): the same run split over N ranks by blocks, the same motion\n"
+                  "to the bit (energy books to round-off); rank 0 writes --out.");
   cli.add_standard(in.common);
   cli.option("--blocks", in.blocks, "number of Voronoi blocks", "N").within(2, 20000);
   cli.option("--size", in.size, "cube edge (m)", "M").greater_than(0).at_most(1000);
@@ -230,6 +317,13 @@ int main(int argc, char** argv) {
     if (!cli.given("--blocks")) in.blocks = 100;
     if (!cli.given("--duration")) in.duration = 0.1;
   }
+  try {
+    mpi.require_splittable(true, "rubble");
+  } catch (const std::exception& e) {
+    if (mpi.rank() == 0) cli::print_error("rubble", e);
+    return 2;
+  }
+  mpi.route_output(in.common.out);  // under mpirun: rank 0 writes --out
   io::run_record record(in.common.out, "rubble", argc, argv);
   try {
     const int status = run(in);

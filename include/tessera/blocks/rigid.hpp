@@ -231,25 +231,60 @@ class rigid {
   /// difference v(t + dt/2) = v(t - dt_before/2) + a(t) (dt_before + dt) / 2.
   template <class Integrator, class Work>
   void advance(const Integrator& integ, node_set& gridpoints, real dt, Work& work, real kick_dt) {
-    const std::int64_t n_b = block_count();
-    parallel_for(n_b, [&](std::int64_t b) {
-      const auto k = static_cast<std::size_t>(b);
-      detail::reduce_rigid_block(gridpoints, body_position_, gravity_, bodies_[k], constraints_[k]);
-    }, 16);
-    for (index_t b = 0; b < block_count(); ++b) {
-      const block_constraints& con = constraints_[static_cast<std::size_t>(b)];
-      for (int c = 0; c < 3; ++c)
-        if (con.conflict[static_cast<std::size_t>(c)] != invalid_index)
-          detail::throw_rigid_conflict(gridpoints, b, con, c);
+    detail::advance_rigid_blocks(integ, gridpoints, body_position_, gravity_, bodies_, constraints_, work_, dt, work, kick_dt,
+                                 block_count(), [](std::int64_t k) { return static_cast<index_t>(k); });
+  }
+  /// The same for the listed blocks only (increasing ids; the others keep their state): a rank's
+  /// own blocks in a run split over MPI ranks (distributed::rigid_stepper). The listed blocks get
+  /// the bits advance gives them, and `work` their terms in list order. Throws invalid_input for
+  /// an id out of range.
+  template <class Integrator, class Work>
+  void advance_blocks(const Integrator& integ, node_set& gridpoints, real dt, Work& work, real kick_dt,
+                      std::span<const index_t> blocks) {
+    for (const index_t b : blocks) (void)at(b);
+    detail::advance_rigid_blocks(integ, gridpoints, body_position_, gravity_, bodies_, constraints_, work_, dt, work, kick_dt,
+                                 static_cast<index_t>(blocks.size()),
+                                 [&](std::int64_t k) { return blocks[static_cast<std::size_t>(k)]; });
+  }
+
+  /// Doubles per block in write_body_states: u_c, v, w, q, q at the half step, F, M, reactions.
+  static constexpr int body_state_size = 29;
+  /// Appends the state of each listed block after its step (body_state_size doubles a block) to
+  /// `out`, for read_body_states on another rank.
+  void write_body_states(std::span<const index_t> blocks, std::vector<double>& out) const {
+    for (const index_t b : blocks) {
+      const body& bd = at(b);
+      for (const vec3* v : {&bd.displacement, &bd.velocity, &bd.angular_velocity, &bd.force, &bd.moment,
+                            &bd.reaction_force, &bd.reaction_moment})
+        out.insert(out.end(), v->data(), v->data() + 3);
+      out.insert(out.end(), bd.orientation.coeffs().data(), bd.orientation.coeffs().data() + 4);
+      out.insert(out.end(), bd.half_orientation.coeffs().data(), bd.half_orientation.coeffs().data() + 4);
     }
-    parallel_for(n_b, [&](std::int64_t b) {
-      const auto k = static_cast<std::size_t>(b);
-      work_[k] = detail::integrate_rigid_block(integ, gridpoints, body_position_, bodies_[k], constraints_[k], dt, kick_dt);
-    }, 16);
-    for (const integrator::step_work& w : work_) {
-      work.boundary += w.boundary;
-      work.damping += w.damping;
+  }
+  /// Takes the listed blocks' states from `in` (write_body_states' layout, one step of `dt` s on
+  /// from the states held here) and slaves their gridpoints as their owner's step did, so a copy
+  /// of a block has its owner's bits. Returns the doubles read.
+  std::size_t read_body_states(std::span<const index_t> blocks, const double* in, node_set& gridpoints, real dt) {
+    const double* p = in;
+    for (const index_t b : blocks) {
+      body& bd = bodies_[static_cast<std::size_t>(b)];
+      const mat3 rotation_old = bd.rotation;
+      for (vec3* v : {&bd.displacement, &bd.velocity, &bd.angular_velocity, &bd.force, &bd.moment, &bd.reaction_force,
+                      &bd.reaction_moment}) {
+        *v = vec3(p[0], p[1], p[2]);
+        p += 3;
+      }
+      bd.orientation.coeffs() = Eigen::Vector4d(p[0], p[1], p[2], p[3]);
+      bd.half_orientation.coeffs() = Eigen::Vector4d(p[4], p[5], p[6], p[7]);
+      p += 8;
+      bd.rotation = bd.orientation.toRotationMatrix();
+      std::array<index_t, 3> count{0, 0, 0};
+      for (index_t i = bd.first; i < bd.end; ++i)
+        for (int c = 0; c < 3; ++c)
+          count[static_cast<std::size_t>(c)] += gridpoints.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::prescribed);
+      detail::slave_rigid_gridpoints(gridpoints, body_position_, bd, rotation_old, bd.angular_velocity * dt, dt, count);
     }
+    return static_cast<std::size_t>(p - in);
   }
 
   /// Empty: rigid blocks have no zones (reinforcement sees no confinement).

@@ -11,17 +11,16 @@
 //                       is missed), the merge of the sub-contacts that keeps a persisting corner's
 //                       state, bonded faces (params::bond_faces), tasks and gather slots
 //   keys.hpp            the sub-contacts' keys (a, b, corner label) and their merge, sorted
-//   frames.hpp          a block's frame of four vertex gridpoints, a sub-contact's affine weights
-//                       in it, the block's motion each step
+//   frames.hpp          a block's frame of four vertex gridpoints, sub-contact weights in it, its motion
 //   step.hpp            "Kinematics between rebuilds": the pairs' normals, each sub-contact's
 //                       relative motion, law update and force
-//   step_bound.hpp      "Stable step": the stiffness bounds for the time step (present_contacts or
-//                       whole_surface, params::step_bound)
+//   step_bound.hpp      "Stable step": the time step's stiffness bounds (params::step_bound)
 //   deformable_fit.hpp  "Deformable blocks": surfaces, the affine fit detection reads, sub-contacts
 //                       at surface gridpoints
 //   refusals.hpp        what the constructor refuses (unused residual strengths, initial overlaps)
 //   checkpoint.hpp      "Checkpoints": a restart rebuilds at the same steps with the same bits
 //   params.hpp          what the constructor takes
+//   subset.hpp          a rank's part in a run split over MPI ranks (set_own_blocks), the energies
 //
 // Storage and threading: structure of arrays per sub-contact (key, weights, area, state, force),
 // per pair (blocks, normal feature, normals now and last step, parameters; rigid blocks: the
@@ -36,6 +35,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -186,7 +186,7 @@ class detected_contacts {
     if (half > 0 && moved2 > 4 * half * half) detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, options_.tolerance);
     if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
   }
-  [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()) - 1; }
+  [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()); }
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
   /// motion was read from the gridpoints in prepare_step).
   void run_task(index_t t, const node_set& gridpoints, real dt) noexcept {
@@ -195,8 +195,8 @@ class detected_contacts {
     // computed ahead, the chains of several pairs overlap instead of each holding up its own
     // pair's sub-contacts.)
     std::array<std::array<triple, 3>, normal_batch> normals, tilts;
-    for (index_t k0 = pair_tasks_[at(t)]; k0 < pair_tasks_[at(t) + 1]; k0 += normal_batch) {
-      const index_t k1 = std::min<index_t>(k0 + normal_batch, pair_tasks_[at(t) + 1]);
+    for (index_t k0 = pair_tasks_[at(t)]; k0 < task_end_[at(t)]; k0 += normal_batch) {
+      const index_t k1 = std::min<index_t>(k0 + normal_batch, task_end_[at(t)]);
       for (index_t k = k0; k < k1; ++k) turn_normals(at(k), normals[at(k - k0)], tilts[at(k - k0)]);
       for (index_t k = k0; k < k1; ++k)
         if (options_.deformable_blocks)
@@ -317,20 +317,17 @@ class detected_contacts {
   /// the first (new corners that start overlapped, tributary areas that change, corners dropped
   /// while loaded). That change is no work of any force; the solver's energy balance books it
   /// beside the supplied energy so error_rel measures the integration, and reports it.
-  [[nodiscard]] contact_energies energies() const {
-    contact_energies e = retired_;
-    for (index_t i = 0; i < size(); ++i) {
-      const contact_energies c = energies_of(at(i));
-      e.stored += c.stored;
-      e.dissipated += c.dissipated;
-      e.dissipated_tension += c.dissipated_tension;
-      e.dissipated_shear += c.dissipated_shear;
-      e.dissipated_compression += c.dissipated_compression;
-    }
-    return e;
-  }
+  /// With set_own_blocks, the sub-contacts this rank counts (its pairs' first block is its own),
+  /// here and in the books of the rebuilds. Defined in detected/subset.hpp.
+  [[nodiscard]] contact_energies energies() const;
   /// The part of energies() held by sub-contacts that ended at rebuilds, and the rebuild exchange (J).
   [[nodiscard]] const contact_energies& retired_energies() const { return retired_; }
+
+  /// A run split over MPI ranks (distributed::rigid_stepper): this rank evaluates only the pairs
+  /// that touch one of `own` (block ids, increasing; every block when empty), gathers forces only
+  /// on those blocks' gridpoints, and books (energies()) the sub-contacts of pairs whose first
+  /// block is one of them. Rigid blocks only. Detection stays whole. Defined in detected/subset.hpp.
+  void set_own_blocks(std::span<const index_t> own);
 
   /// Saves or loads everything a rebuild and a step read (io/checkpoint.hpp): the sub-contacts
   /// (keys, pairs, areas, affine weights, law states field by field, forces, fresh flags), the
@@ -344,8 +341,8 @@ class detected_contacts {
   void checkpoint(Archive& ar);
 
  private:
-
-
+  /// Booked here (set_own_blocks): sub-contact i's pair's first block is own, or no subset is set.
+  [[nodiscard]] bool counted(std::size_t i) const { return own_block_.empty() || own_block_[at(pair_a_[at(pair_[i])])] != 0; }
   // Defined, each with its doc comment, in the detected/ header named above its group.
   // detected/step_bound.hpp
   void add_bounds(node_set& gridpoints, step_bound_scope scope) const;
@@ -455,7 +452,9 @@ class detected_contacts {
   detection::detection_result result_;
   detection::detection_workspace workspace_;
   // per pair
-  std::vector<index_t> pair_a_, pair_b_, pair_param_, pair_first_{0}, pair_tasks_{0};
+  std::vector<index_t> pair_a_, pair_b_, pair_param_, pair_first_{0};
+  std::vector<index_t> pair_tasks_, task_end_;  ///< task t: pairs [pair_tasks_[t], task_end_[t])
+  std::vector<std::uint8_t> own_block_, own_gridpoint_;  ///< set_own_blocks (empty: all)
   std::vector<feature_kind> feature_;
   std::vector<vec3> feature_a_, feature_b_;
   std::array<soa3, 3> normal_;                     ///< per pair: the plane's, A's parallel face's, B's (now)
@@ -498,3 +497,4 @@ class detected_contacts {
 #include "detected/rebuild.hpp"
 #include "detected/step.hpp"
 #include "detected/step_bound.hpp"
+#include "detected/subset.hpp"

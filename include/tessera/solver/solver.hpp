@@ -23,7 +23,8 @@
 // is automatic), in time_step.hpp; options, run_result and phase_times in options.hpp; the energy
 // books and the out-of-balance in detail/energy_books.hpp. Bases of the solver (CRTP), whose
 // members are the solver's: supports, velocities and selections by block (supports.hpp), forces
-// applied from outside the model (applied_forces.hpp), run and run_until (run.hpp).
+// applied from outside the model (applied_forces.hpp), run and run_until (run.hpp), a step run by
+// pieces from outside (external_step.hpp: a run split over MPI ranks).
 //
 // Thread safety: one solver, one driving thread; its loops are parallel and bit-identical for
 // any thread count. step() allocates nothing.
@@ -53,6 +54,7 @@
 #include "boundary.hpp"
 #include "detail/energy_books.hpp"
 #include "energy.hpp"
+#include "external_step.hpp"
 #include "options.hpp"
 #include "run.hpp"
 #include "step_checker.hpp"
@@ -66,11 +68,13 @@ template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement
           class Checker = checks::default_step_checker>
 class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>>,
                public solver_applied_forces<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>>,
-               public solver_runs<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>> {
+               public solver_runs<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>>,
+               public solver_external_steps<solver<Blocks, Contacts, Reinforcement, Integrator, Checker>> {
   // The supports, the applied forces and the runs reach the state through the solver.
   friend class solver_supports<solver>;
   friend class solver_applied_forces<solver>;
   friend class solver_runs<solver>;
+  friend class solver_external_steps<solver>;
 
  public:
   using blocks_type = Blocks;
@@ -308,22 +312,6 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   [[nodiscard]] const solver_options& options() const { return options_; }
   /// Time spent in each phase of the steps so far (see phase_times).
   [[nodiscard]] const phase_times& phases() const { return phases_; }
-
-  // ---- for a driver that runs the pieces of step() itself (distributed/stepper.hpp) ----
-  /// The contact set, to run its step pieces (prepare_step, update_faces, add_force) directly.
-  [[nodiscard]] contact_set_type& contacts_for_step() { return contacts_; }
-  /// The integrator, whose advance_dof integrates one component as advance does.
-  [[nodiscard]] const Integrator& integrator() const { return integrator_; }
-  /// Closes a step whose pieces a driver ran: books its integration's, applied forces' and gravity's
-  /// work (J), advances step and time. No step checker (such a driver runs its own checks).
-  void close_external_step(const integrator::step_work& work, real applied_work = 0, real gravity_work = 0) {
-    boundary_work_ += work.boundary;
-    damping_dissipated_ += work.damping;
-    applied_work_ += applied_work;
-    gravity_work_ += gravity_work;
-    ++step_;
-    time_ += dt_;
-  }
 
   /// Unbalanced force of the last step over free components (solver/balance.hpp): of the
   /// gridpoints (deformable blocks) or of the blocks' translations (rigid blocks: the block force

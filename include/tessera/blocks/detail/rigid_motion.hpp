@@ -10,11 +10,13 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <Eigen/Geometry>
 
 #include "../../core/errors.hpp"
 #include "../../core/nodes.hpp"
+#include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
 #include "../../integrator/concepts.hpp"
 #include "rigid_body.hpp"
@@ -57,6 +59,39 @@ inline void reduce_rigid_block(const node_set& gp, const soa3& body_position, co
                                      "xyz"[c], ": gridpoint ", i, " prescribes ", gp.prescribed_velocity(i, c),
                                      " m/s, gridpoint ", j, " prescribes ", gp.prescribed_velocity(j, c),
                                      " m/s; a rigid block moves as one body (release one of them)"));
+}
+
+/// Step 5 of rigid.hpp's file comment for block `bd`, whose record holds the step's result: its
+/// gridpoints' displacements, secant velocities (from `rotation_old`, R before the step, and the
+/// step's rotation vector phi = w+ dt) and reaction shares (the block's reaction_force split
+/// equally among the `count[c]` gridpoints prescribing component c). The same operations whether
+/// the block's own integration calls it or a copy of the block on another MPI rank
+/// (blocks::rigid::read_body_states), so both get the same bits.
+inline void slave_rigid_gridpoints(node_set& gp, const soa3& body_position, const rigid_body& bd,
+                                   const mat3& rotation_old, const vec3& phi, real dt,
+                                   const std::array<index_t, 3>& count) noexcept {
+  constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
+  const vec3& reaction = bd.reaction_force;
+  const mat3 change = bd.rotation - bd.axes;
+  const real inv_dt = 1 / dt;
+  // rotation_increment(phi, r) = sinc(t) phi x r + (sinc(t/2)^2 / 2) phi x (phi x r),
+  // t = |phi|, with its scalars taken out of the gridpoint loop (the same operations, so the
+  // same bits; a square root and two sincs less per gridpoint).
+  const real t = phi.norm(), s = sinc(0.5 * t);
+  const real along = sinc(t), across = 0.5 * s * s;
+  for (index_t i = bd.first; i < bd.end; ++i) {
+    const vec3 r = body_coordinates(body_position, i);
+    const vec3 u = bd.displacement + change * r;
+    const vec3 phi_x_r = phi.cross(r);
+    const vec3 increment = along * phi_x_r + across * phi.cross(phi_x_r);
+    const vec3 v = bd.velocity + rotation_old * increment * inv_dt;
+    for (int c = 0; c < 3; ++c) {
+      gp.displacement(i, c) = u[c];
+      gp.velocity(i, c) = v[c];
+      const auto cs = static_cast<std::size_t>(c);
+      gp.reaction(i, c) = gp.constraint(i, c) == prescribed ? reaction[c] / static_cast<real>(count[cs]) : 0.0;
+    }
+  }
 }
 
 /// Steps 2-5 of rigid.hpp's file comment for block `bd` with the prescriptions `con` of its
@@ -110,27 +145,37 @@ template <class Integrator>
   bd.half_orientation = (bd.orientation * rotation_vector_quaternion(0.5 * phi)).normalized();
   bd.orientation = (bd.orientation * rotation_vector_quaternion(phi)).normalized();
   bd.rotation = bd.orientation.toRotationMatrix();
-  const mat3 change = bd.rotation - bd.axes;
-  const real inv_dt = 1 / dt;
-  // rotation_increment(phi, r) = sinc(t) phi x r + (sinc(t/2)^2 / 2) phi x (phi x r),
-  // t = |phi|, with its scalars taken out of the gridpoint loop (the same operations, so the
-  // same bits; a square root and two sincs less per gridpoint).
-  const real t = phi.norm(), s = sinc(0.5 * t);
-  const real along = sinc(t), across = 0.5 * s * s;
-  for (index_t i = bd.first; i < bd.end; ++i) {
-    const vec3 r = body_coordinates(body_position, i);
-    const vec3 u = bd.displacement + change * r;
-    const vec3 phi_x_r = phi.cross(r);
-    const vec3 increment = along * phi_x_r + across * phi.cross(phi_x_r);
-    const vec3 v = bd.velocity + rotation_old * increment * inv_dt;
-    for (int c = 0; c < 3; ++c) {
-      gp.displacement(i, c) = u[c];
-      gp.velocity(i, c) = v[c];
-      const auto cs = static_cast<std::size_t>(c);
-      gp.reaction(i, c) = gp.constraint(i, c) == prescribed ? reaction[c] / static_cast<real>(con.count[cs]) : 0.0;
-    }
-  }
+  slave_rigid_gridpoints(gp, body_position, bd, rotation_old, phi, dt, con.count);
   return w;
+}
+
+/// blocks::rigid::advance over n blocks, block_of(k) the k-th (k increasing): the reductions
+/// (parallel), the conflicting prescriptions (in order), the integrations (parallel, each block's
+/// work into work_of[b]), then `work` gets the blocks' terms in order.
+template <class Integrator, class Work, class BlockOf>
+void advance_rigid_blocks(const Integrator& integ, node_set& gp, const soa3& body_position, const vec3& gravity,
+                          std::vector<rigid_body>& bodies, std::vector<rigid_constraints>& constraints,
+                          std::vector<integrator::step_work>& work_of, real dt, Work& work, real kick_dt, index_t n,
+                          BlockOf&& block_of) {
+  parallel_for(n, [&](std::int64_t k) {
+    const auto b = static_cast<std::size_t>(block_of(k));
+    reduce_rigid_block(gp, body_position, gravity, bodies[b], constraints[b]);
+  }, 16);
+  for (index_t k = 0; k < n; ++k) {
+    const index_t b = block_of(k);
+    const rigid_constraints& con = constraints[static_cast<std::size_t>(b)];
+    for (int c = 0; c < 3; ++c)
+      if (con.conflict[static_cast<std::size_t>(c)] != invalid_index) throw_rigid_conflict(gp, b, con, c);
+  }
+  parallel_for(n, [&](std::int64_t k) {
+    const auto b = static_cast<std::size_t>(block_of(k));
+    work_of[b] = integrate_rigid_block(integ, gp, body_position, bodies[b], constraints[b], dt, kick_dt);
+  }, 16);
+  for (index_t k = 0; k < n; ++k) {
+    const integrator::step_work& w = work_of[static_cast<std::size_t>(block_of(k))];
+    work.boundary += w.boundary;
+    work.damping += w.damping;
+  }
 }
 
 }  // namespace tessera::blocks::detail

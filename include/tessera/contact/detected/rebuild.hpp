@@ -210,7 +210,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
   // Sub-contacts that end keep what they dissipated in the books; what they still stored leaves
   // the springs through the rebuild exchange.
   for (std::size_t o = 0; o < n_old; ++o) {
-    if (kept_old_[o] != 0) continue;
+    if (kept_old_[o] != 0 || !counted(o)) continue;
     const contact_energies e = energies_of(o);
     retired_.dissipated += e.dissipated;
     retired_.dissipated_tension += e.dissipated_tension;
@@ -339,10 +339,21 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
 template <law::ContactLaw Law>
 inline void detected_contacts<Law>::index_subcontacts() {
   const std::size_t n_pairs = pair_a_.size(), n = pair_.size();
-  pair_tasks_.assign(1, 0);
-  for (std::size_t k = 0; k < n_pairs; ++k)
-    if (k + 1 == n_pairs || pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] >= task_subcontacts)
-      pair_tasks_.push_back(static_cast<index_t>(k + 1));
+  // Runs of consecutive pairs this rank evaluates (all, without set_own_blocks), each closed once
+  // it holds task_subcontacts sub-contacts.
+  pair_tasks_.clear();
+  task_end_.clear();
+  bool open = false;
+  for (std::size_t k = 0; k < n_pairs; ++k) {
+    if (!own_block_.empty() && own_block_[at(pair_a_[k])] == 0 && own_block_[at(pair_b_[k])] == 0) continue;
+    if (open && at(task_end_.back()) == k) {
+      task_end_.back() = static_cast<index_t>(k + 1);
+    } else {
+      pair_tasks_.push_back(static_cast<index_t>(k));
+      task_end_.push_back(static_cast<index_t>(k + 1));
+    }
+    open = pair_first_[k + 1] - pair_first_[at(pair_tasks_.back())] < task_subcontacts;
+  }
 
   // Gather slots, by a counting sort over slot (item, s), s = 0-7 (A's four, then B's four), so
   // that each gridpoint's slots come in increasing item order. Rigid blocks: the items are the
@@ -380,7 +391,8 @@ inline void detected_contacts<Law>::index_subcontacts() {
   }
   contact_gridpoints_.clear();
   for (index_t g = 0; g < gridpoint_count_; ++g)
-    if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)]) contact_gridpoints_.push_back(g);
+    if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)] && (own_gridpoint_.empty() || own_gridpoint_[at(g)] != 0))
+      contact_gridpoints_.push_back(g);
 }
 
 /// Capacity of the arrays a rebuild grows with the sub-contacts, pairs and gather slots (the
@@ -390,11 +402,13 @@ template <law::ContactLaw Law>
   return key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() + pair_force_.capacity();
 }
 
-/// Elastic energy of the current sub-contacts (J), summed in sub-contact order.
+/// Elastic energy of the current sub-contacts this rank books (J; all without set_own_blocks),
+/// summed in sub-contact order.
 template <law::ContactLaw Law>
 [[nodiscard]] inline real detected_contacts<Law>::stored_energy() const {
   real e = 0;
-  for (index_t i = 0; i < size(); ++i) e += energies_of(at(i)).stored;
+  for (index_t i = 0; i < size(); ++i)
+    if (counted(at(i))) e += energies_of(at(i)).stored;
   return e;
 }
 

@@ -1,0 +1,273 @@
+#pragma once
+// distributed::rigid_stepper<Solver>: the time step of a run split by blocks over MPI ranks for
+// rigid blocks (blocks::rigid) on detected contacts (contact::detected_contacts): blocks that fall,
+// slide and meet blocks of another rank. docs/architecture.md "Detected contacts across ranks".
+//
+// Every rank builds the whole model and holds every block's body state; each rank integrates its
+// own blocks and evaluates the contacts that touch them:
+//
+//   the stable step's checks (solver::begin_rigid_step)
+//   contacts (detected_contacts::update with set_own_blocks): the rebuild trigger and, when it
+//     fires, the detection of the whole scene, alike on every rank (the same geometry gives the
+//     same pairs and keys); the law update of the pairs that touch an own block; the gather on
+//     the own blocks' gridpoints, in the order of one process
+//   the time step chosen again after a rebuild (solver::time_step_after_contacts), alike everywhere
+//   own blocks: reduction to force and moment, integration, slaved gridpoints (advance_blocks)
+//   one MPI_Allgatherv of the own blocks' states after the step (29 doubles a block); each rank
+//     sets the other ranks' blocks from them and slaves their gridpoints as their owners did
+//
+// Why the bits are one process's: a block's force and moment are the sums of solver::step (the
+// same pairs, evaluated from the same body states, gathered in the same order), its integration
+// is per block, and the copies of the other ranks' blocks are their owners' bits. So every body
+// state, every gridpoint, the rebuild steps, the sub-contact keys and the time step are one
+// process's on every rank, for any rank and thread count (test_distributed_step "[rigid]").
+// Ownership is fixed: a block that crosses into another rank's region stays with its rank, which
+// keeps the bits (a pair that touches an own block was always evaluated here, so its state is
+// exact); the cost is the balance as the scene moves.
+//
+// What is not the same bits: the energy books (the work of supports, damping and gravity, the
+// contacts' dissipated energies and the rebuild exchange): each rank books its own blocks and the
+// sub-contacts of pairs whose first block is its own, and summed_energies adds the shares in rank
+// order, one process's values to round-off. The kinetic energy (every block's on every rank) and
+// the springs' stored energy (gathered and summed in one process's order) are the same bits.
+//
+// Cost per step: the rank's contact pairs and blocks, the rebuild's detection of the whole scene
+// (replicated), O(blocks) for the rebuild trigger and for slaving the other ranks' blocks, and one
+// collective exchange of 232 bytes a block. Nothing allocated in step(). Not thread-safe (one
+// thread drives it; its loops are parallel). Only where MPI is built in (TESSERA_HAVE_MPI).
+
+#ifdef TESSERA_HAVE_MPI
+#include <mpi.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+#include "../core/errors.hpp"
+#include "../core/nodes.hpp"
+#include "../core/types.hpp"
+#include "../geometry/block_mesh.hpp"
+#include "../integrator/concepts.hpp"
+#include "../solver/energy.hpp"
+#include "block_graph.hpp"
+#include "partition.hpp"
+
+namespace tessera::distributed {
+
+/// Solvers rigid_stepper splits: rigid blocks on a contact set that takes a rank's blocks
+/// (contact::detected_contacts).
+template <class Solver>
+concept rigid_splittable = Solver::blocks_type::is_rigid && requires(typename Solver::contact_set_type& c) {
+  c.set_own_blocks(std::span<const index_t>{});
+  c.rebuild_count();
+};
+
+/// A block -> rank map for a scene of moving blocks: recursive coordinate bisection of the block
+/// centroids with equal weights (partition_blocks_rcb). Why not METIS here: the contact graph of
+/// such a scene changes as it moves (a heap starts with no contacts at all), so a cut of today's
+/// graph is no better than a cut in space, and the spatial cut keeps neighbours together while
+/// blocks move little. Throws invalid_input for ranks < 1 or above the block count.
+[[nodiscard]] inline std::vector<int> partition_moving_blocks(const geometry::block_mesh& mesh, int ranks) {
+  block_graph_input in = blocks_of_mesh(mesh);
+  std::fill(in.weight.begin(), in.weight.end(), real(1));
+  return partition_blocks_rcb(block_graph(in), ranks);
+}
+
+template <class Solver>
+class rigid_stepper {
+  static_assert(rigid_splittable<Solver>,
+                "distributed::rigid_stepper: rigid blocks on a detecting contact set (contact::detected_contacts)");
+
+ public:
+  /// Terms summed_energies gathers from each rank.
+  static constexpr int share_count = 8;
+
+  /// The step of this process's rank in `comm` for `s`, built on every rank from the same scene,
+  /// with block b on rank block_rank[b] (the same map on every rank, e.g. partition_moving_blocks).
+  /// Call before the first step. Throws invalid_input when the map's size is not the block count,
+  /// names a rank outside the communicator, or leaves a rank without blocks.
+  rigid_stepper(Solver& s, std::span<const int> block_rank, MPI_Comm comm) : solver_(&s), comm_(comm) {
+    MPI_Comm_rank(comm, &rank_);
+    MPI_Comm_size(comm, &ranks_);
+    const index_t n_b = s.blocks().block_count();
+    require(static_cast<index_t>(block_rank.size()) == n_b, "distributed::rigid_stepper: the map has ",
+            block_rank.size(), " blocks, the solver ", n_b);
+    rank_blocks_.resize(static_cast<std::size_t>(ranks_));
+    block_rank_.assign(block_rank.begin(), block_rank.end());
+    for (index_t b = 0; b < n_b; ++b) {
+      const int r = block_rank[static_cast<std::size_t>(b)];
+      require(r >= 0 && r < ranks_, "distributed::rigid_stepper: block ", b, " is mapped to rank ", r,
+              ", outside the communicator's [0, ", ranks_, ")");
+      rank_blocks_[static_cast<std::size_t>(r)].push_back(b);
+    }
+    counts_.resize(static_cast<std::size_t>(ranks_));
+    offsets_.resize(static_cast<std::size_t>(ranks_));
+    int total = 0;
+    for (int r = 0; r < ranks_; ++r) {
+      const auto& list = rank_blocks_[static_cast<std::size_t>(r)];
+      require(!list.empty(), "distributed::rigid_stepper: rank ", r, " has no blocks (", n_b, " blocks over ", ranks_,
+              " ranks)");
+      counts_[static_cast<std::size_t>(r)] = static_cast<int>(list.size()) * Solver::blocks_type::body_state_size;
+      offsets_[static_cast<std::size_t>(r)] = total;
+      total += counts_[static_cast<std::size_t>(r)];
+    }
+    received_.resize(static_cast<std::size_t>(total));
+    send_.reserve(static_cast<std::size_t>(counts_[static_cast<std::size_t>(rank_)]));
+    const auto& own = rank_blocks_[static_cast<std::size_t>(rank_)];
+    for (const index_t b : own)
+      for (const index_t g : s.gridpoints_of_block(b).nodes) own_gridpoints_.push_back(g);
+    s.contacts_for_step().set_own_blocks(own);
+    rank_shares_.resize(static_cast<std::size_t>(share_count) * static_cast<std::size_t>(ranks_));
+  }
+  rigid_stepper(const rigid_stepper&) = delete;
+  rigid_stepper& operator=(const rigid_stepper&) = delete;
+
+  /// Advances the model by one step on every rank (file comment). Every rank of the communicator
+  /// must call it, the same number of times. Throws what solver::step throws, alike on every rank.
+  void step() {
+    const auto started = std::chrono::steady_clock::now();
+    Solver& s = *solver_;
+    node_set& gp = s.gridpoints();
+    s.begin_rigid_step();
+    if (s.step_count() == 0) {
+      // The balance's initial energy, this rank's share: its sub-contacts' springs, and (rank 0)
+      // the kinetic energy, which every rank holds whole.
+      initial_ = s.contacts().energies().stored + (rank_ == 0 ? s.blocks().kinetic_energy(gp) : 0.0);
+    }
+    for (const index_t g : own_gridpoints_)
+      for (int c = 0; c < 3; ++c) gp.force(g, c) = 0;
+    s.contacts_for_step().update(gp, s.dt());
+    const real kick = s.time_step_after_contacts();
+    const real dt = s.dt();
+    integrator::step_work work;
+    const auto& own = rank_blocks_[static_cast<std::size_t>(rank_)];
+    s.blocks().advance_blocks(s.integrator(), gp, dt, work, kick, own);
+    real gravity_power = 0;  // as blocks::rigid::gravity_power, over the own blocks
+    for (const index_t b : own) gravity_power += s.blocks().weight_mass(b) * s.gravity().dot(s.blocks().velocity(b));
+    const auto exchange = std::chrono::steady_clock::now();
+    send_.clear();
+    s.blocks().write_body_states(own, send_);
+    MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, received_.data(), counts_.data(),
+                   offsets_.data(), MPI_DOUBLE, comm_);
+    for (int r = 0; r < ranks_; ++r)
+      if (r != rank_)
+        s.blocks().read_body_states(rank_blocks_[static_cast<std::size_t>(r)],
+                                    received_.data() + offsets_[static_cast<std::size_t>(r)], gp, dt);
+    const auto ended = std::chrono::steady_clock::now();
+    s.close_external_step(work, 0, gravity_power * dt);
+    exchange_seconds_ += std::chrono::duration<double>(ended - exchange).count();
+    step_seconds_ += std::chrono::duration<double>(ended - started).count();
+    ++steps_;
+  }
+
+  /// The energy balance of the whole model now (J): every rank's shares (work of supports, damping
+  /// and gravity over its blocks; its sub-contacts' dissipated energies, retired energies and
+  /// rebuild exchange; its initial share) added in rank order, so every rank gets the same bits,
+  /// one process's to round-off; the kinetic energy of every block and the springs' stored energy
+  /// (each sub-contact's from its booking rank, summed in one process's order), one process's
+  /// bits. Every rank of the communicator must call it. O(sub-contacts); allocates (a call for
+  /// samples).
+  [[nodiscard]] energy_balance summed_energies() const {
+    const energy_balance mine = solver_->energies();
+    const std::array<double, share_count> share = {initial_,           mine.boundary_work,     mine.damping_dissipated,
+                                                   mine.gravity_work,  mine.contact_stored,    mine.contact_dissipated,
+                                                   mine.contact_dissipated_tension, mine.contact_rebuild_exchange};
+    MPI_Allgather(share.data(), share_count, MPI_DOUBLE, rank_shares_.data(), share_count, MPI_DOUBLE, comm_);
+    std::array<double, share_count> sum{};
+    for (int r = 0; r < ranks_; ++r)
+      for (int k = 0; k < share_count; ++k)
+        sum[static_cast<std::size_t>(k)] += rank_shares_[static_cast<std::size_t>(r * share_count + k)];
+    energy_balance e;
+    e.initial = sum[0];
+    e.boundary_work = sum[1];
+    e.damping_dissipated = sum[2];
+    e.gravity_work = sum[3];
+    e.contact_stored = ordered_stored_energy();
+    e.contact_dissipated = sum[5];
+    e.contact_dissipated_tension = sum[6];
+    e.contact_rebuild_exchange = sum[7];
+    e.kinetic = mine.kinetic;
+    return e;
+  }
+
+  /// Throws numerical_instability on every rank, naming the smallest gridpoint of the model with a
+  /// non-finite displacement or velocity (each rank scans its own blocks'; reduced over the
+  /// ranks), so no rank is left waiting in the next exchange. Every rank must call it, at the same
+  /// steps. O(own gridpoints); allocates nothing.
+  void check_finite() const {
+    const node_set& gp = solver_->gridpoints();
+    long long mine = std::numeric_limits<long long>::max(), worst = 0;
+    for (const index_t g : own_gridpoints_)
+      if (!gp.displacement.row(g).allFinite() || !gp.velocity.row(g).allFinite()) {
+        mine = g;
+        break;
+      }
+    MPI_Allreduce(&mine, &worst, 1, MPI_LONG_LONG, MPI_MIN, comm_);
+    if (worst == std::numeric_limits<long long>::max()) return;
+    throw numerical_instability(tessera::detail::concat(
+        "numerical instability at step ", solver_->step_count(), " (t = ", solver_->time(),
+        " s): non-finite displacement or velocity at gridpoint ", worst, " (distributed run, ", ranks_, " ranks)"));
+  }
+
+  /// The springs' elastic energy (J), summed in sub-contact order as detected_contacts::energies
+  /// does in one process: each rank sends the energies of the sub-contacts it books (their pair's
+  /// first block is its own), every rank sums them all in order. Every rank must call it.
+  [[nodiscard]] real ordered_stored_energy() const {
+    const auto& c = solver_->contacts();
+    using law = typename Solver::contact_set_type::law_type;
+    std::vector<double> mine;
+    for (index_t i = 0; i < c.subcontact_count(); ++i)
+      if (is_own_block(c.block_a(i))) mine.push_back(c.area(i) * law::stored_energy(c.subcontact_params(i), c.state(i)));
+    const int n = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(ranks_)), offsets(static_cast<std::size_t>(ranks_) + 1, 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+    for (int r = 0; r < ranks_; ++r)
+      offsets[static_cast<std::size_t>(r) + 1] = offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)];
+    std::vector<double> all(static_cast<std::size_t>(offsets.back()));
+    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm_);
+    real sum = 0;  // detected_contacts::energies starts from the retired books' stored energy, 0
+    for (index_t i = 0; i < c.subcontact_count(); ++i)
+      sum += all[static_cast<std::size_t>(offsets[static_cast<std::size_t>(block_rank_[static_cast<std::size_t>(c.block_a(i))])]++)];
+    return sum;
+  }
+
+  [[nodiscard]] bool is_own_block(index_t b) const { return block_rank_[static_cast<std::size_t>(b)] == rank_; }
+  [[nodiscard]] int rank() const { return rank_; }
+  [[nodiscard]] int ranks() const { return ranks_; }
+  /// Blocks of rank r, increasing.
+  [[nodiscard]] const std::vector<index_t>& rank_blocks(int r) const { return rank_blocks_.at(static_cast<std::size_t>(r)); }
+  /// Bytes all ranks send in one step's exchange (each rank's block states, sent to every other).
+  [[nodiscard]] double exchange_bytes_per_step() const {
+    double doubles = 0;
+    for (const int c : counts_) doubles += static_cast<double>(c) * (ranks_ - 1);
+    return doubles * sizeof(double);
+  }
+  /// This rank's wall time in the exchange and in whole steps since it was built (s); the exchange
+  /// includes the wait for the slowest rank, so it measures imbalance too.
+  [[nodiscard]] double exchange_seconds() const { return exchange_seconds_; }
+  [[nodiscard]] double step_seconds() const { return step_seconds_; }
+  [[nodiscard]] std::int64_t steps() const { return steps_; }
+
+ private:
+  Solver* solver_;
+  MPI_Comm comm_;
+  int rank_ = 0, ranks_ = 1;
+  std::vector<std::vector<index_t>> rank_blocks_;  ///< per rank, its blocks, increasing
+  std::vector<int> block_rank_;                    ///< per block, its rank
+  std::vector<index_t> own_gridpoints_;            ///< gridpoints of this rank's blocks, increasing
+  std::vector<int> counts_, offsets_;              ///< per rank, its doubles in the exchange and their offset
+  std::vector<double> send_, received_;
+  real initial_ = 0;                               ///< this rank's share of the initial energy (J)
+  mutable std::vector<double> rank_shares_;        ///< summed_energies' gathered shares
+  double exchange_seconds_ = 0, step_seconds_ = 0;
+  std::int64_t steps_ = 0;
+};
+
+}  // namespace tessera::distributed
+
+#endif  // TESSERA_HAVE_MPI
