@@ -2,15 +2,22 @@
 // distributed_mpi_step_2 and _3): a small heap of rigid Voronoi blocks dropped on a floor, every
 // contact detected, stepped split and as one process side by side on every rank. Through the fall,
 // the first contacts, rebuilds and the heap's settling, every block's body state and every
-// gridpoint of the split run must be one process's to the bit, with the same rebuilds, keys and
+// gridpoint of the split run must be one process's to the bit (blocks migrating between ranks at
+// rebuilds, and not), with the same rebuilds, keys and
 // time step; the kinetic and stored energies the same bits, the summed work books and contact
-// dissipation within 1e-10 of one process's (another summation order).
+// dissipation within 1e-10 of one process's (another summation order). A split heap saved per
+// rank restarts to the same bits ("[checkpoint]").
 
 #include <catch2/catch.hpp>
 
 #include <mpi.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
 #include <cstdint>
 #include <cstring>
 #include <utility>
@@ -22,6 +29,7 @@
 #include "tessera/geometry/shapes.hpp"
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
+#include "tessera/io/checkpoint.hpp"
 #include "tessera/solver/solver.hpp"
 #include "verification/inputs.hpp"
 
@@ -67,22 +75,42 @@ template <class T>
   return std::memcmp(&a, &b, sizeof(T)) == 0;
 }
 
-}  // namespace
+/// Gridpoint components whose displacement or velocity differ in their bits between x and y.
+[[nodiscard]] index_t differing_components(const heap_solver& x, const heap_solver& y) {
+  index_t bad = 0;
+  for (index_t g = 0; g < x.gridpoints().size(); ++g)
+    for (int c = 0; c < 3; ++c)
+      if (!same_bits(x.gridpoints().displacement(g, c), y.gridpoints().displacement(g, c)) ||
+          !same_bits(x.gridpoints().velocity(g, c), y.gridpoints().velocity(g, c)))
+        ++bad;
+  return bad;
+}
 
-TEST_CASE("a heap of rigid blocks on detected contacts keeps one process's bits on several ranks", "[mpi][step][rigid]") {
+/// This process's rank and the ranks of MPI_COMM_WORLD.
+[[nodiscard]] std::pair<int, int> world() {
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
+  return {rank, size};
+}
+
+}  // namespace
+
+TEST_CASE("a heap of rigid blocks on detected contacts keeps one process's bits on several ranks", "[mpi][step][rigid]") {
+  const auto [rank, size] = world();
   const heap_scene scene;
   heap_solver one = scene.make();
   heap_solver split = scene.make();
+  heap_solver fixed = scene.make();  // the same split with every block on its first rank throughout
   const std::vector<int> map = distributed::partition_moving_blocks(scene.mesh, size);
   distributed::rigid_stepper<heap_solver> stepper(split, map, MPI_COMM_WORLD);
+  distributed::rigid_stepper<heap_solver> fixed_stepper(fixed, map, MPI_COMM_WORLD, false);
   index_t first_contact_one = -1, first_contact_split = -1;
   index_t bad_blocks = 0, bad_gridpoints = 0, bad_steps = 0;
   for (index_t k = 1; k <= 6000; ++k) {
     one.step();
     stepper.step();
+    fixed_stepper.step();
     if (first_contact_one < 0 && one.contacts().energies().stored > 0) first_contact_one = k;
     if (first_contact_split < 0 && stepper.summed_energies().contact_stored > 0) first_contact_split = k;
     if (!same_bits(one.dt(), split.dt()) || one.contacts().rebuild_count() != split.contacts().rebuild_count() ||
@@ -99,11 +127,7 @@ TEST_CASE("a heap of rigid blocks on detected contacts keeps one process's bits 
                       same_bits(a.force(blk), b.force(blk)) && same_bits(a.moment(blk), b.moment(blk));
     bad_blocks += same ? 0 : 1;
   }
-  for (index_t g = 0; g < one.gridpoints().size(); ++g)
-    for (int c = 0; c < 3; ++c)
-      if (!same_bits(one.gridpoints().displacement(g, c), split.gridpoints().displacement(g, c)) ||
-          !same_bits(one.gridpoints().velocity(g, c), split.gridpoints().velocity(g, c)))
-        ++bad_gridpoints;
+  bad_gridpoints = differing_components(one, split) + differing_components(one, fixed);
   INFO("rank " << rank << " of " << size << ": " << bad_blocks << " blocks, " << bad_gridpoints
                << " gridpoint components and " << bad_steps << " steps differ from one process");
   CHECK(bad_blocks == 0);
@@ -115,6 +139,13 @@ TEST_CASE("a heap of rigid blocks on detected contacts keeps one process's bits 
   CHECK(first_contact_one > 0);
   CHECK(first_contact_split == first_contact_one);
   CHECK(stepper.rank_blocks(rank).size() >= 10);
+  // Blocks changed rank at rebuilds (the pairs that changed hands took their state along), and
+  // some block now sits on another rank than at the start.
+  CHECK(stepper.rebalances() > 0);
+  index_t moved = 0;
+  for (index_t blk = 0; blk < a.block_count(); ++blk) moved += stepper.block_rank(blk) != map[static_cast<std::size_t>(blk)];
+  CHECK(moved > 0);
+  CHECK(fixed_stepper.rebalances() == 0);
 
   // The books: one process's to round-off.
   const energy_balance e1 = one.energies(), e2 = stepper.summed_energies();
@@ -130,4 +161,49 @@ TEST_CASE("a heap of rigid blocks on detected contacts keeps one process's bits 
     CHECK(std::abs(x - y) <= 1e-10 * scale);
   CHECK(std::abs(e2.error_rel() - e1.error_rel()) <= 1e-8);
   CHECK(e1.error_rel() < 1e-2);
+}
+
+TEST_CASE("a split heap saved per rank restarts to the same bits", "[mpi][step][rigid][checkpoint]") {
+  const auto [rank, size] = world();
+  const heap_scene scene;
+  heap_solver run = scene.make();
+  heap_solver restarted = scene.make();
+  const std::vector<int> map = distributed::partition_moving_blocks(scene.mesh, size);
+  distributed::rigid_stepper<heap_solver> step(run, map, MPI_COMM_WORLD);
+  // One file per rank, each its rank's whole solver (the other ranks' pairs stale: they restart
+  // as they were), in a folder named after rank 0's process.
+  long long id = static_cast<long long>(::getpid());
+  MPI_Bcast(&id, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("tessera_heap_" + std::to_string(id));
+  std::filesystem::create_directories(folder);
+  const std::filesystem::path file = folder / ("rank_" + std::to_string(rank) + ".ckpt");
+  constexpr int before = 2500, after = 2500;  // the first contacts come at about 1 700 steps
+  for (int k = 0; k < before; ++k) step.step();
+  io::save_checkpoint(run, file, "distributed rigid test");
+  const std::vector<int> saved_map = step.map();  // blocks may have changed rank since the start
+  for (int k = 0; k < after; ++k) step.step();
+  io::load_checkpoint(restarted, file);
+  distributed::rigid_stepper<heap_solver> step_again(restarted, saved_map, MPI_COMM_WORLD);
+  for (int k = 0; k < after; ++k) step_again.step();
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove_all(folder);
+  INFO("rank " << rank << " of " << size);
+  CHECK(restarted.step_count() == run.step_count());
+  CHECK(restarted.contacts().rebuild_count() == run.contacts().rebuild_count());
+  CHECK(run.contacts().subcontact_count() > 50);
+  CHECK(differing_components(run, restarted) == 0);
+  // The books came back with the file, the initial share included: the same sums to the bit.
+  const energy_balance e1 = step.summed_energies(), e2 = step_again.summed_energies();
+  CHECK(same_bits(e1.initial, e2.initial));
+  CHECK(same_bits(e1.gravity_work, e2.gravity_work));
+  CHECK(same_bits(e1.damping_dissipated, e2.damping_dissipated));
+  CHECK(same_bits(e1.contact_stored, e2.contact_stored));
+  CHECK(e1.error_rel() < 1e-2);
+
+  // The non-finite check across ranks: a NaN velocity on the last rank's first block makes every
+  // rank throw, naming its first gridpoint.
+  CHECK_NOTHROW(step_again.check_finite());
+  const index_t victim = restarted.gridpoints_of_block(step_again.rank_blocks(size - 1).front()).nodes.front();
+  if (rank == size - 1) restarted.gridpoints().velocity(victim, 2) = std::numeric_limits<real>::quiet_NaN();
+  CHECK_THROWS_WITH(step_again.check_finite(), Catch::Matchers::Contains("gridpoint " + std::to_string(victim) + " "));
 }

@@ -89,10 +89,10 @@ class mpi_session {
   /// Refuses, before anything is written, a run that cannot be split: started by an MPI launcher
   /// with more than one rank where the driver was built without MPI (every rank would run the
   /// whole model and write the same files), or a scene or scheme that does not split (`splits`
-  /// false; `why` says what: rigid blocks, detected contacts, kinetic relaxation). Throws
+  /// false; `why` says what: rigid blocks on bonded faces, kinetic relaxation). Throws
   /// invalid_input naming the rank count.
   void require_splittable(bool splits, const char* what,
-                          const char* why = "rigid blocks and detected contacts are not distributed yet") const {
+                          const char* why = "rigid blocks on bonded faces are not distributed yet") const {
     require(launched_ranks_ <= 1, "started on ", launched_ranks_, " MPI ranks, but this driver was built without MPI "
             "(CMake TESSERA_MPI off); run it as one process, or build with Open MPI installed");
     require(!split() || splits, what, " cannot run split over ", ranks_, " MPI ranks: ", why, "; run it as one process");
@@ -167,7 +167,8 @@ void run_sampled(Solver& s, [[maybe_unused]] const geometry::block_mesh& mesh, c
   } else {
     throw invalid_input(tessera::detail::concat(
         "this scene cannot run split over ", session->ranks(),
-        " MPI ranks: rigid blocks and detected contacts are not distributed yet; run it with one rank"));
+        " MPI ranks: only deformable blocks on bonded faces split through run_sampled (rigid blocks on "
+        "detected contacts: distributed::rigid_stepper); run it with one rank"));
   }
 #endif
 }

@@ -8,13 +8,15 @@
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
 //                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s),
 //                  the phase split and ns_per_subcontact_step (common/phase_report.hpp; over the
-//                  mean sub-contact count, with and without the rebuilds)
+//                  mean sub-contact count, with and without the rebuilds; split: rank 0's), and
+//                  mpi_ranks (split: the mpi_* figures of common/mpi_run.hpp and mpi_rebalances)
 //   curve.csv      t_s, kinetic_J, contact_stored_J, rebuild_exchange_J, subcontacts, rebuilds,
 //                  top_z_m (highest block centroid)
 //   blocks_NNNN.vtu + rubble.pvd   the blocks at --frames instants (unless --no-vtk)
 // Under mpirun -np N (builds with MPI): the same run split over N ranks by blocks
 // (distributed::rigid_stepper: each rank integrates its blocks and evaluates their contacts,
-// detection is done whole on every rank), the same motion to the bit; rank 0 writes --out.
+// detection is done whole on every rank, blocks change rank at rebuilds), the same motion to the
+// bit; rank 0 writes --out.
 // Exit status 0 when the run finished, 1 on an error, 2 on bad flags.
 
 #include <algorithm>
@@ -108,6 +110,20 @@ class split_stepping {
     }
 #endif
     return s.energies();
+  }
+  /// Rebuilds after which blocks changed rank (rigid_stepper::rebalances); -1 as one process.
+  [[nodiscard]] std::int64_t rebalances() const {
+#ifdef TESSERA_HAVE_MPI
+    if (stepper_) return stepper_->rebalances();
+#endif
+    return -1;
+  }
+  /// Time in the steps' phases: solver::phases(), or this rank's (rigid_stepper::phases).
+  [[nodiscard]] const phase_times& phases(const solver_type& s) const {
+#ifdef TESSERA_HAVE_MPI
+    if (stepper_) return stepper_->phases();
+#endif
+    return s.phases();
   }
   /// The split's figures into the session, for set_split_figures (a collective when split).
   void report() const {
@@ -264,14 +280,15 @@ int run(const inputs& in) {
       .set("rebuild_s", s.contacts().rebuild_seconds())
       .set("runtime_s", runtime_s);
   tessera::scenes::set_split_figures(j);
+  if (split.rebalances() >= 0) j.set("mpi_rebalances", split.rebalances());
   // Per-entity cost (common/phase_report.hpp) over the mean sub-contact count; the contact phase
   // includes the rebuilds, so the per-step cost without them is given beside.
   const double mean_subcontacts = steps > 0 ? subcontact_steps / static_cast<double>(steps) : 0.0;
-  tessera::scenes::set_phase_figures(j, s.phases(), 0, static_cast<index_t>(std::llround(mean_subcontacts)),
+  tessera::scenes::set_phase_figures(j, split.phases(s), 0, static_cast<index_t>(std::llround(mean_subcontacts)),
                                      static_cast<std::int64_t>(steps));
   j.set("mean_subcontacts", mean_subcontacts)
       .set("ns_per_subcontact_step_without_rebuilds",
-           subcontact_steps > 0 ? (s.phases().contacts - s.contacts().rebuild_seconds()) * 1e9 / subcontact_steps : 0.0);
+           subcontact_steps > 0 ? (split.phases(s).contacts - s.contacts().rebuild_seconds()) * 1e9 / subcontact_steps : 0.0);
   j.write(out / "summary.json");
   std::printf("rubble: %d blocks, %lld steps of %.3g s, %lld rebuilds (%.1f steps each), %lld sub-contacts (peak %lld)\n",
               in.blocks, static_cast<long long>(steps), s.dt(), static_cast<long long>(s.contacts().rebuild_count()),

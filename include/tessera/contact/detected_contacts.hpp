@@ -156,36 +156,7 @@ class detected_contacts {
   /// Rebuilds when a vertex has moved more than tolerance / 2 since the last rebuild or the
   /// interval is reached (the only call that allocates), then takes each block's motion for
   /// the step.
-  void prepare_step(const node_set& gridpoints, real /*dt*/) {
-    ++steps_since_rebuild_;
-    const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
-                        gridpoints.displacement.col(2).data()};
-    // Per block, in one parallel loop: its affine motion this step (the pairs read it, rather
-    // than gathering the four frame gridpoints of both blocks at every corner) and how far its
-    // watched gridpoints moved since the last rebuild (a rebuild leaves the motion as it is).
-    parallel_for(
-        static_cast<std::int64_t>(blocks_.size()),
-        [&](std::int64_t b) {
-          const block_data& bd = blocks_[at(b)];
-          motion_[at(b)] = detail::motion_of(reference_, bd, gridpoints, options_.deformable_blocks);
-          real m2 = 0;
-          for (index_t k = bd.watch_begin; k < bd.watch_end; ++k) {
-            const auto g = at(watch_gridpoints_[at(k)]);
-            const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1),
-                       dz = u[2][g] - rebuild_u_(k, 2);
-            m2 = std::max(m2, (dx * dx + dy * dy) + dz * dz);
-          }
-          moved_[at(b)] = m2;
-        },
-        64);
-    const real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
-    // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
-    // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
-    const real half = 0.5 * options_.tolerance - max_deviation_;
-    // Past twice the trigger, one step covered more than it: refuse (detected/refusals.hpp).
-    if (half > 0 && moved2 > 4 * half * half) detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, options_.tolerance);
-    if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
-  }
+  void prepare_step(const node_set& gridpoints, real dt);  // detected/step.hpp
   [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()); }
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
   /// motion was read from the gridpoints in prepare_step).
@@ -267,6 +238,8 @@ class detected_contacts {
   [[nodiscard]] index_t size() const { return static_cast<index_t>(key_label_.size()); }
   [[nodiscard]] index_t subcontact_count() const { return size(); }
   [[nodiscard]] index_t pair_count() const { return static_cast<index_t>(pair_a_.size()); }
+  /// The blocks (a, b) of pair k, a < b.
+  [[nodiscard]] std::array<index_t, 2> pair_blocks(index_t k) const { return {pair_a_[at(k)], pair_b_[at(k)]}; }
   [[nodiscard]] const state_type& state(index_t i) const { return state_[at(i)]; }
   [[nodiscard]] real area(index_t i) const { return area_[at(i)]; }
   [[nodiscard]] index_t pair_of(index_t i) const { return pair_[at(i)]; }
@@ -328,6 +301,12 @@ class detected_contacts {
   /// on those blocks' gridpoints, and books (energies()) the sub-contacts of pairs whose first
   /// block is one of them. Rigid blocks only. Detection stays whole. Defined in detected/subset.hpp.
   void set_own_blocks(std::span<const index_t> own);
+  /// The step state of pair k (its normals now; each sub-contact's law state, fresh flag and force):
+  /// what a rank that starts to evaluate the pair needs from one that did, when a block changes
+  /// rank. write_pair_state appends pair_state_bytes(k) bytes; read_pair_state takes them.
+  [[nodiscard]] std::size_t pair_state_bytes(index_t k) const;
+  void write_pair_state(index_t k, std::vector<unsigned char>& out) const;
+  void read_pair_state(index_t k, const unsigned char* in);
 
   /// Saves or loads everything a rebuild and a step read (io/checkpoint.hpp): the sub-contacts
   /// (keys, pairs, areas, affine weights, law states field by field, forces, fresh flags), the
@@ -343,6 +322,8 @@ class detected_contacts {
  private:
   /// Booked here (set_own_blocks): sub-contact i's pair's first block is own, or no subset is set.
   [[nodiscard]] bool counted(std::size_t i) const { return own_block_.empty() || own_block_[at(pair_a_[at(pair_[i])])] != 0; }
+  template <class F>
+  void visit_pair_state(index_t k, F&& f);  // detected/subset.hpp
   // Defined, each with its doc comment, in the detected/ header named above its group.
   // detected/step_bound.hpp
   void add_bounds(node_set& gridpoints, step_bound_scope scope) const;

@@ -15,15 +15,19 @@
 //   own blocks: reduction to force and moment, integration, slaved gridpoints (advance_blocks)
 //   one MPI_Allgatherv of the own blocks' states after the step (29 doubles a block); each rank
 //     sets the other ranks' blocks from them and slaves their gridpoints as their owners did
+//   after a rebuild: the blocks cut again, the pairs that change hands sent to their new ranks
 //
 // Why the bits are one process's: a block's force and moment are the sums of solver::step (the
 // same pairs, evaluated from the same body states, gathered in the same order), its integration
 // is per block, and the copies of the other ranks' blocks are their owners' bits. So every body
 // state, every gridpoint, the rebuild steps, the sub-contact keys and the time step are one
 // process's on every rank, for any rank and thread count (test_distributed_step "[rigid]").
-// Ownership is fixed: a block that crosses into another rank's region stays with its rank, which
-// keeps the bits (a pair that touches an own block was always evaluated here, so its state is
-// exact); the cost is the balance as the scene moves.
+// Blocks migrate (rebalance, on by default): after a step whose contacts rebuilt, every rank cuts
+// the blocks again by bisection of their centroids now (the same bits everywhere, so the same
+// map), and each pair that a rank starts to evaluate takes its step state (normals, law states,
+// fresh flags, forces) from the rank that owned its first block, which evaluated it: so its state
+// is exact wherever it is evaluated, and the bits hold through any number of moves. Off, a block
+// stays with its rank for the run; the cost is the balance as the scene moves.
 //
 // What is not the same bits: the energy books (the work of supports, damping and gravity, the
 // contacts' dissipated energies and the rebuild exchange): each rank books its own blocks and the
@@ -54,6 +58,7 @@
 #include "../geometry/block_mesh.hpp"
 #include "../integrator/concepts.hpp"
 #include "../solver/energy.hpp"
+#include "../solver/options.hpp"
 #include "block_graph.hpp"
 #include "partition.hpp"
 
@@ -88,40 +93,24 @@ class rigid_stepper {
   static constexpr int share_count = 8;
 
   /// The step of this process's rank in `comm` for `s`, built on every rank from the same scene,
-  /// with block b on rank block_rank[b] (the same map on every rank, e.g. partition_moving_blocks).
+  /// with block b on rank block_rank[b] (the same map on every rank, e.g. partition_moving_blocks);
+  /// `rebalance`: cut the blocks again after each rebuild (file comment).
   /// Call before the first step. Throws invalid_input when the map's size is not the block count,
   /// names a rank outside the communicator, or leaves a rank without blocks.
-  rigid_stepper(Solver& s, std::span<const int> block_rank, MPI_Comm comm) : solver_(&s), comm_(comm) {
+  rigid_stepper(Solver& s, std::span<const int> block_rank, MPI_Comm comm, bool rebalance = true)
+      : solver_(&s), comm_(comm), rebalance_(rebalance) {
     MPI_Comm_rank(comm, &rank_);
     MPI_Comm_size(comm, &ranks_);
     const index_t n_b = s.blocks().block_count();
     require(static_cast<index_t>(block_rank.size()) == n_b, "distributed::rigid_stepper: the map has ",
             block_rank.size(), " blocks, the solver ", n_b);
-    rank_blocks_.resize(static_cast<std::size_t>(ranks_));
-    block_rank_.assign(block_rank.begin(), block_rank.end());
     for (index_t b = 0; b < n_b; ++b) {
       const int r = block_rank[static_cast<std::size_t>(b)];
       require(r >= 0 && r < ranks_, "distributed::rigid_stepper: block ", b, " is mapped to rank ", r,
               ", outside the communicator's [0, ", ranks_, ")");
-      rank_blocks_[static_cast<std::size_t>(r)].push_back(b);
     }
-    counts_.resize(static_cast<std::size_t>(ranks_));
-    offsets_.resize(static_cast<std::size_t>(ranks_));
-    int total = 0;
-    for (int r = 0; r < ranks_; ++r) {
-      const auto& list = rank_blocks_[static_cast<std::size_t>(r)];
-      require(!list.empty(), "distributed::rigid_stepper: rank ", r, " has no blocks (", n_b, " blocks over ", ranks_,
-              " ranks)");
-      counts_[static_cast<std::size_t>(r)] = static_cast<int>(list.size()) * Solver::blocks_type::body_state_size;
-      offsets_[static_cast<std::size_t>(r)] = total;
-      total += counts_[static_cast<std::size_t>(r)];
-    }
-    received_.resize(static_cast<std::size_t>(total));
-    send_.reserve(static_cast<std::size_t>(counts_[static_cast<std::size_t>(rank_)]));
-    const auto& own = rank_blocks_[static_cast<std::size_t>(rank_)];
-    for (const index_t b : own)
-      for (const index_t g : s.gridpoints_of_block(b).nodes) own_gridpoints_.push_back(g);
-    s.contacts_for_step().set_own_blocks(own);
+    block_rank_.assign(block_rank.begin(), block_rank.end());
+    apply_map();
     rank_shares_.resize(static_cast<std::size_t>(share_count) * static_cast<std::size_t>(ranks_));
   }
   rigid_stepper(const rigid_stepper&) = delete;
@@ -134,16 +123,15 @@ class rigid_stepper {
     Solver& s = *solver_;
     node_set& gp = s.gridpoints();
     s.begin_rigid_step();
-    if (s.step_count() == 0) {
-      // The balance's initial energy, this rank's share: its sub-contacts' springs, and (rank 0)
-      // the kinetic energy, which every rank holds whole.
-      initial_ = s.contacts().energies().stored + (rank_ == 0 ? s.blocks().kinetic_energy(gp) : 0.0);
-    }
+    if (s.step_count() == 0) s.book_initial_energy(initial_share());  // kept by a checkpoint
     for (const index_t g : own_gridpoints_)
       for (int c = 0; c < 3; ++c) gp.force(g, c) = 0;
+    const index_t rebuilds = s.contacts().rebuild_count();
     s.contacts_for_step().update(gp, s.dt());
     const real kick = s.time_step_after_contacts();
     const real dt = s.dt();
+    const auto integration = std::chrono::steady_clock::now();
+    phases_.contacts += std::chrono::duration<double>(integration - started).count();
     integrator::step_work work;
     const auto& own = rank_blocks_[static_cast<std::size_t>(rank_)];
     s.blocks().advance_blocks(s.integrator(), gp, dt, work, kick, own);
@@ -158,8 +146,10 @@ class rigid_stepper {
       if (r != rank_)
         s.blocks().read_body_states(rank_blocks_[static_cast<std::size_t>(r)],
                                     received_.data() + offsets_[static_cast<std::size_t>(r)], gp, dt);
+    if (rebalance_ && s.contacts().rebuild_count() != rebuilds) rebalance();
     const auto ended = std::chrono::steady_clock::now();
     s.close_external_step(work, 0, gravity_power * dt);
+    phases_.integration += std::chrono::duration<double>(exchange - integration).count();
     exchange_seconds_ += std::chrono::duration<double>(ended - exchange).count();
     step_seconds_ += std::chrono::duration<double>(ended - started).count();
     ++steps_;
@@ -174,7 +164,8 @@ class rigid_stepper {
   /// samples).
   [[nodiscard]] energy_balance summed_energies() const {
     const energy_balance mine = solver_->energies();
-    const std::array<double, share_count> share = {initial_,           mine.boundary_work,     mine.damping_dissipated,
+    const real initial = solver_->step_count() == 0 ? initial_share() : mine.initial;
+    const std::array<double, share_count> share = {initial,            mine.boundary_work,     mine.damping_dissipated,
                                                    mine.gravity_work,  mine.contact_stored,    mine.contact_dissipated,
                                                    mine.contact_dissipated_tension, mine.contact_rebuild_exchange};
     MPI_Allgather(share.data(), share_count, MPI_DOUBLE, rank_shares_.data(), share_count, MPI_DOUBLE, comm_);
@@ -251,9 +242,96 @@ class rigid_stepper {
   /// includes the wait for the slowest rank, so it measures imbalance too.
   [[nodiscard]] double exchange_seconds() const { return exchange_seconds_; }
   [[nodiscard]] double step_seconds() const { return step_seconds_; }
+  /// This rank's time in its steps' contact update (with the rebuilds) and in integrating its
+  /// blocks (s; zones, bars and recorders 0), as solver::phases() reports a one-process run's.
+  [[nodiscard]] const phase_times& phases() const { return phases_; }
   [[nodiscard]] std::int64_t steps() const { return steps_; }
+  /// Rebuilds after which blocks changed rank (rebalance).
+  [[nodiscard]] std::int64_t rebalances() const { return rebalances_; }
+  /// The block -> rank map now (after the rebalances so far): a restart from checkpoints builds its
+  /// stepper with the map of the save.
+  [[nodiscard]] const std::vector<int>& map() const { return block_rank_; }
+  /// Rank of block b now.
+  [[nodiscard]] int block_rank(index_t b) const { return block_rank_.at(static_cast<std::size_t>(b)); }
 
  private:
+  /// The lists, exchange sizes and contact subset of block_rank_. Throws invalid_input when a rank
+  /// has no blocks.
+  void apply_map() {
+    Solver& s = *solver_;
+    rank_blocks_.assign(static_cast<std::size_t>(ranks_), {});
+    for (std::size_t b = 0; b < block_rank_.size(); ++b)
+      rank_blocks_[static_cast<std::size_t>(block_rank_[b])].push_back(static_cast<index_t>(b));
+    counts_.assign(static_cast<std::size_t>(ranks_), 0);
+    offsets_.assign(static_cast<std::size_t>(ranks_), 0);
+    int total = 0;
+    for (int r = 0; r < ranks_; ++r) {
+      const auto& list = rank_blocks_[static_cast<std::size_t>(r)];
+      require(!list.empty(), "distributed::rigid_stepper: rank ", r, " has no blocks (", block_rank_.size(),
+              " blocks over ", ranks_, " ranks)");
+      counts_[static_cast<std::size_t>(r)] = static_cast<int>(list.size()) * Solver::blocks_type::body_state_size;
+      offsets_[static_cast<std::size_t>(r)] = total;
+      total += counts_[static_cast<std::size_t>(r)];
+    }
+    received_.resize(static_cast<std::size_t>(total));
+    send_.reserve(static_cast<std::size_t>(counts_[static_cast<std::size_t>(rank_)]));
+    const auto& own = rank_blocks_[static_cast<std::size_t>(rank_)];
+    own_gridpoints_.clear();
+    for (const index_t b : own)
+      for (const index_t g : s.gridpoints_of_block(b).nodes) own_gridpoints_.push_back(g);
+    s.contacts_for_step().set_own_blocks(own);
+  }
+
+  /// After a step whose contacts rebuilt, with every body state current on every rank: the blocks
+  /// cut again by bisection of their centroids now, alike on every rank. Each pair that a rank
+  /// starts to evaluate takes its step state from the rank that owned its first block (which
+  /// evaluated it), in one MPI_Allgatherv; then the new map applies. Allocates (at rebuilds only).
+  void rebalance() {
+    Solver& s = *solver_;
+    block_graph_input in;
+    const index_t n_b = s.blocks().block_count();
+    in.weight.assign(static_cast<std::size_t>(n_b), real(1));
+    for (index_t b = 0; b < n_b; ++b) in.centroid.push_back(s.blocks().centroid(b));
+    const std::vector<int> next = partition_blocks_rcb(block_graph(in), ranks_);
+    if (next == block_rank_) return;
+    auto& c = s.contacts_for_step();
+    // Pair k moves state when one of its new ranks did not evaluate it: from its first block's old rank.
+    const auto gains = [&](index_t k) {
+      const auto [a, b] = c.pair_blocks(k);
+      const int oa = block_rank_[static_cast<std::size_t>(a)], ob = block_rank_[static_cast<std::size_t>(b)];
+      const int na = next[static_cast<std::size_t>(a)], nb = next[static_cast<std::size_t>(b)];
+      return (na != oa && na != ob) || (nb != oa && nb != ob);
+    };
+    std::vector<unsigned char> mine;
+    for (index_t k = 0; k < c.pair_count(); ++k)
+      if (gains(k) && block_rank_[static_cast<std::size_t>(c.pair_blocks(k)[0])] == rank_) c.write_pair_state(k, mine);
+    const int n = static_cast<int>(mine.size());
+    std::vector<int> counts(static_cast<std::size_t>(ranks_)), offsets(static_cast<std::size_t>(ranks_) + 1, 0);
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+    for (int r = 0; r < ranks_; ++r)
+      offsets[static_cast<std::size_t>(r) + 1] = offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)];
+    std::vector<unsigned char> all(static_cast<std::size_t>(offsets.back()));
+    MPI_Allgatherv(mine.data(), n, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm_);
+    for (index_t k = 0; k < c.pair_count(); ++k) {
+      if (!gains(k)) continue;
+      const auto [a, b] = c.pair_blocks(k);
+      int& at = offsets[static_cast<std::size_t>(block_rank_[static_cast<std::size_t>(a)])];
+      const bool was = block_rank_[static_cast<std::size_t>(a)] == rank_ || block_rank_[static_cast<std::size_t>(b)] == rank_;
+      const bool is = next[static_cast<std::size_t>(a)] == rank_ || next[static_cast<std::size_t>(b)] == rank_;
+      if (is && !was) c.read_pair_state(k, all.data() + at);
+      at += static_cast<int>(c.pair_state_bytes(k));
+    }
+    block_rank_ = next;
+    apply_map();
+    ++rebalances_;
+  }
+
+  /// This rank's share of the balance's initial energy (J): its sub-contacts' springs and, on rank
+  /// 0, the kinetic energy, which every rank holds whole.
+  [[nodiscard]] real initial_share() const {
+    return solver_->contacts().energies().stored + (rank_ == 0 ? solver_->blocks().kinetic_energy(solver_->gridpoints()) : 0.0);
+  }
+
   Solver* solver_;
   MPI_Comm comm_;
   int rank_ = 0, ranks_ = 1;
@@ -262,10 +340,12 @@ class rigid_stepper {
   std::vector<index_t> own_gridpoints_;            ///< gridpoints of this rank's blocks, increasing
   std::vector<int> counts_, offsets_;              ///< per rank, its doubles in the exchange and their offset
   std::vector<double> send_, received_;
-  real initial_ = 0;                               ///< this rank's share of the initial energy (J)
+  phase_times phases_;                             ///< phases()
   mutable std::vector<double> rank_shares_;        ///< summed_energies' gathered shares
   double exchange_seconds_ = 0, step_seconds_ = 0;
   std::int64_t steps_ = 0;
+  bool rebalance_ = true;
+  std::int64_t rebalances_ = 0;
 };
 
 }  // namespace tessera::distributed

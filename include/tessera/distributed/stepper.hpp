@@ -77,7 +77,7 @@ namespace tessera::distributed {
 
 template <class Solver>
 class stepper {
-  static_assert(!Solver::blocks_type::is_rigid, "distributed::stepper: rigid blocks are not distributed yet");
+  static_assert(!Solver::blocks_type::is_rigid, "distributed::stepper: rigid blocks split with distributed::rigid_stepper");
   /// Bars embedded in the blocks (reinforcement::embedded_truss): their nodes owned by the rank of
   /// their host block, their elements evaluated by the ranks of both nodes (rank_ownership).
   static constexpr bool bars = Solver::reinforcement_type::enabled;
@@ -88,7 +88,7 @@ class stepper {
   static_assert(requires(typename Solver::contact_set_type& c, const node_set& gp, index_t i) {
     c.update_faces(i, i, gp, real(0));
     c.face(i);
-  }, "distributed::stepper: the contact set must be a face_contacts (bonded faces); detected contacts are not distributed yet");
+  }, "distributed::stepper: the contact set must be a face_contacts (bonded faces); detected contacts on rigid blocks split with distributed::rigid_stepper");
 
  public:
   /// The step of this process's rank in `comm` for `s`, built on every rank from the same scene

@@ -5,7 +5,7 @@
 // blocks on detected contacts). Such a driver zeroes and gathers the forces of the gridpoints it
 // owns, integrates them, and closes the step here; the solver keeps the time step, the time and
 // the work books. What solver::step also does and such a driver does not: the step checker (it
-// runs its own checks) and the initial energy (it books its rank's share).
+// runs its own checks) and the initial energy (it books its rank's share, book_initial_energy).
 //
 // A rigid-block step by pieces, in solver::step's order:
 //   s.begin_rigid_step();                    // the stable step's checks, as step() starts
@@ -53,6 +53,11 @@ class solver_external_steps {
       }
     return s.dt_;
   }
+
+  /// Sets the energy balance's initial energy (J), which solver::step takes from the kinetic and
+  /// stored energy before the first step; a driver of pieces books its own (a split run: its
+  /// rank's share), before its first step. A checkpoint keeps it.
+  void book_initial_energy(real e) { self().initial_energy_ = e; }
 
   /// Closes a step whose pieces a driver ran: books its integration's, applied forces' and
   /// gravity's work (J), advances step and time. No step checker (such a driver runs its own).

@@ -16,7 +16,7 @@
 // Cost: O(sub-contacts of the pair), no allocation. Thread safety: a pair writes only its own
 // normals, sub-contacts and frame-gridpoint sums, so distinct pairs may run on distinct threads.
 //
-// Definitions of detected_contacts<Law>'s private members (declared in the class); it includes the
+// Definitions of detected_contacts<Law>'s members of the step (declared in the class); it includes the
 // class and the class includes it, so either header can come first.
 
 #include <algorithm>
@@ -25,9 +25,11 @@
 #include <iterator>
 
 #include "../../core/nodes.hpp"
+#include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
 #include "../kinematics.hpp"
 #include "../detected_contacts.hpp"
+#include "refusals.hpp"
 
 namespace tessera::contact {
 
@@ -63,6 +65,39 @@ template <law::ContactLaw Law>
   if (j == 1)
     return side_a_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_a && side_a_[k] == feature_a_[k]);
   return side_b_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_b && side_b_[k] == feature_b_[k]);
+}
+
+/// prepare_step (declared, with what it does, in the class).
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, real /*dt*/) {
+  ++steps_since_rebuild_;
+  const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
+                      gridpoints.displacement.col(2).data()};
+  // Per block, in one parallel loop: its affine motion this step (the pairs read it, rather
+  // than gathering the four frame gridpoints of both blocks at every corner) and how far its
+  // watched gridpoints moved since the last rebuild (a rebuild leaves the motion as it is).
+  parallel_for(
+      static_cast<std::int64_t>(blocks_.size()),
+      [&](std::int64_t b) {
+        const block_data& bd = blocks_[at(b)];
+        motion_[at(b)] = detail::motion_of(reference_, bd, gridpoints, options_.deformable_blocks);
+        real m2 = 0;
+        for (index_t k = bd.watch_begin; k < bd.watch_end; ++k) {
+          const auto g = at(watch_gridpoints_[at(k)]);
+          const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1),
+                     dz = u[2][g] - rebuild_u_(k, 2);
+          m2 = std::max(m2, (dx * dx + dy * dy) + dz * dz);
+        }
+        moved_[at(b)] = m2;
+      },
+      64);
+  const real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
+  // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
+  // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
+  const real half = 0.5 * options_.tolerance - max_deviation_;
+  // Past twice the trigger, one step covered more than it: refuse (detected/refusals.hpp).
+  if (half > 0 && moved2 > 4 * half * half) detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, options_.tolerance);
+  if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
 }
 
 /// The pair's three normals now (stored for the next step) and their tilts since the last.

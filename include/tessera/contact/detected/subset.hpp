@@ -10,12 +10,17 @@
 // pairs, in the order of one process. The other pairs' states go stale and nothing reads them for
 // a force; the books (energies(), and the retired energies and rebuild exchange of the rebuilds
 // after the call) count a sub-contact on the rank of its pair's first block only, so the ranks'
-// books add up to one process's to round-off.
+// books add up to one process's to round-off. When a block changes rank, the pairs a rank starts
+// to evaluate take their step state (normals now, law states, fresh flags, forces) from a rank
+// that evaluated them: write_pair_state and read_pair_state.
 //
 // Definitions of detected_contacts<Law>'s members declared in the class; it includes the class and
 // the class includes it, so either header can come first.
 
 #include <cstddef>
+#include <cstring>
+#include <type_traits>
+#include <vector>
 #include <span>
 
 #include "../../core/errors.hpp"
@@ -59,6 +64,46 @@ inline contact_energies detected_contacts<Law>::energies() const {
     e.dissipated_compression += c.dissipated_compression;
   }
   return e;
+}
+
+template <law::ContactLaw Law>
+inline std::size_t detected_contacts<Law>::pair_state_bytes(index_t k) const {
+  const auto n = static_cast<std::size_t>(pair_first_[at(k) + 1] - pair_first_[at(k)]);
+  return 9 * sizeof(real) + n * (sizeof(state_type) + 1 + 3 * sizeof(real));
+}
+
+/// f(address, bytes) for each field of pair k's step state in a fixed order: its three normals
+/// now, then per sub-contact its law state, fresh flag and force on A.
+template <law::ContactLaw Law>
+template <class F>
+inline void detected_contacts<Law>::visit_pair_state(index_t k, F&& f) {
+  for (int j = 0; j < 3; ++j)
+    for (int c = 0; c < 3; ++c) f(&normal_[at(j)](k, c), sizeof(real));
+  for (auto i = at(pair_first_[at(k)]); i < at(pair_first_[at(k) + 1]); ++i) {
+    f(&state_[i], sizeof(state_type));
+    f(&fresh_[i], std::size_t{1});
+    for (int c = 0; c < 3; ++c) f(&force_[at(c)][i], sizeof(real));
+  }
+}
+
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::write_pair_state(index_t k, std::vector<unsigned char>& out) const {
+  // A law state's bytes are its value (reals, fixed-size Eigen vectors, flags; Eigen's copy
+  // constructor makes it non-trivially copyable only formally), as the state gather also copies it.
+  static_assert(std::is_trivially_destructible_v<state_type>, "a law state moves between ranks as bytes");
+  // The visit only reads here.
+  const_cast<detected_contacts&>(*this).visit_pair_state(k, [&](const void* p, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(p);
+    out.insert(out.end(), b, b + bytes);
+  });
+}
+
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::read_pair_state(index_t k, const unsigned char* in) {
+  visit_pair_state(k, [&](void* p, std::size_t bytes) {
+    std::memcpy(p, in, bytes);
+    in += bytes;
+  });
 }
 
 }  // namespace tessera::contact
