@@ -37,7 +37,8 @@
 //
 // Cost per step: the rank's contact pairs and blocks, the rebuild's detection of the whole scene
 // (replicated), O(blocks) for the rebuild trigger and for slaving the other ranks' blocks, and one
-// collective exchange of 232 bytes a block. Nothing allocated in step(). Not thread-safe (one
+// collective exchange of 232 bytes a block. step() allocates only at rebuilds (the contact set's
+// arrays, and the rebalance's map and transfer). Not thread-safe (one
 // thread drives it; its loops are parallel). Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
@@ -238,8 +239,8 @@ class rigid_stepper {
     for (const int c : counts_) doubles += static_cast<double>(c) * (ranks_ - 1);
     return doubles * sizeof(double);
   }
-  /// This rank's wall time in the exchange and in whole steps since it was built (s); the exchange
-  /// includes the wait for the slowest rank, so it measures imbalance too.
+  /// This rank's wall time in the exchange (with the rebalances) and in whole steps since it was
+  /// built (s); the exchange includes the wait for the slowest rank, so it measures imbalance too.
   [[nodiscard]] double exchange_seconds() const { return exchange_seconds_; }
   [[nodiscard]] double step_seconds() const { return step_seconds_; }
   /// This rank's time in its steps' contact update (with the rebuilds) and in integrating its
