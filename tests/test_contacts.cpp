@@ -1592,6 +1592,38 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
     CHECK_THROWS_AS(detection::contact_patch_of(blocks[0], blocks[1], one.planes[0], options.tolerance, faces_0, {}),
                     invalid_input);
   }
+  // The parts of a split pass (detection_share, one per rank of a split run), concatenated in
+  // part order, are the whole pass to the bit; each part evaluates about a third of the
+  // candidates, so each holds a share of the pairs.
+  {
+    detection::detection_result whole_again;
+    whole_again.first_corner.clear();
+    whole_again.first_corner.push_back(0);
+    detection::detection_workspace w;
+    for (int part = 0; part < 3; ++part) {
+      detection::detection_result r;
+      detection::detect(blocks, edges, boxes, options, r, w, {part, 3});
+      CHECK(r.candidates == one.candidates);
+      CHECK(r.pairs.size() > one.pairs.size() / 5);
+      CHECK(r.pairs.size() < one.pairs.size() / 2);
+      whole_again.pairs.insert(whole_again.pairs.end(), r.pairs.begin(), r.pairs.end());
+      whole_again.point.insert(whole_again.point.end(), r.point.begin(), r.point.end());
+      whole_again.gap.insert(whole_again.gap.end(), r.gap.begin(), r.gap.end());
+      whole_again.label.insert(whole_again.label.end(), r.label.begin(), r.label.end());
+      for (std::size_t k = 0; k + 1 < r.first_corner.size(); ++k)
+        whole_again.first_corner.push_back(whole_again.first_corner.back() + r.first_corner[k + 1] - r.first_corner[k]);
+    }
+    REQUIRE(whole_again.pairs == one.pairs);
+    CHECK(whole_again.first_corner == one.first_corner);
+    CHECK(whole_again.label == one.label);
+    REQUIRE(whole_again.point.size() == one.point.size());
+    CHECK(std::memcmp(whole_again.point.data(), one.point.data(), one.point.size() * sizeof(vec3)) == 0);
+    CHECK(std::memcmp(whole_again.gap.data(), one.gap.data(), one.gap.size() * sizeof(real)) == 0);
+    detection::detection_result r;
+    CHECK_THROWS_WITH(detection::detect(blocks, edges, boxes, options, r, w, {3, 3}), Catch::Contains("part 3 of 3"));
+    CHECK_THROWS_WITH(detection::detect(blocks, edges, boxes, options, r, w, {0, 0}), Catch::Contains("part 0 of 0"));
+    CHECK_THROWS_AS(detection::detect(blocks, edges, boxes, options, r, w, {-1, 2}), invalid_input);
+  }
   detection::detection_result r;
   detection::detection_workspace w;
   options.tolerance = 0;

@@ -139,6 +139,14 @@ TEST_CASE("a heap of rigid blocks on detected contacts keeps one process's bits 
   CHECK(first_contact_one > 0);
   CHECK(first_contact_split == first_contact_one);
   CHECK(stepper.rank_blocks(rank).size() >= 10);
+  // Each rank evaluated its part of the last pass's candidates (the rest came by the gather).
+  const auto& dc = split.contacts();
+  unsigned long long evaluated = dc.evaluated_candidate_count(), all_evaluated = 0;
+  MPI_Allreduce(&evaluated, &all_evaluated, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+  CHECK(all_evaluated == dc.candidate_count());
+  CHECK(dc.candidate_count() == one.contacts().candidate_count());
+  CHECK(one.contacts().evaluated_candidate_count() == one.contacts().candidate_count());
+  if (size > 1) CHECK(evaluated <= dc.candidate_count() / static_cast<std::size_t>(size) + 1);
   // Blocks changed rank at rebuilds (the pairs that changed hands took their state along), and
   // some block now sits on another rank than at the start.
   CHECK(stepper.rebalances() > 0);

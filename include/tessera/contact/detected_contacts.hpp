@@ -35,6 +35,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -277,8 +278,9 @@ class detected_contacts {
   /// Wall time spent in rebuilds so far, the construction's included (s; for reports, never
   /// for results).
   [[nodiscard]] double rebuild_seconds() const { return rebuild_seconds_; }
-  /// Candidate pairs of the last pass.
+  /// Candidate pairs of the last pass, and of them those this rank evaluated (set_detection_split).
   [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
+  [[nodiscard]] std::size_t evaluated_candidate_count() const { return result_.evaluated; }
   /// Sub-contacts of the last rebuild that kept the state of an earlier one.
   [[nodiscard]] index_t kept_last_rebuild() const { return kept_last_; }
   [[nodiscard]] real tolerance() const { return options_.tolerance; }
@@ -299,8 +301,11 @@ class detected_contacts {
   /// A run split over MPI ranks (distributed::rigid_stepper): this rank evaluates only the pairs
   /// that touch one of `own` (block ids, increasing; every block when empty), gathers forces only
   /// on those blocks' gridpoints, and books (energies()) the sub-contacts of pairs whose first
-  /// block is one of them. Rigid blocks only. Detection stays whole. Defined in detected/subset.hpp.
+  /// block is one of them. Rigid blocks only. Defined in detected/subset.hpp.
   void set_own_blocks(std::span<const index_t> own);
+  /// Rebuilds evaluate part `part` of `parts` of the candidate pairs, and `gather` turns that
+  /// part's result into the whole pass's (detected/subset.hpp). {0, 1, {}}: the whole pass here.
+  void set_detection_split(int part, int parts, std::function<void(detection::detection_result&)> gather);
   /// The step state of pair k (its normals now; each sub-contact's law state, fresh flag and force):
   /// what a rank that starts to evaluate the pair needs from one that did, when a block changes
   /// rank. write_pair_state appends pair_state_bytes(k) bytes; read_pair_state takes them.
@@ -432,6 +437,8 @@ class detected_contacts {
   index_t steps_since_rebuild_ = 0;
   detection::detection_result result_;
   detection::detection_workspace workspace_;
+  detection::detection_share share_;                             ///< set_detection_split
+  std::function<void(detection::detection_result&)> gather_;
   // per pair
   std::vector<index_t> pair_a_, pair_b_, pair_param_, pair_first_{0};
   std::vector<index_t> pair_tasks_, task_end_;  ///< task t: pairs [pair_tasks_[t], task_end_[t])

@@ -8,8 +8,9 @@
 //
 //   the stable step's checks (solver::begin_rigid_step)
 //   contacts (detected_contacts::update with set_own_blocks): the rebuild trigger and, when it
-//     fires, the detection of the whole scene, alike on every rank (the same geometry gives the
-//     same pairs and keys); the law update of the pairs that touch an own block; the gather on
+//     fires, the detection pass with its narrow phase split (set_detection_split: each rank the
+//     common planes and patches of 1 / ranks of the candidate pairs, gather_detection the rest),
+//     so every rank holds the same pairs and keys; the law update of the pairs that touch an own block; the gather on
 //     the own blocks' gridpoints, in the order of one process
 //   the time step chosen again after a rebuild (solver::time_step_after_contacts), alike everywhere
 //   own blocks: reduction to force and moment, integration, slaved gridpoints (advance_blocks)
@@ -35,11 +36,12 @@
 // order, one process's values to round-off. The kinetic energy (every block's on every rank) and
 // the springs' stored energy (gathered and summed in one process's order) are the same bits.
 //
-// Cost per step: the rank's contact pairs and blocks, the rebuild's detection of the whole scene
-// (replicated), O(blocks) for the rebuild trigger and for slaving the other ranks' blocks, and one
-// collective exchange of 232 bytes a block. step() allocates only at rebuilds (the contact set's
-// arrays, and the rebalance's map and transfer). Not thread-safe (one
-// thread drives it; its loops are parallel). Only where MPI is built in (TESSERA_HAVE_MPI).
+// Cost per step: the rank's contact pairs and blocks; at rebuilds, its part of the narrow phase,
+// the gathered parts (about 56 bytes a corner) and the broad phase, the merge of the states and
+// the frames of the whole scene (replicated, a few per cent of a pass); O(blocks) for the rebuild
+// trigger and for slaving the other ranks' blocks, and one collective exchange of 232 bytes a
+// block. step() allocates only at rebuilds (the contact set's arrays, the gathered pass, and the
+// rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel). Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
 #include <mpi.h>
@@ -61,6 +63,7 @@
 #include "../solver/energy.hpp"
 #include "../solver/options.hpp"
 #include "block_graph.hpp"
+#include "gather_detection.hpp"
 #include "partition.hpp"
 
 namespace tessera::distributed {
@@ -112,8 +115,13 @@ class rigid_stepper {
     }
     block_rank_.assign(block_rank.begin(), block_rank.end());
     apply_map();
+    s.contacts_for_step().set_detection_split(rank_, ranks_, [comm](contact::detection::detection_result& part) {
+      gather_detection(comm, part);
+    });
     rank_shares_.resize(static_cast<std::size_t>(share_count) * static_cast<std::size_t>(ranks_));
   }
+  /// The solver's contact set detects whole passes again (set_own_blocks stays).
+  ~rigid_stepper() { solver_->contacts_for_step().set_detection_split(0, 1, {}); }
   rigid_stepper(const rigid_stepper&) = delete;
   rigid_stepper& operator=(const rigid_stepper&) = delete;
 

@@ -97,7 +97,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
   for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k)
     for (int c = 0; c < 3; ++c)
       rebuild_u_(static_cast<index_t>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
-  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_);
+  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_, share_);
+  if (share_.parts > 1) gather_(result_);  // the other parts, from the ranks that evaluated them
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
 
   // New pairs and their corners, sorted by label within a pair (pairs come increasing).

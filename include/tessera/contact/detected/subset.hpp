@@ -3,8 +3,13 @@
 // (distributed::rigid_stepper, docs/architecture.md "Detected contacts across ranks"), and the
 // energies, which book that part only.
 //
-// Every rank detects the whole scene from the same geometry, so every rank holds the same pairs
-// and keys in the same order. set_own_blocks then restricts the step: the tasks hold the pairs
+// Every rank holds the whole scene's pairs and keys in the same order: each rebuild's detection
+// pass is one process's, either run whole on every rank or, with set_detection_split, its
+// candidate pairs cut into one contiguous part per rank, each rank evaluating its part (the
+// common planes and patches, nearly all of a pass) and a gather (distributed::gather_detection)
+// concatenating the parts in rank order, which is the whole pass's result to the bit. The broad
+// phase, the merge of the states and the frames stay whole on every rank (a few per cent of a
+// pass). set_own_blocks then restricts the step: the tasks hold the pairs
 // that touch an own block (a pair across the cut is evaluated on both of its ranks, from the same
 // inputs), and the gather visits the own blocks' gridpoints, whose slots all come from those
 // pairs, in the order of one process. The other pairs' states go stale and nothing reads them for
@@ -19,6 +24,8 @@
 
 #include <cstddef>
 #include <cstring>
+#include <functional>
+#include <utility>
 #include <type_traits>
 #include <vector>
 #include <span>
@@ -49,6 +56,17 @@ inline void detected_contacts<Law>::set_own_blocks(std::span<const index_t> own)
     }
   }
   index_subcontacts();
+}
+
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::set_detection_split(int part, int parts,
+                                                        std::function<void(detection::detection_result&)> gather) {
+  require(parts >= 1 && part >= 0 && part < parts, "detected_contacts::set_detection_split: part ", part, " of ",
+          parts, " parts: need parts >= 1 and 0 <= part < parts");
+  require(parts == 1 || static_cast<bool>(gather),
+          "detected_contacts::set_detection_split: ", parts, " parts need a gather of the other parts' results");
+  share_ = {part, parts};
+  gather_ = parts > 1 ? std::move(gather) : nullptr;
 }
 
 template <law::ContactLaw Law>

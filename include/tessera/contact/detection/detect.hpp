@@ -8,7 +8,8 @@
 // increasing (a, b) order, each with its plane, and their patch corners as one list (pair k owns
 // corners [first_corner[k], first_corner[k + 1])) with point, gap and tributary area.
 // The narrow phase runs in parallel over the candidate pairs (each pair writes its own slot),
-// and the slots are concatenated in pair order.
+// and the slots are concatenated in pair order. A pass can evaluate one contiguous part of the
+// candidates (detection_share), for ranks that split the narrow phase and gather the parts.
 //
 // Cost: see docs/performance.md ("Contact detection kernels"). Allocates: each touching pair's
 // patch (three small vectors), and the result and workspace arrays when they grow (they keep
@@ -34,6 +35,16 @@ struct detection_options {
   real tolerance = 0;  ///< contact tolerance (m, > 0): pairs with a gap up to it touch
 };
 
+/// Which contiguous part of the broad phase's candidate list a pass evaluates: part `part` of
+/// `parts` equal runs, [n part / parts, n (part + 1) / parts) of the n candidates. The parts of one
+/// pass, concatenated in part order, are the whole pass's result to the bit (each candidate's
+/// plane and patch depend on its two blocks only); the ranks of a split run each take one
+/// (distributed::gather_detection). {0, 1}: the whole list.
+struct detection_share {
+  int part = 0;
+  int parts = 1;
+};
+
 /// What a pass found (see the file comment).
 struct detection_result {
   std::vector<block_pair> pairs;       ///< touching pairs, increasing
@@ -45,6 +56,18 @@ struct detection_result {
   std::vector<std::uint64_t> label;    ///< what the corner is (corner_label, common_plane.hpp)
   std::vector<patch_type> type;        ///< patch type of each touching pair
   std::size_t candidates = 0;          ///< pairs the broad phase passed on
+  std::size_t evaluated = 0;           ///< of them, those this pass evaluated (its detection_share part)
+  /// No pairs and no corners (the counts stay); keeps the capacity.
+  void clear_pairs() {
+    pairs.clear();
+    planes.clear();
+    type.clear();
+    first_corner.assign(1, 0);
+    point.clear();
+    gap.clear();
+    area.clear();
+    label.clear();
+  }
 };
 
 /// Scratch of a pass, kept between passes.
@@ -67,11 +90,13 @@ struct detection_workspace {
 /// `boxes[i]` = blocks[i].bounds()). Throws invalid_input for mismatched sizes or a bad option.
 inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                    std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                   detection_workspace& w) {
+                   detection_workspace& w, detection_share share = {}) {
   require(edges.size() == blocks.size() && boxes.size() == blocks.size(), "detect: ", blocks.size(), " blocks, ",
           edges.size(), " edge lists and ", boxes.size(), " boxes: give one of each per block");
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
           " m must be finite and > 0");
+  require(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "detect: part ", share.part, " of ",
+          share.parts, " parts: need parts >= 1 and 0 <= part < parts");
   // The grid unless the layout would need too many cells (a few huge boxes): then sort and sweep.
   if (const grid_layout g = layout_grid(boxes, options.margin); g.suits(boxes.size()))
     uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
@@ -88,10 +113,12 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
       w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
   }, 64);
   const std::size_t n = w.candidates.size();
+  const auto cut = [&](int p) { return n * static_cast<std::size_t>(p) / static_cast<std::size_t>(share.parts); };
+  const std::size_t first = cut(share.part), last = cut(share.part + 1);
   w.planes.resize(n);
   w.patches.resize(n);
-  parallel_for(static_cast<std::int64_t>(n), [&](std::int64_t k) {
-    const auto i = static_cast<std::size_t>(k);
+  parallel_for(static_cast<std::int64_t>(last - first), [&](std::int64_t k) {
+    const auto i = first + static_cast<std::size_t>(k);
     const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
     const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
     w.planes[i] = common_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b);
@@ -100,15 +127,9 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
                        : contact_patch{};
   }, 16);
   out.candidates = n;
-  out.pairs.clear();
-  out.planes.clear();
-  out.type.clear();
-  out.first_corner.assign(1, 0);
-  out.point.clear();
-  out.gap.clear();
-  out.area.clear();
-  out.label.clear();
-  for (std::size_t i = 0; i < n; ++i) {
+  out.evaluated = last - first;
+  out.clear_pairs();
+  for (std::size_t i = first; i < last; ++i) {
     const contact_patch& p = w.patches[i];
     if (p.type == patch_type::none) continue;
     out.pairs.push_back(w.candidates[i]);
