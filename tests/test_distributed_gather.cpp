@@ -139,6 +139,31 @@ TEST_CASE("a split run under gravity keeps one process's bits and books the weig
   CHECK(std::abs(e.error_rel() - e_ref.error_rel()) <= 1e-9);
 }
 
+TEST_CASE("a split run with applied forces books their work in the summed balance", "[mpi][step][gather]") {
+  const auto [rank, size] = rank_and_size();
+  INFO("rank " << rank << " of " << size);
+  const prism_scene scene;
+  pulled_prism reference(scene), split(scene);
+  // A sideways push on the x = 0 face, registered before the split is built (as the beam's load).
+  for (prism_solver* s : {static_cast<prism_solver*>(&reference), static_cast<prism_solver*>(&split)}) {
+    const bc::node_group face = s->gridpoints_on_plane(0, 0.0, 1e-9);
+    const std::vector<index_t>& loaded = face.nodes;
+    s->register_applied_forces(loaded, std::vector<real>(loaded.size(), 0.0));
+    for (const index_t g : loaded) s->applied_forces()(g, 0) = 50.0;  // N, along +x
+  }
+  distributed::split_run<prism_solver> run(split, scene.mesh, MPI_COMM_WORLD);
+  for (int k = 0; k < 300; ++k) {
+    reference.step();
+    run.step();
+  }
+  const energy_balance summed = run.step_of_rank().summed_energies(MPI_COMM_WORLD), e_ref = reference.energies();
+  CHECK(e_ref.applied_work > 0);
+  CHECK(std::abs(summed.applied_work - e_ref.applied_work) <= 1e-12 * e_ref.applied_work);
+  CHECK(std::abs(summed.error_rel() - e_ref.error_rel()) <= 1e-9);
+  run.gather_state();
+  CHECK(differing_gridpoints(split, reference) == 0);
+}
+
 TEST_CASE("split_run refuses applied forces registered after it was built", "[mpi][step][gather]") {
   const prism_scene scene;
   pulled_prism s(scene);

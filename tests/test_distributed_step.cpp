@@ -267,6 +267,14 @@ TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi]
   CHECK(!ghost_bar_list.empty());  // the bar crosses this rank's cut: bar nodes travel in the halo
   CHECK(differing_rows(split.bar_nodes().displacement, reference.bar_nodes().displacement, ghost_bar_list) == 0);
   CHECK(summed_over_ranks(static_cast<index_t>(own_bar_nodes.size())) == reference.bar_nodes().size());
+  // The balance summed over the ranks has the bars' energies (each element on the rank of its
+  // first node, each bond spring on its node's): one process's to round-off.
+  const energy_balance e = step.summed_energies(MPI_COMM_WORLD), e_ref = reference.energies();
+  CHECK(e_ref.reinforcement_stored > 0);
+  CHECK(std::abs(e.reinforcement_stored - e_ref.reinforcement_stored) <= 1e-12 * e_ref.reinforcement_stored);
+  CHECK(std::abs(e.reinforcement_dissipated - e_ref.reinforcement_dissipated) <= 1e-12 * e_ref.accounted());
+  CHECK(std::abs(e.kinetic - e_ref.kinetic) <= 1e-12 * e_ref.accounted());
+  CHECK(std::abs(e.error_rel() - e_ref.error_rel()) <= 1e-9);
   index_t softened = 0;
   for (index_t i = 0; i < reference.contacts().subcontact_count(); ++i)
     softened += prism_law::tensile_damage(reference.contacts().subcontact_params(i), reference.contacts().state(i)) > 0;

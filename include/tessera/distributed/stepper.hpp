@@ -161,6 +161,10 @@ class stepper {
               "; build it with bar_node_host_blocks and bar_element_pairs");
       for (index_t n = 0; n < own.bar_node_count(); ++n)
         if (own.bar_node_rank(n) == rank_) own_bar_nodes_.push_back(n);
+      // An element is booked on the rank of its first node (rank_ownership's rule).
+      const auto& truss = s.reinforcement();
+      for (index_t e = 0; e < truss.element_count(); ++e)
+        if (own.bar_node_rank(truss.element_node_a(e)) == rank_) own_bar_elements_.push_back(e);
     }
   }
 
@@ -182,7 +186,7 @@ class stepper {
     if (s.step_count() == 0) {
       // The balance's initial energy, this rank's share (summed_energies), before anything moves.
       const auto share = rank_share();
-      initial_ = share[3] + share[4] + share[5];
+      initial_ = share[3] + share[4] + share[5] + share[10];
     }
     if (!in_flight_) start_exchange();  // the first step: the ghosts as they stand now
     // The last step's work of the own applied forces, booked now (solver::step).
@@ -238,12 +242,14 @@ class stepper {
   /// the elastic energy of its blocks' zones (blocks' stored_energy, with rotations of the
   /// current displacements), the contact energies of the sub-contacts it owns (stored,
   /// dissipated, its tensile part) and, as `initial`, the kinetic and stored energy before the
-  /// first step. Bars: their nodes' kinetic energy is in; their stored and dissipated energies
-  /// are not summed yet (left 0), nor are they in `initial`. The shares are gathered and added in
+  /// first step, the work of its applied forces; bars: their nodes' kinetic energy, and the
+  /// stored and dissipated energies of the elements whose first node is its own and of its bar
+  /// nodes' bond springs (in `initial` too). The shares are gathered and added in
   /// rank order, so every rank gets the same bits; they are one process's (solver::energies) to
   /// round-off only, another summation order (test_distributed_step holds every term within
-  /// 1e-12 relative after 600 steps). Every rank of `comm` must call it. O(own gridpoints + zones + owned sub-contacts); allocates (the zones'
-  /// rotations, as blocks' stored_energy does): a call for samples, not for every step.
+  /// 1e-12 relative after 600 steps). Every rank of `comm` must call it. O(own gridpoints, zones,
+  /// sub-contacts and bar entities); allocates (the zones' rotations, as blocks' stored_energy
+  /// does): a call for samples, not for every step.
   [[nodiscard]] energy_balance summed_energies(MPI_Comm comm) const {
     const std::array<double, share_count> mine = rank_share();
     MPI_Allgather(mine.data(), share_count, MPI_DOUBLE, rank_shares_.data(), share_count, MPI_DOUBLE, comm);
@@ -260,6 +266,9 @@ class stepper {
     e.contact_dissipated = sum[6];
     e.contact_dissipated_tension = sum[7];
     e.gravity_work = sum[8];
+    e.applied_work = sum[9];
+    e.reinforcement_stored = sum[10];
+    e.reinforcement_dissipated = sum[11];
     return e;
   }
 
@@ -355,9 +364,10 @@ class stepper {
     return p;
   }
 
-  static constexpr int share_count = 9;  ///< the terms summed_energies gathers from each rank
+  static constexpr int share_count = 12;  ///< the terms summed_energies gathers from each rank
   /// This rank's shares, in summed_energies' order: initial, boundary work, damping, kinetic,
-  /// zones' elastic energy, contact stored, dissipated and dissipated in tension, gravity work (J).
+  /// zones' elastic energy, contact stored, dissipated and dissipated in tension, gravity work,
+  /// applied work (the pending step's included), bars' stored and dissipated energy (J).
   [[nodiscard]] std::array<double, share_count> rank_share() const {
     const Solver& s = *solver_;
     const node_set& gp = s.gridpoints();
@@ -379,8 +389,12 @@ class stepper {
     // The work books are the solver's (close_external_step adds each step's rank share), so a
     // checkpoint of the solver keeps them.
     const energy_balance books = s.energies();
-    return {initial_, books.boundary_work, books.damping_dissipated, kinetic, zones, c.stored, c.dissipated,
-            c.dissipated_tension, books.gravity_work};
+    std::array<real, 2> bars_energy{0.0, 0.0};
+    if constexpr (bars) bars_energy = s.reinforcement().stored_and_dissipated_of(own_bar_elements_, own_bar_nodes_);
+    return {initial_,       books.boundary_work, books.damping_dissipated,
+            kinetic,        zones,               c.stored,
+            c.dissipated,   c.dissipated_tension, books.gravity_work,
+            books.applied_work + pending_applied_work(), bars_energy[0], bars_energy[1]};
   }
 
   /// The three components of node i, each as the integrator's advance does it (advance_dof).
@@ -431,6 +445,7 @@ class stepper {
   real initial_ = 0;                                     ///< this rank's kinetic + stored energy before step 1 (J)
   std::vector<index_t> owned_contacts_;                  ///< sub-contacts this rank books, increasing
   std::vector<index_t> own_bar_nodes_;                   ///< bar nodes of this rank, increasing
+  std::vector<index_t> own_bar_elements_;                ///< bar elements booked here (first node own)
   mutable node_set own_displacement_;                    ///< rank_share's copy: own rows' u, the rest 0
   int ranks_ = 1;                                        ///< ranks of the communicator
   double halo_seconds_ = 0;                              ///< halo_seconds()

@@ -41,6 +41,7 @@
 // Not thread-safe for concurrent calls of the other members on one object.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <span>
 #include <utility>
@@ -264,6 +265,28 @@ class embedded_truss {
     return e;
   }
   [[nodiscard]] real dissipated_energy() const { return dissipated_axial() + dissipated_bond(); }
+  /// The parts of stored_energy() and dissipated_energy() held by `elements` (element ids) and
+  /// by the bond springs of `nodes` (bar node ids; unbonded nodes add nothing), summed in the
+  /// lists' order (J): a rank's share in a split run (distributed::stepper::summed_energies).
+  /// Throws invalid_input for an id out of range.
+  [[nodiscard]] std::array<real, 2> stored_and_dissipated_of(std::span<const index_t> elements,
+                                                             std::span<const index_t> nodes) const {
+    std::array<real, 2> e{0.0, 0.0};
+    for (const index_t i : elements) {
+      require(i >= 0 && i < element_count(), "embedded_truss: element ", i, " is out of range [0, ", element_count(), ")");
+      e[0] += truss_element::stored_energy(elements_[static_cast<std::size_t>(i)], axial_stiffness_[static_cast<std::size_t>(i)]);
+      e[1] += elements_[static_cast<std::size_t>(i)].dissipated;
+    }
+    for (const index_t n : nodes) {
+      require(n >= 0 && n < node_count(), "embedded_truss: bar node ", n, " is out of range [0, ", node_count(), ")");
+      if (!std::binary_search(bonded_nodes_.begin(), bonded_nodes_.end(), n)) continue;
+      const auto ni = static_cast<std::size_t>(n);
+      const real k = bond_stiffness_[ni];
+      e[0] += Bond::stored_energy(bonds_[ni], k) + 0.5 * k * transverse_gap_[ni] * transverse_gap_[ni];
+      e[1] += Bond::dissipated_energy(bonds_[ni]);
+    }
+    return e;
+  }
 
   // ---- topology ----
   [[nodiscard]] const params& parameters() const { return params_; }
