@@ -101,8 +101,10 @@ class split_stepping {
 #endif
     s.step();
   }
-  /// Every rank must call it at the same steps when split (a collective).
-  [[nodiscard]] energy_balance energies(const solver_type& s) const {
+  /// The balance at a sample, after a check that every gridpoint is finite (split: every rank
+  /// throws alike on a NaN; one process: solver::step checks). Every rank must call it at the
+  /// same steps when split (a collective).
+  [[nodiscard]] energy_balance checked_energies(const solver_type& s) const {
 #ifdef TESSERA_HAVE_MPI
     if (stepper_) {
       stepper_->check_finite();
@@ -225,7 +227,7 @@ int run(const inputs& in) {
     subcontact_steps += static_cast<double>(s.contacts().subcontact_count());
     if (k % every == 0 || k == steps) {
       t.push_back(s.time());
-      const energy_balance e = split.energies(s);
+      const energy_balance e = split.checked_energies(s);
       kinetic.push_back(e.kinetic);
       stored.push_back(e.contact_stored);
       exchange.push_back(e.contact_rebuild_exchange);
@@ -236,7 +238,7 @@ int run(const inputs& in) {
     if (k % frame_every == 0 || k == steps) snapshot(k);
   }
   const double runtime_s = timer.seconds();
-  const energy_balance end = split.energies(s);
+  const energy_balance end = split.checked_energies(s);
   split.report();
 
   // The heap: height of the highest centroid, horizontal spread of the centroids beyond the cube.

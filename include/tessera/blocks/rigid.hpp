@@ -385,6 +385,12 @@ class rigid {
     for (const body& bd : bodies_) p += bd.weight_mass * gravity_.dot(bd.velocity);
     return p;
   }
+  /// The same over the listed blocks, in their order (W): a rank's share in a split run.
+  [[nodiscard]] real gravity_power(std::span<const index_t> blocks) const {
+    real p = 0;
+    for (const index_t b : blocks) p += at(b).weight_mass * gravity_.dot(at(b).velocity);
+    return p;
+  }
   /// Unscaled mass m0 of block b (kg), the mass its weight is computed from.
   [[nodiscard]] real weight_mass(index_t b) const { return at(b).weight_mass; }
 

@@ -53,6 +53,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "../core/errors.hpp"
@@ -76,15 +77,22 @@ concept rigid_splittable = Solver::blocks_type::is_rigid && requires(typename So
   c.rebuild_count();
 };
 
+/// A block -> rank map from the blocks' centroids (m): recursive coordinate bisection with equal
+/// weights (partition_blocks_rcb). Throws invalid_input for ranks < 1 or above the block count.
+[[nodiscard]] inline std::vector<int> partition_centroids_rcb(std::vector<vec3> centroids, int ranks) {
+  block_graph_input in;
+  in.weight.assign(centroids.size(), real(1));
+  in.centroid = std::move(centroids);
+  return partition_blocks_rcb(block_graph(in), ranks);
+}
+
 /// A block -> rank map for a scene of moving blocks: recursive coordinate bisection of the block
 /// centroids with equal weights (partition_blocks_rcb). Why not METIS here: the contact graph of
 /// such a scene changes as it moves (a heap starts with no contacts at all), so a cut of today's
 /// graph is no better than a cut in space, and the spatial cut keeps neighbours together while
 /// blocks move little. Throws invalid_input for ranks < 1 or above the block count.
 [[nodiscard]] inline std::vector<int> partition_moving_blocks(const geometry::block_mesh& mesh, int ranks) {
-  block_graph_input in = blocks_of_mesh(mesh);
-  std::fill(in.weight.begin(), in.weight.end(), real(1));
-  return partition_blocks_rcb(block_graph(in), ranks);
+  return partition_centroids_rcb(blocks_of_mesh(mesh).centroid, ranks);
 }
 
 template <class Solver>
@@ -144,8 +152,7 @@ class rigid_stepper {
     integrator::step_work work;
     const auto& own = rank_blocks_[static_cast<std::size_t>(rank_)];
     s.blocks().advance_blocks(s.integrator(), gp, dt, work, kick, own);
-    real gravity_power = 0;  // as blocks::rigid::gravity_power, over the own blocks
-    for (const index_t b : own) gravity_power += s.blocks().weight_mass(b) * s.gravity().dot(s.blocks().velocity(b));
+    const real gravity_power = s.blocks().gravity_power(own);
     const auto exchange = std::chrono::steady_clock::now();
     send_.clear();
     s.blocks().write_body_states(own, send_);
@@ -297,11 +304,9 @@ class rigid_stepper {
   /// evaluated it), in one MPI_Allgatherv; then the new map applies. Allocates (at rebuilds only).
   void rebalance() {
     Solver& s = *solver_;
-    block_graph_input in;
-    const index_t n_b = s.blocks().block_count();
-    in.weight.assign(static_cast<std::size_t>(n_b), real(1));
-    for (index_t b = 0; b < n_b; ++b) in.centroid.push_back(s.blocks().centroid(b));
-    const std::vector<int> next = partition_blocks_rcb(block_graph(in), ranks_);
+    std::vector<vec3> centroids;
+    for (index_t b = 0; b < s.blocks().block_count(); ++b) centroids.push_back(s.blocks().centroid(b));
+    const std::vector<int> next = partition_centroids_rcb(std::move(centroids), ranks_);
     if (next == block_rank_) return;
     auto& c = s.contacts_for_step();
     // Pair k moves state when one of its new ranks did not evaluate it: from its first block's old rank.
