@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "common/mpi_run.hpp"
+#include "common/relaxed_scheme.hpp"
 #include "common/rc_tie_scene.hpp"
 #include "tessera/analysis.hpp"
 #include "tessera/solver/relaxation.hpp"
@@ -269,20 +270,13 @@ void relax_tie(Solver& s, const tie_scene& scene, const tie_loading& loading, Sa
   o.max_steps = loading.relax_max_steps;
   o.extrapolate = true;
   o.block_resultant = true;
-  kinetic_relaxation<Solver> k(s);
   const real drop = tie_recorder<Solver>::drop_threshold(scene);  // the recorder's load drop
   real peak = 0;
-  bool done = false;
-  while (!done) {
-    const relaxation_result step = k.advance(loading.relax_increment, loading.relax_ramp, o);
-    ++r.relax_increments;
-    r.relax_unconverged += step.converged ? 0 : 1;
-    done = sample(std::as_const(s));
+  scenes::relax_increments(s, loading.relax_increment, loading.relax_ramp, o, [&](const Solver& sv) {
+    const bool done = sample(sv);
     peak = std::max(peak, r.force.back());
-    if (r.force.back() < peak - drop) o.extrapolate = false;
-  }
-  r.relax_resets = k.totals().resets;
-  r.relax_kinetic_removed = k.totals().kinetic_removed;
+    return scenes::relaxed_sample{done, r.force.back() < peak - drop};
+  }, r);
 }
 
 /// Runs the tie with contact law Law (law parameters `law_params`) under `loading`, by the

@@ -1,15 +1,18 @@
 #pragma once
 // The --scheme switch the drivers share (direct_tension, rc_tie): explicit (central differences
 // with local damping along a ramped load) or relaxation (kinetic dynamic relaxation,
-// tessera/solver/relaxation.hpp). One check of the flags given beside it, and the keys it adds to
-// summary.json.
+// tessera/solver/relaxation.hpp). One check of the flags given beside it, the loop of relaxed
+// increments, and the keys it adds to summary.json.
 
+#include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tessera/core/errors.hpp"
 #include "tessera/core/types.hpp"
 #include "tessera/io/json.hpp"
+#include "tessera/solver/relaxation.hpp"
 
 namespace tessera::scenes {
 
@@ -40,6 +43,33 @@ inline void check_scheme_flags(const scheme_flags& f) {
           " sets the explicit ", f.explicit_load, "; with --scheme relaxation ", f.moves, " by --relax-increment instead");
   require(f.increment <= f.last, f.driver, ": --relax-increment ", f.increment, " m exceeds ", f.last_flag, " ", f.last,
           " m");
+}
+
+/// What a relaxed run's sampler reports after each increment.
+struct relaxed_sample {
+  bool done = false;     ///< the run ends here
+  bool dropped = false;  ///< the load has dropped (a crack): the linear predictor is off from now on
+};
+
+/// The relaxed run of both drivers: increments of kinetic_relaxation::advance(increment m,
+/// ramp steps, o) with the linear predictor on the ramps (o.extrapolate) until the sampler first
+/// reports a load drop, then off (past a snap the predictor would repeat it: the ramps follow the
+/// load dynamically); `sample(s)` (const Solver&) after each increment, until it reports done.
+/// The counts go to r (Result's relax_increments, relax_unconverged, relax_resets,
+/// relax_kinetic_removed).
+template <class Solver, class Sample, class Result>
+void relax_increments(Solver& s, real increment, std::int64_t ramp, relaxation_options o, Sample&& sample, Result& r) {
+  kinetic_relaxation<Solver> k(s);
+  for (bool done = false; !done;) {
+    const relaxation_result step = k.advance(increment, ramp, o);
+    ++r.relax_increments;
+    r.relax_unconverged += step.converged ? 0 : 1;
+    const relaxed_sample seen = sample(std::as_const(s));
+    done = seen.done;
+    if (seen.dropped) o.extrapolate = false;
+  }
+  r.relax_resets = k.totals().resets;
+  r.relax_kinetic_removed = k.totals().kinetic_removed;
 }
 
 /// summary.json's keys of the scheme: scheme, the relaxation's increment (m) and tolerance, and

@@ -74,6 +74,7 @@
 #include "../common/mpi_run.hpp"
 #include "../common/phase_report.hpp"
 #include "../common/quasi_static.hpp"
+#include "../common/relaxed_scheme.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/solver.hpp"
 #include "tessera/solver/relaxation.hpp"
@@ -298,21 +299,16 @@ void read_tension_end(tension_result& r, const Solver& s, const prism_scene& sce
 template <class Solver, class Observe>
 void relax_tension(Solver& s, const tension_loading& in, real reference_force, const bool& stop, Observe&& observe,
                    tension_result& r) {
+  if (stop) return;
   relaxation_options o;
   o.reference_force = reference_force;
   o.ratio_tolerance = in.relax_tolerance;
   o.max_steps = in.relax_max_steps;
   o.extrapolate = true;
-  kinetic_relaxation<Solver> k(s);
-  while (!stop) {
-    const relaxation_result step = k.advance(in.relax_increment, in.relax_ramp, o);
-    ++r.relax_increments;
-    r.relax_unconverged += step.converged ? 0 : 1;
-    observe(s);
-    if (r.stress.back() < 0.95 * r.peak_stress) o.extrapolate = false;
-  }
-  r.relax_resets = k.totals().resets;
-  r.relax_kinetic_removed = k.totals().kinetic_removed;
+  scenes::relax_increments(s, in.relax_increment, in.relax_ramp, o, [&](const Solver& sv) {
+    observe(sv);
+    return scenes::relaxed_sample{stop, r.stress.back() < 0.95 * r.peak_stress};
+  }, r);
 }
 
 /// Runs the direct tension test on `scene` with solver type Solver and contact parameters
