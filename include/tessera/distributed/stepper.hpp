@@ -14,8 +14,8 @@
 //   faces whose two blocks are own                                           ─┘ region
 //   wait for the halo (u(t), v(t - dt/2) of the ghost gridpoints and ghost bar nodes)
 //   faces with a ghost block (evaluated here and on the ghost's rank, from the same inputs)
-//   bars: every element and bond (serial, O(bar nodes)); an own bar node's elements read own and
-//     ghost bar nodes, its bond its host zone (own) and that zone's stress from this step's task
+//   bars: the elements with a node here and the own nodes' bonds (serial); an element reads own
+//     and ghost bar nodes, a bond its host zone (own) and that zone's stress from this step's task
 //   per own block: gather each gridpoint's contact forces (face_contacts::add_force, increasing
 //     global sub-contact order) and its bonds' host shares, then integrate its components (the
 //     integrator's advance_dof); then the own bar nodes
@@ -29,9 +29,7 @@
 // u and v that are the owners' bits; integration is per component. The motion of every own
 // gridpoint and bar node, the state of every evaluated sub-contact and the reactions of own
 // prescribed components are therefore one process's, to the bit, for any rank count and any
-// thread count per rank (CTests distributed_mpi_step_2 and _3). The bars' loop over all elements
-// and bonds on every rank is the simple form (bars are O(100) nodes each); restricting it to the
-// rank's evaluated elements and own nodes needs the truss to loop over a subset.
+// thread count per rank (CTests distributed_mpi_step_2 and _3).
 //
 // What is not the same bits: the energy books. The boundary and damping work of a step are sums
 // over every gridpoint, in one process by fixed chunks of the whole set; a rank books its own
@@ -44,7 +42,6 @@
 //
 // Cost per step: the rank's zones and evaluated sub-contacts, O(own gridpoints), one exchange;
 // nothing allocated inside step(). Not thread-safe (one thread drives it; its loops are parallel).
-//
 // Only where MPI is built in (TESSERA_HAVE_MPI: link tessera::mpi).
 
 #ifdef TESSERA_HAVE_MPI
@@ -161,10 +158,15 @@ class stepper {
               "; build it with bar_node_host_blocks and bar_element_pairs");
       for (index_t n = 0; n < own.bar_node_count(); ++n)
         if (own.bar_node_rank(n) == rank_) own_bar_nodes_.push_back(n);
-      // An element is booked on the rank of its first node (rank_ownership's rule).
+      // An element is booked on the rank of its first node (rank_ownership's rule), and evaluated
+      // on the ranks of both; the bond springs are the own nodes'.
       const auto& truss = s.reinforcement();
       for (index_t e = 0; e < truss.element_count(); ++e)
         if (own.bar_node_rank(truss.element_node_a(e)) == rank_) own_bar_elements_.push_back(e);
+      const auto evaluated = own.evaluated_elements(rank_);
+      evaluated_bar_elements_.assign(evaluated.begin(), evaluated.end());
+      for (const index_t n : own_bar_nodes_)
+        if (truss.bonded(n)) own_bonded_bar_nodes_.push_back(n);
     }
   }
 
@@ -207,10 +209,10 @@ class stepper {
     parallel_for(static_cast<std::int64_t>(boundary_faces_.size()),
                  [&](std::int64_t j) { contacts.update_faces(boundary_faces_[at(j)], boundary_last_[at(j)], gp, dt); }, 2);
     if constexpr (bars) {
-      // Every element and bond (a serial loop over the bars, as in one process): those with a
-      // node here read own and ghost u only; the rest read stale rows and nothing reads them.
+      // The elements with a node here (they read own and ghost u only) and the own nodes' bond
+      // springs, in one process's order; the other nodes' forces stay 0 and nothing reads them.
       s.bar_nodes().force.setZero();
-      s.reinforcement().compute_forces(gp, s.blocks().zone_stress_rows());
+      s.reinforcement().compute_forces_of(evaluated_bar_elements_, own_bonded_bar_nodes_, gp, s.blocks().zone_stress_rows());
     }
     const auto& integ = s.integrator();
     parallel_for(own_block_count, [&](std::int64_t k) {
@@ -445,7 +447,8 @@ class stepper {
   real initial_ = 0;                                     ///< this rank's kinetic + stored energy before step 1 (J)
   std::vector<index_t> owned_contacts_;                  ///< sub-contacts this rank books, increasing
   std::vector<index_t> own_bar_nodes_;                   ///< bar nodes of this rank, increasing
-  std::vector<index_t> own_bar_elements_;                ///< bar elements booked here (first node own)
+  std::vector<index_t> own_bar_elements_, evaluated_bar_elements_;  ///< first node own; a node here
+  std::vector<index_t> own_bonded_bar_nodes_;            ///< own bar nodes with a bond spring, increasing
   mutable node_set own_displacement_;                    ///< rank_share's copy: own rows' u, the rest 0
   int ranks_ = 1;                                        ///< ranks of the communicator
   double halo_seconds_ = 0;                              ///< halo_seconds()

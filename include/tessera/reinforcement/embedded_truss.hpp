@@ -177,46 +177,20 @@ class embedded_truss {
   /// Reads gridpoints' displacements only.
   template <class ZoneStress = zone_stress_matrix>
   void compute_forces(const node_set& gridpoints, const ZoneStress& zone_stress) noexcept {
-    const soa3& u = nodes_.displacement;
-    soa3& f = nodes_.force;
-    for (std::size_t e = 0; e < elements_.size(); ++e) {
-      const index_t a = element_node_a_[e], b = element_node_b_[e];
-      const vec3 du(u(b, 0) - u(a, 0), u(b, 1) - u(a, 1), u(b, 2) - u(a, 2));
-      const vec3 d0 = reference_chord_.row(static_cast<index_t>(e)).transpose();
-      const vec3 chord = d0 + du;
-      const real length = chord.norm();
-      const real elongation = truss_element::elongation(d0, element_length_[e], du, length);
-      truss_element::update(elements_[e], elongation, axial_stiffness_[e], yield_force_);
-      const vec3 pull = (elements_[e].axial_force / length) * chord;  // tension pulls a towards b
-      for (int c = 0; c < 3; ++c) {
-        f(a, c) += pull[c];
-        f(b, c) -= pull[c];
-      }
-    }
+    for (std::size_t e = 0; e < elements_.size(); ++e) add_element_force(e);
     const real perimeter = params_.steel.perimeter();
-    const bool confined = zone_stress.rows() > 0;
-    for (index_t n : bonded_nodes_) {
-      const auto ni = static_cast<std::size_t>(n);
-      const host_point& h = hosts_[ni];
-      vec3 u_host = vec3::Zero();  // eq. 10
-      for (int i = 0; i < 4; ++i) u_host += h.weights[static_cast<std::size_t>(i)] * gridpoints.displacement.row(h.gridpoints[static_cast<std::size_t>(i)]).transpose();
-      const vec3 a = tangent_.row(n).transpose();
-      const vec3 d = u.row(n).transpose() - u_host;
-      const real slip = d.dot(a);
-      real sigma_conf = 0.0;
-      if (confined) sigma_conf = confining_stress(zone_stress.row(h.zone), a);
-      confining_stress_[ni] = sigma_conf;
-      const real k = bond_stiffness_[ni];
-      Bond::update(params_.bond, bonds_[ni], slip, k,
-                   Bond::strength(params_.bond, sigma_conf, perimeter, tributary_length_[ni]));
-      const vec3 transverse = d - slip * a;
-      transverse_gap_[ni] = transverse.norm();
-      const vec3 on_node = -(bonds_[ni].force * a + k * transverse);
-      for (int c = 0; c < 3; ++c) {
-        f(n, c) += on_node[c];
-        host_load_(n, c) = on_node[c];
-      }
-    }
+    for (index_t n : bonded_nodes_) add_bond_force(n, gridpoints, zone_stress, perimeter);
+  }
+  /// compute_forces over the listed elements (ids, increasing) and the bond springs of the listed
+  /// bonded nodes (bonded(n)) only: a rank's part in a run split over MPI ranks
+  /// (distributed::stepper). A node all of whose elements are listed takes compute_forces' bits;
+  /// the others' forces and histories are left as they were.
+  template <class ZoneStress = zone_stress_matrix>
+  void compute_forces_of(std::span<const index_t> elements, std::span<const index_t> bonded_nodes,
+                         const node_set& gridpoints, const ZoneStress& zone_stress) noexcept {
+    for (const index_t e : elements) add_element_force(static_cast<std::size_t>(e));
+    const real perimeter = params_.steel.perimeter();
+    for (const index_t n : bonded_nodes) add_bond_force(n, gridpoints, zone_stress, perimeter);
   }
 
   /// Subtracts from gridpoints.force(g) the host share w_i f_n of every bond force whose host
@@ -279,7 +253,7 @@ class embedded_truss {
     }
     for (const index_t n : nodes) {
       require(n >= 0 && n < node_count(), "embedded_truss: bar node ", n, " is out of range [0, ", node_count(), ")");
-      if (!std::binary_search(bonded_nodes_.begin(), bonded_nodes_.end(), n)) continue;
+      if (!bonded(n)) continue;
       const auto ni = static_cast<std::size_t>(n);
       const real k = bond_stiffness_[ni];
       e[0] += Bond::stored_energy(bonds_[ni], k) + 0.5 * k * transverse_gap_[ni] * transverse_gap_[ni];
@@ -346,6 +320,49 @@ class embedded_truss {
   [[nodiscard]] vec3 position(index_t n) const { return nodes_.position(n); }  ///< current (m)
 
  private:
+  /// Element e's axial force on its two nodes, its plastic history advanced (compute_forces).
+  void add_element_force(std::size_t e) noexcept {
+    const soa3& u = nodes_.displacement;
+    soa3& f = nodes_.force;
+    const index_t a = element_node_a_[e], b = element_node_b_[e];
+    const vec3 du(u(b, 0) - u(a, 0), u(b, 1) - u(a, 1), u(b, 2) - u(a, 2));
+    const vec3 d0 = reference_chord_.row(static_cast<index_t>(e)).transpose();
+    const vec3 chord = d0 + du;
+    const real length = chord.norm();
+    const real elongation = truss_element::elongation(d0, element_length_[e], du, length);
+    truss_element::update(elements_[e], elongation, axial_stiffness_[e], yield_force_);
+    const vec3 pull = (elements_[e].axial_force / length) * chord;  // tension pulls a towards b
+    for (int c = 0; c < 3; ++c) {
+      f(a, c) += pull[c];
+      f(b, c) -= pull[c];
+    }
+  }
+  /// Bonded node n's bond force on it (and kept for its host), its slip history advanced.
+  template <class ZoneStress>
+  void add_bond_force(index_t n, const node_set& gridpoints, const ZoneStress& zone_stress, real perimeter) noexcept {
+    const soa3& u = nodes_.displacement;
+    soa3& f = nodes_.force;
+    const auto ni = static_cast<std::size_t>(n);
+    const host_point& h = hosts_[ni];
+    vec3 u_host = vec3::Zero();  // eq. 10
+    for (int i = 0; i < 4; ++i) u_host += h.weights[static_cast<std::size_t>(i)] * gridpoints.displacement.row(h.gridpoints[static_cast<std::size_t>(i)]).transpose();
+    const vec3 a = tangent_.row(n).transpose();
+    const vec3 d = u.row(n).transpose() - u_host;
+    const real slip = d.dot(a);
+    real sigma_conf = 0.0;
+    if (zone_stress.rows() > 0) sigma_conf = confining_stress(zone_stress.row(h.zone), a);
+    confining_stress_[ni] = sigma_conf;
+    const real k = bond_stiffness_[ni];
+    Bond::update(params_.bond, bonds_[ni], slip, k, Bond::strength(params_.bond, sigma_conf, perimeter, tributary_length_[ni]));
+    const vec3 transverse = d - slip * a;
+    transverse_gap_[ni] = transverse.norm();
+    const vec3 on_node = -(bonds_[ni].force * a + k * transverse);
+    for (int c = 0; c < 3; ++c) {
+      f(n, c) += on_node[c];
+      host_load_(n, c) = on_node[c];
+    }
+  }
+
   /// Host zone of every node of a bonded bar (throws invalid_input for a node outside all zones)
   /// and the host slots grouped by gridpoint (CSR, each gridpoint's in bonded-node order; a
   /// zone's corners are distinct, so a gridpoint appears at most once per node).
