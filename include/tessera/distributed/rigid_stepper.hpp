@@ -10,8 +10,8 @@
 //   contacts (detected_contacts::update with set_own_blocks): the rebuild trigger and, when it
 //     fires, the detection pass with its narrow phase split (set_detection_split: each rank the
 //     common planes and patches of 1 / ranks of the candidate pairs, gather_detection the rest),
-//     so every rank holds the same pairs and keys; the law update of the pairs that touch an own block; the gather on
-//     the own blocks' gridpoints, in the order of one process
+//     so every rank holds the same pairs and keys; the law update of the pairs that touch an own
+//     block; the gather on the own blocks' gridpoints, in the order of one process
 //   the time step chosen again after a rebuild (solver::time_step_after_contacts), alike everywhere
 //   own blocks: reduction to force and moment, integration, slaved gridpoints (advance_blocks)
 //   one MPI_Allgatherv of the own blocks' states after the step (29 doubles a block); each rank
@@ -41,7 +41,8 @@
 // the frames of the whole scene (replicated, a few per cent of a pass); O(blocks) for the rebuild
 // trigger and for slaving the other ranks' blocks, and one collective exchange of 232 bytes a
 // block. step() allocates only at rebuilds (the contact set's arrays, the gathered pass, and the
-// rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel). Only where MPI is built in (TESSERA_HAVE_MPI).
+// rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel).
+// Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
 #include <mpi.h>
