@@ -113,6 +113,12 @@ class split_stepping {
 #endif
     return s.energies();
   }
+  /// Every gridpoint current on this rank (rigid_stepper::sync_gridpoints), before a snapshot.
+  void sync_gridpoints() {
+#ifdef TESSERA_HAVE_MPI
+    if (stepper_) stepper_->sync_gridpoints();
+#endif
+  }
   /// Rebuilds after which blocks changed rank (rigid_stepper::rebalances); -1 as one process.
   [[nodiscard]] std::int64_t rebalances() const {
 #ifdef TESSERA_HAVE_MPI
@@ -235,7 +241,10 @@ int run(const inputs& in) {
       rebuilds.push_back(static_cast<double>(s.contacts().rebuild_count()));
       top.push_back(top_z());
     }
-    if (k % frame_every == 0 || k == steps) snapshot(k);
+    if (k % frame_every == 0 || k == steps) {
+      split.sync_gridpoints();  // the blocks of other ranks that no pair here touches
+      snapshot(k);
+    }
   }
   const double runtime_s = timer.seconds();
   const energy_balance end = split.checked_energies(s);

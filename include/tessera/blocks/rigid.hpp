@@ -263,8 +263,11 @@ class rigid {
   }
   /// Takes the listed blocks' states from `in` (write_body_states' layout, one step of `dt` s on
   /// from the states held here) and slaves their gridpoints as their owner's step did, so a copy
-  /// of a block has its owner's bits. Returns the doubles read.
-  std::size_t read_body_states(std::span<const index_t> blocks, const double* in, node_set& gridpoints, real dt) {
+  /// of a block has its owner's bits. With `slave_now` (per block of the model), a block whose
+  /// flag is 0 keeps its gridpoints and puts its rotation before the step in rotation_before[b],
+  /// for slave_gridpoints later in the same step. Returns the doubles read.
+  std::size_t read_body_states(std::span<const index_t> blocks, const double* in, node_set& gridpoints, real dt,
+                               std::span<const std::uint8_t> slave_now = {}, std::span<mat3> rotation_before = {}) {
     const double* p = in;
     for (const index_t b : blocks) {
       body& bd = bodies_[static_cast<std::size_t>(b)];
@@ -278,13 +281,22 @@ class rigid {
       bd.half_orientation.coeffs() = Eigen::Vector4d(p[4], p[5], p[6], p[7]);
       p += 8;
       bd.rotation = bd.orientation.toRotationMatrix();
-      std::array<index_t, 3> count{0, 0, 0};
-      for (index_t i = bd.first; i < bd.end; ++i)
-        for (int c = 0; c < 3; ++c)
-          count[static_cast<std::size_t>(c)] += gridpoints.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::prescribed);
-      detail::slave_rigid_gridpoints(gridpoints, body_position_, bd, rotation_old, bd.angular_velocity * dt, dt, count);
+      if (slave_now.empty() || slave_now[static_cast<std::size_t>(b)] != 0)
+        slave_gridpoints(b, rotation_old, gridpoints, dt);
+      else
+        rotation_before[static_cast<std::size_t>(b)] = rotation_old;
     }
     return static_cast<std::size_t>(p - in);
+  }
+  /// Block b's gridpoints after a step of `dt` s from its body state now and its rotation before
+  /// that step (the slaving of the integration, read_body_states): the owner's bits.
+  void slave_gridpoints(index_t b, const mat3& rotation_before, node_set& gridpoints, real dt) const noexcept {
+    const body& bd = bodies_[static_cast<std::size_t>(b)];
+    std::array<index_t, 3> count{0, 0, 0};
+    for (index_t i = bd.first; i < bd.end; ++i)
+      for (int c = 0; c < 3; ++c)
+        count[static_cast<std::size_t>(c)] += gridpoints.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::prescribed);
+    detail::slave_rigid_gridpoints(gridpoints, body_position_, bd, rotation_before, bd.angular_velocity * dt, dt, count);
   }
 
   /// Empty: rigid blocks have no zones (reinforcement sees no confinement).

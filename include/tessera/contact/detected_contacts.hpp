@@ -306,6 +306,10 @@ class detected_contacts {
   /// Rebuilds evaluate part `part` of `parts` of the candidate pairs, and `gather` turns that
   /// part's result into the whole pass's (detected/subset.hpp). {0, 1, {}}: the whole pass here.
   void set_detection_split(int part, int parts, std::function<void(detection::detection_result&)> gather);
+  /// The rebuild trigger of a split run: the watch covers the own blocks only, `largest(m2)` turns
+  /// this rank's largest squared motion into the ranks' largest, and `before_rebuild()` runs before
+  /// each pass (detected/subset.hpp). Empty functions: the whole watch here.
+  void set_motion_vote(std::function<real(real)> largest, std::function<void()> before_rebuild);
   /// The step state of pair k (its normals now; each sub-contact's law state, fresh flag and force):
   /// what a rank that starts to evaluate the pair needs from one that did, when a block changes
   /// rank. write_pair_state appends pair_state_bytes(k) bytes; read_pair_state takes them.
@@ -439,6 +443,8 @@ class detected_contacts {
   detection::detection_workspace workspace_;
   detection::detection_share share_;                             ///< set_detection_split
   std::function<void(detection::detection_result&)> gather_;
+  std::function<real(real)> largest_motion_;                     ///< set_motion_vote
+  std::function<void()> before_rebuild_;
   // per pair
   std::vector<index_t> pair_a_, pair_b_, pair_param_, pair_first_{0};
   std::vector<index_t> pair_tasks_, task_end_;  ///< task t: pairs [pair_tasks_[t], task_end_[t])

@@ -15,7 +15,12 @@
 //   the time step chosen again after a rebuild (solver::time_step_after_contacts), alike everywhere
 //   own blocks: reduction to force and moment, integration, slaved gridpoints (advance_blocks)
 //   one MPI_Allgatherv of the own blocks' states after the step (29 doubles a block); each rank
-//     sets the other ranks' blocks from them and slaves their gridpoints as their owners did
+//     sets the other ranks' blocks from them and slaves the gridpoints of those its pairs touch
+//     as their owners did; the others' wait for sync_gridpoints (before a rebuild, a rebalance,
+//     or a caller's read), which slaves them later in the step with the same bits (their
+//     displacements are a function of the body state, their velocities of it and the rotation
+//     before the step, which is kept); the rebuild trigger watches the own blocks and the ranks
+//     reduce the largest motion (MPI_Allreduce of one double)
 //   after a rebuild: the blocks cut again, the pairs that change hands sent to their new ranks
 //
 // Why the bits are one process's: a block's force and moment are the sums of solver::step (the
@@ -38,9 +43,9 @@
 //
 // Cost per step: the rank's contact pairs and blocks; at rebuilds, its part of the narrow phase,
 // the gathered parts (about 56 bytes a corner) and the broad phase, the merge of the states and
-// the frames of the whole scene (replicated, a few per cent of a pass); O(blocks) for the rebuild
-// trigger and for slaving the other ranks' blocks, and one collective exchange of 232 bytes a
-// block. step() allocates only at rebuilds (the contact set's arrays, the gathered pass, and the
+// the frames of the whole scene (replicated, a few per cent of a pass); O(blocks) to set the
+// other ranks' body states and O(own blocks) for the trigger, the slaving of the copies the pairs
+// read, one collective exchange of 232 bytes a block and one reduction of a double. step() allocates only at rebuilds (the contact set's arrays, the gathered pass, and the
 // rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel).
 // Only where MPI is built in (TESSERA_HAVE_MPI).
 
@@ -127,10 +132,24 @@ class rigid_stepper {
     s.contacts_for_step().set_detection_split(rank_, ranks_, [comm](contact::detection::detection_result& part) {
       gather_detection(comm, part);
     });
+    // The rebuild trigger: each rank watches its own blocks, the largest motion is reduced (MAX is
+    // exact: the one-process value), and the copies are slaved before a pass reads them.
+    s.contacts_for_step().set_motion_vote(
+        [comm](real m2) {
+          real all = 0;
+          MPI_Allreduce(&m2, &all, 1, MPI_DOUBLE, MPI_MAX, comm);
+          return all;
+        },
+        [this] { sync_gridpoints(); });
     rank_shares_.resize(static_cast<std::size_t>(share_count) * static_cast<std::size_t>(ranks_));
   }
-  /// The solver's contact set detects whole passes again (set_own_blocks stays).
-  ~rigid_stepper() { solver_->contacts_for_step().set_detection_split(0, 1, {}); }
+  /// Slaves the copies left behind (sync_gridpoints); the solver's contact set detects whole
+  /// passes and watches every block again (set_own_blocks stays).
+  ~rigid_stepper() {
+    sync_gridpoints();
+    solver_->contacts_for_step().set_detection_split(0, 1, {});
+    solver_->contacts_for_step().set_motion_vote({}, {});
+  }
   rigid_stepper(const rigid_stepper&) = delete;
   rigid_stepper& operator=(const rigid_stepper&) = delete;
 
@@ -146,6 +165,8 @@ class rigid_stepper {
       for (int c = 0; c < 3; ++c) gp.force(g, c) = 0;
     const index_t rebuilds = s.contacts().rebuild_count();
     s.contacts_for_step().update(gp, s.dt());
+    const bool rebuilt = s.contacts().rebuild_count() != rebuilds;
+    if (rebuilt) choose_slaved();  // the copies the new pairs read
     const real kick = s.time_step_after_contacts();
     const real dt = s.dt();
     const auto integration = std::chrono::steady_clock::now();
@@ -159,11 +180,15 @@ class rigid_stepper {
     s.blocks().write_body_states(own, send_);
     MPI_Allgatherv(send_.data(), static_cast<int>(send_.size()), MPI_DOUBLE, received_.data(), counts_.data(),
                    offsets_.data(), MPI_DOUBLE, comm_);
+    // The copies this rank's pairs read are slaved now, the others when something reads them.
     for (int r = 0; r < ranks_; ++r)
       if (r != rank_)
         s.blocks().read_body_states(rank_blocks_[static_cast<std::size_t>(r)],
-                                    received_.data() + offsets_[static_cast<std::size_t>(r)], gp, dt);
-    if (rebalance_ && s.contacts().rebuild_count() != rebuilds) rebalance();
+                                    received_.data() + offsets_[static_cast<std::size_t>(r)], gp, dt, slave_now_,
+                                    rotation_before_);
+    deferred_dt_ = dt;
+    deferred_pending_ = true;
+    if (rebalance_ && rebuilt) rebalance();
     const auto ended = std::chrono::steady_clock::now();
     s.close_external_step(work, 0, gravity_power * dt);
     phases_.integration += std::chrono::duration<double>(exchange - integration).count();
@@ -201,6 +226,19 @@ class rigid_stepper {
     e.contact_rebuild_exchange = sum[7];
     e.kinetic = mine.kinetic;
     return e;
+  }
+
+  /// Slaves the gridpoints of the other ranks' blocks that the last step left as they were (those
+  /// no pair of this rank touches), from their body states: afterwards every gridpoint on this
+  /// rank is one process's, to the bit. step() slaves only the copies its pairs read; call this
+  /// before reading another rank's gridpoints (a VTK snapshot of the whole model, a checkpoint to
+  /// restart from). Local (no communication); O(their gridpoints); allocates nothing.
+  void sync_gridpoints() noexcept {
+    if (!deferred_pending_) return;
+    Solver& s = *solver_;
+    for (const index_t b : deferred_)
+      s.blocks().slave_gridpoints(b, rotation_before_[static_cast<std::size_t>(b)], s.gridpoints(), deferred_dt_);
+    deferred_pending_ = false;
   }
 
   /// Throws numerical_instability on every rank, naming the smallest gridpoint of the model with a
@@ -263,6 +301,8 @@ class rigid_stepper {
   /// blocks (s; zones, bars and recorders 0), as solver::phases() reports a one-process run's.
   [[nodiscard]] const phase_times& phases() const { return phases_; }
   [[nodiscard]] std::int64_t steps() const { return steps_; }
+  /// Other ranks' blocks whose copies step() leaves to sync_gridpoints (no pair here touches them).
+  [[nodiscard]] std::size_t deferred_block_count() const { return deferred_.size(); }
   /// Rebuilds after which blocks changed rank (rebalance).
   [[nodiscard]] std::int64_t rebalances() const { return rebalances_; }
   /// The block -> rank map now (after the rebalances so far): a restart from checkpoints builds its
@@ -297,6 +337,23 @@ class rigid_stepper {
     for (const index_t b : own)
       for (const index_t g : s.gridpoints_of_block(b).nodes) own_gridpoints_.push_back(g);
     s.contacts_for_step().set_own_blocks(own);
+    choose_slaved();
+  }
+
+  /// Which other ranks' blocks step() slaves (those in a pair with an own block, whose frames the
+  /// pairs read) and which it leaves to sync_gridpoints. After each rebuild and map.
+  void choose_slaved() {
+    const Solver& s = *solver_;
+    const auto& c = s.contacts();
+    slave_now_.assign(block_rank_.size(), 0);
+    rotation_before_.resize(block_rank_.size());
+    for (index_t k = 0; k < c.pair_count(); ++k) {
+      const auto [a, b] = c.pair_blocks(k);
+      if (is_own_block(a) || is_own_block(b)) slave_now_[static_cast<std::size_t>(a)] = slave_now_[static_cast<std::size_t>(b)] = 1;
+    }
+    deferred_.clear();
+    for (std::size_t b = 0; b < block_rank_.size(); ++b)
+      if (block_rank_[b] != rank_ && slave_now_[b] == 0) deferred_.push_back(static_cast<index_t>(b));
   }
 
   /// After a step whose contacts rebuilt, with every body state current on every rank: the blocks
@@ -309,6 +366,7 @@ class rigid_stepper {
     for (index_t b = 0; b < s.blocks().block_count(); ++b) centroids.push_back(s.blocks().centroid(b));
     const std::vector<int> next = partition_centroids_rcb(std::move(centroids), ranks_);
     if (next == block_rank_) return;
+    sync_gridpoints();  // blocks that come here are integrated from their gridpoints' frames
     auto& c = s.contacts_for_step();
     // Pair k moves state when one of its new ranks did not evaluate it: from its first block's old rank.
     const auto gains = [&](index_t k) {
@@ -355,6 +413,11 @@ class rigid_stepper {
   std::vector<index_t> own_gridpoints_;            ///< gridpoints of this rank's blocks, increasing
   std::vector<int> counts_, offsets_;              ///< per rank, its doubles in the exchange and their offset
   std::vector<double> send_, received_;
+  std::vector<std::uint8_t> slave_now_;            ///< per block: step() slaves its copy (choose_slaved)
+  std::vector<index_t> deferred_;                  ///< other ranks' blocks it does not, increasing
+  std::vector<mat3> rotation_before_;              ///< per deferred block: its rotation before the last step
+  real deferred_dt_ = 0;                           ///< the step the deferred copies are behind by (s)
+  bool deferred_pending_ = false;                  ///< they are (sync_gridpoints has not run since)
   phase_times phases_;                             ///< phases()
   mutable std::vector<double> rank_shares_;        ///< summed_energies' gathered shares
   double exchange_seconds_ = 0, step_seconds_ = 0;

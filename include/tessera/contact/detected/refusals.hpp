@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "../../core/errors.hpp"
@@ -91,9 +92,12 @@ inline void refuse_initial_overlaps(const detection::detection_workspace& worksp
 /// `moved2`: per block, the squared largest motion (m^2) of its watched gridpoints; `largest`: their
 /// maximum; `steps`: steps since the last rebuild; `tolerance`: params::tolerance (m).
 [[noreturn]] inline void refuse_fast_motion(const std::vector<real>& moved2, real largest, index_t steps, real tolerance) {
-  const auto b = std::find(moved2.begin(), moved2.end(), largest) - moved2.begin();
+  // A split run's vote (set_motion_vote): the largest motion may be another rank's block's.
+  const auto found = std::find(moved2.begin(), moved2.end(), largest);
+  const std::string block = found == moved2.end() ? std::string("a block of another MPI rank")
+                                                  : tessera::detail::concat("block ", found - moved2.begin());
   throw invalid_input(tessera::detail::concat(
-      "detected_contacts: a vertex of block ", b, " moved ", std::sqrt(largest), " m in the ", steps,
+      "detected_contacts: a vertex of ", block, " moved ", std::sqrt(largest), " m in the ", steps,
       " step(s) since the last contact rebuild, more than the tolerance ", tolerance,
       " m (the rebuild comes once it passes tolerance / 2, so one step covered more than that): blocks may overlap "
       "by more than the tolerance unseen; the blocks move too fast for the step: lower the time step "

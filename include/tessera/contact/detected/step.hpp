@@ -82,7 +82,9 @@ inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, rea
         const block_data& bd = blocks_[at(b)];
         motion_[at(b)] = detail::motion_of(reference_, bd, gridpoints, options_.deformable_blocks);
         real m2 = 0;
-        for (index_t k = bd.watch_begin; k < bd.watch_end; ++k) {
+        // A split run's vote (set_motion_vote) watches the own blocks; the ranks reduce the largest.
+        const bool watched = !largest_motion_ || own_block_.empty() || own_block_[at(b)] != 0;
+        for (index_t k = watched ? bd.watch_begin : bd.watch_end; k < bd.watch_end; ++k) {
           const auto g = at(watch_gridpoints_[at(k)]);
           const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1),
                      dz = u[2][g] - rebuild_u_(k, 2);
@@ -91,13 +93,23 @@ inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, rea
         moved_[at(b)] = m2;
       },
       64);
-  const real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
+  real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
+  if (largest_motion_) moved2 = largest_motion_(moved2);
   // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
   // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
   const real half = 0.5 * options_.tolerance - max_deviation_;
   // Past twice the trigger, one step covered more than it: refuse (detected/refusals.hpp).
   if (half > 0 && moved2 > 4 * half * half) detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, options_.tolerance);
-  if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) rebuild(&gridpoints);
+  if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) {
+    if (before_rebuild_) {
+      // A split run's copies of other ranks' blocks are current now: their motions again.
+      before_rebuild_();
+      parallel_for(static_cast<std::int64_t>(blocks_.size()), [&](std::int64_t b) {
+        motion_[at(b)] = detail::motion_of(reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
+      }, 64);
+    }
+    rebuild(&gridpoints);
+  }
 }
 
 /// The pair's three normals now (stored for the next step) and their tilts since the last.

@@ -70,6 +70,14 @@ inline void detected_contacts<Law>::set_detection_split(int part, int parts,
 }
 
 template <law::ContactLaw Law>
+inline void detected_contacts<Law>::set_motion_vote(std::function<real(real)> largest, std::function<void()> before_rebuild) {
+  require(static_cast<bool>(largest) == static_cast<bool>(before_rebuild),
+          "detected_contacts::set_motion_vote: give both functions or neither");
+  largest_motion_ = std::move(largest);
+  before_rebuild_ = std::move(before_rebuild);
+}
+
+template <law::ContactLaw Law>
 inline contact_energies detected_contacts<Law>::energies() const {
   contact_energies e = retired_;
   for (index_t i = 0; i < size(); ++i) {
