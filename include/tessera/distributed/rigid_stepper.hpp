@@ -45,8 +45,9 @@
 // the gathered parts (about 56 bytes a corner) and the broad phase, the merge of the states and
 // the frames of the whole scene (replicated, a few per cent of a pass); O(blocks) to set the
 // other ranks' body states and O(own blocks) for the trigger, the slaving of the copies the pairs
-// read, one collective exchange of 232 bytes a block and one reduction of a double. step() allocates only at rebuilds (the contact set's arrays, the gathered pass, and the
-// rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel).
+// read, one collective exchange of 232 bytes a block and one reduction of a double. step()
+// allocates only at rebuilds (the contact set's arrays, the gathered pass, the choice of the
+// copies to slave, and the rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel).
 // Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
