@@ -47,7 +47,8 @@
 // other ranks' body states and O(own blocks) for the trigger, the slaving of the copies the pairs
 // read, one collective exchange of 232 bytes a block and one reduction of a double. step()
 // allocates only at rebuilds (the contact set's arrays, the gathered pass, the choice of the
-// copies to slave, and the rebalance's map and transfer). Not thread-safe (one thread drives it; its loops are parallel).
+// copies to slave, and the rebalance's map and transfer). Not thread-safe (one thread drives it;
+// its loops are parallel).
 // Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
