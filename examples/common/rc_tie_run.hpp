@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -315,7 +316,10 @@ template <class Blocks, class Law, bool Relaxed = false, class OnEvent>
   if constexpr (Relaxed) opt = kinetic_relaxation_options(opt);  // no damping, masses at dt = 1 s
   solver_type s(scene.prism.tess, scene.prism.mesh, scene.prism.block_material, law_params, scene.bar, opt);
   const adaptive_rate::params& rc = loading.rate_control;
-  adaptive_rate control(rc);  // refuses bad factors and ratios
+  // The explicit pull's out-of-balance rate control (refuses bad factors and ratios); relaxation
+  // has no rate (the driver refuses the rate flags with it), so nothing is built for it there.
+  std::optional<adaptive_rate> control;
+  if constexpr (!Relaxed) control.emplace(rc);
   if (!scene.options.bare && !Relaxed) {
     // The fastest rate the control may reach must be quasi-static too.
     const auto& ms = s.mass_scaling();
@@ -327,28 +331,15 @@ template <class Blocks, class Law, bool Relaxed = false, class OnEvent>
   }
   const tie_ends ends = hold_tie_ends(s, scene);
 
-  // The pull: the elongation rate rises along a half-cosine over the ramp, then stays; both bar
-  // ends move (symmetric) or the last alone. Relaxed: 1 m/s of pseudo-time, the load pattern
-  // kinetic_relaxation moves in increments.
+  // Both bar ends move (symmetric) or the last alone.
   node_set& bar = s.bar_nodes();
   const real pulled_share = loading.symmetric ? 0.5 : 1.0;  // of the elongation rate
-  const real ramp = Relaxed ? 0 : loading.ramp_time;
-  const auto pull_velocity = [&](real t) {
-    if (t >= ramp) return loading.rate;
-    return 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
-  };
-  double factor_steps = 0;  // sum over the steps of the factor in force (control.factor(), set at the samples)
-  const auto pull = [&](const solver_type& sv) {
-    const real factor = control.factor();
-    factor_steps += factor;
-    const real v = factor * pull_velocity(sv.time() + 0.5 * sv.dt());
-    bar.prescribed_velocity(ends.last, 2) = pulled_share * v;
-    if (loading.symmetric) bar.prescribed_velocity(ends.first, 2) = -(1 - pulled_share) * v;
-  };
+  double factor_steps = 0;  // sum over the steps of the rate factor in force (explicit pull)
 
   tie_recorder<solver_type> recorder(s, scene, loading, ends);
   on_event(std::as_const(s), std::string("start"));  // every check has passed: the run begins
   if constexpr (Relaxed) {
+    // 1 m/s of pseudo-time: the load pattern kinetic_relaxation moves in increments.
     bar.prescribed_velocity(ends.last, 2) = pulled_share;
     if (loading.symmetric) bar.prescribed_velocity(ends.first, 2) = -(1 - pulled_share);
     relax_tie(s, scene, loading, [&](const solver_type& sv) {
@@ -357,16 +348,30 @@ template <class Blocks, class Law, bool Relaxed = false, class OnEvent>
       return stop;
     }, recorder.result());
   } else {
+    // The pull: the elongation rate rises along a half-cosine over the ramp, then stays, times
+    // the control's factor (set at the samples).
+    const real ramp = loading.ramp_time;
+    const auto pull_velocity = [&](real t) {
+      if (t >= ramp) return loading.rate;
+      return 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
+    };
+    const auto pull = [&](const solver_type& sv) {
+      const real factor = control->factor();
+      factor_steps += factor;
+      const real v = factor * pull_velocity(sv.time() + 0.5 * sv.dt());
+      bar.prescribed_velocity(ends.last, 2) = pulled_share * v;
+      if (loading.symmetric) bar.prescribed_velocity(ends.first, 2) = -(1 - pulled_share) * v;
+    };
     // s.run_until in one process; split over MPI ranks under mpirun (common/mpi_run.hpp).
     bool done = false;
     run_sampled(s, scene.prism.mesh, done, pull, loading.sample, [&](const solver_type& sv) {
       done = recorder.sample(sv, on_event);
       tie_result& rr = recorder.result();
       if (sv.time() > ramp) {
-        control.update(rr.unbalanced_ratio.back());
+        control->update(rr.unbalanced_ratio.back());
         rr.max_unbalanced_ratio = std::max(rr.max_unbalanced_ratio, rr.unbalanced_ratio.back());
       }
-      rr.rate_factor.push_back(control.factor());
+      rr.rate_factor.push_back(control->factor());
     });
   }
   recorder.finish_progress();

@@ -110,7 +110,7 @@ class rigid_stepper {
 
  public:
   /// Terms summed_energies gathers from each rank.
-  static constexpr int share_count = 8;
+  static constexpr int share_count = 7;
 
   /// The step of this process's rank in `comm` for `s`, built on every rank from the same scene,
   /// with block b on rank block_rank[b] (the same map on every rank, e.g. partition_moving_blocks);
@@ -209,9 +209,14 @@ class rigid_stepper {
   [[nodiscard]] energy_balance summed_energies() const {
     const energy_balance mine = solver_->energies();
     const real initial = solver_->step_count() == 0 ? initial_share() : mine.initial;
-    const std::array<double, share_count> share = {initial,            mine.boundary_work,     mine.damping_dissipated,
-                                                   mine.gravity_work,  mine.contact_stored,    mine.contact_dissipated,
-                                                   mine.contact_dissipated_tension, mine.contact_rebuild_exchange};
+    // The stored energy is not a share: ordered_stored_energy sums it in one process's order.
+    const std::array<double, share_count> share = {initial,
+                                                   mine.boundary_work,
+                                                   mine.damping_dissipated,
+                                                   mine.gravity_work,
+                                                   mine.contact_dissipated,
+                                                   mine.contact_dissipated_tension,
+                                                   mine.contact_rebuild_exchange};
     MPI_Allgather(share.data(), share_count, MPI_DOUBLE, rank_shares_.data(), share_count, MPI_DOUBLE, comm_);
     std::array<double, share_count> sum{};
     for (int r = 0; r < ranks_; ++r)
@@ -223,9 +228,9 @@ class rigid_stepper {
     e.damping_dissipated = sum[2];
     e.gravity_work = sum[3];
     e.contact_stored = ordered_stored_energy();
-    e.contact_dissipated = sum[5];
-    e.contact_dissipated_tension = sum[6];
-    e.contact_rebuild_exchange = sum[7];
+    e.contact_dissipated = sum[4];
+    e.contact_dissipated_tension = sum[5];
+    e.contact_rebuild_exchange = sum[6];
     e.kinetic = mine.kinetic;
     return e;
   }
