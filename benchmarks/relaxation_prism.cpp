@@ -21,7 +21,9 @@
 //   relaxation_prism [--blocks N] [--seed N] [--threads N] [--increment M] [--ramp K] [--first R] [--gamma G]
 //                    [--elastic-tolerance R]
 //                    [--tolerance R] [--max-steps N] [--until M] [--stop-below R] [--plain-zeroing]
-//                    [--extrapolate] [--elastic-only] [--curve FILE]
+//                    [--extrapolate] [--fire] [--fire-alpha A] [--fire-decay F] [--fire-delay N]
+//                    [--elastic-only] [--curve FILE]
+// --fire: FIRE's velocity rule (relaxation_options::velocity_rule) instead of the kinetic resets.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -146,7 +148,7 @@ int main(int argc, char** argv) {
   real increment = 2e-6, tolerance = 1e-3, until = 9e-5, stop_below = 0.5, first_fraction = 1, gamma = 0,
        elastic_tolerance = 0;
   std::int64_t max_steps = 200000;
-  bool plain = false, extrapolate = false, elastic_only = false, tie = false;
+  bool plain = false, extrapolate = false, elastic_only = false, tie = false, fire = false;
   std::string curve_file;
   tessera::cli::parser cli("relaxation_prism",
                            "Kinetic dynamic relaxation on the direct tension prism (issue #43, candidate 2).");
@@ -166,6 +168,13 @@ int main(int argc, char** argv) {
   cli.flag("--plain-zeroing", plain, "zero the velocities without backing up to the kinetic-energy peak");
   cli.flag("--extrapolate", extrapolate, "free gridpoints follow the last increment's field during the ramp");
   cli.flag("--elastic-only", elastic_only, "stop at the elastic limit");
+  cli.flag("--fire", fire, "FIRE's velocity mixing and power resets instead of the kinetic-energy resets");
+  tessera::relaxation_options fire_defaults;
+  real fire_alpha = fire_defaults.fire_alpha_start, fire_decay = fire_defaults.fire_alpha_decay;
+  std::int64_t fire_delay = fire_defaults.fire_delay;
+  cli.option("--fire-alpha", fire_alpha, "FIRE's mixing after a reset", "A").within(1e-6, 1);
+  cli.option("--fire-decay", fire_decay, "FIRE's factor on the mixing per downhill step", "F").within(1e-6, 1);
+  cli.option("--fire-delay", fire_delay, "FIRE's downhill steps before the mixing decays", "N").within(0, 1000000);
   cli.flag("--tie", tie, "the RC tie instead of the prism (--increment: elongation; --until: last elongation)");
   cli.option("--curve", curve_file, "write U, stress, steps per increment here (csv)", "FILE");
   cli.parse_or_exit(argc, argv);
@@ -176,6 +185,8 @@ int main(int argc, char** argv) {
       o.max_steps = max_steps;
       o.back_up_to_peak = !plain;
       o.extrapolate = extrapolate;
+      if (fire) o.velocity_rule = tessera::relaxation_options::method::fire;
+      o.fire_alpha_start = fire_alpha, o.fire_alpha_decay = fire_decay, o.fire_delay = fire_delay;
       return run_tie_mode(seed, threads, increment, until, o);
     }
     const sc::prism_scene scene = sc::make_prism({.blocks = blocks, .seed = seed});
@@ -213,15 +224,17 @@ int main(int argc, char** argv) {
     o.max_steps = max_steps;
     o.back_up_to_peak = !plain;
     o.extrapolate = extrapolate;
+    if (fire) o.velocity_rule = tessera::relaxation_options::method::fire;
+    o.fire_alpha_start = fire_alpha, o.fire_alpha_decay = fire_decay, o.fire_delay = fire_delay;
     const double build_s = cpu_seconds_since(cpu);
     const auto stress = [&] {
       namespace rec = tessera::recorders;
       return 0.5 * (rec::reaction_sum(s.gridpoints(), top).z() - rec::reaction_sum(s.gridpoints(), bottom).z()) / area;
     };
     const auto u_top = [&] { return tessera::recorders::mean_displacement(s.gridpoints(), top).z(); };
-    std::printf("- KDR: dt %.3g s (pseudo), gamma %.2g, %s, ramp %d steps, tolerance %.3g x f_T A = %.4g N%s; solver "
+    std::printf("- %s: dt %.3g s (pseudo), gamma %.2g, %s, ramp %d steps, tolerance %.3g x f_T A = %.4g N%s; solver "
                 "built in %.3f s CPU\n",
-                s.dt(), gamma, plain ? "plain zeroing" : "backed up to the kinetic peak", ramp, tolerance, o.reference_force,
+                fire ? "FIRE" : "KDR", s.dt(), gamma, plain ? "plain zeroing" : "backed up to the kinetic peak", ramp, tolerance, o.reference_force,
                 extrapolate ? ", extrapolated ramp" : "", build_s);
     std::FILE* curve = curve_file.empty() ? nullptr : std::fopen(curve_file.c_str(), "w");
     tessera::require(curve_file.empty() || curve != nullptr, "relaxation_prism: cannot open ", curve_file);

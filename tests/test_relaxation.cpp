@@ -115,6 +115,35 @@ TEST_CASE("relaxation: a column of three bonded cubes relaxes to the series stif
   }
 }
 
+TEST_CASE("relaxation: FIRE's velocity rule relaxes the column to the series stiffness, its springs in step",
+          "[relaxation]") {
+  // The column of the case above under relaxation_options::method::fire: the mixing moves the
+  // displacements with the mixed velocities, so the springs must still follow them; equilibrium
+  // is the same series force, to the same bound.
+  const real a = 0.05, young = 28e9, area = a * a, u = 1e-6;
+  const linear_law::params p = linear_contact();
+  const real expected = u / (3 * a / (young * area) + 2 / (p.k_n * area));
+  pulled_column c(3, a, young, p, kinetic_relaxation_options({}));
+  kinetic_relaxation<prism_linear_solver> k(c.s);
+  relaxation_options o;
+  o.reference_force = expected;
+  o.ratio_tolerance = 1e-9;
+  o.velocity_rule = relaxation_options::method::fire;
+  const relaxation_result r = k.advance(u, 20, o);
+  INFO(r.steps << " steps (" << r.ramp_steps << " ramp), " << r.resets << " resets, ratio " << r.ratio << "; F = "
+                << c.top_force() << " N, series " << expected << " N");
+  REQUIRE(r.converged);
+  CHECK(r.resets >= 1);  // the power turns negative at least once: the ramp overshoots
+  CHECK(std::abs(c.top_force() - expected) <= c.reaction_bound(o));
+  CHECK(std::abs(recorders::reaction_sum(c.s.gridpoints(), c.bottom).z() + expected) <= c.reaction_bound(o));
+  const auto& gp = c.s.gridpoints();
+  for (idx i = 0; i < c.s.contacts().size(); ++i) {
+    const idx na = c.s.contacts().node_a(i), nb = c.s.contacts().node_b(i);
+    const vec3 gap = (gp.displacement.row(nb) - gp.displacement.row(na)).transpose();
+    CHECK(std::abs(c.s.contacts().state(i).sigma_n - p.k_n * gap.dot(c.s.contacts().normal(i))) <= 1e-6 * expected / area);
+  }
+}
+
 TEST_CASE("relaxation: block_resultant holds each block's resultant, which the nodal ratio alone leaves above it",
           "[relaxation]") {
   // The column pulled elastically as above, relaxed to a loose 1e-3 of its series force twice: by
@@ -307,6 +336,13 @@ TEST_CASE("relaxation: bad options, durations and ramps are refused before the m
           "ratio tolerance = inf");
   refused("max_steps 0", [](relaxation_options& o) { o.max_steps = 0; }, "max_steps = 0");
   refused("check_interval 0", [](relaxation_options& o) { o.check_interval = 0; }, "check_interval = 0");
+  refused("FIRE alpha 0", [](relaxation_options& o) { o.fire_alpha_start = 0; }, "fire_alpha_start = 0");
+  refused("FIRE alpha above 1", [](relaxation_options& o) { o.fire_alpha_start = 1.5; }, "fire_alpha_start = 1.5");
+  refused("FIRE decay NaN", [&](relaxation_options& o) { o.fire_alpha_decay = nan; }, "fire_alpha_decay = nan");
+  refused("FIRE delay negative", [](relaxation_options& o) { o.fire_delay = -1; }, "fire_delay = -1");
+  refused("velocity rule out of range",
+          [](relaxation_options& o) { o.velocity_rule = static_cast<relaxation_options::method>(7); },
+          "velocity_rule = 7");
   CHECK_THROWS_WITH(k.advance(-1e-7, 10, good), Catch::Contains("increment duration = -1e-07 s"));
   CHECK_THROWS_WITH(k.advance(nan, 10, good), Catch::Contains("increment duration = nan"));
   CHECK_THROWS_WITH(k.advance(1e-7, 0, good), Catch::Contains("ramp_steps = 0"));
