@@ -96,7 +96,8 @@ struct relaxation_options {
   /// every step with positive power F . v once more than fire_delay such steps have passed; a
   /// step with power <= 0 zeroes the free velocities as a kinetic reset does (back_up_to_peak
   /// applies) and restarts `a`). FIRE's growth of the step is not used: the fictitious masses
-  /// already put every step at its stability limit.
+  /// already put every step at its stability limit. The mixing never raises |v|_M; the kinetic
+  /// energy it takes is not added to relaxation_result::kinetic_removed (the resets' is).
   enum class method { kinetic, fire } velocity_rule = method::kinetic;
   real fire_alpha_start = 0.1;    ///< in (0, 1]: FIRE's mixing after a reset
   real fire_alpha_decay = 0.99;   ///< in (0, 1]: FIRE's factor on the mixing per downhill step
