@@ -234,8 +234,8 @@ int main(int argc, char** argv) {
     const auto u_top = [&] { return tessera::recorders::mean_displacement(s.gridpoints(), top).z(); };
     std::printf("- %s: dt %.3g s (pseudo), gamma %.2g, %s, ramp %d steps, tolerance %.3g x f_T A = %.4g N%s; solver "
                 "built in %.3f s CPU\n",
-                fire ? "FIRE" : "KDR", s.dt(), gamma, plain ? "plain zeroing" : "backed up to the kinetic peak", ramp, tolerance, o.reference_force,
-                extrapolate ? ", extrapolated ramp" : "", build_s);
+                fire ? "FIRE" : "KDR", s.dt(), gamma, plain ? "plain zeroing" : "backed up to the kinetic peak", ramp,
+                tolerance, o.reference_force, extrapolate ? ", extrapolated ramp" : "", build_s);
     std::FILE* curve = curve_file.empty() ? nullptr : std::fopen(curve_file.c_str(), "w");
     tessera::require(curve_file.empty() || curve != nullptr, "relaxation_prism: cannot open ", curve_file);
     if (curve) std::fprintf(curve, "displacement_m,stress_Pa,steps,resets,ratio,converged,cpu_s\n");
