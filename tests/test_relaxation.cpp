@@ -69,6 +69,17 @@ struct pulled_column {
   }
 };
 
+/// Each elastic sub-contact of c has sigma_n = k_n (Pa/m) times its opening (u_b - u_a) . n, to
+/// 1e-6 of the stress sigma (Pa): the springs followed every displacement the relaxation made.
+void check_springs_follow_displacements(const pulled_column& c, real k_n, real sigma) {
+  const auto& gp = c.s.gridpoints();
+  for (idx i = 0; i < c.s.contacts().size(); ++i) {
+    const idx na = c.s.contacts().node_a(i), nb = c.s.contacts().node_b(i);
+    const vec3 gap = (gp.displacement.row(nb) - gp.displacement.row(na)).transpose();
+    CHECK(std::abs(c.s.contacts().state(i).sigma_n - k_n * gap.dot(c.s.contacts().normal(i))) <= 1e-6 * sigma);
+  }
+}
+
 linear_law::params linear_contact() { return law::with_linear_softening(law::study_prism_params(100)); }
 
 }  // namespace
@@ -101,17 +112,9 @@ TEST_CASE("relaxation: a column of three bonded cubes relaxes to the series stif
     CHECK(std::abs(recorders::mean_displacement(c.s.gridpoints(), c.top).z() - u) <= 1e-12 * u);
     // The bottom carries the same force: no inertia left.
     CHECK(std::abs(recorders::reaction_sum(c.s.gridpoints(), c.bottom).z() + expected) <= c.reaction_bound(o) + drift);
-    // The contact springs followed every displacement, the resets' included: each elastic
-    // sub-contact's sigma_n is k_n times its opening (u_b - u_a) . n, to 1e-6 of the stress.
+    // The contact springs followed every displacement, the resets' included.
     if (!back_up) continue;  // the drift above reaches 4e-6 of the stress on single sub-contacts
-    const auto& gp = c.s.gridpoints();
-    const real sigma = expected / area;
-    for (idx i = 0; i < c.s.contacts().size(); ++i) {
-      const idx na = c.s.contacts().node_a(i), nb = c.s.contacts().node_b(i);
-      const vec3 gap = (gp.displacement.row(nb) - gp.displacement.row(na)).transpose();
-      const real opening = gap.dot(c.s.contacts().normal(i));
-      CHECK(std::abs(c.s.contacts().state(i).sigma_n - p.k_n * opening) <= 1e-6 * sigma);
-    }
+    check_springs_follow_displacements(c, p.k_n, expected / area);
   }
 }
 
@@ -136,12 +139,7 @@ TEST_CASE("relaxation: FIRE's velocity rule relaxes the column to the series sti
   CHECK(r.resets >= 1);  // the power turns negative at least once: the ramp overshoots
   CHECK(std::abs(c.top_force() - expected) <= c.reaction_bound(o));
   CHECK(std::abs(recorders::reaction_sum(c.s.gridpoints(), c.bottom).z() + expected) <= c.reaction_bound(o));
-  const auto& gp = c.s.gridpoints();
-  for (idx i = 0; i < c.s.contacts().size(); ++i) {
-    const idx na = c.s.contacts().node_a(i), nb = c.s.contacts().node_b(i);
-    const vec3 gap = (gp.displacement.row(nb) - gp.displacement.row(na)).transpose();
-    CHECK(std::abs(c.s.contacts().state(i).sigma_n - p.k_n * gap.dot(c.s.contacts().normal(i))) <= 1e-6 * expected / area);
-  }
+  check_springs_follow_displacements(c, p.k_n, expected / area);
 }
 
 TEST_CASE("relaxation: block_resultant holds each block's resultant, which the nodal ratio alone leaves above it",
