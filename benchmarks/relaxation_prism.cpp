@@ -22,8 +22,9 @@
 //                    [--elastic-tolerance R]
 //                    [--tolerance R] [--max-steps N] [--until M] [--stop-below R] [--plain-zeroing]
 //                    [--extrapolate] [--fire] [--fire-alpha A] [--fire-decay F] [--fire-delay N]
-//                    [--elastic-only] [--curve FILE]
-// --fire: FIRE's velocity rule (relaxation_options::velocity_rule) instead of the kinetic resets.
+//                    [--adaptive] [--adaptive-scale S] [--elastic-only] [--curve FILE]
+// --fire: FIRE's velocity rule (relaxation_options::velocity_rule) instead of the kinetic resets;
+// --adaptive: Underwood's adaptive damping instead (--adaptive-scale: factor on its damping).
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -148,7 +149,8 @@ int main(int argc, char** argv) {
   real increment = 2e-6, tolerance = 1e-3, until = 9e-5, stop_below = 0.5, first_fraction = 1, gamma = 0,
        elastic_tolerance = 0;
   std::int64_t max_steps = 200000;
-  bool plain = false, extrapolate = false, elastic_only = false, tie = false, fire = false;
+  bool plain = false, extrapolate = false, elastic_only = false, tie = false, fire = false,
+       adaptive = false;
   std::string curve_file;
   tessera::cli::parser cli("relaxation_prism",
                            "Kinetic dynamic relaxation on the direct tension prism (issue #43, candidate 2).");
@@ -175,9 +177,22 @@ int main(int argc, char** argv) {
   cli.option("--fire-alpha", fire_alpha, "FIRE's mixing after a reset", "A").within(1e-6, 1);
   cli.option("--fire-decay", fire_decay, "FIRE's factor on the mixing per downhill step", "F").within(1e-6, 1);
   cli.option("--fire-delay", fire_delay, "FIRE's downhill steps before the mixing decays", "N").within(0, 1000000);
+  cli.flag("--adaptive", adaptive, "Underwood's adaptive damping instead of the kinetic-energy resets");
+  real adaptive_scale = fire_defaults.adaptive_damping_scale;
+  cli.option("--adaptive-scale", adaptive_scale, "factor on the adaptive rule's critical damping", "S").within(1e-6, 10);
   cli.flag("--tie", tie, "the RC tie instead of the prism (--increment: elongation; --until: last elongation)");
   cli.option("--curve", curve_file, "write U, stress, steps per increment here (csv)", "FILE");
   cli.parse_or_exit(argc, argv);
+  if (fire && adaptive) {
+    std::fprintf(stderr, "relaxation_prism: --fire and --adaptive are two velocity rules; give one\n");
+    return 2;
+  }
+  const auto set_velocity_rule = [&](tessera::relaxation_options& o) {
+    using rule = tessera::relaxation_options::method;
+    o.velocity_rule = fire ? rule::fire : adaptive ? rule::adaptive : rule::kinetic;
+    o.fire_alpha_start = fire_alpha, o.fire_alpha_decay = fire_decay, o.fire_delay = fire_delay;
+    o.adaptive_damping_scale = adaptive_scale;
+  };
   try {
     if (tie) {
       tessera::relaxation_options o;
@@ -185,8 +200,7 @@ int main(int argc, char** argv) {
       o.max_steps = max_steps;
       o.back_up_to_peak = !plain;
       o.extrapolate = extrapolate;
-      if (fire) o.velocity_rule = tessera::relaxation_options::method::fire;
-      o.fire_alpha_start = fire_alpha, o.fire_alpha_decay = fire_decay, o.fire_delay = fire_delay;
+      set_velocity_rule(o);
       return run_tie_mode(seed, threads, increment, until, o);
     }
     const sc::prism_scene scene = sc::make_prism({.blocks = blocks, .seed = seed});
@@ -224,8 +238,7 @@ int main(int argc, char** argv) {
     o.max_steps = max_steps;
     o.back_up_to_peak = !plain;
     o.extrapolate = extrapolate;
-    if (fire) o.velocity_rule = tessera::relaxation_options::method::fire;
-    o.fire_alpha_start = fire_alpha, o.fire_alpha_decay = fire_decay, o.fire_delay = fire_delay;
+    set_velocity_rule(o);
     const double build_s = cpu_seconds_since(cpu);
     const auto stress = [&] {
       namespace rec = tessera::recorders;
@@ -234,7 +247,8 @@ int main(int argc, char** argv) {
     const auto u_top = [&] { return tessera::recorders::mean_displacement(s.gridpoints(), top).z(); };
     std::printf("- %s: dt %.3g s (pseudo), gamma %.2g, %s, ramp %d steps, tolerance %.3g x f_T A = %.4g N%s; solver "
                 "built in %.3f s CPU\n",
-                fire ? "FIRE" : "KDR", s.dt(), gamma, plain ? "plain zeroing" : "backed up to the kinetic peak", ramp,
+                fire ? "FIRE" : adaptive ? "adaptive damping" : "KDR", s.dt(), gamma,
+                plain ? "plain zeroing" : "backed up to the kinetic peak", ramp,
                 tolerance, o.reference_force, extrapolate ? ", extrapolated ramp" : "", build_s);
     std::FILE* curve = curve_file.empty() ? nullptr : std::fopen(curve_file.c_str(), "w");
     tessera::require(curve_file.empty() || curve != nullptr, "relaxation_prism: cannot open ", curve_file);

@@ -118,11 +118,11 @@ TEST_CASE("relaxation: a column of three bonded cubes relaxes to the series stif
   }
 }
 
-TEST_CASE("relaxation: FIRE's velocity rule relaxes the column to the series stiffness, its springs in step",
-          "[relaxation]") {
-  // The column of the case above under relaxation_options::method::fire: the mixing moves the
-  // displacements with the mixed velocities, so the springs must still follow them; equilibrium
-  // is the same series force, to the same bound.
+/// The column of the case above pulled by 1 um in one increment (20 ramp steps) and relaxed to
+/// 1e-9 of its series force under velocity rule `rule` (scale: adaptive_damping_scale): the series
+/// force at both ends within the reaction bound, the springs in step with the displacements (the
+/// rules move the displacements with the velocities they set). Returns what the increment did.
+relaxation_result check_column_relaxes_to_series_force(relaxation_options::method rule, real scale = 1) {
   const real a = 0.05, young = 28e9, area = a * a, u = 1e-6;
   const linear_law::params p = linear_contact();
   const real expected = u / (3 * a / (young * area) + 2 / (p.k_n * area));
@@ -131,15 +131,34 @@ TEST_CASE("relaxation: FIRE's velocity rule relaxes the column to the series sti
   relaxation_options o;
   o.reference_force = expected;
   o.ratio_tolerance = 1e-9;
-  o.velocity_rule = relaxation_options::method::fire;
+  o.velocity_rule = rule;
+  o.adaptive_damping_scale = scale;
   const relaxation_result r = k.advance(u, 20, o);
-  INFO(r.steps << " steps (" << r.ramp_steps << " ramp), " << r.resets << " resets, ratio " << r.ratio << "; F = "
-                << c.top_force() << " N, series " << expected << " N");
+  INFO("rule " << static_cast<int>(rule) << ", scale " << scale << ": " << r.steps << " steps (" << r.ramp_steps
+               << " ramp), " << r.resets << " resets, ratio " << r.ratio << "; F = " << c.top_force()
+               << " N, series " << expected << " N");
   REQUIRE(r.converged);
-  CHECK(r.resets >= 1);  // the power turns negative at least once: the ramp overshoots
   CHECK(std::abs(c.top_force() - expected) <= c.reaction_bound(o));
   CHECK(std::abs(recorders::reaction_sum(c.s.gridpoints(), c.bottom).z() + expected) <= c.reaction_bound(o));
   check_springs_follow_displacements(c, p.k_n, expected / area);
+  return r;
+}
+
+TEST_CASE("relaxation: FIRE's velocity rule relaxes the column to the series stiffness, its springs in step",
+          "[relaxation]") {
+  const relaxation_result r = check_column_relaxes_to_series_force(relaxation_options::method::fire);
+  CHECK(r.resets >= 1);  // the power turns negative at least once: the ramp overshoots
+}
+
+TEST_CASE("relaxation: adaptive damping relaxes the column to the series stiffness without resets, its springs in step",
+          "[relaxation]") {
+  // A viscous step in place of the resets: the only reset is the one that brings the converged
+  // model to rest; with the damping doubled (over-damped) the same equilibrium takes more steps.
+  const relaxation_result critical = check_column_relaxes_to_series_force(relaxation_options::method::adaptive, 1);
+  const relaxation_result doubled = check_column_relaxes_to_series_force(relaxation_options::method::adaptive, 2);
+  CHECK(critical.resets == 1);
+  CHECK(doubled.resets == 1);
+  CHECK(critical.steps < doubled.steps);
 }
 
 TEST_CASE("relaxation: block_resultant holds each block's resultant, which the nodal ratio alone leaves above it",
@@ -338,6 +357,9 @@ TEST_CASE("relaxation: bad options, durations and ramps are refused before the m
   refused("FIRE alpha above 1", [](relaxation_options& o) { o.fire_alpha_start = 1.5; }, "fire_alpha_start = 1.5");
   refused("FIRE decay NaN", [&](relaxation_options& o) { o.fire_alpha_decay = nan; }, "fire_alpha_decay = nan");
   refused("FIRE delay negative", [](relaxation_options& o) { o.fire_delay = -1; }, "fire_delay = -1");
+  refused("adaptive scale 0", [](relaxation_options& o) { o.adaptive_damping_scale = 0; }, "adaptive_damping_scale = 0");
+  refused("adaptive scale 11", [](relaxation_options& o) { o.adaptive_damping_scale = 11; },
+          "adaptive_damping_scale = 11");
   refused("velocity rule out of range",
           [](relaxation_options& o) { o.velocity_rule = static_cast<relaxation_options::method>(7); },
           "velocity_rule = 7");

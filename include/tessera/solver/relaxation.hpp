@@ -46,6 +46,10 @@
 // after each step the free velocities are mixed towards the unbalanced force's acceleration and a
 // step of non-positive power resets them; the step is the solver's, not grown (options comment).
 // Measured on the prism and the tie against KDR in docs/performance.md: it takes more steps.
+// Adaptive damping (velocity_rule = adaptive; Underwood 1983) instead keeps a viscous damping at
+// the critical value of the mode the displacement is in, from a Rayleigh quotient of local
+// stiffnesses the forces of successive steps give (options comment; no resets). The velocities
+// are replaced after the solver's undamped step and the displacements follow them, as FIRE's.
 //
 // Energy books: the resets remove kinetic energy the solver's books do not see;
 // relaxation_result::kinetic_removed adds it up (J of pseudo-time with the scaled masses: the
@@ -67,6 +71,7 @@
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
 #include "options.hpp"
+#include "relaxation_rules.hpp"
 
 namespace tessera {
 
@@ -98,7 +103,14 @@ struct relaxation_options {
   /// applies) and restarts `a`). FIRE's growth of the step is not used: the fictitious masses
   /// already put every step at its stability limit. The mixing never raises |v|_M; the kinetic
   /// energy it takes is not added to relaxation_result::kinetic_removed (the resets' is).
-  enum class method { kinetic, fire } velocity_rule = method::kinetic;
+  /// adaptive (Underwood 1983's adaptive dynamic relaxation): no resets; after each step the free
+  /// velocities are those of a viscous step, v = (2 v_step - c dt v_old) / (2 + c dt), with
+  /// c = adaptive_damping_scale x 2 sqrt(lambda) and lambda = sum x_i^2 k_i / sum m_i x_i^2 the
+  /// Rayleigh quotient of the current displacement x since the increment began, k_i the local
+  /// stiffness -(F_i - F_i,old) / (dt v_i,old) (components with v_old = 0 left out); c = 0 when
+  /// the quotient is not positive (softening), c dt at most 2.
+  enum class method { kinetic, fire, adaptive } velocity_rule = method::kinetic;
+  real adaptive_damping_scale = 1;  ///< in (0, 10]: factor on the critical damping of lambda
   real fire_alpha_start = 0.1;    ///< in (0, 1]: FIRE's mixing after a reset
   real fire_alpha_decay = 0.99;   ///< in (0, 1]: FIRE's factor on the mixing per downhill step
   std::int64_t fire_delay = 5;    ///< >= 0: downhill steps after a reset before the mixing decays
@@ -127,8 +139,10 @@ inline void require_valid_relaxation(const relaxation_options& o) {
           o.ratio_tolerance, " must be finite and > 0");
   require(o.max_steps >= 1, "relaxation: max_steps = ", o.max_steps, " must be >= 1");
   require(o.check_interval >= 1, "relaxation: check_interval = ", o.check_interval, " must be >= 1");
-  require(o.velocity_rule == relaxation_options::method::kinetic || o.velocity_rule == relaxation_options::method::fire,
-          "relaxation: velocity_rule = ", static_cast<int>(o.velocity_rule), " is neither kinetic (0) nor fire (1)");
+  const auto rule = static_cast<int>(o.velocity_rule);
+  require(rule >= 0 && rule <= 2, "relaxation: velocity_rule = ", rule, " is not kinetic (0), fire (1) or adaptive (2)");
+  require(std::isfinite(o.adaptive_damping_scale) && o.adaptive_damping_scale > 0 && o.adaptive_damping_scale <= 10,
+          "relaxation: adaptive_damping_scale = ", o.adaptive_damping_scale, " must be in (0, 10]");
   require(std::isfinite(o.fire_alpha_start) && o.fire_alpha_start > 0 && o.fire_alpha_start <= 1,
           "relaxation: fire_alpha_start = ", o.fire_alpha_start, " must be in (0, 1]");
   require(std::isfinite(o.fire_alpha_decay) && o.fire_alpha_decay > 0 && o.fire_alpha_decay <= 1,
@@ -173,24 +187,7 @@ class kinetic_relaxation {
   /// for bad options (require_valid_relaxation) before anything changes.
   relaxation_result relax(const relaxation_options& o) {
     require_valid_relaxation(o);
-    relaxation_result r;
-    previous_ = free_kinetic_energy();
-    alpha_ = o.fire_alpha_start, downhill_ = 0;  // FIRE starts afresh each relaxation and ramp
-    std::int64_t next_check = o.check_interval;
-    while (r.steps < o.max_steps) {
-      step_with_resets(o, r);
-      if (r.steps < next_check) continue;
-      next_check = r.steps + o.check_interval;
-      r.ratio = ratio(o);
-      if (r.ratio <= o.ratio_tolerance) {
-        reset(false, r);  // at rest for what follows
-        r.ratio = ratio(o);
-        r.converged = true;
-        break;
-      }
-    }
-    totals_.add(r);
-    return r;
+    return hold(o, true);
   }
 
   /// One load increment: the prescribed components move by pattern x duration (m; duration in s
@@ -203,8 +200,7 @@ class kinetic_relaxation {
     require(ramp_steps >= 1, "relaxation: ramp_steps = ", ramp_steps, " must be >= 1");
     require_valid_relaxation(o);
     relaxation_result r;
-    previous_ = free_kinetic_energy();
-    alpha_ = o.fire_alpha_start, downhill_ = 0;  // FIRE starts afresh each relaxation and ramp
+    begin_rule(o, true);
     const real speed = 1 / (static_cast<real>(ramp_steps) * s_.dt());  // 1/s: a displacement over the ramp
     s_.gridpoints().prescribed_velocity = pattern_ * (duration * speed);
     if constexpr (Solver::reinforcement_type::enabled)
@@ -229,8 +225,8 @@ class kinetic_relaxation {
     r.ramp_steps = r.steps;
     time_ += duration;
     totals_.add(r);
-    const relaxation_result hold = relax(o);
-    r.add(hold);
+    const relaxation_result held = hold(o, false);
+    r.add(held);
     change_ = s_.gridpoints().displacement - start_;
     if constexpr (Solver::reinforcement_type::enabled) bar_change_ = s_.bar_nodes().displacement - bar_start_;
     last_duration_ = duration;
@@ -243,6 +239,38 @@ class kinetic_relaxation {
   [[nodiscard]] const relaxation_result& totals() const { return totals_; }
 
  private:
+  /// The relaxation loop of relax() and of an increment's hold (new_origin: the adaptive rule's
+  /// displacements count from here rather than from the increment's start).
+  relaxation_result hold(const relaxation_options& o, bool new_origin) {
+    relaxation_result r;
+    begin_rule(o, new_origin);
+    std::int64_t next_check = o.check_interval;
+    while (r.steps < o.max_steps) {
+      step_with_resets(o, r);
+      if (r.steps < next_check) continue;
+      next_check = r.steps + o.check_interval;
+      r.ratio = ratio(o);
+      if (r.ratio <= o.ratio_tolerance) {
+        reset(false, r);  // at rest for what follows
+        r.ratio = ratio(o);
+        r.converged = true;
+        break;
+      }
+    }
+    totals_.add(r);
+    return r;
+  }
+
+  /// Every rule starts afresh at each relaxation and ramp: the kinetic energy to compare with,
+  /// FIRE's mixing, and the adaptive rule's last velocities, forces and (new_origin) origin.
+  void begin_rule(const relaxation_options& o, bool new_origin) {
+    previous_ = free_kinetic_energy();
+    alpha_ = o.fire_alpha_start, downhill_ = 0;
+    if (o.velocity_rule != relaxation_options::method::adaptive) return;
+    adaptive_.begin(s_.gridpoints(), new_origin);
+    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.begin(s_.bar_nodes(), new_origin);
+  }
+
   /// One solver step, then a reset if the free kinetic energy fell (the peak was at the last half
   /// step); counts into r.
   void step_with_resets(const relaxation_options& o, relaxation_result& r) {
@@ -250,6 +278,10 @@ class kinetic_relaxation {
     ++r.steps;
     if (o.velocity_rule == relaxation_options::method::fire) {
       fire_mix(o, r);
+      return;
+    }
+    if (o.velocity_rule == relaxation_options::method::adaptive) {
+      adaptive_damp(o);
       return;
     }
     const real now = free_kinetic_energy();
@@ -297,6 +329,19 @@ class kinetic_relaxation {
     };
     mix(s_.gridpoints());
     if constexpr (Solver::reinforcement_type::enabled) mix(s_.bar_nodes());
+  }
+
+  /// Underwood's adaptive damping after a step (relaxation_options::velocity_rule); serial passes
+  /// over the free components of gridpoints and bar nodes (the same bits for every thread count).
+  void adaptive_damp(const relaxation_options& o) {
+    const real dt = s_.dt();
+    real stiffness = 0, mass = 0;
+    adaptive_.sums(s_.gridpoints(), dt, stiffness, mass);
+    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.sums(s_.bar_nodes(), dt, stiffness, mass);
+    const real lambda = mass > 0 && stiffness > 0 ? stiffness / mass : 0;
+    const real cdt = std::min<real>(2, o.adaptive_damping_scale * 2 * std::sqrt(lambda) * dt);
+    adaptive_.damp(s_.gridpoints(), dt, cdt);
+    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.damp(s_.bar_nodes(), dt, cdt);
   }
 
   [[nodiscard]] real ratio(const relaxation_options& o) {
@@ -408,6 +453,7 @@ class kinetic_relaxation {
   soa3 change_, bar_change_;  ///< their change over the last increment (m)
   real last_duration_ = 0;    ///< the last increment's duration (s; 0 before the first)
   real previous_ = 0;  ///< free kinetic energy after the last step (J)
+  detail::adaptive_damping_state adaptive_, bar_adaptive_;  ///< the adaptive rule's, gridpoints and bar nodes
   real alpha_ = 0;              ///< FIRE's mixing now
   std::int64_t downhill_ = 0;   ///< FIRE: steps with positive power since the last reset
   soa3 block_sum_;     ///< per block: resultant of the free gridpoint forces (N; block_resultant)
