@@ -171,14 +171,14 @@ int main(int argc, char** argv) {
   cli.flag("--extrapolate", extrapolate, "free gridpoints follow the last increment's field during the ramp");
   cli.flag("--elastic-only", elastic_only, "stop at the elastic limit");
   cli.flag("--fire", fire, "FIRE's velocity mixing and power resets instead of the kinetic-energy resets");
-  tessera::relaxation_options fire_defaults;
-  real fire_alpha = fire_defaults.fire_alpha_start, fire_decay = fire_defaults.fire_alpha_decay;
-  std::int64_t fire_delay = fire_defaults.fire_delay;
+  const tessera::relaxation_options defaults;  // the library's FIRE and adaptive defaults
+  real fire_alpha = defaults.fire_alpha_start, fire_decay = defaults.fire_alpha_decay;
+  std::int64_t fire_delay = defaults.fire_delay;
   cli.option("--fire-alpha", fire_alpha, "FIRE's mixing after a reset", "A").within(1e-6, 1);
   cli.option("--fire-decay", fire_decay, "FIRE's factor on the mixing per downhill step", "F").within(1e-6, 1);
   cli.option("--fire-delay", fire_delay, "FIRE's downhill steps before the mixing decays", "N").within(0, 1000000);
   cli.flag("--adaptive", adaptive, "Underwood's adaptive damping instead of the kinetic-energy resets");
-  real adaptive_scale = fire_defaults.adaptive_damping_scale;
+  real adaptive_scale = defaults.adaptive_damping_scale;
   cli.option("--adaptive-scale", adaptive_scale, "factor on the adaptive rule's critical damping", "S").within(1e-6, 10);
   cli.flag("--tie", tie, "the RC tie instead of the prism (--increment: elongation; --until: last elongation)");
   cli.option("--curve", curve_file, "write U, stress, steps per increment here (csv)", "FILE");

@@ -187,7 +187,8 @@ class kinetic_relaxation {
   /// for bad options (require_valid_relaxation) before anything changes.
   relaxation_result relax(const relaxation_options& o) {
     require_valid_relaxation(o);
-    return hold(o, true);
+    if (o.velocity_rule == relaxation_options::method::adaptive) save_start();  // its origin
+    return hold(o);
   }
 
   /// One load increment: the prescribed components move by pattern x duration (m; duration in s
@@ -200,15 +201,14 @@ class kinetic_relaxation {
     require(ramp_steps >= 1, "relaxation: ramp_steps = ", ramp_steps, " must be >= 1");
     require_valid_relaxation(o);
     relaxation_result r;
-    begin_rule(o, true);
+    begin_rule(o);
     const real speed = 1 / (static_cast<real>(ramp_steps) * s_.dt());  // 1/s: a displacement over the ramp
     s_.gridpoints().prescribed_velocity = pattern_ * (duration * speed);
     if constexpr (Solver::reinforcement_type::enabled)
       s_.bar_nodes().prescribed_velocity = bar_pattern_ * (duration * speed);
     const bool predict = o.extrapolate && last_duration_ > 0;
     const real scale = predict ? duration / last_duration_ * speed : 0;
-    start_ = s_.gridpoints().displacement;
-    if constexpr (Solver::reinforcement_type::enabled) bar_start_ = s_.bar_nodes().displacement;
+    save_start();
     while (r.steps < ramp_steps) {
       if (!predict) {
         step_with_resets(o, r);
@@ -225,7 +225,7 @@ class kinetic_relaxation {
     r.ramp_steps = r.steps;
     time_ += duration;
     totals_.add(r);
-    const relaxation_result held = hold(o, false);
+    const relaxation_result held = hold(o);
     r.add(held);
     change_ = s_.gridpoints().displacement - start_;
     if constexpr (Solver::reinforcement_type::enabled) bar_change_ = s_.bar_nodes().displacement - bar_start_;
@@ -239,11 +239,17 @@ class kinetic_relaxation {
   [[nodiscard]] const relaxation_result& totals() const { return totals_; }
 
  private:
-  /// The relaxation loop of relax() and of an increment's hold (new_origin: the adaptive rule's
-  /// displacements count from here rather than from the increment's start).
-  relaxation_result hold(const relaxation_options& o, bool new_origin) {
+  /// The displacements at the start of the increment (or of relax()): the predictor's and the
+  /// adaptive rule's origin.
+  void save_start() {
+    start_ = s_.gridpoints().displacement;
+    if constexpr (Solver::reinforcement_type::enabled) bar_start_ = s_.bar_nodes().displacement;
+  }
+
+  /// The relaxation loop of relax() and of an increment's hold.
+  relaxation_result hold(const relaxation_options& o) {
     relaxation_result r;
-    begin_rule(o, new_origin);
+    begin_rule(o);
     std::int64_t next_check = o.check_interval;
     while (r.steps < o.max_steps) {
       step_with_resets(o, r);
@@ -262,13 +268,13 @@ class kinetic_relaxation {
   }
 
   /// Every rule starts afresh at each relaxation and ramp: the kinetic energy to compare with,
-  /// FIRE's mixing, and the adaptive rule's last velocities, forces and (new_origin) origin.
-  void begin_rule(const relaxation_options& o, bool new_origin) {
+  /// FIRE's mixing, and the adaptive rule's last velocities and forces.
+  void begin_rule(const relaxation_options& o) {
     previous_ = free_kinetic_energy();
     alpha_ = o.fire_alpha_start, downhill_ = 0;
     if (o.velocity_rule != relaxation_options::method::adaptive) return;
-    adaptive_.begin(s_.gridpoints(), new_origin);
-    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.begin(s_.bar_nodes(), new_origin);
+    adaptive_.begin(s_.gridpoints());
+    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.begin(s_.bar_nodes());
   }
 
   /// One solver step, then a reset if the free kinetic energy fell (the peak was at the last half
@@ -336,8 +342,8 @@ class kinetic_relaxation {
   void adaptive_damp(const relaxation_options& o) {
     const real dt = s_.dt();
     real stiffness = 0, mass = 0;
-    adaptive_.sums(s_.gridpoints(), dt, stiffness, mass);
-    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.sums(s_.bar_nodes(), dt, stiffness, mass);
+    adaptive_.sums(s_.gridpoints(), start_, dt, stiffness, mass);
+    if constexpr (Solver::reinforcement_type::enabled) bar_adaptive_.sums(s_.bar_nodes(), bar_start_, dt, stiffness, mass);
     const real lambda = mass > 0 && stiffness > 0 ? stiffness / mass : 0;
     const real cdt = std::min<real>(2, o.adaptive_damping_scale * 2 * std::sqrt(lambda) * dt);
     adaptive_.damp(s_.gridpoints(), dt, cdt);
@@ -449,7 +455,7 @@ class kinetic_relaxation {
   soa3 pattern_, bar_pattern_;  ///< prescribed velocities when built: the load pattern (m/s)
   soa3 offset_;      ///< w of the reset step, gridpoints (m/s)
   soa3 bar_offset_;  ///< w of the reset step, bar nodes (m/s)
-  soa3 start_, bar_start_;    ///< displacements at the start of the increment (m)
+  soa3 start_, bar_start_;    ///< displacements at the start of the increment or relax() (m)
   soa3 change_, bar_change_;  ///< their change over the last increment (m)
   real last_duration_ = 0;    ///< the last increment's duration (s; 0 before the first)
   real previous_ = 0;  ///< free kinetic energy after the last step (J)

@@ -10,16 +10,14 @@
 namespace tessera::detail {
 
 /// The adaptive rule's state of one node_set: the free components' velocities after the last
-/// step, the forces of that step, and the displacements at the origin (m/s, N, m; n's layout).
+/// step and the forces of that step (m/s, N; n's layout; only the free components are kept up).
 struct adaptive_damping_state {
   static constexpr auto free = static_cast<std::uint8_t>(dof_constraint::free);
-  soa3 velocity, force, origin;
-  void begin(const node_set& n, bool new_origin) {
-    velocity = n.velocity, force = n.force;
-    if (new_origin) origin = n.displacement;
-  }
-  /// Adds sum x^2 k and sum m x^2 over the free components (x at the step's start, u_n).
-  void sums(const node_set& n, real dt, real& stiffness, real& mass) const {
+  soa3 velocity, force;
+  void begin(const node_set& n) { velocity = n.velocity, force = n.force; }
+  /// Adds sum x^2 k and sum m x^2 over the free components (x at the step's start, u_n, counted
+  /// from the displacements `origin`, m).
+  void sums(const node_set& n, const soa3& origin, real dt, real& stiffness, real& mass) const {
     for (int c = 0; c < 3; ++c)
       for (index_t i = 0; i < n.size(); ++i) {
         if (n.constraint(i, c) != free) continue;
@@ -36,8 +34,8 @@ struct adaptive_damping_state {
         const real v = n.velocity(i, c), damped = (2 * v - cdt * velocity(i, c)) / (2 + cdt);
         n.displacement(i, c) += (damped - v) * dt;
         n.velocity(i, c) = damped;
+        velocity(i, c) = damped, force(i, c) = n.force(i, c);
       }
-    velocity = n.velocity, force = n.force;
   }
 };
 
