@@ -8,7 +8,8 @@
 // step), and a checkpoint rank 0 writes after a gather is one of the whole model: a one-process
 // solver loads it and steps on with the reference's bits. Under gravity (each own gridpoint's force
 // starts from its weight) the same bits, and the weights' work summed over the ranks. The refusals:
-// applied forces registered after the split was built, a shared row that does not exist.
+// applied forces registered after the split was built, a shared row that does not exist, a gather
+// in chunks of 0 bytes; a gather in chunks of 100 bytes places every row as the default one does.
 #include <catch2/catch.hpp>
 
 #include <mpi.h>
@@ -50,14 +51,25 @@ TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi]
   pulled_prism reference(scene);
   pulled_prism split(scene);
   distributed::split_run<prism_solver> run(split, scene.mesh, MPI_COMM_WORLD);
+  // Chunks of 100 bytes: a few rows a collective, chunk ends inside runs of one rank's rows, and
+  // rows (8-byte fields, 24-byte vectors) that do not divide the chunk.
+  distributed::state_gather small(split, scene.mesh, run.ownership(), MPI_COMM_WORLD, 100);
+  REQUIRE_THROWS_WITH(distributed::state_gather(split, scene.mesh, run.ownership(), MPI_COMM_WORLD, 0),
+                      Catch::Contains("chunk_bytes = 0 must be in [1, 2^30]"));
   INFO("rank " << rank << " of " << size);
 
-  // Before any step nothing differs; a gather midway (step 250) must leave the split's bits alone.
+  // Before any step nothing differs; gathers midway (steps 250 and 400) must leave the split's
+  // bits alone, and the one in small chunks places every row as the default one does.
   constexpr int steps = 500;
   for (int k = 1; k <= steps; ++k) {
     reference.step();
     run.step();
     if (k == 250) run.gather_state();
+    if (k == 400) {
+      small.gather(split);
+      CHECK(differing_gridpoints(split, reference) == 0);
+      CHECK(differing_subcontacts(split, reference) == 0);
+    }
   }
   // Without a gather the other ranks' rows are stale on a rank: the comparison sees it.
   if (size > 1) CHECK(differing_gridpoints(split, reference) > 0);

@@ -6,8 +6,10 @@
 //
 // How: the solver's own checkpoint(Archive&) (io/checkpoint.hpp) lists every evolving field by
 // name; this archive answers each field by gathering, over all ranks, the rows whose owner is
-// each rank (MPI_Allgatherv of their bytes, placed back in row order). The owner of a row follows
-// rank_ownership:
+// each rank (MPI_Allgatherv of their bytes, placed back in row order), a record at a time and in
+// chunks of at most chunk_bytes of rows (default 32 MiB), so what a gather holds beside the model
+// is bounded (2 x chunk_bytes) whatever the model's size, and no count passes MPI's int. The
+// owner of a row follows rank_ownership:
 //   gridpoints/...                      a gridpoint: the rank of its block
 //   bars/nodes/..., bars/bond/..., bars/transverse_gap, bars/confining_stress
 //                                       a bar node: the rank of its host block
@@ -28,7 +30,8 @@
 // order (one process's value to round-off, not to the bit; docs/architecture.md) and returns the
 // rank's own, which split_run puts back before the next step.
 //
-// Cost: O(model) bytes over the communicator per call, in two collective calls; allocates.
+// Cost: O(model) bytes over the communicator per call, in one collective call per record and
+// chunk (about 40 records for a tie with bars); allocates its two chunk buffers at the first call.
 // Every rank of the communicator must call it. Only where MPI is built in (TESSERA_HAVE_MPI).
 
 #ifdef TESSERA_HAVE_MPI
@@ -55,12 +58,20 @@ class state_gather {
  public:
   /// The work books of a solver (J): boundary, damping, gravity and applied work, initial energy.
   using books = std::array<double, 5>;
+  /// The default of the most bytes of rows (all ranks together) one collective of a gather
+  /// moves: the bound on each of its two buffers.
+  static constexpr std::size_t default_chunk_bytes = std::size_t{32} << 20;
 
-  /// Owners for `s` (built from `mesh`, split by `own`) in `comm`. Throws invalid_input when the
-  /// mesh or the ownership do not match the solver.
+  /// Owners for `s` (built from `mesh`, split by `own`) in `comm`; a gather moves at most
+  /// `chunk_bytes` (>= 1, the same on every rank) of rows a collective. Throws invalid_input when
+  /// the mesh or the ownership do not match the solver, the ranks' models differ in size, or
+  /// chunk_bytes is 0 or over 1 GiB. Every rank of the communicator must call it.
   template <class Solver>
-  state_gather(const Solver& s, const geometry::block_mesh& mesh, const rank_ownership& own, MPI_Comm comm)
-      : comm_(comm) {
+  state_gather(const Solver& s, const geometry::block_mesh& mesh, const rank_ownership& own, MPI_Comm comm,
+               std::size_t chunk_bytes = default_chunk_bytes)
+      : comm_(comm), chunk_bytes_(chunk_bytes) {
+    require(chunk_bytes >= 1 && chunk_bytes <= (std::size_t{1} << 30), "distributed::state_gather: chunk_bytes = ",
+            chunk_bytes, " must be in [1, 2^30]");
     MPI_Comm_rank(comm, &rank_);
     MPI_Comm_size(comm, &ranks_);
     require(ranks_ == own.ranks(), "distributed::state_gather: the communicator has ", ranks_, " ranks, the ownership ",
@@ -87,31 +98,31 @@ class state_gather {
       fill(owner_[bar_element], static_cast<index_t>(pairs.size()),
            [&](index_t e) { return own.bar_node_rank(pairs[static_cast<std::size_t>(e)][0]); });
     }
+    // Every rank must visit the same records in the same chunks: the models' sizes must agree.
+    std::array<long long, kind_count> sizes{};
+    for (int k = 0; k < kind_count; ++k) sizes[static_cast<std::size_t>(k)] = static_cast<long long>(owner_[static_cast<std::size_t>(k)].size());
+    std::vector<long long> all(static_cast<std::size_t>(ranks_) * kind_count);
+    MPI_Allgather(sizes.data(), kind_count, MPI_LONG_LONG, all.data(), kind_count, MPI_LONG_LONG, comm);
+    constexpr std::array<const char*, kind_count> kinds = {"gridpoints", "blocks", "zones", "sub-contacts",
+                                                           "faces", "bar nodes", "bar elements"};
+    for (int r = 0; r < ranks_; ++r)
+      for (std::size_t k = 0; k < kind_count; ++k)
+        require(all[static_cast<std::size_t>(r) * kind_count + k] == sizes[k], "distributed::state_gather: rank ", r,
+                " has ", all[static_cast<std::size_t>(r) * kind_count + k], " ", kinds[k], " where rank ", rank_,
+                " has ", sizes[k], " (the ranks built different models)");
+    counts_.resize(static_cast<std::size_t>(ranks_));
+    offsets_.assign(static_cast<std::size_t>(ranks_) + 1, 0);
   }
 
   /// Every rank's `s` takes the owners' rows of every evolving field and of the nodal forces
-  /// (file comment); the books are left as they are (gather_books). Two passes of the solver's
-  /// checkpoint(): the first packs this rank's rows of every record into one buffer, one
-  /// MPI_Allgatherv exchanges the buffers, the second writes every row from its owner's buffer,
-  /// as a checkpoint load does. Every rank must call it.
+  /// (file comment); the books are left as they are (gather_books). One pass of the solver's
+  /// checkpoint(): for each record, chunk by chunk, this rank packs its rows, one MPI_Allgatherv
+  /// exchanges them, and every row is written from its owner's part, as a checkpoint load does.
+  /// Every rank must call it.
   template <class Solver>
   void gather(Solver& s) {
-    send_.clear();
-    mode_ = pass::pack;
+    mode_ = pass::rows;
     visit(s);
-    const int mine = static_cast<int>(send_.size());
-    std::vector<int> counts(static_cast<std::size_t>(ranks_)), offsets(static_cast<std::size_t>(ranks_) + 1, 0);
-    MPI_Allgather(&mine, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
-    for (int r = 0; r < ranks_; ++r)
-      offsets[static_cast<std::size_t>(r) + 1] = offsets[static_cast<std::size_t>(r)] + counts[static_cast<std::size_t>(r)];
-    received_.resize(static_cast<std::size_t>(offsets.back()));
-    MPI_Allgatherv(send_.data(), mine, MPI_BYTE, received_.data(), counts.data(), offsets.data(), MPI_BYTE, comm_);
-    cursor_.assign(offsets.begin(), offsets.end() - 1);
-    mode_ = pass::unpack;
-    visit(s);
-    for (int r = 0; r < ranks_; ++r)
-      require(cursor_[static_cast<std::size_t>(r)] == offsets[static_cast<std::size_t>(r) + 1],
-              "distributed::state_gather: rank ", r, "'s rows were not all placed (the ranks' models differ)");
   }
 
   /// Replaces `s`'s work books by their sum over the ranks (in rank order; initial_share is this
@@ -145,8 +156,9 @@ class state_gather {
   }
 
   // ---- the archive calls of io/checkpoint.hpp ----
-  [[nodiscard]] bool saving() const { return mode_ == pass::pack; }
-  [[nodiscard]] bool loading() const { return mode_ == pass::unpack; }
+  // A checkpoint's save and load each visit a record once; the gather does both in that visit.
+  [[nodiscard]] bool saving() const { return mode_ == pass::rows; }
+  [[nodiscard]] bool loading() const { return mode_ == pass::rows; }
   template <class T>
   void same(std::string_view, const T&) {}
   void count(std::string_view, std::int64_t&) {}
@@ -195,8 +207,8 @@ class state_gather {
 
  private:
   enum kind { gridpoint, block, zone, subcontact, face, bar_node, bar_element, kind_count };
-  enum class pass { pack, unpack, read_books, write_books };
-  [[nodiscard]] bool rows_pass() const { return mode_ == pass::pack || mode_ == pass::unpack; }
+  enum class pass { rows, read_books, write_books };
+  [[nodiscard]] bool rows_pass() const { return mode_ == pass::rows; }
 
   /// The records of one pass: the solver's checkpoint and the nodal forces.
   template <class Solver>
@@ -231,38 +243,57 @@ class state_gather {
   }
 
   /// Rows [0, count) (element i at at(i), `size` bytes) whose owner(i) is a rank (-1: not
-  /// gathered): packed into send_ when this rank owns them (pack pass), or taken from their
-  /// owner's part of received_ (unpack pass).
+  /// gathered), in chunks of at most chunk_bytes: each chunk's rows of this rank are packed into
+  /// send_, one MPI_Allgatherv brings every rank's into received_, and every other rank's rows
+  /// are copied from their owner's part.
   template <class Owner, class At>
   void gather_rows(std::size_t count, Owner&& owner, At&& at, std::size_t size) {
-    // Runs of consecutive rows with one owner and adjacent bytes move as one block (the rows of
-    // a block's gridpoints, a rank's sub-contacts): one copy a run, not one a row.
-    for (std::size_t i = 0; i < count;) {
+    const std::size_t chunk = std::max<std::size_t>(1, chunk_bytes_ / size);
+    for (std::size_t begin = 0; begin < count; begin += chunk) {
+      const std::size_t end = std::min(count, begin + chunk);
+      // Every rank knows every row's owner, so each works out the others' counts itself.
+      send_.clear();
+      std::fill(counts_.begin(), counts_.end(), 0);
+      for_runs(begin, end, owner, at, size, [&](int r, unsigned char* first, std::size_t bytes) {
+        counts_[static_cast<std::size_t>(r)] += static_cast<int>(bytes);
+        if (r == rank_) send_.insert(send_.end(), first, first + bytes);
+      });
+      const int mine = static_cast<int>(send_.size());
+      for (int r = 0; r < ranks_; ++r)
+        offsets_[static_cast<std::size_t>(r) + 1] = offsets_[static_cast<std::size_t>(r)] + counts_[static_cast<std::size_t>(r)];
+      received_.resize(static_cast<std::size_t>(offsets_.back()));
+      MPI_Allgatherv(send_.data(), mine, MPI_BYTE, received_.data(), counts_.data(), offsets_.data(), MPI_BYTE, comm_);
+      cursor_.assign(offsets_.begin(), offsets_.end() - 1);
+      for_runs(begin, end, owner, at, size, [&](int r, unsigned char* first, std::size_t bytes) {
+        int& k = cursor_[static_cast<std::size_t>(r)];
+        if (r != rank_) std::memcpy(first, received_.data() + k, bytes);
+        k += static_cast<int>(bytes);
+      });
+    }
+  }
+
+  /// f(owner, first byte, bytes) for each run of rows [begin, end) with one owner (>= 0) and
+  /// adjacent bytes (the rows of a block's gridpoints, a rank's sub-contacts): one copy a run.
+  template <class Owner, class At, class F>
+  static void for_runs(std::size_t begin, std::size_t end, Owner& owner, At& at, std::size_t size, F&& f) {
+    for (std::size_t i = begin; i < end;) {
       const int r = owner(i);
       unsigned char* first = at(i);
       std::size_t n = 1;
-      while (i + n < count && owner(i + n) == r && at(i + n) == first + n * size) ++n;
-      if (r >= 0) {
-        const std::size_t bytes = n * size;
-        if (mode_ == pass::pack) {
-          if (r == rank_) send_.insert(send_.end(), first, first + bytes);
-        } else {
-          int& k = cursor_[static_cast<std::size_t>(r)];
-          std::memcpy(first, received_.data() + k, bytes);
-          k += static_cast<int>(bytes);
-        }
-      }
+      while (i + n < end && owner(i + n) == r && at(i + n) == first + n * size) ++n;
+      if (r >= 0) f(r, first, n * size);
       i += n;
     }
   }
 
   MPI_Comm comm_;
+  std::size_t chunk_bytes_;
   int rank_ = 0, ranks_ = 1;
-  pass mode_ = pass::pack;
+  pass mode_ = pass::rows;
   books own_books_{};
   std::array<std::vector<int>, kind_count> owner_;
-  std::vector<unsigned char> send_, received_;  ///< this rank's rows; every rank's, in rank order
-  std::vector<int> cursor_;                     ///< the unpack pass's next byte of each rank's part
+  std::vector<unsigned char> send_, received_;  ///< a chunk's rows of this rank; of every rank, in rank order
+  std::vector<int> counts_, offsets_, cursor_;   ///< each rank's bytes, start, and next byte to copy in a chunk
 };
 
 }  // namespace tessera::distributed
