@@ -100,7 +100,7 @@ class state_gather {
     }
     // Every rank must visit the same records in the same chunks: the models' sizes must agree.
     std::array<long long, kind_count> sizes{};
-    for (int k = 0; k < kind_count; ++k) sizes[static_cast<std::size_t>(k)] = static_cast<long long>(owner_[static_cast<std::size_t>(k)].size());
+    for (std::size_t k = 0; k < kind_count; ++k) sizes[k] = static_cast<long long>(owner_[k].size());
     std::vector<long long> all(static_cast<std::size_t>(ranks_) * kind_count);
     MPI_Allgather(sizes.data(), kind_count, MPI_LONG_LONG, all.data(), kind_count, MPI_LONG_LONG, comm);
     constexpr std::array<const char*, kind_count> kinds = {"gridpoints", "blocks", "zones", "sub-contacts",
@@ -259,8 +259,7 @@ class state_gather {
         if (r == rank_) send_.insert(send_.end(), first, first + bytes);
       });
       const int mine = static_cast<int>(send_.size());
-      for (int r = 0; r < ranks_; ++r)
-        offsets_[static_cast<std::size_t>(r) + 1] = offsets_[static_cast<std::size_t>(r)] + counts_[static_cast<std::size_t>(r)];
+      for (std::size_t r = 0; r < counts_.size(); ++r) offsets_[r + 1] = offsets_[r] + counts_[r];
       received_.resize(static_cast<std::size_t>(offsets_.back()));
       MPI_Allgatherv(send_.data(), mine, MPI_BYTE, received_.data(), counts_.data(), offsets_.data(), MPI_BYTE, comm_);
       cursor_.assign(offsets_.begin(), offsets_.end() - 1);
