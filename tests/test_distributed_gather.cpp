@@ -52,7 +52,7 @@ TEST_CASE("a gathered split run holds one process's state on every rank", "[mpi]
   pulled_prism split(scene);
   distributed::split_run<prism_solver> run(split, scene.mesh, MPI_COMM_WORLD);
   // Chunks of 100 bytes: a few rows a collective, chunk ends inside runs of one rank's rows, and
-  // rows (8-byte fields, 24-byte vectors) that do not divide the chunk.
+  // 8-byte rows (reals, stored component by component) that do not divide the chunk.
   distributed::state_gather small(split, scene.mesh, run.ownership(), MPI_COMM_WORLD, 100);
   REQUIRE_THROWS_WITH(distributed::state_gather(split, scene.mesh, run.ownership(), MPI_COMM_WORLD, 0),
                       Catch::Contains("chunk_bytes = 0 must be in [1, 2^30]"));
