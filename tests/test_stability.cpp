@@ -23,6 +23,7 @@
 #include <fstream>
 #include <iostream>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <random>
 #include <string>
@@ -1368,6 +1369,68 @@ TEST_CASE("checkpoint: a restart continues with the bits of the run that never s
     check_same_bits(a, b);
     CHECK(std::memcmp(a.bar_nodes().velocity.data(), b.bar_nodes().velocity.data(),
                       static_cast<std::size_t>(a.bar_nodes().velocity.size()) * sizeof(real)) == 0);
+  }
+  SECTION("a hinged platen pressed into a column: the solver's applied forces and the platen's state") {
+    // Saved between the platen's update and the step that applies its forces, as a driver saves
+    // at a sample: the forces written for the next step and the last step's (its work is booked
+    // at the next) are the solver's records, the contact states and motion the platen's.
+    const real a = 0.05;
+    const auto column = cube_column(2, a);
+    const auto column_mesh = geometry::zone_blocks(column);
+    auto plate = law::study_prism_params(100);
+    plate.shear.c_res = 0;
+    contact::platen_motion m;
+    m.mass = 0.4;
+    m.inertia = 1e-4;
+    m.free_translation = {true, false, false};
+    m.hinge_axis = vec3::UnitY();
+    const contact::platen_geometry top{vec3(0.6 * a, a / 2, 2 * a), vec3(0, 0, -1), vec3(1, 0, 0), 0.6 * a, 0.6 * a};
+    using column_solver = solver<deformable_blocks, contact::face_contacts<law::study_tie_law>>;
+    using platen = contact::rigid_platen<law::study_tie_law>;
+    struct pressed {
+      column_solver s;
+      platen p;
+    };
+    const auto build = [&] {
+      solver_options o;
+      o.mass_scaling_dt = 2e-6;
+      auto run = std::make_unique<pressed>(pressed{column_solver(column, column_mesh, concrete_block, plate, {}, o),
+                                                   platen(column_mesh, top, m, plate)});
+      run->s.fix(run->s.gridpoints_on_plane(2, 0, 1e-9));
+      run->p.attach(run->s);
+      run->p.set_velocity(vec3(0, 0, -0.002));
+      return run;
+    };
+    const auto model = [](pressed& r) {
+      return io::checkpoint_of([&r](auto& ar) {
+        r.s.checkpoint(ar);
+        r.p.checkpoint(ar, "platen");
+      });
+    };
+    auto straight = build();
+    for (int k = 0; k < 400; ++k) straight->p.update(straight->s), straight->s.step();
+    straight->p.update(straight->s);
+    const std::filesystem::path file = dir / "platen.ckpt";
+    io::save_checkpoint(model(*straight), file);
+    for (int k = 0; k < 600; ++k) straight->s.step(), straight->p.update(straight->s);
+    auto restarted = build();
+    auto m_restarted = model(*restarted);
+    (void)io::load_checkpoint(m_restarted, file);
+    for (int k = 0; k < 600; ++k) restarted->s.step(), restarted->p.update(restarted->s);
+    const platen &pa = straight->p, &pb = restarted->p;
+    INFO("platen force " << pa.force().transpose() << " N, rotation " << pa.rotation() << " rad");
+    REQUIRE(pa.force().z() > 0);             // pressed into the column
+    REQUIRE(pa.rotation() != 0);             // and turned: its hinge is off the footprint's centre
+    REQUIRE(straight->s.energies().applied_work > 0);
+    check_same_bits(straight->s, restarted->s);
+    CHECK(pa.force() == pb.force());
+    CHECK(pa.displacement() == pb.displacement());
+    CHECK(pa.rotation() == pb.rotation());
+    CHECK(pa.rotation_rate() == pb.rotation_rate());
+    // The platen written into a file for a model without it is refused: the solver's records
+    // are followed by the platen's, which the solver alone does not visit.
+    auto bare = build();
+    CHECK_THROWS_AS(io::load_checkpoint(bare->s, file), invalid_input);
   }
   std::filesystem::remove_all(dir);
 }

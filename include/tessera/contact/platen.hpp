@@ -53,6 +53,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <span>
 #include <string>
@@ -264,6 +265,34 @@ class rigid_platen {
   /// Mass (kg) and inertia (kg m^2) added by scale_to.
   [[nodiscard]] real added_mass() const { return added_mass_; }
   [[nodiscard]] real added_inertia() const { return added_inertia_; }
+
+  /// Saves or loads the platen's evolving state through a checkpoint archive (io/checkpoint.hpp)
+  /// under "<prefix>/...": its sub-contacts' law states (the law's declared fields), its motion
+  /// (velocity, prescribed velocity, displacement, rotation and rate) and the last update's force
+  /// and moment. The footprint's gridpoints and the masses set by scale_to must be the file's (a
+  /// platen built on another face or with another step is refused). Save it beside the solver's
+  /// own checkpoint (the solver keeps the forces the platen wrote for the next step), with the
+  /// same archive, so both restart to the same bits.
+  template <class Archive>
+  void checkpoint(Archive& ar, const std::string& prefix) {
+    static_assert(law::DeclaresStateFields<Law>, "checkpoints need a law that declares state_fields");
+    ar.same(prefix + "/subcontacts", static_cast<std::int64_t>(node_.size()));
+    std::int64_t first = node_.empty() ? -1 : node_.front(), last = node_.empty() ? -1 : node_.back();
+    ar.same(prefix + "/first_gridpoint", first);
+    ar.same(prefix + "/last_gridpoint", last);
+    ar.same(prefix + "/mass", mass_);
+    ar.same(prefix + "/inertia", inertia_);
+    law::checkpoint_states<Law>(
+        ar, prefix + "/state/", node_.size(), [&](std::size_t j) { return state_[j]; },
+        [&](std::size_t j, const state_type& st) { state_[j] = st; });
+    ar.scalar(prefix + "/velocity", velocity_);
+    ar.scalar(prefix + "/prescribed_velocity", prescribed_);
+    ar.scalar(prefix + "/displacement", displacement_);
+    ar.scalar(prefix + "/force", force_);
+    ar.scalar(prefix + "/rotation_rate", omega_);
+    ar.scalar(prefix + "/rotation", rotation_);
+    ar.scalar(prefix + "/moment", moment_);
+  }
 
  private:
   /// The stiffness per unit area that bounds a sub-contact's springs, max(k_n, k_s) (Pa/m).

@@ -193,6 +193,10 @@ class state_gather {
   template <class Mat>
   void matrix(std::string_view name, Mat& m) {
     if (!rows_pass()) return;
+    // The forces applied from outside (a platen's, solver/applied_*): the per-step callback
+    // writes them on every rank from rows every rank holds (split_run::share_rows), so they are
+    // every rank's already and are not gathered.
+    if (name.starts_with("solver/applied_")) return;
     const std::vector<int>& owner = owners_of(name);
     require(static_cast<std::size_t>(m.rows()) == owner.size(), "distributed::state_gather: record '", name, "' has ",
             m.rows(), " rows, the ", owner.size(), " of its owners");

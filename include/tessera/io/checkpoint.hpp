@@ -17,9 +17,11 @@
 // Each component writes its fields through one symmetric function, `template <class Archive>
 // void checkpoint(Archive& ar)`, which saves or loads depending on the archive (so the two
 // directions cannot drift apart). Archive calls:
-//   ar.array(name, std::vector<T>& v)         v's values (real, integer, bool, enum, Eigen
+//   ar.array(name, std::vector<T>& v)         v's values (real, float, integer, bool, enum, Eigen
 //                                             fixed-size or quaternion elements)
 //   ar.members(name, std::vector<S>& v, &S::m) member m of every element of v
+//   ar.sized_array(name, std::vector<T>& v)   v's length, then its values: a vector that grows
+//                                             during the run (a driver's samples); resized on load
 //   ar.matrix(name, M& m)                     an Eigen matrix's coefficients (sizes fixed by the model)
 //   ar.scalar(name, T& x)                     one value
 //   ar.same(name, value)                      saves value; on load requires the stored one to equal it
@@ -54,6 +56,7 @@
 #include <string>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -93,6 +96,15 @@ struct flat<real> {
   using value = real;
   static void get(const real& x, value* out) { *out = x; }
   static void put(real& x, const value* in) { x = *in; }
+};
+/// Single precision is stored as the real it widens to (exactly) and narrowed back (exactly).
+template <>
+struct flat<float> {
+  static constexpr type_code code = type_code::f64;
+  static constexpr std::size_t width = 1;
+  using value = real;
+  static void get(const float& x, value* out) { *out = static_cast<real>(x); }
+  static void put(float& x, const value* in) { x = static_cast<float>(*in); }
 };
 template <class T>
 struct flat<T, std::enable_if_t<std::is_integral_v<T> && !std::is_same_v<T, bool> && (sizeof(T) > 1)>> {
@@ -139,6 +151,23 @@ class archive_base {
   template <class S, class M>
   void members(std::string_view name, std::vector<S>& v, M S::*m) {
     elements(name, v.size(), [&](std::size_t i) -> M& { return v[i].*m; });
+  }
+  /// A vector whose length is state too (a driver's samples): its length under "<name>/size",
+  /// then its values. A load resizes v to the file's length in the copying pass; the dry run
+  /// checks the record on a scratch vector and leaves v as it is.
+  template <class T>
+  void sized_array(std::string_view name, std::vector<T>& v) {
+    std::int64_t n = static_cast<std::int64_t>(v.size());
+    self().count(std::string(name) + "/size", n);
+    if (self().saving()) {
+      array(name, v);
+    } else if (self().loading()) {
+      v.resize(static_cast<std::size_t>(n));
+      array(name, v);
+    } else {
+      std::vector<T> dry(static_cast<std::size_t>(n));
+      array(name, dry);
+    }
   }
   /// An Eigen matrix of real or integer coefficients; its size is the model's (not resized).
   template <class M>
@@ -414,6 +443,23 @@ class checkpoint_reader : public detail::ckpt::archive_base<checkpoint_reader> {
 /// The header of a checkpoint file, its structure and hash checked (for tools that list runs).
 [[nodiscard]] inline checkpoint_info read_checkpoint_info(const std::filesystem::path& file) {
   return checkpoint_reader(file).info();
+}
+
+/// A model for save_checkpoint and load_checkpoint made of a callable `visit(ar)` that visits
+/// the state in one order for both directions (a generic lambda `[&](auto& ar) {...}`: the solver's
+/// checkpoint, a platen's, a driver's samples), for state that is not one object.
+template <class F>
+struct checkpoint_visitor {
+  F visit;
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    visit(ar);
+  }
+};
+/// checkpoint_visitor of `visit` (copied; a lambda capturing by reference stays cheap).
+template <class F>
+[[nodiscard]] checkpoint_visitor<F> checkpoint_of(F visit) {
+  return {std::move(visit)};
 }
 
 /// Writes `model`'s state (a tessera::solver, or anything with a symmetric checkpoint(Archive&))

@@ -336,8 +336,9 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
 
   /// Saves or loads the solver's evolving state through a checkpoint archive (io/checkpoint.hpp:
   /// io::save_checkpoint, io::load_checkpoint): step, time and the energy accounts, then the
-  /// gridpoints, blocks, contacts and reinforcement, each by its own checkpoint(). The time step
-  /// must be the one the solver was built with (a model built with other options is refused).
+  /// gridpoints, blocks, contacts and reinforcement, each by its own checkpoint(), and the forces
+  /// applied from outside (a platen's) where there are any. The time step must be the one the
+  /// solver was built with (a model built with other options is refused).
   /// Phase timings are not state and restart from zero.
   template <class Archive>
   void checkpoint(Archive& ar) {
@@ -359,6 +360,15 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
     ar.scalar("solver/gravity_work", gravity_work_);
     ar.scalar("solver/applied_work", applied_work_);
     ar.scalar("solver/initial_energy", initial_energy_);
+    // Forces applied from outside the model (rigid platens, applied_forces.hpp): those written for
+    // the next step and those the last step applied, whose work is booked at the next step. Only
+    // where the model has applied gridpoints, so a file of a model without them keeps its records.
+    if (!applied_nodes_.empty()) {
+      ar.same("solver/applied_gridpoints", static_cast<std::int64_t>(applied_nodes_.size()));
+      ar.matrix("solver/applied_force", applied_force_);
+      ar.matrix("solver/applied_previous", applied_previous_);
+      ar.scalar("solver/applied_active", applied_active_);
+    }
     gridpoints_.checkpoint(ar, "gridpoints");
     blocks_.checkpoint(ar);
     contacts_.checkpoint(ar);
