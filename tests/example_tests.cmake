@@ -563,6 +563,24 @@ tessera_add_refusal_test(refuse_rc_beam_blocks rc_beam "--blocks: value '600' mu
 tessera_add_refusal_test(refuse_rc_beam_rate rc_beam "is not quasi-static" --threads 1 --quick --rate 1)
 tessera_add_refusal_test(refuse_rc_beam_zone_edge rc_beam "would need about" --threads 1 --zone-edge 1e-4)
 tessera_add_refusal_test(refuse_rc_beam_depth rc_beam "effective depth d = 0.2 m must be below h" --threads 1 --depth 0.2)
+# Checkpoints: the quick beam (its steel plates' contact states and motion, the samples, events
+# and opening history) stopped at 0.3 mm, past its first developed crack at 0.22 mm, with a
+# checkpoint and resumed on 2 threads gives the run made in one go to the bit (its 0.45 mm end);
+# a resume with another seed is refused.
+if(EXISTS ${PROJECT_SOURCE_DIR}/examples/rc_beam/main.cpp)
+  add_test(NAME example_rc_beam_resume_quick
+           COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:rc_beam> -DOUT=${CMAKE_CURRENT_BINARY_DIR}/example_out/rc_beam_resume
+                   "-DARGS=--quick|--no-vtk" "-DFIRST=--threads|1|--max-deflection|3e-4"
+                   "-DRESUME=--threads|2" "-DSAME=curve.csv|cracks.csv" "-DOTHER=--seed|7"
+                   -P ${CMAKE_CURRENT_LIST_DIR}/check_resumed_run.cmake)
+  set_tests_properties(example_rc_beam_resume_quick PROPERTIES LABELS example TIMEOUT 900 PROCESSORS 2)
+endif()
+tessera_add_refusal_test(refuse_rc_beam_checkpoint_every rc_beam "--checkpoint-every 60 s sets how often --checkpoint saves"
+  --threads 1 --checkpoint-every 60)
+tessera_add_refusal_test(refuse_rc_beam_checkpoint_every_negative rc_beam "--checkpoint-every: value '-1' must be >= 0"
+  --threads 1 --checkpoint x.ckpt --checkpoint-every -1)
+tessera_add_refusal_test(refuse_rc_beam_resume_missing rc_beam "cannot open checkpoint 'no/such.ckpt'"
+  --threads 1 --resume no/such.ckpt)
 # The beam's calibration (calibrate --material beam): the quick recipe (60 beam blocks, 50 mm face
 # zoning, as rc_beam --quick) fits on a 37-block 150 x 150 x 600 mm prism of the beam's concrete,
 # which peaks +3.5 % above f_T = 2.5 MPa with the study's contacts; the secant converges in 3

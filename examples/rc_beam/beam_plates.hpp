@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -62,6 +63,14 @@ class hinged_plate {
     }
   }
   [[nodiscard]] real rotation_rate() const { return omega_; }
+  /// Saves or loads the plate's motion (io/checkpoint.hpp) under "<prefix>/...".
+  template <class Archive>
+  void checkpoint(Archive& ar, const std::string& prefix) {
+    ar.same(prefix + "/gridpoints", static_cast<std::int64_t>(arm_.size()));
+    ar.same(prefix + "/inertia", inertia_);
+    ar.array(prefix + "/last_velocity", v_last_);
+    ar.scalar(prefix + "/rotation_rate", omega_);
+  }
 
  private:
   bc::node_group group_;

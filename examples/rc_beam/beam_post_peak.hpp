@@ -27,6 +27,8 @@
 
 #include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "rc_beam/beam.hpp"
@@ -101,7 +103,40 @@ class beam_opening_history {
   [[nodiscard]] real load(std::size_t j) const { return load_[j]; }
   [[nodiscard]] real opening(std::size_t j, index_t i) const { return opening_[j][static_cast<std::size_t>(i)]; }
 
+  /// Saves or loads the snapshots (io/checkpoint.hpp; "beam/history/..."): the grid's step, its
+  /// snapshots and the fine ones, each opening as the float it is kept in.
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    ar.scalar("beam/history/step", step_);
+    ar.sized_array("beam/history/deflection", deflection_);
+    ar.sized_array("beam/history/load", load_);
+    snapshots(ar, "beam/history/grid", opening_.size(), [&](std::size_t j) -> std::vector<float>& { return opening_[j]; },
+              [&](std::size_t n) { opening_.resize(n); });
+    std::vector<real> d, l;
+    for (const snapshot& f : recent_) d.push_back(f.deflection), l.push_back(f.load);
+    ar.sized_array("beam/history/fine/deflection", d);
+    ar.sized_array("beam/history/fine/load", l);
+    if (ar.loading()) {
+      recent_.resize(d.size());
+      for (std::size_t j = 0; j < d.size(); ++j) recent_[j].deflection = d[j], recent_[j].load = l[j];
+    }
+    snapshots(ar, "beam/history/fine", recent_.size(), [&](std::size_t j) -> std::vector<float>& { return recent_[j].opening; },
+              [&](std::size_t n) { recent_.resize(n); });
+  }
+
  private:
+  /// n snapshots' openings, each a sized array; the count stored first (a load sizes the model's
+  /// by resize(n) in the copying pass; the dry run reads them into a scratch vector).
+  template <class Archive, class At, class Resize>
+  static void snapshots(Archive& ar, const std::string& name, std::size_t n, At&& at, Resize&& resize) {
+    std::int64_t count = static_cast<std::int64_t>(n);
+    ar.count(name + "/count", count);
+    if (ar.loading()) resize(static_cast<std::size_t>(count));
+    std::vector<float> dry;
+    for (std::int64_t j = 0; j < count; ++j)
+      ar.sized_array(name + "/" + std::to_string(j), ar.saving() || ar.loading() ? at(static_cast<std::size_t>(j)) : dry);
+  }
+
   struct snapshot {
     real deflection, load;
     std::vector<float> opening;

@@ -26,93 +26,13 @@
 #include "rc_beam/beam_cracks.hpp"
 #include "rc_beam/beam_plates.hpp"
 #include "rc_beam/beam_post_peak.hpp"
+#include "rc_beam/beam_result.hpp"
 #include "rc_beam/beam_shear.hpp"
 #include "rc_beam/beam_span.hpp"
 #include "tessera/contact/platen.hpp"
+#include "tessera/io/checkpoint.hpp"
 
 namespace tessera::scenes {
-
-struct beam_loading {
-  real rate = 5e-3;            ///< loading plate velocity (m/s)
-  real ramp_time = -1;         ///< half-cosine ramp of the plate velocity (s); < 0: the period T_1 of the first bending mode
-  real added_mass_ratio = 0;   ///< > 0: mass scaling to this added-mass multiple
-  real dt = 0;                 ///< > 0 (instead): mass-scaled target step (s)
-  real max_deflection = 0.006; ///< stop here at the latest (m)
-  real failure_drop = 0.25;    ///< stop once the load has fallen this fraction below its peak
-  real first_crack_only = 0;   ///< > 0: stop at this multiple of the developed-crack deflection (quick runs)
-  index_t sample = 50;           ///< steps between samples
-  index_t crack_every = 10;      ///< samples between crack analyses during the run
-  real smoothing = 2e-5;       ///< deflection window of the smoothed load (m)
-  real crack_width = 1e-4;     ///< opening at which a crack counts at the end of the run (m)
-  real history_step = 5e-5;    ///< deflection between the opening snapshots of beam_opening_history (m)
-  real damping_gamma = 0.8;
-  int threads = 0;
-  bool progress = true;
-};
-
-struct beam_result {
-  /// --plates contact: the support and loading plates' sub-contacts, those in contact at the end,
-  /// their rotations (rad) and the mass added to the plates for the step (kg); [2], [3] the full
-  /// beam's right support and loading plates
-  std::array<std::size_t, 4> plate_subcontacts{}, plate_in_contact{};
-  std::array<real, 4> plate_rotation{};
-  real plate_added_mass = 0;
-  /// load = P = 2 x the support reaction; plate_load = 2 x the force on the loading plate
-  std::vector<real> deflection, load, plate_load, load_point_deflection;
-  /// load averaged over the last beam_loading::smoothing of deflection: the plate force carries the
-  /// oscillations of a mass-scaled explicit run; the events (first crack, peak, failure) read this
-  std::vector<real> smoothed_load;
-  std::vector<real> crack_count;  ///< vertical + inclined softened cracks at each crack analysis (sample-aligned, -1 between)
-  /// First cracking (N): the smoothed load at which the soffit of the constant-moment zone
-  /// (sub-contacts with y <= h/10) reaches its contacts' tensile strength (f_T, or s f_T with
-  /// calibrated contacts: at the concrete's f_T the event rises as the contacts weaken, since the
-  /// soffit of a calibrated beam peaks below f_T; measured 250 blocks, s = 0.852: soffit peak
-  /// 2.42 MPa, read at 20.98 kN, after the crack h/4 deep at 11.92 kN) on average: the area-weighted
-  /// mean bending stress of its sub-contacts, sum A t_x n_x / sum A n_x^2, first >= f_T; if
-  /// cracking sets in before (that mean peaks below f_T and falls 5 % under its peak), the load at
-  /// the peak; at the end of a run without either, the load at the highest mean so far. The event
-  /// the hand value M_cr = f_T I / (h - y_c) predicts, read at the scale of the section rather than
-  /// of one sub-contact (single sub-contacts of a Voronoi assembly soften far earlier: the
-  /// 250-block beam's first at 5.6 kN, half the hand value).
-  real first_crack_load = 0, first_crack_deflection = 0;
-  real soffit_peak_stress = 0;  ///< Pa
-  /// The first developed crack: the first vertical crack (beam_cracks) that starts in the soffit's
-  /// quarter of the depth; its load (highest smoothed load so far), deflection, position, angle.
-  real developed_crack_load = 0, developed_crack_deflection = 0, first_crack_x = 0, first_crack_angle_deg = 0;
-  /// The first inclined crack (35 degrees or more from the vertical) in the shear span.
-  real first_inclined_crack_load = 0, first_inclined_crack_deflection = -1, first_inclined_crack_x = 0;
-  bool inclined_before_vertical = false;  ///< an inclined crack came first (or with the first)
-  real initial_stiffness = 0;
-  bool steel_yielded = false;
-  real yield_load = 0, yield_deflection = 0;
-  real peak_load = 0, peak_deflection = 0;
-  std::vector<beam_crack> final_cracks;  ///< cracks at the end (beam_crack_profile)
-  std::vector<real> flexural_crack_positions;  ///< in the modelled constant-moment zone, m
-  int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (half: mirrored)
-  real mean_crack_spacing = 0;           ///< m, 0 with fewer than two
-  std::string failure_mode = "none";
-  beam_crack widest;
-  beam_post_peak_crack after_peak;  ///< the fastest-opening inclined crack after the peak (beam_post_peak.hpp)
-  /// The shear across sections at a quarter, half and three quarters of the shear span
-  /// (beam_shear.hpp), at the first inclined crack in the shear span and at the peak (empty if none)
-  std::vector<beam_shear_split> shear_at_inclined_crack, shear_at_peak;
-  int first_inclined_crack_span = -1;  ///< the shear span of the first inclined crack (beam_shear_span_of)
-  /// The full beam's spans (beam_span.hpp): each one's reaction, inclined cracks, widest crack and
-  /// shear at the peak; failing_span "left", "right" or "none"
-  std::array<beam_span_figures, 2> spans;
-  std::string failing_span = "none";
-  beam_elastic_check elastic;  ///< the load at half the hand first-cracking deflection (beam_span.hpp)
-  /// boundary_work: the work of the supports and, with --plates contact, of the plates (J)
-  real energy_balance_error = 0, boundary_work = 0, contact_dissipated = 0, compression_dissipated = 0,
-       tension_dissipated = 0, damping_dissipated = 0;
-  real dt = 0, added_mass_ratio = 0, quasi_static_index = 0, ramp_time = 0;
-  std::int64_t steps = 0;
-  index_t subcontacts = 0, zones = 0, gridpoints = 0;
-  real contact_points_over_depth = 0;
-  real trusses_per_block = 0;
-  phase_times phases;
-  double runtime_s = 0;
-};
 
 /// T_1 of the beam's first bending mode with masses scaled by (1 + added) (beam.hpp file comment).
 [[nodiscard]] inline real beam_first_mode_period(const beam_scene& s, real added) {
@@ -244,10 +164,7 @@ template <class Law, class OnEvent>
       }
     }
   };
-  if (contact_plates) drive(s);  // the plates' forces for the first step
-
   const beam_cracks analyser(s.contacts(), gp, o.height, hand.mean_block_size);
-  on_event(std::as_const(s), std::string("start"));  // every check has passed: the run begins
   cli::progress_line progress("rc_beam");
   bool done = false, first_found = false, inclined_found = false, yield_reported = false;
   const std::size_t window = std::max<std::size_t>(
@@ -267,6 +184,55 @@ template <class Law, class OnEvent>
     for (real f : {0.25, 0.5, 0.75}) xs.push_back(o.on_side(k, o.support_x() + f * o.shear_span));
     shear_sections[k].emplace(scene.tess, s.contacts(), s.reinforcement(), s.bar_nodes(), xs, k == 1);
   }
+  // The run's whole state for a checkpoint, taken at a sample (after the plates' drive for the
+  // next step): the solver's (with the forces the steel plates wrote for the next step), the
+  // plates' and the spreader's motion, and the samples and events so far.
+  double runtime_before = 0;  // s: the wall time before the checkpoint a resumed run started from
+  const auto run_state = [&](auto& ar) {
+    s.checkpoint(ar);
+    for (int k = 0; k < sides; ++k) {
+      const std::string side = k == 0 ? "" : "right_";
+      if (contact_plates) {
+        support_platen[k]->checkpoint(ar, "beam/" + side + "support_platen");
+        loading_platen[k]->checkpoint(ar, "beam/" + side + "loading_platen");
+      } else {
+        support_plate[k]->checkpoint(ar, "beam/" + side + "support_plate");
+        loading_plate[k]->checkpoint(ar, "beam/" + side + "loading_plate");
+      }
+    }
+    if (spreader) spreader->checkpoint(ar);
+    checkpoint_beam_samples(ar, r);
+    history.checkpoint(ar);
+    ar.scalar("beam/run/window_sum", window_sum);
+    ar.scalar("beam/run/max_load", max_load);
+    ar.scalar("beam/run/samples", samples);
+    ar.scalar("beam/run/first_found", first_found);
+    ar.scalar("beam/run/inclined_found", inclined_found);
+    ar.scalar("beam/run/yield_reported", yield_reported);
+    ar.scalar("beam/run/soffit_peak_load", soffit_peak_load);
+    ar.scalar("beam/run/soffit_peak_deflection", soffit_peak_deflection);
+    double runtime = runtime_before + timer.seconds();
+    ar.scalar("beam/run/runtime_s", runtime);
+    if (ar.loading()) runtime_before = runtime;
+  };
+  double last_checkpoint = 0;  // s of this process's wall time
+  const auto save_state = [&] {
+    io::save_checkpoint(io::checkpoint_of(run_state), loading.checkpoint_file, loading.run_key);
+    ++r.checkpoints_written;
+    last_checkpoint = timer.seconds();
+  };
+  if (!loading.resume_file.empty()) {
+    // The flags first, for a refusal that names them; then the state, every record checked
+    // against this model before anything is copied (io::load_checkpoint).
+    require_beam_run_key(loading);
+    auto model = io::checkpoint_of(run_state);
+    (void)io::load_checkpoint(model, loading.resume_file);
+    r.resumed_at_step = s.step_count();
+    r.runtime_before_resume_s = runtime_before;
+  } else if (contact_plates) {
+    drive(s);  // the plates' forces for the first step
+  }
+  on_event(std::as_const(s), std::string("start"));  // every check has passed: the run (re)starts
   const auto sample = [&](const solver_type& sv) {
     // Per side: the loading and support plates' forces on the concrete, the loading plate's travel
     std::array<real, 2> fp{}, fs{}, up{};
@@ -383,10 +349,17 @@ template <class Law, class OnEvent>
       progress.update(std::min(1.0, defl / loading.max_deflection),
                       tessera::detail::concat("deflection ", defl * 1e3, " mm, P = ", load * 1e-3, " kN",
                                               first_found ? ", cracked" : "", r.steel_yielded ? ", yielded" : ""));
+    // The run's last state is saved after the loop (it is this sample's).
+    if (!done && !loading.checkpoint_file.empty() && loading.checkpoint_every > 0 &&
+        timer.seconds() - last_checkpoint >= loading.checkpoint_every)
+      save_state();
   };
   // One process: s.run_until; split over MPI ranks, the plates' gridpoints kept current on every rank.
   run_sampled(s, scene.mesh, done, drive, loading.sample, sample,
               beam_plate_rows(sides, support_platen, loading_platen, support, plate));
+  // The end state, before the end's analysis changes the history: a resume with a larger
+  // --max-deflection continues from it as if the run had not stopped.
+  if (!loading.checkpoint_file.empty()) save_state();
   progress.finish();
   on_event(std::as_const(s), std::string("end"));
 
@@ -462,7 +435,7 @@ template <class Law, class OnEvent>
   r.contact_points_over_depth = areas.empty() ? 0 : o.height / std::sqrt(areas[areas.size() / 2]);
   r.trusses_per_block = static_cast<real>(scene.elements_per_bar) * hand.mean_block_size /
                         ((o.full() ? o.mirror(o.end_cover) : L) - o.end_cover);
-  r.runtime_s = timer.seconds();
+  r.runtime_s = runtime_before + timer.seconds();
   return r;
 }
 

@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -106,6 +107,12 @@ class beam_spreader {
     return tilt_;
   }
   [[nodiscard]] real tilt_rate() const { return tilt_; }
+  /// Saves or loads the tilt rate (io/checkpoint.hpp).
+  template <class Archive>
+  void checkpoint(Archive& ar) {
+    ar.same("beam/spreader/mass", mass_);
+    ar.scalar("beam/spreader/tilt_rate", tilt_);
+  }
 
  private:
   real mass_, tilt_ = 0;

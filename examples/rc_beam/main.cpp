@@ -29,7 +29,12 @@
 //                 inclined crack after the peak and diagonal_crack_after_peak (beam_post_peak.hpp);
 //                 span, elastic_check_* (the load at half the hand first-cracking deflection); with
 //                 --span full, failing_span and the left_* / right_* figures of each span
-//                 (beam_span.hpp), right_support_plate_* / right_loading_plate_* with its plates
+//                 (beam_span.hpp), right_support_plate_* / right_loading_plate_* with its plates;
+//                 checkpoint_file, checkpoints_written, resumed_from, resumed_at_step and
+//                 runtime_before_resume_s (runtime_s counts the time before the checkpoint too)
+//   --checkpoint FILE: the run's state (io/checkpoint.hpp) at the end and every --checkpoint-every s;
+//                 --resume FILE continues it (beam_run.hpp). The VTK snapshots taken before the
+//                 checkpoint stay where that run wrote them; beam.pvd lists this process's.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -42,8 +47,8 @@
 
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
-#include "common/snapshots.hpp"
 #include "rc_beam/beam_run.hpp"
+#include "rc_beam/beam_snapshots.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
 #include "tessera/io/plot.hpp"
@@ -66,38 +71,10 @@ struct inputs {
   real model_young = 0;
 };
 
-/// The beam's VTK snapshots (common/snapshots.hpp), and the cracked sub-contacts at the end.
-class snapshot_writer {
- public:
-  snapshot_writer(fs::path dir, const tessera::scenes::beam_scene& scene, bool enabled)
-      : vtk_(std::move(dir), scene.mesh, "beam.pvd", enabled) {}
-  template <class Solver>
-  void operator()(const Solver& s, const std::string& tag) {
-    vtk_(s, tag);
-    if (tag == "end") final_contacts(s);
-  }
-  /// Softened sub-contacts at the end (side view) and their opening (m).
-  std::vector<real> crack_x, crack_y, crack_w;
-
- private:
-  template <class Solver>
-  void final_contacts(const Solver& s) {
-    const auto& c = s.contacts();
-    const auto& gp = s.gridpoints();
-    for (index_t i = 0; i < c.size(); ++i) {
-      const real w = tessera::scenes::subcontact_opening(c, gp, i);
-      if (!tessera::analysis::crack_graph::past_peak(c.state(i).flags)) continue;
-      const tessera::vec3 p = c.position(i, gp);
-      crack_x.push_back(p.x()), crack_y.push_back(p.y()), crack_w.push_back(w);
-    }
-  }
-  tessera::scenes::bar_snapshots vtk_;
-};
-
 double rel(double value, double reference) { return (value - reference) / reference; }
 
 void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes::beam_scene& scene,
-                   const tessera::scenes::beam_result& r, const snapshot_writer& snaps,
+                   const tessera::scenes::beam_result& r, const tessera::scenes::beam_snapshot_writer& snaps,
                    const tessera::cli::wall_timer& timer) {
   namespace io = tessera::io;
   const auto& h = scene.hand;
@@ -295,8 +272,13 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("dt_s", r.dt)
       .set("added_mass_ratio", r.added_mass_ratio)
       .set("steps", r.steps)
+      .set("checkpoint_file", in.loading.checkpoint_file)
+      .set("checkpoints_written", r.checkpoints_written)
+      .set("resumed_from", in.loading.resume_file)
+      .set("resumed_at_step", r.resumed_at_step)
+      .set("runtime_before_resume_s", r.runtime_before_resume_s)
       .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
-      .set("runtime_s", timer.seconds());
+      .set("runtime_s", r.runtime_before_resume_s + timer.seconds());
   // Where the shear goes (beam_shear.hpp): per section in the shear span, at the first inclined
   // crack there and at the peak; bars: the trusses' vertical share (axial only: no dowel action).
   for (const auto& [when, table] : {std::pair{std::string("shear_at_first_inclined_crack_"), &r.shear_at_inclined_crack},
@@ -366,7 +348,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
                                          " kN (left / right)").c_str() : "", shear_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
-      r.quasi_static_index, static_cast<long long>(r.steps), timer.seconds(), out.string().c_str());
+      r.quasi_static_index, static_cast<long long>(r.steps), r.runtime_before_resume_s + timer.seconds(), out.string().c_str());
 }
 
 int run(inputs in) {
@@ -390,7 +372,11 @@ int run(inputs in) {
     in.model_young = e.initial_modulus;
   }
   const tessera::scenes::beam_scene scene = tessera::scenes::make_beam(in.beam);
-  snapshot_writer snaps(out, scene, in.write_vtk);
+  if (!in.loading.checkpoint_file.empty()) {
+    const fs::path parent = fs::path(in.loading.checkpoint_file).parent_path();
+    if (!parent.empty()) tessera::io::ensure_directory(parent);
+  }
+  tessera::scenes::beam_snapshot_writer snaps(out, scene, in.write_vtk);
   const tessera::scenes::beam_result r = tessera::scenes::run_beam(scene, in.loading, snaps);
   tessera::io::ensure_directory(out);
   write_outputs(out, in, scene, r, snaps, timer);
@@ -409,7 +395,8 @@ int main(int argc, char** argv) {
       "geometry PROVISIONAL (DESIGN.md 6): Walraven's series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm,\n"
       "constant-moment zone 500 mm, 4 x 8 mm bars.\n"
       "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.\n"
-      "Under mpirun -np N (builds with MPI): split over N ranks, the same curve.csv to the bit; rank 0 writes --out.");
+      "Under mpirun -np N (builds with MPI): split over N ranks, the same curve.csv to the bit; rank 0 writes --out.\n"
+      "--checkpoint FILE saves a long run's state as it goes; --resume FILE continues it, to the same bits.");
   cli.add_standard(in.common);
   bool no_vtk = false;
   auto& b = in.beam;
@@ -463,8 +450,18 @@ int main(int argc, char** argv) {
              "calibrated contact strength: calibrated.json of calibrate --material beam (its entry for --blocks; the "
              "zoning and the beam's dimensions must match); default: the study's parameters verbatim", "FILE");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
+  cli.option("--checkpoint", l.checkpoint_file,
+             "save the run's state to FILE (atomically) when it ends and every --checkpoint-every s of wall time, "
+             "to continue it with --resume (one process)", "FILE");
+  cli.option("--checkpoint-every", l.checkpoint_every, "wall time between checkpoints (s); 0 = at the end only", "S")
+      .at_least(0);
+  cli.option("--resume", l.resume_file,
+             "continue the run saved in FILE by --checkpoint, to the same bits as a run that never stopped; give the "
+             "saved run's flags (all but --threads, --out, --no-vtk, --max-deflection, --failure-drop, --checkpoint "
+             "and --checkpoint-every must be the same)", "FILE");
   cli.parse_or_exit(argc, argv);
   in.write_vtk = !no_vtk;
+  l.run_key = tessera::scenes::beam_run_key(argc, argv);
   if (in.common.quick) {
     // CTest: a coarse beam to first cracking and a little past it.
     if (!cli.given("--blocks")) b.blocks = 60;
@@ -474,6 +471,7 @@ int main(int argc, char** argv) {
   }
   try {
     mpi.require_splittable(true, "rc_beam");
+    tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);
     return 2;
