@@ -738,12 +738,29 @@ tessera_add_refusal_test(refuse_rc_beam_span rc_beam "--span: invalid value 'qua
 # ---- the drivers under mpirun (issue #44 items 4 and 7): the quick prism, tie and beam split over
 # 2 and 3 ranks (METIS's cut where built in, one thread a rank) write one process's curve.csv
 # (and end-of-run VTK snapshots, the beam's crack list) byte for byte (tests/check_split_run.cmake
-# runs both).
+# runs them). Each driver's one-process run is made once, by the fixture test example_<ex>_mpi_ref,
+# and both split tests compare against it.
 if(TESSERA_MPI)
   string(REPLACE ";" "|" split_mpiflags "${tessera_mpiexec_flags}")
+  set(split_drivers direct_tension rc_tie rc_beam)
+  if(Python3_Interpreter_FOUND)
+    list(APPEND split_drivers rubble)
+  endif()
+  # One set of flags a driver: the reference and its split runs must be run alike.
+  foreach(ex IN LISTS split_drivers)
+    set(split_args_${ex} "--quick|--threads|1")
+    if(ex STREQUAL "rc_beam")
+      set(split_args_${ex} "--quick|--threads|1|--no-vtk")
+    endif()
+    add_test(NAME example_${ex}_mpi_ref
+             COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:${ex}> -DNP=1
+                     -DOUT=${CMAKE_CURRENT_BINARY_DIR}/example_out/example_${ex}_mpi_ref
+                     "-DARGS=${split_args_${ex}}" -P ${CMAKE_CURRENT_LIST_DIR}/check_split_run.cmake)
+    set_tests_properties(example_${ex}_mpi_ref PROPERTIES TIMEOUT 900 LABELS "example;mpi"
+                         FIXTURES_SETUP ${ex}_mpi_ref ENVIRONMENT "OMP_WAIT_POLICY=PASSIVE")
+  endforeach()
   foreach(ranks 2 3)
     foreach(ex direct_tension rc_tie rc_beam)
-      set(args "--quick|--threads|1")
       if(ex STREQUAL "direct_tension")
         set(same curve.csv|contacts_end.vtp|zones_end.vtu)
       elseif(ex STREQUAL "rc_tie")
@@ -752,14 +769,15 @@ if(TESSERA_MPI)
         # The beam's steel plates are rigid platens (applied forces), their gridpoints shared
         # every step (split_run::share_rows).
         set(same curve.csv|cracks.csv)
-        set(args "--quick|--threads|1|--no-vtk")
       endif()
       add_test(NAME example_${ex}_mpi_${ranks}
                COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:${ex}> -DMPIEXEC=${MPIEXEC_EXECUTABLE} -DNP=${ranks}
                        "-DMPIFLAGS=${split_mpiflags}" -DOUT=${CMAKE_CURRENT_BINARY_DIR}/example_out/example_${ex}_mpi_${ranks}
-                       "-DARGS=${args}" "-DSAME=${same}" -P ${CMAKE_CURRENT_LIST_DIR}/check_split_run.cmake)
+                       -DONE=${CMAKE_CURRENT_BINARY_DIR}/example_out/example_${ex}_mpi_ref
+                       "-DARGS=${split_args_${ex}}" "-DSAME=${same}" -P ${CMAKE_CURRENT_LIST_DIR}/check_split_run.cmake)
       # About 10-30 s alone; the timeout leaves room for a machine doing other work.
       set_tests_properties(example_${ex}_mpi_${ranks} PROPERTIES TIMEOUT 900 PROCESSORS ${ranks} LABELS "example;mpi"
+                           FIXTURES_REQUIRED ${ex}_mpi_ref
                            ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMP_WAIT_POLICY=PASSIVE")
     endforeach()
     # The quick rubble (issue #44 item 5): rigid blocks on detected contacts, split by blocks
@@ -769,10 +787,12 @@ if(TESSERA_MPI)
       add_test(NAME example_rubble_mpi_${ranks}
                COMMAND ${CMAKE_COMMAND} -DEXE=$<TARGET_FILE:rubble> -DMPIEXEC=${MPIEXEC_EXECUTABLE} -DNP=${ranks}
                        "-DMPIFLAGS=${split_mpiflags}" -DOUT=${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rubble_mpi_${ranks}
-                       "-DARGS=--quick|--threads|1" "-DSAME=blocks_0010.vtu|blocks_0020.vtu"
+                       -DONE=${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rubble_mpi_ref
+                       "-DARGS=${split_args_rubble}" "-DSAME=blocks_0010.vtu|blocks_0020.vtu"
                        -DPYTHON=${Python3_EXECUTABLE} -DBOOKS_FILE=curve.csv -DBOOKS=rebuild_exchange_J
                        -P ${CMAKE_CURRENT_LIST_DIR}/check_split_run.cmake)
       set_tests_properties(example_rubble_mpi_${ranks} PROPERTIES TIMEOUT 900 PROCESSORS ${ranks} LABELS "example;mpi"
+                           FIXTURES_REQUIRED rubble_mpi_ref
                            ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMP_WAIT_POLICY=PASSIVE")
     endif()
   endforeach()
