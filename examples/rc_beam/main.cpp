@@ -295,7 +295,9 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
     js.set(when + "closure_error_rel", closure);
   }
   if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
-  tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
+  // The phase times are this process's (a resumed run's from its checkpoint on): per its own steps.
+  tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts,
+                                     r.resumed_at_step >= 0 ? r.steps - r.resumed_at_step : r.steps);
   tessera::scenes::set_split_figures(js);
   js.write(out / "summary.json");
 
