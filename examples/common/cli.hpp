@@ -407,14 +407,16 @@ class progress_line {
   progress_line& operator=(const progress_line&) = delete;
 
   /// Shows a bar for `fraction` (0..1) done, a free-form message, the elapsed time and an
-  /// estimate of the time left (elapsed x (1 - f) / f), if the refresh interval has passed.
+  /// estimate of the time left (elapsed x (1 - f) / (f - f0), f0 the fraction at the first
+  /// update, so a resumed run counts only its own progress), if the refresh interval has passed.
   void update(double fraction, const std::string& message = "") {
     if (mode_ == mode::off) return;
     const double now = timer_.seconds();
     if (shown_ && now - last_ < interval_) return;
     last_ = now;
-    shown_ = true;
     const double f = std::clamp(fraction, 0.0, 1.0);
+    if (!shown_) first_ = f;
+    shown_ = true;
     constexpr int width = 20;
     const int filled = static_cast<int>(f * width);
     std::ostringstream os;
@@ -422,7 +424,7 @@ class progress_line {
     os << label_ << " [" << std::string(static_cast<std::size_t>(filled), '#')
        << std::string(static_cast<std::size_t>(width - filled), '.') << "] " << std::fixed << std::setprecision(1)
        << 100.0 * f << "% " << message << "  " << std::setprecision(1) << now << " s";
-    if (f > 0.01) os << ", ~" << std::setprecision(0) << now * (1 - f) / f << " s left";
+    if (f - first_ > 0.01) os << ", ~" << std::setprecision(0) << now * (1 - f) / (f - first_) << " s left";
     std::string line = os.str();
     if (mode_ == mode::log) {
       std::cerr << line << '\n' << std::flush;
@@ -451,6 +453,7 @@ class progress_line {
   double interval_;
   wall_timer timer_;
   double last_ = 0.0;
+  double first_ = 0.0;  // the fraction shown first (a resumed run's starting point)
   bool shown_ = false;
   bool finished_ = false;
   std::size_t last_width_ = 0;
