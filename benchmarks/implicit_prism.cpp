@@ -37,7 +37,7 @@
 //   implicit_prism [--blocks N] [--seed N] [--threads N] [--no-explicit] [--through-peak]
 //                  [--path-following] [--until U] [--crack-work J] [--max-crack-work J] [--curve FILE]
 //                  [--increment R] [--tolerance R] [--max-iterations K] [--refactor] [--no-aitken] [--line-search]
-//                  [--no-fallback]
+//                  [--no-fallback] [--factorization simplicial|supernodal]
 // The out-of-balance tolerance (default 1e-6 f_T A per free component) lies far below the
 // explicit run's own inertia error (|R_top + R_bottom| / 2 of 1e-2 of the stress, printed).
 #include <algorithm>
@@ -95,7 +95,7 @@ int main(int argc, char** argv) {
   bool path_following = false;
   real control_fraction = 0;
   bool unload_outside = false;
-  std::string curve_file;
+  std::string curve_file, factorization = std::string(im::factorization_name(im::default_factorization()));
   tessera::cli::parser cli("implicit_prism",
                            "The implicit quasi-static solve against the explicit run on the elastic branch of the\n"
                            "direct tension prism (issue #43, candidate 3).");
@@ -107,6 +107,8 @@ int main(int argc, char** argv) {
   cli.option("--tolerance", tolerance, "out-of-balance tolerance per component, x f_T A", "R").within(1e-14, 1e-2);
   cli.option("--max-iterations", max_iterations, "secant iterations per increment", "K").within(1, 10000);
   cli.flag("--no-explicit", no_explicit, "skip the explicit run");
+  cli.option("--factorization", factorization, "sparse factorisation of K_sec: simplicial (Eigen's LDL^T) or supernodal "
+             "(CHOLMOD, where built with TESSERA_CHOLMOD)", "simplicial|supernodal").one_of({"simplicial", "supernodal"});
   cli.flag("--through-peak", through_peak, "carry the implicit solve past the elastic limit");
   cli.flag("--refactor", refactor, "factorise in every iteration, not once per increment");
   cli.flag("--no-aitken", no_aitken, "plain secant steps, without Aitken's relaxation");
@@ -124,6 +126,7 @@ int main(int argc, char** argv) {
   cli.flag("--no-fallback", no_fallback, "past U_el, no retry of a failed increment with the line search");
   cli.parse_or_exit(argc, argv);
   try {
+    const im::factorization kind = im::parse_factorization(factorization);  // refused before any output
     sc::prism_options po;
     po.blocks = blocks;
     po.seed = seed;
@@ -142,7 +145,7 @@ int main(int argc, char** argv) {
     const double solver_build_s = build_timer.seconds();
     const tessera::cli::wall_timer implicit_timer;
     const std::clock_t implicit_cpu = std::clock();
-    model q(scene.mesh, s.blocks(), s.contacts(), s.gridpoints());
+    model q(scene.mesh, s.blocks(), s.contacts(), s.gridpoints(), kind);
     im::increment_options o;
     o.force_tolerance = tolerance * f_t * area;  // per component, against the prism's strength
     o.max_iterations = max_iterations;
@@ -171,10 +174,11 @@ int main(int argc, char** argv) {
     std::printf("- modulus sigma / (U / L) = %.8g Pa\n", modulus_implicit);
     std::printf("- time %.3f s, CPU %.3f s (model assembly and 2 increments; solver and supports %.3f s before): assembly %.3f s, "
                 "factorisation %.3f s (%lld, %lld symbolic), solves %.3f s (%lld), force evaluations %.3f s (%lld); "
-                "factor L %lld non-zeros\n\n",
+                "factor L %lld non-zeros (%s)\n\n",
                 implicit_s, implicit_cpu_s, solver_build_s, c.assembly_s, c.factorization_s, static_cast<long long>(c.factorizations),
                 static_cast<long long>(c.analyses), c.solve_s, static_cast<long long>(c.solves), c.force_s,
-                static_cast<long long>(c.force_evaluations), static_cast<long long>(q.factor_nonzeros()));
+                static_cast<long long>(c.force_evaluations), static_cast<long long>(q.factor_nonzeros()),
+                std::string(im::factorization_name(q.factorization_kind())).c_str());
     std::fflush(stdout);
 
     // ---- explicit ----

@@ -1537,6 +1537,14 @@ void with_pulled_column(int n, real a, real young, const linear_law::params& law
   f(s, mesh, top);
 }
 
+/// The factorisations of K_sec this build has: the simplicial one always, CHOLMOD's supernodal one
+/// where the tests are built with TESSERA_CHOLMOD. The closed forms below run with each.
+std::vector<implicit::factorization> built_factorizations() {
+  std::vector<implicit::factorization> f{implicit::factorization::simplicial};
+  if (implicit::supernodal_available()) f.push_back(implicit::factorization::supernodal);
+  return f;
+}
+
 /// The study's 100-block contact with linear softening (k_n = 1.16e12 Pa/m, f_T = 2.15 MPa,
 /// G_f = 60 N/m).
 linear_law::params linear_study_contact() { return law::with_linear_softening(law::study_prism_params(100)); }
@@ -1544,10 +1552,13 @@ linear_law::params linear_study_contact() { return law::with_linear_softening(la
 }  // namespace
 
 TEST_CASE("implicit: one block of zones pulled uniaxially gives the reaction E A / L to round-off", "[implicit]") {
+  const implicit::factorization kind = GENERATE(from_range(built_factorizations()));
+  INFO("factorization " << implicit::factorization_name(kind));
   const real a = 0.05, young = 28e9, poisson = 0.2, delta = 1e-5;
   with_pulled_column(1, a, young, linear_study_contact(), [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
                                                               const bc::node_group& top) {
-    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), kind);
+    CHECK(q.factorization_kind() == kind);
     implicit::increment_options o;
     o.force_tolerance = 1e-9 * young * a * delta;  // 1e-9 of the reaction E A delta / L
     const auto r = q.solve_increment(delta, o);  // 1 m/s over 1e-5 s of pseudo-time: delta = 10 um
@@ -1570,6 +1581,8 @@ TEST_CASE("implicit: one block of zones pulled uniaxially gives the reaction E A
 
 TEST_CASE("implicit: two blocks on one bonded face, assembled K equals the kernels' and the series stiffness",
           "[implicit]") {
+  const implicit::factorization kind = GENERATE(from_range(built_factorizations()));
+  INFO("factorization " << implicit::factorization_name(kind));
   const real a = 0.05, young = 28e9;
   const linear_law::params p = linear_study_contact();
   with_pulled_column(2, a, young, p, [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
@@ -1589,7 +1602,7 @@ TEST_CASE("implicit: two blocks on one bonded face, assembled K equals the kerne
       CHECK((k * t).cwiseAbs().maxCoeff() <= 1e-12 * scale);
     }
     // Block, contact and block in series: F / delta = 1 / (2 a / (E A) + 1 / (k_n A)).
-    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+    implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), kind);
     const real delta = 1e-6, area = a * a;
     implicit::increment_options o;
     o.force_tolerance = 1e-9 * p.tension.f_T * area;
@@ -1606,6 +1619,8 @@ TEST_CASE("implicit: two blocks on one bonded face, assembled K equals the kerne
 
 TEST_CASE("implicit: secant iterations through increments trace the linear softening curve of one bonded face",
           "[implicit]") {
+  const implicit::factorization kind = GENERATE(from_range(built_factorizations()));
+  INFO("factorization " << implicit::factorization_name(kind));
   // Two cubes on one face, pulled apart. With K_b = E A / (2 a) the blocks in series, the peak
   // f_T A at U_peak = f_T A (1 / K_b + 1 / (k_n A)); past it the face opens w = U - F / K_b along
   // f_t(w) = f_T (1 - (w - eta) / (zeta - eta)), so
@@ -1631,7 +1646,7 @@ TEST_CASE("implicit: secant iterations through increments trace the linear softe
   for (const variant v : {variant{false, false, 12}, variant{true, false, 12}, variant{false, true, 40}}) {
     with_pulled_column(2, a, young, p, [&](prism_linear_solver& s, const geometry::block_mesh& mesh,
                                            const bc::node_group& top) {
-      implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+      implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), kind);
       implicit::increment_options o;
       o.refactor_each_iteration = v.refactor;
       o.line_search = v.line_search;
@@ -1670,6 +1685,8 @@ TEST_CASE("implicit: secant iterations through increments trace the linear softe
 
 TEST_CASE("implicit: crack-opening control follows the snap-back of one softening face between two blocks",
           "[implicit]") {
+  const implicit::factorization kind = GENERATE(from_range(built_factorizations()));
+  INFO("factorization " << implicit::factorization_name(kind));
   // The two cubes of the softening-curve test with a brittle face: G_f chosen so that the
   // softening length L_s = zeta - eta is 0.8 f_T A / K_b (K_b = E A / (2 a), the blocks'
   // unloading stiffness), the softening slope f_T A / L_s 1.25 K_b: past the peak the response
@@ -1706,7 +1723,7 @@ TEST_CASE("implicit: crack-opening control follows the snap-back of one softenin
             bc::components::y);
       const bc::node_group top = s.gridpoints_on_plane(2, 2 * a, tol);
       s.prescribe_velocity(top, vec3(0, 0, 1), bc::components::z);
-      implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints());
+      implicit_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), kind);
       implicit::increment_options o;
       o.refactor_each_iteration = refactor;
       INFO("factorised " << (refactor ? "in every iteration" : "once per increment"));
@@ -1797,4 +1814,31 @@ TEST_CASE("implicit: bad increments and tolerances are refused before the model 
     CHECK(q.counts().increments == 0);
     CHECK(q.displacements().cwiseAbs().maxCoeff() == 0);
   });
+}
+
+TEST_CASE("implicit: a factorisation is chosen by name, and one this build lacks is refused by name", "[implicit][errors]") {
+  CHECK(implicit::parse_factorization("simplicial") == implicit::factorization::simplicial);
+  CHECK_THROWS_WITH(implicit::parse_factorization("cholesky"), Catch::Contains("factorization 'cholesky' is not one of"));
+  CHECK(implicit::default_factorization() ==
+        (implicit::supernodal_available() ? implicit::factorization::supernodal : implicit::factorization::simplicial));
+  if (implicit::supernodal_available()) {
+    CHECK(implicit::parse_factorization("supernodal") == implicit::factorization::supernodal);
+  } else {
+    CHECK_THROWS_WITH(implicit::parse_factorization("supernodal"), Catch::Contains("needs CHOLMOD"));
+    CHECK_THROWS_WITH(implicit::sparse_factor(implicit::factorization::supernodal), Catch::Contains("needs CHOLMOD"));
+  }
+  // A singular K (a free block: no support) is refused by either factorisation, not solved to garbage.
+  for (const implicit::factorization kind : built_factorizations()) {
+    INFO("factorization " << implicit::factorization_name(kind));
+    implicit::sparse_factor f(kind);
+    implicit::sparse_matrix k(2, 2);
+    k.insert(0, 0) = 1;
+    k.insert(1, 0) = -1;
+    k.insert(0, 1) = -1;
+    k.insert(1, 1) = 1;
+    f.analyze(k);
+    bool solved = true;
+    const Eigen::VectorXd x = f.factorize(k) ? f.solve(Eigen::VectorXd::Ones(2), &solved) : Eigen::VectorXd();
+    CHECK_FALSE((solved && x.size() == 2 && x.allFinite()));
+  }
 }

@@ -1,7 +1,8 @@
 #pragma once
 // implicit::quasi_static<Zone, Law>: the static equilibrium of a model of deformable blocks and
 // bonded face contacts, advanced in increments of prescribed displacement and solved with a
-// sparse Cholesky factorisation (Eigen::SimplicialLDLT) of the secant stiffness (stiffness.hpp),
+// sparse Cholesky factorisation (sparse_factor.hpp: Eigen's SimplicialLDLT, or CHOLMOD's supernodal
+// LL^T where built with it) of the secant stiffness (stiffness.hpp),
 // instead of stepping the equations of motion (issue #43, candidate 3).
 //
 // Model. Small displacements: the zones are linear elastic about the reference state (K_z of
@@ -42,6 +43,7 @@
 #include "../../core/types.hpp"
 #include "../boundary.hpp"
 #include "increment.hpp"
+#include "sparse_factor.hpp"
 #include "stiffness.hpp"
 
 namespace tessera::implicit {
@@ -54,11 +56,13 @@ class quasi_static {
   /// The model of `blocks` (built from `mesh`) and `contacts`, with the supports and the current
   /// displacements of `gridpoints` (the solver's node_set; displacements must be zero: the zones
   /// are linear about the reference state). Copies the contact states as the committed ones.
-  /// Throws invalid_input for a mesh that is not the blocks', a node_set of another size or with
-  /// non-zero displacements, or no free component.
+  /// `kind` is the sparse factorisation of K_sec (sparse_factor.hpp). Throws invalid_input for a
+  /// mesh that is not the blocks', a node_set of another size or with non-zero displacements, no
+  /// free component, or factorization::supernodal in a build without CHOLMOD.
   quasi_static(const geometry::block_mesh& mesh, const blocks::deformable<Zone>& blocks,
-               const contact::face_contacts<Law>& contacts, const node_set& gridpoints)
-      : contacts_(&contacts) {
+               const contact::face_contacts<Law>& contacts, const node_set& gridpoints,
+               factorization kind = default_factorization())
+      : contacts_(&contacts), factor_(kind) {
     const index_t n_gp = mesh.gridpoint_count();
     require(gridpoints.size() == n_gp, "quasi_static: node_set has ", gridpoints.size(), " gridpoints, the mesh ", n_gp);
     require(gridpoints.displacement.cwiseAbs().maxCoeff() == 0, "quasi_static: the gridpoints are displaced by up to ",
@@ -165,7 +169,9 @@ class quasi_static {
       if (unit_response_stale_) {
         // The free components' response to a unit rate of the prescribed ones: one
         // back-substitution per factorisation that a controlled increment uses.
-        unit_response_ = -factor_.solve(coupling_);
+        bool solved = false;
+        unit_response_ = -factor_.solve(coupling_, &solved);
+        require(solved && unit_response_.allFinite(), "quasi_static: the solve for the load factor's response failed");
         unit_response_stale_ = false;
         ++counts_.solves;
       }
@@ -264,6 +270,8 @@ class quasi_static {
   /// The zones' stiffness (N/m) over all dofs, no supports.
   [[nodiscard]] const sparse_matrix& zone_stiffness() const { return zones_; }
   [[nodiscard]] index_t free_dof_count() const { return static_cast<index_t>(free_dofs_.size()); }
+  /// The sparse factorisation of K_sec this model uses.
+  [[nodiscard]] factorization factorization_kind() const noexcept { return factor_.kind(); }
   /// Non-zeros of the last Cholesky factor (L), 0 before the first factorisation.
   [[nodiscard]] std::int64_t factor_nonzeros() const { return factor_nonzeros_; }
   [[nodiscard]] const solve_counts& counts() const { return counts_; }
@@ -318,8 +326,9 @@ class quasi_static {
     const auto timer = clock::now();
     Eigen::VectorXd rhs(static_cast<index_t>(free_dofs_.size()));
     for (std::size_t k = 0; k < free_dofs_.size(); ++k) rhs[static_cast<index_t>(k)] = force_[free_dofs_[k]];
-    Eigen::VectorXd du = factor_.solve(rhs);
-    require(factor_.info() == Eigen::Success && du.allFinite(), "quasi_static: the linear solve failed (",
+    bool solved = false;
+    Eigen::VectorXd du = factor_.solve(rhs, &solved);
+    require(solved && du.allFinite(), "quasi_static: the linear solve failed (",
             "K_sec singular or not positive definite) in iteration ", iteration + 1);
     ++counts_.solves;
     counts_.solve_s += seconds_since(timer);
@@ -437,14 +446,14 @@ class quasi_static {
     counts_.assembly_s += seconds_since(timer);
     const auto factor_timer = clock::now();
     if (!factored_ || k.nonZeros() != pattern_nonzeros_) {
-      factor_.analyzePattern(k);
+      factor_.analyze(k);
       pattern_nonzeros_ = k.nonZeros();
       ++counts_.analyses;
     }
-    factor_.factorize(k);
-    require(factor_.info() == Eigen::Success, "quasi_static: the factorisation of K_sec failed (", k.rows(),
+    const bool factored = factor_.factorize(k);
+    require(factored, "quasi_static: the factorisation of K_sec failed (", k.rows(),
             " free dofs); a part of the model is free to move (no support, every contact broken)?");
-    factor_nonzeros_ = static_cast<std::int64_t>(factor_.matrixL().nestedExpression().nonZeros());
+    factor_nonzeros_ = factor_.nonzeros();
     factored_ = true;
     factored_secants_ = std::move(secants);
     ++counts_.factorizations;
@@ -473,7 +482,7 @@ class quasi_static {
   Eigen::VectorXd unit_response_;    ///< -K_sec^-1 K_fp v on the free dofs (m/s)
   bool unit_response_stale_ = true;  ///< unit_response_ is not that of the present factor
   Eigen::VectorXd force_;            ///< f(u) of the last evaluation (N)
-  Eigen::SimplicialLDLT<sparse_matrix> factor_;
+  sparse_factor factor_;
   std::vector<secant_stiffness> factored_secants_;
   bool factored_ = false;
   index_t pattern_nonzeros_ = 0;
