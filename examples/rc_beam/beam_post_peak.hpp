@@ -110,8 +110,9 @@ class beam_opening_history {
     ar.scalar("beam/history/step", step_);
     ar.sized_array("beam/history/deflection", deflection_);
     ar.sized_array("beam/history/load", load_);
-    snapshots(ar, "beam/history/grid", opening_.size(), [&](std::size_t j) -> std::vector<float>& { return opening_[j]; },
-              [&](std::size_t n) { opening_.resize(n); });
+    ar.sized_records("beam/history/grid/count", opening_, [&](std::vector<std::vector<float>>& t) {
+      for (std::size_t j = 0; j < t.size(); ++j) ar.sized_array("beam/history/grid/" + std::to_string(j), t[j]);
+    });
     std::vector<real> d, l;
     for (const snapshot& f : recent_) d.push_back(f.deflection), l.push_back(f.load);
     ar.sized_array("beam/history/fine/deflection", d);
@@ -120,23 +121,12 @@ class beam_opening_history {
       recent_.resize(d.size());
       for (std::size_t j = 0; j < d.size(); ++j) recent_[j].deflection = d[j], recent_[j].load = l[j];
     }
-    snapshots(ar, "beam/history/fine", recent_.size(), [&](std::size_t j) -> std::vector<float>& { return recent_[j].opening; },
-              [&](std::size_t n) { recent_.resize(n); });
+    ar.sized_records("beam/history/fine/count", recent_, [&](std::vector<snapshot>& t) {
+      for (std::size_t j = 0; j < t.size(); ++j) ar.sized_array("beam/history/fine/" + std::to_string(j), t[j].opening);
+    });
   }
 
  private:
-  /// n snapshots' openings, each a sized array; the count stored first (a load sizes the model's
-  /// by resize(n) in the copying pass; the dry run reads them into a scratch vector).
-  template <class Archive, class At, class Resize>
-  static void snapshots(Archive& ar, const std::string& name, std::size_t n, At&& at, Resize&& resize) {
-    std::int64_t count = static_cast<std::int64_t>(n);
-    ar.count(name + "/count", count);
-    if (ar.loading()) resize(static_cast<std::size_t>(count));
-    std::vector<float> dry;
-    for (std::int64_t j = 0; j < count; ++j)
-      ar.sized_array(name + "/" + std::to_string(j), ar.saving() || ar.loading() ? at(static_cast<std::size_t>(j)) : dry);
-  }
-
   struct snapshot {
     real deflection, load;
     std::vector<float> opening;

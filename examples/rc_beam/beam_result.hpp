@@ -116,20 +116,17 @@ struct beam_result {
   int checkpoints_written = 0;
 };
 
-/// The beam_shear_split rows of a table whose length is state (io/checkpoint.hpp sized_array).
+/// The beam_shear_split rows of a table whose length is state (io/checkpoint.hpp sized_records).
 template <class Archive>
 void checkpoint_shear_table(Archive& ar, const std::string& name, std::vector<beam_shear_split>& v) {
-  std::int64_t n = static_cast<std::int64_t>(v.size());
-  ar.count(name + "/size", n);
-  std::vector<beam_shear_split> dry(ar.saving() || ar.loading() ? 0 : static_cast<std::size_t>(n));
-  std::vector<beam_shear_split>& t = ar.saving() || ar.loading() ? v : dry;
-  if (ar.loading()) t.resize(static_cast<std::size_t>(n));
-  ar.members(name + "/x", t, &beam_shear_split::x);
-  ar.members(name + "/intact", t, &beam_shear_split::intact);
-  ar.members(name + "/softening", t, &beam_shear_split::softening);
-  ar.members(name + "/broken_or_slipped", t, &beam_shear_split::broken_or_slipped);
-  ar.members(name + "/bars", t, &beam_shear_split::bars);
-  ar.members(name + "/reaction", t, &beam_shear_split::reaction);
+  ar.sized_records(name + "/size", v, [&](std::vector<beam_shear_split>& t) {
+    ar.members(name + "/x", t, &beam_shear_split::x);
+    ar.members(name + "/intact", t, &beam_shear_split::intact);
+    ar.members(name + "/softening", t, &beam_shear_split::softening);
+    ar.members(name + "/broken_or_slipped", t, &beam_shear_split::broken_or_slipped);
+    ar.members(name + "/bars", t, &beam_shear_split::bars);
+    ar.members(name + "/reaction", t, &beam_shear_split::reaction);
+  });
 }
 
 /// The figures of beam_result the samples build (the rest are read at the end).

@@ -22,6 +22,8 @@
 //   ar.members(name, std::vector<S>& v, &S::m) member m of every element of v
 //   ar.sized_array(name, std::vector<T>& v)   v's length, then its values: a vector that grows
 //                                             during the run (a driver's samples); resized on load
+//   ar.sized_records(size_name, v, records)   the same for any records of v's elements: its length,
+//                                             then records(t) on v (or a dry-run scratch copy)
 //   ar.matrix(name, M& m)                     an Eigen matrix's coefficients (sizes fixed by the model)
 //   ar.scalar(name, T& x)                     one value
 //   ar.same(name, value)                      saves value; on load requires the stored one to equal it
@@ -157,16 +159,24 @@ class archive_base {
   /// checks the record on a scratch vector and leaves v as it is.
   template <class T>
   void sized_array(std::string_view name, std::vector<T>& v) {
+    sized_records(std::string(name) + "/size", v, [&](std::vector<T>& t) { array(name, t); });
+  }
+  /// A vector that grows during the run, saved as its length (the record `size_name`) and then
+  /// whatever `records(t)` saves of t (members of structs, nested sized arrays): t is v when saving
+  /// or loading (a load resizes v to the file's length first), a scratch vector of the file's
+  /// length in the dry run, so the records are checked without touching v.
+  template <class T, class Records>
+  void sized_records(std::string_view size_name, std::vector<T>& v, Records&& records) {
     std::int64_t n = static_cast<std::int64_t>(v.size());
-    self().count(std::string(name) + "/size", n);
+    self().count(size_name, n);
     if (self().saving()) {
-      array(name, v);
+      records(v);
     } else if (self().loading()) {
       v.resize(static_cast<std::size_t>(n));
-      array(name, v);
+      records(v);
     } else {
       std::vector<T> dry(static_cast<std::size_t>(n));
-      array(name, dry);
+      records(dry);
     }
   }
   /// An Eigen matrix of real or integer coefficients; its size is the model's (not resized).
