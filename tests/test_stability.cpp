@@ -13,6 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include "support/elastic_contact.hpp"
+#include "support/bar_chain.hpp"
 #include "support/hand_meshes.hpp"
 
 #include <chrono>
@@ -1841,4 +1842,120 @@ TEST_CASE("implicit: a factorisation is chosen by name, and one this build lacks
     const Eigen::VectorXd x = f.factorize(k) ? f.solve(Eigen::VectorXd::Ones(2), &solved) : Eigen::VectorXd();
     CHECK_FALSE((solved && x.size() == 2 && x.allFinite()));
   }
+}
+
+namespace {
+
+using bar_truss = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
+using bar_solver = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<law::study_tie_law>, bar_truss>;
+using bar_model = implicit::quasi_static<zones::linear_elastic_tet, law::study_tie_law, bar_truss>;
+
+/// A 0.3 m block of 68 mm square section, every gridpoint held, with one bar of 48 trusses along
+/// its axis (the tie's steel; bonded or not, bond cohesion c_bond N/m), its last node pulled along
+/// z at 1 m/s. Hands the solver to f.
+template <class F>
+void with_bar_in_held_block(bool bonded, real c_bond, F&& f) {
+  const real side = 0.068, length = 0.3;
+  const geometry::tessellation tess = test::box_tessellation(vec3::Zero(), vec3(side, side, length));
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  const reinforcement::bar axis{vec3(side / 2, side / 2, 0), vec3(side / 2, side / 2, length), 48, bonded};
+  bar_solver s(tess, mesh, zones::linear_elastic_tet::params{28e9, 0.2, 2400}, law::study_prism_params(100),
+               {reinforcement::pulatsu2020::tie_steel(), reinforcement::coulomb_bond::params{4.0, c_bond, 0.0}, {axis}});
+  s.fix(bc::all_nodes(s.gridpoints()));
+  const idx last = s.bar_nodes().size() - 1;
+  bc::prescribe_velocity(s.bar_nodes(), bc::node_group{{last}, "pulled bar end"}, vec3(0, 0, 1), bc::components::z);
+  f(s, mesh, last);
+}
+
+}  // namespace
+
+TEST_CASE("implicit: a bare bar pulled at its end gives E_s A / L, then yields at f_y A", "[implicit][bars]") {
+  const implicit::factorization kind = GENERATE(from_range(built_factorizations()));
+  INFO("factorization " << implicit::factorization_name(kind));
+  with_bar_in_held_block(false, 1e9, [&](bar_solver& s, const geometry::block_mesh& mesh, idx last) {
+    // An unbonded bar has no transverse stiffness: its nodes are held across, its start along z.
+    bc::fix(s.bar_nodes(), bc::all_nodes(s.bar_nodes()), bc::components::xy);
+    bc::fix(s.bar_nodes(), bc::node_group{{0}, "held bar start"}, bc::components::z);
+    bar_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), s.reinforcement(), kind);
+    const reinforcement::steel steel = reinforcement::pulatsu2020::tie_steel();
+    const real ea_over_l = steel.axial_rigidity() / 0.3, yield = steel.yield_force();
+    implicit::increment_options o;
+    o.force_tolerance = 1e-9 * yield;
+    const bc::node_group end{{last}, "pulled bar end"};
+    // Elastic: half the yield elongation in one increment, one factorisation, one solve.
+    const real half = 0.5 * yield / ea_over_l;
+    REQUIRE(q.solve_increment(half, o).converged);
+    INFO("reaction " << q.bar_reaction_sum(end).z() << " N, E A delta / L = " << ea_over_l * half << " N");
+    CHECK(std::abs(q.bar_reaction_sum(end).z() - ea_over_l * half) <= 1e-10 * yield);  // the support pulls the end out
+    CHECK(q.counts().factorizations == 1);
+    for (idx e = 0; e < s.reinforcement().element_count(); ++e) CHECK(std::abs(q.bars().axial_force(e) - 0.5 * yield) <= 1e-10 * yield);
+    for (idx n = 0; n <= last; ++n) CHECK(std::abs(q.bar_node_displacement(n, 2) - half * n / last) <= 1e-10 * half);
+    // Past yield: every element on the plateau carries f_y A whatever the elongation.
+    for (int k = 0; k < 4; ++k) REQUIRE(q.solve_increment(half, o).converged);
+    INFO("reaction past yield " << q.bar_reaction_sum(end).z() << " N, f_y A = " << yield << " N");
+    CHECK(std::abs(q.bar_reaction_sum(end).z() - yield) <= 1e-9 * yield);
+    CHECK(q.bar_node_displacement(last, 2) == Approx(5 * half).epsilon(1e-12));
+  });
+}
+
+TEST_CASE("implicit: a bar bonded in a held block, pulled at its end, gives the discrete chain's force, then slips at c_bond L",
+          "[implicit][bars]") {
+  // As test_relaxation's chain: with the host held, bar node n hangs on its bond spring k_b(n)
+  // and on its trusses k_a to its neighbours, so the pull-out force is that of K u = 0 with
+  // u_last = 1 um, solved directly. With a weak bond (c_bond = 1e4 N/m) pulled far enough that
+  // every node slips, the pull-out force is the sum of the nodes' bond strengths, c_bond x L.
+  const implicit::factorization kind = GENERATE(from_range(built_factorizations()));
+  INFO("factorization " << implicit::factorization_name(kind));
+  const real pull = 1e-6;
+  with_bar_in_held_block(true, 1e9, [&](bar_solver& s, const geometry::block_mesh& mesh, idx last) {
+    const auto& truss = s.reinforcement();
+    const test::bar_chain_solution chain = test::pulled_bar_chain(truss, last, pull);
+    const Eigen::VectorXd& u = chain.u;
+    const real expected = chain.pull_out;
+    bar_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), s.reinforcement(), kind);
+    implicit::increment_options o;
+    o.force_tolerance = 1e-10 * expected;
+    REQUIRE(q.solve_increment(pull, o).converged);
+    const bc::node_group end{{last}, "pulled bar end"};
+    INFO("pull-out force " << q.bar_reaction_sum(end).z() << " N, chain " << expected << " N");
+    CHECK(std::abs(q.bar_reaction_sum(end).z() - expected) <= 1e-9 * expected);
+    for (idx n = 0; n < last; ++n) CHECK(std::abs(q.bar_node_displacement(n, 2) - u(n)) <= 1e-9 * pull);
+    // The host gridpoints hold the bond forces: their reactions balance the pull-out force.
+    CHECK(std::abs(q.reaction_sum(bc::all_nodes(s.gridpoints())).z() + expected) <= 1e-9 * expected);
+  });
+  with_bar_in_held_block(true, 1e4, [&](bar_solver& s, const geometry::block_mesh& mesh, idx last) {
+    bar_model q(mesh, s.blocks(), s.contacts(), s.gridpoints(), s.reinforcement(), kind);
+    const real strength = 1e4 * 0.3;  // c_bond x the bar's length: every node at its limit
+    implicit::increment_options o;
+    o.force_tolerance = 1e-9 * strength;
+    // Nodes on the slip plateau: refactorised secants with the line search (measured: 8-42
+    // iterations per increment); one factor per increment with Aitken's steps stalls near the
+    // plateau's corner (1.6e-3 N after 200 iterations), Aitken's steps on refactorised secants
+    // diverge (docs/guide.md).
+    o.max_iterations = 100;
+    o.refactor_each_iteration = true;
+    o.line_search = true;
+    for (int k = 0; k < 10; ++k) {
+      const implicit::increment_result r = q.solve_increment(20 * pull, o);
+      INFO("increment " << k << ": " << r.iterations << " iterations, residual " << r.max_residual << " N");
+      REQUIRE(r.converged);
+    }
+    const bc::node_group end{{last}, "pulled bar end"};
+    INFO("pull-out force " << q.bar_reaction_sum(end).z() << " N, c_bond L " << strength << " N");
+    for (idx n = 0; n <= last; ++n) CHECK(std::abs(q.bars().bond_force(n)) > 0);
+    CHECK(std::abs(q.bar_reaction_sum(end).z() - strength) <= 1e-8 * strength);
+  });
+}
+
+TEST_CASE("implicit: a bond with a friction angle is refused, since the implicit solve reads no confinement",
+          "[implicit][bars][errors]") {
+  const real side = 0.068, length = 0.3;
+  const geometry::tessellation tess = test::box_tessellation(vec3::Zero(), vec3(side, side, length));
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  const reinforcement::bar axis{vec3(side / 2, side / 2, 0), vec3(side / 2, side / 2, length), 8, true};
+  bar_solver s(tess, mesh, zones::linear_elastic_tet::params{28e9, 0.2, 2400}, law::study_prism_params(100),
+               {reinforcement::pulatsu2020::tie_steel(), reinforcement::coulomb_bond::params{4.0, 1e4, 0.5}, {axis}});
+  s.fix(bc::all_nodes(s.gridpoints()));
+  CHECK_THROWS_WITH(bar_model(mesh, s.blocks(), s.contacts(), s.gridpoints(), s.reinforcement()),
+                    Catch::Contains("bond friction angle phi_bond = 0.5 rad"));
 }

@@ -1,9 +1,10 @@
 #pragma once
-// implicit::quasi_static<Zone, Law>: the static equilibrium of a model of deformable blocks and
-// bonded face contacts, advanced in increments of prescribed displacement and solved with a
-// sparse Cholesky factorisation (sparse_factor.hpp: Eigen's SimplicialLDLT, or CHOLMOD's supernodal
-// LL^T where built with it) of the secant stiffness (stiffness.hpp),
-// instead of stepping the equations of motion (issue #43, candidate 3).
+// implicit::quasi_static<Zone, Law, Bars>: the static equilibrium of a model of deformable blocks,
+// bonded face contacts and optionally steel bars (Bars = reinforcement::embedded_truss<Bond>,
+// bars.hpp; no_bars by default), advanced in increments of prescribed displacement and solved with
+// a sparse Cholesky factorisation (sparse_factor.hpp: Eigen's SimplicialLDLT, or CHOLMOD's
+// supernodal LL^T where built with it) of the secant stiffness (stiffness.hpp), instead of
+// stepping the equations of motion (issue #43, candidate 3).
 //
 // Model. Small displacements: the zones are linear elastic about the reference state (K_z of
 // stiffness.hpp, the linearisation of the co-rotated zone kernel), the sub-contacts keep the
@@ -11,7 +12,7 @@
 // Law::update, so the law's envelope, limits and flags are the explicit solver's. The forces on
 // the gridpoints (N) are
 //     f(u) = -K_zones u + sum_i f_i(state_i),   f_i on b = -A_i (sigma_n n + tau), on a the opposite,
-// and equilibrium is f = 0 on every free component; a prescribed component's reaction (N, the force
+// plus the bars' element and bond forces on their nodes and host gridpoints (bars.hpp), and equilibrium is f = 0 on every free component; a prescribed component's reaction (N, the force
 // the support exerts on the gridpoint) is -f there.
 //
 // Supports. Read from the node_set's constraint flags and prescribed velocities when the model is
@@ -31,6 +32,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <vector>
 
@@ -42,13 +44,14 @@
 #include "../../core/nodes.hpp"
 #include "../../core/types.hpp"
 #include "../boundary.hpp"
+#include "bars.hpp"
 #include "increment.hpp"
 #include "sparse_factor.hpp"
 #include "stiffness.hpp"
 
 namespace tessera::implicit {
 
-template <zones::ZoneModel Zone, SecantLaw Law>
+template <zones::ZoneModel Zone, SecantLaw Law, class Bars = no_bars>
 class quasi_static {
  public:
   using state_type = typename Law::state;
@@ -62,7 +65,15 @@ class quasi_static {
   quasi_static(const geometry::block_mesh& mesh, const blocks::deformable<Zone>& blocks,
                const contact::face_contacts<Law>& contacts, const node_set& gridpoints,
                factorization kind = default_factorization())
-      : contacts_(&contacts), factor_(kind) {
+    requires std::same_as<Bars, no_bars>
+      : quasi_static(mesh, blocks, contacts, gridpoints, no_bars{}, kind) {}
+  /// The same with steel bars (reinforcement::embedded_truss, bars.hpp), their nodes' supports and
+  /// prescribed velocities from bars.nodes(); also throws for displaced bar nodes or a bond law with
+  /// a friction angle.
+  quasi_static(const geometry::block_mesh& mesh, const blocks::deformable<Zone>& blocks,
+               const contact::face_contacts<Law>& contacts, const node_set& gridpoints, const Bars& bars,
+               factorization kind = default_factorization())
+      : contacts_(&contacts), bars_(bars, 3 * gridpoints.size()), factor_(kind) {
     const index_t n_gp = mesh.gridpoint_count();
     require(gridpoints.size() == n_gp, "quasi_static: node_set has ", gridpoints.size(), " gridpoints, the mesh ", n_gp);
     require(gridpoints.displacement.cwiseAbs().maxCoeff() == 0, "quasi_static: the gridpoints are displaced by up to ",
@@ -70,21 +81,11 @@ class quasi_static {
     const auto timer = clock::now();
     std::vector<triplet> t;
     add_zone_stiffness(mesh, blocks, t);
-    zones_.resize(3 * n_gp, 3 * n_gp);
+    append_node_dofs(gridpoints, free_index_, free_dofs_, velocity_);
+    if constexpr (!std::same_as<Bars, no_bars>) append_node_dofs(bars.nodes(), free_index_, free_dofs_, velocity_);
+    const auto n_dofs = static_cast<index_t>(free_index_.size());
+    zones_.resize(n_dofs, n_dofs);
     zones_.setFromTriplets(t.begin(), t.end());
-    free_index_.assign(static_cast<std::size_t>(3 * n_gp), -1);
-    velocity_.setZero(3 * n_gp);
-    constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-    for (index_t i = 0; i < n_gp; ++i)
-      for (int c = 0; c < 3; ++c) {
-        const index_t dof = 3 * i + c;
-        if (gridpoints.constraint(i, c) == prescribed) {
-          velocity_[dof] = gridpoints.prescribed_velocity(i, c);
-        } else {
-          free_index_[static_cast<std::size_t>(dof)] = static_cast<index_t>(free_dofs_.size());
-          free_dofs_.push_back(dof);
-        }
-      }
     require(!free_dofs_.empty(), "quasi_static: every component of the ", n_gp, " gridpoints is prescribed");
     // The zones' part of K on the free components, once.
     std::vector<triplet> free_t;
@@ -111,9 +112,9 @@ class quasi_static {
     }
     trial_ = committed_;
     advancing_.assign(n_c, 0);
-    u_.setZero(3 * n_gp);
+    u_.setZero(n_dofs);
     committed_u_ = u_;
-    force_.setZero(3 * n_gp);
+    force_.setZero(n_dofs);
     counts_.assembly_s += seconds_since(timer);
     evaluate_forces();
   }
@@ -225,7 +226,7 @@ class quasi_static {
       Eigen::VectorXd step = Eigen::VectorXd::Zero(u_.size());  // on the free dofs
       for (std::size_t k = 0; k < free_dofs_.size(); ++k) step[free_dofs_[k]] = omega * du[static_cast<index_t>(k)];
       if (o.line_search)
-        search_along(step);
+        search_along(u_, force_, step, [&] { evaluate_forces(); });
       else
         u_ += step;
       ++r.iterations;
@@ -247,14 +248,13 @@ class quasi_static {
   /// All displacements (m), dof 3 i + c.
   [[nodiscard]] const Eigen::VectorXd& displacements() const { return u_; }
   /// Sum of the support reactions (N) over the gridpoints of `group` at the last equilibrium:
-  /// -f on their prescribed components (f: zone and contact forces), 0 on their free ones.
-  [[nodiscard]] vec3 reaction_sum(const bc::node_group& group) const {
-    vec3 sum = vec3::Zero();
-    for (const index_t i : group.nodes)
-      for (int c = 0; c < 3; ++c)
-        if (free_index_[static_cast<std::size_t>(3 * i + c)] < 0) sum[c] -= force_[3 * i + c];
-    return sum;
-  }
+  /// -f on their prescribed components (f: zone, contact and bond forces), 0 on their free ones.
+  [[nodiscard]] vec3 reaction_sum(const bc::node_group& group) const { return reaction_over(group, 0); }
+  /// The same over the bar nodes of `group` (ids of Bars::nodes()), and a bar node's displacement (m).
+  [[nodiscard]] vec3 bar_reaction_sum(const bc::node_group& group) const { return reaction_over(group, bars_.dof(0)); }
+  [[nodiscard]] real bar_node_displacement(index_t n, int c) const { return u_[bars_.dof(n) + c]; }
+  /// The bars' part at the last equilibrium: axial_force(e), bond_force(n) (N; bars.hpp).
+  [[nodiscard]] const bar_part<Bars>& bars() const { return bars_; }
   /// Mean displacement (m) of the gridpoints of `group`.
   [[nodiscard]] vec3 mean_displacement(const bc::node_group& group) const {
     vec3 sum = vec3::Zero();
@@ -282,6 +282,16 @@ class quasi_static {
     return std::chrono::duration<double>(clock::now() - t).count();
   }
 
+  [[nodiscard]] vec3 reaction_over(const bc::node_group& group, index_t first_dof) const {
+    vec3 sum = vec3::Zero();
+    for (const index_t i : group.nodes)
+      for (int c = 0; c < 3; ++c) {
+        const index_t dof = first_dof + 3 * i + c;
+        if (free_index_[static_cast<std::size_t>(dof)] < 0) sum[c] -= force_[dof];
+      }
+    return sum;
+  }
+
   [[nodiscard]] real dissipated(real state_type::*field) const {
     real sum = 0;
     for (index_t i = 0; i < contacts_->size(); ++i) sum += contacts_->area(i) * committed_[static_cast<std::size_t>(i)].*field;
@@ -293,6 +303,7 @@ class quasi_static {
     counts_.iterations += r.iterations;
     if (r.converged) {
       committed_ = trial_;
+      bars_.commit();
       committed_u_ = u_;
       committed_time_ = time_;
       for (index_t i = 0; i < contacts_->size(); ++i) {
@@ -361,26 +372,10 @@ class quasi_static {
       force_.segment<3>(3 * contacts_->node_a(i)) += f;
       force_.segment<3>(3 * contacts_->node_b(i)) -= f;
     }
+    bars_.evaluate(u_, force_);
     ++counts_.force_evaluations;
     ++evaluations_in_increment_;
     counts_.force_s += seconds_since(timer);
-  }
-
-  /// u += alpha step with alpha where the energy stops falling along the step
-  /// (energy_line_search, increment.hpp), the forces evaluated at the new u.
-  void search_along(const Eigen::VectorXd& step) {
-    const Eigen::VectorXd base = u_;
-    const real g0 = -force_.dot(step);
-    if (!(g0 < 0)) {  // not a descent direction (round-off at convergence): the plain step
-      u_ = base + step;
-      return;
-    }
-    const real alpha = energy_line_search(g0, [&](real a) {
-      u_ = base + a * step;
-      evaluate_forces();
-      return -force_.dot(step);
-    });
-    u_ = base + alpha * step;
   }
 
   /// The increment's end test, the one both kinds of increment use: records the largest free
@@ -424,12 +419,14 @@ class quasi_static {
       s.shear = std::max(s.shear, floor * Law::shear_stiffness(p));
       secants[k] = s;
     }
-    if (factored_ && secants == factored_secants_) {
+    std::vector<real> bar_secants = bars_.secants(&states == &trial_, floor);  // the bars' states of the same pass
+    if (factored_ && secants == factored_secants_ && bar_secants == factored_bar_secants_) {
       counts_.assembly_s += seconds_since(timer);
       return;
     }
     std::vector<triplet> all, free_t;
     add_contact_stiffness(*contacts_, normals_, secants, all);
+    bars_.add_stiffness(bar_secants, all);
     free_t.reserve(all.size());
     coupling_ = zones_coupling_;
     for (const triplet& e : all) {
@@ -456,12 +453,14 @@ class quasi_static {
     factor_nonzeros_ = factor_.nonzeros();
     factored_ = true;
     factored_secants_ = std::move(secants);
+    factored_bar_secants_ = std::move(bar_secants);
     ++counts_.factorizations;
     counts_.factorization_s += seconds_since(factor_timer);
     unit_response_stale_ = true;
   }
 
   const contact::face_contacts<Law>* contacts_ = nullptr;
+  bar_part<Bars> bars_;
   sparse_matrix zones_;       ///< K of the zones, all dofs (N/m)
   sparse_matrix zones_free_;  ///< ... on the free dofs
   std::vector<index_t> free_index_;  ///< per dof: its index among the free dofs, -1 if prescribed
@@ -484,6 +483,7 @@ class quasi_static {
   Eigen::VectorXd force_;            ///< f(u) of the last evaluation (N)
   sparse_factor factor_;
   std::vector<secant_stiffness> factored_secants_;
+  std::vector<real> factored_bar_secants_;
   bool factored_ = false;
   index_t pattern_nonzeros_ = 0;
   std::int64_t factor_nonzeros_ = 0;
