@@ -37,7 +37,9 @@
 //   implicit_prism [--blocks N] [--seed N] [--threads N] [--no-explicit] [--through-peak]
 //                  [--path-following] [--until U] [--crack-work J] [--max-crack-work J] [--curve FILE]
 //                  [--increment R] [--tolerance R] [--max-iterations K] [--refactor] [--no-aitken] [--line-search]
-//                  [--no-fallback] [--factorization simplicial|supernodal]
+//                  [--no-fallback] [--factorization simplicial|supernodal] [--tie [--tie-increment M]]
+// --tie: the RC tie (100 blocks, its bars in the implicit solve) pulled at its bar ends instead
+// (run_tie below); --until is then the last elongation, --tolerance a fraction of N_cr.
 // The out-of-balance tolerance (default 1e-6 f_T A per free component) lies far below the
 // explicit run's own inertia error (|R_top + R_bottom| / 2 of 1e-2 of the stress, printed).
 #include <algorithm>
@@ -49,6 +51,7 @@
 #include <string>
 
 #include "common/cli.hpp"
+#include "common/rc_tie_run.hpp"
 #include "common/scenes.hpp"
 #include "direct_tension/tension_test.hpp"
 #include "tessera/presets.hpp"
@@ -69,8 +72,9 @@ double cpu_seconds_since(std::clock_t start) { return static_cast<double>(std::c
 
 /// U at which the most loaded sub-contact of `q` reaches its tensile strength or its shear limit,
 /// from its stresses at the present (elastic) top displacement u (m), by linearity.
-real elastic_limit(const model& q, const tessera::prism_solver& s, real u) {
-  using law = tessera::prism_solver::law_type;
+template <class Model, class Solver>
+real elastic_limit(const Model& q, const Solver& s, real u) {
+  using law = typename Solver::law_type;
   real ratio = 0;
   for (index_t i = 0; i < s.contacts().size(); ++i) {
     const auto& st = q.state(i);
@@ -82,6 +86,74 @@ real elastic_limit(const model& q, const tessera::prism_solver& s, real u) {
     if (tau > 0) ratio = std::max(ratio, (tau + st.sigma_n * tan_phi) / p.shear.c_0);
   }
   return u / ratio;
+}
+
+/// --tie: the RC tie (common/rc_tie_scene.hpp, 100 blocks, rc_tie's supports) pulled
+/// symmetrically at its bar ends in increments of `increment` m of elongation, each solved to
+/// `tolerance` x N_cr with the iteration of `base` (--refactor --line-search: what bars on a
+/// plateau need, docs/guide.md; --max-iterations), halved up to 4 times when it does not converge, until `until` or an increment
+/// that does not converge at 1/16 of its size. Prints the curve every 10 increments, then K0 (the
+/// first increment's secant), the elastic limit (the elongation and force at which the first
+/// sub-contact reaches its strength, by the first increment's linearity), the last force, counts and
+/// CPU time.
+int run_tie(std::uint64_t seed, real increment, real until, real tolerance, im::factorization kind, const im::increment_options& base) {
+  const sc::tie_scene scene = sc::make_tie({.blocks = 100, .seed = seed});
+  using tie_type = tessera::solver<sc::deformable_blocks, tessera::presets::bonded_faces<tessera::law::study_tie_law>, sc::tie_bar>;
+  using tie_model = im::quasi_static<tessera::zones::linear_elastic_tet, tie_type::law_type, sc::tie_bar>;
+  const std::clock_t cpu = std::clock();
+  tie_type s(scene.prism.tess, scene.prism.mesh, scene.prism.block_material, scene.prism.contact, scene.bar);
+  const sc::tie_ends ends = sc::hold_tie_ends(s, scene);
+  s.bar_nodes().prescribed_velocity(ends.last, 2) = 0.5;  // elongation rate 1 m/s of pseudo-time
+  s.bar_nodes().prescribed_velocity(ends.first, 2) = -0.5;
+  tie_model q(scene.prism.mesh, s.blocks(), s.contacts(), s.gridpoints(), s.reinforcement(), kind);
+  const double build_s = cpu_seconds_since(cpu);
+  im::increment_options o = base;
+  o.force_tolerance = tolerance * scene.hand.cracking_force;
+  const tessera::bc::node_group first{{ends.first}, "first bar end"}, last{{ends.last}, "last bar end"};
+  const auto pull_force = [&] { return 0.5 * (q.bar_reaction_sum(last).z() - q.bar_reaction_sum(first).z()); };
+  std::printf("## RC tie, 100 blocks (seed %llu), implicit (%s factorisation%s%s): N_cr %.5g N, f_y A_s %.5g N, "
+              "K (shear lag) %.5g N/m; increments of %.3g m, tolerance %.3g x N_cr; %lld free dofs, %.2f s to build\n\n"
+              "| elongation (mm) | force (kN) | iterations | factorisations | CPU (s) |\n|---|---|---|---|---|\n",
+              static_cast<unsigned long long>(seed), std::string(im::factorization_name(kind)).c_str(),
+              o.refactor_each_iteration ? ", refactorised" : "", o.line_search ? ", line search" : "", scene.hand.cracking_force, scene.hand.yield_force, scene.hand.bonded_stiffness, increment, tolerance,
+              static_cast<long long>(q.free_dof_count()), build_s);
+  real elongation = 0, k0 = 0, limit_u = 0;
+  int done = 0;
+  bool stopped = false;
+  while (elongation < until * (1 - 1e-12) && !stopped) {
+    real step = std::min(increment, until - elongation);
+    im::increment_result r;
+    for (int halving = 0;; ++halving) {
+      r = q.solve_increment(step, o);
+      if (r.converged || halving == 4) break;
+      step *= 0.5;
+    }
+    if (!r.converged) {
+      std::printf("| %.5f | %.4f | not converged at %.3g m (residual %.3g N) | | %.2f |\n", (elongation + step) * 1e3,
+                  pull_force() * 1e-3, step, r.max_residual, cpu_seconds_since(cpu));
+      stopped = true;
+      break;
+    }
+    elongation += step;
+    if (done++ == 0) {
+      k0 = pull_force() / elongation;
+      limit_u = elastic_limit(q, s, elongation);
+    }
+    if (done % 10 == 0 || elongation >= until * (1 - 1e-12))
+      std::printf("| %.5f | %.4f | %d | %lld | %.2f |\n", elongation * 1e3, pull_force() * 1e-3, r.iterations,
+                  static_cast<long long>(q.counts().factorizations), cpu_seconds_since(cpu));
+    std::fflush(stdout);
+  }
+  const auto& c = q.counts();
+  std::printf("\n- K0 %.5g N/m (%+.2f %% against the shear-lag stiffness); elastic limit at %.4g mm, %.5g N (%.3f N_cr)\n"
+              "- last converged: %.5g mm, %.5g N (%.3f N_cr)%s\n- %lld increments, %lld iterations, %lld factorisations, "
+              "CPU %.2f s (assembly %.2f, factorisation %.2f, solves %.2f, forces %.2f s of wall time)\n",
+              k0, 100 * (k0 / scene.hand.bonded_stiffness - 1), limit_u * 1e3, k0 * limit_u, k0 * limit_u / scene.hand.cracking_force,
+              elongation * 1e3, pull_force(), pull_force() / scene.hand.cracking_force,
+              stopped ? "; stopped at an increment that did not converge" : "", static_cast<long long>(c.increments),
+              static_cast<long long>(c.iterations), static_cast<long long>(c.factorizations), cpu_seconds_since(cpu),
+              c.assembly_s, c.factorization_s, c.solve_s, c.force_s);
+  return 0;
 }
 
 }  // namespace
@@ -107,6 +179,11 @@ int main(int argc, char** argv) {
   cli.option("--tolerance", tolerance, "out-of-balance tolerance per component, x f_T A", "R").within(1e-14, 1e-2);
   cli.option("--max-iterations", max_iterations, "secant iterations per increment", "K").within(1, 10000);
   cli.flag("--no-explicit", no_explicit, "skip the explicit run");
+  bool tie = false;
+  real tie_increment = 5e-6;
+  cli.flag("--tie", tie, "the RC tie, bar ends pulled, instead of the prism (--until: last elongation (m); --tolerance: "
+           "x N_cr)");
+  cli.option("--tie-increment", tie_increment, "with --tie: elongation per increment (m)", "M").within(1e-9, 1e-3);
   cli.option("--factorization", factorization, "sparse factorisation of K_sec: simplicial (Eigen's LDL^T) or supernodal "
              "(CHOLMOD, where built with TESSERA_CHOLMOD)", "simplicial|supernodal").one_of({"simplicial", "supernodal"});
   cli.flag("--through-peak", through_peak, "carry the implicit solve past the elastic limit");
@@ -127,6 +204,14 @@ int main(int argc, char** argv) {
   cli.parse_or_exit(argc, argv);
   try {
     const im::factorization kind = im::parse_factorization(factorization);  // refused before any output
+    if (tie) {
+      im::increment_options o;
+      o.max_iterations = max_iterations;
+      o.refactor_each_iteration = refactor;
+      o.aitken = !no_aitken;
+      o.line_search = line_search;
+      return run_tie(seed, tie_increment, until, tolerance, kind, o);
+    }
     sc::prism_options po;
     po.blocks = blocks;
     po.seed = seed;
