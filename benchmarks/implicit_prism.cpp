@@ -146,13 +146,13 @@ int run_tie(std::uint64_t seed, real increment, real until, real tolerance, im::
   }
   const auto& c = q.counts();
   std::printf("\n- K0 %.5g N/m (%+.2f %% against the shear-lag stiffness); elastic limit at %.4g mm, %.5g N (%.3f N_cr)\n"
-              "- last converged: %.5g mm, %.5g N (%.3f N_cr)%s\n- %lld increments, %lld iterations, %lld factorisations, "
+              "- last converged: %.5g mm, %.5g N (%.3f N_cr)%s\n- %lld increments, %lld iterations, %lld factorisations (%lld symbolic), "
               "CPU %.2f s (assembly %.2f, factorisation %.2f, solves %.2f, forces %.2f s of wall time)\n",
               k0, 100 * (k0 / scene.hand.bonded_stiffness - 1), limit_u * 1e3, k0 * limit_u, k0 * limit_u / scene.hand.cracking_force,
               elongation * 1e3, pull_force(), pull_force() / scene.hand.cracking_force,
               stopped ? "; stopped at an increment that did not converge" : "", static_cast<long long>(c.increments),
-              static_cast<long long>(c.iterations), static_cast<long long>(c.factorizations), cpu_seconds_since(cpu),
-              c.assembly_s, c.factorization_s, c.solve_s, c.force_s);
+              static_cast<long long>(c.iterations), static_cast<long long>(c.factorizations),
+              static_cast<long long>(c.analyses), cpu_seconds_since(cpu), c.assembly_s, c.factorization_s, c.solve_s, c.force_s);
   return 0;
 }
 
