@@ -1931,7 +1931,7 @@ TEST_CASE("implicit: a bar bonded in a held block, pulled at its end, gives the 
     // Nodes on the slip plateau: refactorised secants with the line search (measured: 8-42
     // iterations per increment); one factor per increment with Aitken's steps stalls near the
     // plateau's corner (1.6e-3 N after 200 iterations), Aitken's steps on refactorised secants
-    // diverge (docs/guide.md).
+    // fail in the third increment (docs/guide.md).
     o.max_iterations = 100;
     o.refactor_each_iteration = true;
     o.line_search = true;
