@@ -1,7 +1,8 @@
 // The decomposition by blocks of a distributed run (include/tessera/distributed): the block graph
 // and its refusals, recursive coordinate bisection on regular grids (exact slabs, imbalance 1),
 // METIS against it where METIS is built in, the figures of both on the 100-block prism, and the
-// ownership rules (contact owners, ghosts, bar nodes) on a row of four blocks. No MPI needed.
+// ownership rules (contact owners, ghosts, bar nodes) on a row of four blocks, and a rank's local
+// model (its blocks and their ghosts, in the whole model's order). No MPI needed.
 //
 // Built a second time as test_distributed_mpi where TESSERA_MPI is on (TESSERA_TEST_MPI_MAIN:
 // its own main inside MPI_Init/MPI_Finalize), whose "[mpi]" case runs under mpirun: rank 0
@@ -20,6 +21,7 @@
 
 #include "tessera/contact/face_contacts.hpp"
 #include "tessera/distributed/block_graph.hpp"
+#include "tessera/distributed/local_model.hpp"
 #include "tessera/distributed/ownership.hpp"
 #include "tessera/distributed/partition.hpp"
 #include "tessera/geometry/power_tessellation.hpp"
@@ -240,6 +242,92 @@ TEST_CASE("the 100-block prism's graph and its partitions", "[scene]") {
                   own.owned_blocks(r).size(), own.ghost_blocks(r).size(), own.ghost_gridpoints(r).size(),
                   own.ghost_gridpoints(r).size() * 6 * sizeof(real));
   }
+}
+
+TEST_CASE("a rank's local model is its blocks and their ghosts, numbered in the whole model's order", "[local]") {
+  // Three slabs of the prism by bisection: the bottom and top slabs do not touch, so ranks 0 and
+  // 2 hold none of each other's blocks.
+  const prism p;
+  distributed::block_graph_input in = distributed::blocks_of_mesh(p.mesh);
+  distributed::add_face_subcontacts(in, p.tess, p.mesh);
+  constexpr int ranks = 3;
+  const std::vector<int> map = distributed::partition_blocks_rcb(distributed::block_graph(in), ranks);
+  const contact::face_contacts<spring_law> whole(p.tess, p.mesh, spring_law::params{});
+  index_t owned = 0;
+  for (int r = 0; r < ranks; ++r) {
+    INFO("rank " << r);
+    const distributed::local_model lm(p.tess, p.mesh, map, ranks, r);
+    owned += lm.own_block_count();
+    const auto blocks = lm.global_blocks();
+    CHECK(std::is_sorted(blocks.begin(), blocks.end()));
+    CHECK(std::adjacent_find(blocks.begin(), blocks.end()) == blocks.end());
+    CHECK(std::is_sorted(lm.global_gridpoints().begin(), lm.global_gridpoints().end()));
+    // Held: exactly the own blocks and the blocks that share a face with one.
+    std::vector<char> needed(static_cast<std::size_t>(p.mesh.block_count()), 0);
+    for (index_t b = 0; b < p.mesh.block_count(); ++b) needed[static_cast<std::size_t>(b)] = map[static_cast<std::size_t>(b)] == r;
+    for (const auto& sf : p.tess.shared_faces) {
+      const bool a = map[static_cast<std::size_t>(sf.cell_a)] == r, b = map[static_cast<std::size_t>(sf.cell_b)] == r;
+      if (a || b) needed[static_cast<std::size_t>(sf.cell_a)] = needed[static_cast<std::size_t>(sf.cell_b)] = 1;
+    }
+    CHECK(lm.mesh.block_count() == std::count(needed.begin(), needed.end(), 1));
+    CHECK(lm.mesh.block_count() < p.mesh.block_count());
+    // Every held block is the whole model's block: its gridpoints (bit for bit), zones and faces.
+    index_t bad_gridpoints = 0, bad_zones = 0, bad_faces = 0;
+    for (index_t b = 0; b < lm.mesh.block_count(); ++b) {
+      const index_t B = lm.global_block(b);
+      CHECK(needed[static_cast<std::size_t>(B)] == 1);
+      CHECK(lm.block_rank(b) == map[static_cast<std::size_t>(B)]);
+      const index_t g0 = lm.mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
+      const index_t n = lm.mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1] - g0;
+      REQUIRE(n == p.mesh.block_gridpoint_offsets[static_cast<std::size_t>(B) + 1] - p.mesh.block_gridpoint_offsets[static_cast<std::size_t>(B)]);
+      for (index_t g = g0; g < g0 + n; ++g)
+        bad_gridpoints += lm.mesh.gridpoints[static_cast<std::size_t>(g)] == p.mesh.gridpoints[static_cast<std::size_t>(lm.global_gridpoint(g))] &&
+                                  p.mesh.gridpoint_block[static_cast<std::size_t>(lm.global_gridpoint(g))] == B
+                              ? 0
+                              : 1;
+      bad_faces += lm.tess.end_face(b) - lm.tess.first_face(b) == p.tess.end_face(B) - p.tess.first_face(B) ? 0 : 1;
+    }
+    for (index_t z = 0; z < lm.mesh.zone_count(); ++z)
+      for (int k = 0; k < 4; ++k)
+        bad_zones += lm.global_gridpoint(lm.mesh.zones[static_cast<std::size_t>(z)][static_cast<std::size_t>(k)]) ==
+                             p.mesh.zones[static_cast<std::size_t>(lm.global_zone(z))][static_cast<std::size_t>(k)]
+                         ? 0
+                         : 1;
+    CHECK(bad_gridpoints == 0);
+    CHECK(bad_zones == 0);
+    CHECK(bad_faces == 0);
+    // The local contact set: every sub-contact of an own block, with the whole set's gridpoints
+    // and area, in the whole set's order.
+    const contact::face_contacts<spring_law> local(lm.tess, lm.mesh, spring_law::params{});
+    std::vector<index_t> whole_of;
+    index_t j = 0, bad_area = 0;
+    for (index_t i = 0; i < local.subcontact_count(); ++i) {
+      const index_t a = lm.global_gridpoint(local.node_a(i)), b = lm.global_gridpoint(local.node_b(i));
+      while (j < whole.subcontact_count() && (whole.node_a(j) != a || whole.node_b(j) != b)) ++j;
+      REQUIRE(j < whole.subcontact_count());  // found after the previous one: the same order
+      bad_area += local.area(i) == whole.area(j) ? 0 : 1;
+      whole_of.push_back(j++);
+    }
+    CHECK(bad_area == 0);
+    index_t of_own = 0;
+    for (index_t i = 0; i < whole.subcontact_count(); ++i)
+      of_own += map[static_cast<std::size_t>(whole.block_a(i))] == r || map[static_cast<std::size_t>(whole.block_b(i))] == r;
+    const distributed::rank_ownership own = lm.ownership(local);
+    CHECK(static_cast<index_t>(own.evaluated_contacts(r).size()) == of_own);
+    // Its ownership, in local ids: the ranks it does not touch own no local block, which the
+    // ownership of a whole model refuses.
+    if (r != 1) {
+      CHECK(own.owned_blocks(2 - r).empty());
+      CHECK_THROWS_WITH(distributed::rank_ownership(lm.block_ranks(), ranks, lm.mesh, distributed::contact_pairs_of(local)),
+                        Contains("owns no block"));
+    }
+  }
+  CHECK(owned == p.mesh.block_count());
+  // Refusals, naming the bad value.
+  CHECK_THROWS_WITH(distributed::local_model(p.tess, p.mesh, map, 0, 0), Contains("rank count 0"));
+  CHECK_THROWS_WITH(distributed::local_model(p.tess, p.mesh, map, ranks, 3), Contains("rank 3 is outside 0 .. 2"));
+  CHECK_THROWS_WITH(distributed::local_model(p.tess, p.mesh, std::vector<int>(99, 0), ranks, 0), Contains("99 entries"));
+  CHECK_THROWS_WITH(distributed::local_model(p.tess, p.mesh, std::vector<int>(100, 0), 2, 1), Contains("rank 1 of 2 owns no block"));
 }
 
 TEST_CASE("ownership of sub-contacts, ghosts and bar nodes on a row of four blocks", "[ownership]") {

@@ -93,13 +93,7 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
   constexpr int steps = 600, every = 50;
   index_t compared = 0;
   for (int k = 1; k <= steps; ++k) {
-    set_threads(1);
-    reference.step();
-    for (auto& r : splits) {
-      set_threads(r.threads);
-      r.step->step();
-    }
-    set_threads(1);
+    step_side_by_side(reference, splits);
     if (k % every != 0 && k != 1) continue;
     ++compared;
     const vec3 load_ref = recorders::reaction_sum(reference.gridpoints(), top);
@@ -140,17 +134,7 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
           reference.contacts().subcontact_count());
     // The energy balance, summed over the ranks: one process's to round-off (stepper::summed_energies).
     const energy_balance e = r.step->summed_energies(MPI_COMM_WORLD);
-    const auto relative = [](real a, real b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); };
-    const std::array<std::pair<real, real>, 8> terms{{{e.initial, e_ref.initial},
-                                                      {e.boundary_work, e_ref.boundary_work},
-                                                      {e.damping_dissipated, e_ref.damping_dissipated},
-                                                      {e.kinetic, e_ref.kinetic},
-                                                      {e.block_elastic, e_ref.block_elastic},
-                                                      {e.contact_stored, e_ref.contact_stored},
-                                                      {e.contact_dissipated, e_ref.contact_dissipated},
-                                                      {e.contact_dissipated_tension, e_ref.contact_dissipated_tension}}};
-    real worst = 0;
-    for (const auto& [split_value, one_process] : terms) worst = std::max(worst, relative(split_value, one_process));
+    const real worst = worst_energy_difference(e, e_ref);
     CHECK(worst <= 1e-12);
     CHECK(e_ref.contact_dissipated > 0);  // the comparison includes softening's dissipation
     CHECK(std::abs(e.error_rel() - e_ref.error_rel()) <= 1e-9);
@@ -164,9 +148,7 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
   }
 
   // The run reaches the law's softening: some sub-contacts carry tensile damage.
-  index_t softened = 0;
-  for (index_t i = 0; i < reference.contacts().subcontact_count(); ++i)
-    softened += prism_law::tensile_damage(reference.contacts().subcontact_params(i), reference.contacts().state(i)) > 0;
+  const index_t softened = softened_subcontacts(reference.contacts());
   if (rank == 0)
     std::printf("%lld of %lld sub-contacts softened\n", static_cast<long long>(softened),
                 static_cast<long long>(reference.contacts().subcontact_count()));
@@ -199,35 +181,10 @@ TEST_CASE("the prism pulled on several ranks keeps one process's bits", "[mpi][s
   CHECK_FALSE(same_bits(load_backward, recorders::reaction_sum(reference.gridpoints(), top).z()));
 }
 
-namespace {
-/// The study's tie (examples/common/rc_tie_scene.hpp) on the test prism: one 8 mm bar on the axis
-/// in 96 elements, bonded to the zones; rollers on the concrete end faces; the first bar node
-/// fixed, the last pulled along z.
-using tie_truss = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
-using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<law::study_tie_law>, tie_truss>;
-constexpr real tie_pull_rate = 0.05;  ///< m/s: with dt = 1 us, 50 nm a step (cracks within 2 000 steps)
-constexpr real tie_dt = 1e-6;         ///< s, the tie driver's mass-scaling target
-
-void hold_and_pull_bar(tie_solver& s, real length) {
-  const real tol = 1e-9 * length;
-  s.fix(s.gridpoints_on_plane(2, 0.0, tol), bc::transverse_to(2));
-  s.fix(s.gridpoints_on_plane(2, length, tol), bc::transverse_to(2));
-  const auto [first, end] = s.reinforcement().bar_nodes(0);
-  bc::fix(s.bar_nodes(), bc::node_group{{first}, "fixed bar end"});
-  bc::prescribe_velocity(s.bar_nodes(), bc::node_group{{end - 1}, "pulled bar end"}, vec3(0, 0, tie_pull_rate));
-}
-}  // namespace
-
 TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi][step][bars]") {
   const auto [rank, size] = rank_and_size();
   const prism_scene scene;
-  const auto bar = reinforcement::pulatsu2020::tie_reinforcement(vec3(0.034, 0.034, 0), vec3(0.034, 0.034, scene.length));
-  solver_options options;
-  options.mass_scaling_dt = tie_dt;
-  tie_solver reference(scene.tess, scene.mesh, scene.block, scene.contact, bar, options);
-  tie_solver split(scene.tess, scene.mesh, scene.block, scene.contact, bar, options);
-  hold_and_pull_bar(reference, scene.length);
-  hold_and_pull_bar(split, scene.length);
+  pulled_tie reference(scene), split(scene);
 
   // METIS's map where built in, over the graph with the bar elements' edges.
   distributed::block_graph_input in = distributed::blocks_of_mesh(scene.mesh);
@@ -275,9 +232,7 @@ TEST_CASE("the reinforced tie on several ranks keeps one process's bits", "[mpi]
   CHECK(std::abs(e.reinforcement_dissipated - e_ref.reinforcement_dissipated) <= 1e-12 * e_ref.accounted());
   CHECK(std::abs(e.kinetic - e_ref.kinetic) <= 1e-12 * e_ref.accounted());
   CHECK(std::abs(e.error_rel() - e_ref.error_rel()) <= 1e-9);
-  index_t softened = 0;
-  for (index_t i = 0; i < reference.contacts().subcontact_count(); ++i)
-    softened += prism_law::tensile_damage(reference.contacts().subcontact_params(i), reference.contacts().state(i)) > 0;
+  const index_t softened = softened_subcontacts(reference.contacts());
   CHECK(softened > 0);
   const real bar_force = -reference.bar_nodes().reaction(reference.reinforcement().bar_nodes(0).first, 2);
   if (rank == 0)

@@ -1,9 +1,13 @@
 #pragma once
-// The study's 100-block prism pulled along z, and the bit comparisons, shared by the distributed
-// tests run under mpiexec (test_distributed_step.cpp, test_distributed_gather.cpp).
+// The study's 100-block prism pulled along z (and the tie: the same prism with its bar), and the bit
+// comparisons, shared by the distributed tests run under mpiexec (test_distributed_step.cpp,
+// test_distributed_gather.cpp, test_distributed_local.cpp).
 #include <mpi.h>
 
+#include <algorithm>
+#include <array>
 #include <bit>
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -14,6 +18,7 @@
 #include "tessera/geometry/voronoi.hpp"
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/presets/pulatsu2020.hpp"
+#include "tessera/reinforcement/embedded_truss.hpp"
 #include "tessera/solver.hpp"
 
 namespace split_test {
@@ -64,6 +69,80 @@ struct pulled_prism : prism_solver {
   explicit pulled_prism(const prism_scene& scene)
       : prism_solver(scene.tess, scene.mesh, scene.block, scene.contact, {}, pull_options()) {
     support_and_pull(*this, scene.length);
+  }
+};
+
+/// The study's tie (examples/common/rc_tie_scene.hpp) on the test prism: one 8 mm bar on the axis
+/// in 96 elements, bonded to the zones; rollers on the concrete end faces; the first bar node
+/// fixed, the last pulled along z.
+using tie_truss = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
+using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<law::study_tie_law>, tie_truss>;
+constexpr real tie_pull_rate = 0.05;  ///< m/s: with dt = 1 us, 50 nm a step (cracks within 2 000 steps)
+constexpr real tie_dt = 1e-6;         ///< s, the tie driver's mass-scaling target
+
+/// The tie's bar on the test prism's axis, and its options (masses scaled to tie_dt).
+inline tie_truss::params tie_bar_of(const prism_scene& scene) {
+  return reinforcement::pulatsu2020::tie_reinforcement(vec3(0.034, 0.034, 0), vec3(0.034, 0.034, scene.length));
+}
+inline solver_options tie_options() {
+  solver_options o;
+  o.mass_scaling_dt = tie_dt;
+  return o;
+}
+
+/// One step of `reference` on one thread and of each split (members `threads` and `step`, a
+/// stepper) on its own thread count, side by side; back to one thread after.
+template <class Reference, class Splits>
+void step_side_by_side(Reference& reference, Splits& splits) {
+  set_threads(1);
+  reference.step();
+  for (auto& r : splits) {
+    set_threads(r.threads);
+    r.step->step();
+  }
+  set_threads(1);
+}
+
+/// The largest relative difference between the terms of two energy balances (a split's summed
+/// over the ranks against one process's): initial, boundary and damping work, kinetic, block
+/// elastic, contact stored and dissipated (all, and in tension).
+[[nodiscard]] inline real worst_energy_difference(const energy_balance& e, const energy_balance& ref) {
+  const auto relative = [](real a, real b) { return std::abs(a - b) / std::max(std::abs(b), 1e-300); };
+  const std::array<std::pair<real, real>, 8> terms{{{e.initial, ref.initial},
+                                                    {e.boundary_work, ref.boundary_work},
+                                                    {e.damping_dissipated, ref.damping_dissipated},
+                                                    {e.kinetic, ref.kinetic},
+                                                    {e.block_elastic, ref.block_elastic},
+                                                    {e.contact_stored, ref.contact_stored},
+                                                    {e.contact_dissipated, ref.contact_dissipated},
+                                                    {e.contact_dissipated_tension, ref.contact_dissipated_tension}}};
+  real worst = 0;
+  for (const auto& [split_value, one_process] : terms) worst = std::max(worst, relative(split_value, one_process));
+  return worst;
+}
+
+/// Sub-contacts of `c` with tensile damage: a run that compares bits must reach the softening.
+template <class Contacts>
+[[nodiscard]] index_t softened_subcontacts(const Contacts& c) {
+  index_t n = 0;
+  for (index_t i = 0; i < c.subcontact_count(); ++i) n += prism_law::tensile_damage(c.subcontact_params(i), c.state(i)) > 0;
+  return n;
+}
+
+inline void hold_and_pull_bar(tie_solver& s, real length) {
+  const real tol = 1e-9 * length;
+  s.fix(s.gridpoints_on_plane(2, 0.0, tol), bc::transverse_to(2));
+  s.fix(s.gridpoints_on_plane(2, length, tol), bc::transverse_to(2));
+  const auto [first, end] = s.reinforcement().bar_nodes(0);
+  bc::fix(s.bar_nodes(), bc::node_group{{first}, "fixed bar end"});
+  bc::prescribe_velocity(s.bar_nodes(), bc::node_group{{end - 1}, "pulled bar end"}, vec3(0, 0, tie_pull_rate));
+}
+
+/// The tie solver of `scene` with its bar and options, held and pulled (hold_and_pull_bar).
+struct pulled_tie : tie_solver {
+  explicit pulled_tie(const prism_scene& scene)
+      : tie_solver(scene.tess, scene.mesh, scene.block, scene.contact, tie_bar_of(scene), tie_options()) {
+    hold_and_pull_bar(*this, scene.length);
   }
 };
 

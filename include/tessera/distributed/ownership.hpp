@@ -108,6 +108,30 @@ class rank_ownership {
   rank_ownership(std::span<const int> block_rank, int ranks, const geometry::block_mesh& mesh,
                  std::span<const contact_pair> contacts, std::span<const index_t> bar_node_host = {},
                  std::span<const std::array<index_t, 2>> bar_elements = {})
+      : rank_ownership(whole_model{true, {}}, block_rank, ranks, mesh, contacts, bar_node_host, bar_elements) {}
+
+  /// The ownership of one rank's local model (distributed::local_model::ownership): the same
+  /// rules over the local blocks and sub-contacts, in local ids, except that a rank may own no
+  /// local block (the ranks that are not this rank's neighbours). The other refusals as above.
+  /// With bars, the rank of every bar node is given (`bar_node_rank`, the whole model's rule:
+  /// the rank of its host block there; local_model::bar_node_ranks), since a local mesh may not
+  /// hold a node's host block; `bar_elements` as above.
+  [[nodiscard]] static rank_ownership of_local_model(std::span<const int> block_rank, int ranks,
+                                                     const geometry::block_mesh& mesh,
+                                                     std::span<const contact_pair> contacts,
+                                                     std::span<const int> bar_node_rank = {},
+                                                     std::span<const std::array<index_t, 2>> bar_elements = {}) {
+    return rank_ownership(whole_model{false, bar_node_rank}, block_rank, ranks, mesh, contacts, {}, bar_elements);
+  }
+
+ private:
+  struct whole_model {
+    bool every_rank_owns;
+    std::span<const int> bar_node_rank{};  ///< given ranks of the bar nodes (local models)
+  };
+  rank_ownership(whole_model whole, std::span<const int> block_rank, int ranks, const geometry::block_mesh& mesh,
+                 std::span<const contact_pair> contacts, std::span<const index_t> bar_node_host,
+                 std::span<const std::array<index_t, 2>> bar_elements)
       : ranks_(ranks), block_rank_(block_rank.begin(), block_rank.end()) {
     const index_t blocks = mesh.block_count(), gridpoints = mesh.gridpoint_count();
     require(ranks >= 1, "rank_ownership: rank count ", ranks, " must be >= 1");
@@ -119,7 +143,7 @@ class rank_ownership {
       require(r >= 0 && r < ranks, "rank_ownership: block ", b, " has rank ", r, "; ranks are 0 .. ", ranks - 1);
       ++owned_count[static_cast<std::size_t>(r)];
     }
-    for (int r = 0; r < ranks; ++r)
+    for (int r = 0; r < ranks && whole.every_rank_owns; ++r)
       require(owned_count[static_cast<std::size_t>(r)] > 0, "rank_ownership: rank ", r, " of ", ranks, " owns no block");
     const auto check_node = [&](index_t i, index_t node, index_t block, const char* side) {
       require(block >= 0 && block < blocks, "rank_ownership: sub-contact ", i, " names block ", block, " (", side,
@@ -137,19 +161,24 @@ class rank_ownership {
     for (std::size_t k = 0; k < bar_node_host.size(); ++k)
       require(bar_node_host[k] == invalid_index || (bar_node_host[k] >= 0 && bar_node_host[k] < blocks),
               "rank_ownership: bar node ", k, " has host block ", bar_node_host[k], "; blocks are 0 .. ", blocks - 1);
+    for (std::size_t k = 0; k < whole.bar_node_rank.size(); ++k)
+      require(whole.bar_node_rank[k] >= 0 && whole.bar_node_rank[k] < ranks, "rank_ownership: bar node ", k,
+              " has rank ", whole.bar_node_rank[k], "; ranks are 0 .. ", ranks - 1);
+    const std::size_t bar_nodes = std::max(bar_node_host.size(), whole.bar_node_rank.size());
     for (std::size_t e = 0; e < bar_elements.size(); ++e)
       for (const index_t n : bar_elements[e])
-        require(n >= 0 && n < static_cast<index_t>(bar_node_host.size()), "rank_ownership: bar element ", e,
-                " names bar node ", n, "; there are ", bar_node_host.size(), " bar nodes with hosts");
+        require(n >= 0 && n < static_cast<index_t>(bar_nodes), "rank_ownership: bar element ", e,
+                " names bar node ", n, "; there are ", bar_nodes, " bar nodes with hosts");
 
     // Owned blocks, and the owner of every sub-contact and bar node.
     owned_blocks_ = bucket(blocks, [&](index_t b, auto&& put) { put(rank_of_block(b), b); });
     contact_owner_.resize(contacts.size());
     for (std::size_t i = 0; i < contacts.size(); ++i)
       contact_owner_[i] = rank_of_block(std::min(contacts[i].block_a, contacts[i].block_b));
-    bar_node_rank_.resize(bar_node_host.size());
+    bar_node_rank_.resize(bar_nodes);
     for (std::size_t k = 0; k < bar_node_host.size(); ++k)
       bar_node_rank_[k] = bar_node_host[k] == invalid_index ? 0 : rank_of_block(bar_node_host[k]);
+    for (std::size_t k = 0; k < whole.bar_node_rank.size(); ++k) bar_node_rank_[k] = whole.bar_node_rank[k];
 
     // What each rank evaluates, and its ghosts: one pass per list, each in increasing index.
     evaluated_contacts_ = bucket(static_cast<index_t>(contacts.size()), [&](index_t i, auto&& put) {
@@ -195,6 +224,7 @@ class rank_ownership {
     gridpoint_block_ = mesh.gridpoint_block;
   }
 
+ public:
   [[nodiscard]] int ranks() const { return ranks_; }
   [[nodiscard]] int block_rank(index_t b) const { return rank_of_block(b); }
   [[nodiscard]] int gridpoint_rank(index_t g) const {

@@ -90,6 +90,34 @@ struct split_figures {
   double gather_seconds = 0;             ///< the slowest rank's time gathering (s, all gather_state calls)
 };
 
+/// The block -> rank map of `g` over the ranks of `comm`: cut on rank 0 with `how` (METIS's k-way,
+/// best of ten, or recursive coordinate bisection) and broadcast, so every rank holds the same map
+/// (split_run's, and the one a distributed::local_model is cut with). Throws invalid_input, on
+/// every rank alike, when there are fewer blocks than ranks or for partitioner::metis where METIS
+/// is not built in. Every rank of `comm` must call it.
+[[nodiscard]] inline std::vector<int> broadcast_partition(const block_graph& g, MPI_Comm comm,
+                                                          partitioner how = default_partitioner()) {
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  require(g.block_count() >= ranks, "distributed::broadcast_partition: ", ranks, " ranks for ", g.block_count(),
+          " blocks; every rank needs a block");
+#ifndef TESSERA_HAVE_METIS
+  require(how == partitioner::rcb, "distributed::broadcast_partition: partitioner 'metis' asked for, but METIS is not "
+                                   "built in (CMake TESSERA_METIS); use partitioner::rcb");
+#endif
+  std::vector<int> map(static_cast<std::size_t>(g.block_count()), 0);
+  if (rank == 0) {
+#ifdef TESSERA_HAVE_METIS
+    map = how == partitioner::metis ? partition_blocks_metis(g, ranks) : partition_blocks_rcb(g, ranks);
+#else
+    map = partition_blocks_rcb(g, ranks);
+#endif
+  }
+  MPI_Bcast(map.data(), static_cast<int>(map.size()), MPI_INT, 0, comm);
+  return map;
+}
+
 template <class Solver>
 class split_run {
  public:
@@ -222,23 +250,7 @@ class split_run {
     return block_graph(in);
   }
   [[nodiscard]] static std::vector<int> partition(const block_graph& g, MPI_Comm comm, partitioner how) {
-    int rank = 0;
-    MPI_Comm_rank(comm, &rank);
-    const int ranks = ranks_of(comm);
-    require(g.block_count() >= ranks, "distributed::split_run: ", ranks, " ranks for ", g.block_count(),
-            " blocks; every rank needs a block");
-    std::vector<int> map(static_cast<std::size_t>(g.block_count()), 0);
-    if (rank == 0) {
-#ifdef TESSERA_HAVE_METIS
-      map = how == partitioner::metis ? partition_blocks_metis(g, ranks) : partition_blocks_rcb(g, ranks);
-#else
-      require(how == partitioner::rcb, "distributed::split_run: partitioner 'metis' asked for, but METIS is not "
-                                       "built in (CMake TESSERA_METIS); use partitioner::rcb");
-      map = partition_blocks_rcb(g, ranks);
-#endif
-    }
-    MPI_Bcast(map.data(), static_cast<int>(map.size()), MPI_INT, 0, comm);
-    return map;
+    return broadcast_partition(g, comm, how);
   }
   [[nodiscard]] static rank_ownership make_ownership(const std::vector<int>& map, int ranks,
                                                      const geometry::block_mesh& mesh, const Solver& s) {

@@ -71,6 +71,12 @@ class embedded_truss {
     reinforcement::steel steel;     ///< bar material and diameter (shared by all bars)
     typename Bond::params bond;     ///< bond law parameters
     std::vector<bar> bars;          ///< bar geometry and discretisation
+    /// Which nodes of bonded bars look for a host in this mesh: empty = all of them (a node
+    /// outside every zone is refused); otherwise one flag per bar node, in discretisation order,
+    /// and only flagged nodes are hosted (each must find a zone), the rest left without a host or
+    /// bond here. For a rank's local model, whose mesh holds part of the concrete: its bar nodes'
+    /// bonds are evaluated by their own ranks (distributed::local_model::bar_params sets it).
+    std::vector<char> hosted_nodes{};
   };
   static constexpr bool enabled = true;
 
@@ -376,10 +382,14 @@ class embedded_truss {
       require(gridpoints.size() == mesh.gridpoint_count(), "embedded_truss: the gridpoint node_set has ",
               gridpoints.size(), " nodes but the block mesh has ", mesh.gridpoint_count(), " gridpoints");
       require(mesh.zone_count() > 0, "embedded_truss: bonded bars need a host, but the block mesh has no zones");
+      require(p.hosted_nodes.empty() || static_cast<index_t>(p.hosted_nodes.size()) == n_nodes,
+              "embedded_truss: hosted_nodes has ", p.hosted_nodes.size(), " flags for the bars' ", n_nodes,
+              " nodes (give one per node, or none to host every node of a bonded bar)");
       const zone_locator locator(mesh.gridpoints, mesh.zones);
       for (index_t n = 0; n < n_nodes; ++n) {
         const index_t b = node_bar_[static_cast<std::size_t>(n)];
         if (!p.bars[static_cast<std::size_t>(b)].bonded) continue;
+        if (!p.hosted_nodes.empty() && p.hosted_nodes[static_cast<std::size_t>(n)] == 0) continue;
         const vec3 x = d.nodes[static_cast<std::size_t>(n)];
         const std::optional<host_point> host = locator.locate(x);
         require(host.has_value(), "embedded_truss: bar ", b, " node ", n - bar_node_offsets_[static_cast<std::size_t>(b)],
