@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -37,6 +38,7 @@
 #include "common/scenes.hpp"
 #include "tessera/distributed/block_graph.hpp"
 #include "tessera/distributed/local_model.hpp"
+#include "tessera/distributed/local_vtk.hpp"
 #include "tessera/distributed/split_run.hpp"
 #include "tessera/distributed/stepper.hpp"
 #include "tessera/presets.hpp"
@@ -76,7 +78,7 @@ struct setup {
   int blocks = 10000, steps = 200, threads = 1;
   index_t elements = 192;
   std::uint64_t seed = 1;
-  std::string scene = "prism", storage = "local", how;
+  std::string scene = "prism", storage = "local", how, vtk;
 };
 
 /// The whole scene: the prism, or the tie (the prism with its bar).
@@ -160,6 +162,7 @@ int measure(const setup& o, std::unique_ptr<whole_scene> scene, long scene_kb, i
     for (int k = 0; k < o.steps; ++k) step.step();
   step.finish_exchange();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (!o.vtk.empty()) distributed::write_zones_pvtu(o.vtk, *lm, *s, MPI_COMM_WORLD);
   // The load: the pulled face's reactions summed over the ranks (prism), or the pulled bar end's
   // reaction, read on its rank (tie).
   real load = 0;
@@ -221,12 +224,16 @@ int run(int argc, char** argv) {
              "local|whole|solver")
       .one_of({"local", "whole", "solver"});
   cli.option("--partitioner", o.how, "how the blocks are cut", "metis|rcb").one_of({"metis", "rcb"});
+  cli.option("--vtk", o.vtk, "with --storage local: write the zones after the steps as FILE.pvtu, one piece a rank",
+             "FILE.pvtu");
   cli.parse_or_exit(argc, argv);
   int rank = 0, ranks = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   set_threads(o.threads);
   require(o.storage != "solver" || ranks == 1, "split_storage: --storage solver is one process, not ", ranks, " ranks");
+  require(o.vtk.empty() || (o.storage == "local" && std::filesystem::path(o.vtk).extension() == ".pvtu"),
+          "split_storage: --vtk '", o.vtk, "' needs --storage local and a name ending in .pvtu");
   const long before_scene_kb = resident_kb();
   auto scene = std::make_unique<whole_scene>();
   if (o.scene == "tie") {

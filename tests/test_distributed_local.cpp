@@ -7,7 +7,9 @@
 // reactions of its own gridpoints, the law state of every sub-contact it evaluates and the platen
 // load summed over the ranks (local_model::reaction_sum), with a whole model stepped by
 // solver::step on the same rank. It also checks that the local model is smaller than the whole
-// (the point of it) and that ranks whose automatic time steps differ are refused. A second case
+// (the point of it), that the zones written as a parallel VTK dataset (distributed::write_zones_pvtu)
+// hold every gridpoint once with one process's displacement, and that ranks whose automatic time
+// steps differ are refused. A second case
 // runs test_distributed_step's reinforced tie the same way: every rank keeps every bar node and
 // hosts the bonds of its own ones only.
 #include <catch2/catch.hpp>
@@ -21,8 +23,11 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <string>
 #include <memory>
 #include <utility>
@@ -30,6 +35,7 @@
 
 #include "tessera/distributed/block_graph.hpp"
 #include "tessera/distributed/local_model.hpp"
+#include "tessera/distributed/local_vtk.hpp"
 #include "tessera/distributed/ownership.hpp"
 #include "tessera/distributed/stepper.hpp"
 #include "tessera/io/checkpoint.hpp"
@@ -66,6 +72,16 @@ index_t differing_local_rows(const soa3& rows, const soa3& ref, const distribute
     n += same ? 0 : 1;
   }
   return n;
+}
+/// The numbers of the ascii DataArray `name` of a VTK XML file's text.
+std::vector<double> ascii_array(const std::string& text, const std::string& name) {
+  const std::size_t at = text.find("Name=\"" + name + "\"");
+  REQUIRE(at != std::string::npos);
+  const std::size_t begin = text.find('>', at) + 1, end = text.find("</DataArray>", begin);
+  std::istringstream in(text.substr(begin, end - begin));
+  std::vector<double> values;
+  for (double v = 0; in >> v;) values.push_back(v);
+  return values;
 }
 }  // namespace
 
@@ -160,6 +176,11 @@ TEST_CASE("a split run on local models keeps one process's bits", "[mpi][step][l
     }
   }
   const energy_balance e_ref = reference.energies();
+  long long id = static_cast<long long>(::getpid());
+  MPI_Bcast(&id, 1, MPI_LONG_LONG, 0, MPI_COMM_WORLD);
+  const std::filesystem::path folder = std::filesystem::temp_directory_path() / ("tessera_pvtu_" + std::to_string(id));
+  if (rank == 0) std::filesystem::create_directories(folder);
+  MPI_Barrier(MPI_COMM_WORLD);
   const index_t softened = softened_subcontacts(reference.contacts());
   CHECK(softened > 0);  // the comparison covers the law's softening branch
   for (auto& r : splits) {
@@ -182,6 +203,34 @@ TEST_CASE("a split run on local models keeps one process's bits", "[mpi][step][l
     const energy_balance e = r.step->summed_energies(MPI_COMM_WORLD);
     const real worst = worst_energy_difference(e, e_ref);
     CHECK(worst <= 1e-12);
+    // The zones as a parallel VTK dataset, each rank its own blocks' piece (ascii, exact round
+    // trip): every gridpoint of the whole model in exactly one piece, with one process's
+    // displacement bits, and every zone once.
+    const std::filesystem::path pvtu = folder / (std::string(r.name) + "_zones.pvtu");
+    distributed::write_zones_pvtu(pvtu, *r.model, *r.solver, MPI_COMM_WORLD, io::vtk::format::ascii);
+    if (rank == 0) {
+      std::ifstream index(pvtu);
+      const std::string listing((std::istreambuf_iterator<char>(index)), std::istreambuf_iterator<char>());
+      std::vector<int> seen(static_cast<std::size_t>(scene.mesh.gridpoint_count()), 0);
+      index_t bad_displacement = 0, cells = 0;
+      for (int q = 0; q < size; ++q) {
+        CHECK(listing.find(distributed::pvtu_piece(pvtu, q).filename().string()) != std::string::npos);
+        std::ifstream piece(distributed::pvtu_piece(pvtu, q));
+        const std::string text((std::istreambuf_iterator<char>(piece)), std::istreambuf_iterator<char>());
+        const std::vector<double> ids = ascii_array(text, "gridpoint"), u = ascii_array(text, "displacement");
+        REQUIRE(u.size() == 3 * ids.size());
+        for (std::size_t k = 0; k < ids.size(); ++k) {
+          const auto g = static_cast<index_t>(ids[k]);
+          ++seen[static_cast<std::size_t>(g)];
+          for (int c = 0; c < 3; ++c)
+            bad_displacement += same_bits(u[3 * k + static_cast<std::size_t>(c)], reference.gridpoints().displacement(g, c)) ? 0 : 1;
+        }
+        cells += static_cast<index_t>(ascii_array(text, "block").size());
+      }
+      CHECK(std::count(seen.begin(), seen.end(), 1) == scene.mesh.gridpoint_count());
+      CHECK(bad_displacement == 0);
+      CHECK(cells == scene.mesh.zone_count());
+    }
     if (rank == 0)
       std::printf("local %s on %d ranks x %d threads: rank 0 holds %lld of %lld blocks (%lld own), %lld of %lld "
                   "gridpoints, %lld of %lld zones; energy terms within %.3g of one process's\n",
@@ -192,6 +241,8 @@ TEST_CASE("a split run on local models keeps one process's bits", "[mpi][step][l
                   static_cast<long long>(r.model->mesh.zone_count()), static_cast<long long>(scene.mesh.zone_count()),
                   worst);
   }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank == 0) std::filesystem::remove_all(folder);
 }
 
 TEST_CASE("the reinforced tie on local models keeps one process's bits", "[mpi][step][local][bars]") {

@@ -38,8 +38,8 @@
 // may hold none of a support's).
 // Covered: deformable blocks bonded by face_contacts, embedded bars (every rank keeps every bar
 // node; a node's bond lives on the rank of its host block, the only one that hosts it: bar_params),
-// gravity, supports. Not yet: applied forces computed from the whole state (a platen's), detected
-// contacts and rigid blocks.
+// gravity, supports, checkpoints per rank, output per rank (distributed/local_vtk.hpp). Not yet:
+// applied forces computed from the whole state (a platen's), detected contacts and rigid blocks.
 
 #include <algorithm>
 #include <cmath>
