@@ -58,7 +58,7 @@ struct local_split {
   std::unique_ptr<distributed::rank_ownership> own;
   std::unique_ptr<distributed::stepper<prism_solver>> step;
   std::vector<index_t> global_contact;
-  index_t bad_u = 0, bad_v = 0, bad_reaction = 0, bad_state = 0, bad_load = 0;
+  index_t bad_u = 0, bad_v = 0, bad_reaction = 0, bad_state = 0, bad_load = 0, bad_sample = 0;
 };
 
 /// Rows `which` (local ids) of `rows` whose bits differ from `ref`'s rows at their global ids.
@@ -170,6 +170,16 @@ TEST_CASE("a split run on local models keeps one process's bits", "[mpi][step][l
       const bc::node_group top = lm.gridpoints_on_plane(gp, 2, scene.length, 1e-9 * scene.length, MPI_COMM_WORLD);
       const vec3 load = lm.reaction_sum(gp, top, MPI_COMM_WORLD);
       r.bad_load += same_bits(load.x(), load_ref.x()) && same_bits(load.y(), load_ref.y()) && same_bits(load.z(), load_ref.z()) ? 0 : 1;
+      // The other samples by reduction: the platen's mean displacement (bits) and the unbalanced
+      // force (its largest and where, bits; its mean to round-off).
+      const vec3 u_top = lm.mean_displacement(gp, top, MPI_COMM_WORLD);
+      const vec3 u_top_ref = recorders::mean_displacement(reference.gridpoints(), top_ref);
+      const out_of_balance ub = lm.unbalanced_force(*r.solver, MPI_COMM_WORLD), ub_ref = reference.unbalanced_force();
+      r.bad_sample += same_bits(u_top.z(), u_top_ref.z()) && same_bits(u_top.x(), u_top_ref.x()) &&
+                              same_bits(ub.max_force, ub_ref.max_force) && ub.max_node == ub_ref.max_node &&
+                              ub.nodes == ub_ref.nodes && std::abs(ub.mean_force - ub_ref.mean_force) <= 1e-12 * ub_ref.mean_force
+                          ? 0
+                          : 1;
       if (rank == 0 && k % 200 == 0)
         std::printf("step %d, local %s: platen load %.6f kN (one process %.6f kN)\n", k, r.name, load.z() * 1e-3,
                     load_ref.z() * 1e-3);
@@ -187,8 +197,8 @@ TEST_CASE("a split run on local models keeps one process's bits", "[mpi][step][l
     INFO(r.name << " on local models, " << size << " ranks, rank " << rank);
     CHECK(r.solver->step_count() == reference.step_count());
     // Every comparison, through the local -> global maps: u, v, reactions, contact states, load.
-    const std::array<index_t, 5> bad{r.bad_u, r.bad_v, r.bad_reaction, r.bad_state, r.bad_load};
-    CHECK(bad == std::array<index_t, 5>{});
+    const std::array<index_t, 6> bad{r.bad_u, r.bad_v, r.bad_reaction, r.bad_state, r.bad_load, r.bad_sample};
+    CHECK(bad == std::array<index_t, 6>{});
     // The ghosts hold their owners' bits once the last exchange is complete.
     r.step->finish_exchange();
     const auto ghosts = r.own->ghost_gridpoints(rank);
@@ -315,6 +325,13 @@ TEST_CASE("the reinforced tie on local models keeps one process's bits", "[mpi][
   INFO("rank " << rank << " of " << size);
   CHECK(bad_gridpoints == 0);
   CHECK(bad_bar_nodes == 0);
+  // The unbalanced force over gridpoints and bar nodes, reduced over the ranks (bar nodes after
+  // every gridpoint, as one process labels them).
+  const out_of_balance ub = lm.unbalanced_force(s, MPI_COMM_WORLD), ub_ref = reference.unbalanced_force();
+  CHECK(same_bits(ub.max_force, ub_ref.max_force));
+  CHECK(ub.max_node == ub_ref.max_node);
+  CHECK(ub.nodes == ub_ref.nodes);
+  CHECK(ub.mean_force == Approx(ub_ref.mean_force).epsilon(1e-12));
   step.finish_exchange();
   const auto ghost_bars = own.ghost_bar_nodes(rank);
   const std::vector<index_t> ghost_bar_list(ghost_bars.begin(), ghost_bars.end());

@@ -42,11 +42,13 @@
 // applied forces computed from the whole state (a platen's), detected contacts and rigid blocks.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "../core/errors.hpp"
@@ -56,6 +58,7 @@
 #include "../geometry/tessellation.hpp"
 #include "../reinforcement/bar.hpp"
 #include "../reinforcement/embedding.hpp"
+#include "../solver/balance.hpp"
 #include "../solver/boundary.hpp"
 #include "ownership.hpp"
 
@@ -245,28 +248,49 @@ class local_model {
   /// rank gets the same bits, one process's. Every rank of `comm` must call it. Allocates (a
   /// sampling call).
   [[nodiscard]] vec3 reaction_sum(const node_set& gridpoints, const bc::node_group& group, MPI_Comm comm) const {
-    std::vector<double> mine;  // (global id, x, y, z) per own gridpoint of the group
-    for (const index_t g : group.nodes) {
-      require(g >= 0 && g < mesh.gridpoint_count(), "local_model::reaction_sum: gridpoint ", g, " is outside 0 .. ",
-              mesh.gridpoint_count() - 1);
-      if (!owns_gridpoint(g)) continue;
-      mine.push_back(static_cast<double>(global_gridpoint(g)));
-      for (int c = 0; c < 3; ++c) mine.push_back(gridpoints.reaction(g, c));
+    return ordered_sum(gridpoints.reaction, group, comm, "reaction_sum").first;
+  }
+  /// The mean displacement (m) of `group` over all ranks, as recorders::mean_displacement on the
+  /// whole group (summed in increasing global id, divided by the group's size over the ranks):
+  /// one process's bits. Every rank of `comm` must call it.
+  [[nodiscard]] vec3 mean_displacement(const node_set& gridpoints, const bc::node_group& group, MPI_Comm comm) const {
+    const auto [sum, count] = ordered_sum(gridpoints.displacement, group, comm, "mean_displacement");
+    return count == 0 ? sum : vec3(sum / static_cast<real>(count));
+  }
+  /// The unbalanced force of the last step (solver::unbalanced_force) over the own gridpoints and,
+  /// with bars, the own bar nodes of every rank: max_force and max_node (the whole model's label:
+  /// gridpoint id, or gridpoint count + bar node) are one process's, to the bit (the largest, the
+  /// first in id order on a tie); mean_force is one process's to round-off (the ranks' means
+  /// weighted by their node counts); nodes is exact. `s` must be stepped by a distributed::stepper
+  /// (its ghosts' forces are not the model's and are left out). Every rank of `comm` must call it.
+  template <class Solver>
+  [[nodiscard]] out_of_balance unbalanced_force(const Solver& s, MPI_Comm comm) const {
+    out_of_balance mine;
+    const node_set& gp = s.gridpoints();
+    for (index_t g = 0; g < gp.size(); ++g)
+      if (owns_gridpoint(g)) mine.add(gp, g, global_gridpoint(g));
+    if constexpr (Solver::reinforcement_type::enabled)
+      for (index_t n = 0; n < s.bar_nodes().size(); ++n)
+        if (bar_node_rank_[at(n)] == rank_) mine.add(s.bar_nodes(), n, global_gridpoint_count_ + n);
+    // Largest force first, then the smallest label: (max, -label) compared lexicographically.
+    std::array<double, 4> local{mine.max_node < 0 ? -1.0 : mine.max_force, -static_cast<double>(mine.max_node),
+                                mine.mean_force * static_cast<double>(mine.nodes), static_cast<double>(mine.nodes)};
+    std::vector<double> all(4 * at(ranks_));
+    MPI_Allgather(local.data(), 4, MPI_DOUBLE, all.data(), 4, MPI_DOUBLE, comm);
+    out_of_balance b;
+    double weighted = 0;
+    for (int r = 0; r < ranks_; ++r) {
+      const double* x = &all[4 * at(r)];
+      const bool better = x[3] > 0 && (b.max_node < 0 || x[0] > b.max_force || (x[0] == b.max_force && -x[1] < b.max_node));
+      if (better) {
+        b.max_force = x[0];
+        b.max_node = static_cast<index_t>(-x[1]);
+      }
+      weighted += x[2];
+      b.nodes += static_cast<index_t>(x[3]);
     }
-    int size = 1;
-    MPI_Comm_size(comm, &size);
-    std::vector<int> counts(at(size)), offsets(at(size) + 1, 0);
-    const int n = static_cast<int>(mine.size());
-    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
-    for (int r = 0; r < size; ++r) offsets[at(r) + 1] = offsets[at(r)] + counts[at(r)];
-    std::vector<double> all(at(offsets.back()));
-    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
-    std::vector<std::size_t> rows(all.size() / 4);
-    for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = k;
-    std::sort(rows.begin(), rows.end(), [&](std::size_t a, std::size_t b) { return all[4 * a] < all[4 * b]; });
-    vec3 sum = vec3::Zero();
-    for (const std::size_t k : rows) sum += vec3(all[4 * k + 1], all[4 * k + 2], all[4 * k + 3]);
-    return sum;
+    b.mean_force = b.nodes > 0 ? weighted / static_cast<double>(b.nodes) : 0;
+    return b;
   }
 #endif
 
@@ -275,6 +299,34 @@ class local_model {
   [[nodiscard]] static std::size_t at(I i) {
     return static_cast<std::size_t>(i);
   }
+
+#ifdef TESSERA_HAVE_MPI
+  /// The rows of `rows` (N x 3) of the own gridpoints of `group`, gathered from every rank and
+  /// summed in increasing global id, and how many there were over the ranks.
+  [[nodiscard]] std::pair<vec3, index_t> ordered_sum(const soa3& rows, const bc::node_group& group, MPI_Comm comm,
+                                                     const char* who) const {
+    std::vector<double> mine;  // (global id, x, y, z) per own gridpoint of the group
+    for (const index_t g : group.nodes) {
+      require(g >= 0 && g < mesh.gridpoint_count(), "local_model::", who, ": gridpoint ", g, " is outside 0 .. ",
+              mesh.gridpoint_count() - 1);
+      if (!owns_gridpoint(g)) continue;
+      mine.push_back(static_cast<double>(global_gridpoint(g)));
+      for (int c = 0; c < 3; ++c) mine.push_back(rows(g, c));
+    }
+    std::vector<int> counts(at(ranks_)), offsets(at(ranks_) + 1, 0);
+    const int n = static_cast<int>(mine.size());
+    MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+    for (int r = 0; r < ranks_; ++r) offsets[at(r) + 1] = offsets[at(r)] + counts[at(r)];
+    std::vector<double> all(at(offsets.back()));
+    MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm);
+    std::vector<std::size_t> order(all.size() / 4);
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return all[4 * a] < all[4 * b]; });
+    vec3 sum = vec3::Zero();
+    for (const std::size_t k : order) sum += vec3(all[4 * k + 1], all[4 * k + 2], all[4 * k + 3]);
+    return {sum, static_cast<index_t>(order.size())};
+  }
+#endif
 
   /// bar_node_rank_: the rank of each bar node's host block in the whole mesh (the rule of
   /// distributed::bar_node_host_blocks), found with the truss's own locator.
