@@ -41,9 +41,10 @@ namespace tessera::distributed {
 /// Writes the zones of this rank's own blocks of `lm` (solver `s` built on it: its gridpoints'
 /// displacements and, for deformable blocks, its zone stresses, current after the last step) as
 /// piece pvtu_piece(pvtu, rank), then, on rank 0, `pvtu` (file comment). Every rank of `comm` must
-/// call it. Throws invalid_input (every rank alike) when `pvtu` does not end in .pvtu, and io_error
-/// on every rank, naming the ranks whose files failed, when any rank could not write (the .pvtu is
-/// then not written). O(own zones and gridpoints); allocates the piece.
+/// call it. The folder must exist (io::ensure_directory on one rank, then a barrier). Throws
+/// invalid_input (every rank alike) when `pvtu` does not end in .pvtu, and io_error on every rank,
+/// naming the ranks whose files failed, when any rank could not write (a missing folder, a full
+/// disk; the .pvtu is then not written). O(own zones and gridpoints); allocates the piece.
 template <class Solver>
 void write_zones_pvtu(const std::filesystem::path& pvtu, const local_model& lm, const Solver& s, MPI_Comm comm,
                       io::vtk::format fmt = io::vtk::format::binary) {
