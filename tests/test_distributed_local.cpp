@@ -406,6 +406,14 @@ TEST_CASE("a run on local models saved per rank restarts to the same bits", "[mp
     bad += differing_rows(restarted->gridpoints().*m, run->gridpoints().*m, step.own_gridpoints());
   CHECK(bad == 0);
   CHECK(differing_states(restarted->contacts(), run->contacts(), own.evaluated_contacts(rank)) == 0);
+  // Output refusals: a name that is not .pvtu (every rank alike), and a missing folder, which
+  // fails every rank's piece: every rank throws and no .pvtu appears.
+  CHECK_THROWS_WITH(distributed::write_zones_pvtu(folder / "zones.vtu", lm, *run, MPI_COMM_WORLD),
+                    Catch::Matchers::Contains("must end in .pvtu"));
+  const std::filesystem::path nowhere = folder / "no_such_folder" / "zones.pvtu";
+  CHECK_THROWS_WITH(distributed::write_zones_pvtu(nowhere, lm, *run, MPI_COMM_WORLD),
+                    Catch::Matchers::Contains("a piece failed on rank(s) 0"));
+  CHECK_FALSE(std::filesystem::exists(nowhere));
   // The non-finite check names the whole model's gridpoint, on every rank.
   CHECK_NOTHROW(lm.check_finite(*restarted, MPI_COMM_WORLD));
   long long victim = 0;
