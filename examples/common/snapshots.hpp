@@ -42,7 +42,7 @@ class bar_snapshots {
     // Zones with displacement and stress (empty for rigid blocks).
     std::vector<vtk::sym_tensor> stress;
     const auto& zs = s.blocks().zone_stress();
-    for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back({zs(z, 0), zs(z, 1), zs(z, 2), zs(z, 5), zs(z, 3), zs(z, 4)});
+    for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back(vtk::voigt_row_to_sym_tensor(zs, z));
     vtk::zone_fields fields;
     fields.displacement = &s.gridpoints().displacement;
     fields.stress = stress;

@@ -75,7 +75,7 @@ void write_zones_vtu(const fs::path& path, const scenes::prism_scene& scene, con
   std::vector<tessera::io::vtk::sym_tensor> stress;
   const auto& zs = s.zone_stress;
   stress.reserve(static_cast<std::size_t>(zs.rows()));
-  for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back({zs(z, 0), zs(z, 1), zs(z, 2), zs(z, 5), zs(z, 3), zs(z, 4)});
+  for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back(tessera::io::vtk::voigt_row_to_sym_tensor(zs, z));
   tessera::io::vtk::zone_fields fields;
   fields.displacement = &s.gridpoint_displacement;
   fields.stress = stress;

@@ -58,6 +58,11 @@ using sym_tensor = std::array<real, 6>;
 [[nodiscard]] inline sym_tensor to_sym_tensor(const mat3& s) {
   return {s(0, 0), s(1, 1), s(2, 2), s(0, 1), s(1, 2), s(0, 2)};
 }
+/// Row z of a matrix of Voigt rows (xx yy zz yz zx xy: a zone_stress_matrix, Pa) in VTK's order.
+template <class VoigtRows>
+[[nodiscard]] sym_tensor voigt_row_to_sym_tensor(const VoigtRows& rows, Eigen::Index z) {
+  return {rows(z, 0), rows(z, 1), rows(z, 2), rows(z, 5), rows(z, 3), rows(z, 4)};
+}
 
 enum class format { ascii, binary };
 
