@@ -107,6 +107,21 @@ void add_subcontacts(block_graph_input& in, const Contacts& contacts) {
   }
 }
 
+/// The owner rule's fill for bar nodes without a host (`host[k]` invalid_index, `bar_of(k)` the
+/// bar of node k; nodes of one bar consecutive, as embedded_truss numbers them): each takes the
+/// host of the nearest hosted node before it on its bar, else after it; a bar with no hosted node
+/// keeps invalid_index. Shared by bar_node_host_blocks and distributed::local_model.
+template <class BarOf>
+void fill_unhosted_bar_nodes(std::vector<index_t>& host, BarOf&& bar_of) {
+  const auto n = static_cast<index_t>(host.size());
+  for (index_t k = 1; k < n; ++k)
+    if (host[static_cast<std::size_t>(k)] == invalid_index && bar_of(k) == bar_of(k - 1))
+      host[static_cast<std::size_t>(k)] = host[static_cast<std::size_t>(k - 1)];
+  for (index_t k = n - 2; k >= 0; --k)
+    if (host[static_cast<std::size_t>(k)] == invalid_index && bar_of(k) == bar_of(k + 1))
+      host[static_cast<std::size_t>(k)] = host[static_cast<std::size_t>(k + 1)];
+}
+
 /// The block hosting each bar node of an embedded reinforcement (reinforcement::embedded_truss:
 /// host(n).zone, node_bar(n), element_node_a/b): the block of its host zone; a node outside the
 /// concrete (unbonded) takes the host block of the nearest bonded node before it on its bar, else
@@ -120,13 +135,7 @@ template <class Truss>
     const index_t z = truss.host(k).zone;
     if (z != invalid_index) host[static_cast<std::size_t>(k)] = mesh.zone_block[static_cast<std::size_t>(z)];
   }
-  // Nodes of one bar are consecutive (embedded_truss::bar_nodes): fill forward, then backward.
-  for (index_t k = 1; k < n; ++k)
-    if (host[static_cast<std::size_t>(k)] == invalid_index && truss.node_bar(k) == truss.node_bar(k - 1))
-      host[static_cast<std::size_t>(k)] = host[static_cast<std::size_t>(k - 1)];
-  for (index_t k = n - 2; k >= 0; --k)
-    if (host[static_cast<std::size_t>(k)] == invalid_index && truss.node_bar(k) == truss.node_bar(k + 1))
-      host[static_cast<std::size_t>(k)] = host[static_cast<std::size_t>(k + 1)];
+  fill_unhosted_bar_nodes(host, [&](index_t k) { return truss.node_bar(k); });
   return host;
 }
 

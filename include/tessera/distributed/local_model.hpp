@@ -45,7 +45,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <optional>
 #include <span>
 #include <utility>
@@ -60,10 +59,13 @@
 #include "../reinforcement/embedding.hpp"
 #include "../solver/balance.hpp"
 #include "../solver/boundary.hpp"
+#include "block_graph.hpp"
 #include "ownership.hpp"
 
 #ifdef TESSERA_HAVE_MPI
 #include <mpi.h>
+
+#include "detail/non_finite.hpp"
 #endif
 
 namespace tessera::distributed {
@@ -226,19 +228,15 @@ class local_model {
     const auto bad = [](const node_set& n, index_t i) {
       return !n.displacement.row(i).allFinite() || !n.velocity.row(i).allFinite();
     };
-    long long mine = std::numeric_limits<long long>::max(), worst = 0;
-    for (index_t g = 0; g < gp.size() && mine == std::numeric_limits<long long>::max(); ++g)
+    long long mine = detail::all_finite;
+    for (index_t g = 0; g < gp.size() && mine == detail::all_finite; ++g)
       if (owns_gridpoint(g) && bad(gp, g)) mine = global_gridpoint(g);
     if constexpr (Solver::reinforcement_type::enabled)
-      for (index_t n = 0; n < s.bar_nodes().size() && mine == std::numeric_limits<long long>::max(); ++n)
+      for (index_t n = 0; n < s.bar_nodes().size() && mine == detail::all_finite; ++n)
         if (bar_node_rank_[at(n)] == rank_ && bad(s.bar_nodes(), n)) mine = global_gridpoint_count_ + n;
-    MPI_Allreduce(&mine, &worst, 1, MPI_LONG_LONG, MPI_MIN, comm);
-    if (worst == std::numeric_limits<long long>::max()) return;
-    const bool gridpoint = worst < global_gridpoint_count_;
-    throw numerical_instability(tessera::detail::concat(
-        "numerical instability at step ", s.step_count(), " (t = ", s.time(), " s): non-finite displacement or velocity at ",
-        gridpoint ? "gridpoint " : "bar node ", gridpoint ? worst : worst - global_gridpoint_count_,
-        " (whole-model id; a run on local models over ", ranks_, " ranks)"));
+    detail::throw_first_non_finite(mine, global_gridpoint_count_, s.step_count(), s.time(),
+                                   tessera::detail::concat("whole-model id; a run on local models over ", ranks_, " ranks"),
+                                   comm);
   }
 
   /// The sum of the support reactions (N) of `group` (local ids, as the solver's supports give:
@@ -329,7 +327,7 @@ class local_model {
 #endif
 
   /// bar_node_rank_: the rank of each bar node's host block in the whole mesh (the rule of
-  /// distributed::bar_node_host_blocks), found with the truss's own locator.
+  /// distributed::bar_node_host_blocks, its fill shared), found with the truss's own locator.
   void rank_bar_nodes(const geometry::block_mesh& w, std::span<const int> block_rank,
                       const std::vector<reinforcement::bar>& bars) {
     const reinforcement::bar_discretisation d = reinforcement::discretise_bars(bars);
@@ -345,10 +343,7 @@ class local_model {
               reinforcement::detail::point_string(d.nodes[at(k)]), " m lies outside every zone of the block mesh");
       host[at(k)] = w.zone_block[at(h->zone)];
     }
-    for (index_t k = 1; k < n; ++k)
-      if (host[at(k)] == invalid_index && d.node_bar[at(k)] == d.node_bar[at(k - 1)]) host[at(k)] = host[at(k - 1)];
-    for (index_t k = n - 2; k >= 0; --k)
-      if (host[at(k)] == invalid_index && d.node_bar[at(k)] == d.node_bar[at(k + 1)]) host[at(k)] = host[at(k + 1)];
+    fill_unhosted_bar_nodes(host, [&](index_t k) { return d.node_bar[at(k)]; });
     bar_node_rank_.resize(at(n));
     for (index_t k = 0; k < n; ++k) bar_node_rank_[at(k)] = host[at(k)] == invalid_index ? 0 : block_rank[at(host[at(k)])];
   }

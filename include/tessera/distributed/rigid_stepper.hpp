@@ -59,7 +59,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 #include <span>
 #include <utility>
 #include <vector>
@@ -72,6 +71,7 @@
 #include "../solver/energy.hpp"
 #include "../solver/options.hpp"
 #include "block_graph.hpp"
+#include "detail/non_finite.hpp"
 #include "gather_detection.hpp"
 #include "partition.hpp"
 
@@ -254,17 +254,14 @@ class rigid_stepper {
   /// steps. O(own gridpoints); allocates nothing.
   void check_finite() const {
     const node_set& gp = solver_->gridpoints();
-    long long mine = std::numeric_limits<long long>::max(), worst = 0;
+    long long mine = detail::all_finite;
     for (const index_t g : own_gridpoints_)
       if (!gp.displacement.row(g).allFinite() || !gp.velocity.row(g).allFinite()) {
         mine = g;
         break;
       }
-    MPI_Allreduce(&mine, &worst, 1, MPI_LONG_LONG, MPI_MIN, comm_);
-    if (worst == std::numeric_limits<long long>::max()) return;
-    throw numerical_instability(tessera::detail::concat(
-        "numerical instability at step ", solver_->step_count(), " (t = ", solver_->time(),
-        " s): non-finite displacement or velocity at gridpoint ", worst, " (distributed run, ", ranks_, " ranks)"));
+    detail::throw_first_non_finite(mine, detail::all_finite, solver_->step_count(), solver_->time(),
+                                   tessera::detail::concat("distributed run, ", ranks_, " ranks"), comm_);
   }
 
   /// The springs' elastic energy (J), summed in sub-contact order as detected_contacts::energies

@@ -52,7 +52,6 @@
 #include <chrono>
 #include <concepts>
 #include <cstdint>
-#include <limits>
 #include <vector>
 
 #include "../core/errors.hpp"
@@ -67,6 +66,7 @@
 #include "../solver/boundary.hpp"
 #include "../solver/detail/energy_books.hpp"
 #include "../solver/energy.hpp"
+#include "detail/non_finite.hpp"
 #include "halo_exchange.hpp"
 #include "ownership.hpp"
 
@@ -287,18 +287,13 @@ class stepper {
       return invalid_index;
     };
     const index_t gridpoints = s.gridpoints().size();
-    long long mine = std::numeric_limits<long long>::max(), worst = 0;
+    long long mine = detail::all_finite;
     if (const index_t g = first_bad(s.gridpoints(), own_gridpoints_); g != invalid_index) mine = g;
     if constexpr (bars)
-      if (mine == std::numeric_limits<long long>::max())
+      if (mine == detail::all_finite)
         if (const index_t n = first_bad(s.bar_nodes(), own_bar_nodes_); n != invalid_index) mine = gridpoints + n;
-    MPI_Allreduce(&mine, &worst, 1, MPI_LONG_LONG, MPI_MIN, comm);
-    if (worst == std::numeric_limits<long long>::max()) return;
-    const bool gridpoint = worst < gridpoints;
-    throw numerical_instability(tessera::detail::concat(
-        "numerical instability at step ", s.step_count(), " (t = ", s.time(), " s): non-finite displacement or velocity at ",
-        gridpoint ? "gridpoint " : "bar node ", gridpoint ? worst : worst - gridpoints, " (distributed run, ", ranks_,
-        " ranks)"));
+    detail::throw_first_non_finite(mine, gridpoints, s.step_count(), s.time(),
+                                   tessera::detail::concat("distributed run, ", ranks_, " ranks"), comm);
   }
 
   /// Completes the exchange the last step started, so the ghosts' rows hold u(t) and v(t - dt/2)
