@@ -64,13 +64,13 @@ void write_zones_pvtu(const std::filesystem::path& pvtu, const local_model& lm, 
     std::vector<index_t> piece_of(at(mesh.gridpoint_count()), invalid_index);
     std::vector<vec3> points;
     std::vector<std::int32_t> gridpoint_id, block_id;
-    std::vector<double> displacement;
+    std::vector<vec3> displacement;
     for (index_t g = 0; g < mesh.gridpoint_count(); ++g) {
       if (!lm.owns_gridpoint(g)) continue;
       piece_of[at(g)] = static_cast<index_t>(points.size());
       points.push_back(mesh.gridpoints[at(g)]);
       gridpoint_id.push_back(static_cast<std::int32_t>(lm.global_gridpoint(g)));
-      for (int c = 0; c < 3; ++c) displacement.push_back(s.gridpoints().displacement(g, c));
+      displacement.emplace_back(s.gridpoints().displacement.row(g).transpose());
     }
     io::vtk::unstructured_grid grid;
     std::vector<io::vtk::sym_tensor> stress;
@@ -81,14 +81,11 @@ void write_zones_pvtu(const std::filesystem::path& pvtu, const local_model& lm, 
       grid.add_cell(io::vtk::cell_type::tetra,
                     {piece_of[at(zone[0])], piece_of[at(zone[1])], piece_of[at(zone[2])], piece_of[at(zone[3])]});
       block_id.push_back(static_cast<std::int32_t>(lm.global_block(b)));
-      if (stressed) stress.push_back({zs(z, 0), zs(z, 1), zs(z, 2), zs(z, 5), zs(z, 3), zs(z, 4)});
+      if (stressed) stress.push_back(io::vtk::voigt_row_to_sym_tensor(zs, z));
     }
-    const std::size_t n_points = points.size();
     grid.set_points(std::move(points));
     grid.point_data.add_scalar("gridpoint", std::span<const std::int32_t>(gridpoint_id));
-    std::vector<vec3> u(n_points);
-    for (std::size_t k = 0; k < n_points; ++k) u[k] = vec3(displacement[3 * k], displacement[3 * k + 1], displacement[3 * k + 2]);
-    grid.point_data.add_vector("displacement", std::span<const vec3>(u));
+    grid.point_data.add_vector("displacement", std::span<const vec3>(displacement));
     grid.cell_data.add_scalar("block", std::span<const std::int32_t>(block_id));
     if (stressed) grid.cell_data.add_tensor("stress", stress);
     grid.write(pvtu_piece(pvtu, rank), fmt);
