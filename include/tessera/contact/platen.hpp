@@ -32,6 +32,9 @@
 // takes sgn(0) = +1: the same as rc_beam's hinged_plate), with the given mass and
 // inertia raised, if needed, to keep the solver's step stable against the platen's contact
 // stiffness (scale_to; `added_mass` reports by how much). The velocities live at half steps.
+// With platen_motion::quasi_static the free components have no inertia instead: each update moves
+// them to the equilibrium of the contact force at the body's present position (force over the
+// contact stiffness), for a dynamic relaxation.
 //
 // Use with a solver of deformable blocks (solver::applied_forces): build it, attach(solver)
 // (registers its gridpoints with their contact stiffness, solver::register_applied_forces, and
@@ -84,6 +87,13 @@ struct platen_motion {
   std::array<bool, 3> free_translation{};  ///< world components integrated from the contact force
   vec3 hinge_axis = vec3::Zero();       ///< unit: turns freely about it; zero: does not turn
   real damping_gamma = 0.8;             ///< local damping of the free components, in [0, 1)
+  /// The free components have no inertia: each update moves them by the contact force (moment)
+  /// over their contact stiffness, sum max(k_n, k_s) a (about the axis: times the arm squared),
+  /// one step of the platen's own equilibrium against the body's present position; mass, inertia
+  /// and damping_gamma are then not used. For a dynamic relaxation (solver/relaxation.hpp), where
+  /// a platen with inertia rings against the gridpoints under it between the resets (measured on
+  /// rc_beam's plates, docs/performance.md); not for a dynamic run, whose platen has a mass.
+  bool quasi_static = false;
 };
 
 namespace detail {
@@ -122,6 +132,11 @@ class rigid_platen {
     require(!node_.empty(), "rigid_platen: no surface triangle of the mesh lies on the plane through ",
             detail::platen_text(g.point), " with normal ", detail::platen_text(g.normal), " under the ", 2 * g.half_u,
             " x ", 2 * g.half_w, " m footprint");
+    for (std::size_t j = 0; j < node_.size(); ++j) {
+      const real k = contact_stiffness() * area_[j];
+      k_translation_ += k;
+      if (m.hinge_axis != vec3::Zero()) k_rotation_ += k * (reference_[j] - g.point).cross(m.hinge_axis).squaredNorm();
+    }
     state_.resize(node_.size());
     for (state_type& s : state_) {
       if constexpr (requires { Law::unbonded_state(p); })
@@ -150,20 +165,10 @@ class rigid_platen {
   void scale_to(real dt, real safety, real amplification) {
     require(dt > 0 && safety > 0 && amplification > 0, "rigid_platen: scale_to(dt = ", dt, ", safety = ", safety,
             ", amplification = ", amplification, ") needs positive values");
-    const real kmax = contact_stiffness();
-    real k = 0, k_rot = 0;
-    const vec3 c = geometry_.point;
-    for (std::size_t j = 0; j < node_.size(); ++j) {
-      k += kmax * area_[j];
-      if (motion_.hinge_axis != vec3::Zero()) {
-        const vec3 arm = reference_[j] - c;
-        // A contact force of stiffness kmax at the arm's distance from the axis.
-        k_rot += kmax * area_[j] * arm.cross(motion_.hinge_axis).squaredNorm();
-      }
-    }
-    // m >= a k (dt / (2 safety))^2
+    // m >= a k (dt / (2 safety))^2, k the contact stiffness (about the axis: forces of stiffness
+    // max(k_n, k_s) at their arms' distance)
     const real factor = amplification * std::pow(dt / (2 * safety), 2);
-    const real m_needed = factor * k, i_needed = factor * k_rot;
+    const real m_needed = factor * k_translation_, i_needed = factor * k_rotation_;
     if (m_needed > mass_) added_mass_ += m_needed - mass_, mass_ = m_needed;
     if (i_needed > inertia_) added_inertia_ += i_needed - inertia_, inertia_ = i_needed;
   }
@@ -207,11 +212,12 @@ class rigid_platen {
       const real sign = v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0);
       return f - motion_.damping_gamma * std::abs(f) * sign;
     };
+    const bool still = motion_.quasi_static;  // no inertia: to the equilibrium of this position
     for (int k = 0; k < 3; ++k)
-      velocity_[k] = motion_.free_translation[static_cast<std::size_t>(k)]
-                         ? velocity_[k] + dt * damped(total[k], velocity_[k]) / mass_
-                         : prescribed_[k];
-    if (e != vec3::Zero()) omega_ += dt * damped(moment, omega_) / inertia_;
+      velocity_[k] = !motion_.free_translation[static_cast<std::size_t>(k)] ? prescribed_[k]
+                     : still ? total[k] / (k_translation_ * dt)
+                             : velocity_[k] + dt * damped(total[k], velocity_[k]) / mass_;
+    if (e != vec3::Zero()) omega_ = still ? moment / (k_rotation_ * dt) : omega_ + dt * damped(moment, omega_) / inertia_;
     displacement_ += velocity_ * dt;
     rotation_ += omega_ * dt;
   }
@@ -375,6 +381,7 @@ class rigid_platen {
   std::vector<vec3> reference_;
   std::vector<state_type> state_;
   real mass_ = motion_.mass, inertia_ = motion_.inertia, added_mass_ = 0, added_inertia_ = 0;
+  real k_translation_ = 0, k_rotation_ = 0;  ///< sum of max(k_n, k_s) a (N/m); about the axis, x arm^2 (N m)
   vec3 velocity_ = vec3::Zero(), prescribed_ = vec3::Zero(), displacement_ = vec3::Zero(), force_ = vec3::Zero();
   real omega_ = 0, rotation_ = 0, moment_ = 0;
 };

@@ -66,110 +66,49 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
 #include "options.hpp"
+#include "relaxation_options.hpp"
 #include "relaxation_rules.hpp"
 
 namespace tessera {
 
-/// How a relaxation runs and when it stops (SI).
-struct relaxation_options {
-  real reference_force = 0;            ///< N, > 0: the ratio is max nodal unbalanced force / this
-  real ratio_tolerance = 1e-4;         ///< > 0: equilibrium when the ratio is at most this
-  std::int64_t max_steps = 1'000'000;  ///< >= 1: steps one relaxation (one increment) may take
-  std::int64_t check_interval = 10;    ///< >= 1: steps between ratio checks
-  bool back_up_to_peak = true;         ///< displacements moved back to the kinetic-energy peak at each reset
-  /// advance: during the ramp the free components move along the last increment's change of
-  /// displacement scaled to this increment (a linear predictor), instead of following the load
-  /// dynamically; the first increment, with no last one, follows it dynamically. Switch it off
-  /// for the increment after a load drop: extrapolating an increment in which a crack snapped
-  /// open repeats the snap (measured on the prism: the blocks unloaded into compression).
-  bool extrapolate = false;
-  /// The ratio also takes each block's resultant: the sum over a block's gridpoints of their
-  /// unbalanced forces (free components), largest over the blocks, over reference_force. A slow
-  /// mode (a run of blocks sliding along a bar, a floating piece) leaves every nodal force small
-  /// while they add up over a block; this catches it at one pass over the gridpoints a check.
-  bool block_resultant = false;
-  /// The velocity rule between the ratio checks: kinetic (zero the free velocities at every
-  /// kinetic-energy peak, the file comment) or fire (FIRE, Bitzek et al. 2006, at the solver's
-  /// fixed step: after each step the free velocity turns towards the unbalanced force's
-  /// acceleration in the mass metric, v = (1 - a) v + a |v|_M (M^-1 F) / |M^-1 F|_M with
-  /// |x|_M^2 = sum m x^2; `a` starts at fire_alpha_start and is multiplied by fire_alpha_decay at
-  /// every step with positive power F . v once more than fire_delay such steps have passed; a
-  /// step with power <= 0 zeroes the free velocities as a kinetic reset does (back_up_to_peak
-  /// applies) and restarts `a`). FIRE's growth of the step is not used: the fictitious masses
-  /// already put every step at its stability limit. The mixing never raises |v|_M; the kinetic
-  /// energy it takes is not added to relaxation_result::kinetic_removed (the resets' is).
-  /// adaptive (Underwood 1983's adaptive dynamic relaxation): no resets; after each step the free
-  /// velocities are those of a viscous step, v = (2 v_step - c dt v_old) / (2 + c dt), with
-  /// c = adaptive_damping_scale x 2 sqrt(lambda) and lambda = sum x_i^2 k_i / sum m_i x_i^2 the
-  /// Rayleigh quotient of the current displacement x since the increment began, k_i the local
-  /// stiffness -(F_i - F_i,old) / (dt v_i,old) (components with v_old = 0 left out); c = 0 when
-  /// the quotient is not positive (softening), c dt at most 2.
-  enum class method { kinetic, fire, adaptive } velocity_rule = method::kinetic;
-  real adaptive_damping_scale = 1;  ///< in (0, 10]: factor on the critical damping of lambda
-  real fire_alpha_start = 0.1;    ///< in (0, 1]: FIRE's mixing after a reset
-  real fire_alpha_decay = 0.99;   ///< in (0, 1]: FIRE's factor on the mixing per downhill step
-  std::int64_t fire_delay = 5;    ///< >= 0: downhill steps after a reset before the mixing decays
+/// kinetic_relaxation's default hook: nothing happens before a step.
+struct no_before_step {
+  template <class Solver>
+  void operator()(Solver&, real, bool) const noexcept {}
 };
-
-/// What a relaxation (or an increment and its relaxation) did.
-struct relaxation_result {
-  std::int64_t steps = 0;       ///< solver steps taken, reset steps and the ramp included
-  std::int64_t ramp_steps = 0;  ///< of them, the steps that moved the prescribed components
-  std::int64_t resets = 0;      ///< kinetic-energy peaks at which the free velocities were zeroed
-  real ratio = 0;               ///< unbalanced ratio at the end
-  bool converged = false;       ///< ratio <= tolerance within max_steps
-  real kinetic_removed = 0;     ///< J: kinetic energy the resets zeroed
-
-  void add(const relaxation_result& r) {
-    steps += r.steps, ramp_steps += r.ramp_steps, resets += r.resets, kinetic_removed += r.kinetic_removed;
-    ratio = r.ratio, converged = r.converged;
-  }
-};
-
-/// Refuses options that cannot stop a relaxation (invalid_input naming the value).
-inline void require_valid_relaxation(const relaxation_options& o) {
-  require(std::isfinite(o.reference_force) && o.reference_force > 0, "relaxation: reference force = ",
-          o.reference_force, " N must be finite and > 0");
-  require(std::isfinite(o.ratio_tolerance) && o.ratio_tolerance > 0, "relaxation: ratio tolerance = ",
-          o.ratio_tolerance, " must be finite and > 0");
-  require(o.max_steps >= 1, "relaxation: max_steps = ", o.max_steps, " must be >= 1");
-  require(o.check_interval >= 1, "relaxation: check_interval = ", o.check_interval, " must be >= 1");
-  const auto rule = static_cast<int>(o.velocity_rule);
-  require(rule >= 0 && rule <= 2, "relaxation: velocity_rule = ", rule, " is not kinetic (0), fire (1) or adaptive (2)");
-  require(std::isfinite(o.adaptive_damping_scale) && o.adaptive_damping_scale > 0 && o.adaptive_damping_scale <= 10,
-          "relaxation: adaptive_damping_scale = ", o.adaptive_damping_scale, " must be in (0, 10]");
-  require(std::isfinite(o.fire_alpha_start) && o.fire_alpha_start > 0 && o.fire_alpha_start <= 1,
-          "relaxation: fire_alpha_start = ", o.fire_alpha_start, " must be in (0, 1]");
-  require(std::isfinite(o.fire_alpha_decay) && o.fire_alpha_decay > 0 && o.fire_alpha_decay <= 1,
-          "relaxation: fire_alpha_decay = ", o.fire_alpha_decay, " must be in (0, 1]");
-  require(o.fire_delay >= 0, "relaxation: fire_delay = ", o.fire_delay, " must be >= 0");
-}
-
-/// Solver options for kinetic relaxation from `base`: no local damping (damping_gamma = 0) and
-/// every gridpoint's mass scaled so that a step of 1 s of pseudo-time is stable, which makes each
-/// mass proportional to its nodal stiffness bound (the time is then no physical time; the contact
-/// laws do not depend on it).
-[[nodiscard]] inline solver_options kinetic_relaxation_options(solver_options base) {
-  base.damping_gamma = 0;
-  base.mass_scaling_ratio = 0;
-  base.mass_scaling_dt = 1;
-  base.dt = 0;
-  return base;
-}
 
 /// Kinetic dynamic relaxation of a solver of deformable blocks (file comment). The prescribed
 /// velocities of gridpoints and bar nodes when it is built are the pattern of the load (m/s):
 /// advance(duration, ...) moves each prescribed component by pattern x duration; they are set to
 /// zero (held) at once.
-template <class Solver>
+///
+/// Loads the prescribed velocities cannot express (a rigid platen moved by set_velocity and
+/// advanced by update before every step, contact/platen.hpp; a plate turning about its hinge) go
+/// through `before_step(solver, rate, resetting)`, called before every solver step the relaxation
+/// takes, with rate the factor on the pattern in that step (dimensionless: a component of pattern
+/// p m/s moves at p x rate m/s; duration / (ramp_steps x dt) during an advance's ramp, 0 while the
+/// model is held) and resetting true for a reset step (the free velocities are being zeroed; a
+/// body with a velocity of its own, such as a hinged plate's turn, stops too). A platen driven at
+/// rate x 1 m/s moves by `duration` m per increment, as a prescribed component of pattern 1 m/s
+/// does. A platen with inertia does not relax well: its turn rings against the gridpoints under it
+/// near the step's frequency, and the resets come every three or four steps (measured on rc_beam's
+/// steel plates, damped or not, stopped at the resets or not: one increment still short of 1e-3
+/// after 26 000 steps); give it none (platen_motion::quasi_static), and it settles in 100-600
+/// steps an increment. The hook sees the free velocities
+/// the step is about to move the gridpoints by (a reset's w, the predictor's imposed motion), so a
+/// platen that advances its contacts by them stays consistent with the solver's own contacts (file
+/// comment). It runs on the calling thread; it must not allocate if the relaxation is to stay
+/// allocation-free.
+template <class Solver, class BeforeStep = no_before_step>
 class kinetic_relaxation {
  public:
-  explicit kinetic_relaxation(Solver& s) : s_(s) {
+  explicit kinetic_relaxation(Solver& s, BeforeStep before_step = {}) : s_(s), before_step_(std::move(before_step)) {
     static_assert(!Solver::blocks_type::is_rigid, "kinetic_relaxation: rigid blocks keep their velocities in the "
                                                   "block model; only deformable blocks are relaxed");
     pattern_ = s_.gridpoints().prescribed_velocity;
@@ -203,6 +142,7 @@ class kinetic_relaxation {
     relaxation_result r;
     begin_rule(o);
     const real speed = 1 / (static_cast<real>(ramp_steps) * s_.dt());  // 1/s: a displacement over the ramp
+    load_rate_ = duration * speed;
     s_.gridpoints().prescribed_velocity = pattern_ * (duration * speed);
     if constexpr (Solver::reinforcement_type::enabled)
       s_.bar_nodes().prescribed_velocity = bar_pattern_ * (duration * speed);
@@ -214,13 +154,14 @@ class kinetic_relaxation {
         step_with_resets(o, r);
         continue;
       }
-      s_.step();
+      step_solver();
       ++r.steps;
       impose_free_velocity(s_.gridpoints(), change_, scale);
       if constexpr (Solver::reinforcement_type::enabled) impose_free_velocity(s_.bar_nodes(), bar_change_, scale);
     }
     s_.gridpoints().prescribed_velocity.setZero();
     if constexpr (Solver::reinforcement_type::enabled) s_.bar_nodes().prescribed_velocity.setZero();
+    load_rate_ = 0;
     if (predict) reset(false, r);  // from the imposed motion to rest
     r.ramp_steps = r.steps;
     time_ += duration;
@@ -239,6 +180,12 @@ class kinetic_relaxation {
   [[nodiscard]] const relaxation_result& totals() const { return totals_; }
 
  private:
+  /// One solver step, after the hook (class comment); resetting: a reset's step.
+  void step_solver(bool resetting = false) {
+    before_step_(s_, load_rate_, resetting);
+    s_.step();
+  }
+
   /// The displacements at the start of the increment (or of relax()): the predictor's and the
   /// adaptive rule's origin.
   void save_start() {
@@ -280,7 +227,7 @@ class kinetic_relaxation {
   /// One solver step, then a reset if the free kinetic energy fell (the peak was at the last half
   /// step); counts into r.
   void step_with_resets(const relaxation_options& o, relaxation_result& r) {
-    s_.step();
+    step_solver();
     ++r.steps;
     if (o.velocity_rule == relaxation_options::method::fire) {
       fire_mix(o, r);
@@ -397,7 +344,7 @@ class kinetic_relaxation {
     r.kinetic_removed += free_kinetic_energy();
     prepare_reset(s_.gridpoints(), offset_, back_up);
     if constexpr (Solver::reinforcement_type::enabled) prepare_reset(s_.bar_nodes(), bar_offset_, back_up);
-    s_.step();
+    step_solver(true);
     finish_reset(s_.gridpoints(), offset_);
     if constexpr (Solver::reinforcement_type::enabled) finish_reset(s_.bar_nodes(), bar_offset_);
     ++r.steps;
@@ -452,6 +399,8 @@ class kinetic_relaxation {
 
   static constexpr auto free_ = static_cast<std::uint8_t>(dof_constraint::free);
   Solver& s_;
+  BeforeStep before_step_;
+  real load_rate_ = 0;  ///< the factor on the pattern in the steps now taken (before_step's rate)
   soa3 pattern_, bar_pattern_;  ///< prescribed velocities when built: the load pattern (m/s)
   soa3 offset_;      ///< w of the reset step, gridpoints (m/s)
   soa3 bar_offset_;  ///< w of the reset step, bar nodes (m/s)
