@@ -1,10 +1,11 @@
 #pragma once
-// The --scheme switch the drivers share (direct_tension, rc_tie): explicit (central differences
+// The --scheme switch the drivers share (direct_tension, rc_tie, rc_beam): explicit (central differences
 // with local damping along a ramped load) or relaxation (kinetic dynamic relaxation,
 // tessera/solver/relaxation.hpp). One check of the flags given beside it, the loop of relaxed
 // increments, and the keys it adds to summary.json.
 
 #include <cstdint>
+#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
@@ -21,14 +22,14 @@ namespace tessera::scenes {
 /// (relax_given) without --scheme relaxation; and with it, a flag of the explicit loading
 /// (explicit_given), rigid blocks, or an increment above the run's last displacement.
 struct scheme_flags {
-  const char* driver = "";       ///< "direct_tension", "rc_tie"
+  const char* driver = "";       ///< "direct_tension", "rc_tie", "rc_beam"
   std::string scheme;            ///< --scheme's value
   std::vector<std::string> explicit_given, relax_given;
   bool rigid = false;
-  const char* explicit_load = "";  ///< "ramp", "pull"
-  const char* moves = "";          ///< "the top moves", "the bar ends move"
+  const char* explicit_load = "";  ///< "ramp", "pull", "loading"
+  const char* moves = "";          ///< "the top moves", "the bar ends move", "the loading plate moves"
   real increment = 0, last = 0;    ///< --relax-increment and the run's last displacement (m)
-  const char* last_flag = "";      ///< "--max-displacement", "--max-elongation"
+  const char* last_flag = "";      ///< "--max-displacement", "--max-elongation", "--max-deflection"
 };
 
 inline void check_scheme_flags(const scheme_flags& f) {
@@ -56,10 +57,12 @@ struct relaxed_sample {
 /// reports a load drop, then off (past a snap the predictor would repeat it: the ramps follow the
 /// load dynamically); `sample(s)` (const Solver&) after each increment, until it reports done.
 /// The counts go to r (Result's relax_increments, relax_unconverged, relax_resets,
-/// relax_kinetic_removed).
-template <class Solver, class Sample, class Result>
-void relax_increments(Solver& s, real increment, std::int64_t ramp, relaxation_options o, Sample&& sample, Result& r) {
-  kinetic_relaxation<Solver> k(s);
+/// relax_kinetic_removed). `before_step(s, rate, resetting)` before every step: kinetic_relaxation's hook,
+/// for loads outside the prescribed velocities (rc_beam's plates).
+template <class Solver, class Sample, class Result, class BeforeStep = no_before_step>
+void relax_increments(Solver& s, real increment, std::int64_t ramp, relaxation_options o, Sample&& sample, Result& r,
+                      BeforeStep before_step = {}) {
+  kinetic_relaxation<Solver, BeforeStep> k(s, std::move(before_step));
   for (bool done = false; !done;) {
     const relaxation_result step = k.advance(increment, ramp, o);
     ++r.relax_increments;
@@ -70,6 +73,16 @@ void relax_increments(Solver& s, real increment, std::int64_t ramp, relaxation_o
   }
   r.relax_resets = k.totals().resets;
   r.relax_kinetic_removed = k.totals().kinetic_removed;
+}
+
+/// The report's line of a relaxed run (Result: relax_increments, relax_unconverged,
+/// relax_resets); nothing when relax_increments is 0 (an explicit run).
+template <class Result>
+void print_relaxation_counts(const Result& r) {
+  if (r.relax_increments > 0)
+    std::printf("  kinetic relaxation: %lld increments (%lld not converged), %lld kinetic-energy resets\n",
+                static_cast<long long>(r.relax_increments), static_cast<long long>(r.relax_unconverged),
+                static_cast<long long>(r.relax_resets));
 }
 
 /// summary.json's keys of the scheme: scheme, the relaxation's increment (m) and tolerance, and

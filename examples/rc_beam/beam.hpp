@@ -69,8 +69,11 @@
 namespace tessera::scenes {
 
 using beam_bar = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
-template <class Law>
-using beam_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>, beam_bar>;
+/// The beam's solver; Checker = checks::no_step_checker for kinetic relaxation (its resets and
+/// ramps move the model outside the energy books the default checker reads).
+template <class Law, class Checker = checks::default_step_checker>
+using beam_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>, beam_bar,
+                           integrator::central_difference<integrator::local_damping>, Checker>;
 
 struct beam_options {
   int blocks = 250;              ///< 250 or 500 (study Table 3 stiffnesses)
@@ -347,6 +350,28 @@ struct beam_prism_scene {
   require_zone_budget(o, p.box.volume(), prism_blocks, "calibrate");
   beam_concrete_blocks(p.box, prism_blocks, o, p.tess, p.mesh, p.block_material);
   return b;
+}
+
+/// T_1 of the beam's first bending mode with masses scaled by (1 + added) (file comment).
+[[nodiscard]] inline real beam_first_mode_period(const beam_scene& s, real added) {
+  // the whole beam (the half model's twice), half of it modal
+  const real mass = (s.options.full() ? 1 : 2) * s.box.volume() * s.block_material.density;
+  return 2 * std::numbers::pi * std::sqrt(mass * (1 + added) / (2 * s.hand.initial_stiffness));
+}
+
+/// q of the beam (file comment).
+[[nodiscard]] inline real beam_quasi_static_index(const beam_scene& s, real rate, real added) {
+  return rate * beam_first_mode_period(s, added) / (s.hand.first_crack_load / s.hand.initial_stiffness);
+}
+
+/// The elastic-compression variant of the beam's contact parameters (no cap).
+[[nodiscard]] inline presets::linear_tie_law::params beam_elastic_compression(const presets::study_beam_law::params& p) {
+  presets::linear_tie_law::params q;
+  q.k_n = p.k_n;
+  q.k_s = p.k_s;
+  q.tension = p.tension;
+  q.shear = p.shear;
+  return q;
 }
 
 }  // namespace tessera::scenes

@@ -63,6 +63,8 @@ class hinged_plate {
     }
   }
   [[nodiscard]] real rotation_rate() const { return omega_; }
+  /// Stops the plate's turn (a relaxation's reset).
+  void stop() { omega_ = 0; }
   /// Saves or loads the plate's motion (io/checkpoint.hpp) under "<prefix>/...".
   template <class Archive>
   void checkpoint(Archive& ar, const std::string& prefix) {

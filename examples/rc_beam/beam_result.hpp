@@ -16,6 +16,7 @@
 #include "rc_beam/beam_shear.hpp"
 #include "rc_beam/beam_span.hpp"
 #include "tessera/io/checkpoint.hpp"
+#include "tessera/io/json.hpp"
 #include "tessera/solver/options.hpp"
 
 namespace tessera::scenes {
@@ -34,6 +35,15 @@ struct beam_loading {
   real crack_width = 1e-4;     ///< opening at which a crack counts at the end of the run (m)
   real history_step = 5e-5;    ///< deflection between the opening snapshots of beam_opening_history (m)
   real damping_gamma = 0.8;
+  /// Kinetic dynamic relaxation (solver/relaxation.hpp) instead of the explicit loading: the
+  /// loading plate moved down by relax_increment (m) per increment over relax_ramp steps, each
+  /// increment held until the largest nodal unbalanced force and the largest block resultant are
+  /// at most relax_tolerance x the hand first-cracking load (or relax_max_steps were taken), one
+  /// sample per increment; rate, ramp_time, dt, added_mass_ratio and sample are not used, and the
+  /// plates keep damping_gamma. The study's contact law only; no checkpoints; one process.
+  bool relaxation = false;
+  real relax_increment = 1e-5, relax_tolerance = 1e-3;
+  std::int64_t relax_ramp = 10, relax_max_steps = 1'000'000;
   int threads = 0;
   bool progress = true;
   /// Checkpoints (one process; run_beam's run_state): non-empty, the run's state is saved to
@@ -56,6 +66,10 @@ struct beam_result {
   std::array<std::size_t, 4> plate_subcontacts{}, plate_in_contact{};
   std::array<real, 4> plate_rotation{};
   real plate_added_mass = 0;
+  /// With beam_loading::relaxation: increments, those that hit relax_max_steps before the ratio,
+  /// kinetic-energy resets, and the kinetic energy they removed (J of pseudo-time); 0 otherwise.
+  std::int64_t relax_increments = 0, relax_unconverged = 0, relax_resets = 0;
+  real relax_kinetic_removed = 0;
   /// load = P = 2 x the support reaction; plate_load = 2 x the force on the loading plate
   std::vector<real> deflection, load, plate_load, load_point_deflection;
   /// load averaged over the last beam_loading::smoothing of deflection: the plate force carries the
@@ -208,6 +222,25 @@ inline void check_beam_checkpoint_flags(const cli::parser& cli, const beam_loadi
   require(ranks <= 1 || (l.checkpoint_file.empty() && l.resume_file.empty()),
           "rc_beam: --checkpoint and --resume run in one process; this run is split over ", ranks, " MPI ranks");
   if (!l.resume_file.empty()) require_beam_run_key(l);
+}
+
+/// summary.json's shear_at_first_inclined_crack_* and shear_at_peak_* (beam_shear.hpp).
+inline void set_shear_figures(io::summary_json& js, const beam_result& r) {
+  // Where the shear goes (beam_shear.hpp): per section in the shear span, at the first inclined
+  // crack there and at the peak; bars: the trusses' vertical share (axial only: no dowel action).
+  for (const auto& [when, table] : {std::pair{std::string("shear_at_first_inclined_crack_"), &r.shear_at_inclined_crack},
+                                    std::pair{std::string("shear_at_peak_"), &r.shear_at_peak}}) {
+    const char* names[] = {"x_m", "intact_N", "softening_N", "broken_or_slipped_N", "bars_N", "total_N", "reaction_N"};
+    std::vector<real> col[7];
+    real closure = 0;  // the largest |total / reaction - 1|: what the split leaves out (beam_shear.hpp)
+    for (const auto& sp : *table) {
+      const real row[7] = {sp.x, sp.intact, sp.softening, sp.broken_or_slipped, sp.bars, sp.total(), sp.reaction};
+      for (int k = 0; k < 7; ++k) col[k].push_back(row[k]);
+      if (sp.reaction > 0) closure = std::max(closure, std::abs(sp.total() / sp.reaction - 1));
+    }
+    for (int k = 0; k < 7; ++k) js.set(when + names[k], col[k]);
+    js.set(when + "closure_error_rel", closure);
+  }
 }
 
 }  // namespace tessera::scenes

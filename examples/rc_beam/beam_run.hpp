@@ -15,9 +15,11 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -25,6 +27,7 @@
 #include "rc_beam/beam.hpp"
 #include "rc_beam/beam_cracks.hpp"
 #include "rc_beam/beam_plates.hpp"
+#include "rc_beam/beam_relaxed.hpp"
 #include "rc_beam/beam_post_peak.hpp"
 #include "rc_beam/beam_result.hpp"
 #include "rc_beam/beam_shear.hpp"
@@ -34,25 +37,17 @@
 
 namespace tessera::scenes {
 
-/// T_1 of the beam's first bending mode with masses scaled by (1 + added) (beam.hpp file comment).
-[[nodiscard]] inline real beam_first_mode_period(const beam_scene& s, real added) {
-  // the whole beam (the half model's twice), half of it modal
-  const real mass = (s.options.full() ? 1 : 2) * s.box.volume() * s.block_material.density;
-  return 2 * std::numbers::pi * std::sqrt(mass * (1 + added) / (2 * s.hand.initial_stiffness));
-}
-
-/// q of the beam (beam.hpp file comment).
-[[nodiscard]] inline real beam_quasi_static_index(const beam_scene& s, real rate, real added) {
-  return rate * beam_first_mode_period(s, added) / (s.hand.first_crack_load / s.hand.initial_stiffness);
-}
-
-
-/// Runs the beam with contact law Law. on_event(solver, tag) at "start" (every check passed, the
-/// first step next), "first_crack", "yield", "end" (the peak is not known until the end).
-template <class Law, class OnEvent>
+/// Runs the beam with contact law Law, by the explicit loading (Relaxed = false) or by kinetic
+/// relaxation (Relaxed = true, loading.relaxation: relax_beam). on_event(solver, tag) at "start"
+/// (every check passed, the first step next), "first_crack", "yield", "end" (the peak is not
+/// known until the end).
+template <class Law, bool Relaxed = false, class OnEvent>
 [[nodiscard]] beam_result run_beam(const beam_scene& scene, const typename Law::params& law_params,
                                    const beam_loading& loading, OnEvent&& on_event) {
-  using solver_type = beam_solver<Law>;
+  using solver_type = std::conditional_t<Relaxed, beam_solver<Law, checks::no_step_checker>, beam_solver<Law>>;
+  require(loading.relaxation == Relaxed, "rc_beam: run_beam<", Relaxed ? "relaxed" : "explicit",
+          "> called with beam_loading::relaxation ", loading.relaxation ? "true" : "false");
+  if constexpr (Relaxed) check_beam_relaxation(scene.options, loading);
   const cli::wall_timer timer;
   const beam_options& o = scene.options;
   const beam_hand_checks& hand = scene.hand;
@@ -61,6 +56,7 @@ template <class Law, class OnEvent>
   opt.mass_scaling_dt = loading.dt;
   opt.threads = loading.threads;
   opt.damping_gamma = loading.damping_gamma;
+  if constexpr (Relaxed) opt = kinetic_relaxation_options(opt);  // no damping, masses at dt = 1 s; the plates keep theirs
   solver_type s(scene.tess, scene.mesh, scene.block_material, law_params, scene.bar, opt);
   const real L = o.half_length(), tol = 1e-9 * L;
   // Steel plates of their own (--plates contact): registered before the mass scaling is read,
@@ -78,6 +74,7 @@ template <class Law, class OnEvent>
     m.free_translation = {true, false, false};  // rolls in x, driven or held in y, held in z
     m.hinge_axis = vec3::UnitZ();
     m.damping_gamma = loading.damping_gamma;
+    m.quasi_static = Relaxed;  // a relaxation's plates follow the concrete without ringing (platen.hpp)
     const real z = 0.5 * o.width;
     for (int k = 0; k < sides; ++k) {
       const real xs = o.on_side(k, o.support_x()), xl = o.on_side(k, o.load_x());
@@ -96,7 +93,8 @@ template <class Law, class OnEvent>
   beam_result r;
   const auto& ms = s.mass_scaling();
   r.added_mass_ratio = ms.original_mass > 0 ? ms.added_mass / ms.original_mass : 0;
-  r.quasi_static_index = beam_quasi_static_index(scene, loading.rate, r.added_mass_ratio);
+  r.quasi_static_index = Relaxed ? std::numeric_limits<real>::quiet_NaN()  // no rate: every sample is static
+                                 : beam_quasi_static_index(scene, loading.rate, r.added_mass_ratio);
   if (r.quasi_static_index > quasi_static_limit)
     throw invalid_input(tessera::detail::concat(
         "rc_beam: loading rate ", loading.rate, " m/s with added mass ", r.added_mass_ratio,
@@ -139,9 +137,13 @@ template <class Law, class OnEvent>
   r.ramp_time = ramp;
   std::optional<beam_spreader> spreader;
   if (o.full()) spreader.emplace(0.1 * (ms.original_mass + ms.added_mass));
-  const auto drive = [&](const solver_type& sv) {
-    const real t = sv.time() + 0.5 * sv.dt();
-    const real v = t >= ramp ? loading.rate : 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp));
+  // The plates before a step, the loading plate(s) moving down at v (m/s); stopped: a
+  // relaxation's reset, whose step starts every free body from rest (solver/relaxation.hpp).
+  const auto drive_at = [&](const solver_type& sv, real v, bool stopped) {
+    if (stopped) {  // the steel plates of a relaxation have no inertia (m.quasi_static)
+      if (spreader) spreader->stop();
+      for (int k = 0; k < sides && !contact_plates; ++k) support_plate[k]->stop(), loading_plate[k]->stop();
+    }
     real tilt = 0;  // the full beam's spreader: the left plate moves down at v + tilt, the right at v - tilt
     if (o.full()) {
       std::array<real, 2> f{};  // each loading plate's downward force on the beam at the last step
@@ -164,10 +166,14 @@ template <class Law, class OnEvent>
       }
     }
   };
+  const auto drive = [&](const solver_type& sv) {  // the explicit loading: a half-cosine ramp to the rate
+    const real t = sv.time() + 0.5 * sv.dt();
+    drive_at(sv, t >= ramp ? loading.rate : 0.5 * loading.rate * (1 - std::cos(std::numbers::pi * t / ramp)), false);
+  };
   const beam_cracks analyser(s.contacts(), gp, o.height, hand.mean_block_size);
   cli::progress_line progress("rc_beam");
   bool done = false, first_found = false, inclined_found = false, yield_reported = false;
-  const std::size_t window = std::max<std::size_t>(
+  const std::size_t window = Relaxed ? 1 : std::max<std::size_t>(  // a relaxed sample is static: no smoothing
       1, static_cast<std::size_t>(std::llround(loading.smoothing / (loading.rate * s.dt() * static_cast<real>(loading.sample)))));
   double window_sum = 0;
   real max_load = 0;
@@ -229,8 +235,8 @@ template <class Law, class OnEvent>
     (void)io::load_checkpoint(model, loading.resume_file);
     r.resumed_at_step = s.step_count();
     r.runtime_before_resume_s = runtime_before;
-  } else if (contact_plates) {
-    drive(s);  // the plates' forces for the first step
+  } else if (contact_plates && !Relaxed) {
+    drive(s);  // the plates' forces for the first step (a relaxation drives them before every step)
   }
   on_event(std::as_const(s), std::string("start"));  // every check has passed: the run (re)starts
   const auto sample = [&](const solver_type& sv) {
@@ -280,9 +286,14 @@ template <class Law, class OnEvent>
       }
       const real sigma = den > 0 ? num / den : 0;
       if (sigma >= law_params.tension.f_T && load >= 0.2 * hand.first_crack_load) {
-        r.soffit_peak_stress = sigma;
         r.first_crack_load = load;
         r.first_crack_deflection = defl;
+        if (Relaxed && sigma > r.soffit_peak_stress && soffit_peak_load > 0) {  // samples an increment apart:
+          const real w = (law_params.tension.f_T - r.soffit_peak_stress) / (sigma - r.soffit_peak_stress);  // f_T between
+          r.first_crack_load = soffit_peak_load + w * (load - soffit_peak_load);
+          r.first_crack_deflection = soffit_peak_deflection + w * (defl - soffit_peak_deflection);
+        }
+        r.soffit_peak_stress = sigma;
       } else if (sigma > r.soffit_peak_stress) {
         r.soffit_peak_stress = sigma;
         soffit_peak_load = load;
@@ -295,7 +306,7 @@ template <class Law, class OnEvent>
     r.crack_count.push_back(-1);
     const bool spans_open = o.full() && (r.spans[0].first_inclined_crack_deflection < 0 ||
                                          r.spans[1].first_inclined_crack_deflection < 0);
-    if (samples++ % loading.crack_every == 0 && (!first_found || !inclined_found || spans_open)) {
+    if (samples++ % (Relaxed ? 1 : loading.crack_every) == 0 && (!first_found || !inclined_found || spans_open)) {
       const auto cracks = analyser.evaluate(sv.contacts(), sv.gridpoints(), 0);
       r.crack_count.back() = static_cast<real>(cracks.size());
       for (const beam_crack& c : cracks) {
@@ -354,9 +365,13 @@ template <class Law, class OnEvent>
         timer.seconds() - last_checkpoint >= loading.checkpoint_every)
       save_state();
   };
-  // One process: s.run_until; split over MPI ranks, the plates' gridpoints kept current on every rank.
-  run_sampled(s, scene.mesh, done, drive, loading.sample, sample,
-              beam_plate_rows(sides, support_platen, loading_platen, support, plate));
+  if constexpr (Relaxed) {
+    relax_beam(s, hand, loading, drive_at, sample, done, r);
+  } else {
+    // One process: s.run_until; split over MPI ranks, the plates' gridpoints kept current on every rank.
+    run_sampled(s, scene.mesh, done, drive, loading.sample, sample,
+                beam_plate_rows(sides, support_platen, loading_platen, support, plate));
+  }
   // The end state, before the end's analysis changes the history: a resume with a larger
   // --max-deflection continues from it as if the run had not stopped.
   if (!loading.checkpoint_file.empty()) save_state();
@@ -414,6 +429,8 @@ template <class Law, class OnEvent>
   r.elastic = beam_elastic_load(r.deflection, r.load, hand, o.full() ? &r.spans : nullptr);
   r.energy_balance_error = e.error_rel();
   r.boundary_work = e.boundary_work + e.applied_work;
+  if constexpr (Relaxed)  // the resets and ramps move the model outside the books (solver/relaxation.hpp)
+    r.energy_balance_error = r.boundary_work = std::numeric_limits<real>::quiet_NaN();
   for (int k = 0; k < sides && contact_plates; ++k) {
     const auto j = static_cast<std::size_t>(2 * k);
     r.plate_subcontacts[j] = support_platen[k]->size(), r.plate_subcontacts[j + 1] = loading_platen[k]->size();
@@ -439,16 +456,6 @@ template <class Law, class OnEvent>
   return r;
 }
 
-/// The elastic-compression variant of the beam's contact parameters (no cap).
-[[nodiscard]] inline presets::linear_tie_law::params beam_elastic_compression(const presets::study_beam_law::params& p) {
-  presets::linear_tie_law::params q;
-  q.k_n = p.k_n;
-  q.k_s = p.k_s;
-  q.tension = p.tension;
-  q.shear = p.shear;
-  return q;
-}
-
 /// run_beam with the law of the scene's options: the study's (linear softening, plastic cap,
 /// decoupled cohesion), --compression elastic (linear_tie_law) or --cohesion coupled
 /// (coupled_beam_law; with the plastic cap only, make_beam refuses the other), each with the
@@ -458,6 +465,10 @@ template <class OnEvent>
   const beam_options& o = scene.options;
   auto contact = scene.contact;
   contact.shear.slip_breaks_tension = o.slip_breaks_tension;
+  if (loading.relaxation) {
+    check_beam_relaxation(o, loading);
+    return run_beam<presets::study_beam_law, true>(scene, contact, loading, on_event);
+  }
   require(o.cohesion == "decoupled" || o.compression == "plastic", "rc_beam: --cohesion ", o.cohesion,
           " is built with --compression plastic only, got --compression ", o.compression);
   if (o.compression == "elastic")

@@ -107,6 +107,8 @@ class beam_spreader {
     return tilt_;
   }
   [[nodiscard]] real tilt_rate() const { return tilt_; }
+  /// Stops the tilt (a relaxation's reset).
+  void stop() { tilt_ = 0; }
   /// Saves or loads the tilt rate (io/checkpoint.hpp).
   template <class Archive>
   void checkpoint(Archive& ar) {

@@ -20,8 +20,8 @@
 //   summary.json  provisional_geometry, inputs, hand values, first_crack_load_N, initial stiffness,
 //                 yield, peak, cracks, failure mode, energy balance, sizes, runtime_s; with a
 //                 --params file that records it, model_young_Pa (the modulus calibrate measured on
-//                 the recipe prism) and the hand stiffness at it
-//                 (hand_initial_stiffness_model_modulus_N_per_m, initial_stiffness_model_modulus_error_rel);
+//                 the recipe prism) and the hand stiffness at it (hand_initial_stiffness_model_modulus_*);
+//                 scheme and relaxation_* (--scheme relaxation: null energy balance and boundary work);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
 //                 the supports and plates did on the beam; the law options (cohesion,
@@ -47,6 +47,7 @@
 
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
+#include "common/relaxed_scheme.hpp"
 #include "rc_beam/beam_run.hpp"
 #include "rc_beam/beam_snapshots.hpp"
 #include "tessera/io/csv.hpp"
@@ -64,6 +65,8 @@ struct inputs {
   tessera::cli::standard_options common;
   tessera::scenes::beam_options beam;
   tessera::scenes::beam_loading loading;
+  std::string scheme = "explicit";                    ///< explicit | relaxation (kinetic dynamic relaxation)
+  std::vector<std::string> explicit_given, relax_given;  ///< flags of either scheme on the command line
   bool write_vtk = true;
   std::string params;  ///< --params FILE (calibrate --material beam), empty = the study verbatim
   /// The modulus the contacts give the beam's blocks, from the --params entry (calibrate measures
@@ -279,23 +282,10 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("runtime_before_resume_s", r.runtime_before_resume_s)
       .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
       .set("runtime_s", r.runtime_before_resume_s + timer.seconds());
-  // Where the shear goes (beam_shear.hpp): per section in the shear span, at the first inclined
-  // crack there and at the peak; bars: the trusses' vertical share (axial only: no dowel action).
-  for (const auto& [when, table] : {std::pair{std::string("shear_at_first_inclined_crack_"), &r.shear_at_inclined_crack},
-                                    std::pair{std::string("shear_at_peak_"), &r.shear_at_peak}}) {
-    const char* names[] = {"x_m", "intact_N", "softening_N", "broken_or_slipped_N", "bars_N", "total_N", "reaction_N"};
-    std::vector<real> col[7];
-    real closure = 0;  // the largest |total / reaction - 1|: what the split leaves out (beam_shear.hpp)
-    for (const auto& sp : *table) {
-      const real row[7] = {sp.x, sp.intact, sp.softening, sp.broken_or_slipped, sp.bars, sp.total(), sp.reaction};
-      for (int k = 0; k < 7; ++k) col[k].push_back(row[k]);
-      if (sp.reaction > 0) closure = std::max(closure, std::abs(sp.total() / sp.reaction - 1));
-    }
-    for (int k = 0; k < 7; ++k) js.set(when + names[k], col[k]);
-    js.set(when + "closure_error_rel", closure);
-  }
+  tessera::scenes::set_shear_figures(js, r);
   if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
   // The phase times are this process's (a resumed run's from its checkpoint on): per its own steps.
+  tessera::scenes::set_scheme_figures(js, in.scheme, in.loading.relax_increment, in.loading.relax_tolerance, r);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts,
                                      r.resumed_at_step >= 0 ? r.steps - r.resumed_at_step : r.steps);
   tessera::scenes::set_split_figures(js);
@@ -351,6 +341,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
                                          " kN (left / right)").c_str() : "", shear_text.c_str(), r.energy_balance_error, r.dt, r.added_mass_ratio,
       r.quasi_static_index, static_cast<long long>(r.steps), r.runtime_before_resume_s + timer.seconds(), out.string().c_str());
+  tessera::scenes::print_relaxation_counts(r);  // a relaxed run: its dt and added mass above are at 1 s of pseudo-time
 }
 
 int run(inputs in) {
@@ -373,6 +364,11 @@ int run(inputs in) {
     in.beam.fracture_energy_scale = e.fracture_energy_scale;
     in.model_young = e.initial_modulus;
   }
+  tessera::scenes::check_scheme_flags({.driver = "rc_beam", .scheme = in.scheme, .explicit_given = in.explicit_given,
+                                       .relax_given = in.relax_given, .explicit_load = "loading",
+                                       .moves = "the loading plate moves", .increment = in.loading.relax_increment,
+                                       .last = in.loading.max_deflection, .last_flag = "--max-deflection"});
+  tessera::scenes::check_beam_relaxation(in.beam, in.loading);
   const tessera::scenes::beam_scene scene = tessera::scenes::make_beam(in.beam);
   if (!in.loading.checkpoint_file.empty()) {
     const fs::path parent = fs::path(in.loading.checkpoint_file).parent_path();
@@ -440,6 +436,14 @@ int main(int argc, char** argv) {
   cli.option("--zone-edge", b.zone_edge, "target edge of the faces' zoning (m): every face gridpoint is a contact point; 0 = h/5", "M").at_least(0);
   cli.option("--regularize", b.regularize, "collapse Voronoi edges shorter than REL x mean cell size (0 = off)", "REL")
       .within(0, tessera::geometry::max_regularization);
+  cli.option("--scheme", in.scheme, "explicit: central differences with local damping, the plate moved at --rate (the "
+             "study's scheme); relaxation: kinetic dynamic relaxation, the plate moved in increments each relaxed to "
+             "static equilibrium (docs/guide.md; the study's law, one process, no checkpoints)", "explicit|relaxation")
+      .one_of({"explicit", "relaxation"});
+  cli.option("--relax-increment", l.relax_increment, "with --scheme relaxation: plate travel per increment (m)", "M")
+      .greater_than(0);
+  cli.option("--relax-tolerance", l.relax_tolerance, "with --scheme relaxation: an increment is relaxed once the "
+             "largest nodal unbalanced force and block resultant are at most this x P_cr (hand)", "R").greater_than(0).at_most(1);
   cli.option("--rate", l.rate, "loading plate velocity (m/s)", "V").greater_than(0);
   cli.option("--ramp", l.ramp_time, "half-cosine ramp of the plate velocity (s); -1 = the period of the first bending mode", "T").at_least(-1);
   cli.option("--added-mass", l.added_mass_ratio, "mass scaling to the step at which R x the original mass is added", "R").at_least(0);
@@ -463,6 +467,11 @@ int main(int argc, char** argv) {
              "and --checkpoint-every must be the same)", "FILE");
   cli.parse_or_exit(argc, argv);
   in.write_vtk = !no_vtk;
+  l.relaxation = in.scheme == "relaxation";
+  for (const char* f : {"--rate", "--ramp", "--added-mass", "--dt", "--sample"})
+    if (cli.given(f)) in.explicit_given.emplace_back(f);
+  for (const char* f : {"--relax-increment", "--relax-tolerance"})
+    if (cli.given(f)) in.relax_given.emplace_back(f);
   l.run_key = tessera::scenes::beam_run_key(argc, argv);
   if (in.common.quick) {
     // CTest: a coarse beam to first cracking and a little past it.
@@ -472,7 +481,7 @@ int main(int argc, char** argv) {
     l.first_crack_only = 2;
   }
   try {
-    mpi.require_splittable(true, "rc_beam");
+    mpi.require_splittable(!l.relaxation, "rc_beam --scheme relaxation", "kinetic relaxation is not distributed");
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);

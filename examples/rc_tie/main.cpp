@@ -298,10 +298,7 @@ void print_report(const fs::path& out, const tessera::scenes::tie_scene& scene, 
               r.energy_balance_error, static_cast<long long>(r.subcontacts),
               static_cast<long long>(r.zones), r.dt, r.added_mass_ratio, static_cast<long long>(r.steps), timer.seconds(),
               out.string().c_str());
-  if (r.relax_increments > 0)  // the dt and added mass above are the relaxation's (1 s of pseudo-time)
-    std::printf("  kinetic relaxation: %lld increments (%lld not converged), %lld kinetic-energy resets\n",
-                static_cast<long long>(r.relax_increments), static_cast<long long>(r.relax_unconverged),
-                static_cast<long long>(r.relax_resets));
+  tessera::scenes::print_relaxation_counts(r);  // a relaxed run: its dt and added mass above are at 1 s of pseudo-time
 }
 
 int run(inputs in) {
