@@ -1,5 +1,5 @@
 // work_precision_figures: error against run time as DESIGN.md §7 defines it, for the plain prism
-// in direct tension and the RC tie (issue #19, item 3).
+// in direct tension, the RC tie (issue #19, item 3) and the RC beam to 1 mm (issue #43).
 //
 // Cracking bifurcates, so one curve against one reference is not a well-posed error (two
 // converged tie runs differing only in rounding differ by 3.5 %). This driver runs every
@@ -22,7 +22,7 @@
 // DIR/work_precision_figures.png (|error against converged| of every figure and the curve
 // distance against run time, log-log, with the seed band as a line), and DIR/run.json.
 //
-//   work_precision_figures --scene prism|tie [--seeds K] [--blocks N] [--settings LIST] [--seed S] [--threads N]
+//   work_precision_figures --scene prism|tie|beam [--seeds K] [--blocks N] [--settings LIST] [--seed S] [--threads N]
 //                          [--out DIR] [--quick]
 #include <algorithm>
 #include <cmath>
@@ -41,6 +41,7 @@
 #include "common/rc_tie_run.hpp"
 #include "common/scenes.hpp"
 #include "direct_tension/tension_test.hpp"
+#include "rc_beam/beam_run.hpp"
 #include "tessera/analysis/curves.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/csv.hpp"
@@ -208,6 +209,63 @@ scene_def tie_def(int blocks, bool quick, int threads) {
                   positive(r.yield_force), static_cast<real>(r.cracks.cracks), r.contact_dissipated};
     out.x = tessera::analysis::running_max(r.elongation);
     out.y = r.force;
+    return out;
+  };
+  return d;
+}
+
+/// The RC beam in four-point bending (rc_beam), its quick geometry at 60 blocks (50 mm face
+/// zoning), loaded to 1 mm of mid-span deflection (0.5 mm with --quick): past the first flexural
+/// cracks, before yield. Explicit settings: plate rate at the driver's 20x added mass (step =
+/// rate, m/s); relaxation: rc_beam --scheme relaxation, step = the plate's increment (m).
+scene_def beam_def(int blocks, bool quick, int threads) {
+  scene_def d;
+  d.title = tessera::detail::concat("RC beam (provisional geometry), ", blocks, " blocks, to ", quick ? 0.5 : 1, " mm");
+  d.x_label = "mid-span deflection (m)";
+  if (quick)
+    d.settings = {{"rate_2.5mm", 2.5e-3}, {"rate_5mm", 5e-3}, {"kdr_10um_T1e-3", 1e-5, 0, 1, 1, 1, 1e-3}};
+  else
+    d.settings = {{"rate_1.25mm", 1.25e-3},
+                  {"rate_2.5mm", 2.5e-3},
+                  {"rate_5mm", 5e-3},
+                  {"kdr_10um_T1e-3", 1e-5, 0, 1, 1, 1, 1e-3},
+                  {"kdr_10um_T3e-4", 1e-5, 0, 1, 1, 1, 3e-4}};
+  sc::beam_options bo;
+  bo.blocks = blocks;
+  bo.zone_edge = blocks <= 60 ? 0.05 : 0;  // rc_beam --quick's zoning at 60 blocks, h/5 above
+  const sc::beam_hand_checks hand = sc::make_beam(bo).hand;
+  d.figures = {{"initial_stiffness_N_per_m", "kN/mm", 1e-6, hand.initial_stiffness},
+               {"first_crack_load_N", "kN", 1e-3, hand.flexural_crack_load},
+               {"first_crack_h4_deep_load_N", "kN", 1e-3, nan},
+               {"elastic_check_load_N", "kN", 1e-3, nan},
+               {"load_at_end_N", "kN", 1e-3, nan},
+               {"cracks", "", 1, nan}};
+  d.curve_scale = hand.flexural_crack_load;
+  d.curve_scale_name = "P_cr (flexural strength, hand)";
+  d.run = [bo, quick, threads](const setting& s, std::uint64_t seed) {
+    sc::beam_options o = bo;
+    o.seed = seed;
+    const sc::beam_scene scene = sc::make_beam(o);
+    sc::beam_loading ld;
+    ld.added_mass_ratio = 20;  // rc_beam's default
+    ld.max_deflection = quick ? 5e-4 : 1e-3;
+    ld.threads = threads;
+    ld.progress = false;
+    ld.relaxation = s.relax_tolerance > 0;
+    if (ld.relaxation)
+      ld.relax_increment = s.step, ld.relax_tolerance = s.relax_tolerance;
+    else
+      ld.rate = s.step;
+    const sc::beam_result r = sc::run_beam(scene, ld, [](const auto&, const std::string&) {});
+    run_output out;
+    out.runtime_s = r.runtime_s;
+    out.steps = r.steps;
+    const auto positive = [](real v) { return v > 0 ? v : nan; };
+    out.values = {r.initial_stiffness, positive(r.first_crack_load), positive(r.developed_crack_load),
+                  r.elastic.load, r.smoothed_load.empty() ? nan : r.smoothed_load.back(),
+                  static_cast<real>(r.final_cracks.size())};
+    out.x = tessera::analysis::running_max(r.deflection);
+    out.y = r.smoothed_load;
     return out;
   };
   return d;
@@ -548,9 +606,9 @@ int main(int argc, char** argv) {
                            "--quick: 2 seeds, two or three coarse settings (and the prism's three relaxation settings), the prism\n"
                            "stopped at 70 % of its peak.");
   cli.add_standard(common);
-  cli.option("--scene", scene, "scene").one_of({"prism", "tie"});
+  cli.option("--scene", scene, "scene").one_of({"prism", "tie", "beam"});
   cli.option("--seeds", seeds, "seeds per setting (seed, seed+1, ...)", "K").within(1, 100);
-  cli.option("--blocks", blocks, "number of blocks", "N").one_of_numbers({100, 250, 500});
+  cli.option("--blocks", blocks, "number of blocks (default 100; the beam's 60)", "N").one_of_numbers({60, 100, 250, 500});
   std::string only;
   cli.option("--settings", only,
              "comma-separated names of the settings to run besides the converged one (empty = all; the names are "
@@ -558,12 +616,14 @@ int main(int argc, char** argv) {
              "LIST");
   cli.parse_or_exit(argc, argv);
   if (common.quick && !cli.given("--seeds")) seeds = 2;
+  if (scene == "beam" && !cli.given("--blocks")) blocks = 60;
   // run.json: "running" when the output directory is made, "complete" after the last table,
   // "interrupted" on SIGINT/SIGTERM (cmake/validate.sh --resume reads it).
   tessera::io::run_record record(common.out, "work_precision_figures", argc, argv);
   try {
-    scene_def d = scene == "prism" ? prism_def(blocks, common.quick, common.threads)
-                                   : tie_def(blocks, common.quick, common.threads);
+    scene_def d = scene == "prism"  ? prism_def(blocks, common.quick, common.threads)
+                  : scene == "tie" ? tie_def(blocks, common.quick, common.threads)
+                                   : beam_def(blocks, common.quick, common.threads);
     if (!only.empty()) select_settings(d, only);
     const fs::path out = common.out;
     tessera::io::ensure_directory(out);
