@@ -134,7 +134,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
   const beam_midspan_gauge midspan(gp, o, hand.mean_block_size, tol);
 
   const real ramp = loading.ramp_time >= 0 ? loading.ramp_time : beam_first_mode_period(scene, r.added_mass_ratio);
-  r.ramp_time = ramp;
+  r.ramp_time = Relaxed ? std::numeric_limits<real>::quiet_NaN() : ramp;  // a relaxation has no ramp in time
   std::optional<beam_spreader> spreader;
   if (o.full()) spreader.emplace(0.1 * (ms.original_mass + ms.added_mass));
   // The plates before a step, the loading plate(s) moving down at v (m/s); stopped: a
