@@ -34,7 +34,7 @@ inline void check_beam_relaxation(const beam_options& o, const beam_loading& l) 
 /// rule, rc_tie_run.hpp relax_tie). `sample(s)` after each increment, until it sets `done`; the
 /// counts go to r.
 template <class Solver, class DriveAt, class Sample>
-void relax_beam(Solver& s, const beam_hand_checks& hand, const beam_loading& loading, const DriveAt& drive_at,
+void relax_beam(Solver& s, const beam_hand_checks& hand, const beam_loading& loading, DriveAt drive_at,
                 Sample& sample, const bool& done, beam_result& r) {
   relaxation_options o;
   o.reference_force = hand.first_crack_load;
@@ -50,7 +50,7 @@ void relax_beam(Solver& s, const beam_hand_checks& hand, const beam_loading& loa
         peak = std::max(peak, r.load.back());
         return relaxed_sample{done, r.load.back() < peak - 0.05 * hand.first_crack_load};
       },
-      r, [&](Solver& sv, real rate, bool resetting) { drive_at(sv, rate, resetting); });  // the plate's pattern: 1 m/s
+      r, drive_at);  // the hook: the plate's pattern is 1 m/s
 }
 
 }  // namespace tessera::scenes

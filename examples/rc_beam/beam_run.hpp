@@ -465,10 +465,8 @@ template <class OnEvent>
   const beam_options& o = scene.options;
   auto contact = scene.contact;
   contact.shear.slip_breaks_tension = o.slip_breaks_tension;
-  if (loading.relaxation) {
-    check_beam_relaxation(o, loading);
+  if (loading.relaxation)  // run_beam<..., true> refuses another law (check_beam_relaxation)
     return run_beam<presets::study_beam_law, true>(scene, contact, loading, on_event);
-  }
   require(o.cohesion == "decoupled" || o.compression == "plastic", "rc_beam: --cohesion ", o.cohesion,
           " is built with --compression plastic only, got --compression ", o.compression);
   if (o.compression == "elastic")
