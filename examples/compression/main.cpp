@@ -1,0 +1,94 @@
+// compression: uniaxial (or triaxial) compression of a concrete cylinder or prism of random Voronoi
+// blocks, the beam's concrete (rc_beam: study_beam_params, f_c cap 35 MPa, semi-rigid zones of
+// 10 x 25 GPa, faces zoned to a 30 mm edge) at the beam's block size unless told otherwise.
+//
+// Specimen: a cylinder 150 x 300 mm (a 36-gon prism, axis z; EN 12390-3's cylinder, EC2's f_c) or
+// a prism W x W x H. Ends (--ends):
+//   fixed         every end gridpoint held in x, y and z: a platen with no slip (bonded);
+//   frictionless  the ends held along z only (a platen with perfect lubrication), with one bottom
+//                 gridpoint held in x and y and one in y, against rigid-body motion only;
+//   friction      a rigid steel platen at each end (contact::rigid_platen) sliding at the Coulomb
+//                 limit with --friction mu (0.1-0.2 for steel on concrete, greased to dry).
+// The bottom end stays, the top end moves down at --rate (5 mm/s, quasi-static: masses scaled so it
+// moves --step-displacement per step). --confinement p (Pa) holds a lateral pressure on the mantle
+// (a dead load on every surface triangle of it, ramped in and settled before the axial loading):
+// a triaxial test, for the slope of the strength envelope.
+//
+// Measured (summary.json, curve.csv): the axial stress sigma = P / A (P the top end's reaction)
+// against the axial strain eps = u / H and the lateral strain (the mean outward displacement of
+// the mantle's gridpoints over the middle half of the height, over the radius or half width);
+// f_c the peak stress, counted as a peak only once the stress has fallen to (1 - --drop) f_c after
+// it (otherwise "peak": false and f_c null: a plateau or a rising branch is not a strength); E the
+// secant modulus between 10 % and 40 % of the peak (of the largest stress without a peak); nu =
+// -eps_lat / eps at 40 %. Cracked area (tensile damage >= 0.5 or slipped) by orientation: "axial"
+// cracks have normals within 30 deg of the horizontal plane (splitting), the rest are inclined.
+// VTK (--no-vtk to skip): zones and contacts at the peak and at the end, compression.pvd.
+#include <tessera/analysis/curves.hpp>
+#include <tessera/geometry/shapes.hpp>
+#include <tessera/geometry/voronoi.hpp>
+#include <tessera/geometry/zoning.hpp>
+#include <tessera/io/json.hpp>
+#include <tessera/io/run_record.hpp>
+#include <tessera/presets/pulatsu2020.hpp>
+#include <tessera/solver/recorders.hpp>
+#include <tessera/solver/solver.hpp>
+
+#include "common/cli.hpp"
+#include "compression/specimen.hpp"
+
+using namespace tessera;
+
+int main(int argc, char** argv) {
+  scenes::compression_options in;
+  cli::parser cli("compression", "Uniaxial or triaxial compression of a concrete cylinder or prism of Voronoi blocks "
+                                 "(the beam's concrete): f_c, strain at peak, E, Poisson's ratio, softening.");
+  cli.add_standard(in.common);
+  cli.option("--shape", in.shape, "cylinder (150 x 300 mm) or prism", "S").one_of({"cylinder", "prism"});
+  cli.option("--diameter", in.width, "cylinder diameter or prism side (m)", "M").within(0.02, 2);
+  cli.option("--height", in.height, "specimen height (m)", "M").within(0.02, 4);
+  cli.option("--blocks", in.blocks, "Voronoi blocks; 0 = the beam's block size (about 61 in the default cylinder)", "N")
+      .within(0, 5000);
+  cli.option("--ends", in.ends, "fixed, frictionless or friction (rigid steel platens)", "E")
+      .one_of({"fixed", "frictionless", "friction"});
+  cli.option("--friction", in.friction, "platen friction coefficient with --ends friction", "MU").within(0, 2);
+  cli.option("--confinement", in.confinement, "lateral pressure on the mantle (Pa, compression positive)", "P")
+      .within(0, 100e6);
+  cli.option("--f-t", in.f_t, "contact tensile strength f_T (Pa); 0 = the beam's 2.5 MPa", "PA").within(0, 1e9);
+  cli.option("--cohesion-ratio", in.cohesion_ratio, "c_0 / f_T (the study: 2)", "R").within(0.1, 20);
+  cli.option("--phi-deg", in.phi_deg, "contact friction angle phi_0 (deg; the study: 35)", "DEG").within(0, 80);
+  cli.option("--phi-res-deg", in.phi_res_deg, "residual friction angle (deg; the study: 30)", "DEG").within(0, 80);
+  cli.option("--cap", in.cap, "contact compressive cap f_c (Pa; the beam's 35 MPa)", "PA").within(1e6, 1e10);
+  cli.option("--rate", in.rate, "top end speed (m/s)", "V").within(1e-5, 0.1);
+  cli.option("--step-displacement", in.step_displacement, "top end travel per step (m)", "DU").within(1e-10, 1e-7);
+  cli.option("--max-strain", in.max_strain, "axial strain at which the run ends without a peak", "EPS")
+      .within(1e-4, 0.05);
+  cli.option("--drop", in.drop, "post-peak drop that ends the run and marks the peak, as a fraction of f_c", "F")
+      .within(0.02, 0.9);
+  cli.flag("--no-vtk", in.no_vtk, "write no VTK files");
+  cli.parse_or_exit(argc, argv);
+  if (in.common.quick) {  // a coarser step and a shorter softening branch: the CTest
+    if (!cli.given("--step-displacement")) in.step_displacement = 5e-9;
+    if (!cli.given("--drop")) in.drop = 0.1;
+  }
+  if (in.common.threads > 0) set_threads(in.common.threads);
+  io::run_record record(in.common.out, "compression", argc, argv);
+  try {
+    scenes::compression_specimen sp(in);
+    const scenes::compression_result r = sp.run();
+    io::summary_json j;
+    scenes::write_compression_summary(j, in, sp, r);
+    j.write(std::filesystem::path(in.common.out) / "summary.json");
+    record.complete();
+    std::printf("compression: %s, %d blocks, %s ends%s: %s; E %.1f GPa, nu %.3f; %lld steps, %.1f s\n",
+                in.shape.c_str(), static_cast<int>(sp.block_count()), in.ends.c_str(),
+                in.confinement > 0 ? tessera::detail::concat(", confined at ", in.confinement * 1e-6, " MPa").c_str() : "",
+                r.peak ? tessera::detail::concat("f_c ", r.peak_stress * 1e-6, " MPa at strain ", r.peak_strain).c_str()
+                       : tessera::detail::concat("no peak up to strain ", r.last_strain, " (largest stress ",
+                                                 r.peak_stress * 1e-6, " MPa)").c_str(),
+                r.young * 1e-9, r.poisson, static_cast<long long>(r.steps), r.runtime_s);
+    return 0;
+  } catch (const std::exception& e) {
+    cli::print_error("compression", e);
+    return 1;
+  }
+}
