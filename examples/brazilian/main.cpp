@@ -4,7 +4,10 @@
 // and 100-block Table 1 contacts, f_T, c_0, c_res times --strength-scale (0.907: the calibrated 100-block
 // prism peaks at f_T = 2.15 MPa); 38 blocks are the prism's block size. Bottom strip fixed, top strip
 // pushed down at 5 mm/s, 2 nm per step. P_max: the largest top reaction before the disc splits;
-// f_sp = 2 P_max / (pi D t) against f_T (EC2: 1/0.9 = 1.11). Writes run.json, curve.csv, summary.json.
+// f_sp = 2 P_max / (pi D t) against f_T (EC2: 1/0.9 = 1.11), only for a disc that split: one that has not
+// split by --max-displacement reports "split": false and no f_sp (its largest load is the wedges' under the
+// strips). curve.csv also has the opening across the loaded diameter (the flats x = +-a over the middle
+// third); summary.json the load and opening when the split is found. Writes run.json, curve.csv, summary.json.
 #include <tessera/core/parallel.hpp>
 #include <tessera/geometry/shapes.hpp>
 #include <tessera/geometry/voronoi.hpp>
@@ -21,6 +24,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -35,12 +39,14 @@ int main(int argc, char** argv) {
   bool quick = false;
   real seed = 1, threads = 0, n_blocks = 38, sides = 36, diameter = 0.15, thickness = 0.06, scale = 0.907;
   real rate = 5e-3, du = 2e-9, u_max = 3e-4;  // m/s, strip displacement per step (m), last displacement (m)
+  real cohesion_ratio = 2, phi_deg = 35;       // c_0 / f_T and phi_0 (deg) of the contacts (the study's)
   struct flag { const char* name; real* value; real lo, hi; bool integer; };  // a number flag and its range
   const flag flags[] = {{"--seed", &seed, 1, 1e9, true}, {"--threads", &threads, 0, 256, true},
       {"--blocks", &n_blocks, 2, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
       {"--thickness", &thickness, 0.005, 2, false}, {"--strength-scale", &scale, 0.1, 10, false},
       {"--rate", &rate, 1e-5, 0.1, false}, {"--step-displacement", &du, 1e-10, 1e-7, false},
-      {"--max-displacement", &u_max, 1e-6, 0.01, false}};
+      {"--max-displacement", &u_max, 1e-6, 0.01, false}, {"--cohesion-ratio", &cohesion_ratio, 0.1, 20, false},
+      {"--phi-deg", &phi_deg, 0, 80, false}};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const flag* f = std::find_if(std::begin(flags), std::end(flags), [&](const flag& g) { return a == g.name; });
@@ -48,7 +54,8 @@ int main(int argc, char** argv) {
       std::puts("brazilian [--out DIR] [--quick] [--seed 1..1e9] [--threads 0..256] [--blocks 2..2000]\n"
                 "  [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
-                "  [--max-displacement 1e-6..0.01 m]: f_sp = 2 P_max / (pi D t) against f_T; --quick: 5 nm per step.");
+                "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]: f_sp = 2 P_max / (pi D t) against f_T, null for a disc not split\n"
+                "  by --max-displacement; --quick: 5 nm per step.");
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--quick") quick = true;
@@ -76,7 +83,10 @@ int main(int argc, char** argv) {
     const auto mesh = geometry::zone_blocks(tess);  // one zone per face triangle, as the prism
     const zones::linear_elastic_tet::params concrete{280e9, 0.2, 2400};  // semi-rigid: 10 x the macro E
     joint_law::params joint = law::study_prism_params(100);  // the 100-block prism's contacts: same block size
-    joint.tension.f_T *= scale, joint.shear.c_0 *= scale, joint.shear.c_res *= scale;
+    joint.tension.f_T *= scale, joint.shear.c_0 = cohesion_ratio * joint.tension.f_T, joint.shear.c_res = 0.01 * joint.shear.c_0;
+    joint.shear.phi_0 = law::friction_angle::from_degrees(phi_deg);
+    require(joint.shear.phi_res.degrees() <= phi_deg, "brazilian: --phi-deg ", phi_deg, " must not be below the residual ",
+            joint.shear.phi_res.degrees(), " deg");
     solver_options options;
     options.mass_scaling_dt = du / rate;  // quasi-static: masses scaled so the strip moves du per step
     model s(tess, mesh, concrete, contact::material_table<joint_law::params>(joint), {}, options);
@@ -110,11 +120,30 @@ int main(int argc, char** argv) {
           if (find(l) == find(r)) return false;
       return true;
     };
+    // The opening across the loaded diameter: the mean x displacement of the gridpoints on the flat
+    // x = +a minus that on x = -a, over the middle third of the height (|y| < D/6).
+    std::vector<index_t> flank[2];
+    for (index_t g = 0; g < s.gridpoints().size(); ++g)
+      if (const real x = s.gridpoints().reference(g, 0); std::abs(std::abs(x) - a) <= 1e-9 * diameter &&
+                                                        std::abs(s.gridpoints().reference(g, 1)) < diameter / 6)
+        flank[x > 0 ? 1 : 0].push_back(g);
+    require(!flank[0].empty() && !flank[1].empty(), "brazilian: no gridpoint on the flats x = +-a across the middle");
+    const auto opening = [&](const model& m) {
+      real w = 0;
+      for (int k = 0; k < 2; ++k) {
+        real mean = 0;
+        for (index_t g : flank[k]) mean += m.gridpoints().displacement(g, 0);
+        w += (k == 1 ? 1 : -1) * mean / static_cast<real>(flank[k].size());
+      }
+      return w;
+    };
+    std::vector<double> w_open;
+    real p_split = 0, w_split = 0;
     const auto observe = [&](const model& m) {
       const real p = -recorders::reaction_sum(m.gridpoints(), top).y(), pb = recorders::reaction_sum(m.gridpoints(), bottom).y();
-      u.push_back(rate * m.time()), p_top.push_back(p), p_bottom.push_back(pb);
+      u.push_back(rate * m.time()), p_top.push_back(p), p_bottom.push_back(pb), w_open.push_back(opening(m));
       if (p > p_max && u_split == 0) p_max = p, u_peak = u.back(), p_bottom_at_peak = pb;
-      if (u_split == 0 && split(m)) u_split = u.back();
+      if (u_split == 0 && split(m)) u_split = u.back(), p_split = p, w_split = w_open.back();
       done = u.back() >= u_max || (u_split > 0 && u.back() > 1.2 * u_split);
     };
     s.run_until([&](const model&) { return done; }, static_cast<std::int64_t>(2 * u_max / du), recorders::every(every, observe));
@@ -125,24 +154,50 @@ int main(int argc, char** argv) {
     for (index_t i = 0; i < c.size(); ++i)
       if (joint_law::tensile_damage(c.subcontact_params(i), c.state(i)) >= 0.5)
         cracked += c.area(i), near += std::abs(c.position(i, s.gridpoints()).x()) <= diameter / 6 ? c.area(i) : 0;
-    const real f_sp = 2 * p_max / (pi * diameter * thickness), f_t = law::study_prism_params(100).tension.f_T;  // calibrated prism peak
+    // f_sp only for a disc that split: the largest load of one that did not is the cap's, not a strength.
+    const bool did_split = u_split > 0;
+    const real none = std::numeric_limits<real>::quiet_NaN();
+    const real f_sp = did_split ? 2 * p_max / (pi * diameter * thickness) : none;
+    const real f_t = law::study_prism_params(100).tension.f_T;  // calibrated prism peak
     const real mismatch = (p_max - p_bottom_at_peak) / p_max;
-    io::write_csv(std::filesystem::path(out) / "curve.csv", {"u_m", "P_top_N", "P_bottom_N"}, {u, p_top, p_bottom});
+    // The diametral crack opening: the first load at which the opening across the diameter exceeds twice
+    // its elastic value (the compliance w / P at the first sample above 20 % of P_max, before the split).
+    // The load after it, up to P_max, is carried by the wedges under the strips as the crack opens.
+    real p_crack = none, w_crack = none;
+    for (std::size_t k = 0, k0 = 0; k < u.size() && (!did_split || u[k] <= u_split); ++k) {
+      if (k0 == 0 && p_top[k] >= 0.2 * p_max) k0 = k;
+      if (k0 > 0 && p_top[k] > 0.2 * p_max && w_open[k] > 2 * (w_open[k0] / p_top[k0]) * p_top[k]) {
+        p_crack = p_top[k], w_crack = w_open[k];
+        break;
+      }
+    }
+    const real f_crack = 2 * p_crack / (pi * diameter * thickness);
+    io::write_csv(std::filesystem::path(out) / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {u, p_top, p_bottom, w_open});
     io::summary_json j;
     j.set("example", "brazilian").set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
         .set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
-        .set("strength_scale", scale).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
-        .set("peak_load_N", p_max).set("peak_displacement_m", u_peak).set("split", u_split > 0).set("split_displacement_m", u_split)
+        .set("strength_scale", scale).set("cohesion_ratio", cohesion_ratio).set("phi_0_deg", phi_deg).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
+        .set("peak_load_N", did_split ? p_max : none).set("largest_load_N", p_max).set("peak_displacement_m", u_peak)
+        .set("split", did_split).set("split_displacement_m", did_split ? u_split : none).set("split_load_N", did_split ? p_split : none)
+        .set("opening_at_split_m", did_split ? w_split : none).set("opening_at_end_m", opening(s))
+        .set("crack_opening_load_N", p_crack).set("crack_opening_m", w_crack).set("f_sp_crack_opening_Pa", f_crack)
+        .set("f_sp_crack_opening_over_f_T", f_crack / f_t)
         .set("bottom_over_top_at_peak_rel", mismatch).set("f_sp_Pa", f_sp).set("f_T_Pa", f_t).set("f_sp_over_f_T", f_sp / f_t)
         .set("ec2_ratio", 1 / 0.9).set("cracked_area_over_diametral", cracked / (diameter * thickness))
         .set("crack_near_diameter_share", cracked > 0 ? near / cracked : 0.0).set("energy_balance_error_rel", s.energies().error_rel())
         .set("threads", max_threads()).set("runtime_s", runtime_s);
     j.write(std::filesystem::path(out) / "summary.json");
     record.complete();
-    std::printf("brazilian: seed %d, P_max %.2f kN at %.1f um (split at %.1f um), f_sp %.3f MPa = %.3f f_T (EC2 1.11), "
-                "bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n", static_cast<int>(seed),
-                p_max * 1e-3, u_peak * 1e6, u_split * 1e6, f_sp * 1e-6, f_sp / f_t, 100 * mismatch,
-                100 * (cracked > 0 ? near / cracked : 0.0), s.energies().error_rel(), runtime_s);
+    if (did_split)
+      std::printf("brazilian: seed %d, P_max %.2f kN at %.1f um (split at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
+                  "%.3f f_T (EC2 1.11; at the crack's opening %.3f f_T), bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n",
+                  static_cast<int>(seed), p_max * 1e-3, u_peak * 1e6, u_split * 1e6, p_split * 1e-3, w_split * 1e6,
+                  f_sp * 1e-6, f_sp / f_t, f_crack / f_t, 100 * mismatch, 100 * (cracked > 0 ? near / cracked : 0.0),
+                  s.energies().error_rel(), runtime_s);
+    else
+      std::printf("brazilian: seed %d did NOT split by --max-displacement %.1f um: no f_sp (the largest load, %.2f kN, is "
+                  "the load at that displacement, not a splitting strength); %.1f s\n",
+                  static_cast<int>(seed), u_max * 1e6, p_max * 1e-3, runtime_s);
     return 0;
   } catch (const std::exception& e) {
     return std::fprintf(stderr, "brazilian: %s\n", e.what()), 1;
