@@ -228,10 +228,10 @@ PERFORMANCE = [
         "`mpirun -np 2 --oversubscribe --mca mpi_yield_when_idle 1 direct_tension --blocks 500 "
         "--step-displacement 5e-9 --max-displacement 1.5e-5 --threads 1`", ("2.23 ms", "1.89× faster", "")),
     Row("10 000-block prism, 2 ranks on local models, peak memory a rank", "one process: 381.7 MB",
-        "`mpirun -np 2 split_storage --blocks 10000 --steps 300 --storage local`", ("206.6, 212.0 MB", "0.55×", "")),
+        "`mpirun -np 2 split_storage --blocks 10000 --steps 300 --storage local`", ("206.6, 212.0 MB", "0.54–0.56×", "")),
     Row("100-block prism, elastic branch by the implicit solve", "explicit: 10 100 steps, 1.15–1.22 s CPU",
         "`implicit_prism --seed 1`", ("one factorisation, 0.053–0.058 s CPU", "20× faster", "")),
-    Row("100-block prism to its peak by kinetic relaxation, steps", "explicit: 41 600 steps, 12.8–13.3 s",
+    Row("100-block prism to 80 µm (past its peak) by kinetic relaxation, steps", "explicit: 41 600 steps, 12.8–13.3 s",
         "`direct_tension --seed 1 --threads 1 --max-displacement 8e-5 --scheme relaxation`",
         ("8 457", "4.9× fewer", "2.9–3.5 s (1 thread)")),
     Row("compile the README's prism program (tests/consumer/main.cpp), CPU", "", "`benchmarks/compile_time.sh`",
