@@ -253,7 +253,7 @@ def render(rows_cells):
     return out
 
 
-def page_table(text, page):
+def page_table(text):
     """The lines between the markers, or None."""
     if BEGIN not in text or END not in text:
         return None
@@ -288,9 +288,12 @@ def matches(summary, match):
 
 
 def summary_for(row, results):
+    """The first summary that matches the row and holds its fields (a null figure, e.g. no yield,
+    leaves the row as the page has it)."""
     if row.match is None:
         return None, None
-    hits = [(p, s) for p, s in results if matches(s, row.match)]
+    hits = [(p, s) for p, s in results if matches(s, row.match)
+            and all(s.get(f) is not None for f in row.fields + (("runtime_s", "threads") if row.runtime else ()))]
     if len(hits) > 1:
         print(f"tables: {len(hits)} summaries match '{row.figure}', using the first: "
               + ", ".join(str(p) for p, _ in hits), file=sys.stderr)
@@ -304,7 +307,7 @@ def cells_from_page(row, old):
     return None
 
 
-def table_for(page, rows, results, old):
+def table_for(rows, results, old):
     """The table's lines; the cells of each row from its summary, else the page, else its seed."""
     out = []
     for row in rows:
@@ -403,13 +406,13 @@ def main():
     for page, rows in PAGES.items():
         path = ROOT / page
         text = path.read_text()
-        old_lines = page_table(text, page)
+        old_lines = page_table(text)
         if old_lines is None:
             problems.append(f"{page}: no {BEGIN} ... {END} markers")
             continue
         old = [cells_of_line(l) for l in old_lines[2:]]
         if a.write:
-            new = table_for(page, rows, results, old)
+            new = table_for(rows, results, old)
             head, rest = text.split(BEGIN, 1)
             path.write_text(head + BEGIN + "\n" + "\n".join(new) + "\n" + END + rest.split(END, 1)[1])
             filled = sum(1 for r in rows if summary_for(r, results)[1] is not None)
