@@ -53,7 +53,8 @@ def count(v):
 
 
 def sci(v):
-    return f"{v:+.1e}".replace("-", "−")
+    s = f"{v:+.1e}"
+    return ("−" + s[1:]) if s[0] == "-" else s
 
 
 class Row:
