@@ -45,7 +45,7 @@ def pct(v, digits=1):
 
 
 def seconds(v):
-    return f"{v:.1f} s" if v < 100 else f"{v:,.0f} s".replace(",", " ")
+    return f"{v:.2f} s" if v < 1 else f"{v:.1f} s" if v < 100 else f"{v:,.0f} s".replace(",", " ")
 
 
 def count(v):
@@ -53,6 +53,8 @@ def count(v):
 
 
 def sci(v):
+    if v == 0:
+        return "0"
     s = f"{v:+.1e}"
     return ("−" + s[1:]) if s[0] == "-" else s
 
