@@ -17,7 +17,9 @@
 #              15 min) on this project's 2-core machine, plus about 15 min since the tie's
 #              step went from 2 to 1 us (the sensitivity studies took 1296 s at 1 us on
 #              2026-11-27; the progress line estimates the rest); the tables go to DIR/validation.md and replace the generated section of
-#              docs/validation.md (between its "validate.sh" markers)
+#              docs/studies/validate_run.md (between its "validate.sh" markers), and
+#              `python3 docs/tables.py --results DIR --write` refills the opening tables of
+#              docs/validation.md and docs/performance.md from the runs' summary.json
 #   --beam-seeds N  seeds 1..N of the 250- and 500-block beams (default 1; each further seed adds
 #              about 30 min); the beam table gives each seed and the band
 #   --threads  worker threads per run (default 0: the drivers' automatic choice, one per core that
@@ -258,7 +260,7 @@ mv "$report.tmp" "$report"
 echo "validate: wrote $report"
 
 if [[ $quick == 0 ]]; then
-  doc="$root/docs/validation.md"
+  doc="$root/docs/studies/validate_run.md"
   begin='<!-- validate.sh: generated tables begin -->'
   end='<!-- validate.sh: generated tables end -->'
   if ! grep -qF "$begin" "$doc" || ! grep -qF "$end" "$doc"; then
@@ -271,4 +273,5 @@ if [[ $quick == 0 ]]; then
     !skip { print }' "$doc" > "$doc.tmp"
   mv "$doc.tmp" "$doc"
   echo "validate: replaced the generated section of $doc"
+  python3 "$root/docs/tables.py" --results "$out" --write
 fi
