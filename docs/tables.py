@@ -191,6 +191,17 @@ VALIDATION += [
     Row("Brazilian disc, 38 blocks (guide), f_sp / f_T", "1.11 (EC2)", "`brazilian --threads 1 --seed 1`",
         ("2.19", "2.0×", "4.3 s (1 thread)"), {"example": "brazilian", "quick": False, "seed": 1, "blocks": 38},
         ("f_sp_over_f_T",), lambda r: f"{r:.2f}", lambda r: f"{r / 1.11:.1f}×", True),
+    Row("Brazilian disc, 150 blocks, f_sp / f_T at the diametral crack", "1.11 (EC2; 1.0-1.4 accepted)",
+        "`brazilian --threads 1 --blocks 150 --seed 2`",
+        ("1.25", "1.1×", "208 s (1 thread)"), {"example": "brazilian", "quick": False, "seed": 2, "blocks": 150},
+        ("f_sp_crack_opening_over_f_T",), lambda r: f"{r:.2f}", lambda r: f"{r / 1.11:.1f}×", True),
+    Row("compression, 150 × 300 mm cylinder of the beam's concrete (61 blocks), f_c, frictionless ends",
+        "35 MPa (the beam's f_c)", "`compression --threads 1 --no-vtk`",
+        ("17.38 MPa at strain 0.96e-3", "−50.3 %", "225 s (1 thread)"),
+        {"example": "compression", "quick": False, "seed": 1, "ends": "frictionless", "confinement_Pa": 0,
+         "phi_0_deg": 35, "cap_Pa": 35e6, "c_0_Pa": 5e6},
+        ("f_c_Pa", "peak_strain"), lambda f, e: f"{f * 1e-6:.2f} MPa at strain {e * 1e3:.2f}e-3",
+        lambda f, e: pct(f / 35e6 - 1, 1), True),
 ]
 
 PERFORMANCE = [
