@@ -18,9 +18,11 @@ namespace tessera::scenes {
 struct mantle_nodes {
   std::vector<index_t> node;
   std::vector<vec3> force_direction;  ///< area share x outward unit normal (m^2)
+  real area = 0;                      ///< of the triangles found (m^2)
 };
 [[nodiscard]] inline mantle_nodes find_mantle(const geometry::block_mesh& mesh, real apothem) {
   std::map<index_t, vec3> share;
+  real found = 0;
   for (const auto& t : mesh.face_triangles) {
     const vec3 &a = mesh.gridpoints[static_cast<std::size_t>(t[0])], &b = mesh.gridpoints[static_cast<std::size_t>(t[1])],
                &c = mesh.gridpoints[static_cast<std::size_t>(t[2])];
@@ -29,10 +31,12 @@ struct mantle_nodes {
     if (!(area > 0)) continue;
     const vec3 n = n2.normalized();
     if (std::abs(n.z()) > 1e-9 || std::abs(n.dot((a + b + c) / 3) - apothem) > 1e-9 * apothem) continue;
-    for (index_t g : t) share[g] += area / 3 * n;
+    found += area;
+    for (index_t g : t) share.try_emplace(g, vec3::Zero()).first->second += area / 3 * n;  // Eigen does not zero
   }
   mantle_nodes m;
   for (const auto& [g, f] : share) m.node.push_back(g), m.force_direction.push_back(f);
+  m.area = found;
   return m;
 }
 
@@ -81,6 +85,15 @@ inline compression_result compression_specimen::run() const {
   const mantle_nodes mantle = o_.confinement > 0 ? find_mantle(mesh_, apothem_) : mantle_nodes{};
   if (o_.confinement > 0) {
     require(!mantle.node.empty(), "compression: no surface triangle on the mantle");
+    // The shares must add up to the mantle's area and cancel as vectors (a closed side surface).
+    const real area = mantle.area;
+    vec3 net = vec3::Zero();
+    for (const vec3& f : mantle.force_direction) net += f;
+    const real expected = o_.shape == "cylinder" ? compression_sides * o_.width * std::sin(pi / compression_sides) * H : 4 * o_.width * H;
+    require(std::abs(area - expected) <= 1e-9 * expected && net.norm() <= 1e-9 * expected, "compression: the mantle's ",
+            mantle.node.size(), " gridpoints carry ", area, " m^2 of surface (the side is ", expected, " m^2) with a net ",
+            net.norm(), " m^2: the confinement would not be a closed pressure");
+
     s.register_applied_forces(std::span<const index_t>(mantle.node), std::vector<real>(mantle.node.size(), 0.0));
   }
   compression_result r;
