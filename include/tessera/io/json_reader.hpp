@@ -35,7 +35,7 @@ namespace tessera::io {
 /// A parsed JSON value; the accessors refuse (invalid_input naming its path) a value of another kind
 class json_value {
  public:
-  enum class kind { null, boolean, number, string, array, object };  ///< the JSON types
+  /** the JSON types */ enum class kind { null, boolean, number, string, array, object };
 
   [[nodiscard]] kind type() const noexcept { return kind_; }  ///< Its kind
   [[nodiscard]] bool is_null() const noexcept { return kind_ == kind::null; }  ///< True for null

@@ -62,7 +62,7 @@ enum class contact_status : std::uint8_t {
 /// 0..2) and the contact_status flags.
 template <class S>
 struct state_field {
-  enum class kind : std::uint8_t { scalar, vector, flags };  ///< a real, a 3-vector or the flags
+  /** a real, a 3-vector or the flags */ enum class kind : std::uint8_t { scalar, vector, flags };
   const char* name;  ///< field name, e.g. "sigma_n"
   const char* unit;  ///< SI unit, e.g. "Pa"
   kind type;  ///< which member below is set

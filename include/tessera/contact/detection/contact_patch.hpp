@@ -59,7 +59,7 @@ struct contact_patch {
 namespace corner_label {
 inline constexpr int id_bits = 15;  ///< bits per vertex id
 inline constexpr index_t max_vertices = (index_t{1} << id_bits) - 1;  ///< largest vertex id a label holds
-enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };  ///< a vertex of A, a vertex of B, or an edge crossing
+/** a vertex of A, a vertex of B, or an edge crossing */ enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
 [[nodiscard]] constexpr std::uint64_t vertex_a(index_t v) noexcept { return static_cast<std::uint64_t>(v); }  ///< Label of vertex v of A
 [[nodiscard]] constexpr std::uint64_t vertex_b(index_t v) noexcept {  ///< Label of vertex v of B
   return (std::uint64_t{1} << 62) | static_cast<std::uint64_t>(v);
