@@ -8,6 +8,9 @@ use for), becomes the group's opening and the closing goes after the last line, 
 keeps its number and Doxygen's warnings point at the header's own lines. tessera.hpp and
 instances.hpp join core. The groups themselves are defined in groups.dox.
 
+In the documentation comments, the period of an abbreviation (e.g., i.e., eq., et al.) is escaped,
+so that Doxygen's brief description (the first sentence) does not end there.
+
 Usage: room_filter.py HEADER
 """
 import os
@@ -28,10 +31,27 @@ def room_of(path):
     return None
 
 
+ABBREVIATIONS = ("e.g. ", "i.e. ", "eq. ", "Eq. ", "eqs. ", "cf. ", "vs. ", "al. ", "resp. ", "approx. ")
+COMMENT_STARTS = ("///", "//!", "/**", "/*!")
+
+
+def escape_abbreviations(line):
+    """The line with `abbr. ` turned into `abbr.\\ ` in its documentation comment part."""
+    starts = [i for i in (line.find(c) for c in COMMENT_STARTS) if i >= 0]
+    if not starts:
+        return line
+    k = min(starts)
+    doc = line[k:]
+    for a in ABBREVIATIONS:
+        doc = doc.replace(a, a[:-1] + "\\ ")
+    return line[:k] + doc
+
+
 def main():
     path = sys.argv[1]
     with open(path, encoding="utf-8") as f:
         lines = f.read().split("\n")
+    lines = [escape_abbreviations(line) for line in lines]
     room = room_of(path)
     if room is not None and lines and lines[0].strip() == "#pragma once":
         lines[0] = "/** \\addtogroup %s */ /** @{ */" % room
