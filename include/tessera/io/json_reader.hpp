@@ -32,7 +32,7 @@
 
 namespace tessera::io {
 
-/// A parsed JSON value; the accessors refuse (invalid_input naming its path) a value of another kind
+/// A parsed JSON value; the accessors refuse (io_error naming its path) a value of another kind
 class json_value {
  public:
   /** the JSON types */ enum class kind { null, boolean, number, string, array, object };
@@ -101,7 +101,7 @@ class json_value {
   std::string path_;  // e.g. "calibrated.json: entries[2].strength_scale"
 };
 
-/// A JSON parser (RFC 8259, nesting up to max_depth); refuses malformed text (invalid_input naming the position)
+/// A JSON parser (RFC 8259, nesting up to max_depth); refuses malformed text (io_error naming the line and column)
 class json_parser {
  public:
   static constexpr int max_depth = 64;  ///< deepest nesting accepted

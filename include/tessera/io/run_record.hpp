@@ -47,7 +47,7 @@ namespace tessera::io {
 class run_record {
  public:
   run_record(std::filesystem::path dir, std::string program, int argc, const char* const* argv)
-      : dir_(std::move(dir)), program_(std::move(program)) {  ///< Creates dir and writes run.json as running; io_error when it cannot
+      : dir_(std::move(dir)), program_(std::move(program)) {  ///< Writes nothing yet: run.json appears when the driver creates dir (io::ensure_directory, file comment)
     for (int i = 1; i < argc; ++i) arguments_.emplace_back(argv[i]);
     active() = this;
     detail::directory_observer() = [](const std::filesystem::path& d) {

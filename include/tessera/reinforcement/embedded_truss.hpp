@@ -61,7 +61,7 @@
 
 namespace tessera::reinforcement {
 
-/// Steel bars embedded in the blocks as trusses, bonded to their host zones by Bond (file comment); build refuses a bar outside the mesh or too short, naming it
+/// Steel bars embedded in the blocks as trusses, bonded to their host zones by Bond (file comment); build refuses bad parameters, no bars, or a bar node outside all zones, naming it
 template <BondLaw Bond>
 class embedded_truss {
  public:

@@ -253,7 +253,7 @@ class when_settled : public condition_tag {
             " steps / ", w.seconds, " s is empty; use stop::over_steps(n) or stop::over_time(t_s)");
   }
   template <class Solver>
-  void start(const Solver& s) {  ///< Sizes the window for the solver's dt (refuses a window shorter than one step) and empties it
+  void start(const Solver& s) {  ///< Counts the window in steps of the solver's dt now (at least one; refuses a window of more than 1e15 steps) and empties it
     window_steps_ = window_.steps;
     if (window_steps_ == 0) {
       const real n = std::ceil(window_.seconds / s.dt() * (1 - 1e-12));
