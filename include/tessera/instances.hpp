@@ -56,10 +56,11 @@ using rigid_dry_damped_solver = solver<blocks::rigid, contact::detected_contacts
 // time (register_applied_forces on rigid blocks). The contact sets, block models and
 // integrators they use are instantiated whole.
 #ifndef TESSERA_INSTANCES_DEFINE
-#define TESSERA_INSTANCE(...) extern template __VA_ARGS__;
+#define TESSERA_INSTANCE(...) extern template __VA_ARGS__;  ///< declares an instance extern (a user's unit takes it from tessera::instances)
 #else
 #define TESSERA_INSTANCE(...) template __VA_ARGS__;
 #endif
+/// The members of solver S that tessera::instances compiles once
 #define TESSERA_SOLVER_INSTANCE(S)                                                                              \
   TESSERA_INSTANCE(S::solver(const tessera::geometry::tessellation&, const tessera::geometry::block_mesh&,     \
                              const S::block_materials&, const S::contact_set_type::params&,                     \

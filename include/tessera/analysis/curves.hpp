@@ -111,7 +111,7 @@ struct load_drop {
 /// that is not finite and > 0.
 class load_drop_detector {
  public:
-  explicit load_drop_detector(real threshold) : threshold_(threshold) {
+  explicit load_drop_detector(real threshold) : threshold_(threshold) {  ///< Refuses (invalid_input) a threshold that is not finite and > 0
     require(std::isfinite(threshold) && threshold > 0, "load_drop_detector: threshold = ", threshold,
             " N must be finite and > 0");
   }
@@ -136,7 +136,7 @@ class load_drop_detector {
     }
     return false;
   }
-  [[nodiscard]] const std::vector<load_drop>& drops() const { return drops_; }
+  [[nodiscard]] const std::vector<load_drop>& drops() const { return drops_; }  ///< The drops found so far
 
  private:
   real threshold_;

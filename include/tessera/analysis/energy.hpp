@@ -18,7 +18,7 @@ struct dissipation_check {
   /// (dissipated - expected) / expected; NaN when nothing was expected (area 0: e.g. no crack
   /// opened), so a summary can say "none" instead of a figure.
   real error_rel = std::numeric_limits<real>::quiet_NaN();
-  [[nodiscard]] bool defined() const { return std::isfinite(error_rel); }
+  [[nodiscard]] bool defined() const { return std::isfinite(error_rel); }  ///< False when there was nothing to compare (error_rel not finite)
 };
 
 /// `dissipated` (J) against energy_per_area (J/m^2) x area (m^2).
@@ -34,8 +34,9 @@ struct dissipation_check {
 /// of the supplied energy (all 0 when nothing was supplied); `residual` is the balance error with
 /// its sign (supplied - accounted) / supplied.
 struct energy_shares {
-  real kinetic = 0, block_elastic = 0, contact_stored = 0, contact_dissipated = 0, damping_dissipated = 0,
-       reinforcement_stored = 0, reinforcement_dissipated = 0, residual = 0;
+  /** fractions of the supplied energy (-), named by the term */ /**@{*/ real kinetic = 0, block_elastic = 0,
+       contact_stored = 0, contact_dissipated = 0, damping_dissipated = 0, reinforcement_stored = 0,
+       reinforcement_dissipated = 0, residual = 0; /**@}*/
 };
 [[nodiscard]] inline energy_shares shares_of(const energy_balance& e) {
   energy_shares s;

@@ -62,7 +62,7 @@ struct spectral_estimate {
   real residual = 0;    ///< ||A y - theta y|| / theta of its Ritz pair (relative, A = M^-1/2 K M^-1/2)
   int iterations = 0;   ///< operator products used
   index_t dofs = 0;     ///< free degrees of freedom the operator acts on
-  [[nodiscard]] bool converged(real tolerance) const { return residual <= tolerance; }
+  [[nodiscard]] bool converged(real tolerance) const { return residual <= tolerance; }  ///< True when the residual is at most tolerance
 };
 
 /// lambda_max of M^-1 K over n degrees of freedom of masses dof_mass (kg, each > 0), with

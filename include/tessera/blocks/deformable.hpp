@@ -67,12 +67,13 @@
 
 namespace tessera::blocks {
 
+/// Deformable blocks: each block zoned into tetrahedra of the Zone model (file comment); owns the loops over its gridpoints and zones
 template <zones::ZoneModel Zone>
 class deformable : private detail::zone_geometry {
  public:
-  using zone_model = Zone;
-  using params = typename Zone::params;
-  static constexpr bool is_rigid = false;
+  using zone_model = Zone;  ///< the zone model
+  using params = typename Zone::params;  ///< the zone material (e.g. E, nu, rho), one per block material
+  static constexpr bool is_rigid = false;  ///< not rigid
 
   deformable() = default;
 
@@ -283,14 +284,14 @@ class deformable : private detail::zone_geometry {
   /// zones' confinement: a watched zone's row is the one its zone task formed, any other is
   /// formed on the call. Valid until the next step.
   struct stress_rows {
-    const deformable* model = nullptr;
-    [[nodiscard]] index_t rows() const noexcept { return model->zone_count(); }
-    [[nodiscard]] Eigen::Matrix<real, 1, 6> row(index_t z) const noexcept {
+    const deformable* model = nullptr;  ///< the block model read
+    [[nodiscard]] index_t rows() const noexcept { return model->zone_count(); }  ///< Number of zones
+    [[nodiscard]] Eigen::Matrix<real, 1, 6> row(index_t z) const noexcept {  ///< Stress of zone z, Voigt order xx yy zz yz xz xy (Pa)
       const index_t w = model->watch_slot_[at(z)];
       return w != invalid_index ? Eigen::Matrix<real, 1, 6>(model->watched_stress_.row(w)) : model->global_stress(z);
     }
   };
-  [[nodiscard]] stress_rows zone_stress_rows() const noexcept { return stress_rows{this}; }
+  [[nodiscard]] stress_rows zone_stress_rows() const noexcept { return stress_rows{this}; }  ///< The zone stresses as rows
 
   /// Saves or loads the block rotations (the warm start of the next polar decomposition, so they
   /// are state: a restart without them would differ in the last bits) and the zones' block-frame
@@ -333,12 +334,12 @@ class deformable : private detail::zone_geometry {
     return e;
   }
 
-  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(rotation_.size()); }
-  [[nodiscard]] index_t zone_count() const { return static_cast<index_t>(volume_.size()); }
-  [[nodiscard]] real zone_volume(index_t z) const { return volume_[at(z)]; }
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(rotation_.size()); }  ///< Number of blocks
+  [[nodiscard]] index_t zone_count() const { return static_cast<index_t>(volume_.size()); }  ///< Number of zones
+  [[nodiscard]] real zone_volume(index_t z) const { return volume_[at(z)]; }  ///< Reference volume of zone z (m^3)
   /// Rotation R_b of block b at the last accumulate_forces.
   [[nodiscard]] const mat3& rotation(index_t b) const { return rotation_[static_cast<std::size_t>(b)]; }
-  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }  ///< The block of gridpoint i
   /// Material of block b.
   [[nodiscard]] const params& material_of_block(index_t b) const { return materials_[at(block_material_[at(b)])]; }
 

@@ -13,31 +13,33 @@
 
 namespace tessera::zones {
 
+/// Linear elastic constant-strain tetrahedra (small strain, co-rotated by the block model)
 struct linear_elastic_tet {
+  /// The zone material: E, nu, rho
   struct params {
     real young = 0;      ///< Young's modulus E (Pa), > 0
     real poisson = 0;    ///< Poisson's ratio nu, -1 < nu < 0.5
     real density = 0;    ///< mass density rho (kg/m^3), > 0
   };
 
-  static void validate(const params& p) {
+  static void validate(const params& p) {  ///< Refuses (invalid_input) E <= 0, nu outside (-1, 0.5) or rho <= 0, naming the value
     require_positive(p.young, "linear_elastic_tet: Young's modulus E (Pa)");
     require(p.poisson > -1.0 && p.poisson < 0.5, "linear_elastic_tet: Poisson's ratio nu = ", p.poisson,
             " must lie in (-1, 0.5)");
     require_positive(p.density, "linear_elastic_tet: density rho (kg/m^3)");
   }
-  [[nodiscard]] static real density(const params& p) { return p.density; }
-  [[nodiscard]] static real lame_lambda(const params& p) {
+  [[nodiscard]] static real density(const params& p) { return p.density; }  ///< rho (kg/m^3)
+  [[nodiscard]] static real lame_lambda(const params& p) {  ///< Lame's lambda = E nu / ((1 + nu)(1 - 2 nu)) (Pa)
     return p.young * p.poisson / ((1 + p.poisson) * (1 - 2 * p.poisson));
   }
-  [[nodiscard]] static real shear_modulus(const params& p) { return p.young / (2 * (1 + p.poisson)); }
+  [[nodiscard]] static real shear_modulus(const params& p) { return p.young / (2 * (1 + p.poisson)); }  ///< Shear modulus G = E / (2 (1 + nu)) (Pa)
 
   /// Lame constants, computed once per zone loop (no divisions in the zone kernel).
   struct constants {
     real lambda = 0;  ///< Pa
     real mu = 0;      ///< Pa
   };
-  [[nodiscard]] static constants prepare(const params& p) { return {lame_lambda(p), shear_modulus(p)}; }
+  [[nodiscard]] static constants prepare(const params& p) { return {lame_lambda(p), shear_modulus(p)}; }  ///< lambda and G, once per material
 
   /// sigma = lambda tr(eps) 1 + 2 mu eps (Pa), eps in Voigt with engineering shears.
   [[nodiscard]] static voigt6 stress(const constants& c, const voigt6& eps) noexcept {
@@ -51,7 +53,7 @@ struct linear_elastic_tet {
     s[5] = c.mu * eps[5];
     return s;
   }
-  [[nodiscard]] static voigt6 stress(const params& p, const voigt6& eps) noexcept { return stress(prepare(p), eps); }
+  [[nodiscard]] static voigt6 stress(const params& p, const voigt6& eps) noexcept { return stress(prepare(p), eps); }  ///< sigma = C eps (Pa), Voigt order, engineering shear strains
   /// The same on plain arrays: lets blocks::deformable vectorise its zone loop (no Eigen
   /// temporaries inside it).
   static void stress(const constants& c, const real (&eps)[6], real (&sigma)[6]) noexcept {
@@ -59,7 +61,7 @@ struct linear_elastic_tet {
     for (int k = 0; k < 3; ++k) sigma[k] = volumetric + 2 * c.mu * eps[k];
     for (int k = 3; k < 6; ++k) sigma[k] = c.mu * eps[k];
   }
-  [[nodiscard]] static Eigen::Matrix<real, 6, 6> elasticity_matrix(const params& p) {
+  [[nodiscard]] static Eigen::Matrix<real, 6, 6> elasticity_matrix(const params& p) {  ///< The 6 x 6 elasticity matrix C (Pa), Voigt order
     const real lambda = lame_lambda(p), mu = shear_modulus(p);
     Eigen::Matrix<real, 6, 6> c = Eigen::Matrix<real, 6, 6>::Zero();
     c.topLeftCorner<3, 3>().setConstant(lambda);

@@ -122,6 +122,7 @@
 
 namespace tessera::blocks {
 
+/// Rigid blocks: six degrees of freedom each, moved by the resultant of their gridpoint forces (file comment)
 class rigid {
  public:
   /// Block material of rigid blocks: only the density.
@@ -129,14 +130,14 @@ class rigid {
     real density = 2400;  ///< mass density rho (kg/m^3)
 
     constexpr params() = default;
-    constexpr params(real rho) : density(rho) {}  // NOLINT(google-explicit-constructor): params{2400}
+    constexpr params(real rho) : density(rho) {}  ///< rho (kg/m^3). NOLINT(google-explicit-constructor): params{2400}
     /// From any block material with a density (e.g. zones::linear_elastic_tet::params), so a scene
     /// built for deformable blocks runs with rigid ones unchanged; the elastic constants are unused.
     template <class Material>
       requires requires(const Material& m) { { m.density } -> std::convertible_to<real>; }
     constexpr params(const Material& m) : density(m.density) {}  // NOLINT(google-explicit-constructor)
   };
-  static constexpr bool is_rigid = true;
+  static constexpr bool is_rigid = true;  ///< rigid
 
   rigid() = default;
 
@@ -328,7 +329,7 @@ class rigid {
       e += 0.5 * (bd.mass * bd.velocity.squaredNorm() + bd.angular_velocity.dot(bd.inertia.cwiseProduct(bd.angular_velocity)));
     return e;
   }
-  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(bodies_.size()); }
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(bodies_.size()); }  ///< Number of blocks
 
   // ---- time step and mass scaling (called by the solver instead of the nodal versions) ----
 
@@ -389,7 +390,7 @@ class rigid {
     require(g.allFinite(), "rigid blocks: gravity (", g.transpose(), ") m/s^2 is not finite");
     gravity_ = g;
   }
-  [[nodiscard]] const vec3& gravity() const { return gravity_; }
+  [[nodiscard]] const vec3& gravity() const { return gravity_; }  ///< Acceleration of gravity (m/s^2)
   /// Power of the weights at the half-step velocities, sum_b m0_b g . v_b (W); the solver
   /// multiplies it by dt for the work of gravity over the step.
   [[nodiscard]] real gravity_power(const node_set& /*gridpoints*/) const {
@@ -464,7 +465,7 @@ class rigid {
   [[nodiscard]] const vec3& reaction_moment(index_t b) const { return at(b).reaction_moment; }
   /// Body coordinates r_i = E^T (X_i - c) of gridpoint i (m).
   [[nodiscard]] vec3 body_position(index_t i) const { return body_position_.row(i).transpose(); }
-  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
+  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }  ///< The block of gridpoint i
   /// The block materials, by material id.
   [[nodiscard]] std::span<const params> materials() const { return materials_; }
 

@@ -62,6 +62,7 @@
 
 namespace tessera::contact {
 
+/// Contacts found between blocks and renewed as they move (file comment): sub-contacts at the corners of each pair's patch, keyed by corner so their law state survives rebuilds
 template <law::ContactLaw Law>
 class detected_contacts {
   template <std::integral I>
@@ -74,9 +75,9 @@ class detected_contacts {
   using node_contact = detail::node_contact;    // detected/keys.hpp
 
  public:
-  using law_type = Law;
-  using params_type = typename Law::params;
-  using state_type = typename Law::state;
+  using law_type = Law;  ///< the contact law
+  using params_type = typename Law::params;  ///< the law's parameters of one material pair
+  using state_type = typename Law::state;  ///< the law's state per sub-contact
   static_assert(requires(const params_type& p, state_type s) {
     Law::unbonded_state(p);
     Law::scale_stresses(p, s, real{});
@@ -158,7 +159,7 @@ class detected_contacts {
   /// interval is reached (the only call that allocates), then takes each block's motion for
   /// the step.
   void prepare_step(const node_set& gridpoints, real dt);  // detected/step.hpp
-  [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()); }
+  [[nodiscard]] index_t task_count() const { return static_cast<index_t>(pair_tasks_.size()); }  ///< Pair tasks of the step's parallel loop
   /// Kinematics, law update and force of the sub-contacts of the pairs of task t (the blocks'
   /// motion was read from the gridpoints in prepare_step).
   void run_task(index_t t, const node_set& gridpoints, real dt) noexcept {
@@ -236,37 +237,37 @@ class detected_contacts {
   [[nodiscard]] real max_deviation() const { return max_deviation_; }
 
   // ---- sub-contacts ----
-  [[nodiscard]] index_t size() const { return static_cast<index_t>(key_label_.size()); }
-  [[nodiscard]] index_t subcontact_count() const { return size(); }
-  [[nodiscard]] index_t pair_count() const { return static_cast<index_t>(pair_a_.size()); }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(key_label_.size()); }  ///< Number of sub-contacts now
+  [[nodiscard]] index_t subcontact_count() const { return size(); }  ///< Number of sub-contacts now (as size())
+  [[nodiscard]] index_t pair_count() const { return static_cast<index_t>(pair_a_.size()); }  ///< Number of block pairs in contact now
   /// The blocks (a, b) of pair k, a < b.
   [[nodiscard]] std::array<index_t, 2> pair_blocks(index_t k) const { return {pair_a_[at(k)], pair_b_[at(k)]}; }
-  [[nodiscard]] const state_type& state(index_t i) const { return state_[at(i)]; }
-  [[nodiscard]] real area(index_t i) const { return area_[at(i)]; }
-  [[nodiscard]] index_t pair_of(index_t i) const { return pair_[at(i)]; }
+  [[nodiscard]] const state_type& state(index_t i) const { return state_[at(i)]; }  ///< Law state of sub-contact i (stresses Pa, relative displacements m)
+  [[nodiscard]] real area(index_t i) const { return area_[at(i)]; }  ///< Tributary area of sub-contact i (m^2)
+  [[nodiscard]] index_t pair_of(index_t i) const { return pair_[at(i)]; }  ///< The pair of sub-contact i
   /// Unit normal of sub-contact i, A -> B: that of the face its vertex is pushed by (a face of A
   /// for a vertex of B and the other way round, when the faces are parallel), else the pair's.
   [[nodiscard]] vec3 normal(index_t i) const { return normal_[corner_normal_[at(i)]].row(pair_[at(i)]).transpose(); }
   /// Force on block B's side in the last update (N); A's side received its opposite.
   [[nodiscard]] vec3 force(index_t i) const { return -vec3(force_[0][at(i)], force_[1][at(i)], force_[2][at(i)]); }
-  [[nodiscard]] index_t block_a(index_t i) const { return pair_a_[at(pair_[at(i)])]; }
-  [[nodiscard]] index_t block_b(index_t i) const { return pair_b_[at(pair_[at(i)])]; }
+  [[nodiscard]] index_t block_a(index_t i) const { return pair_a_[at(pair_[at(i)])]; }  ///< Block A of sub-contact i (the lower id)
+  [[nodiscard]] index_t block_b(index_t i) const { return pair_b_[at(pair_[at(i)])]; }  ///< Block B of sub-contact i
   /// First gridpoint of sub-contact i's material point on block A / B (its frame's for rigid
   /// blocks, its zone's or its own gridpoint for deformable ones; the force goes to all four).
   [[nodiscard]] index_t node_a(index_t i) const {
     return options_.deformable_blocks ? node_[0][at(i)] : blocks_[at(block_a(i))].frame[0];
   }
-  [[nodiscard]] index_t node_b(index_t i) const {
+  [[nodiscard]] index_t node_b(index_t i) const {  ///< The same on block B
     return options_.deformable_blocks ? node_[4][at(i)] : blocks_[at(block_b(i))].frame[0];
   }
   /// corner_label of sub-contact i (detection/common_plane.hpp).
   [[nodiscard]] std::uint64_t label(index_t i) const { return key_label_[at(i)]; }
-  [[nodiscard]] const params_type& subcontact_params(index_t i) const {
+  [[nodiscard]] const params_type& subcontact_params(index_t i) const {  ///< The law parameters of sub-contact i's material pair
     return law_params_[at(pair_param_[at(pair_[at(i)])])];
   }
   /// Current position (m) of the material point of sub-contact i on block A / B.
   [[nodiscard]] vec3 position_a(index_t i, const node_set& gp) const { return point(i, true, gp); }
-  [[nodiscard]] vec3 position_b(index_t i, const node_set& gp) const { return point(i, false, gp); }
+  [[nodiscard]] vec3 position_b(index_t i, const node_set& gp) const { return point(i, false, gp); }  ///< The same on block B
 
   // ---- rebuild statistics ----
   /// Detection passes so far, the construction's included (the solver chooses dt again when it
@@ -274,16 +275,16 @@ class detected_contacts {
   [[nodiscard]] index_t rebuild_count() const { return rebuilds_; }
   /// Rebuilds at which a per-sub-contact or per-pair array had to grow (allocate).
   [[nodiscard]] index_t growth_count() const { return growths_; }
-  [[nodiscard]] index_t peak_subcontacts() const { return peak_subcontacts_; }
+  [[nodiscard]] index_t peak_subcontacts() const { return peak_subcontacts_; }  ///< Largest sub-contact count seen
   /// Wall time spent in rebuilds so far, the construction's included (s; for reports, never
   /// for results).
   [[nodiscard]] double rebuild_seconds() const { return rebuild_seconds_; }
   /// Candidate pairs of the last pass, and of them those this rank evaluated (set_detection_split).
   [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
-  [[nodiscard]] std::size_t evaluated_candidate_count() const { return result_.evaluated; }
+  [[nodiscard]] std::size_t evaluated_candidate_count() const { return result_.evaluated; }  ///< Of candidate_count(), those this rank evaluated
   /// Sub-contacts of the last rebuild that kept the state of an earlier one.
   [[nodiscard]] index_t kept_last_rebuild() const { return kept_last_; }
-  [[nodiscard]] real tolerance() const { return options_.tolerance; }
+  [[nodiscard]] real tolerance() const { return options_.tolerance; }  ///< The contact tolerance (m)
   /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
   [[nodiscard]] index_t bonded_at_start() const { return bonded_at_start_; }
 
@@ -314,8 +315,8 @@ class detected_contacts {
   /// what a rank that starts to evaluate the pair needs from one that did, when a block changes
   /// rank. write_pair_state appends pair_state_bytes(k) bytes; read_pair_state takes them.
   [[nodiscard]] std::size_t pair_state_bytes(index_t k) const;
-  void write_pair_state(index_t k, std::vector<unsigned char>& out) const;
-  void read_pair_state(index_t k, const unsigned char* in);
+  void write_pair_state(index_t k, std::vector<unsigned char>& out) const;  ///< Appends the step state of pair k (pair_state_bytes(k) bytes)
+  void read_pair_state(index_t k, const unsigned char* in);  ///< Reads the step state of pair k written by write_pair_state
 
   /// Saves or loads everything a rebuild and a step read (io/checkpoint.hpp): the sub-contacts
   /// (keys, pairs, areas, affine weights, law states field by field, forces, fresh flags), the

@@ -84,6 +84,7 @@
 
 namespace tessera::contact {
 
+/// The bonded faces of a tessellation as contacts (file comment): sub-contacts at the corners of each shared face, which never change partner
 template <law::ContactLaw Law>
 class face_contacts {
   /// Array subscript of an index handle.
@@ -93,12 +94,12 @@ class face_contacts {
   }
 
  public:
-  using law_type = Law;
-  using params_type = typename Law::params;
+  using law_type = Law;  ///< the contact law
+  using params_type = typename Law::params;  ///< the law's parameters of one material pair
   /// What the constructor takes: the law's parameters per pair of block materials (a plain
   /// params_type converts to a table with one entry for every pair).
   using params = material_table<params_type>;
-  using state_type = typename Law::state;
+  using state_type = typename Law::state;  ///< the law's state per sub-contact
   /// True when Law has an elastic pack path (law::ElasticPackLaw) and asks for it
   /// (law::with_elastic_packs): states are then stored as columns and updated over lanes::pack's
   /// (file comment, "Kernel"). Off for the plain laws (the default layout, Law::update per
@@ -307,13 +308,13 @@ class face_contacts {
   }
 
   // ---- sub-contacts ----
-  [[nodiscard]] index_t size() const { return static_cast<index_t>(node_a_.size()); }
-  [[nodiscard]] index_t subcontact_count() const { return size(); }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(node_a_.size()); }  ///< Number of sub-contacts
+  [[nodiscard]] index_t subcontact_count() const { return size(); }  ///< Number of sub-contacts (as size())
   /// Gridpoint of block A (lower cell id) / block B of sub-contact i.
   [[nodiscard]] index_t node_a(index_t i) const { return node_a_[at(i)]; }
-  [[nodiscard]] index_t node_b(index_t i) const { return node_b_[at(i)]; }
-  [[nodiscard]] index_t block_a(index_t i) const { return shared_faces_[at(face(i))].cell_a; }
-  [[nodiscard]] index_t block_b(index_t i) const { return shared_faces_[at(face(i))].cell_b; }
+  [[nodiscard]] index_t node_b(index_t i) const { return node_b_[at(i)]; }  ///< Gridpoint of sub-contact i on block B
+  [[nodiscard]] index_t block_a(index_t i) const { return shared_faces_[at(face(i))].cell_a; }  ///< Block A of sub-contact i
+  [[nodiscard]] index_t block_b(index_t i) const { return shared_faces_[at(face(i))].cell_b; }  ///< Block B of sub-contact i
   /// Shared face (index into tessellation::shared_faces) of sub-contact i.
   [[nodiscard]] index_t face(index_t i) const { return face_[at(i)]; }
   /// Tributary area (m^2).
@@ -366,7 +367,7 @@ class face_contacts {
   }
 
   // ---- shared faces ----
-  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_area_.size()); }
+  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_area_.size()); }  ///< Number of shared faces
   /// The tessellation's record of shared face s (cells and tessellation face ids).
   [[nodiscard]] const geometry::tessellation::shared_face& shared_face(index_t s) const { return shared_faces_[at(s)]; }
   /// Sub-contacts of face s are [first_subcontact(s), first_subcontact(s + 1)).
@@ -401,11 +402,11 @@ class face_contacts {
     }
     return e;
   }
-  [[nodiscard]] real stored_energy() const { return energies().stored; }
-  [[nodiscard]] real dissipated_energy() const { return energies().dissipated; }
-  [[nodiscard]] real dissipated_tension() const { return energies().dissipated_tension; }
-  [[nodiscard]] real dissipated_shear() const { return energies().dissipated_shear; }
-  [[nodiscard]] real dissipated_compression() const { return energies().dissipated_compression; }
+  [[nodiscard]] real stored_energy() const { return energies().stored; }  ///< Energy stored in the springs (J)
+  [[nodiscard]] real dissipated_energy() const { return energies().dissipated; }  ///< Energy dissipated so far (J)
+  [[nodiscard]] real dissipated_tension() const { return energies().dissipated_tension; }  ///< Of it, in tension (J)
+  [[nodiscard]] real dissipated_shear() const { return energies().dissipated_shear; }  ///< Of it, in shear (J)
+  [[nodiscard]] real dissipated_compression() const { return energies().dissipated_compression; }  ///< Of it, in compression (J)
   /// Total area of the sub-contacts broken in tension (m^2).
   [[nodiscard]] real broken_area() const {
     real total = 0;

@@ -22,13 +22,14 @@
 
 namespace tessera::contact {
 
+/// The law's parameters per pair of block materials, and whether the pair's contacts start bonded; a plain params converts to a table for every pair
 template <class P>
 class material_table {
  public:
   /// The parameters of one pair and whether its contacts start bonded.
   struct entry {
-    P params{};
-    bool bonded = true;
+    P params{};  ///< the law's parameters
+    bool bonded = true;  ///< contacts start bonded (face contacts)
   };
 
   material_table() = default;

@@ -103,12 +103,14 @@ namespace detail {
 }
 }  // namespace detail
 
+/// A rigid steel platen pressed on a face of the body through contact springs (file comment); refuses (invalid_input) a non-unit normal or axis, a non-positive half size, mass or inertia, naming them
 template <law::ContactLaw Law>
 class rigid_platen {
  public:
-  using params_type = typename Law::params;
-  using state_type = typename Law::state;
+  using params_type = typename Law::params;  ///< the contact law's parameters
+  using state_type = typename Law::state;  ///< the contact law's state per sub-contact
 
+  /// Places the platen's sub-contacts on the gridpoints of the mesh under it; refuses bad geometry or motion (invalid_input naming the value)
   rigid_platen(const geometry::block_mesh& mesh, const platen_geometry& g, const platen_motion& m,
                const params_type& p)
       : geometry_(g), motion_(m), params_(p) {
@@ -186,7 +188,7 @@ class rigid_platen {
   void update(Solver& s) {
     update(s.gridpoints(), s.applied_forces(), s.dt());
   }
-  void update(const node_set& gp, soa3& applied, real dt) noexcept {
+  void update(const node_set& gp, soa3& applied, real dt) noexcept {  ///< Contact forces for this step into applied (N), then the platen advanced by dt (s)
     const vec3 n = current_normal();
     const vec3 c = geometry_.point + displacement_;
     const vec3 e = motion_.hinge_axis;
@@ -230,9 +232,9 @@ class rigid_platen {
   /// Displacement of the reference point (m) and rotation about the hinge axis (rad) after the
   /// last update; their rates (m/s, rad/s) at the half step.
   [[nodiscard]] const vec3& displacement() const { return displacement_; }
-  [[nodiscard]] real rotation() const { return rotation_; }
-  [[nodiscard]] const vec3& velocity() const { return velocity_; }
-  [[nodiscard]] real rotation_rate() const { return omega_; }
+  [[nodiscard]] real rotation() const { return rotation_; }  ///< Rotation about the hinge (rad)
+  [[nodiscard]] const vec3& velocity() const { return velocity_; }  ///< Velocity of the reference point (m/s)
+  [[nodiscard]] real rotation_rate() const { return omega_; }  ///< Rotation rate (rad/s)
   /// The current unit normal (from the platen into the body).
   [[nodiscard]] vec3 current_normal() const {
     const vec3& n0 = geometry_.normal;
@@ -241,15 +243,15 @@ class rigid_platen {
     const real cs = std::cos(rotation_), sn = std::sin(rotation_);
     return n0 * cs + e.cross(n0) * sn + e * e.dot(n0) * (1 - cs);  // Rodrigues
   }
-  [[nodiscard]] std::size_t size() const { return node_.size(); }
-  [[nodiscard]] index_t node(std::size_t j) const { return node_[j]; }
-  [[nodiscard]] real area(std::size_t j) const { return area_[j]; }
-  [[nodiscard]] real total_area() const {
+  [[nodiscard]] std::size_t size() const { return node_.size(); }  ///< Number of sub-contacts
+  [[nodiscard]] index_t node(std::size_t j) const { return node_[j]; }  ///< Gridpoint of sub-contact j
+  [[nodiscard]] real area(std::size_t j) const { return area_[j]; }  ///< Tributary area of sub-contact j (m^2)
+  [[nodiscard]] real total_area() const {  ///< Contact area (m^2)
     real a = 0;
     for (real x : area_) a += x;
     return a;
   }
-  [[nodiscard]] const state_type& state(std::size_t j) const { return state_[j]; }
+  [[nodiscard]] const state_type& state(std::size_t j) const { return state_[j]; }  ///< Law state of sub-contact j
   /// Sub-contacts in contact (sigma_n < 0) at the last update.
   [[nodiscard]] std::size_t in_contact() const {
     return static_cast<std::size_t>(
@@ -261,16 +263,16 @@ class rigid_platen {
     for (std::size_t j = 0; j < node_.size(); ++j) e += area_[j] * Law::stored_energy(params_, state_[j]);
     return e;
   }
-  [[nodiscard]] real dissipated_energy() const {
+  [[nodiscard]] real dissipated_energy() const {  ///< Energy dissipated (J)
     real e = 0;
     for (std::size_t j = 0; j < node_.size(); ++j) e += area_[j] * Law::dissipated_energy(state_[j]);
     return e;
   }
-  [[nodiscard]] real mass() const { return mass_; }
-  [[nodiscard]] real inertia() const { return inertia_; }
+  [[nodiscard]] real mass() const { return mass_; }  ///< Mass (kg)
+  [[nodiscard]] real inertia() const { return inertia_; }  ///< Rotary inertia about the hinge (kg m^2)
   /// Mass (kg) and inertia (kg m^2) added by scale_to.
   [[nodiscard]] real added_mass() const { return added_mass_; }
-  [[nodiscard]] real added_inertia() const { return added_inertia_; }
+  [[nodiscard]] real added_inertia() const { return added_inertia_; }  ///< Inertia added by scale_to (kg m^2)
 
   /// Saves or loads the platen's evolving state through a checkpoint archive (io/checkpoint.hpp)
   /// under "<prefix>/...": its sub-contacts' law states (the law's declared fields), its motion

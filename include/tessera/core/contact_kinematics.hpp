@@ -39,7 +39,7 @@ namespace tessera::contact::kinematics {
 /// A 3-vector as three scalars for the per-sub-contact loops: GCC keeps them in registers, where
 /// a vec3 in Eigen's 2 + 1 SSE packets went through the stack and stalled on store forwarding.
 struct triple {
-  real x, y, z;
+  /** the components */ /**@{*/ real x, y, z; /**@}*/
 };
 [[nodiscard, gnu::always_inline]] inline triple cross(const triple& a, const triple& b) noexcept {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
@@ -75,8 +75,8 @@ struct triple {
 /// An increment split along the unit normal n: opening du_n (m, + opens) and slip du_s (m, in
 /// the contact plane).
 struct normal_split {
-  real du_n;
-  triple du_s;
+  real du_n;  ///< opening along n (m, + opens)
+  triple du_s;  ///< slip in the contact plane (m)
 };
 [[nodiscard, gnu::always_inline]] inline normal_split split(const triple& du, const triple& n) noexcept {
   const real du_n = dot(du, n);

@@ -32,6 +32,7 @@ enum class dof_constraint : std::uint8_t {
   prescribed = 1,  ///< velocity prescribed (0 = fixed); its reaction is recorded in `reaction`
 };
 
+/// A set of nodes (gridpoints or bar nodes) as structure-of-arrays columns: positions, motion, forces, masses, constraints and reactions
 struct node_set {
   soa3 reference;     ///< reference position X (m)
   soa3 displacement;  ///< total displacement u (m); current position = X + u
@@ -43,8 +44,8 @@ struct node_set {
   Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3> constraint;  ///< dof_constraint per component
   soa3 prescribed_velocity;        ///< used where constraint == prescribed (m/s)
 
-  [[nodiscard]] index_t size() const { return static_cast<index_t>(reference.rows()); }
-  [[nodiscard]] vec3 position(index_t i) const { return (reference.row(i) + displacement.row(i)).transpose(); }
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(reference.rows()); }  ///< Number of nodes
+  [[nodiscard]] vec3 position(index_t i) const { return (reference.row(i) + displacement.row(i)).transpose(); }  ///< Current position X + u of node i (m)
 
   /// Allocates every array for n nodes, zero-initialised and unconstrained.
   void resize(index_t n) {

@@ -21,6 +21,7 @@
 #define TESSERA_PRAGMA_SIMD_REDUCTION(a, b) TESSERA_DETAIL_PRAGMA(omp simd reduction(+ : a, b))
 #else
 #define TESSERA_PRAGMA_SIMD
+/// nothing without OpenMP
 #define TESSERA_PRAGMA_SIMD_REDUCTION(a, b)
 #endif
 
@@ -68,8 +69,8 @@ void parallel_for(std::int64_t n, F&& f, std::int64_t grain = 256) {
 /// Seconds spent in the two loops of parallel_range_pair, summed over threads (so on one thread
 /// the wall time of each loop, on several the thread time: a per-core cost).
 struct range_pair_times {
-  double first = 0;
-  double second = 0;
+  double first = 0;  ///< s in the first loop
+  double second = 0;  ///< s in the second loop
 };
 
 template <class F, class G>

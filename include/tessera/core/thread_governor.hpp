@@ -119,11 +119,11 @@ class thread_governor {
     reference_time_ = 0;
   }
 
-  [[nodiscard]] int threads() const { return current_; }
-  [[nodiscard]] int max_threads() const { return max_; }
+  [[nodiscard]] int threads() const { return current_; }  ///< Threads in use now
+  [[nodiscard]] int max_threads() const { return max_; }  ///< Most threads it may use
   /// Probes started and probes that won (the count changed for good), for a run's summary.
   [[nodiscard]] int probes() const { return probes_; }
-  [[nodiscard]] int switches() const { return switches_; }
+  [[nodiscard]] int switches() const { return switches_; }  ///< Changes of the thread count so far
 
  private:
   enum class phase { running, measuring_current, measuring_probe };

@@ -26,12 +26,12 @@ using mat3 = Eigen::Matrix<real, 3, 3>;
 
 /// Axis-aligned box [lo, hi] (m).
 struct aabb {
-  vec3 lo = vec3::Constant(std::numeric_limits<real>::infinity());
-  vec3 hi = vec3::Constant(-std::numeric_limits<real>::infinity());
-  void expand(const vec3& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }
-  [[nodiscard]] vec3 size() const { return hi - lo; }
-  [[nodiscard]] real volume() const { const vec3 s = size(); return s.x() * s.y() * s.z(); }
-  [[nodiscard]] bool contains(const vec3& p, real tol = 0) const {
+  vec3 lo = vec3::Constant(std::numeric_limits<real>::infinity());  ///< lower corner (m)
+  vec3 hi = vec3::Constant(-std::numeric_limits<real>::infinity());  ///< upper corner (m)
+  void expand(const vec3& p) { lo = lo.cwiseMin(p); hi = hi.cwiseMax(p); }  ///< Grows the box to hold p
+  [[nodiscard]] vec3 size() const { return hi - lo; }  ///< hi - lo (m)
+  [[nodiscard]] real volume() const { const vec3 s = size(); return s.x() * s.y() * s.z(); }  ///< Volume (m^3)
+  [[nodiscard]] bool contains(const vec3& p, real tol = 0) const {  ///< True when p lies in the box enlarged by tol (m)
     return (p.array() >= lo.array() - tol).all() && (p.array() <= hi.array() + tol).all();
   }
 };

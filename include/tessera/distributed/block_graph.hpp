@@ -36,9 +36,9 @@ namespace tessera::distributed {
 
 /// An edge of the block graph: blocks a and b (a != b, any order) and its weight (work units).
 struct block_edge {
-  index_t a = invalid_index;
-  index_t b = invalid_index;
-  real weight = 0;
+  index_t a = invalid_index;  ///< one block
+  index_t b = invalid_index;  ///< the other block
+  real weight = 0;  ///< work units the edge carries
 };
 
 /// What a block_graph is built from; the add_* functions below append to it.
@@ -214,10 +214,10 @@ class block_graph {
     for (index_t b = 0; b < n; ++b) offsets_[static_cast<std::size_t>(b) + 1] += offsets_[static_cast<std::size_t>(b)];
   }
 
-  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(weight_.size()); }
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(weight_.size()); }  ///< Number of blocks
   /// Work units of block b per step.
   [[nodiscard]] real weight(index_t b) const { return weight_[static_cast<std::size_t>(b)]; }
-  [[nodiscard]] const std::vector<real>& weights() const { return weight_; }
+  [[nodiscard]] const std::vector<real>& weights() const { return weight_; }  ///< Work units per block
   /// Mean reference position of block b's gridpoints (m).
   [[nodiscard]] const vec3& centroid(index_t b) const { return centroid_[static_cast<std::size_t>(b)]; }
   /// The blocks coupled to b, increasing.
@@ -232,8 +232,8 @@ class block_graph {
   [[nodiscard]] index_t edge_count() const { return static_cast<index_t>(neighbours_.size() / 2); }
   /// CSR offsets: block b's couplings are entries [offsets()[b], offsets()[b + 1]).
   [[nodiscard]] const std::vector<index_t>& offsets() const { return offsets_; }
-  [[nodiscard]] const std::vector<index_t>& adjacency() const { return neighbours_; }
-  [[nodiscard]] const std::vector<real>& adjacency_weights() const { return edge_weight_; }
+  [[nodiscard]] const std::vector<index_t>& adjacency() const { return neighbours_; }  ///< Neighbours of each block, CSR (METIS's adjncy)
+  [[nodiscard]] const std::vector<real>& adjacency_weights() const { return edge_weight_; }  ///< Weight of each adjacency entry (METIS's adjwgt)
 
  private:
   [[nodiscard]] std::size_t count(index_t b) const {

@@ -157,13 +157,13 @@ class state_gather {
 
   // ---- the archive calls of io/checkpoint.hpp ----
   // A checkpoint's save and load each visit a record once; the gather does both in that visit.
-  [[nodiscard]] bool saving() const { return mode_ == pass::rows; }
-  [[nodiscard]] bool loading() const { return mode_ == pass::rows; }
+  [[nodiscard]] bool saving() const { return mode_ == pass::rows; }  ///< As a checkpoint writer in its row pass
+  [[nodiscard]] bool loading() const { return mode_ == pass::rows; }  ///< As a checkpoint reader in its row pass
   template <class T>
-  void same(std::string_view, const T&) {}
-  void count(std::string_view, std::int64_t&) {}
+  void same(std::string_view, const T&) {}  ///< Nothing to gather
+  void count(std::string_view, std::int64_t&) {}  ///< Nothing to gather
   template <class T>
-  void scalar(std::string_view name, T& x) {
+  void scalar(std::string_view name, T& x) {  ///< Gathers or scatters a scalar record
     const int k = book_index(name);
     if (k < 0) return;  // step, time, dt: the same on every rank
     if constexpr (std::is_floating_point_v<T>) {
@@ -172,7 +172,7 @@ class state_gather {
     }
   }
   template <class T>
-  void array(std::string_view name, std::vector<T>& v) {
+  void array(std::string_view name, std::vector<T>& v) {  ///< Gathers or scatters an array record by rows
     if (!rows_pass()) return;
     const std::vector<int>& owner = owners_of(name);
     const std::size_t n = owner.size();
@@ -182,7 +182,7 @@ class state_gather {
                 [&](std::size_t i) { return reinterpret_cast<unsigned char*>(&v[i]); }, sizeof(T));
   }
   template <class S, class M>
-  void members(std::string_view name, std::vector<S>& v, M S::*m) {
+  void members(std::string_view name, std::vector<S>& v, M S::*m) {  ///< Gathers or scatters one member of each element of v
     if (!rows_pass()) return;
     const std::vector<int>& owner = owners_of(name);
     require(owner.size() == v.size(), "distributed::state_gather: record '", name, "' has ", v.size(), " rows, the ",
@@ -191,7 +191,7 @@ class state_gather {
                 [&](std::size_t i) { return reinterpret_cast<unsigned char*>(&(v[i].*m)); }, sizeof(M));
   }
   template <class Mat>
-  void matrix(std::string_view name, Mat& m) {
+  void matrix(std::string_view name, Mat& m) {  ///< Gathers or scatters a matrix record by rows
     if (!rows_pass()) return;
     // The forces applied from outside (a platen's, solver/applied_*): the per-step callback
     // writes them on every rank from rows every rank holds (split_run::share_rows), so they are

@@ -33,6 +33,7 @@
 
 namespace tessera::distributed {
 
+/// Exchanges the forces and states of the gridpoints ranks share (ghosts) over MPI, in a fixed order so every rank gets the same bits
 class halo_exchange {
   static_assert(std::is_same_v<real, double>, "halo_exchange sends reals as MPI_DOUBLE");
 

@@ -73,6 +73,7 @@ namespace tessera::distributed {
 /// face_neighbor of a local face whose neighbour block is not in the local model.
 inline constexpr index_t outside_neighbor = -1000;
 
+/// The part of a model one rank holds: its own blocks and their ghosts, with the maps to the global ids
 class local_model {
  public:
   geometry::tessellation tess;  ///< the kept cells, locally numbered (file comment)
@@ -134,21 +135,21 @@ class local_model {
     if (!bars.empty()) rank_bar_nodes(whole_mesh, block_rank, bars);
   }
 
-  [[nodiscard]] int rank() const { return rank_; }
-  [[nodiscard]] int ranks() const { return ranks_; }
+  [[nodiscard]] int rank() const { return rank_; }  ///< This rank
+  [[nodiscard]] int ranks() const { return ranks_; }  ///< Number of ranks
   /// Blocks, gridpoints of the whole scene.
   [[nodiscard]] index_t global_block_count() const { return global_block_count_; }
-  [[nodiscard]] index_t global_gridpoint_count() const { return global_gridpoint_count_; }
+  [[nodiscard]] index_t global_gridpoint_count() const { return global_gridpoint_count_; }  ///< Gridpoints of the whole model
   /// Global id of local block b, gridpoint g, zone z (each increasing in the local id).
   [[nodiscard]] index_t global_block(index_t b) const { return global_block_[at(b)]; }
-  [[nodiscard]] index_t global_gridpoint(index_t g) const { return global_gridpoint_[at(g)]; }
-  [[nodiscard]] index_t global_zone(index_t z) const { return global_zone_[at(z)]; }
+  [[nodiscard]] index_t global_gridpoint(index_t g) const { return global_gridpoint_[at(g)]; }  ///< Global id of local gridpoint g
+  [[nodiscard]] index_t global_zone(index_t z) const { return global_zone_[at(z)]; }  ///< Global id of local zone z
   /// Global ids of the local blocks / gridpoints, in local order.
   [[nodiscard]] std::span<const index_t> global_blocks() const { return global_block_; }
-  [[nodiscard]] std::span<const index_t> global_gridpoints() const { return global_gridpoint_; }
+  [[nodiscard]] std::span<const index_t> global_gridpoints() const { return global_gridpoint_; }  ///< Global ids of the local gridpoints
   /// The rank owning local block b, and the local block -> rank map.
   [[nodiscard]] int block_rank(index_t b) const { return block_rank_[at(b)]; }
-  [[nodiscard]] std::span<const int> block_ranks() const { return block_rank_; }
+  [[nodiscard]] std::span<const int> block_ranks() const { return block_rank_; }  ///< The rank of every block of the whole model
   /// Blocks this rank owns (the rest of the local blocks are ghosts).
   [[nodiscard]] index_t own_block_count() const {
     return static_cast<index_t>(std::count(block_rank_.begin(), block_rank_.end(), rank_));

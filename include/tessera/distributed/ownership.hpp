@@ -38,10 +38,10 @@ namespace tessera::distributed {
 
 /// A sub-contact as the ownership rules see it: its two blocks and its two gridpoints.
 struct contact_pair {
-  index_t block_a = invalid_index;
-  index_t block_b = invalid_index;
-  index_t node_a = invalid_index;
-  index_t node_b = invalid_index;
+  index_t block_a = invalid_index;  ///< the sub-contact's block A
+  index_t block_b = invalid_index;  ///< the sub-contact's block B
+  index_t node_a = invalid_index;  ///< its gridpoint on A
+  index_t node_b = invalid_index;  ///< its gridpoint on B
 };
 
 /// The sub-contacts contact::face_contacts creates for a tessellation and its mesh, in its order
@@ -88,13 +88,14 @@ template <class Truss>
 
 /// Per-rank lists in CSR form: list r is entries [offsets[r], offsets[r + 1]).
 struct rank_lists {
-  std::vector<index_t> offsets;
-  std::vector<index_t> entries;
-  [[nodiscard]] std::span<const index_t> of(int r) const {
+  std::vector<index_t> offsets;  ///< start of each rank's list (size ranks + 1)
+  std::vector<index_t> entries;  ///< the lists, one after another
+  [[nodiscard]] std::span<const index_t> of(int r) const {  ///< List of rank r
     return {entries.data() + offsets[static_cast<std::size_t>(r)],
             static_cast<std::size_t>(offsets[static_cast<std::size_t>(r) + 1] - offsets[static_cast<std::size_t>(r)])};
   }
 };
+/// Which rank owns each block, gridpoint and sub-contact, and which gridpoints each rank holds as ghosts (file comment); refuses (invalid_input) a block map of the wrong size or a bad rank
 
 class rank_ownership {
  public:
@@ -225,16 +226,16 @@ class rank_ownership {
   }
 
  public:
-  [[nodiscard]] int ranks() const { return ranks_; }
-  [[nodiscard]] int block_rank(index_t b) const { return rank_of_block(b); }
-  [[nodiscard]] int gridpoint_rank(index_t g) const {
+  [[nodiscard]] int ranks() const { return ranks_; }  ///< Number of ranks
+  [[nodiscard]] int block_rank(index_t b) const { return rank_of_block(b); }  ///< Rank that owns block b
+  [[nodiscard]] int gridpoint_rank(index_t g) const {  ///< Rank that owns gridpoint g
     return rank_of_block(gridpoint_block_[static_cast<std::size_t>(g)]);
   }
   /// The rank that books sub-contact i: the rank of the lower-index block of its pair.
   [[nodiscard]] int contact_owner(index_t i) const { return contact_owner_[static_cast<std::size_t>(i)]; }
   /// The rank that owns bar node n: the rank of its host block (rank 0 without one).
   [[nodiscard]] int bar_node_rank(index_t n) const { return bar_node_rank_[static_cast<std::size_t>(n)]; }
-  [[nodiscard]] std::span<const index_t> owned_blocks(int r) const { return owned_blocks_.of(r); }
+  [[nodiscard]] std::span<const index_t> owned_blocks(int r) const { return owned_blocks_.of(r); }  ///< Blocks rank r owns
   /// The sub-contacts rank r evaluates: those with a block of r (its own and the shared ones).
   [[nodiscard]] std::span<const index_t> evaluated_contacts(int r) const { return evaluated_contacts_.of(r); }
   /// The bar elements rank r evaluates: those with a node of r.

@@ -103,6 +103,7 @@ concept rigid_splittable = Solver::blocks_type::is_rigid && requires(typename So
   return partition_centroids_rcb(blocks_of_mesh(mesh).centroid, ranks);
 }
 
+/// The step of a solver of rigid blocks split over MPI ranks by blocks (file comment): each rank steps its own blocks, the same bits as one process
 template <class Solver>
 class rigid_stepper {
   static_assert(rigid_splittable<Solver>,
@@ -286,9 +287,9 @@ class rigid_stepper {
     return sum;
   }
 
-  [[nodiscard]] bool is_own_block(index_t b) const { return block_rank_[static_cast<std::size_t>(b)] == rank_; }
-  [[nodiscard]] int rank() const { return rank_; }
-  [[nodiscard]] int ranks() const { return ranks_; }
+  [[nodiscard]] bool is_own_block(index_t b) const { return block_rank_[static_cast<std::size_t>(b)] == rank_; }  ///< True when this rank owns block b
+  [[nodiscard]] int rank() const { return rank_; }  ///< This rank
+  [[nodiscard]] int ranks() const { return ranks_; }  ///< Number of ranks
   /// Blocks of rank r, increasing.
   [[nodiscard]] const std::vector<index_t>& rank_blocks(int r) const { return rank_blocks_.at(static_cast<std::size_t>(r)); }
   /// Bytes all ranks send in one step's exchange (each rank's block states, sent to every other).
@@ -300,11 +301,11 @@ class rigid_stepper {
   /// This rank's wall time in the exchange (with the rebalances) and in whole steps since it was
   /// built (s); the exchange includes the wait for the slowest rank, so it measures imbalance too.
   [[nodiscard]] double exchange_seconds() const { return exchange_seconds_; }
-  [[nodiscard]] double step_seconds() const { return step_seconds_; }
+  [[nodiscard]] double step_seconds() const { return step_seconds_; }  ///< Wall time of the steps so far (s)
   /// This rank's time in its steps' contact update (with the rebuilds) and in integrating its
   /// blocks (s; zones, bars and recorders 0), as solver::phases() reports a one-process run's.
   [[nodiscard]] const phase_times& phases() const { return phases_; }
-  [[nodiscard]] std::int64_t steps() const { return steps_; }
+  [[nodiscard]] std::int64_t steps() const { return steps_; }  ///< Steps taken
   /// Other ranks' blocks whose copies step() leaves to sync_gridpoints (no pair here touches them).
   [[nodiscard]] std::size_t deferred_block_count() const { return deferred_.size(); }
   /// Rebuilds after which blocks changed rank (rebalance).

@@ -76,7 +76,7 @@ concept splittable = !Solver::blocks_type::is_rigid &&
 
 /// The figures of a split run so far (split_run::figures), the same on every rank.
 struct split_figures {
-  int ranks = 1;
+  int ranks = 1;  ///< number of ranks
   std::string partitioner;               ///< "metis" or "rcb"
   std::vector<index_t> rank_blocks;      ///< blocks of each rank
   real weight_imbalance = 1;             ///< max / mean of the ranks' block weights (zones + 2 x sub-contacts)
@@ -118,6 +118,7 @@ struct split_figures {
   return map;
 }
 
+/// A run split over MPI ranks from one call (file comment): partition, ownership and the stepper of this rank
 template <class Solver>
 class split_run {
  public:
@@ -232,10 +233,10 @@ class split_run {
     return f;
   }
 
-  [[nodiscard]] int rank() const { return rank_; }
-  [[nodiscard]] const rank_ownership& ownership() const { return own_; }
-  [[nodiscard]] const std::vector<int>& block_ranks() const { return map_; }
-  [[nodiscard]] stepper<Solver>& step_of_rank() { return stepper_; }
+  [[nodiscard]] int rank() const { return rank_; }  ///< This rank
+  [[nodiscard]] const rank_ownership& ownership() const { return own_; }  ///< The ownership of blocks, gridpoints and sub-contacts
+  [[nodiscard]] const std::vector<int>& block_ranks() const { return map_; }  ///< The rank of every block
+  [[nodiscard]] stepper<Solver>& step_of_rank() { return stepper_; }  ///< This rank's stepper
 
  private:
   [[nodiscard]] static int ranks_of(MPI_Comm comm) {

@@ -72,6 +72,7 @@
 
 namespace tessera::distributed {
 
+/// The step of a solver of deformable blocks split over MPI ranks by blocks (file comment): each rank steps its own blocks and exchanges its ghosts, the same bits as one process
 template <class Solver>
 class stepper {
   static_assert(!Solver::blocks_type::is_rigid, "distributed::stepper: rigid blocks split with distributed::rigid_stepper");
@@ -303,7 +304,7 @@ class stepper {
     if (in_flight_) finish_halo();
   }
 
-  [[nodiscard]] int rank() const { return rank_; }
+  [[nodiscard]] int rank() const { return rank_; }  ///< This rank
   /// The work of the own applied forces over the last step (J), booked at the next step once
   /// their closing values are written (solver::energies adds the same pending share).
   [[nodiscard]] real pending_applied_work() const {
@@ -321,11 +322,11 @@ class stepper {
   [[nodiscard]] const std::vector<index_t>& own_blocks() const { return own_blocks_; }
   /// Gridpoints of this rank's blocks, increasing.
   [[nodiscard]] const std::vector<index_t>& own_gridpoints() const { return own_gridpoints_; }
-  [[nodiscard]] bool owns_block(index_t b) const { return is_own_block_[at(b)] != 0; }
-  [[nodiscard]] const halo_exchange& halo() const { return halo_; }
+  [[nodiscard]] bool owns_block(index_t b) const { return is_own_block_[at(b)] != 0; }  ///< True when this rank owns block b
+  [[nodiscard]] const halo_exchange& halo() const { return halo_; }  ///< The exchange of ghost gridpoints
   /// Face tasks this rank evaluates without ghosts and with a ghost block.
   [[nodiscard]] std::size_t interior_face_tasks() const { return interior_faces_.size(); }
-  [[nodiscard]] std::size_t boundary_face_tasks() const { return boundary_faces_.size(); }
+  [[nodiscard]] std::size_t boundary_face_tasks() const { return boundary_faces_.size(); }  ///< Shared-face tasks on the rank boundary
 
  private:
   template <std::integral I>

@@ -15,6 +15,7 @@
 
 namespace tessera::geometry {
 
+/// The gridpoints and tetrahedral zones of every block of a tessellation (geometry::zone_blocks), with each face's surface nodes
 struct block_mesh {
   // ---- gridpoints (all blocks, grouped by block) ----
   std::vector<vec3> gridpoints;                ///< reference positions (m)
@@ -27,7 +28,7 @@ struct block_mesh {
   /// contact set's material-pair table (contact::material_table); empty means material 0 for
   /// every block. Set it after zoning, e.g. mesh.block_material[b] = 1 for a steel plate.
   std::vector<int> block_material;
-  [[nodiscard]] int material(index_t block) const {
+  [[nodiscard]] int material(index_t block) const {  ///< Material id of block (0 without block_material)
     return block_material.empty() ? 0 : block_material[static_cast<std::size_t>(block)];
   }
 
@@ -42,7 +43,7 @@ struct block_mesh {
   /// coincident gridpoints in the same order, so node k of face f pairs with node k of its twin:
   /// that pair is one sub-contact.
   std::vector<index_t> face_node_offsets{0};
-  std::vector<index_t> face_nodes;
+  std::vector<index_t> face_nodes;  ///< gridpoint ids of each face's surface nodes (CSR by face_node_offsets)
   /// Tributary area (m^2) of each entry of face_nodes: one third of the area of every face
   /// triangle touching the node (the consistent nodal share of a uniform traction on linear
   /// triangles). The areas of a face sum to the face area; twins carry identical areas.
@@ -50,11 +51,11 @@ struct block_mesh {
   /// Surface triangles of face f: face_triangles[face_triangle_offsets[f] .. face_triangle_offsets[f+1]),
   /// gridpoint ids, CCW seen from outside the block; twin faces are triangulated identically.
   std::vector<index_t> face_triangle_offsets{0};
-  std::vector<std::array<index_t, 3>> face_triangles;
+  std::vector<std::array<index_t, 3>> face_triangles;  ///< gridpoint ids of each face's triangles (CSR by face_triangle_offsets)
 
-  [[nodiscard]] index_t gridpoint_count() const { return static_cast<index_t>(gridpoints.size()); }
-  [[nodiscard]] index_t zone_count() const { return static_cast<index_t>(zones.size()); }
-  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(block_gridpoint_offsets.size()) - 1; }
+  [[nodiscard]] index_t gridpoint_count() const { return static_cast<index_t>(gridpoints.size()); }  ///< Number of gridpoints
+  [[nodiscard]] index_t zone_count() const { return static_cast<index_t>(zones.size()); }  ///< Number of zones
+  [[nodiscard]] index_t block_count() const { return static_cast<index_t>(block_gridpoint_offsets.size()) - 1; }  ///< Number of blocks
 };
 
 }  // namespace tessera::geometry

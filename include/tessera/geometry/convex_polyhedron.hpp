@@ -40,6 +40,7 @@
 
 namespace tessera::geometry {
 
+/// A convex polyhedron (m): vertices and planar convex face loops, CCW seen from outside; from_vertices and box build one and refuse degenerate input (geometry_error naming it)
 class convex_polyhedron {
  public:
   /// Upper bound of the "on" band of clip's retries, relative to extent(): a vertex kept as on
@@ -135,14 +136,14 @@ class convex_polyhedron {
   }
 
   // ---- topology and geometry access ------------------------------------------------------
-  [[nodiscard]] bool empty() const { return face_tags_.empty(); }
-  [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices_.size()); }
-  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_tags_.size()); }
-  [[nodiscard]] const std::vector<vec3>& vertices() const { return vertices_; }
-  [[nodiscard]] const vec3& vertex(index_t v) const { return vertices_[static_cast<std::size_t>(v)]; }
-  [[nodiscard]] const std::vector<index_t>& face_offsets() const { return face_offsets_; }
-  [[nodiscard]] const std::vector<index_t>& face_vertices() const { return face_vertices_; }
-  [[nodiscard]] const std::vector<index_t>& face_tags() const { return face_tags_; }
+  [[nodiscard]] bool empty() const { return face_tags_.empty(); }  ///< True when it has no face
+  [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices_.size()); }  ///< Number of vertices
+  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_tags_.size()); }  ///< Number of faces
+  [[nodiscard]] const std::vector<vec3>& vertices() const { return vertices_; }  ///< Vertex positions (m)
+  [[nodiscard]] const vec3& vertex(index_t v) const { return vertices_[static_cast<std::size_t>(v)]; }  ///< Position of vertex v (m)
+  [[nodiscard]] const std::vector<index_t>& face_offsets() const { return face_offsets_; }  ///< CSR offsets of the face loops into face_vertices()
+  [[nodiscard]] const std::vector<index_t>& face_vertices() const { return face_vertices_; }  ///< Vertex ids of the face loops, CCW seen from outside
+  [[nodiscard]] const std::vector<index_t>& face_tags() const { return face_tags_; }  ///< Tag of each face (its source plane or neighbour)
   /// Vertex ids of face f, CCW seen from outside.
   [[nodiscard]] std::span<const index_t> face(index_t f) const {
     return {face_vertices_.data() + face_offsets_[static_cast<std::size_t>(f)],

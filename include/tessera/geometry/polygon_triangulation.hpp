@@ -61,7 +61,7 @@ struct triangulation_workspace {
   std::vector<vec3> points;     ///< their positions
   std::vector<real> score;      ///< S(i, j), row-major n x n
   std::vector<int> split;       ///< argmax k of S(i, j)
-  std::vector<std::array<int, 2>> stack;
+  std::vector<std::array<int, 2>> stack;  ///< scratch of the ear clipping
 };
 
 /// Triangulates face `loop` (global ids into `vertices`, counter-clockwise seen from outside)

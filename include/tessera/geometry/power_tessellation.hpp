@@ -23,6 +23,7 @@
 
 namespace tessera::geometry {
 
+/// Options of the Voronoi and power tessellations (each checked where used, invalid_input naming it)
 struct tessellation_options {
   /// Lloyd relaxation steps: each moves every generator to the centroid of its cell, which
   /// makes cell sizes more uniform (0 = plain random tessellation).

@@ -31,8 +31,8 @@ namespace tessera::geometry {
 /// Oriented plane {x : normal . x = offset}; `normal` is a unit vector (dimensionless) pointing
 /// to the outside (the half-space n.x > offset is "outside"), `offset` in m.
 struct plane {
-  vec3 normal = vec3::UnitZ();
-  real offset = 0;
+  vec3 normal = vec3::UnitZ();  ///< unit normal
+  real offset = 0;  ///< n.x on the plane (m)
 
   /// Signed distance n.p - offset (m), positive outside.
   [[nodiscard]] real signed_distance(const vec3& p) const { return normal.dot(p) - offset; }

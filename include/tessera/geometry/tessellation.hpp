@@ -26,6 +26,7 @@ namespace tessera::geometry {
 /// Inverse of boundary_tag: the box side of a boundary face's neighbor value (0..5), or -1.
 [[nodiscard]] constexpr int boundary_side(index_t neighbor) { return neighbor < 0 ? -1 - neighbor : -1; }
 
+/// A conforming tessellation of convex cells (m): vertices, faces as CCW loops, each cell's faces and each face's neighbour
 struct tessellation {
   aabb domain;                       ///< the tessellated box (m)
   std::vector<vec3> seeds;           ///< generator of each cell (m); empty when read from a file without them
@@ -41,23 +42,24 @@ struct tessellation {
 
   std::vector<index_t> cell_face_offsets{0};  ///< CSR: faces of cell c are [cell_face_offsets[c], cell_face_offsets[c+1])
 
+  /// An interior face as its two twin faces
   struct shared_face {
-    index_t cell_a, face_a;  ///< lower cell id and its face
-    index_t cell_b, face_b;  ///< higher cell id and its (reversed) twin face
+    /** lower cell id and its face */ /**@{*/ index_t cell_a, face_a; /**@}*/
+    /** higher cell id and its (reversed) twin face */ /**@{*/ index_t cell_b, face_b; /**@}*/
   };
-  std::vector<shared_face> shared_faces;
+  std::vector<shared_face> shared_faces;  ///< every interior face once
 
-  [[nodiscard]] index_t cell_count() const { return static_cast<index_t>(cell_face_offsets.size()) - 1; }
-  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_offsets.size()) - 1; }
-  [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices.size()); }
+  [[nodiscard]] index_t cell_count() const { return static_cast<index_t>(cell_face_offsets.size()) - 1; }  ///< Number of cells
+  [[nodiscard]] index_t face_count() const { return static_cast<index_t>(face_offsets.size()) - 1; }  ///< Number of faces (each interior face twice)
+  [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices.size()); }  ///< Number of vertices
   /// Global vertex ids of face f, CCW seen from outside its cell.
   [[nodiscard]] std::span<const index_t> face(index_t f) const {
     return {face_vertices.data() + face_offsets[f],
             static_cast<std::size_t>(face_offsets[f + 1] - face_offsets[f])};
   }
-  [[nodiscard]] index_t first_face(index_t c) const { return cell_face_offsets[c]; }
-  [[nodiscard]] index_t end_face(index_t c) const { return cell_face_offsets[c + 1]; }
-  [[nodiscard]] bool is_boundary_face(index_t f) const { return face_neighbor[f] < 0; }
+  [[nodiscard]] index_t first_face(index_t c) const { return cell_face_offsets[c]; }  ///< First face of cell c
+  [[nodiscard]] index_t end_face(index_t c) const { return cell_face_offsets[c + 1]; }  ///< One past the last face of cell c
+  [[nodiscard]] bool is_boundary_face(index_t f) const { return face_neighbor[f] < 0; }  ///< True when face f lies on the domain's boundary
 };
 
 }  // namespace tessera::geometry

@@ -24,8 +24,8 @@ namespace tessera::geometry {
 
 /// Result of weld_vertices: `vertices[global_id[k]]` is the welded position of point k.
 struct welded_points {
-  std::vector<vec3> vertices;
-  std::vector<index_t> global_id;
+  std::vector<vec3> vertices;  ///< the distinct points (m)
+  std::vector<index_t> global_id;  ///< for each input point, its index in vertices
 };
 
 /// Topological identity of a cell vertex where exactly three faces meet: the sorted ids of the

@@ -66,6 +66,7 @@
 
 namespace tessera::geometry {
 
+/// Options of zone_blocks (each refused out of range, invalid_input naming it)
 struct zoning_options {
   /// Target zone edge length h (m); 0 = no refinement (one zone per face triangle).
   real target_edge_length = 0.0;
@@ -81,18 +82,18 @@ struct zoning_options {
 
 /// Quality of the zones of a block_mesh (see quality()).
 struct zone_quality {
-  index_t zones = 0;
-  index_t min_zones_per_block = 0;
-  double mean_zones_per_block = 0.0;
-  index_t max_zones_per_block = 0;
+  index_t zones = 0;  ///< number of zones
+  index_t min_zones_per_block = 0;  ///< fewest zones in a block
+  double mean_zones_per_block = 0.0;  ///< mean zones per block
+  index_t max_zones_per_block = 0;  ///< most zones in a block
   real min_zone_volume = 0.0;      ///< smallest zone volume (m^3)
-  index_t min_volume_zone = invalid_index;
+  index_t min_volume_zone = invalid_index;  ///< the zone of min_zone_volume
   real min_dihedral_deg = 0.0;     ///< smallest dihedral angle of any zone (degrees; 70.53 for a regular tet)
   real max_dihedral_deg = 0.0;     ///< largest dihedral angle of any zone (degrees)
   /// Smallest volume ratio eta = 6 sqrt(2) V / l_rms^3, l_rms = root mean square of the six edge
   /// lengths: 1 for the regular tetrahedron, -> 0 for slivers and needles.
   real min_volume_ratio = 0.0;
-  real mean_volume_ratio = 0.0;
+  real mean_volume_ratio = 0.0;  ///< mean volume ratio
   /// Fraction of zones with volume ratio below 0.1 (slivers, e.g. cones over the thin face
   /// triangles that short Voronoi edges produce).
   real fraction_below_ratio_0_1 = 0.0;

@@ -27,16 +27,17 @@
 
 namespace tessera::integrator {
 
+/// Explicit central differences with damping D (local_damping or no_damping): velocities at half steps, displacements at full steps
 template <Damping D = local_damping>
 class central_difference {
  public:
-  using damping_type = D;
-  D damping{};
+  using damping_type = D;  ///< the damping policy
+  D damping{};  ///< the damping in force
 
   central_difference() = default;
-  explicit central_difference(const D& d) : damping(d) { damping.validate(); }
+  explicit central_difference(const D& d) : damping(d) { damping.validate(); }  ///< Refuses (invalid_input) a damping constant out of range
 
-  [[nodiscard]] real stiffness_amplification() const noexcept { return damping.stiffness_amplification(); }
+  [[nodiscard]] real stiffness_amplification() const noexcept { return damping.stiffness_amplification(); }  ///< 1 + gamma with local damping, 1 without
 
   /// Updates one scalar degree of freedom; returns v(t + dt/2). `constraint` is a
   /// dof_constraint value, `reaction` receives R for prescribed components.

@@ -23,26 +23,28 @@
 
 namespace tessera::integrator {
 
+/// Cundall's local damping, F_d = gamma abs(F) sgn(v) against the motion (file comment): for quasi-static runs
 struct local_damping {
-  static constexpr bool enabled = true;
+  static constexpr bool enabled = true;  ///< damping force computed
   real gamma = 0.8;  ///< damping constant, 0 <= gamma < 1
 
-  void validate() const {
+  void validate() const {  ///< Refuses (invalid_input) gamma outside [0, 1)
     require(gamma >= 0 && gamma < 1, "local_damping: damping constant gamma = ", gamma, " must lie in [0, 1)");
   }
   /// Factor on the stiffness seen by the update in the worst phase (see the file comment).
   [[nodiscard]] real stiffness_amplification() const noexcept { return 1 + gamma; }
-  [[nodiscard]] real force(real f, real v) const noexcept {
+  [[nodiscard]] real force(real f, real v) const noexcept {  ///< Damping force of a component (N) for unbalanced force f (N) and half-step velocity v
     const real magnitude = gamma * (f < 0 ? -f : f);
     return v >= 0 ? magnitude : -magnitude;
   }
 };
 
+/// No damping: dynamics whose energy the run must keep
 struct no_damping {
-  static constexpr bool enabled = false;
-  void validate() const {}
-  [[nodiscard]] real stiffness_amplification() const noexcept { return 1; }
-  [[nodiscard]] real force(real, real) const noexcept { return 0; }
+  static constexpr bool enabled = false;  ///< no damping force
+  void validate() const {}  ///< Nothing to refuse
+  [[nodiscard]] real stiffness_amplification() const noexcept { return 1; }  ///< 1
+  [[nodiscard]] real force(real, real) const noexcept { return 0; }  ///< 0
 };
 
 static_assert(Damping<local_damping>);

@@ -121,7 +121,7 @@ inline void ensure_directory(const std::filesystem::path& dir) {
 class atomic_ofstream {
  public:
   explicit atomic_ofstream(std::filesystem::path target, std::ios::openmode mode = std::ios::out | std::ios::trunc)
-      : target_(std::move(target)) {
+      : target_(std::move(target)) {  ///< Opens target's temporary (target.tmp.<pid>); io_error when it cannot be opened
     temp_ = target_;
     temp_ += ".tmp." + std::to_string(detail::process_id());
     errno = 0;
@@ -141,14 +141,14 @@ class atomic_ofstream {
     detail::unregister_temporary(slot_);
   }
 
-  [[nodiscard]] std::ostream& stream() { return out_; }
+  [[nodiscard]] std::ostream& stream() { return out_; }  ///< The stream written to
   template <class T>
-  atomic_ofstream& operator<<(const T& value) {
+  atomic_ofstream& operator<<(const T& value) {  ///< Writes value to the stream
     out_ << value;
     return *this;
   }
-  [[nodiscard]] const std::filesystem::path& target() const { return target_; }
-  [[nodiscard]] const std::filesystem::path& temporary() const { return temp_; }
+  [[nodiscard]] const std::filesystem::path& target() const { return target_; }  ///< The file the data appear in at commit()
+  [[nodiscard]] const std::filesystem::path& temporary() const { return temp_; }  ///< The temporary file written until commit()
 
   /// Flushes, closes and renames the temporary file onto the target.
   void commit() {

@@ -71,7 +71,7 @@
 #include "atomic_file.hpp"
 
 #ifndef TESSERA_GIT_COMMIT
-#define TESSERA_GIT_COMMIT "unknown"
+#define TESSERA_GIT_COMMIT "unknown"  ///< the build's git commit, set by CMake; "unknown" outside it
 #endif
 
 namespace tessera::io {
@@ -233,9 +233,9 @@ class archive_base {
 /// Writes a checkpoint (see the file comment); the file appears at `target` only on commit().
 class checkpoint_writer : public detail::ckpt::archive_base<checkpoint_writer> {
  public:
-  using type_code = detail::ckpt::type_code;
+  using type_code = detail::ckpt::type_code;  ///< the record type tags
   checkpoint_writer(const std::filesystem::path& target, std::string_view description)
-      : out_(target, std::ios::out | std::ios::trunc | std::ios::binary) {
+      : out_(target, std::ios::out | std::ios::trunc | std::ios::binary) {  ///< Opens target's temporary and writes the header with description; io_error when it cannot
     raw(detail::ckpt::magic.data(), detail::ckpt::magic.size());
     const std::array<std::uint32_t, 3> head{checkpoint_format, detail::ckpt::byte_order_marker,
                                              static_cast<std::uint32_t>(sizeof(real))};
@@ -244,10 +244,10 @@ class checkpoint_writer : public detail::ckpt::archive_base<checkpoint_writer> {
     text("tessera/commit", TESSERA_GIT_COMMIT);
     text("description", description);
   }
-  [[nodiscard]] static constexpr bool saving() { return true; }
-  [[nodiscard]] static constexpr bool loading() { return false; }
+  [[nodiscard]] static constexpr bool saving() { return true; }  ///< Writes
+  [[nodiscard]] static constexpr bool loading() { return false; }  ///< Does not load
 
-  void values(std::string_view name, type_code type, const void* data, std::size_t count) {
+  void values(std::string_view name, type_code type, const void* data, std::size_t count) {  ///< Writes a record of count values of type under name
     const auto length = static_cast<std::uint32_t>(name.size());
     raw(&length, sizeof(length));
     raw(name.data(), name.size());
@@ -284,20 +284,20 @@ class checkpoint_writer : public detail::ckpt::archive_base<checkpoint_writer> {
 
 /// What a checkpoint file says about itself (io::read_checkpoint_info).
 struct checkpoint_info {
-  std::uint32_t format = 0;
+  std::uint32_t format = 0;  ///< file format version
   std::string version;      ///< tessera version that wrote it
   std::string commit;       ///< git commit of the build that wrote it ("unknown" outside the repository)
   std::string description;  ///< the text given to save_checkpoint
-  std::uint64_t records = 0;
-  std::uint64_t bytes = 0;
+  std::uint64_t records = 0;  ///< number of records
+  std::uint64_t bytes = 0;  ///< size of the file (bytes)
 };
 
 /// Reads a checkpoint: the whole file is read and its header, record structure and hash checked
 /// at construction; values() then hands out the records in order (see the file comment).
 class checkpoint_reader : public detail::ckpt::archive_base<checkpoint_reader> {
  public:
-  using type_code = detail::ckpt::type_code;
-  explicit checkpoint_reader(const std::filesystem::path& file) : file_(file.string()) {
+  using type_code = detail::ckpt::type_code;  ///< the record type tags
+  explicit checkpoint_reader(const std::filesystem::path& file) : file_(file.string()) {  ///< Reads file and checks its header; io_error when it cannot be read, invalid_input when it is no checkpoint of this format
     std::ifstream in(file, std::ios::binary | std::ios::ate);
     if (!in) throw io_error(tessera::detail::concat("cannot open checkpoint '", file_, "': ", detail::last_os_error()));
     const auto size = static_cast<std::size_t>(in.tellg());
@@ -307,22 +307,22 @@ class checkpoint_reader : public detail::ckpt::archive_base<checkpoint_reader> {
     if (!in) throw io_error(tessera::detail::concat("cannot read checkpoint '", file_, "': ", detail::last_os_error()));
     parse();
   }
-  [[nodiscard]] bool saving() const { return false; }
+  [[nodiscard]] bool saving() const { return false; }  ///< Does not write
   /// True in the pass that copies into the model; false in the dry run.
   [[nodiscard]] bool loading() const { return copy_; }
-  [[nodiscard]] const checkpoint_info& info() const { return info_; }
+  [[nodiscard]] const checkpoint_info& info() const { return info_; }  ///< The header: version, commit, description, sizes
 
   /// Starts a pass over the data records: `copy` false checks them only.
   void rewind(bool copy) {
     next_ = first_data_;
     copy_ = copy;
   }
-  void values(std::string_view name, type_code type, void* data, std::size_t count) {
+  void values(std::string_view name, type_code type, void* data, std::size_t count) {  ///< Checks the record's name, type and length against the model (invalid_input naming them), then copies it
     const record& r = expect(name, type, count);
     if (copy_ && count > 0) std::memcpy(data, data_.data() + r.offset, count * (type == type_code::u8 ? 1 : 8));
   }
   template <class T>
-  void same(std::string_view name, T value) {
+  void same(std::string_view name, T value) {  ///< Refuses (invalid_input) a saved value that differs from value, naming both
     using F = detail::ckpt::flat<T>;
     const record& r = expect(name, F::code, 1);
     typename F::value stored{};
@@ -460,9 +460,9 @@ class checkpoint_reader : public detail::ckpt::archive_base<checkpoint_reader> {
 /// checkpoint, a platen's, a driver's samples), for state that is not one object.
 template <class F>
 struct checkpoint_visitor {
-  F visit;
+  F visit;  ///< the visit, void(Archive&)
   template <class Archive>
-  void checkpoint(Archive& ar) {
+  void checkpoint(Archive& ar) {  ///< Calls visit(ar)
     visit(ar);
   }
 };

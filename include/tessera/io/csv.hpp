@@ -25,10 +25,11 @@
 
 namespace tessera::io {
 
+/// A CSV file written atomically (io::atomic_ofstream): a header row, then rows of numbers at full precision
 class csv_writer {
  public:
   csv_writer(const std::filesystem::path& path, std::vector<std::string> header)
-      : out_(path), header_(std::move(header)) {
+      : out_(path), header_(std::move(header)) {  ///< Opens path's temporary and writes the header; io_error when it cannot, invalid_input for an empty header
     require<invalid_input>(!header_.empty(), "csv_writer '", path.string(), "': header must name at least one column");
     out_.stream() << std::setprecision(std::numeric_limits<double>::max_digits10);
     for (std::size_t i = 0; i < header_.size(); ++i) out_.stream() << (i ? "," : "") << quoted(header_[i]);
@@ -42,7 +43,7 @@ class csv_writer {
     const double v[] = {static_cast<double>(values)...};
     row(std::span<const double>(v, sizeof...(T)));
   }
-  void row(std::span<const double> values) {
+  void row(std::span<const double> values) {  ///< Writes a row; refuses (invalid_input) one whose length is not the header's
     require<invalid_input>(values.size() == header_.size(), "csv_writer '", out_.target().string(), "': row ", rows_,
                            " has ", values.size(), " values, expected ", header_.size());
     std::ostream& os = out_.stream();
@@ -53,11 +54,11 @@ class csv_writer {
     os << '\n';
     ++rows_;
   }
-  [[nodiscard]] std::size_t rows() const { return rows_; }
+  [[nodiscard]] std::size_t rows() const { return rows_; }  ///< Rows written
   /// Makes the file visible at its path (throws io_error on failure).
   void commit() { out_.commit(); }
 
-  static void write_number(std::ostream& os, double x) {
+  static void write_number(std::ostream& os, double x) {  ///< x with 17 significant digits, nan and inf as such
     if (std::isfinite(x)) os << x;
     else os << (std::isnan(x) ? "nan" : (x > 0 ? "inf" : "-inf"));
   }

@@ -30,23 +30,24 @@
 
 namespace tessera::io {
 
+/// A flat JSON object written atomically (summary.json): set(key, value) in insertion order, a non-finite number as null
 class summary_json {
  public:
-  summary_json& set(std::string_view key, std::string_view value) { return put(key, quote(value)); }
-  summary_json& set(std::string_view key, const char* value) { return put(key, quote(value)); }
-  summary_json& set(std::string_view key, const std::string& value) { return put(key, quote(value)); }
-  summary_json& set(std::string_view key, bool value) { return put(key, value ? "true" : "false"); }
+  summary_json& set(std::string_view key, std::string_view value) { return put(key, quote(value)); }  ///< A string value
+  summary_json& set(std::string_view key, const char* value) { return put(key, quote(value)); }  ///< A string value
+  summary_json& set(std::string_view key, const std::string& value) { return put(key, quote(value)); }  ///< A string value
+  summary_json& set(std::string_view key, bool value) { return put(key, value ? "true" : "false"); }  ///< true or false
   template <class T>
     requires(std::is_integral_v<T> && !std::is_same_v<T, bool>)
-  summary_json& set(std::string_view key, T value) {
+  summary_json& set(std::string_view key, T value) {  ///< An integer value
     return put(key, std::to_string(value));
   }
   template <class T>
     requires std::is_floating_point_v<T>
-  summary_json& set(std::string_view key, T value) {
+  summary_json& set(std::string_view key, T value) {  ///< A number (null when not finite)
     return put(key, number(static_cast<double>(value)));
   }
-  summary_json& set(std::string_view key, std::span<const double> values) {
+  summary_json& set(std::string_view key, std::span<const double> values) {  ///< An array of numbers
     std::string s = "[";
     for (std::size_t i = 0; i < values.size(); ++i) {
       if (i) s += ", ";
@@ -54,10 +55,10 @@ class summary_json {
     }
     return put(key, s + "]");
   }
-  summary_json& set(std::string_view key, const std::vector<double>& values) {
+  summary_json& set(std::string_view key, const std::vector<double>& values) {  ///< An array of numbers
     return set(key, std::span<const double>(values));
   }
-  summary_json& set(std::string_view key, const std::vector<std::string>& values) {
+  summary_json& set(std::string_view key, const std::vector<std::string>& values) {  ///< An array of strings
     std::string s = "[";
     for (std::size_t i = 0; i < values.size(); ++i) {
       if (i) s += ", ";
@@ -75,8 +76,8 @@ class summary_json {
     return put(key, s + (objects.empty() ? "]" : "\n  ]"));
   }
 
-  [[nodiscard]] bool contains(std::string_view key) const { return find(key) != entries_.size(); }
-  [[nodiscard]] std::size_t size() const { return entries_.size(); }
+  [[nodiscard]] bool contains(std::string_view key) const { return find(key) != entries_.size(); }  ///< True when key was set
+  [[nodiscard]] std::size_t size() const { return entries_.size(); }  ///< Number of keys
 
   /// The object as pretty-printed JSON text (one key per line), ending with a newline.
   [[nodiscard]] std::string str() const {

@@ -32,13 +32,14 @@
 
 namespace tessera::io {
 
+/// A parsed JSON value; the accessors refuse (io_error naming its path) a value of another kind
 class json_value {
  public:
-  enum class kind { null, boolean, number, string, array, object };
+  /** the JSON types */ enum class kind { null, boolean, number, string, array, object };
 
-  [[nodiscard]] kind type() const noexcept { return kind_; }
-  [[nodiscard]] bool is_null() const noexcept { return kind_ == kind::null; }
-  [[nodiscard]] const std::string& path() const noexcept { return path_; }
+  [[nodiscard]] kind type() const noexcept { return kind_; }  ///< Its kind
+  [[nodiscard]] bool is_null() const noexcept { return kind_ == kind::null; }  ///< True for null
+  [[nodiscard]] const std::string& path() const noexcept { return path_; }  ///< Where it is, for messages (e.g. "file.json: entries[2].scale")
 
   /// The number; throws io_error if the value is not a number.
   [[nodiscard]] double number() const {
@@ -52,11 +53,11 @@ class json_value {
       throw io_error(tessera::detail::concat(where(), ": ", x, " must be a whole number in [", lo, ", ", hi, "]"));
     return static_cast<long long>(x);
   }
-  [[nodiscard]] bool boolean() const {
+  [[nodiscard]] bool boolean() const {  ///< The boolean; refuses another kind
     expect(kind::boolean, "true or false");
     return boolean_;
   }
-  [[nodiscard]] const std::string& string() const {
+  [[nodiscard]] const std::string& string() const {  ///< The string; refuses another kind
     expect(kind::string, "a string");
     return string_;
   }
@@ -70,7 +71,7 @@ class json_value {
     expect(kind::object, "an object");
     return members_;
   }
-  [[nodiscard]] const json_value* find(std::string_view key) const {
+  [[nodiscard]] const json_value* find(std::string_view key) const {  ///< The member key of an object, or nullptr
     for (const auto& [k, v] : members())
       if (k == key) return &v;
     return nullptr;
@@ -100,13 +101,14 @@ class json_value {
   std::string path_;  // e.g. "calibrated.json: entries[2].strength_scale"
 };
 
+/// A JSON parser (RFC 8259, nesting up to max_depth); refuses malformed text (io_error naming the line and column)
 class json_parser {
  public:
-  static constexpr int max_depth = 64;
+  static constexpr int max_depth = 64;  ///< deepest nesting accepted
 
-  json_parser(std::string_view text, std::string name) : text_(text), name_(std::move(name)) {}
+  json_parser(std::string_view text, std::string name) : text_(text), name_(std::move(name)) {}  ///< text to parse, its name for messages
 
-  json_value parse() {
+  json_value parse() {  ///< The value of the whole text
     json_value v = value(name_ + ":", 0);
     skip_space();
     if (pos_ != text_.size()) fail("unexpected text after the JSON value");

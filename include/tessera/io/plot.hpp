@@ -27,22 +27,23 @@ namespace tessera::io {
 
 /// One curve: columns of a CSV file with a header row (as written by csv_writer).
 struct plot_series {
-  std::filesystem::path csv;
+  std::filesystem::path csv;  ///< the CSV file
   std::string x_column;            ///< header name of the abscissa
   std::string y_column;            ///< header name of the ordinate
   std::string title;               ///< legend entry (empty: the y column name)
   std::string style = "lines lw 2";  ///< gnuplot `with` clause, e.g. "lines dt 2", "points pt 7"
   double x_scale = 1.0;            ///< plotted x = x_scale * column (unit conversion, e.g. 1e3 for m -> mm)
-  double y_scale = 1.0;
+  double y_scale = 1.0;  ///< factor on y
 };
 
+/// A figure: its title, axes, curves and size (io::plot draws it with gnuplot)
 struct plot_spec {
-  std::string title;
-  std::string xlabel;
-  std::string ylabel;
-  std::vector<plot_series> series;
-  int width_px = 1000;
-  int height_px = 700;
+  std::string title;  ///< figure title
+  std::string xlabel;  ///< x axis label
+  std::string ylabel;  ///< y axis label
+  std::vector<plot_series> series;  ///< the curves
+  int width_px = 1000;  ///< width (pixels)
+  int height_px = 700;  ///< height (pixels)
   bool log_x = false;  ///< logarithmic x axis (every x value must be > 0)
   bool log_y = false;  ///< logarithmic y axis (every y value must be > 0)
   /// Extra gnuplot commands after the axis labels (ranges, aspect ratio, outline objects).
@@ -50,11 +51,11 @@ struct plot_spec {
   /// Point sizes from a third CSV column (times scale) for series `series`, whose style then
   /// reads "points ... ps variable" (a crack map drawn by width, say).
   struct variable_size {
-    std::size_t series = 0;
-    std::string column;
-    double scale = 1.0;
+    std::size_t series = 0;  ///< index of the series
+    std::string column;  ///< column giving the point size
+    double scale = 1.0;  ///< factor on it
   };
-  std::vector<variable_size> variable_sizes{};
+  std::vector<variable_size> variable_sizes{};  ///< point sizes read from columns
 };
 
 namespace detail {

@@ -38,15 +38,16 @@
 #include "json.hpp"
 
 #ifndef TESSERA_GIT_COMMIT
-#define TESSERA_GIT_COMMIT "unknown"
+#define TESSERA_GIT_COMMIT "unknown"  ///< the build's git commit, set by CMake; "unknown" outside it
 #endif
 
 namespace tessera::io {
 
+/// run.json in an output directory: running, complete or interrupted, with the program, its arguments, the commit and the files written
 class run_record {
  public:
   run_record(std::filesystem::path dir, std::string program, int argc, const char* const* argv)
-      : dir_(std::move(dir)), program_(std::move(program)) {
+      : dir_(std::move(dir)), program_(std::move(program)) {  ///< Writes nothing yet: run.json appears when the driver creates dir (io::ensure_directory, file comment)
     for (int i = 1; i < argc; ++i) arguments_.emplace_back(argv[i]);
     active() = this;
     detail::directory_observer() = [](const std::filesystem::path& d) {
@@ -76,7 +77,7 @@ class run_record {
     completed_ = true;
     write("complete");
   }
-  [[nodiscard]] const std::vector<std::string>& files() const { return files_; }
+  [[nodiscard]] const std::vector<std::string>& files() const { return files_; }  ///< The files recorded
 
  private:
   static run_record*& active() {

@@ -68,12 +68,12 @@ enum class format { ascii, binary };
 
 /// One named data array: Float64 or Int32 values, `components` per tuple.
 struct data_array {
-  std::string name;
-  int components = 1;
-  bool is_integer = false;
-  std::vector<double> real_values;
-  std::vector<std::int32_t> int_values;
-  [[nodiscard]] std::size_t tuples() const {
+  std::string name;  ///< array name
+  int components = 1;  ///< components per tuple
+  bool is_integer = false;  ///< integer (Int32) rather than Float64
+  std::vector<double> real_values;  ///< values when real
+  std::vector<std::int32_t> int_values;  ///< values when integer
+  [[nodiscard]] std::size_t tuples() const {  ///< Number of tuples
     return (is_integer ? int_values.size() : real_values.size()) / static_cast<std::size_t>(components);
   }
 };
@@ -81,13 +81,13 @@ struct data_array {
 /// The point data or cell data of a dataset. Each add_* checks the tuple count when written.
 class field_data {
  public:
-  void add_scalar(std::string name, std::span<const double> values) {
+  void add_scalar(std::string name, std::span<const double> values) {  ///< A real scalar per point or cell
     arrays_.push_back({std::move(name), 1, false, {values.begin(), values.end()}, {}});
   }
-  void add_scalar(std::string name, std::span<const std::int32_t> values) {
+  void add_scalar(std::string name, std::span<const std::int32_t> values) {  ///< An integer scalar per point or cell
     arrays_.push_back({std::move(name), 1, true, {}, {values.begin(), values.end()}});
   }
-  void add_vector(std::string name, std::span<const vec3> values) {
+  void add_vector(std::string name, std::span<const vec3> values) {  ///< A 3-vector per point or cell
     data_array a{std::move(name), 3, false, {}, {}};
     a.real_values.reserve(3 * values.size());
     for (const vec3& v : values) a.real_values.insert(a.real_values.end(), {v.x(), v.y(), v.z()});
@@ -101,14 +101,14 @@ class field_data {
       a.real_values.insert(a.real_values.end(), {values(i, 0), values(i, 1), values(i, 2)});
     arrays_.push_back(std::move(a));
   }
-  void add_tensor(std::string name, std::span<const sym_tensor> values) {
+  void add_tensor(std::string name, std::span<const sym_tensor> values) {  ///< A symmetric tensor per point or cell (six components)
     data_array a{std::move(name), 6, false, {}, {}};
     a.real_values.reserve(6 * values.size());
     for (const auto& t : values) a.real_values.insert(a.real_values.end(), t.begin(), t.end());
     arrays_.push_back(std::move(a));
   }
-  [[nodiscard]] const std::vector<data_array>& arrays() const { return arrays_; }
-  [[nodiscard]] bool empty() const { return arrays_.empty(); }
+  [[nodiscard]] const std::vector<data_array>& arrays() const { return arrays_; }  ///< The arrays
+  [[nodiscard]] bool empty() const { return arrays_.empty(); }  ///< True without arrays
 
  private:
   std::vector<data_array> arrays_;
@@ -206,8 +206,8 @@ class unstructured_grid {
   field_data point_data;  ///< one tuple per point
   field_data cell_data;   ///< one tuple per cell, in add order
 
-  void set_points(std::vector<vec3> points) { points_ = std::move(points); }
-  index_t add_point(const vec3& p) {
+  void set_points(std::vector<vec3> points) { points_ = std::move(points); }  ///< Sets every point (m)
+  index_t add_point(const vec3& p) {  ///< Adds a point (m), returns its id
     points_.push_back(p);
     return static_cast<index_t>(points_.size()) - 1;
   }
@@ -220,7 +220,7 @@ class unstructured_grid {
     face_offsets_.push_back(-1);
     return static_cast<index_t>(types_.size()) - 1;
   }
-  index_t add_cell(cell_type type, std::initializer_list<index_t> nodes) {
+  index_t add_cell(cell_type type, std::initializer_list<index_t> nodes) {  ///< Adds a cell of point ids (the span overload checks them), returns its id
     return add_cell(type, std::span<const index_t>(nodes.begin(), nodes.size()));
   }
   /// Adds a polyhedral cell given its faces (point loops, CCW seen from outside) and returns its id.
@@ -242,8 +242,8 @@ class unstructured_grid {
     has_polyhedra_ = true;
     return static_cast<index_t>(types_.size()) - 1;
   }
-  [[nodiscard]] index_t point_count() const { return static_cast<index_t>(points_.size()); }
-  [[nodiscard]] index_t cell_count() const { return static_cast<index_t>(types_.size()); }
+  [[nodiscard]] index_t point_count() const { return static_cast<index_t>(points_.size()); }  ///< Number of points
+  [[nodiscard]] index_t cell_count() const { return static_cast<index_t>(types_.size()); }  ///< Number of cells
 
   /// Writes the grid to `path` (.vtu) atomically.
   void write(const std::filesystem::path& path, format fmt = format::ascii) const {
@@ -283,21 +283,21 @@ class poly_data {
   field_data point_data;  ///< one tuple per point
   field_data cell_data;   ///< one tuple per cell: verts, then lines, then polys
 
-  void set_points(std::vector<vec3> points) { points_ = std::move(points); }
-  index_t add_point(const vec3& p) {
+  void set_points(std::vector<vec3> points) { points_ = std::move(points); }  ///< Sets every point (m)
+  index_t add_point(const vec3& p) {  ///< Adds a point (m), returns its id
     points_.push_back(p);
     return static_cast<index_t>(points_.size()) - 1;
   }
-  void add_vertex(index_t p) { verts_.add({&p, 1}); }
+  void add_vertex(index_t p) { verts_.add({&p, 1}); }  ///< Adds a vertex cell
   /// A polyline through the given points (a bar as a chain of truss elements).
   void add_line(std::span<const index_t> points) { lines_.add(points); }
-  void add_polygon(std::span<const index_t> points) { polys_.add(points); }
-  [[nodiscard]] index_t point_count() const { return static_cast<index_t>(points_.size()); }
-  [[nodiscard]] index_t cell_count() const {
+  void add_polygon(std::span<const index_t> points) { polys_.add(points); }  ///< Adds a polygon cell
+  [[nodiscard]] index_t point_count() const { return static_cast<index_t>(points_.size()); }  ///< Number of points
+  [[nodiscard]] index_t cell_count() const {  ///< Number of cells
     return static_cast<index_t>(verts_.offsets.size() + lines_.offsets.size() + polys_.offsets.size());
   }
 
-  void write(const std::filesystem::path& path, format fmt = format::ascii) const {
+  void write(const std::filesystem::path& path, format fmt = format::ascii) const {  ///< Writes the .vtp file (io_error when it cannot)
     atomic_ofstream out(path);
     std::ostream& os = out.stream();
     detail::write_header(os, "PolyData");
@@ -343,9 +343,9 @@ class pvd_collection {
   /// Registers dataset `file` at simulated time `time` (s); `part` distinguishes datasets of
   /// the same time step (e.g. 0 = zones, 1 = contacts).
   void add(double time, const std::filesystem::path& file, int part = 0) { entries_.push_back({time, part, file}); }
-  [[nodiscard]] std::size_t size() const { return entries_.size(); }
+  [[nodiscard]] std::size_t size() const { return entries_.size(); }  ///< Number of entries
 
-  void write(const std::filesystem::path& path) const {
+  void write(const std::filesystem::path& path) const {  ///< Writes the .pvd file (io_error when it cannot)
     atomic_ofstream out(path);
     std::ostream& os = out.stream();
     os << std::setprecision(std::numeric_limits<double>::max_digits10);

@@ -47,16 +47,16 @@ template <class S>
 struct contact_snapshot {
   /// One declared state field: `components` values per sub-contact (1 or 3), sub-contact-major.
   struct array {
-    std::string name;
-    int components = 1;
-    std::vector<double> values;
+    std::string name;  ///< field name
+    int components = 1;  ///< 1 or 3
+    std::vector<double> values;  ///< values, sub-contact-major
   };
-  std::vector<vec3> reference, displacement, normal;  ///< m, m, unit A->B
-  std::vector<double> area, tensile_damage;          ///< m^2, -
+  /** reference position (m), displacement (m), unit normal A->B */ /**@{*/ std::vector<vec3> reference, displacement, normal; /**@}*/
+  /** area (m^2), tensile damage (-) */ /**@{*/ std::vector<double> area, tensile_damage; /**@}*/
   std::vector<std::int32_t> status;                   ///< law::contact_status bits
   std::vector<array> state;                           ///< Law::state_fields in declaration order, flags excluded
 
-  [[nodiscard]] std::size_t size() const { return reference.size(); }
+  [[nodiscard]] std::size_t size() const { return reference.size(); }  ///< Number of sub-contacts
 
   /// Copies the sub-contacts of `c` (gridpoints `gp`). Contacts: a contact::ContactSet whose law
   /// declares its state fields (law::DeclaresStateFields).

@@ -91,18 +91,20 @@ namespace detail {
 }
 }  // namespace detail
 
+/// A contact law of three parts, tension softening, a compression limit and a shear limit (file comment); stresses in Pa, displacements in m, normal stress positive in tension
 template <TensionSoftening Tension, CompressionLimit Compression, ShearLimit Shear>
 struct cohesive_frictional {
-  using tension_policy = Tension;
-  using compression_policy = Compression;
-  using shear_policy = Shear;
+  using tension_policy = Tension;  ///< the tension part
+  using compression_policy = Compression;  ///< the compression part
+  using shear_policy = Shear;  ///< the shear part
 
+  /// The stiffnesses and each part's parameters (validate refuses any out of range, naming it)
   struct params {
     real k_n = 0;  ///< normal stiffness (Pa/m), k_n = E/t
     real k_s = 0;  ///< shear stiffness (Pa/m), k_s = G/t
-    typename Tension::params tension{};
-    typename Compression::params compression{};
-    typename Shear::params shear{};
+    typename Tension::params tension{};  ///< the tension part's parameters
+    typename Compression::params compression{};  ///< the compression part's parameters
+    typename Shear::params shear{};  ///< the shear part's parameters
   };
 
   /// History of one sub-contact; value-initialised (`state{}`) = virgin, unloaded contact.
@@ -172,8 +174,8 @@ struct cohesive_frictional {
     }
   }
 
-  [[nodiscard]] static real normal_stiffness(const params& p) noexcept { return p.k_n; }
-  [[nodiscard]] static real shear_stiffness(const params& p) noexcept { return p.k_s; }
+  [[nodiscard]] static real normal_stiffness(const params& p) noexcept { return p.k_n; }  ///< k_n (Pa/m)
+  [[nodiscard]] static real shear_stiffness(const params& p) noexcept { return p.k_s; }  ///< k_s (Pa/m)
 
   // ---- elastic path over packs of sub-contacts (opt-in of law::ElasticPackLaw, concepts.hpp) ----
   // In almost every step of almost every sub-contact the damage flags stay as they are: the
@@ -190,10 +192,10 @@ struct cohesive_frictional {
   /// Lanes of update_elastic: T = real (one sub-contact) or lanes::pack.
   template <class T>
   struct elastic_lanes {
-    T du_n, ds0, ds1, ds2;  ///< in: update()'s du_n (m) and du_s (m)
-    T n0, n1, n2;           ///< in: update()'s unit normal n
-    T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_shear, dissipated_compression, u_p,
-        u_soft;  ///< in/out: state fields
+    /** in: update()'s du_n (m) and du_s (m) */ /**@{*/ T du_n, ds0, ds1, ds2; /**@}*/
+    /** in: update()'s unit normal n */ /**@{*/ T n0, n1, n2; /**@}*/
+    /** in/out: state fields */ /**@{*/ T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_shear,
+        dissipated_compression, u_p, u_soft; /**@}*/
     T f_t;       ///< in/out: tensile_strength(p, state), a function of u_soft and the flags
   };
 
@@ -356,7 +358,7 @@ struct cohesive_frictional {
     return elastic;
   }
 
-  [[nodiscard]] static contact_status status(const state& s) noexcept { return s.flags; }
+  [[nodiscard]] static contact_status status(const state& s) noexcept { return s.flags; }  ///< The state's flags (broken, slipped, ...)
 
   /// Current tensile strength f_t (Pa): f_T for a virgin contact, f_t(u_soft) while softening, 0 once broken.
   [[nodiscard]] static real tensile_strength(const params& p, const state& s) noexcept {

@@ -34,19 +34,20 @@ concept CompressionLimit = requires(const typename C::params& p) {
 /// Linear elastic in compression at any stress (the study's tie: no compression limit).
 struct elastic_compression {
   struct params {};
-  static constexpr bool bounded = false;
-  static void validate(const params&) {}
-  [[nodiscard]] static real strength(const params&) noexcept { return std::numeric_limits<real>::infinity(); }
+  static constexpr bool bounded = false;  ///< no limit
+  static void validate(const params&) {}  ///< Nothing to refuse
+  [[nodiscard]] static real strength(const params&) noexcept { return std::numeric_limits<real>::infinity(); }  ///< infinity
 };
 
 /// Elastic-perfectly plastic in compression: |sigma_n| <= f_c (the study's beam, f_c = 35 MPa).
 struct plastic_cap {
+  /// f_c
   struct params {
     real f_c = 0;  ///< compressive strength (Pa, > 0, a magnitude)
   };
-  static constexpr bool bounded = true;
-  static void validate(const params& p) { detail::require_positive(p.f_c, "compressive strength f_c", "Pa"); }
-  [[nodiscard]] static real strength(const params& p) noexcept { return p.f_c; }
+  static constexpr bool bounded = true;  ///< compression limited by f_c
+  static void validate(const params& p) { detail::require_positive(p.f_c, "compressive strength f_c", "Pa"); }  ///< Refuses (invalid_input) f_c <= 0
+  [[nodiscard]] static real strength(const params& p) noexcept { return p.f_c; }  ///< f_c (Pa)
 };
 
 static_assert(CompressionLimit<elastic_compression>);

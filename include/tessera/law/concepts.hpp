@@ -62,15 +62,16 @@ enum class contact_status : std::uint8_t {
 /// 0..2) and the contact_status flags.
 template <class S>
 struct state_field {
-  enum class kind : std::uint8_t { scalar, vector, flags };
-  const char* name;
-  const char* unit;
-  kind type;
-  real S::*scalar = nullptr;
-  vec3 S::*vector = nullptr;
-  contact_status S::*flags = nullptr;
-  constexpr state_field(const char* n, const char* u, real S::*m) : name(n), unit(u), type(kind::scalar), scalar(m) {}
-  constexpr state_field(const char* n, const char* u, vec3 S::*m) : name(n), unit(u), type(kind::vector), vector(m) {}
+  /** a real, a 3-vector or the flags */ enum class kind : std::uint8_t { scalar, vector, flags };
+  const char* name;  ///< field name, e.g. "sigma_n"
+  const char* unit;  ///< SI unit, e.g. "Pa"
+  kind type;  ///< which member below is set
+  real S::*scalar = nullptr;  ///< the real member (kind scalar)
+  vec3 S::*vector = nullptr;  ///< the vector member (kind vector)
+  contact_status S::*flags = nullptr;  ///< the flags member (kind flags)
+  constexpr state_field(const char* n, const char* u, real S::*m) : name(n), unit(u), type(kind::scalar), scalar(m) {}  ///< A real field
+  constexpr state_field(const char* n, const char* u, vec3 S::*m) : name(n), unit(u), type(kind::vector), vector(m) {}  ///< A 3-vector field
+  /// The flags field
   constexpr state_field(const char* n, const char* u, contact_status S::*m)
       : name(n), unit(u), type(kind::flags), flags(m) {}
   /// Real columns the field takes (1, 3, or 0 for the flags).

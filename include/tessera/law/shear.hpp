@@ -59,12 +59,12 @@ concept ShearLimit = requires(const typename S::params& p, real sigma_n, contact
 class friction_angle {
  public:
   constexpr friction_angle() = default;
-  [[nodiscard]] static friction_angle from_radians(real phi) { return friction_angle(phi); }
-  [[nodiscard]] static friction_angle from_degrees(real phi_deg) {
+  [[nodiscard]] static friction_angle from_radians(real phi) { return friction_angle(phi); }  ///< An angle in radians (a law's validate refuses one outside [0, pi/2))
+  [[nodiscard]] static friction_angle from_degrees(real phi_deg) {  ///< An angle in degrees (a law's validate refuses one outside [0, 90))
     return friction_angle(phi_deg * (std::numbers::pi_v<real> / 180));
   }
-  [[nodiscard]] constexpr real radians() const noexcept { return radians_; }
-  [[nodiscard]] constexpr real degrees() const noexcept { return radians_ * (180 / std::numbers::pi_v<real>); }
+  [[nodiscard]] constexpr real radians() const noexcept { return radians_; }  ///< phi (rad)
+  [[nodiscard]] constexpr real degrees() const noexcept { return radians_ * (180 / std::numbers::pi_v<real>); }  ///< phi (deg)
   /// tan(phi), the friction coefficient (-).
   [[nodiscard]] constexpr real tan() const noexcept { return tan_; }
 
@@ -111,7 +111,8 @@ template <class Params>
 /// phi = phi_res. Setting c_res = c_0 and phi_res = phi_0 gives a
 /// perfectly plastic Coulomb contact.
 struct coulomb_residual {
-  static constexpr bool couples_tension = false;
+  static constexpr bool couples_tension = false;  ///< shear strength does not depend on the tension state
+  /// c_0, phi_0, c_res, phi_res
   struct params {
     real c_0 = 0;              ///< initial cohesion (Pa, >= 0)
     friction_angle phi_0{};    ///< initial friction angle, [0, 90) deg
@@ -123,7 +124,7 @@ struct coulomb_residual {
     /// docs/model.md "Shear failure and tension").
     bool slip_breaks_tension = false;
   };
-  static void validate(const params& p) {
+  static void validate(const params& p) {  ///< Refuses (invalid_input) a negative cohesion, c_res > c_0 or an angle out of range, naming it
     if (!(p.c_0 >= 0) || !std::isfinite(p.c_0))
       throw invalid_input(tessera::detail::concat("contact law: cohesion c_0 = ", p.c_0, " Pa must be finite and >= 0"));
     detail::require_in_closed_range(p.c_res, 0, p.c_0, "residual cohesion c_res", "Pa",
@@ -151,9 +152,10 @@ struct coulomb_residual {
 /// contact breaks (continuous, where coulomb_residual jumps from c_0 to c_res at the break). The
 /// friction angle and the brittle shear failure are those of coulomb_residual. Same parameters.
 struct coulomb_coupled {
-  static constexpr bool couples_tension = true;
-  using params = coulomb_residual::params;
-  static void validate(const params& p) { coulomb_residual::validate(p); }
+  static constexpr bool couples_tension = true;  ///< shear strength coupled to the tension state
+  using params = coulomb_residual::params;  ///< as coulomb_residual's
+  static void validate(const params& p) { coulomb_residual::validate(p); }  ///< As coulomb_residual's
+  /// The shear strength (Pa) at normal stress sigma_n (Pa, positive in tension) in this state
   [[nodiscard]] static real strength(const params& p, real sigma_n, contact_status flags,
                                      real tensile_fraction = 1) noexcept {
     return detail::coulomb_limit(p, sigma_n, flags, p.c_res + (p.c_0 - p.c_res) * tensile_fraction);

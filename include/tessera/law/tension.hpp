@@ -87,12 +87,13 @@ inline void validate_envelope(real f_T, real G_f, real k_n) {
 /// Linear tension softening (study eq. 5, first form): f_t falls linearly from f_T at u_n = eta to
 /// 0 at u_n = zeta = 2 G_f/f_T, where the contact breaks; area under the whole curve = G_f.
 struct linear_softening {
+  /// f_T and G_f
   struct params {
     real f_T = 0;  ///< tensile strength (Pa)
     real G_f = 0;  ///< mode-I fracture energy (J/m^2 = N/m)
   };
-  static void validate(const params& p, real k_n) { detail::validate_envelope(p.f_T, p.G_f, k_n); }
-  [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }
+  static void validate(const params& p, real k_n) { detail::validate_envelope(p.f_T, p.G_f, k_n); }  ///< Refuses (invalid_input) f_T, G_f <= 0 or an envelope whose softening length is not positive at this k_n
+  [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }  ///< f_T (Pa)
   /// strength and exhausted for T = real or a lanes::pack (std::max(0, v) is v > 0 ? v : 0).
   template <class T>
   [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, real k_n, T w) noexcept {
@@ -101,12 +102,12 @@ struct linear_softening {
     return p.f_T * lanes::select(real(0) < v, v, T{});
   }
   template <class T>
-  [[nodiscard, gnu::always_inline]] static auto lane_exhausted(const params&, T f_t) noexcept {
+  [[nodiscard, gnu::always_inline]] static auto lane_exhausted(const params&, T f_t) noexcept {  ///< True where the envelope is spent (f_t = 0)
     return f_t <= real(0);
   }
   /// f_t(w) = f_T max(0, 1 - w/(zeta - eta)) (Pa), w = u_n - eta (m).
   [[nodiscard]] static real strength(const params& p, real k_n, real w) noexcept { return lane_strength(p, k_n, w); }
-  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return lane_exhausted(p, f_t); }
+  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return lane_exhausted(p, f_t); }  ///< True when the envelope is spent (f_t = 0)
   /// Total opening at which the contact breaks: zeta (m).
   [[nodiscard]] static real cutoff_opening(const params& p, real /*k_n*/) noexcept { return 2 * p.G_f / p.f_T; }
   /// Energy dissipated per unit area by a contact pulled monotonically to separation (J/m^2): G_f.
@@ -118,13 +119,14 @@ struct linear_softening {
 /// the envelope has dropped to residual_ratio f_T (see the file comment). alpha = 3 (the study's
 /// value) is evaluated without std::pow.
 struct power_softening {
+  /// f_T, G_f, alpha, residual ratio
   struct params {
     real f_T = 0;                ///< tensile strength (Pa)
     real G_f = 0;                ///< fracture energy (J/m^2); post-peak area = 2 G_f/(alpha-1)
     real alpha = 3;              ///< softening exponent (-), > 1
     real residual_ratio = 1e-3;  ///< r in (0, 1): broken once f_t <= r f_T
   };
-  static void validate(const params& p, real k_n) {
+  static void validate(const params& p, real k_n) {  ///< Refuses (invalid_input) f_T, G_f <= 0, alpha <= 1 or an envelope impossible at this k_n
     detail::validate_envelope(p.f_T, p.G_f, k_n);
     if (!(p.alpha > 1) || !std::isfinite(p.alpha))
       throw invalid_input(tessera::detail::concat("contact law: power softening exponent alpha = ", p.alpha,
@@ -133,7 +135,7 @@ struct power_softening {
       throw invalid_input(tessera::detail::concat("contact law: power softening residual_ratio = ", p.residual_ratio,
                                                   " must be in (0, 1)"));
   }
-  [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }
+  [[nodiscard]] static real peak_strength(const params& p) noexcept { return p.f_T; }  ///< f_T (Pa)
   /// strength and exhausted for T = real or a lanes::pack (std::pow lane by lane).
   template <class T>
   [[nodiscard, gnu::always_inline]] static T lane_strength(const params& p, real /*k_n*/, T w) noexcept {
@@ -149,12 +151,12 @@ struct power_softening {
     }
   }
   template <class T>
-  [[nodiscard, gnu::always_inline]] static auto lane_exhausted(const params& p, T f_t) noexcept {
+  [[nodiscard, gnu::always_inline]] static auto lane_exhausted(const params& p, T f_t) noexcept {  ///< True where the envelope is spent
     return f_t <= p.residual_ratio * p.f_T;
   }
   /// f_t(w) = f_T (zeta/(zeta + w))^alpha (Pa), w = u_n - eta (m).
   [[nodiscard]] static real strength(const params& p, real k_n, real w) noexcept { return lane_strength(p, k_n, w); }
-  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return lane_exhausted(p, f_t); }
+  [[nodiscard]] static bool exhausted(const params& p, real f_t) noexcept { return lane_exhausted(p, f_t); }  ///< True when the envelope is spent
   /// Total opening at which the contact breaks: u_c = zeta r^(-1/alpha) - zeta + eta (m).
   [[nodiscard]] static real cutoff_opening(const params& p, real k_n) noexcept {
     const real zeta = 2 * p.G_f / p.f_T;
@@ -179,12 +181,12 @@ struct power_softening {
 /// also loses its cohesion to the residual value (as a Coulomb joint with a zero tension cut-off).
 struct no_tension {
   struct params {};
-  static void validate(const params&, real /*k_n*/) {}
-  [[nodiscard]] static real peak_strength(const params&) noexcept { return 0; }
-  [[nodiscard]] static real strength(const params&, real /*k_n*/, real /*w*/) noexcept { return 0; }
-  [[nodiscard]] static bool exhausted(const params&, real /*f_t*/) noexcept { return true; }
-  [[nodiscard]] static real cutoff_opening(const params&, real /*k_n*/) noexcept { return 0; }
-  [[nodiscard]] static real separation_energy(const params&, real /*k_n*/) noexcept { return 0; }
+  static void validate(const params&, real /*k_n*/) {}  ///< Nothing to refuse
+  [[nodiscard]] static real peak_strength(const params&) noexcept { return 0; }  ///< 0
+  [[nodiscard]] static real strength(const params&, real /*k_n*/, real /*w*/) noexcept { return 0; }  ///< 0: no tension
+  [[nodiscard]] static bool exhausted(const params&, real /*f_t*/) noexcept { return true; }  ///< Always spent
+  [[nodiscard]] static real cutoff_opening(const params&, real /*k_n*/) noexcept { return 0; }  ///< 0
+  [[nodiscard]] static real separation_energy(const params&, real /*k_n*/) noexcept { return 0; }  ///< 0
 };
 
 static_assert(TensionSoftening<linear_softening>);

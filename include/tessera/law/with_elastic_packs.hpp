@@ -15,7 +15,7 @@ namespace tessera::law {
 ///     solver<blocks::deformable<...>, law::with_elastic_packs<law::study_tie_law>, ...>
 template <ContactLaw L>
 struct with_elastic_packs : L {
-  static constexpr bool use_elastic_packs = true;
+  static constexpr bool use_elastic_packs = true;  ///< the elastic steps run in lane packs
 };
 
 }  // namespace tessera::law

@@ -57,8 +57,8 @@ struct bar_discretisation {
   std::vector<real> element_length;          ///< reference length L_el (m)
   std::vector<index_t> bar_element_offsets{0}; ///< CSR: elements of bar b
 
-  [[nodiscard]] index_t node_count() const { return static_cast<index_t>(nodes.size()); }
-  [[nodiscard]] index_t element_count() const { return static_cast<index_t>(element_length.size()); }
+  [[nodiscard]] index_t node_count() const { return static_cast<index_t>(nodes.size()); }  ///< Number of nodes
+  [[nodiscard]] index_t element_count() const { return static_cast<index_t>(element_length.size()); }  ///< Number of elements
 };
 
 /// Splits every bar into equal elements. Throws invalid_input naming the bar when it has fewer

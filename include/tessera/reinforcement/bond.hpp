@@ -46,7 +46,9 @@ enum class stiffness_basis {
   per_unit_length,  ///< xi K_axial is a bond modulus in N/m per m of bar (3DEC cable grout stiffness)
 };
 
+/// Coulomb bond-slip of a bar node to its host zone (study eq. 9): elastic K_bond = xi K_axial up to c_bond, then sliding
 struct coulomb_bond {
+  /// xi, c_bond and the stiffness basis (validate refuses each out of range, naming it)
   struct params {
     real stiffness_ratio = 4.0;  ///< xi = K_bond / K_axial (-), eq. 9; the study uses 4
     real cohesion = 1e9;         ///< c_bond (N/m of bar length); 1e9 = the study's "perfect bond"
@@ -77,13 +79,13 @@ struct coulomb_bond {
     ar.members(prefix + "has_slipped", s, &state::has_slipped);
   }
 
-  static void validate(const params& p) {
+  static void validate(const params& p) {  ///< Refuses (invalid_input) xi <= 0, c_bond < 0 or a friction angle outside [0, pi/2), naming the value
     require_positive(p.stiffness_ratio, "coulomb_bond: bond stiffness ratio xi = K_bond / K_axial (-)");
     require_non_negative(p.cohesion, "coulomb_bond: bond cohesion c_bond (N/m)");
     require(p.friction_angle >= 0.0 && p.friction_angle < std::numbers::pi / 2.0,
             "coulomb_bond: bond friction angle phi_bond = ", p.friction_angle, " rad must be in [0, pi/2)");
   }
-  [[nodiscard]] static real stiffness_ratio(const params& p) noexcept { return p.stiffness_ratio; }
+  [[nodiscard]] static real stiffness_ratio(const params& p) noexcept { return p.stiffness_ratio; }  ///< xi (-)
   /// True when xi K_axial is a modulus per unit bar length (N/m^2) rather than a nodal spring (N/m).
   [[nodiscard]] static bool stiffness_per_unit_length(const params& p) noexcept {
     return p.basis == stiffness_basis::per_unit_length;
@@ -113,7 +115,7 @@ struct coulomb_bond {
   [[nodiscard]] static real stored_energy(const state& st, real stiffness) noexcept {
     return 0.5 * st.force * st.force / stiffness;
   }
-  [[nodiscard]] static real dissipated_energy(const state& st) noexcept { return st.dissipated; }
+  [[nodiscard]] static real dissipated_energy(const state& st) noexcept { return st.dissipated; }  ///< Energy dissipated by slip (J)
 };
 
 }  // namespace tessera::reinforcement

@@ -61,12 +61,14 @@
 
 namespace tessera::reinforcement {
 
+/// Steel bars embedded in the blocks as trusses, bonded to their host zones by Bond (file comment); build refuses bad parameters, no bars, or a bar node outside all zones, naming it
 template <BondLaw Bond>
 class embedded_truss {
  public:
-  using bond_type = Bond;
-  using bond_state = typename Bond::state;
+  using bond_type = Bond;  ///< the bond law
+  using bond_state = typename Bond::state;  ///< the bond state per bar node
 
+  /// The steel, the bond law's parameters and the bars (polylines, m)
   struct params {
     reinforcement::steel steel;     ///< bar material and diameter (shared by all bars)
     typename Bond::params bond;     ///< bond law parameters
@@ -78,7 +80,7 @@ class embedded_truss {
     /// bonds are evaluated by their own ranks (distributed::local_model::bar_params sets it).
     std::vector<char> hosted_nodes{};
   };
-  static constexpr bool enabled = true;
+  static constexpr bool enabled = true;  ///< bars present
 
   /// Validates p, discretises the bars, locates the host zone of every node of a bonded bar among
   /// mesh.zones (reference positions mesh.gridpoints) and sets masses. `gridpoints` must be the
@@ -137,8 +139,8 @@ class embedded_truss {
     confining_stress_.assign(static_cast<std::size_t>(n_nodes), 0.0);
   }
 
-  [[nodiscard]] node_set& nodes() { return nodes_; }
-  [[nodiscard]] const node_set& nodes() const { return nodes_; }
+  [[nodiscard]] node_set& nodes() { return nodes_; }  ///< The bar nodes
+  [[nodiscard]] const node_set& nodes() const { return nodes_; }  ///< The bar nodes
 
   /// Gershgorin bounds (N/m) on the rows of the stiffness matrix, per node, with the 3x3 blocks
   /// measured by their spectral norm (block Gershgorin, valid for the symmetric elastic stiffness):
@@ -244,7 +246,7 @@ class embedded_truss {
     for (index_t n : bonded_nodes_) e += Bond::dissipated_energy(bonds_[static_cast<std::size_t>(n)]);
     return e;
   }
-  [[nodiscard]] real dissipated_energy() const { return dissipated_axial() + dissipated_bond(); }
+  [[nodiscard]] real dissipated_energy() const { return dissipated_axial() + dissipated_bond(); }  ///< Axial plus bond dissipation (J)
   /// The parts of stored_energy() and dissipated_energy() held by `elements` (element ids) and
   /// by the bond springs of `nodes` (bar node ids; unbonded nodes add nothing), summed in the
   /// lists' order (J): a rank's share in a split run (distributed::stepper::summed_energies).
@@ -269,10 +271,10 @@ class embedded_truss {
   }
 
   // ---- topology ----
-  [[nodiscard]] const params& parameters() const { return params_; }
-  [[nodiscard]] index_t bar_count() const { return static_cast<index_t>(bar_node_offsets_.size()) - 1; }
-  [[nodiscard]] index_t node_count() const { return nodes_.size(); }
-  [[nodiscard]] index_t element_count() const { return static_cast<index_t>(elements_.size()); }
+  [[nodiscard]] const params& parameters() const { return params_; }  ///< The parameters given
+  [[nodiscard]] index_t bar_count() const { return static_cast<index_t>(bar_node_offsets_.size()) - 1; }  ///< Number of bars
+  [[nodiscard]] index_t node_count() const { return nodes_.size(); }  ///< Number of bar nodes
+  [[nodiscard]] index_t element_count() const { return static_cast<index_t>(elements_.size()); }  ///< Number of truss elements
   /// Node ids of bar b: [first, last) (the first is the bar's start).
   [[nodiscard]] std::pair<index_t, index_t> bar_nodes(index_t b) const {
     return {bar_node_offsets_[static_cast<std::size_t>(b)], bar_node_offsets_[static_cast<std::size_t>(b) + 1]};
@@ -281,15 +283,15 @@ class embedded_truss {
   [[nodiscard]] std::pair<index_t, index_t> bar_elements(index_t b) const {
     return {bar_element_offsets_[static_cast<std::size_t>(b)], bar_element_offsets_[static_cast<std::size_t>(b) + 1]};
   }
-  [[nodiscard]] index_t node_bar(index_t n) const { return node_bar_[static_cast<std::size_t>(n)]; }
-  [[nodiscard]] index_t element_node_a(index_t e) const { return element_node_a_[static_cast<std::size_t>(e)]; }
-  [[nodiscard]] index_t element_node_b(index_t e) const { return element_node_b_[static_cast<std::size_t>(e)]; }
+  [[nodiscard]] index_t node_bar(index_t n) const { return node_bar_[static_cast<std::size_t>(n)]; }  ///< Bar of node n
+  [[nodiscard]] index_t element_node_a(index_t e) const { return element_node_a_[static_cast<std::size_t>(e)]; }  ///< First node of element e
+  [[nodiscard]] index_t element_node_b(index_t e) const { return element_node_b_[static_cast<std::size_t>(e)]; }  ///< Second node of element e
   [[nodiscard]] real element_length(index_t e) const { return element_length_[static_cast<std::size_t>(e)]; }  ///< reference (m)
   [[nodiscard]] real axial_stiffness(index_t e) const { return axial_stiffness_[static_cast<std::size_t>(e)]; }  ///< N/m
   [[nodiscard]] real yield_force() const { return yield_force_; }                                              ///< N
   /// Host of node n (zone = invalid_index on an unbonded bar).
   [[nodiscard]] const host_point& host(index_t n) const { return hosts_[static_cast<std::size_t>(n)]; }
-  [[nodiscard]] bool bonded(index_t n) const { return hosts_[static_cast<std::size_t>(n)].zone != invalid_index; }
+  [[nodiscard]] bool bonded(index_t n) const { return hosts_[static_cast<std::size_t>(n)].zone != invalid_index; }  ///< True when node n has a host zone
   /// The host zone of every bonded node, in node order: the zones whose stress the bars read.
   [[nodiscard]] std::vector<index_t> host_zones() const {
     std::vector<index_t> zones;
@@ -317,7 +319,7 @@ class embedded_truss {
   [[nodiscard]] real plastic_elongation(index_t e) const { return elements_[static_cast<std::size_t>(e)].plastic_elongation; }  ///< m
   [[nodiscard]] bool yielding(index_t e) const { return elements_[static_cast<std::size_t>(e)].yielding; }  ///< on the plateau now
   [[nodiscard]] bool yielded(index_t e) const { return elements_[static_cast<std::size_t>(e)].has_yielded; }  ///< ever yielded
-  [[nodiscard]] const bond_state& bond(index_t n) const { return bonds_[static_cast<std::size_t>(n)]; }
+  [[nodiscard]] const bond_state& bond(index_t n) const { return bonds_[static_cast<std::size_t>(n)]; }  ///< Bond state of node n
   [[nodiscard]] real slip(index_t n) const { return bonds_[static_cast<std::size_t>(n)].slip; }  ///< m, node rel. to host along a
   [[nodiscard]] real bond_force(index_t n) const { return bonds_[static_cast<std::size_t>(n)].force; }  ///< F_a (N)
   [[nodiscard]] bool bond_slipping(index_t n) const { return bonds_[static_cast<std::size_t>(n)].slipping; }  ///< at the limit now

@@ -43,7 +43,7 @@ namespace tessera::reinforcement {
 /// Where a bar node sits in the block mesh: its host zone, the zone's 4 gridpoints and the weights.
 struct host_point {
   index_t zone = invalid_index;                                            ///< host zone id
-  std::array<index_t, 4> gridpoints{invalid_index, invalid_index, invalid_index, invalid_index};
+  std::array<index_t, 4> gridpoints{invalid_index, invalid_index, invalid_index, invalid_index};  ///< the host zone's gridpoints
   std::array<real, 4> weights{0.0, 0.0, 0.0, 0.0};                       ///< w_i = V_i / V_T, sum 1
 };
 

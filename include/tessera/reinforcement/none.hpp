@@ -11,19 +11,20 @@
 
 namespace tessera::reinforcement {
 
+/// No reinforcement: nothing built, nothing stepped, no energy
 class none {
  public:
   /// No parameters.
   struct params {};
-  static constexpr bool enabled = false;
+  static constexpr bool enabled = false;  ///< no bars
 
-  void build(const params&, const geometry::block_mesh&, const node_set&) {}
-  [[nodiscard]] node_set& nodes() { return nodes_; }
-  [[nodiscard]] const node_set& nodes() const { return nodes_; }
-  void add_stiffness_bounds(node_set&) {}
-  void accumulate_forces(node_set&, const zone_stress_matrix&) noexcept {}
-  [[nodiscard]] real stored_energy() const { return 0.0; }
-  [[nodiscard]] real dissipated_energy() const { return 0.0; }
+  void build(const params&, const geometry::block_mesh&, const node_set&) {}  ///< Nothing to build
+  [[nodiscard]] node_set& nodes() { return nodes_; }  ///< No nodes
+  [[nodiscard]] const node_set& nodes() const { return nodes_; }  ///< No nodes
+  void add_stiffness_bounds(node_set&) {}  ///< Nothing to add
+  void accumulate_forces(node_set&, const zone_stress_matrix&) noexcept {}  ///< No forces
+  [[nodiscard]] real stored_energy() const { return 0.0; }  ///< 0
+  [[nodiscard]] real dissipated_energy() const { return 0.0; }  ///< 0
   /// Nothing to save (io/checkpoint.hpp).
   template <class Archive>
   void checkpoint(Archive&) {}

@@ -20,6 +20,7 @@
 
 namespace tessera::reinforcement {
 
+/// A steel truss element between two bar nodes: elastic-perfectly plastic in tension and compression
 struct truss_element {
   /// History of one element; value-initialised = virgin element.
   struct state {

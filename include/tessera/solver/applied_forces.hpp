@@ -86,7 +86,7 @@ class solver_applied_forces {
   /// contact::rigid_platen, writes them between steps. Their work enters the energy balance as
   /// energy_balance::applied_work, booked by the trapezoidal rule (file comment).
   [[nodiscard]] soa3& applied_forces() { return static_cast<Solver&>(*this).applied_force_; }
-  [[nodiscard]] const soa3& applied_forces() const { return static_cast<const Solver&>(*this).applied_force_; }
+  [[nodiscard]] const soa3& applied_forces() const { return static_cast<const Solver&>(*this).applied_force_; }  ///< The forces written from outside the model per gridpoint (N), those the next step applies
   /// The registered gridpoints, increasing.
   [[nodiscard]] const std::vector<index_t>& applied_nodes() const {
     return static_cast<const Solver&>(*this).applied_nodes_;

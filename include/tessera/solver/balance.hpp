@@ -80,6 +80,7 @@ struct out_of_balance {
 /// Loading rate set by the out-of-balance ratio (see the file comment).
 class adaptive_rate {
  public:
+  /// Bounds and gains of the rate control (each refused by adaptive_rate's constructor when out of range)
   struct params {
     real min_factor = 1;  ///< slowest rate over the base rate, taken while out of balance (<= 1)
     real max_factor = 1;  ///< fastest rate over the base rate (>= 1; min = max = 1: a fixed rate)
@@ -110,7 +111,7 @@ class adaptive_rate {
       factor_ = std::min(p_.max_factor, factor_ * p_.growth);
     return factor_;
   }
-  [[nodiscard]] real factor() const { return factor_; }
+  [[nodiscard]] real factor() const { return factor_; }  ///< Current factor on the base loading rate (-), in [min_factor, 1]
 
  private:
   params p_{};

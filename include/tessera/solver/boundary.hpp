@@ -41,10 +41,10 @@ enum class components : std::uint8_t { none = 0, x = 1, y = 2, z = 4, xy = 3, xz
 
 /// Indices of nodes of one node_set (increasing), with a name used in messages.
 struct node_group {
-  std::vector<index_t> nodes;
-  std::string name;
-  [[nodiscard]] index_t size() const { return static_cast<index_t>(nodes.size()); }
-  [[nodiscard]] bool empty() const { return nodes.empty(); }
+  std::vector<index_t> nodes;  ///< node indices, increasing
+  std::string name;  ///< the selection's name, used in messages
+  [[nodiscard]] index_t size() const { return static_cast<index_t>(nodes.size()); }  ///< Number of nodes
+  [[nodiscard]] bool empty() const { return nodes.empty(); }  ///< True when no node is selected
 };
 
 /// Nodes whose REFERENCE position satisfies predicate(vec3 X). Throws invalid_input when none does.

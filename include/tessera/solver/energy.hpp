@@ -17,6 +17,7 @@
 
 namespace tessera {
 
+/// The energy books of a run (J): what went in, what is stored, what left; error_rel() closes them
 struct energy_balance {
   real initial = 0;                   ///< kinetic + stored energy when the run started
   real boundary_work = 0;             ///< work of the support reactions (J)

@@ -19,6 +19,7 @@
 
 namespace tessera {
 
+/// The step run by pieces from outside (a run split over MPI ranks), a base of solver<...> (file comment)
 template <class Solver>
 class solver_external_steps {
  public:

@@ -20,11 +20,11 @@ namespace tessera {
 /// and the integrator; on the unfused path the integrator alone), recorders (the observers of run
 /// and run_until). A few clock reads per step and thread (about 0.1 us).
 struct phase_times {
-  double zones = 0;
-  double contacts = 0;
-  double bars = 0;
-  double integration = 0;
-  double recorders = 0;
+  double zones = 0;  ///< s in the zone forces
+  double contacts = 0;  ///< s in the contact forces
+  double bars = 0;  ///< s in the bars' axial and bond forces
+  double integration = 0;  ///< s gathering host forces and integrating
+  double recorders = 0;  ///< s in the observers of run and run_until
 };
 
 /// What solver::run_until did: the steps it took, why it stopped and whether max_steps ran out
@@ -33,6 +33,7 @@ struct run_result {
   std::int64_t steps = 0;      ///< steps taken by this call
   std::string reason;          ///< the stop condition's reason() (e.g. "t - t0 = 0.5 s >= 0.5 s"), or "max_steps = N reached"
   bool hit_max_steps = false;  ///< true when max_steps ran out before the condition held
+  /// The steps taken, so that an integer reads the result
   operator std::int64_t() const { return steps; }  // NOLINT(google-explicit-constructor): old callers read the count
 };
 

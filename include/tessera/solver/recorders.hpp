@@ -45,9 +45,9 @@ namespace tessera::recorders {
 template <class F>
 class every {
  public:
-  every(index_t interval, F f) : interval_(interval < 1 ? 1 : interval), f_(std::move(f)) {}
+  every(index_t interval, F f) : interval_(interval < 1 ? 1 : interval), f_(std::move(f)) {}  ///< Calls f every interval steps (an interval below 1 counts as 1)
   template <class Solver>
-  void operator()(const Solver& s) {
+  void operator()(const Solver& s) {  ///< Calls f(s) when s.step_count() is a multiple of the interval
     if (s.step_count() % interval_ == 0) f_(s);
   }
 
@@ -76,9 +76,9 @@ struct sampling {
 /// the unit is empty) and the quantity, any callable real(const Solver&) (e.g. quantity::time()).
 template <class Solver>
 struct csv_column {
-  std::string name;
-  std::string unit;
-  std::function<real(const Solver&)> quantity;
+  std::string name;  ///< column name (no comma, quote or line break)
+  std::string unit;  ///< SI unit, e.g. "m" (may be empty)
+  std::function<real(const Solver&)> quantity;  ///< the value written, real(const Solver&)
 };
 
 /// An observer (solver::run / run_until) writing named quantities to a CSV file: a header line
@@ -135,7 +135,7 @@ class csv_recorder {
     next_time_ = s.time() + when_.seconds;
     write_row(s.step_count(), s.time());
   }
-  csv_recorder(csv_recorder&&) noexcept = default;
+  csv_recorder(csv_recorder&&) noexcept = default;  ///< Moves the open file with it
   csv_recorder& operator=(csv_recorder&&) = delete;
   csv_recorder(const csv_recorder&) = delete;
   csv_recorder& operator=(const csv_recorder&) = delete;

@@ -80,7 +80,7 @@ namespace tessera {
 /// kinetic_relaxation's default hook: nothing happens before a step.
 struct no_before_step {
   template <class Solver>
-  void operator()(Solver&, real, bool) const noexcept {}
+  void operator()(Solver&, real, bool) const noexcept {}  ///< Does nothing
 };
 
 /// Kinetic dynamic relaxation of a solver of deformable blocks (file comment). The prescribed
@@ -108,7 +108,7 @@ struct no_before_step {
 template <class Solver, class BeforeStep = no_before_step>
 class kinetic_relaxation {
  public:
-  explicit kinetic_relaxation(Solver& s, BeforeStep before_step = {}) : s_(s), before_step_(std::move(before_step)) {
+  explicit kinetic_relaxation(Solver& s, BeforeStep before_step = {}) : s_(s), before_step_(std::move(before_step)) {  ///< Reads the load pattern (the prescribed velocities) from s and holds its supports; before_step(s, rate, resetting) is called before every step
     static_assert(!Solver::blocks_type::is_rigid, "kinetic_relaxation: rigid blocks keep their velocities in the "
                                                   "block model; only deformable blocks are relaxed");
     pattern_ = s_.gridpoints().prescribed_velocity;

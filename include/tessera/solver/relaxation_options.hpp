@@ -45,7 +45,7 @@ struct relaxation_options {
   /// Rayleigh quotient of the current displacement x since the increment began, k_i the local
   /// stiffness -(F_i - F_i,old) / (dt v_i,old) (components with v_old = 0 left out); c = 0 when
   /// the quotient is not positive (softening), c dt at most 2.
-  enum class method { kinetic, fire, adaptive } velocity_rule = method::kinetic;
+  enum class method { kinetic, fire, adaptive } velocity_rule = method::kinetic;  ///< the velocity rule between resets (above); kinetic by default
   real adaptive_damping_scale = 1;  ///< in (0, 10]: factor on the critical damping of lambda
   real fire_alpha_start = 0.1;    ///< in (0, 1]: FIRE's mixing after a reset
   real fire_alpha_decay = 0.99;   ///< in (0, 1]: FIRE's factor on the mixing per downhill step
@@ -61,7 +61,7 @@ struct relaxation_result {
   bool converged = false;       ///< ratio <= tolerance within max_steps
   real kinetic_removed = 0;     ///< J: kinetic energy the resets zeroed
 
-  void add(const relaxation_result& r) {
+  void add(const relaxation_result& r) {  ///< Adds the counts of a later increment; ratio and converged become its
     steps += r.steps, ramp_steps += r.ramp_steps, resets += r.resets, kinetic_removed += r.kinetic_removed;
     ratio = r.ratio, converged = r.converged;
   }

@@ -63,6 +63,7 @@
 
 namespace tessera {
 
+/// The composed model of a scene (file comment): blocks, a contact set, reinforcement, an integrator and a step checker, each a policy checked by its concept
 template <blocks::BlockModel Blocks, contact::ContactSet Contacts, reinforcement::Reinforcement Reinforcement = reinforcement::none,
           integrator::Integrator Integrator = integrator::central_difference<integrator::local_damping>,
           class Checker = checks::default_step_checker>
@@ -77,12 +78,12 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   friend class solver_external_steps<solver>;
 
  public:
-  using blocks_type = Blocks;
-  using contact_set_type = Contacts;
-  using law_type = typename Contacts::law_type;
-  using reinforcement_type = Reinforcement;
-  using integrator_type = Integrator;
-  using checker_type = Checker;
+  using blocks_type = Blocks;  ///< the block model
+  using contact_set_type = Contacts;  ///< the contact set
+  using law_type = typename Contacts::law_type;  ///< the contact law
+  using reinforcement_type = Reinforcement;  ///< the reinforcement (reinforcement::none without bars)
+  using integrator_type = Integrator;  ///< the integrator with its damping
+  using checker_type = Checker;  ///< the step checker
 
   /// Builds the model: blocks (validating their material), the contact set (validating the law
   /// parameters of every material pair: `contact_params` is Contacts::params, for face_contacts a
@@ -97,7 +98,7 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   /// Block parameters per material id (geometry::block_mesh::block_material): block b takes
   /// list[mesh.material(b)]. An aggregate, so `{2400}` never converts to it by accident.
   struct block_materials {
-    std::vector<typename Blocks::params> list;
+    std::vector<typename Blocks::params> list;  ///< one params per material id
   };
   /// The same with one block material per material id.
   solver(const geometry::tessellation& tess, const geometry::block_mesh& mesh, const block_materials& materials,
@@ -159,7 +160,7 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
       for (index_t i = 0; i < gridpoints_.size(); ++i) gravity_force_.row(i) = weight_mass_[i] * g.transpose();
     }
   }
-  [[nodiscard]] const vec3& gravity() const { return gravity_; }
+  [[nodiscard]] const vec3& gravity() const { return gravity_; }  ///< Acceleration of gravity (m/s^2), zero until set_gravity
   /// Deformable blocks: each gridpoint's weight m0_i g (N), where each step's forces start; empty without gravity.
   [[nodiscard]] const soa3& gravity_forces() const { return gravity_force_; }
 
@@ -289,27 +290,27 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   }
 
   // ---- accessors ----
-  [[nodiscard]] node_set& gridpoints() { return gridpoints_; }
-  [[nodiscard]] const node_set& gridpoints() const { return gridpoints_; }
-  [[nodiscard]] node_set& bar_nodes() { return reinforcement_.nodes(); }
-  [[nodiscard]] const node_set& bar_nodes() const { return reinforcement_.nodes(); }
-  [[nodiscard]] const contact_set_type& contacts() const { return contacts_; }
-  [[nodiscard]] const Blocks& blocks() const { return blocks_; }
+  [[nodiscard]] node_set& gridpoints() { return gridpoints_; }  ///< The gridpoints: positions, velocities, forces, constraints, reactions
+  [[nodiscard]] const node_set& gridpoints() const { return gridpoints_; }  ///< The gridpoints
+  [[nodiscard]] node_set& bar_nodes() { return reinforcement_.nodes(); }  ///< The bar nodes (empty without reinforcement)
+  [[nodiscard]] const node_set& bar_nodes() const { return reinforcement_.nodes(); }  ///< The bar nodes
+  [[nodiscard]] const contact_set_type& contacts() const { return contacts_; }  ///< The contact set
+  [[nodiscard]] const Blocks& blocks() const { return blocks_; }  ///< The block model
   /// The block model, e.g. for initial conditions (blocks::rigid::set_velocity).
   [[nodiscard]] Blocks& blocks() { return blocks_; }
-  [[nodiscard]] const Reinforcement& reinforcement() const { return reinforcement_; }
-  [[nodiscard]] Reinforcement& reinforcement() { return reinforcement_; }
-  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }
-  [[nodiscard]] real time() const { return time_; }
-  [[nodiscard]] real dt() const { return dt_; }
-  [[nodiscard]] std::int64_t step_count() const { return step_; }
+  [[nodiscard]] const Reinforcement& reinforcement() const { return reinforcement_; }  ///< The reinforcement
+  [[nodiscard]] Reinforcement& reinforcement() { return reinforcement_; }  ///< The reinforcement
+  [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }  ///< The block of gridpoint i (no bounds check)
+  [[nodiscard]] real time() const { return time_; }  ///< Simulated time since the solver was built (s)
+  [[nodiscard]] real dt() const { return dt_; }  ///< The step the next step() takes (s)
+  [[nodiscard]] std::int64_t step_count() const { return step_; }  ///< Steps taken since the solver was built
   /// Critical step min 2 sqrt(m/(a k)) (after mass scaling; a = damping's stiffness amplification)
   /// and its limiting node.
   [[nodiscard]] const integrator::critical_step& critical_step() const { return critical_; }
-  [[nodiscard]] const integrator::mass_scaling_report& mass_scaling() const { return scaling_; }
+  [[nodiscard]] const integrator::mass_scaling_report& mass_scaling() const { return scaling_; }  ///< What mass scaling did (empty without it)
   /// Factor a on the nodal stiffness in the stable step (1 + gamma with local damping, else 1).
   [[nodiscard]] real stiffness_amplification() const { return integrator_.stiffness_amplification(); }
-  [[nodiscard]] const solver_options& options() const { return options_; }
+  [[nodiscard]] const solver_options& options() const { return options_; }  ///< The options the solver was built with (mass_scaling_ratio resolved into mass_scaling_dt)
   /// Time spent in each phase of the steps so far (see phase_times).
   [[nodiscard]] const phase_times& phases() const { return phases_; }
 

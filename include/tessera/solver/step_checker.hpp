@@ -58,15 +58,16 @@
 
 namespace tessera::checks {
 
+/// Stops a run (numerical_instability naming the node or sub-contact) on a non-finite state or on kinetic energy beyond growth_factor x the energy supplied
 struct default_step_checker {
-  static constexpr bool enabled = true;
+  static constexpr bool enabled = true;  ///< checks run
   index_t interval = 100;       ///< steps between checks
   real growth_factor = 2.0;   ///< allowed ratio of kinetic energy to energy supplied (-)
   real floor = 1e-12;         ///< J, absolute allowance (round-off before any loading)
   static constexpr real q_max = 0.99;  ///< cap of (dt/2)^2 max k/m in the allowance (see above)
 
   template <class Solver>
-  void check(const Solver& s) const {
+  void check(const Solver& s) const {  ///< Throws numerical_instability with a diagnosis when the state is non-finite or the kinetic energy grows beyond the allowance
     // 1. Non-finite state: the first offending node or sub-contact.
     for (int set = 0; set < 2; ++set) {
       const node_set& nodes = set == 0 ? s.gridpoints() : s.bar_nodes();
@@ -173,11 +174,12 @@ struct default_step_checker {
   }
 };
 
+/// No checks: for runs whose energy books do not close by design (relaxation resets)
 struct no_step_checker {
-  static constexpr bool enabled = false;
-  index_t interval = std::numeric_limits<index_t>::max();
+  static constexpr bool enabled = false;  ///< no checks
+  index_t interval = std::numeric_limits<index_t>::max();  ///< never due
   template <class Solver>
-  void check(const Solver&) const {}
+  void check(const Solver&) const {}  ///< Checks nothing
 };
 
 }  // namespace tessera::checks

@@ -58,6 +58,7 @@ struct detected_params {
   step_bound_scope step_bound = step_bound_scope::present_contacts;
 
   detected_params() = default;
+  /// The table (a plain law params converts), tolerance (m, > 0), rebuild interval (steps), bonded start and block kind; checked when the contact set is built
   detected_params(material_table<LawParams> table, real tol, index_t interval = 1000, bool bond = false,
          bool deformable = false)
       : law(std::move(table)), tolerance(tol), max_rebuild_interval(interval), bond_faces(bond),

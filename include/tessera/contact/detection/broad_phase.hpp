@@ -39,7 +39,7 @@ namespace tessera::contact::detection {
 
 /// A candidate pair of blocks, a < b.
 struct block_pair {
-  index_t a = 0, b = 0;
+  /** block ids, a < b */ /**@{*/ index_t a = 0, b = 0; /**@}*/
   friend bool operator==(const block_pair&, const block_pair&) = default;
   friend bool operator<(const block_pair& x, const block_pair& y) { return x.a < y.a || (x.a == y.a && x.b < y.b); }
 };
@@ -85,7 +85,7 @@ inline void all_pairs(std::span<const aabb> boxes, real margin, std::vector<bloc
 
 /// Scratch of sweep_and_prune, kept between rebuilds so they do not allocate.
 struct sweep_workspace {
-  std::vector<index_t> order;
+  std::vector<index_t> order;  ///< sort order of the boxes' lower ends
 };
 
 /// The pairs of all_pairs by sort and sweep along x (see the file comment).
@@ -117,17 +117,17 @@ inline void sweep_and_prune(std::span<const aabb> boxes, real margin, std::vecto
 
 /// Scratch of uniform_grid (cell lists as CSR), kept between rebuilds.
 struct grid_workspace {
-  std::vector<std::int64_t> cell_of_entry;
-  std::vector<index_t> block_of_entry, order;
-  std::vector<std::size_t> starts;
+  std::vector<std::int64_t> cell_of_entry;  ///< cell of each (box, cell) entry
+  /** block of each entry, and the entries' order by cell */ /**@{*/ std::vector<index_t> block_of_entry, order; /**@}*/
+  std::vector<std::size_t> starts;  ///< first entry of each cell (CSR)
 };
 
 /// The grid of uniform_grid for `boxes` enlarged by `margin`: its origin, cell size (the largest
 /// enlarged box) and cells per axis.
 struct grid_layout {
-  vec3 lo = vec3::Zero();
-  real cell = 0;
-  std::array<std::int64_t, 3> dims{1, 1, 1};
+  vec3 lo = vec3::Zero();  ///< origin (m)
+  real cell = 0;  ///< cell size (m)
+  std::array<std::int64_t, 3> dims{1, 1, 1};  ///< cells per axis
   /// Cells in all (as a double: it may exceed any integer type for a degenerate layout).
   [[nodiscard]] double cells() const {
     return static_cast<double>(dims[0]) * static_cast<double>(dims[1]) * static_cast<double>(dims[2]);

@@ -43,7 +43,7 @@ enum class patch_type : std::uint8_t { none, point, segment, polygon };
 
 /// The contact patch of a pair on its contact plane (see the file comment).
 struct contact_patch {
-  patch_type type = patch_type::none;
+  patch_type type = patch_type::none;  ///< point, segment or polygon (none: no contact)
   std::vector<vec3> points;  ///< corners on the contact plane (CCW about the normal for a polygon)
   std::vector<real> gap;     ///< normal gap B - A through each corner (m; < 0 overlapping)
   std::vector<real> area;    ///< tributary area of each corner (m^2; 0 for a segment or point)
@@ -57,11 +57,11 @@ struct contact_patch {
 /// Labels of patch corners (contact_patch::label): the top two bits give the kind, the rest the
 /// vertex ids (15 bits each, so a polyhedron may have up to 32 767 vertices).
 namespace corner_label {
-inline constexpr int id_bits = 15;
-inline constexpr index_t max_vertices = (index_t{1} << id_bits) - 1;
-enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
-[[nodiscard]] constexpr std::uint64_t vertex_a(index_t v) noexcept { return static_cast<std::uint64_t>(v); }
-[[nodiscard]] constexpr std::uint64_t vertex_b(index_t v) noexcept {
+inline constexpr int id_bits = 15;  ///< bits per vertex id
+inline constexpr index_t max_vertices = (index_t{1} << id_bits) - 1;  ///< largest vertex id a label holds
+/** a vertex of A, a vertex of B, or an edge crossing */ enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
+[[nodiscard]] constexpr std::uint64_t vertex_a(index_t v) noexcept { return static_cast<std::uint64_t>(v); }  ///< Label of vertex v of A
+[[nodiscard]] constexpr std::uint64_t vertex_b(index_t v) noexcept {  ///< Label of vertex v of B
   return (std::uint64_t{1} << 62) | static_cast<std::uint64_t>(v);
 }
 /// Crossing of A's hull edge (a0, a1) with B's (b0, b1); each edge's ids in increasing order.
@@ -70,7 +70,7 @@ enum class kind : std::uint64_t { vertex_a = 0, vertex_b = 1, crossing = 2 };
   const auto x = static_cast<std::uint64_t>(std::min(b0, b1)), y = static_cast<std::uint64_t>(std::max(b0, b1));
   return (std::uint64_t{2} << 62) | (u << 45) | (v << 30) | (x << 15) | y;
 }
-[[nodiscard]] constexpr kind kind_of(std::uint64_t label) noexcept { return static_cast<kind>(label >> 62); }
+[[nodiscard]] constexpr kind kind_of(std::uint64_t label) noexcept { return static_cast<kind>(label >> 62); }  ///< The kind of a label
 }  // namespace corner_label
 
 namespace detail {

@@ -48,10 +48,10 @@ enum class plane_source : std::uint8_t { face_a, face_b, edge_edge };
 /// The contact plane of a pair: normal (unit, from A to B), offset (n.x = offset on the plane)
 /// and the gap g (m) of the best axis.
 struct contact_plane {
-  vec3 normal = vec3::UnitZ();
-  real offset = 0;
-  real gap = 0;
-  plane_source source = plane_source::face_a;
+  vec3 normal = vec3::UnitZ();  ///< unit normal, A to B
+  real offset = 0;  ///< n.x on the plane (m)
+  real gap = 0;  ///< gap along the normal (m; < 0 overlapping)
+  plane_source source = plane_source::face_a;  ///< where the normal came from
   index_t feature_a = invalid_index;  ///< face of A (face_a), or edge of A (edge_edge)
   index_t feature_b = invalid_index;  ///< face of B (face_b), or edge of B (edge_edge)
 };
@@ -59,10 +59,11 @@ struct contact_plane {
 /// The edges of a convex polyhedron with their two faces: face_left holds the loop u -> v,
 /// face_right the loop v -> u (outward CCW loops).
 struct polyhedron_edges {
+  /// One edge: its vertices u, v and the faces on its left and right
   struct edge {
-    index_t u, v, face_left, face_right;
+    /** vertex ids and the faces left (loop u -> v) and right */ /**@{*/ index_t u, v, face_left, face_right; /**@}*/
   };
-  std::vector<edge> list;
+  std::vector<edge> list;  ///< every edge once
 };
 
 /// Edges of p from its face loops; throws geometry_error if an edge does not have exactly two

@@ -41,8 +41,8 @@ struct detection_options {
 /// plane and patch depend on its two blocks only); the ranks of a split run each take one
 /// (distributed::gather_detection). {0, 1}: the whole list.
 struct detection_share {
-  int part = 0;
-  int parts = 1;
+  int part = 0;  ///< this part, in [0, parts)
+  int parts = 1;  ///< number of parts (>= 1)
 };
 
 /// What a pass found (see the file comment).
@@ -72,11 +72,11 @@ struct detection_result {
 
 /// Scratch of a pass, kept between passes.
 struct detection_workspace {
-  grid_workspace grid;
-  sweep_workspace sweep;
-  std::vector<block_pair> candidates;
-  std::vector<contact_plane> planes;
-  std::vector<contact_patch> patches;
+  grid_workspace grid;  ///< broad phase grid scratch
+  sweep_workspace sweep;  ///< sweep and prune scratch
+  std::vector<block_pair> candidates;  ///< candidate pairs
+  std::vector<contact_plane> planes;  ///< contact plane of each candidate
+  std::vector<contact_patch> patches;  ///< contact patch of each candidate
   std::vector<index_t> face_first{0};         ///< CSR over blocks into faces
   std::vector<geometry::plane> faces;       ///< every block's face planes (append_face_planes), this pass
   /// Block b's face planes as the last pass computed them.

@@ -70,9 +70,9 @@ inline void append_node_dofs(const node_set& nodes, std::vector<index_t>& free_i
 template <class Bars>
 class bar_part {
  public:
-  using bond_law = typename Bars::bond_type;
-  using bond_state = typename Bars::bond_state;
-  using element_state = reinforcement::truss_element::state;
+  using bond_law = typename Bars::bond_type;  ///< the bond law of the bars
+  using bond_state = typename Bars::bond_state;  ///< the bond state per bar node
+  using element_state = reinforcement::truss_element::state;  ///< the axial state per bar element
 
   /// The bars, their node dofs starting at `offset`. Copies their present states as the committed
   /// ones. Throws invalid_input for displaced bar nodes or a bond law with a friction angle.
@@ -186,14 +186,14 @@ class bar_part {
     }
   }
 
-  void commit() {
+  void commit() {  ///< Accepts the trial states of the converged increment
     elements_ = trial_elements_;
     bonds_ = trial_bonds_;
   }
   /// Committed axial force (N, tension +) of element e and bond force F_a (N) of node n.
   [[nodiscard]] real axial_force(index_t e) const { return elements_[static_cast<std::size_t>(e)].axial_force; }
-  [[nodiscard]] real bond_force(index_t n) const { return bonds_[static_cast<std::size_t>(n)].force; }
-  [[nodiscard]] index_t dof(index_t node) const { return offset_ + 3 * node; }
+  [[nodiscard]] real bond_force(index_t n) const { return bonds_[static_cast<std::size_t>(n)].force; }  ///< Bond force of bar node n (N) in the committed state
+  [[nodiscard]] index_t dof(index_t node) const { return offset_ + 3 * node; }  ///< First global degree of freedom of bar node node
 
  private:
   [[nodiscard]] vec3 node_u(const Eigen::VectorXd& u, index_t n) const { return u.segment<3>(dof(n)); }
@@ -220,11 +220,11 @@ class bar_part {
 template <>
 class bar_part<no_bars> {
  public:
-  bar_part(const no_bars&, index_t) {}
-  void evaluate(const Eigen::VectorXd&, Eigen::VectorXd&) {}
-  [[nodiscard]] std::vector<real> secants(bool, real) const { return {}; }
-  void add_stiffness(const std::vector<real>&, std::vector<triplet>&) const {}
-  void commit() {}
+  bar_part(const no_bars&, index_t) {}  ///< No bars, no degrees of freedom
+  void evaluate(const Eigen::VectorXd&, Eigen::VectorXd&) {}  ///< Adds nothing
+  [[nodiscard]] std::vector<real> secants(bool, real) const { return {}; }  ///< No secants
+  void add_stiffness(const std::vector<real>&, std::vector<triplet>&) const {}  ///< Adds nothing
+  void commit() {}  ///< Nothing to commit
 };
 
 }  // namespace tessera::implicit

@@ -92,7 +92,7 @@ struct increment_options {
 
 /// What one increment did.
 struct increment_result {
-  bool converged = false;
+  bool converged = false;  ///< the residual fell below the tolerance within the iterations allowed
   int iterations = 0;          ///< linear solves
   real max_residual = 0;       ///< largest free out-of-balance component at the end (N)
   index_t softening = 0;       ///< sub-contacts softening in tension (or broken) after the increment
@@ -103,14 +103,22 @@ struct increment_result {
   /// stays high while the residual stalls marks an iteration that hops between cracking patterns
   /// (a bifurcation of the equilibrium path), which secant iterations cannot settle.
   index_t advancing = 0;
-  index_t reversals = 0;
+  index_t reversals = 0;  ///< of advancing, those that changed between advancing and not in the last iteration
 };
 
 /// Work done so far, for the comparison with the explicit solver.
 struct solve_counts {
-  std::int64_t increments = 0, iterations = 0, force_evaluations = 0, analyses = 0, factorizations = 0, solves = 0;
-  double assembly_s = 0, factorization_s = 0, solve_s = 0, force_s = 0;  ///< wall-clock seconds
-  [[nodiscard]] double total_s() const { return assembly_s + factorization_s + solve_s + force_s; }
+  std::int64_t increments = 0;         ///< load increments advanced
+  std::int64_t iterations = 0;         ///< secant iterations over all increments
+  std::int64_t force_evaluations = 0;  ///< evaluations of the internal forces
+  std::int64_t analyses = 0;           ///< symbolic analyses of the stiffness pattern
+  std::int64_t factorizations = 0;     ///< numeric factorisations
+  std::int64_t solves = 0;             ///< triangular solves
+  double assembly_s = 0;               ///< wall-clock seconds assembling the stiffness
+  double factorization_s = 0;          ///< wall-clock seconds factorising
+  double solve_s = 0;                  ///< wall-clock seconds in the solves
+  double force_s = 0;                  ///< wall-clock seconds evaluating forces
+  [[nodiscard]] double total_s() const { return assembly_s + factorization_s + solve_s + force_s; }  ///< Wall-clock seconds in all four (s)
 };
 
 /// Refuses bad increment options, naming the value (invalid_input), before anything changes.

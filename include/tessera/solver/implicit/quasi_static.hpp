@@ -51,10 +51,11 @@
 
 namespace tessera::implicit {
 
+/// Static equilibrium of deformable blocks, bonded faces and optionally bars under increments of prescribed displacement (file comment); refuses (invalid_input) a model it cannot solve, naming it
 template <zones::ZoneModel Zone, SecantLaw Law, class Bars = no_bars>
 class quasi_static {
  public:
-  using state_type = typename Law::state;
+  using state_type = typename Law::state;  ///< the contact law's state per sub-contact
 
   /// The model of `blocks` (built from `mesh`) and `contacts`, with the supports and the current
   /// displacements of `gridpoints` (the solver's node_set; displacements must be zero: the zones
@@ -242,7 +243,7 @@ class quasi_static {
   /// Energy dissipated in the sub-contacts (J) at the last equilibrium: sum of area x the law's
   /// dissipated_tension (tension) and of area x its other dissipation fields (shear, compression).
   [[nodiscard]] real dissipated_tension() const { return dissipated(&state_type::dissipated_tension); }
-  [[nodiscard]] real dissipated_shear() const { return dissipated(&state_type::dissipated_shear); }
+  [[nodiscard]] real dissipated_shear() const { return dissipated(&state_type::dissipated_shear); }  ///< Energy dissipated in shear by the sub-contacts (J)
   /// Displacement (m) of gridpoint i, component c, at the last equilibrium.
   [[nodiscard]] real displacement(index_t i, int c) const { return u_[3 * i + c]; }
   /// All displacements (m), dof 3 i + c.
@@ -252,7 +253,7 @@ class quasi_static {
   [[nodiscard]] vec3 reaction_sum(const bc::node_group& group) const { return reaction_over(group, 0); }
   /// The same over the bar nodes of `group` (ids of Bars::nodes()), and a bar node's displacement (m).
   [[nodiscard]] vec3 bar_reaction_sum(const bc::node_group& group) const { return reaction_over(group, bars_.dof(0)); }
-  [[nodiscard]] real bar_node_displacement(index_t n, int c) const { return u_[bars_.dof(n) + c]; }
+  [[nodiscard]] real bar_node_displacement(index_t n, int c) const { return u_[bars_.dof(n) + c]; }  ///< Displacement component c (0 x, 1 y, 2 z) of bar node n (m)
   /// The bars' part at the last equilibrium: axial_force(e), bond_force(n) (N; bars.hpp).
   [[nodiscard]] const bar_part<Bars>& bars() const { return bars_; }
   /// Mean displacement (m) of the gridpoints of `group`.
@@ -269,12 +270,12 @@ class quasi_static {
   }
   /// The zones' stiffness (N/m) over all dofs, no supports.
   [[nodiscard]] const sparse_matrix& zone_stiffness() const { return zones_; }
-  [[nodiscard]] index_t free_dof_count() const { return static_cast<index_t>(free_dofs_.size()); }
+  [[nodiscard]] index_t free_dof_count() const { return static_cast<index_t>(free_dofs_.size()); }  ///< Number of free degrees of freedom solved for
   /// The sparse factorisation of K_sec this model uses.
   [[nodiscard]] factorization factorization_kind() const noexcept { return factor_.kind(); }
   /// Non-zeros of the last Cholesky factor (L), 0 before the first factorisation.
   [[nodiscard]] std::int64_t factor_nonzeros() const { return factor_nonzeros_; }
-  [[nodiscard]] const solve_counts& counts() const { return counts_; }
+  [[nodiscard]] const solve_counts& counts() const { return counts_; }  ///< Work done so far (increments, iterations, factorisations, times)
 
  private:
   using clock = std::chrono::steady_clock;

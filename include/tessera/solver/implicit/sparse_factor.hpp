@@ -74,9 +74,10 @@ enum class factorization {
   return factorization::supernodal;
 }
 
+/// Sparse Cholesky factorisation of the secant stiffness: Eigen's SimplicialLDLT, or CHOLMOD's supernodal LL^T where built in (file comment)
 class sparse_factor {
  public:
-  using matrix = Eigen::SparseMatrix<real>;
+  using matrix = Eigen::SparseMatrix<real>;  ///< the matrix type factorised (lower triangle used)
 
   /// A factor of kind `kind`; throws invalid_input for factorization::supernodal in a build
   /// without CHOLMOD.
@@ -93,7 +94,7 @@ class sparse_factor {
   sparse_factor(const sparse_factor&) = delete;
   sparse_factor& operator=(const sparse_factor&) = delete;
 
-  [[nodiscard]] factorization kind() const noexcept { return kind_; }
+  [[nodiscard]] factorization kind() const noexcept { return kind_; }  ///< The factorisation in use
 
   /// The ordering and symbolic factorisation of k's pattern (k symmetric, its lower triangle read).
   void analyze(const matrix& k) {

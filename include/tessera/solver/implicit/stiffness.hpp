@@ -75,8 +75,8 @@ concept SecantLaw = law::ContactLaw<L> && requires(const typename L::params& p, 
 
 /// Secant stiffnesses of one sub-contact (Pa/m).
 struct secant_stiffness {
-  real normal = 0;
-  real shear = 0;
+  real normal = 0;  ///< secant normal stiffness (Pa/m)
+  real shear = 0;  ///< secant shear stiffness (Pa/m)
   friend bool operator==(const secant_stiffness&, const secant_stiffness&) = default;
 };
 
