@@ -850,8 +850,8 @@ endif()
 # single facet sliding under uniaxial stress gives 2 c_0 cos(phi) / (1 - sin(phi)) = 19.2 MPa), i.e.
 # well below the 35 MPa reference (docs/validation.md "One concrete"); quasi-static; energy balance.
 tessera_add_example_test(compression
-  ARGS --quick --threads 1 --shape prism --diameter 0.1 --height 0.2 --no-vtk
-  FILES curve.csv
+  ARGS --quick --threads 1 --shape prism --diameter 0.1 --height 0.2
+  FILES curve.csv end_zones.vtu end_contacts.vtp compression.pvd
   CHECKS "peak STREQUAL ON"
          "blocks EQUAL 23"
          "young_Pa GREATER 15e9" "young_Pa LESS 30e9"

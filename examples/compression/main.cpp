@@ -20,9 +20,10 @@
 // f_c the peak stress, counted as a peak only once the stress has fallen to (1 - --drop) f_c after
 // it (otherwise "peak": false and f_c null: a plateau or a rising branch is not a strength); E the
 // secant modulus between 10 % and 40 % of the peak (of the largest stress without a peak); nu =
-// -eps_lat / eps at 40 %. Cracked area (tensile damage >= 0.5 or slipped) by orientation: "axial"
+// eps_lat / eps at 40 % (expansion over shortening). Cracked area (tensile damage >= 0.5 or slipped) by orientation: "axial"
 // cracks have normals within 30 deg of the horizontal plane (splitting), the rest are inclined.
-// VTK (--no-vtk to skip): zones and contacts at the peak and at the end, compression.pvd.
+// VTK (--no-vtk to skip): zones (displacement, stress) and contacts (every law field) at the end of the
+// run (past the peak, or at --max-strain), end_zones.vtu and end_contacts.vtp in compression.pvd.
 #include <tessera/analysis/curves.hpp>
 #include <tessera/geometry/shapes.hpp>
 #include <tessera/geometry/voronoi.hpp>
