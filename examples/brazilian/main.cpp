@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
     j.set("example", "brazilian").set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
         .set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
         .set("strength_scale", scale).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
+        .set("damping_in_force", s.damping_in_force())
         .set("peak_load_N", p_max).set("peak_displacement_m", u_peak).set("split", u_split > 0).set("split_displacement_m", u_split)
         .set("bottom_over_top_at_peak_rel", mismatch).set("f_sp_Pa", f_sp).set("f_T_Pa", f_t).set("f_sp_over_f_T", f_sp / f_t)
         .set("ec2_ratio", 1 / 0.9).set("cracked_area_over_diametral", cracked / (diameter * thickness))
