@@ -1168,6 +1168,16 @@ TEST_CASE("user layer: a support driven in x and free in z under gravity is refu
     CHECK(s.block_displacement(0).z() == 0.0);
     CHECK(std::abs(s.block_displacement(1).z()) < 1e-6);  // resting at its overlap W / (k_n A) ~ 1e-7 m
   }
+  SECTION("deformable blocks: every gridpoint of the base driven in x, the same refusal") {
+    user_scene sc(0, true);
+    user_deformable s(sc.tess, sc.mesh, user_elastic::params{30e9, 0.2, 2400}, sc.contacts(true));
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.prescribe_block_velocity(0, v, bc::components::x);
+    CHECK_THROWS_WITH(s.step(), Catch::Contains("block 0 is driven in x but free in y, z") &&
+                                    Catch::Contains("it carries block 1 and rests on no block"));
+    s.prescribe_block_velocity(0, v, bc::components::xyz);
+    CHECK_NOTHROW(s.run(10));
+  }
   SECTION("without gravity, or resting on a fixed block (sheared, free to dilate), a block driven in x runs") {
     user_scene sc(0);
     user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
@@ -1232,6 +1242,15 @@ TEST_CASE("user layer: a contact stiffness too soft for the weight is refused as
                           Catch::Contains("the time step is not the problem"));
   CHECK_THAT(message, !Catch::Contains("too fast"));
   CHECK(soft.step_count() == 0);
+  // Deformable blocks: the weight is the sum of the cube's gridpoint weights.
+  user_scene sd(0, true);
+  verification::contacts::params soft_deformable = scene_with(1e3);
+  soft_deformable.deformable_blocks = true;
+  user_deformable d(sd.tess, sd.mesh, user_elastic::params{30e9, 0.2, 2400}, soft_deformable);
+  d.set_gravity(vec3(0, 0, -user_g));
+  d.fix_block(0);
+  CHECK_THROWS_WITH(d.step(), Catch::Contains("contact stiffness too soft for the loads: block 1 (weight 2943 N)") &&
+                                  Catch::Contains("k_n = 1000 Pa/m") && Catch::Contains("the time step is not the problem"));
   user_damped firm(sc.tess, sc.mesh, blocks::rigid::params{2400}, scene_with(1e8));
   firm.set_gravity(vec3(0, 0, -user_g));
   firm.fix_block(0);
