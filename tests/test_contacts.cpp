@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <iostream>
 #include <limits>
 #include <new>
 #include <numbers>
@@ -1795,6 +1796,38 @@ TEST_CASE("joints: an initial overlap deeper than the tolerance is refused namin
     REQUIRE(c.subcontact_count() >= 4);
     for (index_t i = 0; i < c.subcontact_count(); ++i) CHECK(c.state(i).u_n == Approx(-0.5 * tol).epsilon(1e-9));
   }
+}
+
+TEST_CASE("joints: a tolerance above a quarter of the thinnest block is refused naming both sizes and the fraction",
+          "[joints]") {
+  // The 4 x 2 x 0.5 m base and a 0.5 m cube on it, then a 0.1 m thin slab under the cube: the
+  // thinnest width is 0.5 m (the base's, found first), then the slab's 0.1 m. A tolerance that reaches across a
+  // block puts its far side's vertices into its patches; a quarter of the thinnest width is allowed.
+  const auto joint = law::dry_joint(1e9, 1e9, law::friction_angle::from_degrees(30));
+  const geometry::tessellation tess = cube_on_base(0);
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  CHECK(contact::max_tolerance_fraction == 0.25);
+  CHECK_NOTHROW(joint_contacts(tess, mesh, joint_contacts::params(joint, 0.125)));  // exactly a quarter of 0.5 m
+  std::string message;
+  try {
+    const joint_contacts c(tess, mesh, joint_contacts::params(joint, 0.2));
+    static_cast<void>(c);
+  } catch (const invalid_input& e) {
+    message = e.what();
+  }
+  if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << message << '\n';
+  CHECK_THAT(message, Contains("contact tolerance 0.2 m is 0.4 x the width 0.5 m of block 0, the thinnest block") &&
+                          Contains("at most contact::max_tolerance_fraction = 0.25 of it (0.125 m)"));
+  const geometry::tessellation slab = geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-1, -1, 0}, {1, 1, 0.1}),
+      convex_polyhedron::box({-0.25, -0.25, 0.1}, {0.25, 0.25, 0.6})});
+  const geometry::block_mesh slab_mesh = geometry::zone_blocks(slab);
+  CHECK_NOTHROW(joint_contacts(slab, slab_mesh, joint_contacts::params(joint, 0.02)));
+  CHECK_THROWS_WITH(joint_contacts(slab, slab_mesh, joint_contacts::params(joint, 0.03)),
+                    Contains("0.3 x the width 0.1 m of block 1") && Contains("(0.025 m) is accepted"));
+  // Deformable blocks are refused by the same rule.
+  CHECK_THROWS_WITH(joint_contacts(slab, geometry::zone_blocks(slab), joint_contacts::params(joint, 0.03, 1000, false, true)),
+                    Contains("0.3 x the width 0.1 m of block 1"));
 }
 
 }  // namespace tessera::test_joints

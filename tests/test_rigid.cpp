@@ -9,9 +9,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <numbers>
 #include <limits>
 #include <random>
@@ -1099,6 +1101,161 @@ TEST_CASE("user layer: prescribe_block_velocity moves a block at v, set_block_ve
     const vec3 arm = d.gridpoints().reference.row(corner).transpose() - vec3(0, 0, 0.75);  // cube centroid
     CHECK((d.gridpoints().velocity.row(corner).transpose() - (v + omega.cross(arm))).norm() < 1e-14);
   }
+}
+
+TEST_CASE("user layer: integrator::dynamic names dynamics, and the run result names the damping in force",
+          "[rigid][user_layer][damping]") {
+  // The 0.5 m cube on the fixed base, thrown along x at v0 = 1 m/s on a 30 deg dry joint: undamped,
+  // it slides v0^2 / (2 g tan phi) = 88.3 mm. Under the default local damping the force 0.8 |F|
+  // against the motion adds to the friction, and it stops after v0^2 / (2 (1 + gamma) g tan phi)
+  // = 49.1 mm: a damped run is not dynamics, and its result says which damping was in force.
+  static_assert(std::is_same_v<integrator::dynamic, integrator::central_difference<integrator::no_damping>>);
+  static_assert(std::is_same_v<integrator::quasi_static, integrator::central_difference<integrator::local_damping>>);
+  static_assert(std::is_same_v<solver<blocks::rigid, verification::contacts>::integrator_type, integrator::quasi_static>);
+  const real v0 = 1, mu = std::tan(30 * std::numbers::pi / 180);
+  const auto slide = [&](auto tag, run_result& r) {
+    using model = solver<blocks::rigid, verification::contacts, reinforcement::none, decltype(tag)>;
+    // The cube placed at its static overlap W / (k_n A) = 2943 N / (1e11 Pa/m x 0.25 m^2), so the
+    // undamped run does not start with a bounce.
+    user_scene sc(-300 * user_g / (1e11 * 0.25));
+    model s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.fix_block(0);
+    s.set_block_velocity(1, vec3(v0, 0, 0));
+    r = s.run_until(stop::after_time(0.3), 10'000'000);  // it stops within v0 / (mu g) = 0.18 s
+    CHECK(r.damping == s.damping_in_force());
+    return s.block_displacement(1).x();
+  };
+  run_result dynamic_run, damped_run;
+  const real dynamic_slip = slide(integrator::dynamic{}, dynamic_run);
+  const real damped_slip = slide(integrator::quasi_static{}, damped_run);
+  INFO("slip " << dynamic_slip << " m undamped, " << damped_slip << " m damped");
+  CHECK(dynamic_slip == Approx(v0 * v0 / (2 * user_g * mu)).epsilon(0.01));
+  CHECK(damped_slip == Approx(v0 * v0 / (2 * 1.8 * user_g * mu)).epsilon(0.02));
+  CHECK_THAT(dynamic_run.damping, Catch::StartsWith("no damping (integrator::dynamic"));
+  CHECK_THAT(damped_run.damping, Catch::StartsWith("local damping gamma = 0.8 (integrator::quasi_static") &&
+                                     Catch::Contains("use integrator::dynamic"));
+  std::ostringstream printed;
+  printed << damped_run;
+  CHECK_THAT(printed.str(), Catch::Contains(" steps (after 0.3") && Catch::EndsWith("damping: " + damped_run.damping));
+}
+
+TEST_CASE("user layer: a support driven in x and free in z under gravity is refused naming z; update_block_velocity "
+          "changes a prescribed velocity", "[rigid][user_layer]") {
+  // The base (block 0) driven in x as a shaking table, the cube (block 1) resting on it.
+  const vec3 v(0.1, 0, 0);  // m/s
+  SECTION("driven in x only: refused at the first step, naming the free components and the carried block") {
+    user_scene sc(0);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.prescribe_block_velocity(0, v, bc::components::x);
+    std::string message;
+    try {
+      s.step();
+    } catch (const invalid_input& e) {
+      message = e.what();
+    }
+    if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << message << '\n';
+    CHECK_THAT(message, Catch::Contains("block 0 is driven in x but free in y, z") &&
+                            Catch::Contains("gravity (0, 0, -9.81) m/s^2 acts along z") &&
+                            Catch::Contains("it carries block 1 and rests on no block") &&
+                            Catch::Contains("bc::components::xyz"));
+    CHECK(s.step_count() == 0);
+    // Held in all components (x driven, y and z at 0): the cube rides on the table.
+    s.prescribe_block_velocity(0, v, bc::components::xyz);
+    s.run(2000);
+    CHECK(s.block_displacement(0).x() == Approx(v.x() * s.time()).epsilon(1e-12));
+    CHECK(s.block_displacement(0).z() == 0.0);
+    CHECK(std::abs(s.block_displacement(1).z()) < 1e-6);  // resting at its overlap W / (k_n A) ~ 1e-7 m
+  }
+  SECTION("deformable blocks: every gridpoint of the base driven in x, the same refusal") {
+    user_scene sc(0, true);
+    user_deformable s(sc.tess, sc.mesh, user_elastic::params{30e9, 0.2, 2400}, sc.contacts(true));
+    s.set_gravity(vec3(0, 0, -user_g));
+    s.prescribe_block_velocity(0, v, bc::components::x);
+    CHECK_THROWS_WITH(s.step(), Catch::Contains("block 0 is driven in x but free in y, z") &&
+                                    Catch::Contains("it carries block 1 and rests on no block"));
+    s.prescribe_block_velocity(0, v, bc::components::xyz);
+    CHECK_NOTHROW(s.run(10));
+  }
+  SECTION("without gravity, or resting on a fixed block (sheared, free to dilate), a block driven in x runs") {
+    user_scene sc(0);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.prescribe_block_velocity(0, v, bc::components::x);
+    CHECK_NOTHROW(s.run(10));
+    user_rigid sheared(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    sheared.set_gravity(vec3(0, 0, -user_g));
+    sheared.fix_block(0);
+    sheared.prescribe_block_velocity(1, v, bc::components::x);
+    CHECK_NOTHROW(sheared.run(10));
+  }
+  SECTION("a second prescription names update_velocity; update_block_velocity changes it") {
+    user_scene sc(0);
+    user_rigid s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+    s.prescribe_block_velocity(0, v);
+    std::string message;
+    try {
+      s.prescribe_block_velocity(0, 2 * v);
+    } catch (const invalid_input& e) {
+      message = e.what();
+    }
+    if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << message << '\n';
+    CHECK_THAT(message, Catch::Contains("already prescribed v = 0.1 m/s, now v = 0.2 m/s") &&
+                            Catch::Contains("bc::update_velocity(nodes, group, v, components)") &&
+                            Catch::Contains("update_block_velocity(b, v, components)"));
+    s.run(100);
+    const real t1 = s.time();
+    s.update_block_velocity(0, 2 * v, bc::components::x);
+    s.run(100);
+    CHECK(s.block_velocity(0).x() == 2 * v.x());
+    CHECK(s.block_displacement(0).x() == Approx(v.x() * t1 + 2 * v.x() * (s.time() - t1)).epsilon(1e-12));
+    CHECK_THROWS_WITH(s.update_block_velocity(1, v, bc::components::x), Catch::Contains("component x is not prescribed"));
+    CHECK_THROWS_WITH(s.update_block_velocity(0, vec3(0, std::numeric_limits<real>::quiet_NaN(), 0)),
+                      Catch::Contains("block 0 is not finite"));
+  }
+}
+
+TEST_CASE("user layer: a contact stiffness too soft for the weight is refused as such, naming k_n and the overlap",
+          "[rigid][user_layer]") {
+  // The 0.5 m cube (2943 N) on 1e3 Pa/m joints over 0.25 m^2 would sink W / (k_n A) = 11.77 m:
+  // refused before the first step, naming k_n and that overlap, not as a motion too fast for the
+  // step. At 1e8 Pa/m (an overlap of 0.12 mm, below the 1 mm tolerance) the cube settles.
+  const auto scene_with = [](real k_n) {
+    verification::inputs in;
+    in.k_n = k_n;
+    return verification::contacts::params(verification::joint(in), 1e-3);
+  };
+  user_scene sc(0);
+  user_damped soft(sc.tess, sc.mesh, blocks::rigid::params{2400}, scene_with(1e3));
+  soft.set_gravity(vec3(0, 0, -user_g));
+  soft.fix_block(0);
+  std::string message;
+  try {
+    soft.run(10);
+  } catch (const invalid_input& e) {
+    message = e.what();
+  }
+  if (std::getenv("TESSERA_PRINT_ERRORS")) std::cout << message << '\n';
+  CHECK_THAT(message, Catch::Contains("contact stiffness too soft for the loads: block 1 (weight 2943 N)") &&
+                          Catch::Contains("k_n = 1000 Pa/m over 0.25 m^2") && Catch::Contains("11.772 m") &&
+                          Catch::Contains("more than the contact tolerance 0.001 m") &&
+                          Catch::Contains("the time step is not the problem"));
+  CHECK_THAT(message, !Catch::Contains("too fast"));
+  CHECK(soft.step_count() == 0);
+  // Deformable blocks: the weight is the sum of the cube's gridpoint weights.
+  user_scene sd(0, true);
+  verification::contacts::params soft_deformable = scene_with(1e3);
+  soft_deformable.deformable_blocks = true;
+  user_deformable d(sd.tess, sd.mesh, user_elastic::params{30e9, 0.2, 2400}, soft_deformable);
+  d.set_gravity(vec3(0, 0, -user_g));
+  d.fix_block(0);
+  CHECK_THROWS_WITH(d.step(), Catch::Contains("contact stiffness too soft for the loads: block 1 (weight 2943 N)") &&
+                                  Catch::Contains("k_n = 1000 Pa/m") && Catch::Contains("the time step is not the problem"));
+  user_damped firm(sc.tess, sc.mesh, blocks::rigid::params{2400}, scene_with(1e8));
+  firm.set_gravity(vec3(0, 0, -user_g));
+  firm.fix_block(0);
+  firm.run(3000);
+  CHECK(firm.block_displacement(1).z() == Approx(-2943.0 / (1e8 * 0.25)).epsilon(0.05));
 }
 
 TEST_CASE("user layer: block selections by plane and their gridpoints", "[rigid][user_layer]") {

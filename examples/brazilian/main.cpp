@@ -177,6 +177,7 @@ int main(int argc, char** argv) {
     j.set("example", "brazilian").set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
         .set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
         .set("strength_scale", scale).set("cohesion_ratio", cohesion_ratio).set("phi_0_deg", phi_deg).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
+        .set("damping_in_force", s.damping_in_force())
         .set("peak_load_N", did_split ? p_max : none).set("largest_load_N", p_max).set("peak_displacement_m", u_peak)
         .set("split", did_split).set("split_displacement_m", did_split ? u_split : none).set("split_load_N", did_split ? p_split : none)
         .set("opening_at_split_m", did_split ? w_split : none).set("opening_at_end_m", opening(s))

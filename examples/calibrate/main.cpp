@@ -156,6 +156,7 @@ struct ensemble {
   double modulus_mean = 0;
   std::int64_t steps = 0;
   bool all_separated = true;
+  std::string damping_in_force;  // the seeds' damping (solver::damping_in_force())
 };
 
 ensemble run_ensemble(const inputs& in, int blocks, real s, real g, bool full, real area) {
@@ -169,6 +170,7 @@ ensemble run_ensemble(const inputs& in, int blocks, real s, real g, bool full, r
     e.modulus_mean += r.initial_modulus / in.seeds;
     e.steps += r.steps;
     e.all_separated = e.all_separated && r.separated;
+    e.damping_in_force = r.damping_in_force;
   }
   const auto [lo, hi] = std::minmax_element(e.peaks.begin(), e.peaks.end());
   e.peak_spread = (*hi - *lo) / e.peak_mean;
@@ -343,7 +345,8 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
     summary.set(b + "strength_scale", f.s).set(b + "fracture_energy_scale", f.g)
         .set(b + "peak_error_rel", f.peak_error).set(b + "peak_spread_rel", f.last.peak_spread)
         .set(b + "iterations", f.strength_iterations + f.energy_iterations).set(b + "converged", f.converged)
-        .set(b + "prism_blocks", f.prism_blocks).set(b + "initial_modulus_Pa", f.last.modulus_mean);
+        .set(b + "prism_blocks", f.prism_blocks).set(b + "initial_modulus_Pa", f.last.modulus_mean)
+        .set(b + "damping_in_force", f.last.damping_in_force);
     if (in.energy) summary.set(b + "energy_error_rel", f.energy_error);
     converged += f.converged ? 1 : 0;
     worst_peak = std::max(worst_peak, std::abs(f.peak_error));

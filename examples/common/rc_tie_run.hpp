@@ -247,6 +247,7 @@ void read_tie_state(tie_result& r, const Solver& s, const tie_scene& scene, cons
   r.added_mass_ratio = ms.original_mass > 0 ? ms.added_mass / ms.original_mass : 0;
   r.steps = s.step_count();
   r.phases = s.phases();
+  r.damping_in_force = s.damping_in_force();
   r.subcontacts = s.contacts().size();
   r.zones = scene.prism.mesh.zone_count();
   r.gridpoints = scene.prism.mesh.gridpoint_count();

@@ -290,6 +290,7 @@ struct tie_result {
   std::int64_t steps = 0;
   index_t subcontacts = 0, zones = 0, gridpoints = 0;
   phase_times phases;  ///< time per phase of the step (solver::phases)
+  std::string damping_in_force;  ///< the damping of the run (solver::damping_in_force())
   double runtime_s = 0;
   bool yielded = false;
   /// With tie_loading::relaxation: increments, those that hit relax_max_steps before the

@@ -85,13 +85,15 @@ void print_relaxation_counts(const Result& r) {
                 static_cast<long long>(r.relax_resets));
 }
 
-/// summary.json's keys of the scheme: scheme, the relaxation's increment (m) and tolerance, and
-/// the run's counts (Result: relax_increments, relax_unconverged, relax_resets,
-/// relax_kinetic_removed; zero in an explicit run).
+/// summary.json's keys of the scheme: scheme, the damping in force (Result::damping_in_force,
+/// solver::damping_in_force()), the relaxation's increment (m) and tolerance, and the run's counts
+/// (Result: relax_increments, relax_unconverged, relax_resets, relax_kinetic_removed; zero in an
+/// explicit run).
 template <class Result>
 void set_scheme_figures(io::summary_json& js, const std::string& scheme, real increment, real tolerance,
                         const Result& r) {
   js.set("scheme", scheme)
+      .set("damping_in_force", r.damping_in_force)
       .set("relaxation_increment_m", increment)
       .set("relaxation_tolerance", tolerance)
       .set("relaxation_increments", r.relax_increments)

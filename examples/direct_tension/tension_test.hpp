@@ -162,6 +162,7 @@ struct tension_result {
   real relax_kinetic_removed = 0;
   std::int64_t steps = 0, subcontacts = 0, zones = 0, gridpoints = 0, blocks = 0;
   phase_times phases;  ///< time per phase of the step (solver::phases)
+  std::string damping_in_force;  ///< the damping of the run (solver::damping_in_force())
   double runtime_s = 0;
   tension_snapshot at_peak, at_end;
 };
@@ -287,6 +288,7 @@ void read_tension_end(tension_result& r, const Solver& s, const prism_scene& sce
   r.added_mass_ratio = s.mass_scaling().original_mass > 0 ? s.mass_scaling().added_mass / s.mass_scaling().original_mass : 0;
   r.steps = s.step_count();
   r.phases = s.phases();
+  r.damping_in_force = s.damping_in_force();
   r.subcontacts = c.size();
   r.zones = scene.mesh.zone_count();
   r.gridpoints = scene.mesh.gridpoint_count();

@@ -124,6 +124,7 @@ struct beam_result {
   real contact_points_over_depth = 0;
   real trusses_per_block = 0;
   phase_times phases;  ///< of this process's steps only (a resumed run's from the checkpoint on)
+  std::string damping_in_force;  ///< the damping of the run (solver::damping_in_force())
   double runtime_s = 0;  ///< wall time of the run, a resumed run's with the time before its checkpoint
   std::int64_t resumed_at_step = -1;  ///< the checkpoint's step of a resumed run, -1 otherwise
   double runtime_before_resume_s = 0;  ///< a resumed run's wall time before its checkpoint

@@ -443,6 +443,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
   r.dt = s.dt();
   r.steps = s.step_count();
   r.phases = s.phases();
+  r.damping_in_force = s.damping_in_force();
   r.subcontacts = s.contacts().size();
   r.zones = scene.mesh.zone_count();
   r.gridpoints = scene.mesh.gridpoint_count();

@@ -336,6 +336,7 @@ std::pair<std::int64_t, std::int64_t> write_summary(const fs::path& out, const i
           .set(key + "initial_stiffness_N_per_m", r.initial_stiffness)
           .set(key + "load_drops", static_cast<std::int64_t>(r.drops.size()))
           .set(key + "yield_force_N", r.yield_force)
+          .set(key + "damping_in_force", r.damping_in_force)
           .set(key + "curve_error_vs_baseline_rel", s.errors.baseline[k])
           .set(key + "curve_error_vs_bare_bar_rel", s.errors.bare_bar[k]);
     }

@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
     j.set("example", "rocking").set("quick", quick).set("aspect_h_over_b", aspect).set("alpha_deg", alpha * 180 / M_PI)
         .set("tilt_over_alpha", tilt0).set("k_n_Pa_per_m", k).set("tolerance_m", tolerance * b).set("max_rebuild_interval", interval)
         .set("base_pieces_x", width_pieces).set("base_pieces_y", edge_pieces).set("safety", safety).set("dt_s", s.dt())
-        .set("duration_s", duration).set("stop_reason", run.reason).set("impacts", static_cast<std::int64_t>(r_amplitude.size()))
+        .set("duration_s", duration).set("stop_reason", run.reason).set("damping_in_force", run.damping).set("impacts", static_cast<std::int64_t>(r_amplitude.size()))
         .set("amplitudes_rad", amplitude).set("r_per_impact_amplitude", r_amplitude).set("r_per_impact_omega", r_omega)
         .set("restitution", measured).set("restitution_omega", measured_omega).set("impacts_averaged", static_cast<std::int64_t>(used))
         .set("reference_restitution", housner).set("error_rel", (measured - housner) / housner)

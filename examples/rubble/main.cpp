@@ -271,6 +271,7 @@ int run(const inputs& in) {
       .set("friction_deg", in.friction_deg)
       .set("k_n_Pa_per_m", in.k_n)
       .set("damping", in.damping)
+      .set("damping_in_force", s.damping_in_force())
       .set("tolerance_m", tolerance)
       .set("duration_s", in.duration)
       .set("dt_s", s.dt())

@@ -30,7 +30,7 @@ struct largest_column_displacement {  // of columns first..first+count-1 (m): th
   }
   [[nodiscard]] std::string describe() const { return "largest column displacement (m)"; }  // for the stop reason
 };
-struct outcome { real moved; std::string reason; };  ///< largest column displacement (m), why the run stopped
+struct outcome { real moved; std::string reason, damping; };  ///< largest column displacement (m), why the run stopped, its damping
 // ---- scene: geometry, materials, supports, loading (the part a user writes) ----
 /// Runs the row at friction phi (deg): steps 0..N-1 fixed, columns N..2N-1 (column n spans x in
 /// [-(n+1) dx, -n dx]) on them, until a column moves beyond 2 % of dx (unstable), the row has
@@ -60,7 +60,7 @@ outcome simulate(const scene& sc, real phi_deg, real duration, std::int64_t& ste
                                        stop::when_settled(moved, 1e-5 * x, stop::over_time(0.1)) ||  // stable
                                        stop::after_time(duration),
                                    static_cast<std::int64_t>(duration / s.dt()) + 2, ramp);
-  return steps += r.steps, outcome{moved(s), r.reason};
+  return steps += r.steps, outcome{moved(s), r.reason, r.damping};
 }
 // ---- end of scene ----
 /// Goodman-Bray limit equilibrium from the top column down with phi on bases and sides: returns
@@ -125,9 +125,11 @@ int main(int argc, char** argv) {
     std::vector<double> phis{sc.psi_deg - 5, reference + 5}, p0s, moved;  // the regions: sliding row, stable row
     if (!quick) phis.insert(phis.begin() + 1, {(sc.psi_deg + reference) / 2, reference - 1, reference + 1});
     std::vector<std::string> rows, reasons;  // limit-equilibrium modes, why each run stopped
+    std::string damping_in_force;  // the runs' damping (run_result::damping)
     for (const real phi : phis) {
       const outcome o = simulate(sc, phi, duration, steps);
       p0s.push_back(support_force(sc, phi, modes)), rows.push_back(modes), moved.push_back(o.moved), reasons.push_back(o.reason);
+      damping_in_force = o.damping;
       std::printf("  phi %5.2f deg: limit equilibrium %s (s stable, T toppling, S sliding; toe first), P_0 %.4g N; simulated: %s\n",
                   phi, modes.c_str(), p0s.back(), o.reason.c_str());
     }
@@ -136,6 +138,7 @@ int main(int argc, char** argv) {
     const real error = (measured - reference) / reference;  // of the critical friction angle
     io::summary_json().set("example", "toppling").set("quick", quick).set("psi_deg", sc.psi_deg).set("heights_dx", sc.heights).set("step_dx", sc.step)
         .set("dx_m", sc.dx).set("k_n_Pa_per_m", sc.k).set("damping", sc.damping).set("gravity_ramp_s", sc.ramp).set("duration_s", duration)
+        .set("damping_in_force", damping_in_force)
         .set("iterations", std::round(iterations)).set("critical_friction_deg", measured).set("critical_friction_bracket_deg", std::vector<double>{s_lo, s_hi})
         .set("reference_critical_friction_deg", reference).set("error_rel", error).set("regions_phi_deg", phis).set("regions_modes", rows)
         .set("regions_P0_N", p0s).set("regions_max_displacement_m", moved).set("regions_stop_reason", reasons).set("steps", steps)

@@ -66,6 +66,7 @@ inline result run_bond(const inputs& in) {
   result r;
   r.which = in.which;
   r.dt = s.dt();
+  r.damping_in_force = s.damping_in_force();
   r.bonded_at_start = s.contacts().bonded_at_start();
   // The contact force on the cube along the slope (x; the scene stays level, gravity turns).
   const auto shear_force = [&] {

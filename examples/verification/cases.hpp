@@ -66,6 +66,7 @@ namespace tessera::verification {
     r.stress = c.stress;
     r.steps = c.steps;
     r.dt = c.dt;
+    r.damping_in_force = c.damping_in_force;
     r.energy_error_rel = c.energy_error_rel;
     return r;
   }

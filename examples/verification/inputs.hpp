@@ -58,6 +58,7 @@ struct result {
   real energy_error_rel = 0;
   index_t steps = 0, rebuilds = 0, growths = 0, subcontacts = 0;
   real dt = 0;
+  std::string damping_in_force;  ///< solver::damping_in_force() of the run
   std::vector<double> t, x, z, rotation;  ///< curve: top (moving) block's centroid displacement and tilt
   // reclose: the path (top displacement m, axial stress Pa) and its figures (Pa)
   std::vector<double> u, stress;

@@ -93,7 +93,8 @@ int run(const inputs& in) {
     s.set("peak_Pa", r.peak)
         .set("stress_at_reversal_Pa", r.stress_at_reversal)
         .set("max_stress_after_closure_Pa", r.max_stress_after_closure);
-  s.set("energy_error_rel", r.energy_error_rel).set("dt_s", r.dt).set("steps", static_cast<std::int64_t>(r.steps));
+  s.set("energy_error_rel", r.energy_error_rel).set("dt_s", r.dt).set("steps", static_cast<std::int64_t>(r.steps))
+      .set("damping_in_force", r.damping_in_force);
   if (r.which != "reclose")
     s.set("rebuilds", static_cast<std::int64_t>(r.rebuilds))
         .set("storage_growths", static_cast<std::int64_t>(r.growths))

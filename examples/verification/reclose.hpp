@@ -32,6 +32,7 @@ struct reclose_result {
   real f_T = 0;
   index_t steps = 0;
   real dt = 0, energy_error_rel = 0;
+  std::string damping_in_force;  ///< solver::damping_in_force() of the run
   std::vector<double> u, stress;  ///< the whole path (m, Pa)
 };
 
@@ -110,6 +111,7 @@ struct reclose_result {
   r.compressive_slope = analysis::band_slope(u_push, s_push, u_push.size(), -1.5 * f_t, -0.5 * f_t);
   r.steps = s.step_count();
   r.dt = s.dt();
+  r.damping_in_force = s.damping_in_force();
   r.energy_error_rel = s.energies().error_rel();
   return r;
 }

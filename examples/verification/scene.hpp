@@ -140,6 +140,7 @@ result run_scene_deformable(const inputs& in, const std::vector<geometry::convex
   result r;
   r.which = in.which;
   r.dt = s.dt();
+  r.damping_in_force = s.damping_in_force();
   const index_t top = static_cast<index_t>(cells.size()) - 1;
   // A block's motion: the mass-weighted mean displacement of its gridpoints, its co-rotational
   // rotation for the tilt.
@@ -203,6 +204,7 @@ result run_scene(const inputs& in, const std::vector<geometry::convex_polyhedron
   result r;
   r.which = in.which;
   r.dt = s.dt();
+  r.damping_in_force = s.damping_in_force();
   const index_t top = s.blocks().block_count() - 1;
   const auto [steps, top_at_half] = step_through(
       s, duration, gravity, [&] { return s.blocks().displacement(top); }, [&] { record_motion(r, s, top); });

@@ -133,6 +133,7 @@ class detected_contacts {
       material_[at(b)] = mesh.material(b);
       detail::build_block_frame(tess, mesh, b, vertex_gridpoints_, blocks_[at(b)], shapes_[at(b)], edges_[at(b)]);
     }
+    detail::refuse_large_tolerance(shapes_, options_.tolerance);  // detected/refusals.hpp
     // A block's contacts cover at most its own surface and at most the others' surfaces.
     real all_surfaces = 0;
     for (const block_data& bd : blocks_) all_surfaces += bd.surface;

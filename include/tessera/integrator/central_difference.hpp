@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <string>
 
 #include "../core/nodes.hpp"
 #include "../core/parallel.hpp"
@@ -38,6 +39,14 @@ class central_difference {
   explicit central_difference(const D& d) : damping(d) { damping.validate(); }  ///< Refuses (invalid_input) a damping constant out of range
 
   [[nodiscard]] real stiffness_amplification() const noexcept { return damping.stiffness_amplification(); }  ///< 1 + gamma with local damping, 1 without
+  /// The damping in force (D::describe(), e.g. "local damping gamma = 0.8 (...)"), which the
+  /// solver's run results and the drivers' summaries name.
+  [[nodiscard]] std::string describe_damping() const {
+    if constexpr (requires { damping.describe(); })
+      return damping.describe();
+    else
+      return D::enabled ? "a user damping policy (no describe())" : "no damping (a user policy)";
+  }
 
   /// Updates one scalar degree of freedom; returns v(t + dt/2). `constraint` is a
   /// dof_constraint value, `reaction` receives R for prescribed components.
@@ -133,5 +142,17 @@ class central_difference {
 
 static_assert(Integrator<central_difference<local_damping>>);
 static_assert(Integrator<central_difference<no_damping>>);
+
+/// The two schemes by what they are for, so a scene names its choice where it builds its solver
+/// (solver<Blocks, Contacts, Reinforcement, integrator::dynamic>):
+///   quasi_static  central differences with local damping (solver_options::damping_gamma, 0.8 by
+///                 default): the solver's default; settling, stability and quasi-static loading,
+///                 where the damping removes the kinetic energy of each oscillation;
+///   dynamic       central differences without damping: impacts, sliding, toppling, rocking,
+///                 any motion whose time history is the result (local damping slows such a
+///                 motion by a force gamma |F| that no physics supplies).
+/// Each solver's run result names the damping in force (run_result::damping).
+using quasi_static = central_difference<local_damping>;
+using dynamic = central_difference<no_damping>;
 
 }  // namespace tessera::integrator

@@ -10,6 +10,8 @@
 // |                         | velocity v at the previous half step (study eq. 1)                   |
 // | d.stiffness_amplification() | factor a >= 1 on the stiffness seen by the update in its worst   |
 // |                         | phase; the stable step is 2 sqrt(m / (a k)) (integrator/timestep.hpp)|
+// | d.describe() (optional) | std::string naming the damping and when it is right; the solver's    |
+// |                         | run results carry it (a policy without it is named as a user policy) |
 //
 // Integrator — advances a node_set (gridpoints or bar nodes) or a set of 6-DOF bodies by one
 // explicit step. Prescribed components are set to their velocity and their reaction recorded.

@@ -17,6 +17,8 @@
 // 100-block prism with gamma = 0.8 blows up within 200 steps at 0.9 x the undamped Gershgorin
 // step, and runs stably at 0.9 x the amplified one.
 
+#include <string>
+
 #include "../core/errors.hpp"
 #include "../core/types.hpp"
 #include "concepts.hpp"
@@ -33,6 +35,14 @@ struct local_damping {
   }
   /// Factor on the stiffness seen by the update in the worst phase (see the file comment).
   [[nodiscard]] real stiffness_amplification() const noexcept { return 1 + gamma; }
+  /// The damping in force, for run results and summaries (solver::damping_in_force()).
+  [[nodiscard]] std::string describe() const {
+    if (gamma == 0)
+      return "local damping gamma = 0 (integrator::quasi_static with no damping force: the motion is undamped)";
+    return tessera::detail::concat("local damping gamma = ", gamma, " (integrator::quasi_static: a force ", gamma,
+                                   " |F| against the motion removes kinetic energy, right for settling and quasi-static "
+                                   "loading, wrong for dynamics: use integrator::dynamic there)");
+  }
   [[nodiscard]] real force(real f, real v) const noexcept {  ///< Damping force of a component (N) for unbalanced force f (N) and half-step velocity v
     const real magnitude = gamma * (f < 0 ? -f : f);
     return v >= 0 ? magnitude : -magnitude;
@@ -44,6 +54,10 @@ struct no_damping {
   static constexpr bool enabled = false;  ///< no damping force
   void validate() const {}  ///< Nothing to refuse
   [[nodiscard]] real stiffness_amplification() const noexcept { return 1; }  ///< 1
+  /// The damping in force, for run results and summaries (solver::damping_in_force()).
+  [[nodiscard]] std::string describe() const {
+    return "no damping (integrator::dynamic: undamped central differences, the motion is dynamics)";
+  }
   [[nodiscard]] real force(real, real) const noexcept { return 0; }  ///< 0
 };
 

@@ -12,7 +12,8 @@
 //
 // Errors: an empty group throws invalid_input naming the selection; prescribing a component
 // that is already prescribed with a different velocity throws invalid_input naming the node,
-// the component and both values (call release() first to change a prescription).
+// the component and both values (update_velocity changes a prescribed velocity, e.g. along a
+// loading history; release() frees the component).
 
 #include <cmath>
 #include <cstdint>
@@ -86,7 +87,9 @@ inline void prescribe_velocity(node_set& nodes, const node_group& group, const v
       if (nodes.constraint(i, c) == prescribed)
         require(nodes.prescribed_velocity(i, c) == v[c], "conflicting boundary conditions on node ", i,
                 " component ", "xyz"[c], ": already prescribed v = ", nodes.prescribed_velocity(i, c),
-                " m/s, now v = ", v[c], " m/s (node group '", group.name, "'); release() it first");
+                " m/s, now v = ", v[c], " m/s (node group '", group.name,
+                "'); to change a prescribed velocity (a loading history) call bc::update_velocity(nodes, group, v, "
+                "components), or the solver's update_block_velocity(b, v, components) for a block; release() frees it");
     }
   }
   for (index_t i : group.nodes)
@@ -98,10 +101,13 @@ inline void prescribe_velocity(node_set& nodes, const node_group& group, const v
     }
 }
 
-/// Changes the velocity of components that are already prescribed (a loading history, e.g. a
-/// ramp): no conflict check, but every selected component must be prescribed already.
+/// Changes the velocity (m/s) of components that are already prescribed (a loading history, e.g.
+/// a ramp): no conflict check, but every selected component must be prescribed already. Throws
+/// invalid_input for a non-finite v or a component that is not prescribed.
 inline void update_velocity(node_set& nodes, const node_group& group, const vec3& v,
                             components which = components::xyz) {
+  require(v.allFinite(), "update_velocity on node group '", group.name, "': velocity (", v.transpose(),
+          ") m/s is not finite");
   constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
   for (index_t i : group.nodes)
     for (int c = 0; c < 3; ++c) {

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <ostream>
 #include <string>
 
 #include "../core/errors.hpp"
@@ -27,15 +28,24 @@ struct phase_times {
   double recorders = 0;  ///< s in the observers of run and run_until
 };
 
-/// What solver::run_until did: the steps it took, why it stopped and whether max_steps ran out
-/// first. Converts to the step count, so `std::int64_t n = s.run_until(...)` still reads it.
+/// What solver::run_until did: the steps it took, why it stopped, whether max_steps ran out
+/// first, and the damping in force (so a damped run is never taken for dynamics). Converts to the
+/// step count, so `std::int64_t n = s.run_until(...)` still reads it; `std::cout << r` prints all.
 struct run_result {
   std::int64_t steps = 0;      ///< steps taken by this call
   std::string reason;          ///< the stop condition's reason() (e.g. "t - t0 = 0.5 s >= 0.5 s"), or "max_steps = N reached"
   bool hit_max_steps = false;  ///< true when max_steps ran out before the condition held
+  /// The damping in force (solver::damping_in_force()): "local damping gamma = 0.8 (...)" for the
+  /// default integrator::quasi_static, "no damping (...)" for integrator::dynamic.
+  std::string damping;
   /// The steps taken, so that an integer reads the result
   operator std::int64_t() const { return steps; }  // NOLINT(google-explicit-constructor): old callers read the count
 };
+/// "N steps (<reason>[, max_steps ran out]); damping: <damping>".
+inline std::ostream& operator<<(std::ostream& os, const run_result& r) {
+  return os << r.steps << " steps (" << r.reason << (r.hit_max_steps ? ", max_steps ran out" : "")
+            << "); damping: " << r.damping;
+}
 
 /// Run-time options of a solver (SI).
 struct solver_options {
@@ -46,7 +56,7 @@ struct solver_options {
   /// multiple of the original mass (integrator::step_for_added_mass; deformable blocks). Resolved
   /// into mass_scaling_dt when the solver is built (options().mass_scaling_dt then holds the step).
   real mass_scaling_ratio = 0;
-  real damping_gamma = 0.8;    ///< local damping constant (ignored by no_damping)
+  real damping_gamma = 0.8;    ///< local damping constant (integrator::quasi_static; ignored by integrator::dynamic)
   int threads = 0;             ///< OpenMP threads; 0 = leave the current setting
   index_t check_interval = 100;  ///< steps between step-checker passes
 };

@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <string>
 #include <utility>
 
 #include "../core/errors.hpp"
@@ -33,14 +34,16 @@ class solver_runs {
   /// after each step. stop is evaluated before every step, the first time before any step; a
   /// condition of solver/stop_conditions.hpp (stop::after_time(1.0) || stop::when_beyond(...)) is
   /// first restarted (stop.start(*this), where the predicate has it), so it counts from this call.
-  /// Returns the steps taken, the reason (stop.reason() where the predicate has it) and whether
-  /// max_steps ran out first; converts to the step count. Throws invalid_input for max_steps < 0.
+  /// Returns the steps taken, the reason (stop.reason() where the predicate has it), whether
+  /// max_steps ran out first and the damping in force (damping_in_force()); converts to the step
+  /// count. Throws invalid_input for max_steps < 0.
   template <class Predicate, class... Observers>
   run_result run_until(Predicate&& stop, std::int64_t max_steps, Observers&&... observers) {
     require(max_steps >= 0, "solver: run_until max_steps = ", max_steps, " must be >= 0");
     const Solver& s = self();
     if constexpr (requires { stop.start(s); }) stop.start(s);
     run_result result;
+    result.damping = damping_in_force();
     bool stopped = false;
     while (!(stopped = stop(s)) && result.steps < max_steps) {
       self().step();
@@ -55,6 +58,15 @@ class solver_runs {
     else
       result.reason = "the stop predicate returned true";
     return result;
+  }
+  /// The damping in force, e.g. "local damping gamma = 0.8 (integrator::quasi_static: ...)" or
+  /// "no damping (integrator::dynamic: ...)": the integrator's describe_damping() where it has one.
+  [[nodiscard]] std::string damping_in_force() const {
+    const auto& integrator = static_cast<const Solver&>(*this).integrator_;
+    if constexpr (requires { integrator.describe_damping(); })
+      return integrator.describe_damping();
+    else
+      return "the integrator's own (it has no describe_damping())";
   }
 
  protected:

@@ -53,6 +53,7 @@
 #include "balance.hpp"
 #include "boundary.hpp"
 #include "detail/energy_books.hpp"
+#include "detail/first_step_checks.hpp"
 #include "energy.hpp"
 #include "external_step.hpp"
 #include "options.hpp"
@@ -178,7 +179,7 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
       else
         blocks_.check_step_bound(gridpoints_);
     }
-    if (step_ == 0) initial_energy_ = stored_and_kinetic();
+    if (step_ == 0) { detail::refuse_first_step_traps(*this); initial_energy_ = stored_and_kinetic(); }
     [[maybe_unused]] real kick_dt = dt_;  // the velocity update's step (solver/time_step.hpp)
     if (!Blocks::is_rigid && gravity_ != vec3::Zero())
       gridpoints_.force = gravity_force_;

@@ -119,13 +119,26 @@ class solver_supports {
   /// Prescribes the translation velocity v (m/s, world) on components c of block b, on every
   /// gridpoint of it: a rigid block translates at v in those components and its rotations are held
   /// (free components stay free); a deformable block's gridpoints all move at v in them. Throws
-  /// invalid_input for a bad id, a non-finite v, or a component already prescribed otherwise.
+  /// invalid_input for a bad id, a non-finite v, or a component already prescribed otherwise (to
+  /// change a prescribed velocity over time: update_block_velocity). Under gravity, a block driven
+  /// in some components that carries another block and rests on none is refused at the first step
+  /// (solver/detail/first_step_checks.hpp): prescribe its free components too.
   void prescribe_block_velocity(index_t b, const vec3& v, bc::components c = bc::components::xyz) {
     require_block(b, "prescribe_block_velocity");
     require(v.allFinite(), "solver: prescribe_block_velocity: velocity (", v.transpose(), ") m/s of block ", b,
             " is not finite");
     bc::prescribe_velocity(self().gridpoints_, gridpoints_of_block(b), v, c);
     self().supports_changed();
+  }
+  /// Changes the velocity (m/s, world) of block b's components c, which must be prescribed already
+  /// (prescribe_block_velocity, fix_block): a loading history, e.g. a ramp or a cycle, called
+  /// between steps (bc::update_velocity on every gridpoint of the block). Throws invalid_input for
+  /// a bad id, a non-finite v, or a component of c not prescribed.
+  void update_block_velocity(index_t b, const vec3& v, bc::components c = bc::components::xyz) {
+    require_block(b, "update_block_velocity");
+    require(v.allFinite(), "solver: update_block_velocity: velocity (", v.transpose(), ") m/s of block ", b,
+            " is not finite");
+    bc::update_velocity(self().gridpoints_, gridpoints_of_block(b), v, c);
   }
   /// Initial condition: gives block b the rigid velocity field v + omega x (x - c) (v in m/s at
   /// the centroid c, omega in rad/s, world; x the current positions), as the half-step velocities

@@ -58,7 +58,8 @@ inline void reduce_rigid_block(const node_set& gp, const soa3& body_position, co
   throw invalid_input(tessera::detail::concat("rigid blocks: block ", b, " has conflicting prescribed velocities in component ",
                                      "xyz"[c], ": gridpoint ", i, " prescribes ", gp.prescribed_velocity(i, c),
                                      " m/s, gridpoint ", j, " prescribes ", gp.prescribed_velocity(j, c),
-                                     " m/s; a rigid block moves as one body (release one of them)"));
+                                     " m/s; a rigid block moves as one body (release one of them, or change the whole block's "
+                                     "velocity with the solver's update_block_velocity(b, v, components))"));
 }
 
 /// Step 5 of rigid.hpp's file comment for block `bd`, whose record holds the step's result: its

@@ -25,7 +25,8 @@ struct detected_params {
   /// unused); law::dry_joint and law::bonded_joint (law/joints.hpp) fill them all.
   material_table<LawParams> law{};
   /// Contact tolerance (m, > 0): pairs whose gap is at most this touch, and vertices within it
-  /// of a block's supporting plane form the patch. Typically 1e-3 to 1e-2 of a block's size.
+  /// of a block's supporting plane form the patch. Typically 1e-3 to 1e-2 of a block's size; above
+  /// contact::max_tolerance_fraction (1/4) of the thinnest block's width it is refused.
   real tolerance = 0;
   /// A rebuild at least every this many steps (>= 1), besides the motion trigger.
   index_t max_rebuild_interval = 1000;
