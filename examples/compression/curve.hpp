@@ -31,6 +31,7 @@ struct compression_result {
   real energy_error_rel = 0, added_mass_ratio = 0, dt = 0, runtime_s = 0;
   std::int64_t steps = 0;
   std::string stop_reason;
+  std::string damping;  ///< solver::damping_in_force()
 };
 
 /// Fills young and poisson from the curve up to the peak: the first samples at or above 10 %

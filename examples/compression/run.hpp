@@ -195,6 +195,7 @@ inline compression_result compression_specimen::run() const {
       }));
   if (progress) progress->finish();
   r.steps = s.step_count();
+  r.damping = s.damping_in_force();
   r.stop_reason = run.hit_max_steps ? run.reason : (r.peak ? "post-peak drop" : "max strain");
   r.last_strain = r.strain.empty() ? 0 : r.strain.back();
   r.residual_ratio = largest > 0 && !r.stress.empty() ? r.stress.back() / largest : 0;
@@ -225,7 +226,7 @@ inline void write_compression_summary(io::summary_json& j, const compression_opt
       .set("friction", o.ends == "friction" ? o.friction : 0.0).set("confinement_Pa", o.confinement)
       .set("k_n_Pa_per_m", p.k_n).set("k_s_Pa_per_m", p.k_s).set("f_T_Pa", p.tension.f_T).set("c_0_Pa", p.shear.c_0)
       .set("phi_0_deg", o.phi_deg).set("phi_res_deg", o.phi_res_deg).set("cap_Pa", p.compression.f_c).set("G_f_N_per_m", p.tension.G_f)
-      .set("rate_m_per_s", o.rate).set("step_displacement_m", o.step_displacement).set("dt_s", r.dt)
+      .set("rate_m_per_s", o.rate).set("step_displacement_m", o.step_displacement).set("dt_s", r.dt).set("damping_in_force", r.damping)
       .set("added_mass_ratio", r.added_mass_ratio).set("quasi_static_index", r.quasi_static_index)
       .set("peak", r.peak).set("stop_reason", r.stop_reason)
       .set("largest_stress_Pa", r.peak_stress).set("strain_at_largest", r.peak_strain).set("last_strain", r.last_strain)
