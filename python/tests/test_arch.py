@@ -1,0 +1,118 @@
+"""The Python module against C++: the README's arch driven from Python gives the C++ program's
+bits (tessera._arch_reference runs tests/consumer/arch.cpp's scene with the stop conditions
+written as C++ templates), and refusals arrive as tessera.Error naming the bad value.
+
+    PYTHONPATH=build/release/python python3 -m pytest python/tests
+"""
+import math
+import os
+import pathlib
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import tessera
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples" / "python"
+sys.path.insert(0, str(EXAMPLES))
+import arch  # noqa: E402  (examples/python/arch.py)
+
+
+@pytest.fixture(scope="module")
+def python_arch():
+    return arch.run_arch()
+
+
+@pytest.fixture(scope="module")
+def cpp_arch():
+    return tessera._arch_reference()
+
+
+def test_arch_gives_the_cpp_bits(python_arch, cpp_arch):
+    s, r, weight, crown = python_arch
+    base = tessera.recorders.reaction_sum(s.gridpoints(), s.gridpoints_of_block(0))[2]
+    # the same step count, step, reason and results, compared exactly (==, not approx)
+    assert r.steps == cpp_arch["steps"]
+    assert r.hit_max_steps == cpp_arch["hit_max_steps"]
+    assert r.reason == cpp_arch["reason"]
+    assert s.dt() == cpp_arch["dt"]
+    assert s.time() == cpp_arch["time"]
+    assert base == cpp_arch["base"]
+    assert weight == cpp_arch["weight"]
+    assert -s.block_displacement(crown)[2] == cpp_arch["sag"]
+
+
+def test_arch_stands(python_arch):
+    s, r, weight, crown = python_arch
+    assert r.reason.startswith("settled")
+    assert not r.hit_max_steps
+    assert s.step_count() == r.steps > 1000
+    # 21 blocks: a 6 x 1 x 0.5 m slab and 20 voussoirs of (2.4^2 - 2^2)/2 sin(pi/20) m^3, 2400 kg/m^3
+    volume = 3.0 + 20 * (2.4**2 - 2.0**2) / 2 * math.sin(math.pi / 20) * 1.0
+    assert weight == pytest.approx(2400 * 9.81 * volume, rel=1e-9)
+    base = tessera.recorders.reaction_sum(s.gridpoints(), s.gridpoints_of_block(0))
+    assert base[2] == pytest.approx(weight, rel=1e-3)
+    assert abs(base[0]) < 1e-3 * weight and abs(base[1]) < 1e-3 * weight
+    assert 0 < -s.block_displacement(crown)[2] < 1e-3
+
+
+def test_state_arrives_as_read_only_numpy_views(python_arch):
+    s, r, weight, crown = python_arch
+    g = s.gridpoints()
+    reaction = g.reaction
+    assert isinstance(reaction, np.ndarray) and reaction.shape == (g.size(), 3)
+    assert not reaction.flags.writeable
+    with pytest.raises(ValueError):
+        reaction[0, 0] = 1.0
+    # the view is the solver's array: the base block's gridpoints carry the reaction sum
+    base = s.gridpoints_of_block(0)
+    assert reaction[base.nodes].sum(axis=0)[2] == pytest.approx(
+        tessera.recorders.reaction_sum(g, base)[2], rel=1e-12)
+    u = s.block_displacement(crown)
+    assert isinstance(u, np.ndarray) and u.shape == (3,)
+
+
+def test_example_prints_the_summary_and_passes():
+    env = dict(os.environ)
+    out = subprocess.run([sys.executable, str(EXAMPLES / "arch.py")], capture_output=True, text=True, env=env,
+                         check=False)
+    assert out.returncode == 0, out.stdout + out.stderr
+    assert " steps of " in out.stdout and ": settled: z displacement of block 10 (m)" in out.stdout
+    assert "base reaction" in out.stdout and "crown sag" in out.stdout
+
+
+def test_negative_friction_angle_is_refused_naming_it():
+    with pytest.raises(tessera.Error, match=r"friction angle = -5 deg must be in \[0, 90\)"):
+        tessera.law.dry_joint(1e10, 1e10, tessera.law.friction_angle.from_degrees(-5))
+
+
+def test_non_positive_stiffness_is_refused_naming_it():
+    phi = tessera.law.friction_angle.from_degrees(30)
+    with pytest.raises(tessera.InvalidInput, match=r"normal stiffness k_n = -1 Pa/m must be finite and > 0"):
+        tessera.law.dry_joint(-1.0, 1e10, phi)
+    with pytest.raises(tessera.Error, match=r"shear stiffness k_s = 0 Pa/m"):
+        tessera.law.dry_joint(1e10, 0.0, phi)
+
+
+def test_nan_gravity_and_bad_stop_values_are_refused_naming_them(python_arch):
+    s = python_arch[0]
+    with pytest.raises(tessera.Error, match=r"gravity \(.*nan.*\) m/s\^2 is not finite"):
+        s.set_gravity([0.0, float("nan"), -9.81])
+    with pytest.raises(tessera.Error, match=r"t = -1 s must be finite and >= 0"):
+        tessera.stop.after_time(-1.0)
+    with pytest.raises(tessera.Error, match=r"block -3 does not exist"):
+        tessera.quantity.block_displacement(-3, 2)
+
+
+def test_geometry_refusal_is_a_tessera_error():
+    with pytest.raises(tessera.Error, match=r"inner radius r_in = 2.5 m must be < outer radius r_out = 2.4 m"):
+        tessera.geometry.voussoir([0, 0, 0], 2.5, 2.4, 0.0, 0.1, 1.0)
+
+
+def test_stop_conditions_compose_and_describe():
+    c = tessera.stop.after_steps(5) | tessera.stop.after_time(1.0)
+    assert c.describe() == "(after 5 steps) or (after 1 s)"
+    d = tessera.stop.after_steps(5) & tessera.stop.kinetic_energy_below(0.5)
+    assert d.describe() == "(after 5 steps) and (kinetic energy below 0.5 of its peak)"
