@@ -46,6 +46,43 @@ struct any_quantity {
   }
 };
 
+/// A Python callable fn(solver) -> bool as a stop condition (stop.when), called at every
+/// `every`-th evaluation since run_until started (the first before any step), with the GIL taken
+/// there; the interpreter's signals are checked at the same moments (Ctrl-C: KeyboardInterrupt).
+struct python_predicate : stop::condition_tag {
+  std::shared_ptr<py::object> fn;  // shared: copies of a condition call the same function
+  std::int64_t every = 100;
+  std::string description;
+  std::int64_t evaluations = 0;
+  template <class Solver>
+  void start(const Solver& /*s*/) { evaluations = 0; }
+  [[nodiscard]] std::string describe() const { return description; }
+  [[nodiscard]] std::string reason() const { return description; }
+  template <class Solver>
+  bool operator()(const Solver& s) {
+    if (evaluations++ % every != 0) return false;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    return (*fn)(py::cast(&s, py::return_value_policy::reference)).template cast<bool>();
+  }
+};
+
+/// Checks the interpreter's signals every 1000 evaluations (run_until's Ctrl-C); never holds.
+struct interrupt_check : stop::condition_tag {
+  std::int64_t evaluations = 0;
+  template <class Solver>
+  void start(const Solver& /*s*/) { evaluations = 0; }
+  template <class Solver>
+  bool operator()(const Solver& /*s*/) {
+    if (++evaluations % 1000 != 0) return false;
+    py::gil_scoped_acquire gil;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    return false;
+  }
+  [[nodiscard]] std::string describe() const { return "interrupted"; }
+  [[nodiscard]] std::string reason() const { return "interrupted"; }
+};
+
 struct any_condition;
 using any_of_node = stop::any_of<any_condition, any_condition>;
 using all_of_node = stop::all_of<any_condition, any_condition>;
@@ -53,7 +90,7 @@ using all_of_node = stop::all_of<any_condition, any_condition>;
 /// One of tessera::stop's conditions, or `a | b`, `a & b` of two; evaluated as the condition.
 struct any_condition : stop::condition_tag {
   std::variant<stop::after_steps, stop::after_time, stop::when_settled<any_quantity>, stop::when_beyond<any_quantity>,
-               stop::kinetic_energy_below, std::shared_ptr<any_of_node>, std::shared_ptr<all_of_node>>
+               stop::kinetic_energy_below, python_predicate, std::shared_ptr<any_of_node>, std::shared_ptr<all_of_node>>
       c;
   /// Calls f on the condition held (through the pointer for a composite), const or not as self.
   template <class Self, class F>
@@ -125,9 +162,12 @@ void bind_solver(py::module_& m, const char* name, const char* doc) {
       .def("step", &S::step, "One step of dt", py::call_guard<py::gil_scoped_release>())
       .def(
           "run_until",
-          [](S& s, any_condition stop, std::int64_t max_steps) { return s.run_until(stop, max_steps); },
+          [](S& s, any_condition condition, std::int64_t max_steps) {
+            return s.run_until(stop::any_of<any_condition, interrupt_check>(std::move(condition), interrupt_check{}), max_steps);
+          },
           py::arg("stop"), py::arg("max_steps") = std::int64_t{100'000'000}, py::call_guard<py::gil_scoped_release>(),
-          "Steps until stop holds (evaluated before every step) or max_steps were taken; a run_result")
+          "Steps until stop holds (evaluated before every step) or max_steps were taken; a run_result. "
+          "Ctrl-C stops it within 1000 steps (KeyboardInterrupt)")
       .def("dt", &S::dt, "The step the next step() takes (s)")
       .def("time", &S::time, "Simulated time since the solver was built (s)")
       .def("step_count", &S::step_count, "Steps taken since the solver was built")
@@ -342,6 +382,21 @@ PYBIND11_MODULE(_tessera, m) {
       "when_beyond",
       [](any_quantity qu, real limit) { return any_condition{{}, stop::when_beyond<any_quantity>(std::move(qu), limit)}; },
       py::arg("quantity"), py::arg("limit"), "When |quantity| > limit (its unit)");
+  st.def(
+      "when",
+      [](py::object fn, std::string description, std::int64_t every) {
+        require(every >= 1, "stop::when: every = ", every, " steps must be >= 1");
+        python_predicate p;
+        p.fn = std::shared_ptr<py::object>(new py::object(std::move(fn)), [](py::object* o) {
+          py::gil_scoped_acquire gil;
+          delete o;
+        });
+        p.every = every;
+        p.description = std::move(description);
+        return any_condition{{}, std::move(p)};
+      },
+      py::arg("fn"), py::arg("description"), py::arg("every") = std::int64_t{100},
+      "When fn(solver) returns True, fn called every `every` steps (the first before any step)");
   st.def("kinetic_energy_below", [](real r) { return any_condition{{}, stop::kinetic_energy_below(r)}; },
          py::arg("ratio"), "When the kinetic energy fell to ratio (in (0, 1)) of its peak");
 
@@ -351,6 +406,9 @@ PYBIND11_MODULE(_tessera, m) {
       inst, "rigid_dry_damped_solver",
       "Rigid blocks on detected dry joints, central differences with local damping: "
       "solver<blocks::rigid, contact::detected_contacts<law::dry_joint_law>> (quasi-static settling)");
+  bind_solver<instances::rigid_dry_solver>(
+      inst, "rigid_dry_solver",
+      "The same undamped (integrator::no_damping): dynamics whose energy the run must keep");
 
   m.def("_arch_reference", &arch_reference, "The README's arch run in C++ (for the tests)");
 }

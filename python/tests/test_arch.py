@@ -116,3 +116,64 @@ def test_stop_conditions_compose_and_describe():
     assert c.describe() == "(after 5 steps) or (after 1 s)"
     d = tessera.stop.after_steps(5) & tessera.stop.kinetic_energy_below(0.5)
     assert d.describe() == "(after 5 steps) and (kinetic energy below 0.5 of its peak)"
+
+
+def small_arch(solver="rigid_dry_damped_solver"):
+    """The arch's geometry and joints with the given solver of tessera.instances, base held, gravity on."""
+    g = tessera.geometry
+    n = 20
+    blocks = [g.convex_polyhedron.box([-3, -0.5, -0.5], [3, 0.5, 0])]
+    blocks += [g.voussoir([0, 0, 0], 2.0, 2.4, math.pi * k / n, math.pi * (k + 1) / n, 1.0) for k in range(n)]
+    tess = g.separate_blocks(blocks)
+    joint = tessera.contact.detected_dry_joints(
+        tessera.law.dry_joint(1e10, 1e10, tessera.law.friction_angle.from_degrees(35)), tolerance=1e-3)
+    s = getattr(tessera.instances, solver)(tess, g.zone_blocks(tess), tessera.blocks.rigid.params(2400), joint)
+    s.fix_blocks(s.blocks_below(2, 0.0))
+    s.set_gravity([0, 0, -9.81])
+    return s
+
+
+def test_python_callable_stops_the_run_at_its_checks():
+    s = small_arch()
+    seen = []
+
+    def past_250_steps(solver):
+        seen.append(solver.step_count())
+        return solver.step_count() >= 250
+
+    r = s.run_until(tessera.stop.when(past_250_steps, "250 steps taken", every=100))
+    # called before steps 0, 100, 200 and 300: the first check at or past 250 is at 300
+    assert seen == [0, 100, 200, 300]
+    assert r.steps == 300 and r.reason == "250 steps taken" and not r.hit_max_steps
+    # every=1 stops where the C++ condition after_steps(250) does, on a second solver built alike
+    t = small_arch()
+    r1 = t.run_until(tessera.stop.when(lambda solver: solver.step_count() >= 250, "250 steps", every=1))
+    u = small_arch()
+    r2 = u.run_until(tessera.stop.after_steps(250))
+    assert r1.steps == r2.steps == 250
+    assert t.block_displacement(10)[2] == u.block_displacement(10)[2]
+
+
+def test_ctrl_c_during_run_until_arrives_as_keyboard_interrupt():
+    import _thread
+    import threading
+
+    s = small_arch()
+    threading.Timer(0.2, _thread.interrupt_main).start()
+    with pytest.raises(KeyboardInterrupt):
+        s.run_until(tessera.stop.after_steps(10**12), 10**12)
+    assert 0 < s.step_count() < 10**12
+
+
+def test_undamped_solver_keeps_moving_where_the_damped_one_settles():
+    damped, undamped = small_arch(), small_arch("rigid_dry_solver")
+    damped.run_until(tessera.stop.after_time(0.1))
+    undamped.run_until(tessera.stop.after_time(0.1))
+    assert damped.time() >= 0.1 and undamped.time() >= 0.1
+    # without local damping the arch still rings after 0.1 s: far more kinetic energy left
+    assert undamped.kinetic_energy() > 10 * damped.kinetic_energy()
+
+
+def test_bad_callable_every_is_refused():
+    with pytest.raises(tessera.Error, match=r"every = 0 steps must be >= 1"):
+        tessera.stop.when(lambda s: True, "never", every=0)
