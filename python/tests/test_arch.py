@@ -20,6 +20,13 @@ sys.path.insert(0, str(EXAMPLES))
 import arch  # noqa: E402  (examples/python/arch.py)
 
 
+def run_example(cwd):
+    """Runs examples/python/arch.py in cwd with the package imported here (PYTHONPATH may be relative)."""
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(tessera.__file__).resolve().parents[1]))
+    return subprocess.run([sys.executable, str(EXAMPLES / "arch.py")], cwd=cwd, env=env, capture_output=True,
+                          text=True, check=False)
+
+
 @pytest.fixture(scope="module")
 def python_arch():
     return arch.run_arch()
@@ -42,6 +49,23 @@ def test_arch_gives_the_cpp_bits(python_arch, cpp_arch):
     assert base == cpp_arch["base"]
     assert weight == cpp_arch["weight"]
     assert -s.block_displacement(crown)[2] == cpp_arch["sag"]
+
+
+def test_arch_gives_the_cpp_programs_summary_and_curve_bits(tmp_path):
+    """Runs tests/consumer/arch.cpp (TESSERA_ARCH_CPP, built by CMake) and examples/python/arch.py
+    in two folders: the same summary text and the same arch.csv, byte for byte (17 digits: bits)."""
+    program = os.environ.get("TESSERA_ARCH_CPP")
+    if not program:
+        pytest.skip("TESSERA_ARCH_CPP is not set (the CTest python_tests sets it)")
+    (tmp_path / "cpp").mkdir()
+    (tmp_path / "py").mkdir()
+    cpp = subprocess.run([program], cwd=tmp_path / "cpp", capture_output=True, text=True, check=False)
+    py = run_example(tmp_path / "py")
+    assert cpp.returncode == 0 and py.returncode == 0, cpp.stderr + py.stderr
+    assert py.stdout == cpp.stdout
+    cpp_csv = (tmp_path / "cpp" / "arch.csv").read_text()
+    assert cpp_csv.count("\n") > 20
+    assert (tmp_path / "py" / "arch.csv").read_text() == cpp_csv
 
 
 def test_arch_stands(python_arch):
@@ -74,13 +98,12 @@ def test_state_arrives_as_read_only_numpy_views(python_arch):
     assert isinstance(u, np.ndarray) and u.shape == (3,)
 
 
-def test_example_prints_the_summary_and_passes():
-    env = dict(os.environ)
-    out = subprocess.run([sys.executable, str(EXAMPLES / "arch.py")], capture_output=True, text=True, env=env,
-                         check=False)
+def test_example_prints_the_summary_and_passes(tmp_path):
+    out = run_example(tmp_path)
     assert out.returncode == 0, out.stdout + out.stderr
     assert " steps of " in out.stdout and ": settled: z displacement of block 10 (m)" in out.stdout
     assert "base reaction" in out.stdout and "crown sag" in out.stdout
+    assert (tmp_path / "arch.csv").read_text().startswith("step,time_s,uz_crown_m,Rz_base_N\n0,0,0,0\n200,")
 
 
 def test_negative_friction_angle_is_refused_naming_it():
