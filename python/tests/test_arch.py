@@ -182,7 +182,7 @@ def test_ctrl_c_during_run_until_arrives_as_keyboard_interrupt():
     import threading
 
     s = small_arch()
-    threading.Timer(0.2, _thread.interrupt_main).start()
+    threading.Timer(0.5, _thread.interrupt_main).start()  # a trigger, not a timed assert
     with pytest.raises(KeyboardInterrupt):
         s.run_until(tessera.stop.after_steps(10**12), 10**12)
     assert 0 < s.step_count() < 10**12
@@ -200,3 +200,18 @@ def test_undamped_solver_keeps_moving_where_the_damped_one_settles():
 def test_bad_callable_every_is_refused():
     with pytest.raises(tessera.Error, match=r"every = 0 steps must be >= 1"):
         tessera.stop.when(lambda s: True, "never", every=0)
+
+
+def test_an_exception_in_the_callable_ends_the_run_and_the_solver_runs_on():
+    s = small_arch()
+
+    def fails_at_step_100(solver):
+        if solver.step_count() == 100:
+            raise ZeroDivisionError("from the callable at step %d" % solver.step_count())
+        return False
+
+    with pytest.raises(ZeroDivisionError, match="from the callable at step 100"):
+        s.run_until(tessera.stop.after_steps(10**6) | tessera.stop.when(fails_at_step_100, "fails", every=1))
+    assert s.step_count() == 100
+    r = s.run_until(tessera.stop.after_steps(10))
+    assert r.steps == 10 and s.step_count() == 110 and r.reason == "after 10 steps (limit 10)"
