@@ -8,11 +8,13 @@
 # TESSERA_METIS; SuiteSparse for the implicit solve's supernodal factorisation, TESSERA_CHOLMOD,
 # with OpenBLAS's one-thread build, whose BLAS makes CHOLMOD 7x faster than the reference BLAS on
 # the 1 000-block prism; Doxygen for the API reference, CMake option TESSERA_DOCS, the `docs` target
-# and cmake/check-docs.py) are tried after the required ones; when they cannot be installed the
+# and cmake/check-docs.py; pybind11, Python's headers, NumPy and pytest for the Python module, CMake
+# option TESSERA_PYTHON, docs/python.md) are tried after the required ones; when they cannot be installed the
 # script says so and succeeds, and tessera builds without them.
 set -euo pipefail
 packages=(g++ cmake make libeigen3-dev catch2 libbenchmark-dev gnuplot-nox python3-vtk9)
-optional=(libopenmpi-dev openmpi-bin libmetis-dev libsuitesparse-dev libopenblas0-serial doxygen)
+optional=(libopenmpi-dev openmpi-bin libmetis-dev libsuitesparse-dev libopenblas0-serial doxygen
+          pybind11-dev python3-dev python3-numpy python3-pytest)
 if [[ "${1:-}" == "--fuzz" ]]; then packages+=(clang-14 libclang-rt-14-dev); fi
 is_installed() { dpkg-query -W -f='${Status}' "$1" 2>/dev/null | grep -q "install ok installed"; }
 missing=()
@@ -30,7 +32,7 @@ if ((${#missing[@]})); then
   apt_get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 if ((${#missing_optional[@]})); then
-  echo "install-deps: installing the optional ${missing_optional[*]} (MPI and METIS for the distributed step, SuiteSparse and OpenBLAS for the implicit solve, Doxygen for the API reference)" >&2
+  echo "install-deps: installing the optional ${missing_optional[*]} (MPI and METIS for the distributed step, SuiteSparse and OpenBLAS for the implicit solve, Doxygen for the API reference, pybind11 and NumPy for the Python module)" >&2
   if ! { ((updated)) || apt_get update -qq; } || ! apt_get install -y -qq --no-install-recommends "${missing_optional[@]}"; then
     echo "install-deps: the optional ${missing_optional[*]} could not be installed; tessera builds without them" >&2
   fi
