@@ -7,6 +7,7 @@
 //   summary.json   the scene, steps, dt, rebuilds, storage growths, sub-contacts (final, peak),
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
 //                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s),
+//                  the blocks the rebuilds detected again (redetected_blocks, summed over them),
 //                  the phase split and ns_per_subcontact_step (common/phase_report.hpp; over the
 //                  mean sub-contact count, with and without the rebuilds; split: rank 0's), and
 //                  mpi_ranks (split: the mpi_* figures of common/mpi_run.hpp and mpi_rebalances)
