@@ -18,7 +18,7 @@
 #include <tessera/law/cohesive_frictional.hpp>
 #include <tessera/solver.hpp>
 #ifdef TESSERA_USE_INSTANCES
-#include <tessera/instances.hpp>
+#include <tessera/instances/rigid.hpp>
 #endif
 
 int main() {

@@ -9,6 +9,9 @@
 #include <cmath>
 #include <vector>
 
+#include <Eigen/Core>
+#include <Eigen/LU>  // mat3::inverse (the zone Jacobian)
+
 #include "../../core/errors.hpp"
 #include "../../core/nodes.hpp"
 #include "../../core/csr.hpp"
