@@ -1103,7 +1103,7 @@ TEST_CASE("user layer: prescribe_block_velocity moves a block at v, set_block_ve
   }
 }
 
-TEST_CASE("user layer: integrator::dynamic names dynamics, and the run result names the damping in force",
+TEST_CASE("user layer: integrator::dynamic names dynamics and the run result names the damping in force",
           "[rigid][user_layer][damping]") {
   // The 0.5 m cube on the fixed base, thrown along x at v0 = 1 m/s on a 30 deg dry joint: undamped,
   // it slides v0^2 / (2 g tan phi) = 88.3 mm. Under the default local damping the force 0.8 |F|
@@ -1140,7 +1140,7 @@ TEST_CASE("user layer: integrator::dynamic names dynamics, and the run result na
   CHECK_THAT(printed.str(), Catch::Contains(" steps (after 0.3") && Catch::EndsWith("damping: " + damped_run.damping));
 }
 
-TEST_CASE("user layer: a support driven in x and free in z under gravity is refused naming z; update_block_velocity "
+TEST_CASE("user layer: a support driven in x and free in z under gravity is refused naming z and update_block_velocity "
           "changes a prescribed velocity", "[rigid][user_layer]") {
   // The base (block 0) driven in x as a shaking table, the cube (block 1) resting on it.
   const vec3 v(0.1, 0, 0);  // m/s
