@@ -1,9 +1,9 @@
 #pragma once
-// VTK snapshots of a running solver with embedded bars, listed in one ParaView .pvd series: at
-// each tag (drop1, yield, end, ...) the sub-contacts with every declared law field
-// (<tag>_contacts.vtp), the bars as polylines (<tag>_bar.vtp) and the zones with displacement
-// and stress (<tag>_zones.vtu). Used by rc_tie and rc_beam as their on_event callback. The tag
-// "start" (the run's checks have passed, its first step is next) writes no snapshot: it creates
+// VTK snapshots of a running solver, listed in one ParaView .pvd series: at each tag (drop1,
+// yield, end, ...) the sub-contacts with every declared law field (<tag>_contacts.vtp), the bars
+// as polylines where the solver has them (<tag>_bar.vtp) and the zones with displacement
+// and stress (<tag>_zones.vtu). Used by rc_tie and rc_beam as their on_event callback, and by
+// compression. The tag "start" (the run's checks have passed, its first step is next) writes no snapshot: it creates
 // the output directory, so run.json says "running" from the run's first minute.
 
 #include <filesystem>
@@ -37,8 +37,10 @@ class bar_snapshots {
     contacts_.take(s.contacts(), s.gridpoints());
     contacts_.write(dir_ / (tag + "_contacts.vtp"), vtk::format::binary);
     pvd_.add(t, dir_ / (tag + "_contacts.vtp"), 1);
-    vtk::write_bar_vtp(dir_ / (tag + "_bar.vtp"), s.reinforcement());
-    pvd_.add(t, dir_ / (tag + "_bar.vtp"), 2);
+    if constexpr (Solver::reinforcement_type::enabled) {  // a scene without bars writes none
+      vtk::write_bar_vtp(dir_ / (tag + "_bar.vtp"), s.reinforcement());
+      pvd_.add(t, dir_ / (tag + "_bar.vtp"), 2);
+    }
     // Zones with displacement and stress (empty for rigid blocks).
     std::vector<vtk::sym_tensor> stress;
     const auto& zs = s.blocks().zone_stress();

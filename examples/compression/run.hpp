@@ -7,8 +7,7 @@
 
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/csv.hpp"
-#include "tessera/io/vtk.hpp"
-#include "tessera/io/vtk_contacts.hpp"
+#include "common/snapshots.hpp"
 
 namespace tessera::scenes {
 
@@ -161,24 +160,8 @@ inline compression_result compression_specimen::run() const {
   const auto every = static_cast<index_t>(std::max<real>(1, std::round(1e-6 * H / o_.step_displacement)));
   real largest = 0;
   bool done = false;
-  io::vtk::pvd_collection pvd;
-  io::vtk::contact_snapshot snapshot;
   const std::filesystem::path dir(o_.common.out);
-  const auto write_vtk = [&](const compression_solver& m, const std::string& tag) {
-    if (o_.no_vtk) return;
-    std::vector<io::vtk::sym_tensor> stress;
-    const auto& zs = m.blocks().zone_stress();
-    for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back(io::vtk::voigt_row_to_sym_tensor(zs, z));
-    io::vtk::zone_fields fields;
-    fields.displacement = &m.gridpoints().displacement;
-    fields.stress = stress;
-    io::vtk::write_zones_vtu(dir / (tag + "_zones.vtu"), mesh_, fields, io::vtk::format::binary);
-    snapshot.take(m.contacts(), m.gridpoints());
-    snapshot.write(dir / (tag + "_contacts.vtp"), io::vtk::format::binary);
-    pvd.add(m.time(), dir / (tag + "_zones.vtu"), 0);
-    pvd.add(m.time(), dir / (tag + "_contacts.vtp"), 1);
-    pvd.write(dir / "compression.pvd");
-  };
+  bar_snapshots snapshots(dir, mesh_, "compression.pvd", !o_.no_vtk);  // zones and contacts (no bars)
   std::optional<cli::progress_line> progress;
   if (!o_.common.quick) progress.emplace("compression");
   io::ensure_directory(dir);
@@ -210,7 +193,7 @@ inline compression_result compression_specimen::run() const {
     }
   r.axial_crack_share = r.cracked_area > 0 ? axial / r.cracked_area : 0;
   r.energy_error_rel = s.energies().error_rel();
-  write_vtk(s, "end");
+  snapshots(s, "end");
   io::write_csv(dir / "curve.csv", {"axial_strain", "axial_stress_Pa", "lateral_strain"}, {r.strain, r.stress, r.lateral_strain});
   r.runtime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
