@@ -3,8 +3,8 @@
 // yield, end, ...) the sub-contacts with every declared law field (<tag>_contacts.vtp), the bars
 // as polylines where the solver has them (<tag>_bar.vtp) and the zones with displacement
 // and stress (<tag>_zones.vtu). Used by rc_tie and rc_beam as their on_event callback, and by
-// compression. The tag "start" (the run's checks have passed, its first step is next) writes no snapshot: it creates
-// the output directory, so run.json says "running" from the run's first minute.
+// compression. The tag "start" (the run's checks have passed, its first step is next) writes no
+// snapshot: it creates the output directory, so run.json says "running" from the run's first minute.
 
 #include <filesystem>
 #include <string>
