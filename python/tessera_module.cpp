@@ -20,14 +20,13 @@
 #include <tessera/presets/pulatsu2020.hpp>  // the study's presets (study_prism_params, ...)
 #include <tessera/solver.hpp>
 
-#ifndef TESSERA_GIT_COMMIT
-#define TESSERA_GIT_COMMIT "unknown"  // set by python/CMakeLists.txt
-#endif
+#include "tension_reference.hpp"  // the prism script in C++ (tessera._tension_reference)
 
 #include <cmath>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -90,6 +89,63 @@ struct interrupt_check : stop::condition_tag {
   [[nodiscard]] std::string reason() const { return "interrupted"; }
 };
 
+/// The C++ recorders::csv_recorder of one bound solver type, run inside run_until (its
+/// `record` list) as a stop condition that never holds: called at the condition's evaluations
+/// (before each step, and once after the last), at most once per step count, so it writes the
+/// rows the C++ observer writes after the steps (its first row when it is made).
+struct csv_record {
+  std::variant<std::unique_ptr<recorders::csv_recorder<instances::rigid_dry_damped_solver>>,
+               std::unique_ptr<recorders::csv_recorder<instances::rigid_dry_solver>>,
+               std::unique_ptr<recorders::csv_recorder<instances::prism_solver>>>
+      rec;
+  std::int64_t last_step = -1;  ///< the step count of the last call (the row made with it)
+  template <class Solver>
+  void observe(const Solver& s) {
+    auto* r = std::get_if<std::unique_ptr<recorders::csv_recorder<Solver>>>(&rec);
+    require(r != nullptr && *r != nullptr, "csv_recorder: passed to a run of another solver type, or closed");
+    if (s.step_count() == last_step) return;
+    last_step = s.step_count();
+    (**r)(s);
+  }
+  void close() {
+    std::visit([](auto& p) { if (p) p->close(); }, rec);
+  }
+  [[nodiscard]] std::int64_t rows() const {
+    return std::visit([](const auto& p) { return p ? p->rows() : std::int64_t{0}; }, rec);
+  }
+  /// Drops the recorder as an exception would: its rows' temporary file is removed and the
+  /// target left as it was (recorders::csv_recorder's destructor during unwinding).
+  void discard() {
+    std::visit(
+        [](auto& p) {
+          struct drop_while_unwinding {
+            std::remove_reference_t<decltype(p)>& q;
+            ~drop_while_unwinding() { q.reset(); }
+          };
+          try {
+            const drop_while_unwinding d{p};
+            throw 0;
+          } catch (int) {  // NOLINT(bugprone-empty-catch): only the unwinding was wanted
+          }
+        },
+        rec);
+  }
+};
+
+/// A csv_record as a stop condition that never holds (run_until's `record` list).
+struct recording : stop::condition_tag {
+  std::shared_ptr<csv_record> rec;
+  template <class Solver>
+  void start(const Solver& /*s*/) {}
+  template <class Solver>
+  bool operator()(const Solver& s) {
+    rec->observe(s);
+    return false;
+  }
+  [[nodiscard]] std::string describe() const { return "recording"; }
+  [[nodiscard]] std::string reason() const { return "recording"; }
+};
+
 struct any_condition;
 using any_of_node = stop::any_of<any_condition, any_condition>;
 using all_of_node = stop::all_of<any_condition, any_condition>;
@@ -97,7 +153,8 @@ using all_of_node = stop::all_of<any_condition, any_condition>;
 /// One of tessera::stop's conditions, or `a | b`, `a & b` of two; evaluated as the condition.
 struct any_condition : stop::condition_tag {
   std::variant<stop::after_steps, stop::after_time, stop::when_settled<any_quantity>, stop::when_beyond<any_quantity>,
-               stop::kinetic_energy_below, python_predicate, std::shared_ptr<any_of_node>, std::shared_ptr<all_of_node>>
+               stop::kinetic_energy_below, python_predicate, recording, std::shared_ptr<any_of_node>,
+               std::shared_ptr<all_of_node>>
       c;
   /// Calls f on the condition held (through the pointer for a composite), const or not as self.
   template <class Self, class F>
@@ -249,12 +306,34 @@ void bind_solver(py::module_& m, const char* name, const char* doc) {
       .def("step", &S::step, "One step of dt", py::call_guard<py::gil_scoped_release>())
       .def(
           "run_until",
-          [](S& s, any_condition condition, std::int64_t max_steps) {
+          [](S& s, any_condition condition, std::int64_t max_steps, const std::vector<std::shared_ptr<csv_record>>& record) {
+            for (auto it = record.rbegin(); it != record.rend(); ++it)  // recorders first: each sees every step
+              condition = any_condition{{}, std::make_shared<any_of_node>(any_condition{{}, recording{{}, *it}}, condition)};
             return s.run_until(stop::any_of<any_condition, interrupt_check>(std::move(condition), interrupt_check{}), max_steps);
           },
-          py::arg("stop"), py::arg("max_steps") = std::int64_t{100'000'000}, py::call_guard<py::gil_scoped_release>(),
+          py::arg("stop"), py::arg("max_steps") = std::int64_t{100'000'000},
+          py::arg("record") = std::vector<std::shared_ptr<csv_record>>{}, py::call_guard<py::gil_scoped_release>(),
           "Steps until stop holds (evaluated before every step) or max_steps were taken; a run_result. "
-          "Ctrl-C stops it within 1000 steps (KeyboardInterrupt)")
+          "record: csv_recorders written along. Ctrl-C stops it within 1000 steps (KeyboardInterrupt)")
+      .def(
+          "csv_recorder",
+          [](const S& s, const std::string& path, const std::vector<std::tuple<std::string, std::string, any_quantity>>& columns,
+             std::int64_t every_steps, real every_seconds) {
+            require((every_steps >= 1) != (std::isfinite(every_seconds) && every_seconds > 0), "csv_recorder '", path,
+                    "': give one of every_steps = ", every_steps, " (>= 1) and every_seconds = ", every_seconds,
+                    " s (> 0)");
+            std::vector<recorders::csv_column<S>> c;
+            for (const auto& [name, unit, q] : columns) c.push_back({name, unit, q});
+            auto rec = std::make_shared<csv_record>();
+            rec->rec = std::make_unique<recorders::csv_recorder<S>>(
+                s, path, std::move(c),
+                every_steps >= 1 ? recorders::every_steps(every_steps) : recorders::every_seconds(every_seconds));
+            rec->last_step = s.step_count();
+            return rec;
+          },
+          py::arg("path"), py::arg("columns"), py::arg("every_steps") = std::int64_t{0}, py::arg("every_seconds") = 0.0,
+          "recorders::csv_recorder: (name, unit, quantity) columns, a row now and every every_steps steps (or "
+          "every_seconds s) of the runs it is passed to (run_until(..., record=[rec])); rec.close() makes the file appear")
       .def("dt", &S::dt, "The step the next step() takes (s)")
       .def("time", &S::time, "Simulated time since the solver was built (s)")
       .def("step_count", &S::step_count, "Steps taken since the solver was built")
@@ -703,6 +782,19 @@ PYBIND11_MODULE(_tessera, m) {
       .def_readonly("damping_dissipated", &energy_balance::damping_dissipated, "removed by local damping (J)")
       .def("error_rel", &energy_balance::error_rel, "(supplied - accounted) / supplied");
 
+  py::class_<csv_record, std::shared_ptr<csv_record>>(rec, "csv_recorder",
+                                                      "recorders::csv_recorder written along run_until (s.csv_recorder)")
+      .def("close", &csv_record::close, "Makes the file appear at its path (atomic); a second call does nothing")
+      .def("rows", &csv_record::rows, "Rows written, the first included")
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](csv_record& r, const py::object& kind, const py::object&, const py::object&) {
+        if (kind.is_none())
+          r.close();
+        else
+          r.discard();  // an exception left the block: no file that looks finished
+        return false;
+      });
+
   // ---- the solvers compiled once (tessera::instances) ----
   auto inst = m.def_submodule("instances", "The solvers compiled once (tessera::instances)");
   bind_solver<instances::rigid_dry_damped_solver>(
@@ -718,6 +810,16 @@ PYBIND11_MODULE(_tessera, m) {
       "the study's law (law.study_tie_law), central differences with local damping");
 
   m.attr("__version__") = TESSERA_VERSION_STRING;
-  m.attr("_commit") = TESSERA_GIT_COMMIT;  // the build's commit (run_record's "commit")
+  m.def(
+      "_tension_reference",
+      [](int threads) {
+        std::vector<std::vector<double>> curve;
+        {
+          py::gil_scoped_release released;
+          curve = python_reference::tension_curve(threads);
+        }
+        return curve;
+      },
+      py::arg("threads") = 1, "examples/python/direct_tension.py's run in C++: its curve's columns (for the tests)");
   m.def("_arch_reference", &arch_reference, "The README's arch run in C++ (for the tests)");
 }

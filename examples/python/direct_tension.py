@@ -17,6 +17,7 @@ import argparse
 import math
 import os
 import sys
+import time
 
 import tessera
 from tessera import bc, geometry, law, recorders, stop
@@ -156,7 +157,9 @@ def main(argv=None):
     a = p.parse_args(argv)
     # run.json: "running", then "complete", or "interrupted" after Ctrl-C (KeyboardInterrupt)
     with tessera.run_record(a.out, "direct_tension.py", sys.argv[1:] if argv is None else argv) as record:
+        cpu_start = time.process_time()
         run = tension_run(threads=a.threads).run()
+        run_cpu_s = time.process_time() - cpu_start  # the scene and the run, as the C++ program's
         write_curve(record.file("curve.csv"), run.curve)
         run.s.contact_state().write(record.file("contacts_end.vtp"))
         run.s.write_zones_vtu(record.file("zones_end.vtu"), run.mesh)
@@ -164,6 +167,7 @@ def main(argv=None):
     print("direct_tension.py: peak %.4f MPa at %.4f mm (f_T %.4f MPa, error %+.2f %%), %d steps of %.3g s; wrote %s"
           % (run.peak_stress * 1e-6, run.peak_displacement * 1e3, run.f_t * 1e-6, 100 * error, run.s.step_count(),
              run.s.dt(), a.out))
+    print("run_cpu_s %.3f" % run_cpu_s)
     return 0 if abs(error) < 0.2 else 1
 
 

@@ -33,5 +33,5 @@ from ._tessera import (  # noqa: F401
     stop,
     zones,
 )
-from ._tessera import _arch_reference  # noqa: F401  (the C++ arch, for the tests)
+from ._tessera import _arch_reference, _tension_reference  # noqa: F401  (C++ runs, for the tests)
 from .run_record import run_record  # noqa: F401

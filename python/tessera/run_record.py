@@ -14,7 +14,8 @@ import json
 import os
 import time
 
-from ._tessera import __version__, _commit
+from ._build import COMMIT
+from ._tessera import InvalidInput, __version__
 
 
 class run_record:
@@ -47,7 +48,7 @@ class run_record:
     def file(self, name):
         """Lists the plain file name `name` in run.json and returns its path in the folder."""
         if os.path.basename(name) != name or name in ("", ".", "..", "run.json"):
-            raise ValueError("run_record.file: %r is not a plain file name other than run.json" % (name,))
+            raise InvalidInput("run_record.file: %r is not a plain file name other than run.json" % (name,))
         if name not in self.files:
             self.files.append(name)
             self._write("running")
@@ -55,7 +56,7 @@ class run_record:
 
     def _write(self, status):
         self.status = status
-        text = json.dumps({"program": self.program, "version": __version__, "commit": _commit,
+        text = json.dumps({"program": self.program, "version": __version__, "commit": COMMIT,
                            "arguments": self.arguments, "status": status,
                            "started_unix_s": self.started, "files": self.files}, indent=2) + "\n"
         path = os.path.join(self.out, "run.json")

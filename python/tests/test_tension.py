@@ -50,6 +50,25 @@ def test_python_tension_gives_the_cpp_drivers_curve_bits(python_tension, tmp_pat
     assert (python_tension[0] / "curve.csv").read_text() == cpp_csv
 
 
+def test_python_tension_gives_the_cpp_programs_curve_bits(python_tension, tmp_path):
+    """python/tension_reference.cpp (TESSERA_TENSION_CPP), the script in C++ on the same solver of
+    tessera::instances, as a program: the same curve.csv, byte for byte."""
+    program = os.environ.get("TESSERA_TENSION_CPP")
+    if not program:
+        pytest.skip("TESSERA_TENSION_CPP is not set (the CTest python_tests sets it)")
+    cpp = subprocess.run([program], cwd=tmp_path, capture_output=True, text=True, check=False)
+    assert cpp.returncode == 0, cpp.stderr
+    assert (python_tension[0] / "curve.csv").read_text() == (tmp_path / "curve.csv").read_text()
+
+
+def test_python_tension_gives_the_module_references_curve_bits(python_tension):
+    """tessera._tension_reference(): python/tension_reference.hpp compiled into the module."""
+    columns = tessera._tension_reference()
+    text = "displacement_m,stress_Pa,stress_top_Pa,stress_bottom_Pa,unbalanced_ratio\n" + "".join(
+        ",".join("%.17g" % c[k] for c in columns) + "\n" for k in range(len(columns[0])))
+    assert (python_tension[0] / "curve.csv").read_text() == text
+
+
 def test_python_tension_peaks_near_f_t_on_the_elastic_modulus(python_tension):
     out, stdout = python_tension
     curve = np.loadtxt(out / "curve.csv", delimiter=",", skiprows=1)
@@ -140,6 +159,9 @@ def test_run_record_says_complete_interrupted_or_failed(tmp_path):
         with tessera.run_record(tmp_path / "a", "test"):
             1 / 0
     assert json.loads((tmp_path / "a" / "run.json").read_text())["status"] == "failed"
+    with pytest.raises(tessera.Error, match=r"'../x.csv' is not a plain file name"):
+        with tessera.run_record(tmp_path / "b", "test") as rec:
+            rec.file("../x.csv")
 
 
 def test_ctrl_c_during_a_recorded_run_leaves_run_json_interrupted(tmp_path):
