@@ -11,7 +11,7 @@ CPU time is the figure (wall time also holds the time a process waited for a cor
 - prism, in this process: tessera._tension_reference() (python/tension_reference.hpp compiled
   into the module) against examples/python/direct_tension.py's tension_run(...).run(), the same
   work (a Python callable every step over the 2 980 ramp steps, every 100 steps over the other
-  18 820).
+  18 820); and the cost of that every-step callable alone.
 - prism, two processes: the program tessera_python_tension_cpp (the same header) against the
   script; each prints run_cpu_s, the CPU time of its scene and run; the process's whole CPU time
   (with the interpreter's start and the imports) is given too. Checks that each pair wrote the
@@ -75,6 +75,26 @@ def prism_in_process(pairs):
     print("prism (in process): C++ %.3f s, Python %.3f s, Python / C++ = %.3f" % (c, p, p / c))
 
 
+def ramp_callback_cost(pairs):
+    """CPU per step of a Python callable every step (the prism's ramp: evaluate(), which updates
+    the top's velocity), against the same 2 980 steps with none, on two prisms built alike."""
+    import tessera
+    import direct_tension as script
+
+    extra, step = [], []
+    for _ in range(pairs):
+        a, b = script.tension_run(), script.tension_run()
+        t = time.process_time()
+        a.s.run_until(tessera.stop.after_steps(2980))
+        plain = time.process_time() - t
+        t = time.process_time()
+        b.s.run_until(tessera.stop.when(lambda sv: b.evaluate(sv) or sv.step_count() >= 2980, "ramp", every=1))
+        extra.append((time.process_time() - t - plain) / 2980)
+        step.append(plain / 2980)
+    print("a Python callable every step: %.1f us a step, against %.0f us for the step (the prism's first 2 980)"
+          % (statistics.median(extra) * 1e6, statistics.median(step) * 1e6))
+
+
 def prism(build, pairs):
     env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=str(build / "python"))
     cpp_cmd = [str(build / "python" / "tessera_python_tension_cpp"), "--threads", "1"]
@@ -103,6 +123,7 @@ def main():
     print("medians of %d alternated pairs, CPU time, one thread" % pairs)
     arch(pairs)
     prism_in_process(pairs)
+    ramp_callback_cost(pairs)
     prism(build, pairs)
 
 

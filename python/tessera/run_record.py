@@ -10,7 +10,6 @@ files. Entering the record creates the folder and first removes the plain files 
 run.json there lists (only plain names inside the folder), as the C++ record does; run.json is
 replaced atomically (written beside it, then renamed). The exception is never swallowed.
 """
-import json
 import os
 import time
 
@@ -55,6 +54,8 @@ class run_record:
         return os.path.join(self.out, name)
 
     def _write(self, status):
+        import json  # here, not at the top: `import tessera` stays light
+
         self.status = status
         text = json.dumps({"program": self.program, "version": __version__, "commit": COMMIT,
                            "arguments": self.arguments, "status": status,
@@ -65,6 +66,8 @@ class run_record:
         os.replace(path + ".tmp", path)
 
     def _remove_earlier_outputs(self):
+        import json
+
         try:
             with open(os.path.join(self.out, "run.json")) as f:
                 earlier = json.load(f).get("files", [])
