@@ -37,11 +37,34 @@ namespace {
 
 // ---- quantities and stop conditions: the C++ classes behind a variant ---------------------------
 
+/// A Python callable held by C++ copies of a condition or quantity, released with the GIL taken
+/// (the last copy may go in run_until, where the GIL is released).
+std::shared_ptr<py::object> shared_callable(py::object fn) {
+  return {new py::object(std::move(fn)), [](py::object* o) {
+            py::gil_scoped_acquire gil;
+            delete o;
+          }};
+}
+
+/// A Python callable fn(solver) -> float as a quantity (quantity.of): called with the GIL taken
+/// at each evaluation (every step inside when_settled or when_beyond), so it costs a Python call
+/// a step; the C++ quantities cost none.
+struct python_quantity {
+  std::shared_ptr<py::object> fn;  // shared: copies of a quantity call the same function
+  std::string description;
+  template <class Solver>
+  [[nodiscard]] real operator()(const Solver& s) const {
+    py::gil_scoped_acquire gil;
+    return (*fn)(py::cast(&s, py::return_value_policy::reference)).template cast<real>();
+  }
+  [[nodiscard]] std::string describe() const { return description; }
+};
+
 /// One of tessera::quantity's quantities, chosen at run time; evaluated as the quantity itself.
 struct any_quantity {
   std::variant<quantity::time, quantity::block_displacement, quantity::block_displacement_magnitude,
                quantity::block_velocity, quantity::block_speed, quantity::max_block_speed, quantity::kinetic_energy,
-               quantity::reaction_sum, quantity::mean_displacement>
+               quantity::reaction_sum, quantity::mean_displacement, python_quantity>
       q;
   template <class Solver>
   [[nodiscard]] real operator()(const Solver& s) const {
@@ -543,6 +566,17 @@ PYBIND11_MODULE(_tessera, m) {
   q.def("kinetic_energy", [] { return any_quantity{quantity::kinetic_energy{}}; }, "Kinetic energy (J)");
   q.def("reaction_sum", [](bc::node_group gr, int axis) { return any_quantity{quantity::reaction_sum(std::move(gr), axis)}; },
         py::arg("group"), py::arg("axis"), "Component axis of the support reactions summed over group (N)");
+  q.def(
+      "of",
+      [](py::object fn, std::string description) {
+        python_quantity pq;
+        pq.fn = shared_callable(std::move(fn));
+        pq.description = std::move(description);
+        return any_quantity{std::move(pq)};
+      },
+      py::arg("fn"), py::arg("description"),
+      "A quantity of your own: fn(solver) -> float, described as `description` (with its unit), called at each "
+      "evaluation with the GIL (a Python call a step inside when_settled and when_beyond)");
   q.def("mean_displacement",
         [](bc::node_group gr, int axis) { return any_quantity{quantity::mean_displacement(std::move(gr), axis)}; },
         py::arg("group"), py::arg("axis"), "Component axis of the group's mean displacement (m)");
@@ -580,10 +614,7 @@ PYBIND11_MODULE(_tessera, m) {
       [](py::object fn, std::string description, std::int64_t every) {
         require(every >= 1, "stop::when: every = ", every, " steps must be >= 1");
         python_predicate p;
-        p.fn = std::shared_ptr<py::object>(new py::object(std::move(fn)), [](py::object* o) {
-          py::gil_scoped_acquire gil;
-          delete o;
-        });
+        p.fn = shared_callable(std::move(fn));
         p.every = every;
         p.description = std::move(description);
         return any_condition{{}, std::move(p)};
