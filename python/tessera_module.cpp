@@ -55,7 +55,14 @@ struct python_quantity {
   template <class Solver>
   [[nodiscard]] real operator()(const Solver& s) const {
     py::gil_scoped_acquire gil;
-    return (*fn)(py::cast(&s, py::return_value_policy::reference)).template cast<real>();
+    const py::object v = (*fn)(py::cast(&s, py::return_value_policy::reference));
+    const double x = PyFloat_AsDouble(v.ptr());  // float(v): any real number
+    if (x == -1.0 && PyErr_Occurred() != nullptr) {
+      PyErr_Clear();
+      throw invalid_input(detail::concat("quantity.of '", description, "': returned ",
+                                         py::repr(v).cast<std::string>(), ", not a number"));
+    }
+    return x;
   }
   [[nodiscard]] std::string describe() const { return description; }
 };
@@ -92,7 +99,10 @@ struct python_predicate : stop::condition_tag {
     if (evaluations++ % every != 0) return false;
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    return (*fn)(py::cast(&s, py::return_value_policy::reference)).template cast<bool>();
+    const py::object held = (*fn)(py::cast(&s, py::return_value_policy::reference));
+    const int truth = PyObject_IsTrue(held.ptr());  // bool(held)
+    if (truth < 0) throw py::error_already_set();
+    return truth == 1;
   }
 };
 

@@ -65,6 +65,6 @@ def test_a_quantity_of_ones_own_stops_the_run_and_refuses_a_bad_return():
     r = s.run_until(tessera.stop.when_settled(sink, 1e-9, tessera.stop.over_steps(100)) | tessera.stop.after_steps(10**5))
     # a 1 m cube of 2000 kg/m^3 on a joint of k_n = 1e8 Pa/m over 1 m^2: sinks rho g h / k_n = 1.96e-4 m
     assert r.reason.startswith("settled") and -s.block_displacement(1)[2] == pytest.approx(2000 * 9.81 / 1e8, rel=0.02)
-    bad = tessera.quantity.of(lambda m: "not a number", "bad")
-    with pytest.raises(RuntimeError):
+    bad = tessera.quantity.of(lambda m: "two", "bad")
+    with pytest.raises(tessera.Error, match=r"quantity.of 'bad': returned 'two', not a number"):
         s.run_until(tessera.stop.when_beyond(bad, 1.0))
