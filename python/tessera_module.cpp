@@ -14,13 +14,19 @@
 #include <tessera/contact.hpp>
 #include <tessera/geometry.hpp>
 #include <tessera/instances.hpp>  // the solvers compiled once (linked: tessera::instances)
+#include <tessera/io/vtk.hpp>
+#include <tessera/io/vtk_contacts.hpp>
 #include <tessera/law.hpp>
+#include <tessera/presets/pulatsu2020.hpp>  // the study's presets (study_prism_params, ...)
 #include <tessera/solver.hpp>
+
+#include "tension_reference.hpp"  // the prism script in C++ (tessera._tension_reference)
 
 #include <cmath>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -31,11 +37,41 @@ namespace {
 
 // ---- quantities and stop conditions: the C++ classes behind a variant ---------------------------
 
+/// A Python callable held by C++ copies of a condition or quantity, released with the GIL taken
+/// (the last copy may go in run_until, where the GIL is released).
+std::shared_ptr<py::object> shared_callable(py::object fn) {
+  return {new py::object(std::move(fn)), [](py::object* o) {
+            py::gil_scoped_acquire gil;
+            delete o;
+          }};
+}
+
+/// A Python callable fn(solver) -> float as a quantity (quantity.of): called with the GIL taken
+/// at each evaluation (every step inside when_settled or when_beyond), so it costs a Python call
+/// a step; the C++ quantities cost none.
+struct python_quantity {
+  std::shared_ptr<py::object> fn;  // shared: copies of a quantity call the same function
+  std::string description;
+  template <class Solver>
+  [[nodiscard]] real operator()(const Solver& s) const {
+    py::gil_scoped_acquire gil;
+    const py::object v = (*fn)(py::cast(&s, py::return_value_policy::reference));
+    const double x = PyFloat_AsDouble(v.ptr());  // float(v): any real number
+    if (x == -1.0 && PyErr_Occurred() != nullptr) {
+      PyErr_Clear();
+      throw invalid_input(detail::concat("quantity.of '", description, "': returned ",
+                                         py::repr(v).cast<std::string>(), ", not a number"));
+    }
+    return x;
+  }
+  [[nodiscard]] std::string describe() const { return description; }
+};
+
 /// One of tessera::quantity's quantities, chosen at run time; evaluated as the quantity itself.
 struct any_quantity {
   std::variant<quantity::time, quantity::block_displacement, quantity::block_displacement_magnitude,
                quantity::block_velocity, quantity::block_speed, quantity::max_block_speed, quantity::kinetic_energy,
-               quantity::reaction_sum, quantity::mean_displacement>
+               quantity::reaction_sum, quantity::mean_displacement, python_quantity>
       q;
   template <class Solver>
   [[nodiscard]] real operator()(const Solver& s) const {
@@ -63,7 +99,10 @@ struct python_predicate : stop::condition_tag {
     if (evaluations++ % every != 0) return false;
     py::gil_scoped_acquire gil;
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-    return (*fn)(py::cast(&s, py::return_value_policy::reference)).template cast<bool>();
+    const py::object held = (*fn)(py::cast(&s, py::return_value_policy::reference));
+    const int truth = PyObject_IsTrue(held.ptr());  // bool(held)
+    if (truth < 0) throw py::error_already_set();
+    return truth == 1;
   }
 };
 
@@ -83,6 +122,63 @@ struct interrupt_check : stop::condition_tag {
   [[nodiscard]] std::string reason() const { return "interrupted"; }
 };
 
+/// The C++ recorders::csv_recorder of one bound solver type, run inside run_until (its
+/// `record` list) as a stop condition that never holds: called at the condition's evaluations
+/// (before each step, and once after the last), at most once per step count, so it writes the
+/// rows the C++ observer writes after the steps (its first row when it is made).
+struct csv_record {
+  std::variant<std::unique_ptr<recorders::csv_recorder<instances::rigid_dry_damped_solver>>,
+               std::unique_ptr<recorders::csv_recorder<instances::rigid_dry_solver>>,
+               std::unique_ptr<recorders::csv_recorder<instances::prism_solver>>>
+      rec;
+  std::int64_t last_step = -1;  ///< the step count of the last call (the row made with it)
+  template <class Solver>
+  void observe(const Solver& s) {
+    auto* r = std::get_if<std::unique_ptr<recorders::csv_recorder<Solver>>>(&rec);
+    require(r != nullptr && *r != nullptr, "csv_recorder: passed to a run of another solver type, or closed");
+    if (s.step_count() == last_step) return;
+    last_step = s.step_count();
+    (**r)(s);
+  }
+  void close() {
+    std::visit([](auto& p) { if (p) p->close(); }, rec);
+  }
+  [[nodiscard]] std::int64_t rows() const {
+    return std::visit([](const auto& p) { return p ? p->rows() : std::int64_t{0}; }, rec);
+  }
+  /// Drops the recorder as an exception would: its rows' temporary file is removed and the
+  /// target left as it was (recorders::csv_recorder's destructor during unwinding).
+  void discard() {
+    std::visit(
+        [](auto& p) {
+          struct drop_while_unwinding {
+            std::remove_reference_t<decltype(p)>& q;
+            ~drop_while_unwinding() { q.reset(); }
+          };
+          try {
+            const drop_while_unwinding d{p};
+            throw 0;
+          } catch (int) {  // NOLINT(bugprone-empty-catch): only the unwinding was wanted
+          }
+        },
+        rec);
+  }
+};
+
+/// A csv_record as a stop condition that never holds (run_until's `record` list).
+struct recording : stop::condition_tag {
+  std::shared_ptr<csv_record> rec;
+  template <class Solver>
+  void start(const Solver& /*s*/) {}
+  template <class Solver>
+  bool operator()(const Solver& s) {
+    rec->observe(s);
+    return false;
+  }
+  [[nodiscard]] std::string describe() const { return "recording"; }
+  [[nodiscard]] std::string reason() const { return "recording"; }
+};
+
 struct any_condition;
 using any_of_node = stop::any_of<any_condition, any_condition>;
 using all_of_node = stop::all_of<any_condition, any_condition>;
@@ -90,7 +186,8 @@ using all_of_node = stop::all_of<any_condition, any_condition>;
 /// One of tessera::stop's conditions, or `a | b`, `a & b` of two; evaluated as the condition.
 struct any_condition : stop::condition_tag {
   std::variant<stop::after_steps, stop::after_time, stop::when_settled<any_quantity>, stop::when_beyond<any_quantity>,
-               stop::kinetic_energy_below, python_predicate, std::shared_ptr<any_of_node>, std::shared_ptr<all_of_node>>
+               stop::kinetic_energy_below, python_predicate, recording, std::shared_ptr<any_of_node>,
+               std::shared_ptr<all_of_node>>
       c;
   /// Calls f on the condition held (through the pointer for a composite), const or not as self.
   template <class Self, class F>
@@ -138,13 +235,51 @@ py::array view_of(const Eigen::VectorXd& a, py::handle owner) {
   return v;
 }
 
+/// A NumPy copy (n x 3) of a list of 3-vectors.
+py::array rows_of(const std::vector<vec3>& v) {
+  py::array_t<double> out({static_cast<py::ssize_t>(v.size()), py::ssize_t{3}});
+  auto w = out.mutable_unchecked<2>();
+  for (std::size_t k = 0; k < v.size(); ++k)
+    for (py::ssize_t d = 0; d < 3; ++d) w(static_cast<py::ssize_t>(k), d) = v[k][d];
+  return out;
+}
+
 // ---- one solver type -----------------------------------------------------------------------------
+
+/// The components argument of the supports: a bc.components value; refuses one outside xyz.
+bc::components checked_components(bc::components c, const char* what) {
+  const auto bits = static_cast<unsigned>(c);
+  require(bits <= 7u, what, ": components = ", bits, " is not a combination of x, y and z");
+  return c;
+}
+
+/// Per-sub-contact state of a contact set as NumPy arrays (copies, SI): the io::vtk contact
+/// snapshot (positions, normals, areas, damage, status and every state field the law declares)
+/// and the blocks each sub-contact joins. Also writes itself as a .vtp.
+struct contact_state {
+  io::vtk::contact_snapshot snapshot;
+  std::vector<index_t> block_a, block_b;
+};
+
+template <class S>
+contact_state take_contact_state(const S& s) {
+  contact_state out;
+  const auto& c = s.contacts();
+  out.snapshot.take(c, s.gridpoints());
+  const auto n = static_cast<std::size_t>(c.subcontact_count());
+  out.block_a.resize(n), out.block_b.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    out.block_a[k] = c.block_a(static_cast<index_t>(k));
+    out.block_b[k] = c.block_b(static_cast<index_t>(k));
+  }
+  return out;
+}
 
 /// Binds solver type S (one of tessera::instances') as `name` in module m.
 template <class S>
 void bind_solver(py::module_& m, const char* name, const char* doc) {
-  py::class_<S>(m, name, doc)
-      .def(py::init<const geometry::tessellation&, const geometry::block_mesh&, const typename S::blocks_type::params&,
+  py::class_<S> cls(m, name, doc);
+  cls.def(py::init<const geometry::tessellation&, const geometry::block_mesh&, const typename S::blocks_type::params&,
                     const typename S::contact_set_type::params&, const typename S::reinforcement_type::params&,
                     const solver_options&>(),
            py::arg("tess"), py::arg("mesh"), py::arg("block_params"), py::arg("contact_params"),
@@ -158,16 +293,80 @@ void bind_solver(py::module_& m, const char* name, const char* doc) {
            "Blocks whose reference geometry reaches the plane X[axis] = value (m) within tol (m)")
       .def("gridpoints_of_block", &S::gridpoints_of_block, py::arg("b"), "All gridpoints of block b (a node_group)")
       .def("gridpoints_of_blocks", &S::gridpoints_of_blocks, py::arg("blocks"), "All gridpoints of the listed blocks")
+      .def(
+          "gridpoints_on_plane",
+          [](const S& s, int axis, real value, real tol) {
+            require(axis >= 0 && axis <= 2, "gridpoints_on_plane: axis = ", axis, " must be 0, 1 or 2");
+            require(std::isfinite(value), "gridpoints_on_plane: value = ", value, " m is not finite");
+            require(std::isfinite(tol) && tol >= 0, "gridpoints_on_plane: tol = ", tol, " m must be finite and >= 0");
+            return s.gridpoints_on_plane(axis, value, tol);
+          },
+          py::arg("axis"), py::arg("value"), py::arg("tol"),
+          "Gridpoints whose reference position lies on the plane X[axis] = value (m) within tol (m)")
+      .def(
+          "fix", [](S& s, const bc::node_group& g, bc::components c) { s.fix(g, checked_components(c, "fix")); },
+          py::arg("group"), py::arg("components") = bc::components::xyz,
+          "Fixes the given components of the group's gridpoints (zero velocity; reactions recorded)")
+      .def(
+          "prescribe_velocity",
+          [](S& s, const bc::node_group& g, const vec3& v, bc::components c) {
+            s.prescribe_velocity(g, v, checked_components(c, "prescribe_velocity"));
+          },
+          py::arg("group"), py::arg("v"), py::arg("components") = bc::components::xyz,
+          "Prescribes velocity v (m/s) on the given components of the group's gridpoints")
+      .def(
+          "update_velocity",
+          [](S& s, const bc::node_group& g, const vec3& v, bc::components c) {
+            bc::update_velocity(s.gridpoints(), g, v, checked_components(c, "update_velocity"));
+          },
+          py::arg("group"), py::arg("v"), py::arg("components") = bc::components::xyz,
+          "Changes the prescribed velocity (m/s) of components already prescribed (a loading history)")
+      .def(
+          "prescribe_block_velocity",
+          [](S& s, index_t b, const vec3& v, bc::components c) {
+            s.prescribe_block_velocity(b, v, checked_components(c, "prescribe_block_velocity"));
+          },
+          py::arg("b"), py::arg("v"), py::arg("components") = bc::components::xyz,
+          "Prescribes the translation velocity v (m/s) on the given components of block b")
+      .def(
+          "update_block_velocity",
+          [](S& s, index_t b, const vec3& v, bc::components c) {
+            s.update_block_velocity(b, v, checked_components(c, "update_block_velocity"));
+          },
+          py::arg("b"), py::arg("v"), py::arg("components") = bc::components::xyz,
+          "Changes block b's prescribed velocity (m/s) on components already prescribed")
       .def("set_gravity", &S::set_gravity, py::arg("g"), "Acceleration of gravity (m/s^2, a 3-vector)")
       .def("step", &S::step, "One step of dt", py::call_guard<py::gil_scoped_release>())
       .def(
           "run_until",
-          [](S& s, any_condition condition, std::int64_t max_steps) {
+          [](S& s, any_condition condition, std::int64_t max_steps, const std::vector<std::shared_ptr<csv_record>>& record) {
+            for (auto it = record.rbegin(); it != record.rend(); ++it)  // recorders first: each sees every step
+              condition = any_condition{{}, std::make_shared<any_of_node>(any_condition{{}, recording{{}, *it}}, condition)};
             return s.run_until(stop::any_of<any_condition, interrupt_check>(std::move(condition), interrupt_check{}), max_steps);
           },
-          py::arg("stop"), py::arg("max_steps") = std::int64_t{100'000'000}, py::call_guard<py::gil_scoped_release>(),
+          py::arg("stop"), py::arg("max_steps") = std::int64_t{100'000'000},
+          py::arg("record") = std::vector<std::shared_ptr<csv_record>>{}, py::call_guard<py::gil_scoped_release>(),
           "Steps until stop holds (evaluated before every step) or max_steps were taken; a run_result. "
-          "Ctrl-C stops it within 1000 steps (KeyboardInterrupt)")
+          "record: csv_recorders written along. Ctrl-C stops it within 1000 steps (KeyboardInterrupt)")
+      .def(
+          "csv_recorder",
+          [](const S& s, const std::string& path, const std::vector<std::tuple<std::string, std::string, any_quantity>>& columns,
+             std::int64_t every_steps, real every_seconds) {
+            require((every_steps >= 1) != (std::isfinite(every_seconds) && every_seconds > 0), "csv_recorder '", path,
+                    "': give one of every_steps = ", every_steps, " (>= 1) and every_seconds = ", every_seconds,
+                    " s (> 0)");
+            std::vector<recorders::csv_column<S>> c;
+            for (const auto& [name, unit, q] : columns) c.push_back({name, unit, q});
+            auto rec = std::make_shared<csv_record>();
+            rec->rec = std::make_unique<recorders::csv_recorder<S>>(
+                s, path, std::move(c),
+                every_steps >= 1 ? recorders::every_steps(every_steps) : recorders::every_seconds(every_seconds));
+            rec->last_step = s.step_count();
+            return rec;
+          },
+          py::arg("path"), py::arg("columns"), py::arg("every_steps") = std::int64_t{0}, py::arg("every_seconds") = 0.0,
+          "recorders::csv_recorder: (name, unit, quantity) columns, a row now and every every_steps steps (or "
+          "every_seconds s) of the runs it is passed to (run_until(..., record=[rec])); rec.close() makes the file appear")
       .def("dt", &S::dt, "The step the next step() takes (s)")
       .def("time", &S::time, "Simulated time since the solver was built (s)")
       .def("step_count", &S::step_count, "Steps taken since the solver was built")
@@ -175,12 +374,37 @@ void bind_solver(py::module_& m, const char* name, const char* doc) {
       .def("block_displacement", &S::block_displacement, py::arg("b"), "Displacement of block b (m, NumPy 3-vector)")
       .def("block_velocity", &S::block_velocity, py::arg("b"), "Velocity of block b (m/s, half step)")
       .def("kinetic_energy", &S::kinetic_energy, "Kinetic energy of the model (J)")
-      .def(
-          "blocks", [](const S& s) -> const typename S::blocks_type& { return s.blocks(); },
-          py::return_value_policy::reference_internal, "The block model")
+      .def("unbalanced_force", &S::unbalanced_force, "Unbalanced force of the last step over free components (N)")
+      .def("mass_scaling", &S::mass_scaling, "What mass scaling did (kg)")
+      .def("energies", &S::energies, "All energy terms now (J)")
+      .def("contact_count", [](const S& s) { return s.contacts().subcontact_count(); }, "Number of sub-contacts")
       .def(
           "gridpoints", [](const S& s) -> const node_set& { return s.gridpoints(); },
           py::return_value_policy::reference_internal, "The gridpoints (read-only NumPy views of their arrays)");
+  if constexpr (law::DeclaresStateFields<typename S::law_type>)
+    cls.def("contact_state", &take_contact_state<S>,
+            "Per-sub-contact state now (a copy): stresses, openings, damage, status, blocks (NumPy arrays)");
+  if constexpr (!S::blocks_type::is_rigid)
+    cls.def(
+        "write_zones_vtu",
+        [](const S& s, const std::string& path, const geometry::block_mesh& mesh) {
+          require(mesh.gridpoint_count() == s.gridpoints().size(), "write_zones_vtu: the mesh has ",
+                  mesh.gridpoint_count(), " gridpoints, the solver ", s.gridpoints().size());
+          const zone_stress_matrix zs = s.blocks().zone_stress();
+          std::vector<io::vtk::sym_tensor> stress;
+          stress.reserve(static_cast<std::size_t>(zs.rows()));
+          for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back(io::vtk::voigt_row_to_sym_tensor(zs, z));
+          io::vtk::zone_fields fields;
+          fields.displacement = &s.gridpoints().displacement;
+          fields.stress = stress;
+          io::vtk::write_zones_vtu(path, mesh, fields);
+        },
+        py::arg("path"), py::arg("mesh"),
+        "Writes the zones (the mesh the solver was built from) with displacement (m) and stress (Pa) as a .vtu");
+  if constexpr (S::blocks_type::is_rigid)
+    cls.def(
+        "blocks", [](const S& s) -> const typename S::blocks_type& { return s.blocks(); },
+        py::return_value_policy::reference_internal, "The block model");
 }
 
 /// The README's arch (tests/consumer/arch.cpp) as C++ spells it, stop conditions written out as
@@ -308,6 +532,8 @@ PYBIND11_MODULE(_tessera, m) {
       .def(py::init<>())
       .def_readwrite("safety", &solver_options::safety, "dt = safety x the critical step, in (0, 1]")
       .def_readwrite("dt", &solver_options::dt, "user time step (s); 0 = automatic")
+      .def_readwrite("mass_scaling_dt", &solver_options::mass_scaling_dt,
+                     "> 0: nodal masses raised so this step (s) is stable, and used")
       .def_readwrite("damping_gamma", &solver_options::damping_gamma, "local damping constant")
       .def_readwrite("threads", &solver_options::threads, "OpenMP threads; 0 = leave the current setting")
       .def_readwrite("check_interval", &solver_options::check_interval, "steps between step-checker passes");
@@ -350,6 +576,17 @@ PYBIND11_MODULE(_tessera, m) {
   q.def("kinetic_energy", [] { return any_quantity{quantity::kinetic_energy{}}; }, "Kinetic energy (J)");
   q.def("reaction_sum", [](bc::node_group gr, int axis) { return any_quantity{quantity::reaction_sum(std::move(gr), axis)}; },
         py::arg("group"), py::arg("axis"), "Component axis of the support reactions summed over group (N)");
+  q.def(
+      "of",
+      [](py::object fn, std::string description) {
+        python_quantity pq;
+        pq.fn = shared_callable(std::move(fn));
+        pq.description = std::move(description);
+        return any_quantity{std::move(pq)};
+      },
+      py::arg("fn"), py::arg("description"),
+      "A quantity of your own: fn(solver) -> float, described as `description` (with its unit), called at each "
+      "evaluation with the GIL (a Python call a step inside when_settled and when_beyond)");
   q.def("mean_displacement",
         [](bc::node_group gr, int axis) { return any_quantity{quantity::mean_displacement(std::move(gr), axis)}; },
         py::arg("group"), py::arg("axis"), "Component axis of the group's mean displacement (m)");
@@ -387,10 +624,7 @@ PYBIND11_MODULE(_tessera, m) {
       [](py::object fn, std::string description, std::int64_t every) {
         require(every >= 1, "stop::when: every = ", every, " steps must be >= 1");
         python_predicate p;
-        p.fn = std::shared_ptr<py::object>(new py::object(std::move(fn)), [](py::object* o) {
-          py::gil_scoped_acquire gil;
-          delete o;
-        });
+        p.fn = shared_callable(std::move(fn));
         p.every = every;
         p.description = std::move(description);
         return any_condition{{}, std::move(p)};
@@ -399,6 +633,208 @@ PYBIND11_MODULE(_tessera, m) {
       "When fn(solver) returns True, fn called every `every` steps (the first before any step)");
   st.def("kinetic_energy_below", [](real r) { return any_condition{{}, stop::kinetic_energy_below(r)}; },
          py::arg("ratio"), "When the kinetic energy fell to ratio (in (0, 1)) of its peak");
+
+
+  // ---- supports: components, selections ----
+  auto bcm = m.def_submodule("bc", "Boundary conditions: the components a support or velocity acts on");
+  py::enum_<bc::components>(bcm, "components", "Velocity components a support acts on")
+      .value("none", bc::components::none)
+      .value("x", bc::components::x)
+      .value("y", bc::components::y)
+      .value("z", bc::components::z)
+      .value("xy", bc::components::xy)
+      .value("xz", bc::components::xz)
+      .value("yz", bc::components::yz)
+      .value("xyz", bc::components::xyz)
+      .def("__or__", [](bc::components a, bc::components o) { return a | o; });
+  bcm.def(
+      "transverse_to",
+      [](int axis) {
+        require(axis >= 0 && axis <= 2, "bc::transverse_to: axis = ", axis, " must be 0, 1 or 2");
+        return bc::transverse_to(axis);
+      },
+      py::arg("axis"), "The two components transverse to axis (0 x, 1 y, 2 z)");
+  bcm.def(
+      "along",
+      [](int axis) {
+        require(axis >= 0 && axis <= 2, "bc::along: axis = ", axis, " must be 0, 1 or 2");
+        return bc::along(axis);
+      },
+      py::arg("axis"), "The single component of axis (0 x, 1 y, 2 z)");
+
+  // ---- deformable blocks and the study's bonded joints (the prism) ----
+  auto zn = m.def_submodule("zones", "Zone (tetrahedron) models of deformable blocks");
+  py::class_<zones::linear_elastic_tet> tet(zn, "linear_elastic_tet", "Linear elastic constant-strain tetrahedra");
+  py::class_<zones::linear_elastic_tet::params>(tet, "params", "An elastic block material (Pa, -, kg/m^3)")
+      .def(py::init([](real young, real poisson, real density) {
+             zones::linear_elastic_tet::params p{young, poisson, density};
+             zones::linear_elastic_tet::validate(p);
+             return p;
+           }),
+           py::arg("young"), py::arg("poisson"), py::arg("density"),
+           "Young's modulus E (Pa, > 0), Poisson's ratio nu in (-1, 0.5), density (kg/m^3, > 0)")
+      .def_readwrite("young", &zones::linear_elastic_tet::params::young, "E (Pa)")
+      .def_readwrite("poisson", &zones::linear_elastic_tet::params::poisson, "nu (-)")
+      .def_readwrite("density", &zones::linear_elastic_tet::params::density, "rho (kg/m^3)");
+
+  using tie = instances::prism_law;
+  py::class_<tie> tie_law(l, "study_tie_law",
+                          "The study's bonded joint: power softening in tension, elastic compression, Coulomb "
+                          "friction with residual values (law::cohesive_frictional)");
+  py::class_<law::power_softening::params>(l, "power_softening_params", "Tension: power softening (Pa, J/m^2)")
+      .def(py::init<>())
+      .def_readwrite("f_T", &law::power_softening::params::f_T, "tensile strength (Pa)")
+      .def_readwrite("G_f", &law::power_softening::params::G_f, "fracture energy (J/m^2)")
+      .def_readwrite("alpha", &law::power_softening::params::alpha, "softening exponent (> 1)")
+      .def_readwrite("residual_ratio", &law::power_softening::params::residual_ratio, "broken once f_t <= this x f_T");
+  py::class_<law::coulomb_residual::params>(l, "coulomb_residual_params", "Shear: Coulomb with residual values (Pa)")
+      .def(py::init<>())
+      .def_readwrite("c_0", &law::coulomb_residual::params::c_0, "initial cohesion (Pa)")
+      .def_readwrite("phi_0", &law::coulomb_residual::params::phi_0, "initial friction angle")
+      .def_readwrite("c_res", &law::coulomb_residual::params::c_res, "residual cohesion (Pa)")
+      .def_readwrite("phi_res", &law::coulomb_residual::params::phi_res, "residual friction angle")
+      .def_readwrite("slip_breaks_tension", &law::coulomb_residual::params::slip_breaks_tension,
+                     "a contact failed in shear is broken in tension too");
+  py::class_<tie::params>(tie_law, "params", "The params of the study's bonded joint (Pa/m, Pa, J/m^2)")
+      .def(py::init<>())
+      .def_readwrite("k_n", &tie::params::k_n, "normal stiffness (Pa/m)")
+      .def_readwrite("k_s", &tie::params::k_s, "shear stiffness (Pa/m)")
+      .def_readwrite("tension", &tie::params::tension, "power softening: f_T (Pa), G_f (J/m^2), alpha")
+      .def_readwrite("shear", &tie::params::shear, "Coulomb: c_0, phi_0, c_res, phi_res")
+      .def("validate", [](const tie::params& p) { tie::validate(p); }, "Refuses bad values (tessera.Error naming one)");
+  l.def("study_prism_params", &presets::study_prism_params, py::arg("blocks"),
+        "The study's Table 1 prism contacts for 100, 250, 500 or 750 blocks (law::study_prism_params)");
+  l.def("scaled_prism_params", &presets::scaled_prism_params, py::arg("blocks"),
+        "Table 1 carried to any block count >= 2 (k_n, k_s as blocks^(1/3); law::scaled_prism_params)");
+  using tie_table = contact::material_table<tie::params>;
+  py::class_<tie_table>(c, "study_tie_table",
+                        "contact::material_table of the study's bonded joint: params per pair of block materials")
+      .def(py::init<const tie::params&>(), py::arg("all"), "One law for every pair")
+      .def("set", &tie_table::set, py::arg("a"), py::arg("b"), py::arg("params"), py::return_value_policy::reference_internal,
+           "Bonded params for the pair {a, b} of material ids")
+      .def("never_bonded", &tie_table::never_bonded, py::arg("a"), py::arg("b"), py::arg("params"),
+           py::return_value_policy::reference_internal, "The pair {a, b} starts unbonded");
+  py::implicitly_convertible<tie::params, tie_table>();
+
+  // ---- more geometry: boxes, prisms, cuts, random Voronoi tessellations, zoning options ----
+  py::class_<aabb>(m, "aabb", "An axis-aligned box (m)")
+      .def(py::init([](const vec3& lo, const vec3& hi) {
+             require(lo.allFinite() && hi.allFinite() && (lo.array() < hi.array()).all(), "aabb: lo (", lo.transpose(),
+                     ") m must be finite and below hi (", hi.transpose(), ") m in every axis");
+             aabb b;
+             b.lo = lo, b.hi = hi;
+             return b;
+           }),
+           py::arg("lo"), py::arg("hi"))
+      .def_readonly("lo", &aabb::lo, "lower corner (m)")
+      .def_readonly("hi", &aabb::hi, "upper corner (m)")
+      .def("size", &aabb::size, "hi - lo (m)")
+      .def("volume", &aabb::volume, "volume (m^3)");
+  py::class_<geometry::plane>(g, "plane", "The half-space n . x <= offset (n a unit normal, offset m)")
+      .def(py::init([](const vec3& n, real offset) { return geometry::plane{n, offset}; }), py::arg("normal"),
+           py::arg("offset"));
+  g.def(
+      "from_vertices", [](const std::vector<vec3>& p) { return geometry::convex_polyhedron::from_vertices(p); },
+      py::arg("points"), "The convex hull of the points (m)");
+  g.def(
+      "prism", [](const std::vector<vec3>& polygon, const vec3& e) { return geometry::prism(polygon, e); },
+      py::arg("polygon"), py::arg("extrusion"), "A convex polygon (m) extruded by the vector extrusion (m)");
+  g.def("cylinder_prism", &geometry::cylinder_prism, py::arg("center"), py::arg("axis"), py::arg("radius"),
+        py::arg("length"), py::arg("sides"), py::arg("phase") = 0.0,
+        "A right prism of `sides` faces inscribed in a cylinder of radius (m) and length (m) about axis");
+  g.def(
+      "cut_by_planes",
+      [](const geometry::convex_polyhedron& b, const std::vector<geometry::plane>& p) {
+        return geometry::cut_by_planes(b, p);
+      },
+      py::arg("block"), py::arg("planes"), "The part of block inside every half-space");
+  py::class_<geometry::tessellation_options>(g, "tessellation_options", "Regularisation of a random tessellation")
+      .def(py::init<>())
+      .def_readwrite("lloyd_iterations", &geometry::tessellation_options::lloyd_iterations, "Lloyd steps")
+      .def_readwrite("min_spacing", &geometry::tessellation_options::min_spacing, "least generator spacing (m)")
+      .def_readwrite("min_edge_rel", &geometry::tessellation_options::min_edge_rel,
+                     "collapse edges shorter than this x the mean cell size");
+  g.def(
+      "random_voronoi",
+      [](const aabb& box, index_t n, std::uint64_t seed, const geometry::tessellation_options& o) {
+        return geometry::random_voronoi(box, n, seed, o);
+      },
+      py::arg("box"), py::arg("n"), py::arg("seed"), py::arg("options") = geometry::tessellation_options{},
+      "Voronoi tessellation of the box (m) from n random generators (seed): the same cells for the same input");
+  g.def(
+      "random_voronoi",
+      [](const geometry::convex_polyhedron& domain, index_t n, std::uint64_t seed, const geometry::tessellation_options& o) {
+        return geometry::random_voronoi(domain, n, seed, o);
+      },
+      py::arg("domain"), py::arg("n"), py::arg("seed"), py::arg("options") = geometry::tessellation_options{},
+      "Voronoi tessellation of a convex domain (m) from n random generators (seed)");
+  py::class_<geometry::zoning_options>(g, "zoning_options", "How blocks are split into tetrahedral zones")
+      .def(py::init<>())
+      .def_readwrite("target_edge_length", &geometry::zoning_options::target_edge_length,
+                     "zone edge target (m); 0 = one zone per face triangle")
+      .def_readwrite("refine_interior", &geometry::zoning_options::refine_interior, "refine inside, not only faces");
+  g.def(
+      "zone_blocks",
+      [](const geometry::tessellation& t, const geometry::zoning_options& o) { return geometry::zone_blocks(t, o); },
+      py::arg("tess"), py::arg("options"), "Zones every block of tess with the given options");
+
+  // ---- per-sub-contact state, energies, balance ----
+  py::class_<contact_state>(m, "contact_state",
+                            "Per-sub-contact state at one instant (NumPy copies, SI): write(path) gives a .vtp")
+      .def("size", [](const contact_state& cs) { return cs.snapshot.size(); }, "Number of sub-contacts")
+      .def_property_readonly("reference", [](const contact_state& cs) { return rows_of(cs.snapshot.reference); }, "position (m)")
+      .def_property_readonly("displacement", [](const contact_state& cs) { return rows_of(cs.snapshot.displacement); }, "displacement (m)")
+      .def_property_readonly("normal", [](const contact_state& cs) { return rows_of(cs.snapshot.normal); }, "unit normal A->B")
+      .def_property_readonly("area", [](const contact_state& cs) { return py::array(py::cast(cs.snapshot.area)); }, "area (m^2)")
+      .def_property_readonly("tensile_damage", [](const contact_state& cs) { return py::array(py::cast(cs.snapshot.tensile_damage)); }, "0 intact .. 1 broken")
+      .def_property_readonly("status", [](const contact_state& cs) { return py::array(py::cast(cs.snapshot.status)); }, "law::contact_status bits")
+      .def_property_readonly("block_a", [](const contact_state& cs) { return py::array(py::cast(cs.block_a)); }, "block A")
+      .def_property_readonly("block_b", [](const contact_state& cs) { return py::array(py::cast(cs.block_b)); }, "block B")
+      .def("fields", [](const contact_state& cs) {
+             std::vector<std::string> names;
+             for (const auto& a : cs.snapshot.state) names.push_back(a.name);
+             return names;
+           }, "The names of the law's state fields, with their units (e.g. sigma_n_Pa)")
+      .def("field", [](const contact_state& cs, const std::string& name) {
+             const auto* a = cs.snapshot.find(name);
+             require(a != nullptr, "contact_state: no field '", name, "'");
+             py::array_t<double> out(a->components == 1 ? std::vector<py::ssize_t>{static_cast<py::ssize_t>(cs.snapshot.size())}
+                                                       : std::vector<py::ssize_t>{static_cast<py::ssize_t>(cs.snapshot.size()), 3});
+             std::copy(a->values.begin(), a->values.end(), out.mutable_data());
+             return out;
+           }, py::arg("name"), "One state field (n or n x 3), e.g. field('sigma_n_Pa')")
+      .def("write", [](const contact_state& cs, const std::string& path) { cs.snapshot.write(path); }, py::arg("path"),
+           "Writes the sub-contacts as a VTK .vtp (points with every field)");
+  py::class_<out_of_balance>(m, "out_of_balance", "Unbalanced force of the last step (N)")
+      .def_readonly("max_force", &out_of_balance::max_force, "largest |f| of a node over its free components (N)")
+      .def_readonly("mean_force", &out_of_balance::mean_force, "mean of that magnitude (N)")
+      .def_readonly("max_node", &out_of_balance::max_node, "the node of max_force");
+  py::class_<integrator::mass_scaling_report>(m, "mass_scaling_report", "What mass scaling did (kg)")
+      .def_readonly("added_mass", &integrator::mass_scaling_report::added_mass, "mass added (kg)")
+      .def_readonly("original_mass", &integrator::mass_scaling_report::original_mass, "mass before scaling (kg)")
+      .def_readonly("scaled_nodes", &integrator::mass_scaling_report::scaled_nodes, "nodes whose mass was raised");
+  py::class_<energy_balance>(m, "energy_balance", "Energy terms (J)")
+      .def_readonly("boundary_work", &energy_balance::boundary_work, "work of the support reactions (J)")
+      .def_readonly("gravity_work", &energy_balance::gravity_work, "work of gravity (J)")
+      .def_readonly("kinetic", &energy_balance::kinetic, "kinetic energy (J)")
+      .def_readonly("block_elastic", &energy_balance::block_elastic, "elastic energy in the zones (J)")
+      .def_readonly("contact_stored", &energy_balance::contact_stored, "elastic energy in the contact springs (J)")
+      .def_readonly("contact_dissipated", &energy_balance::contact_dissipated, "dissipated by the contacts (J)")
+      .def_readonly("damping_dissipated", &energy_balance::damping_dissipated, "removed by local damping (J)")
+      .def("error_rel", &energy_balance::error_rel, "(supplied - accounted) / supplied");
+
+  py::class_<csv_record, std::shared_ptr<csv_record>>(rec, "csv_recorder",
+                                                      "recorders::csv_recorder written along run_until (s.csv_recorder)")
+      .def("close", &csv_record::close, "Makes the file appear at its path (atomic); a second call does nothing")
+      .def("rows", &csv_record::rows, "Rows written, the first included")
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](csv_record& r, const py::object& kind, const py::object&, const py::object&) {
+        if (kind.is_none())
+          r.close();
+        else
+          r.discard();  // an exception left the block: no file that looks finished
+        return false;
+      });
 
   // ---- the solvers compiled once (tessera::instances) ----
   auto inst = m.def_submodule("instances", "The solvers compiled once (tessera::instances)");
@@ -409,6 +845,22 @@ PYBIND11_MODULE(_tessera, m) {
   bind_solver<instances::rigid_dry_solver>(
       inst, "rigid_dry_solver",
       "The same undamped (integrator::no_damping): dynamics whose energy the run must keep");
+  bind_solver<instances::prism_solver>(
+      inst, "prism_solver",
+      "The README's prism: deformable linear-elastic tetrahedral blocks on the tessellation's bonded faces with "
+      "the study's law (law.study_tie_law), central differences with local damping");
 
+  m.attr("__version__") = TESSERA_VERSION_STRING;
+  m.def(
+      "_tension_reference",
+      [](int threads) {
+        std::vector<std::vector<double>> curve;
+        {
+          py::gil_scoped_release released;
+          curve = python_reference::tension_curve(threads);
+        }
+        return curve;
+      },
+      py::arg("threads") = 1, "examples/python/direct_tension.py's run in C++: its curve's columns (for the tests)");
   m.def("_arch_reference", &arch_reference, "The README's arch run in C++ (for the tests)");
 }

@@ -1,9 +1,10 @@
 """tessera: 3D discontinuum mechanics from Python (docs/python.md).
 
 The compiled module tessera._tessera holds the bindings; this package re-exports them under the
-C++ names: tessera.geometry, tessera.law, tessera.blocks, tessera.contact, tessera.quantity,
-tessera.stop, tessera.recorders, tessera.instances, tessera.solver_options and tessera.Error
-(tessera::error; InvalidInput, GeometryError, IoError, NumericalInstability derive from it).
+C++ names: tessera.geometry, tessera.law, tessera.zones, tessera.blocks, tessera.contact,
+tessera.bc, tessera.quantity, tessera.stop, tessera.recorders, tessera.instances,
+tessera.solver_options, tessera.aabb and tessera.Error (tessera::error; InvalidInput,
+GeometryError, IoError, NumericalInstability derive from it); tessera.run_record writes run.json.
 """
 from ._tessera import (  # noqa: F401
     Error,
@@ -11,17 +12,26 @@ from ._tessera import (  # noqa: F401
     InvalidInput,
     IoError,
     NumericalInstability,
+    __version__,
+    aabb,
+    bc,
     blocks,
     contact,
+    contact_state,
+    energy_balance,
     geometry,
     instances,
     law,
+    mass_scaling_report,
     node_group,
     node_set,
+    out_of_balance,
     quantity,
     recorders,
     run_result,
     solver_options,
     stop,
+    zones,
 )
-from ._tessera import _arch_reference  # noqa: F401  (the C++ arch, for the tests)
+from ._tessera import _arch_reference, _tension_reference  # noqa: F401  (C++ runs, for the tests)
+from .run_record import run_record  # noqa: F401

@@ -215,3 +215,35 @@ def test_an_exception_in_the_callable_ends_the_run_and_the_solver_runs_on():
     assert s.step_count() == 100
     r = s.run_until(tessera.stop.after_steps(10))
     assert r.steps == 10 and s.step_count() == 110 and r.reason == "after 10 steps (limit 10)"
+
+
+def test_csv_recorder_writes_the_cpp_recorders_file(tmp_path):
+    """s.csv_recorder with the C++ program's columns and sampling (tests/consumer/arch.cpp:
+    recorders::csv_recorder every 200 steps) writes its arch.csv byte for byte."""
+    program = os.environ.get("TESSERA_ARCH_CPP")
+    if not program:
+        pytest.skip("TESSERA_ARCH_CPP is not set (the CTest python_tests sets it)")
+    subprocess.run([program], cwd=tmp_path, capture_output=True, check=True)
+    s = small_arch()
+    q = tessera.quantity
+    with s.csv_recorder(str(tmp_path / "py.csv"), [("uz_crown", "m", q.block_displacement(10, 2)),
+                                                   ("Rz_base", "N", q.reaction_sum(s.gridpoints_of_block(0), 2))],
+                        every_steps=200) as rec:
+        until = (tessera.stop.when_settled(q.block_displacement(10, 2), 1e-8, tessera.stop.over_time(0.05))
+                 | tessera.stop.when_beyond(q.block_displacement_magnitude(10), 0.05) | tessera.stop.after_time(3.0))
+        s.run_until(until, 100_000_000, record=[rec])
+        assert not (tmp_path / "py.csv").exists()  # the rows go to a temporary file until close
+    assert rec.rows() > 20
+    assert (tmp_path / "py.csv").read_text() == (tmp_path / "arch.csv").read_text()
+
+
+def test_csv_recorder_refuses_bad_columns_naming_them(tmp_path):
+    s = small_arch()
+    q = tessera.quantity.time()
+    with pytest.raises(tessera.Error, match=r"column 'a,b' contains a comma"):
+        s.csv_recorder(str(tmp_path / "x.csv"), [("a,b", "m", q)], every_steps=10)
+    with pytest.raises(tessera.Error, match=r"give one of every_steps = 0 \(>= 1\) and every_seconds = 0 s"):
+        s.csv_recorder(str(tmp_path / "x.csv"), [("t", "s", q)])
+    with pytest.raises(tessera.Error, match=r"column 't_s' is named twice"):
+        s.csv_recorder(str(tmp_path / "x.csv"), [("t", "s", q), ("t", "s", q)], every_steps=1)
+    assert not (tmp_path / "x.csv").exists()
