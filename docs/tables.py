@@ -252,6 +252,9 @@ PERFORMANCE = [
         ("8 457", "4.9× fewer", "2.9–3.5 s (1 thread)")),
     Row("compile the README's prism program (tests/consumer/main.cpp), CPU", "", "`benchmarks/compile_time.sh`",
         ("14.5 s (median of 3, idle machine)", "", "")),
+    Row("compile the README's arch linking tessera::instances (tests/consumer/arch.cpp), CPU and peak memory",
+        "every definition parsed: 24.4 s, 883 MB", "`benchmarks/compile_time.sh`",
+        ("15.3 s, 734 MB (median of 3, load 11-16)", "0.63× the time", "")),
 ]
 
 PAGES = {"docs/validation.md": VALIDATION, "docs/performance.md": PERFORMANCE}

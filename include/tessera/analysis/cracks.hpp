@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
@@ -57,24 +58,7 @@ struct crack_report {
 /// size, a crack that runs around a slice of blocks thinner than one cell, and so has two
 /// separating surfaces, is one site, as it is one crack to the eye. Throws invalid_input for a
 /// spacing that is not finite and > 0.
-[[nodiscard]] inline std::vector<real> crack_sites(std::vector<real> positions, real spacing) {
-  require(std::isfinite(spacing) && spacing > 0, "crack_sites: spacing = ", spacing, " m must be finite and > 0");
-  std::sort(positions.begin(), positions.end());
-  std::vector<real> sites;
-  real sum = 0;
-  int count = 0;
-  for (std::size_t k = 0; k < positions.size(); ++k) {
-    if (count > 0 && positions[k] - positions[k - 1] >= spacing) {
-      sites.push_back(sum / count);
-      sum = 0;
-      count = 0;
-    }
-    sum += positions[k];
-    ++count;
-  }
-  if (count > 0) sites.push_back(sum / count);
-  return sites;
-}
+[[nodiscard]] TESSERA_INLINE std::vector<real> crack_sites(std::vector<real> positions, real spacing);
 
 /// The block graph of a contact set and its through-cracks along `axis` (file comment).
 class crack_graph {
@@ -234,3 +218,7 @@ class crack_graph {
 };
 
 }  // namespace tessera::analysis
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/cracks.ipp"
+#endif

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/types.hpp"
 #include "../solver/energy.hpp"
 
@@ -38,19 +39,10 @@ struct energy_shares {
        contact_stored = 0, contact_dissipated = 0, damping_dissipated = 0, reinforcement_stored = 0,
        reinforcement_dissipated = 0, residual = 0; /**@}*/
 };
-[[nodiscard]] inline energy_shares shares_of(const energy_balance& e) {
-  energy_shares s;
-  const real supplied = e.initial + e.boundary_work;
-  if (!(std::abs(supplied) > 0)) return s;
-  s.kinetic = e.kinetic / supplied;
-  s.block_elastic = e.block_elastic / supplied;
-  s.contact_stored = e.contact_stored / supplied;
-  s.contact_dissipated = e.contact_dissipated / supplied;
-  s.damping_dissipated = e.damping_dissipated / supplied;
-  s.reinforcement_stored = e.reinforcement_stored / supplied;
-  s.reinforcement_dissipated = e.reinforcement_dissipated / supplied;
-  s.residual = (supplied - e.accounted()) / supplied;
-  return s;
-}
+[[nodiscard]] TESSERA_INLINE energy_shares shares_of(const energy_balance& e);
 
 }  // namespace tessera::analysis
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/energy.ipp"
+#endif

@@ -27,6 +27,7 @@
 
 #include <Eigen/Geometry>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/types.hpp"
 
 namespace tessera::geometry {
@@ -69,27 +70,7 @@ struct mass_properties {
 }
 
 /// Area-weighted centroid of a polygon loop (m), from the same fan triangulation.
-[[nodiscard]] inline vec3 polygon_centroid(std::span<const vec3> vertices, std::span<const index_t> loop) {
-  const std::size_t n = loop.size();
-  if (n == 0) return vec3::Zero();
-  const std::size_t k0 = fan_apex(loop);
-  const vec3& a = vertices[static_cast<std::size_t>(loop[k0])];
-  const vec3 area = polygon_area_vector(vertices, loop);
-  const real area2 = area.squaredNorm();
-  vec3 mean = vec3::Zero();
-  for (index_t v : loop) mean += vertices[static_cast<std::size_t>(v)];
-  mean /= static_cast<real>(n);
-  if (!(area2 > 0)) return mean;  // degenerate (collinear) loop: vertex average
-  vec3 first = vec3::Zero();
-  for (std::size_t t = 1; t + 1 < n; ++t) {
-    const vec3& b = vertices[static_cast<std::size_t>(loop[(k0 + t) % n])];
-    const vec3& c = vertices[static_cast<std::size_t>(loop[(k0 + t + 1) % n])];
-    // signed triangle area measured along the polygon normal: handles any planar loop
-    const real w = real(0.5) * (b - a).cross(c - a).dot(area) / std::sqrt(area2);
-    first += w * (a + b + c) / 3;
-  }
-  return first / area.norm();
-}
+[[nodiscard]] TESSERA_INLINE vec3 polygon_centroid(std::span<const vec3> vertices, std::span<const index_t> loop);
 
 namespace detail {
 /// Reference point of the volume integrals: the first vertex of the first face. Coordinates
@@ -123,34 +104,9 @@ void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const in
 /// Volume, centroid and second moment of a closed polyhedron with outward-oriented face loops
 /// (see the file comment for the argument layout). Returns volume 0 and the vertex average as
 /// centroid for an empty polyhedron.
-[[nodiscard]] inline mass_properties polyhedron_mass_properties(std::span<const vec3> vertices,
-                                                                std::span<const index_t> face_offsets,
-                                                                std::span<const index_t> face_vertices) {
-  mass_properties mp;
-  if (face_offsets.size() < 2) return mp;
-  const vec3 r = detail::reference_point(vertices, face_offsets, face_vertices);
-  real six_v = 0;
-  vec3 first = vec3::Zero();  // 24 * first moment
-  mat3 second = mat3::Zero(); // 120 * second moment
-  detail::for_each_fan_tetrahedron(vertices, face_offsets, face_vertices, r,
-                                   [&](const vec3& a, const vec3& b, const vec3& c) {
-                                     const real w = a.dot(b.cross(c));  // 6 V_t
-                                     const vec3 s = a + b + c;
-                                     six_v += w;
-                                     first += w * s;
-                                     second += w * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
-                                                    s * s.transpose());
-                                   });
-  mp.volume = six_v / 6;
-  if (!(std::abs(six_v) > 0)) {
-    mp.centroid = r;
-    return mp;
-  }
-  const vec3 c_rel = first / (4 * six_v);                 // (int x dV) / V = (sum w s / 24) / (sum w / 6)
-  mp.centroid = r + c_rel;
-  mp.second_moment = second / 120 - mp.volume * c_rel * c_rel.transpose();  // parallel-axis shift
-  return mp;
-}
+[[nodiscard]] TESSERA_INLINE mass_properties polyhedron_mass_properties(std::span<const vec3> vertices,
+                                                                        std::span<const index_t> face_offsets,
+                                                                        std::span<const index_t> face_vertices);
 
 /// Volume (m^3) of a closed polyhedron (same layout as polyhedron_mass_properties).
 [[nodiscard]] inline real polyhedron_volume(std::span<const vec3> vertices, std::span<const index_t> face_offsets,
@@ -164,3 +120,7 @@ void for_each_fan_tetrahedron(std::span<const vec3> vertices, std::span<const in
 }
 
 }  // namespace tessera::geometry
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/mass_properties.ipp"
+#endif

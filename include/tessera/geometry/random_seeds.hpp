@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 #include "../core/types.hpp"
 #include "convex_polyhedron.hpp"
@@ -44,22 +45,7 @@ namespace detail {
 /// Reorders points along a Morton (Z-order) curve of the box, ties kept in input order, so that
 /// cells close in space are close in memory (cache locality of the tessellation and of every
 /// later loop over blocks and contacts).
-inline void sort_along_morton_curve(const aabb& box, std::vector<vec3>& points) {
-  std::vector<std::pair<std::uint64_t, index_t>> key(points.size());
-  const vec3 size = box.size();
-  for (std::size_t k = 0; k < points.size(); ++k) {
-    std::uint64_t code = 0;
-    for (int a = 0; a < 3; ++a) {
-      const real u = std::clamp<real>((points[k][a] - box.lo[a]) / size[a], 0, 1);
-      code |= spread_bits(static_cast<std::uint64_t>(u * real(0x1fffff))) << a;
-    }
-    key[k] = {code, static_cast<index_t>(k)};
-  }
-  std::sort(key.begin(), key.end());
-  std::vector<vec3> sorted(points.size());
-  for (std::size_t k = 0; k < points.size(); ++k) sorted[k] = points[static_cast<std::size_t>(key[k].second)];
-  points.swap(sorted);
-}
+TESSERA_INLINE void sort_along_morton_curve(const aabb& box, std::vector<vec3>& points);
 
 /// Uniform draws in `box` from std::mt19937_64(rng_seed), kept when `accept(p)` and, with
 /// min_spacing > 0 (m), farther than min_spacing from every kept point (random sequential
@@ -150,3 +136,7 @@ template <class Accept>
 }
 
 }  // namespace tessera::geometry
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/random_seeds.ipp"
+#endif

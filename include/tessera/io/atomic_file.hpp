@@ -23,6 +23,7 @@
 #include <unistd.h>
 #endif
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 
 namespace tessera::io {
@@ -91,24 +92,7 @@ inline void remove_temporaries_in_progress() noexcept {
 
 /// Creates `dir` (and its parents) if needed and checks that it is a writable directory.
 /// Throws io_error "cannot create output directory '<dir>': <reason>" otherwise.
-inline void ensure_directory(const std::filesystem::path& dir) {
-  namespace fs = std::filesystem;
-  if (dir.empty()) return;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec) throw io_error(tessera::detail::concat("cannot create output directory '", dir.string(), "': ", ec.message()));
-  if (!fs::is_directory(dir, ec))
-    throw io_error(tessera::detail::concat("output path '", dir.string(), "' exists and is not a directory"));
-  // Probe writability with a real file: permission bits alone do not tell (root, ACLs, read-only mounts).
-  const fs::path probe = dir / (".tessera_probe." + std::to_string(detail::process_id()));
-  errno = 0;
-  {
-    std::ofstream out(probe, std::ios::binary | std::ios::trunc);
-    if (!out) throw io_error(tessera::detail::concat("output directory '", dir.string(), "' is not writable: ", detail::last_os_error()));
-  }
-  fs::remove(probe, ec);
-  if (detail::directory_observer() != nullptr) detail::directory_observer()(dir);
-}
+TESSERA_INLINE void ensure_directory(const std::filesystem::path& dir);
 
 /// An output file stream that becomes visible at `target` only on commit().
 ///
@@ -191,3 +175,7 @@ inline void write_file_atomically(const std::filesystem::path& path, const std::
 }
 
 }  // namespace tessera::io
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/atomic_file.ipp"
+#endif

@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 #include "atomic_file.hpp"
 
@@ -76,22 +77,11 @@ class csv_writer {
 };
 
 /// Writes columns of equal length as one CSV file (header = column names), atomically.
-inline void write_csv(const std::filesystem::path& path, const std::vector<std::string>& names,
-                      const std::vector<std::vector<double>>& columns) {
-  require<invalid_input>(names.size() == columns.size(), "write_csv '", path.string(), "': ", names.size(),
-                         " names for ", columns.size(), " columns");
-  csv_writer csv(path, names);
-  const std::size_t rows = columns.empty() ? 0 : columns.front().size();
-  std::vector<double> row(columns.size());
-  for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      require<invalid_input>(columns[c].size() == rows, "write_csv '", path.string(), "': column '", names[c], "' has ",
-                             columns[c].size(), " rows, expected ", rows);
-      row[c] = columns[c][r];
-    }
-    csv.row(row);
-  }
-  csv.commit();
-}
+TESSERA_INLINE void write_csv(const std::filesystem::path& path, const std::vector<std::string>& names,
+                              const std::vector<std::vector<double>>& columns);
 
 }  // namespace tessera::io
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/csv.ipp"
+#endif

@@ -33,6 +33,7 @@
 
 #include <Eigen/Geometry>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
@@ -379,32 +380,8 @@ class pvd_collection {
 
 /// Writes the cells of a tessellation as VTK polyhedra (type 42) with cell data `block` (Int32
 /// cell id) and `volume` (m^3, divergence theorem over the fan-triangulated faces).
-inline void write_blocks_vtu(const std::filesystem::path& path, const geometry::tessellation& tess,
-                             format fmt = format::ascii) {
-  unstructured_grid grid;
-  grid.set_points(tess.vertices);
-  std::vector<std::int32_t> block_id;
-  std::vector<double> volume;
-  std::vector<std::vector<index_t>> faces;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    faces.clear();
-    double volume6 = 0.0;
-    for (index_t f = tess.first_face(c); f < tess.end_face(c); ++f) {
-      const auto loop = tess.face(f);
-      faces.emplace_back(loop.begin(), loop.end());
-      // V = (1/6) sum over fan triangles of x0 . (x1 x x2) for outward-oriented faces.
-      const vec3& x0 = tess.vertices[static_cast<std::size_t>(loop[0])];
-      for (std::size_t i = 1; i + 1 < loop.size(); ++i)
-        volume6 += x0.dot(tess.vertices[static_cast<std::size_t>(loop[i])].cross(tess.vertices[static_cast<std::size_t>(loop[i + 1])]));
-    }
-    grid.add_polyhedron(faces);
-    block_id.push_back(c);
-    volume.push_back(volume6 / 6.0);
-  }
-  grid.cell_data.add_scalar("block", std::span<const std::int32_t>(block_id));
-  grid.cell_data.add_scalar("volume", std::span<const double>(volume));
-  grid.write(path, fmt);
-}
+TESSERA_INLINE void write_blocks_vtu(const std::filesystem::path& path, const geometry::tessellation& tess,
+                                     format fmt = format::ascii);
 
 /// Optional per-gridpoint and per-zone fields of write_zones_vtu.
 struct zone_fields {
@@ -427,3 +404,7 @@ inline void write_zones_vtu(const std::filesystem::path& path, const geometry::b
 }
 
 }  // namespace tessera::io::vtk
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/vtk.ipp"
+#endif

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
@@ -73,33 +74,8 @@ template <class Predicate>
 }
 
 /// Prescribes velocity v (m/s) on the selected components of every node of the group.
-inline void prescribe_velocity(node_set& nodes, const node_group& group, const vec3& v,
-                               components which = components::xyz) {
-  require(!group.empty(), "boundary condition on node group '", group.name, "': the group is empty");
-  require(v.allFinite(), "boundary condition on node group '", group.name, "': velocity (", v.transpose(),
-          ") m/s is not finite");
-  constexpr auto prescribed = static_cast<std::uint8_t>(dof_constraint::prescribed);
-  for (index_t i : group.nodes) {
-    require(i >= 0 && i < nodes.size(), "boundary condition on node group '", group.name, "': node ", i,
-            " is outside the ", nodes.size(), "-node set");
-    for (int c = 0; c < 3; ++c) {
-      if (!has(which, c)) continue;
-      if (nodes.constraint(i, c) == prescribed)
-        require(nodes.prescribed_velocity(i, c) == v[c], "conflicting boundary conditions on node ", i,
-                " component ", "xyz"[c], ": already prescribed v = ", nodes.prescribed_velocity(i, c),
-                " m/s, now v = ", v[c], " m/s (node group '", group.name,
-                "'); to change a prescribed velocity (a loading history) call bc::update_velocity(nodes, group, v, "
-                "components), or the solver's update_block_velocity(b, v, components) for a block; release() frees it");
-    }
-  }
-  for (index_t i : group.nodes)
-    for (int c = 0; c < 3; ++c) {
-      if (!has(which, c)) continue;
-      nodes.constraint(i, c) = prescribed;
-      nodes.prescribed_velocity(i, c) = v[c];
-      nodes.velocity(i, c) = v[c];
-    }
-}
+TESSERA_INLINE void prescribe_velocity(node_set& nodes, const node_group& group, const vec3& v,
+                                       components which = components::xyz);
 
 /// Changes the velocity (m/s) of components that are already prescribed (a loading history, e.g.
 /// a ramp): no conflict check, but every selected component must be prescribed already. Throws
@@ -135,3 +111,7 @@ inline void release(node_set& nodes, const node_group& group, components which =
 }
 
 }  // namespace tessera::bc
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/boundary.ipp"
+#endif

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "../core/separate_compilation.hpp"
 #include "../core/errors.hpp"
 #include "../core/types.hpp"
 #include "options.hpp"
@@ -68,23 +69,7 @@ struct relaxation_result {
 };
 
 /// Refuses options that cannot stop a relaxation (invalid_input naming the value).
-inline void require_valid_relaxation(const relaxation_options& o) {
-  require(std::isfinite(o.reference_force) && o.reference_force > 0, "relaxation: reference force = ",
-          o.reference_force, " N must be finite and > 0");
-  require(std::isfinite(o.ratio_tolerance) && o.ratio_tolerance > 0, "relaxation: ratio tolerance = ",
-          o.ratio_tolerance, " must be finite and > 0");
-  require(o.max_steps >= 1, "relaxation: max_steps = ", o.max_steps, " must be >= 1");
-  require(o.check_interval >= 1, "relaxation: check_interval = ", o.check_interval, " must be >= 1");
-  const auto rule = static_cast<int>(o.velocity_rule);
-  require(rule >= 0 && rule <= 2, "relaxation: velocity_rule = ", rule, " is not kinetic (0), fire (1) or adaptive (2)");
-  require(std::isfinite(o.adaptive_damping_scale) && o.adaptive_damping_scale > 0 && o.adaptive_damping_scale <= 10,
-          "relaxation: adaptive_damping_scale = ", o.adaptive_damping_scale, " must be in (0, 10]");
-  require(std::isfinite(o.fire_alpha_start) && o.fire_alpha_start > 0 && o.fire_alpha_start <= 1,
-          "relaxation: fire_alpha_start = ", o.fire_alpha_start, " must be in (0, 1]");
-  require(std::isfinite(o.fire_alpha_decay) && o.fire_alpha_decay > 0 && o.fire_alpha_decay <= 1,
-          "relaxation: fire_alpha_decay = ", o.fire_alpha_decay, " must be in (0, 1]");
-  require(o.fire_delay >= 0, "relaxation: fire_delay = ", o.fire_delay, " must be >= 0");
-}
+TESSERA_INLINE void require_valid_relaxation(const relaxation_options& o);
 
 /// Solver options for kinetic relaxation from `base`: no local damping (damping_gamma = 0) and
 /// every gridpoint's mass scaled so that a step of 1 s of pseudo-time is stable, which makes each
@@ -99,3 +84,7 @@ inline void require_valid_relaxation(const relaxation_options& o) {
 }
 
 }  // namespace tessera
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/relaxation_options.ipp"
+#endif

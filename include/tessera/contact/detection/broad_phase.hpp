@@ -32,6 +32,7 @@
 #include <utility>
 #include <vector>
 
+#include "../../core/separate_compilation.hpp"
 #include "../../core/errors.hpp"
 #include "../../core/types.hpp"
 
@@ -89,31 +90,7 @@ struct sweep_workspace {
 };
 
 /// The pairs of all_pairs by sort and sweep along x (see the file comment).
-inline void sweep_and_prune(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, sweep_workspace& w) {
-  detail::require_boxes(boxes, margin, "sweep_and_prune");
-  pairs.clear();
-  const auto n = static_cast<index_t>(boxes.size());
-  w.order.resize(boxes.size());
-  for (index_t i = 0; i < n; ++i) w.order[static_cast<std::size_t>(i)] = i;
-  std::sort(w.order.begin(), w.order.end(), [&](index_t p, index_t q) {
-    const real x = boxes[static_cast<std::size_t>(p)].lo.x(), y = boxes[static_cast<std::size_t>(q)].lo.x();
-    return x < y || (x == y && p < q);
-  });
-  const real m2 = 2 * margin;
-  for (std::size_t i = 0; i < w.order.size(); ++i) {
-    const aabb& p = boxes[static_cast<std::size_t>(w.order[i])];
-    const real reach = p.hi.x() + m2;
-    for (std::size_t j = i + 1; j < w.order.size(); ++j) {
-      const aabb& q = boxes[static_cast<std::size_t>(w.order[j])];
-      if (q.lo.x() > reach) break;
-      if (detail::boxes_overlap(p, q, m2)) {
-        const index_t a = w.order[i], b = w.order[j];
-        pairs.push_back({std::min(a, b), std::max(a, b)});
-      }
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
-}
+TESSERA_INLINE void sweep_and_prune(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, sweep_workspace& w);
 
 /// Scratch of uniform_grid (cell lists as CSR), kept between rebuilds.
 struct grid_workspace {
@@ -136,77 +113,12 @@ struct grid_layout {
   /// and sort and sweep is the better choice.
   [[nodiscard]] bool suits(std::size_t blocks) const { return cells() <= 64.0 * static_cast<double>(blocks) + 64.0; }
 };
-[[nodiscard]] inline grid_layout layout_grid(std::span<const aabb> boxes, real margin) {
-  grid_layout g;
-  if (boxes.empty()) return g;
-  aabb domain;
-  for (const aabb& b : boxes) {
-    domain.expand(b.lo);
-    domain.expand(b.hi);
-    g.cell = std::max(g.cell, b.size().maxCoeff() + 2 * margin);
-  }
-  g.cell = std::max(g.cell, 1e-12 * std::max(domain.size().maxCoeff(), real(1)));
-  g.lo = domain.lo - vec3::Constant(margin);
-  for (int c = 0; c < 3; ++c)
-    g.dims[static_cast<std::size_t>(c)] = static_cast<std::int64_t>((domain.size()[c] + 2 * margin) / g.cell) + 1;
-  return g;
-}
+[[nodiscard]] TESSERA_INLINE grid_layout layout_grid(std::span<const aabb> boxes, real margin);
 
 /// The pairs of all_pairs by binning into the grid `g` = layout_grid(boxes, margin) (see the file
 /// comment). Refuses a layout that does not suit a grid (grid_layout::suits: use sweep_and_prune).
-inline void uniform_grid(std::span<const aabb> boxes, real margin, const grid_layout& g, std::vector<block_pair>& pairs,
-                         grid_workspace& w) {
-  detail::require_boxes(boxes, margin, "uniform_grid");
-  pairs.clear();
-  if (boxes.empty()) return;
-  require(g.suits(boxes.size()), "uniform_grid: ", g.cells(), " cells for ", boxes.size(), " blocks (cell ", g.cell,
-          " m set by the largest box): use sweep_and_prune");
-  const vec3& lo = g.lo;
-  const real cell = g.cell;
-  const auto& dims = g.dims;
-  const auto cell_coord = [&](real x, int c) {
-    return std::clamp<std::int64_t>(static_cast<std::int64_t>((x - lo[c]) / cell), 0, dims[static_cast<std::size_t>(c)] - 1);
-  };
-  const auto cell_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return (k * dims[1] + j) * dims[0] + i; };
-  w.cell_of_entry.clear();
-  w.block_of_entry.clear();
-  for (std::size_t b = 0; b < boxes.size(); ++b) {
-    const aabb& box = boxes[b];
-    for (std::int64_t k = cell_coord(box.lo.z() - margin, 2); k <= cell_coord(box.hi.z() + margin, 2); ++k)
-      for (std::int64_t j = cell_coord(box.lo.y() - margin, 1); j <= cell_coord(box.hi.y() + margin, 1); ++j)
-        for (std::int64_t i = cell_coord(box.lo.x() - margin, 0); i <= cell_coord(box.hi.x() + margin, 0); ++i) {
-          w.cell_of_entry.push_back(cell_id(i, j, k));
-          w.block_of_entry.push_back(static_cast<index_t>(b));
-        }
-  }
-  w.order.resize(w.cell_of_entry.size());
-  for (std::size_t e = 0; e < w.order.size(); ++e) w.order[e] = static_cast<index_t>(e);
-  std::sort(w.order.begin(), w.order.end(), [&](index_t p, index_t q) {
-    const auto cp = w.cell_of_entry[static_cast<std::size_t>(p)], cq = w.cell_of_entry[static_cast<std::size_t>(q)];
-    return cp < cq || (cp == cq && p < q);
-  });
-  const real m2 = 2 * margin;
-  for (std::size_t s = 0; s < w.order.size();) {
-    std::size_t e = s;
-    const auto cell_here = w.cell_of_entry[static_cast<std::size_t>(w.order[s])];
-    while (e < w.order.size() && w.cell_of_entry[static_cast<std::size_t>(w.order[e])] == cell_here) ++e;
-    for (std::size_t x = s; x < e; ++x)
-      for (std::size_t y = x + 1; y < e; ++y) {
-        const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
-        const index_t b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
-        const aabb& p = boxes[static_cast<std::size_t>(a0)];
-        const aabb& q = boxes[static_cast<std::size_t>(b0)];
-        if (!detail::boxes_overlap(p, q, m2)) continue;
-        // Report the pair only in the cell holding the lower corner of the enlarged boxes'
-        // intersection, so a pair sharing several cells is reported once.
-        const vec3 corner = (p.lo - vec3::Constant(margin)).cwiseMax(q.lo - vec3::Constant(margin));
-        if (cell_id(cell_coord(corner.x(), 0), cell_coord(corner.y(), 1), cell_coord(corner.z(), 2)) != cell_here) continue;
-        pairs.push_back({std::min(a0, b0), std::max(a0, b0)});
-      }
-    s = e;
-  }
-  std::sort(pairs.begin(), pairs.end());
-}
+TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const grid_layout& g, std::vector<block_pair>& pairs,
+                                 grid_workspace& w);
 
 /// The same, laying out the grid first.
 inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, grid_workspace& w) {
@@ -214,3 +126,7 @@ inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<b
 }
 
 }  // namespace tessera::contact::detection
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/broad_phase.ipp"
+#endif

@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "../../core/separate_compilation.hpp"
 #include "../../core/errors.hpp"
 #include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
@@ -88,59 +89,12 @@ struct detection_workspace {
 
 /// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
 /// `boxes[i]` = blocks[i].bounds()). Throws invalid_input for mismatched sizes or a bad option.
-inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
-                   std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                   detection_workspace& w, detection_share share = {}) {
-  require(edges.size() == blocks.size() && boxes.size() == blocks.size(), "detect: ", blocks.size(), " blocks, ",
-          edges.size(), " edge lists and ", boxes.size(), " boxes: give one of each per block");
-  require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
-          " m must be finite and > 0");
-  require(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "detect: part ", share.part, " of ",
-          share.parts, " parts: need parts >= 1 and 0 <= part < parts");
-  // The grid unless the layout would need too many cells (a few huge boxes): then sort and sweep.
-  if (const grid_layout g = layout_grid(boxes, options.margin); g.suits(boxes.size()))
-    uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
-  else
-    sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
-  // Every block's face planes, once per pass (the pairs read them, rather than each candidate
-  // pair computing both blocks' normals again).
-  w.face_first.assign(1, 0);
-  for (const geometry::convex_polyhedron& p : blocks) w.face_first.push_back(w.face_first.back() + p.face_count());
-  w.faces.resize(static_cast<std::size_t>(w.face_first.back()));
-  parallel_for(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {
-    const auto b = static_cast<std::size_t>(k);
-    for (index_t f = 0; f < blocks[b].face_count(); ++f)
-      w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
-  }, 64);
-  const std::size_t n = w.candidates.size();
-  const auto cut = [&](int p) { return n * static_cast<std::size_t>(p) / static_cast<std::size_t>(share.parts); };
-  const std::size_t first = cut(share.part), last = cut(share.part + 1);
-  w.planes.resize(n);
-  w.patches.resize(n);
-  parallel_for(static_cast<std::int64_t>(last - first), [&](std::int64_t k) {
-    const auto i = first + static_cast<std::size_t>(k);
-    const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
-    const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
-    w.planes[i] = common_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b);
-    w.patches[i] = w.planes[i].gap <= options.tolerance
-                       ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
-                       : contact_patch{};
-  }, 16);
-  out.candidates = n;
-  out.evaluated = last - first;
-  out.clear_pairs();
-  for (std::size_t i = first; i < last; ++i) {
-    const contact_patch& p = w.patches[i];
-    if (p.type == patch_type::none) continue;
-    out.pairs.push_back(w.candidates[i]);
-    out.planes.push_back(w.planes[i]);
-    out.type.push_back(p.type);
-    out.point.insert(out.point.end(), p.points.begin(), p.points.end());
-    out.gap.insert(out.gap.end(), p.gap.begin(), p.gap.end());
-    out.area.insert(out.area.end(), p.area.begin(), p.area.end());
-    out.label.insert(out.label.end(), p.label.begin(), p.label.end());
-    out.first_corner.push_back(static_cast<index_t>(out.point.size()));
-  }
-}
+TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
+                           std::span<const aabb> boxes, const detection_options& options, detection_result& out,
+                           detection_workspace& w, detection_share share = {});
 
 }  // namespace tessera::contact::detection
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/detect.ipp"
+#endif
