@@ -371,9 +371,12 @@ struct cohesive_frictional {
       // under compression), and scaling the stress up would create energy; the stress then stays.
       const T trial_norm = lanes::sqrt(trial_sq);
       if constexpr (softens_with_slip) {  // the limit softens during the step: its closed-form return
-        const auto r = Shear::lane_slip_return(p.shear, k_s, sigma, broken, x.u_slip, trial_norm);
-        tau_max = r.tau;
-        x.u_slip = mask_select(beyond, r.slip, x.u_slip);
+        const M sliding = beyond & slipped;  // not the open cracks alone (their stress is dropped)
+        if (lanes::any(sliding)) {
+          const auto r = Shear::lane_slip_return(p.shear, k_s, sigma, broken, x.u_slip, trial_norm);
+          tau_max = mask_select(sliding, r.tau, tau_max);
+          x.u_slip = mask_select(sliding, r.slip, x.u_slip);
+        }
       }
       const T ratio = tau_max / trial_norm;
       const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
