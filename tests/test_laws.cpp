@@ -906,7 +906,7 @@ TEST_CASE("slip softening along the way: the stress sits on c(s) at the plastic 
   CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
 }
 
-TEST_CASE("slip softening at a fixed compression: peak c_0 + sigma tan phi_0, residual c_res + sigma tan phi_res",
+TEST_CASE("slip softening at a fixed compression: peak c_0 + sigma tan phi_0 and residual c_res + sigma tan phi_res",
           "[laws][shear][slip]") {
   const auto p = slip_params();
   const real k_s = p.k_s, c_0 = p.shear.c_0, c_res = p.shear.c_res, s_u = coulomb_slip_softening::softening_slip(p.shear);
@@ -965,7 +965,7 @@ TEST_CASE("slip softening at a fixed mixed angle closing the contact: peak and r
   CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
 }
 
-TEST_CASE("slip softening leaves pure tension as the study's law has it, to the bit", "[laws][tension][slip]") {
+TEST_CASE("slip softening leaves pure tension as the study law has it to the bit", "[laws][tension][slip]") {
   contact_driver<slip_law> a(slip_params());
   contact_driver<study_beam_law> b(beam_params());
   const real zeta = zeta_of(b.p);
