@@ -8,6 +8,12 @@
 //   mixed:   about 55 % elastic, 25 % on the softening branch (envelope evaluated every sweep),
 //            10 % broken in tension, 10 % slipped on the residual Coulomb limit.
 // Reported: time_per_update = CPU time of a sweep / 4096 (single thread), e.g. "15.2n" = 15.2 ns.
+// bench_update runs Law::update one sub-contact at a time; bench_packed runs the same states as
+// columns through contact::detail::advance_states (law::with_elastic_packs: the path
+// contact::face_contacts takes, update_elastic over lanes::pack's and Law::update on the lanes it
+// declines), the cost per sub-contact-step of a solver sweep without its kinematics.
+// slip_softening_beam_law (G_II = 500 J/m^2, s_u = 0.2 mm) against study_beam_law: the cost of the
+// plastic slip u_slip and its softening limit (issue #63; docs/performance.md).
 //
 //   cmake -S . -B build/laws -DCMAKE_BUILD_TYPE=Release -DTESSERA_BUILD_BENCHMARKS=ON
 //   cmake --build build/laws --target bench_laws && build/laws/benchmarks/bench_laws --benchmark_repetitions=5
@@ -15,7 +21,9 @@
 
 #include <Eigen/Geometry>
 
+#include <array>
 #include <random>
+#include <tessera/contact/detail/packed_states.hpp>
 #include <tessera/law.hpp>
 #include <tessera/presets.hpp>
 #include <vector>
@@ -39,6 +47,7 @@ template <class Law>
 typename Law::params params_for() {
   if constexpr (std::is_same_v<Law, study_tie_law>) return study_prism_params(100);
   else if constexpr (std::is_same_v<Law, linear_tie_law>) return linear_tie_params();
+  else if constexpr (std::is_same_v<Law, slip_softening_beam_law>) return with_slip_softening(beam_params(), 500);
   else return beam_params();
 }
 
@@ -97,10 +106,49 @@ void bench_update(benchmark::State& bench) {
   bench.SetLabel(bench.range(0) == 0 ? "elastic" : "mixed");
 }
 
+template <class Law>
+void bench_packed(benchmark::State& bench) {
+  using packed = with_elastic_packs<Law>;
+  workload<Law> w(static_cast<mix>(bench.range(0)));
+  contact::detail::state_columns<packed> columns;
+  columns.assign(subcontact_count, w.p);
+  std::array<contact::detail::step_columns, 2> steps;  // the increments and their opposites
+  for (auto& k : steps) k.resize(subcontact_count);
+  for (int i = 0; i < subcontact_count; ++i) {
+    const auto j = static_cast<std::size_t>(i);
+    columns.set(j, w.states[j], w.p);
+    for (int side = 0; side < 2; ++side) {
+      auto& k = steps[static_cast<std::size_t>(side)];
+      const real sign = side == 0 ? 1 : -1;
+      k.du_n[j] = sign * w.du_n[j];
+      k.ds0[j] = sign * w.du_s[j][0], k.ds1[j] = sign * w.du_s[j][1], k.ds2[j] = sign * w.du_s[j][2];
+      k.n0[j] = w.normal[j][0], k.n1[j] = w.normal[j][1], k.n2[j] = w.normal[j][2];
+    }
+  }
+  const std::vector<real> area(subcontact_count, 1e-4);
+  std::array<std::vector<real>, 3> force;
+  for (auto& column : force) column.assign(subcontact_count, 0.0);
+  real* const f[3] = {force[0].data(), force[1].data(), force[2].data()};
+  std::size_t side = 0;
+  for (auto _ : bench) {
+    contact::detail::advance_states<packed>(w.p, columns, steps[side], area.data(), 0, subcontact_count, f);
+    side = 1 - side;
+    benchmark::DoNotOptimize(force[0].data());
+    benchmark::ClobberMemory();
+  }
+  bench.SetItemsProcessed(bench.iterations() * subcontact_count);
+  bench.counters["time_per_update"] = benchmark::Counter(
+      subcontact_count, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  bench.SetLabel(bench.range(0) == 0 ? "elastic" : "mixed");
+}
+
 }  // namespace
 
 BENCHMARK_TEMPLATE(bench_update, tessera::law::study_tie_law)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::linear_tie_law)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::study_beam_law)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(bench_update, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(bench_packed, tessera::law::study_beam_law)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(bench_packed, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1);
 
 BENCHMARK_MAIN();

@@ -873,3 +873,9 @@ tessera_add_refusal_test(refuse_compression_memory compression
   "would need about .* zones .* GB.*use a smaller specimen or fewer --blocks" --threads 1 --diameter 2 --height 4)
 tessera_add_refusal_test(refuse_compression_confinement compression
   "--confinement: value '-1' must be >= 0" --threads 1 --confinement -1)
+tessera_add_refusal_test(refuse_compression_g_ii_study compression
+  "--g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --g-ii 100)
+tessera_add_refusal_test(refuse_compression_law compression
+  "--law: invalid value 'soft' \\(expected study or slip_softening\\)" --threads 1 --law soft)
+tessera_add_refusal_test(refuse_compression_g_ii_small compression
+  "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --law slip_softening --g-ii 10 --shape prism --diameter 0.1 --height 0.2)

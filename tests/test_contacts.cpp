@@ -853,13 +853,19 @@ static_assert(law::ContactLaw<scalar_tie_law> && !law::ElasticPackLaw<scalar_tie
 /// Bitwise equality of two reals (so -0 != +0 and a NaN equals itself).
 bool same_bits(real a, real b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
+/// The plastic slip u_slip of two states, where the law stores it (slip_softening.hpp), to the bit.
+template <class State>
+bool same_slip(const State& a, const State& b) {
+  if constexpr (requires { requires std::is_same_v<decltype(a.u_slip), real>; }) return same_bits(a.u_slip, b.u_slip);
+  else return true;
+}
 template <class State>
 bool same_state(const State& a, const State& b) {
   return same_bits(a.sigma_n, b.sigma_n) && same_bits(a.tau[0], b.tau[0]) && same_bits(a.tau[1], b.tau[1]) &&
          same_bits(a.tau[2], b.tau[2]) && same_bits(a.u_n, b.u_n) && same_bits(a.u_p, b.u_p) &&
          same_bits(a.u_soft, b.u_soft) && same_bits(a.dissipated_tension, b.dissipated_tension) &&
          same_bits(a.dissipated_shear, b.dissipated_shear) &&
-         same_bits(a.dissipated_compression, b.dissipated_compression) && a.flags == b.flags;
+         same_bits(a.dissipated_compression, b.dissipated_compression) && a.flags == b.flags && same_slip(a, b);
 }
 
 /// One step of `count` sub-contacts of a mixed population: each is driven by Law::update from a
@@ -1060,6 +1066,12 @@ TEST_CASE("elastic pack path: the same states and forces as Law::update, to the 
     auto p = law::study_prism_params(100);
     p.tension.alpha = 2.5;
     check_pack_against_scalar<law::study_tie_law>(p, 203, 37, 4);
+  }
+  SECTION("slip_softening_beam_law (cohesion and friction soften with the plastic slip u_slip)") {
+    // G_II = 6000 J/m^2: s_u = 2.4 mm, so the slid population (0.5-5 mm) holds contacts on the
+    // softening line and on the residual.
+    check_pack_against_scalar<law::slip_softening_beam_law>(law::with_slip_softening(law::study_beam_params(250), 6000),
+                                                            203, 37, 5);
   }
   SECTION("coupled_tie_law (cohesion softens with the tensile strength)") {
     check_pack_against_scalar<law::coupled_tie_law>(law::with_coupled_cohesion(law::study_prism_params(100)), 203,

@@ -829,3 +829,181 @@ TEST_CASE("slip_breaks_tension: the first shear failure also ends the tensile st
     CHECK(c.work == Approx(c.stored() + c.dissipated()).margin(1e-10 * max_work));
   }
 }
+
+// ---- coulomb_slip_softening (slip_softening.hpp): cohesion and friction soften with plastic slip ----
+namespace {
+using slip_law = slip_softening_beam_law;
+static_assert(sizeof(study_beam_law::state) == 88 && study_beam_law::state_fields.size() == 9,
+              "the study's law keeps its state: u_slip only where the shear limit softens with slip");
+static_assert(sizeof(slip_law::state) == 96 && slip_law::state_fields.size() == 10);
+
+/// The beam's contact with G_II = 100 J/m^2: s_u = 2 G_II/(c_0 - c_res) = 4.04e-5 m, c_0 = 5 MPa,
+/// c_res = 0.05 MPa, phi_0 = 35 deg, phi_res = 30 deg, k_s = 208 GPa/m.
+slip_law::params slip_params() { return with_slip_softening(beam_params(), 100); }
+
+/// Slides the contact along e_x in three legs whose ends are the closed form's kinks (the peak at
+/// total slip u_peak, the end of softening at u_end), so the trapezoidal bookkeeping is exact; returns
+/// the largest |tau| seen.
+real slide_through_softening(contact_driver<slip_law>& c, real u_peak, real u_end, real u_total) {
+  real largest = 0;
+  const auto leg = [&](real to, int steps) {
+    const real from = c.s.tau.x() / c.p.k_s + c.s.u_slip;  // total slip so far (m)
+    for (int k = 0; k < steps; ++k) {
+      c.step(0, e_x * ((to - from) / steps));
+      largest = std::max(largest, c.s.tau.norm());
+    }
+  };
+  leg(u_peak, 100);
+  leg(u_end, 400);
+  leg(u_total, 100);
+  return largest;
+}
+}  // namespace
+
+TEST_CASE("slip softening in pure shear at zero normal stress: peak c_0 and dissipation G_II plus residual work",
+          "[laws][shear][slip]") {
+  const auto p = slip_params();
+  const real k_s = p.k_s, c_0 = p.shear.c_0, c_res = p.shear.c_res, s_u = coulomb_slip_softening::softening_slip(p.shear);
+  REQUIRE(s_u == Approx(2 * 100 / (c_0 - c_res)).epsilon(1e-15));
+  contact_driver<slip_law> c(p);
+  const real u_peak = c_0 / k_s, u_end = s_u + c_res / k_s, u_total = u_end + 2e-5;
+  const real largest = slide_through_softening(c, u_peak, u_end, u_total);
+  CHECK(largest == Approx(c_0).epsilon(1e-12));  // the peak is the cohesion
+  CHECK(c.s.tau.norm() == Approx(c_res).epsilon(1e-9));
+  CHECK(c.s.sigma_n == 0);
+  const real plastic = u_total - c_res / k_s;  // total slip minus the elastic part
+  CHECK(c.s.u_slip == Approx(plastic).epsilon(1e-9));
+  // The triangle above c_res is G_II; the residual slides c_res over all the plastic slip.
+  CHECK(c.s.dissipated_shear == Approx(100 + c_res * plastic).epsilon(1e-9));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  CHECK(c.s.dissipated_tension == 0);
+  CHECK(has(slip_law::status(c.s), contact_status::slipped));
+  CHECK(!has(slip_law::status(c.s), contact_status::broken_tension));
+}
+
+TEST_CASE("slip softening along the way: the stress sits on c(s) at the plastic slip s and unloads with k_s",
+          "[laws][shear][slip]") {
+  const auto p = slip_params();
+  const real k_s = p.k_s, c_0 = p.shear.c_0, c_res = p.shear.c_res, s_u = coulomb_slip_softening::softening_slip(p.shear);
+  contact_driver<slip_law> c(p);
+  c.slide_by(e_x * (c_0 / k_s), 50);
+  c.slide_by(e_x * (0.3 * s_u), 300);  // halfway-ish down the softening line
+  const real s = c.s.u_slip, tau = c.s.tau.x();
+  CHECK(s > 0);
+  CHECK(tau == Approx(c_res + (c_0 - c_res) * (1 - s / s_u)).epsilon(1e-12));
+  CHECK(slip_law::shear_strength(p, c.s) == Approx(tau).epsilon(1e-12));
+  // Elastic unloading and reloading the other way: u_slip stays, the limit is the same magnitude.
+  c.slide_by(-e_x * (tau / k_s), 10);
+  CHECK(std::abs(c.s.tau.x()) < 1e-9 * tau);
+  CHECK(c.s.u_slip == s);
+  c.slide_by(-e_x * (0.999 * tau / k_s), 10);
+  CHECK(c.s.u_slip == s);
+  CHECK(c.s.tau.x() == Approx(-0.999 * tau).epsilon(1e-12));
+  c.slide_by(-e_x * (0.01 * tau / k_s), 10);  // past -tau: softening resumes from s
+  CHECK(c.s.u_slip > s);
+  CHECK(-c.s.tau.x() == Approx(slip_law::shear_strength(p, c.s)).epsilon(1e-12));
+  CHECK(-c.s.tau.x() < tau);
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+TEST_CASE("slip softening at a fixed compression: peak c_0 + sigma tan phi_0 and residual c_res + sigma tan phi_res",
+          "[laws][shear][slip]") {
+  const auto p = slip_params();
+  const real k_s = p.k_s, c_0 = p.shear.c_0, c_res = p.shear.c_res, s_u = coulomb_slip_softening::softening_slip(p.shear);
+  const real tan_0 = p.shear.phi_0.tan(), tan_res = p.shear.phi_res.tan();
+  const real sigma_c = 5e6;  // Pa, below the cap
+  contact_driver<slip_law> c(p);
+  c.open_by(-sigma_c / p.k_n, 10);
+  REQUIRE(c.s.sigma_n == Approx(-sigma_c).epsilon(1e-12));
+  const real dissipated_normal = c.dissipated();
+  const real peak = c_0 + sigma_c * tan_0, residual = c_res + sigma_c * tan_res;
+  const real u_peak = peak / k_s, u_end = s_u + residual / k_s, u_total = u_end + 3e-5;
+  const real largest = slide_through_softening(c, u_peak, u_end, u_total);
+  CHECK(largest == Approx(peak).epsilon(1e-12));
+  CHECK(c.s.tau.norm() == Approx(residual).epsilon(1e-9));
+  CHECK(c.s.sigma_n == Approx(-sigma_c).epsilon(1e-12));  // no dilatancy: the normal stress stays
+  const real plastic = u_total - residual / k_s;
+  CHECK(c.s.u_slip == Approx(plastic).epsilon(1e-9));
+  // The triangle above the residual, [(c_0 - c_res) + sigma (tan phi_0 - tan phi_res)] s_u / 2, and the residual work.
+  const real triangle = ((c_0 - c_res) + sigma_c * (tan_0 - tan_res)) * s_u / 2;
+  CHECK(c.s.dissipated_shear == Approx(triangle + residual * plastic).epsilon(1e-9));
+  CHECK(c.dissipated() - dissipated_normal == Approx(c.s.dissipated_shear).epsilon(1e-12));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+TEST_CASE("slip softening at a fixed mixed angle closing the contact: peak and residual in closed form",
+          "[laws][shear][slip]") {
+  // du = delta (-sin a, cos a) in (n, e_x): the contact closes while it slides, sigma_n = -k_n u tan a.
+  const auto p = slip_params();
+  const real k_n = p.k_n, k_s = p.k_s, c_0 = p.shear.c_0, c_res = p.shear.c_res;
+  const real tan_0 = p.shear.phi_0.tan(), tan_res = p.shear.phi_res.tan();
+  const real tan_a = std::tan(5 * std::numbers::pi / 180);
+  // First slip where k_s u = c_0 + k_n u tan_a tan_0.
+  const real u_peak = c_0 / (k_s - k_n * tan_a * tan_0);
+  REQUIRE(u_peak > 0);
+  contact_driver<slip_law> c(p);
+  const real u_before = (1 - 1e-9) * u_peak;  // just below the peak: no first slip by rounding
+  for (int k = 0; k < 200; ++k) c.step(-tan_a * u_before / 200, e_x * (u_before / 200));
+  CHECK(slip_law::status(c.s) == contact_status::intact);
+  CHECK(c.s.tau.x() == Approx(c_0 + k_n * u_peak * tan_a * tan_0).epsilon(1e-8));
+  // Softening while the compression grows; each step the stress sits on the limit of (sigma_n, u_slip), and
+  // the dissipated shear energy is the trapezoidal sum of |tau| over the plastic slip.
+  real expected_shear = c.s.dissipated_shear, largest = c.s.tau.norm();
+  const real du = 4 * coulomb_slip_softening::softening_slip(p.shear) / 2000;
+  for (int k = 0; k < 2000; ++k) {
+    const real tau_old = c.s.tau.norm(), s_old = c.s.u_slip;
+    c.step(-tan_a * du, e_x * du);
+    largest = std::max(largest, c.s.tau.norm());
+    expected_shear += 0.5 * (tau_old + c.s.tau.norm()) * (c.s.u_slip - s_old);
+    if (c.s.u_slip > 0) REQUIRE(c.s.tau.norm() == Approx(slip_law::shear_strength(p, c.s)).epsilon(1e-12));
+  }
+  CHECK(largest == Approx(c_0 + k_n * u_peak * tan_a * tan_0).epsilon(1e-8));  // softening from the first slip on
+  REQUIRE(c.s.u_slip > coulomb_slip_softening::softening_slip(p.shear));
+  CHECK(c.s.sigma_n < -1e6);
+  CHECK(c.s.tau.norm() == Approx(c_res - c.s.sigma_n * tan_res).epsilon(1e-12));
+  CHECK(c.s.dissipated_shear == Approx(expected_shear).epsilon(1e-9));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+TEST_CASE("slip softening leaves pure tension as the study law has it to the bit", "[laws][tension][slip]") {
+  contact_driver<slip_law> a(slip_params());
+  contact_driver<study_beam_law> b(beam_params());
+  const real zeta = zeta_of(b.p);
+  a.open_to(0.5 * zeta, 300), b.open_to(0.5 * zeta, 300);
+  a.open_by(-0.2 * zeta, 50), b.open_by(-0.2 * zeta, 50);
+  a.open_to(1.1 * zeta, 300), b.open_to(1.1 * zeta, 300);
+  CHECK(a.s.sigma_n == b.s.sigma_n);
+  CHECK(a.s.u_p == b.s.u_p);
+  CHECK(a.s.u_soft == b.s.u_soft);
+  CHECK(a.s.dissipated_tension == b.s.dissipated_tension);
+  CHECK(a.s.flags == b.s.flags);
+  CHECK(a.s.u_slip == 0);
+  CHECK(has(a.s.flags, contact_status::broken_tension));
+  CHECK(a.s.dissipated_tension == Approx(b.p.tension.G_f).epsilon(2e-3));  // the unload-reload loop adds rounding only
+  // Broken in tension: the residual limit at once, as coulomb_residual.
+  a.open_to(-1e6 / a.p.k_n, 20);
+  CHECK(slip_law::shear_strength(a.p, a.s) == Approx(a.p.shear.c_res + 1e6 * a.p.shear.phi_res.tan()).epsilon(1e-9));
+}
+
+TEST_CASE("slip softening validation names the bad parameter", "[laws][validation][slip]") {
+  const auto good = slip_params();
+  CHECK_NOTHROW(slip_law::validate(good));
+  auto p = good;
+  p.shear.G_II = -5;
+  REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("mode-II fracture energy G_II = -5 J/m^2"));
+  p = good;
+  p.shear.G_II = 50;  // (c_0 - c_res)^2/(2 k_s) = 58.8 J/m^2
+  REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("G_II must exceed (c_0 - c_res)^2/(2 k_s)"));
+  p = good;
+  p.shear.phi_res = friction_angle::from_degrees(40);
+  REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("phi_res = 40 deg must not exceed phi_0 = 35 deg"));
+  p = good;
+  p.shear.c_res = p.shear.c_0;
+  REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("residual cohesion c_res = 5000000 Pa must be in [0, c_0"));
+  p = good;
+  p.shear.c_0 = 0;
+  REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("cohesion c_0 = 0 Pa"));
+  p = good;
+  p.shear.phi_0 = friction_angle::from_degrees(95);
+  REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("phi_0"));
+}

@@ -22,6 +22,9 @@
 // secant modulus between 10 % and 40 % of the peak (of the largest stress without a peak); nu =
 // eps_lat / eps at 40 % (expansion over shortening). Cracked area (tensile damage >= 0.5 or slipped) by orientation: "axial"
 // cracks have normals within 30 deg of the horizontal plane (splitting), the rest are inclined.
+// Contact law (--law): study, the beam's (study_beam_law: brittle Coulomb shear onto c_res, phi_res),
+// or slip_softening (slip_softening_beam_law, docs/model.md: c_0 and phi_0 soften linearly with the
+// plastic slip to c_res and --phi-res-deg, the slip scale set by the mode-II fracture energy --g-ii).
 // VTK (--no-vtk to skip): zones (displacement, stress) and contacts (every law field) at the end of the
 // run (past the peak, or at --max-strain), end_zones.vtu and end_contacts.vtp in compression.pvd.
 #include <tessera/analysis/curves.hpp>
@@ -38,6 +41,27 @@
 #include "compression/specimen.hpp"
 
 using namespace tessera;
+
+namespace {
+/// Builds the specimen under contact law Law, runs it, writes summary.json and prints the line.
+template <class Law>
+int run_scene(const scenes::compression_options& in, io::run_record& record) {
+  scenes::compression_specimen<Law> sp(in);
+  const scenes::compression_result r = sp.run();
+  io::summary_json j;
+  scenes::write_compression_summary(j, in, sp, r);
+  j.write(std::filesystem::path(in.common.out) / "summary.json");
+  record.complete();
+  std::printf("compression: %s, %d blocks, %s ends%s: %s; E %.1f GPa, nu %.3f; %lld steps, %.1f s\n",
+              in.shape.c_str(), static_cast<int>(sp.block_count()), in.ends.c_str(),
+              in.confinement > 0 ? tessera::detail::concat(", confined at ", in.confinement * 1e-6, " MPa").c_str() : "",
+              r.peak ? tessera::detail::concat("f_c ", r.peak_stress * 1e-6, " MPa at strain ", r.peak_strain).c_str()
+                     : tessera::detail::concat("no peak up to strain ", r.last_strain, " (largest stress ",
+                                               r.peak_stress * 1e-6, " MPa)").c_str(),
+              r.young * 1e-9, r.poisson, static_cast<long long>(r.steps), r.runtime_s);
+  return 0;
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   scenes::compression_options in;
@@ -58,6 +82,10 @@ int main(int argc, char** argv) {
   cli.option("--cohesion-ratio", in.cohesion_ratio, "c_0 / f_T (the study: 2)", "R").within(0.1, 20);
   cli.option("--phi-deg", in.phi_deg, "contact friction angle phi_0 (deg; the study: 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", in.phi_res_deg, "residual friction angle (deg; the study: 30)", "DEG").within(0, 80);
+  cli.option("--law", in.law, "contact law: study (the beam's) or slip_softening (cohesion and friction soften with "
+             "plastic slip over --g-ii)", "L").one_of({"study", "slip_softening"});
+  cli.option("--g-ii", in.g_ii, "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)", "J")
+      .within(0, 1e6);
   cli.option("--cap", in.cap, "contact compressive cap f_c (Pa; the beam's 35 MPa)", "PA").within(1e6, 1e10);
   cli.option("--rate", in.rate, "top end speed (m/s)", "V").within(1e-5, 0.1);
   cli.option("--step-displacement", in.step_displacement, "top end travel per step (m)", "DU").within(1e-10, 1e-7);
@@ -74,20 +102,8 @@ int main(int argc, char** argv) {
   if (in.common.threads > 0) set_threads(in.common.threads);
   io::run_record record(in.common.out, "compression", argc, argv);
   try {
-    scenes::compression_specimen sp(in);
-    const scenes::compression_result r = sp.run();
-    io::summary_json j;
-    scenes::write_compression_summary(j, in, sp, r);
-    j.write(std::filesystem::path(in.common.out) / "summary.json");
-    record.complete();
-    std::printf("compression: %s, %d blocks, %s ends%s: %s; E %.1f GPa, nu %.3f; %lld steps, %.1f s\n",
-                in.shape.c_str(), static_cast<int>(sp.block_count()), in.ends.c_str(),
-                in.confinement > 0 ? tessera::detail::concat(", confined at ", in.confinement * 1e-6, " MPa").c_str() : "",
-                r.peak ? tessera::detail::concat("f_c ", r.peak_stress * 1e-6, " MPa at strain ", r.peak_strain).c_str()
-                       : tessera::detail::concat("no peak up to strain ", r.last_strain, " (largest stress ",
-                                                 r.peak_stress * 1e-6, " MPa)").c_str(),
-                r.young * 1e-9, r.poisson, static_cast<long long>(r.steps), r.runtime_s);
-    return 0;
+    if (in.law == "slip_softening") return run_scene<presets::slip_softening_beam_law>(in, record);
+    return run_scene<presets::study_beam_law>(in, record);
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 1;

@@ -4,7 +4,9 @@
 // (725 x 150 x 200 mm) gives a mean cell volume of 8.7e-5 m^3 (a 44 mm block), which --blocks 0
 // keeps; another block count scales the contact stiffness with 1 / block size (k_n = E / t) and
 // the face zoning edge with the block size, so the macro modulus and the sub-contacts per face
-// stay the recipe's.
+// stay the recipe's. --law picks the contact law: study (the beam's, study_beam_law) or
+// slip_softening (slip_softening_beam_law: cohesion and friction soften with the plastic slip
+// over the mode-II fracture energy --g-ii); the specimen is a template on it.
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +14,7 @@
 #include <numbers>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "common/cli.hpp"
@@ -35,6 +38,8 @@ struct compression_options {
   int blocks = 0;                   ///< 0: the beam's block size
   real friction = 0.15, confinement = 0;  ///< platen friction coefficient; lateral pressure (Pa)
   real f_t = 0, cohesion_ratio = 2, phi_deg = 35, phi_res_deg = 30, cap = 35e6;  ///< contact law (Pa, -, deg)
+  std::string law = "study";  ///< study or slip_softening
+  real g_ii = 0;              ///< mode-II fracture energy with --law slip_softening (J/m^2; 0 = the default below)
   real rate = 5e-3, step_displacement = 2e-9, max_strain = 6e-3, drop = 0.2;     ///< m/s, m, -, -
   bool no_vtk = false;
 };
@@ -44,12 +49,18 @@ inline constexpr real beam_cell_volume = 0.725 * 0.15 * 0.2 / 250;
 inline constexpr real beam_face_zone_edge = 0.03;  ///< m, the beam's h / 5
 inline constexpr int compression_sides = 36;       ///< the cylinder's polygon
 
-using compression_law = presets::study_beam_law;
-using compression_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<compression_law>>;
+inline constexpr real default_g_ii = 500;            ///< J/m^2, --g-ii 0 with --law slip_softening
 
+/// The specimen under contact law Law (presets::study_beam_law or presets::slip_softening_beam_law).
+template <class Law>
 class compression_specimen {
  public:
+  using law_type = Law;  ///< the contacts' law
+  using solver_type = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>>;  ///< the scene's solver
+
   explicit compression_specimen(const compression_options& o) : o_(o) {
+    require(o.law == "slip_softening" || o.g_ii == 0, "compression: --g-ii ", o.g_ii,
+            " J/m^2 applies to --law slip_softening only (the study's law has no mode-II fracture energy)");
     require(o.ends != "friction" || o.friction > 0, "compression: --friction ", o.friction,
             " must be > 0 with --ends friction (use --ends frictionless for none)");
     require(o.phi_res_deg <= o.phi_deg, "compression: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ",
@@ -75,7 +86,11 @@ class compression_specimen {
     z.target_edge_length = zone_edge_;
     z.refine_interior = false;
     mesh_ = geometry::zone_blocks(tess_, z);
-    law_ = presets::study_beam_params(250);
+    auto beam = presets::study_beam_params(250);
+    if constexpr (std::is_same_v<Law, presets::study_beam_law>)
+      law_ = beam;
+    else
+      law_ = presets::with_slip_softening(beam, o.g_ii > 0 ? o.g_ii : default_g_ii);
     law_.k_n *= size_ratio_, law_.k_s *= size_ratio_;
     if (o.f_t > 0) law_.tension.f_T = o.f_t;
     law_.shear.c_0 = o.cohesion_ratio * law_.tension.f_T;
@@ -83,6 +98,7 @@ class compression_specimen {
     law_.shear.phi_0 = law::friction_angle::from_degrees(o.phi_deg);
     law_.shear.phi_res = law::friction_angle::from_degrees(o.phi_res_deg);
     law_.compression.f_c = o.cap;
+    Law::validate(law_);  // names a bad parameter (c_res, phi_res, G_II) before the scene is built
   }
 
   [[nodiscard]] index_t block_count() const { return blocks_; }
@@ -90,7 +106,7 @@ class compression_specimen {
   [[nodiscard]] real section() const { return section_; }
   [[nodiscard]] real size_ratio() const { return size_ratio_; }
   [[nodiscard]] real zone_edge() const { return zone_edge_; }
-  [[nodiscard]] const compression_law::params& contact_params() const { return law_; }
+  [[nodiscard]] const typename Law::params& contact_params() const { return law_; }
 
   /// Builds the solver, confines, loads and runs to the post-peak drop or --max-strain.
   [[nodiscard]] compression_result run() const;
@@ -99,7 +115,7 @@ class compression_specimen {
   compression_options o_;
   geometry::tessellation tess_;
   geometry::block_mesh mesh_;
-  compression_law::params law_;
+  typename Law::params law_;
   index_t blocks_ = 0;
   real section_ = 0, apothem_ = 0, size_ratio_ = 1, zone_edge_ = beam_face_zone_edge;
 };

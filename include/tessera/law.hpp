@@ -5,6 +5,7 @@
 #include "law/tension.hpp"
 #include "law/compression.hpp"
 #include "law/shear.hpp"
+#include "law/slip_softening.hpp"
 #include "law/cohesive_frictional.hpp"
 #include "law/with_elastic_packs.hpp"
 #include "law/joints.hpp"

@@ -4,7 +4,8 @@
 // manner of MercuryDPM's Species<Normal, Friction, ...>:
 //     Tension      TensionSoftening  (tension.hpp):     linear_softening, power_softening, no_tension
 //     Compression  CompressionLimit  (compression.hpp): elastic_compression, plastic_cap
-//     Shear        ShearLimit        (shear.hpp):       coulomb_residual, coulomb_coupled
+//     Shear        ShearLimit        (shear.hpp):       coulomb_residual, coulomb_coupled,
+//                  SlipSofteningShearLimit (slip_softening.hpp): coulomb_slip_softening
 // The named combinations of the study are in aliases.hpp. The law is a pure evaluator of one
 // sub-contact: stresses per unit area, the caller (contact::face_contacts) multiplies by the
 // tributary area and owns loops and storage. It satisfies law::ContactLaw (concepts.hpp).
@@ -43,6 +44,9 @@
 //     coulomb_residual (DESIGN.md); coulomb_coupled softens the cohesion with f_t/f_T as well.
 //     Opt-in (shear params slip_breaks_tension = true): the first shear failure also breaks the
 //     contact in tension (3DEC's brittle Coulomb joint, YADE's fragile cohesive contact), see break_on_slip.
+//     A slip-softening policy (slip_softening.hpp) instead takes the plastic slip state::u_slip: no
+//     brittle drop at the first slip (the flag `slipped` only records it), the limit falls with
+//     u_slip and the return is its closed form (Shear::lane_slip_return), u_slip advanced by it.
 //
 // Energy (J/m^2). Per step and mechanism the dissipated increment is the trapezoidal work minus the
 // change of elastic energy,
@@ -81,6 +85,7 @@
 #include "detail/validation.hpp"
 #include "lane_masks.hpp"
 #include "shear.hpp"
+#include "slip_softening.hpp"
 #include "tension.hpp"
 
 namespace tessera::law {
@@ -89,6 +94,8 @@ namespace detail {
 [[nodiscard]] constexpr contact_status without(contact_status s, contact_status flag) noexcept {
   return static_cast<contact_status>(static_cast<std::uint8_t>(s) & ~static_cast<std::uint8_t>(flag));
 }
+/// The member u_slip of a law whose shear limit does not soften with slip: nothing stored.
+struct no_slip {};
 }  // namespace detail
 
 /// A contact law of three parts, tension softening, a compression limit and a shear limit (file comment); stresses in Pa, displacements in m, normal stress positive in tension
@@ -97,6 +104,8 @@ struct cohesive_frictional {
   using tension_policy = Tension;  ///< the tension part
   using compression_policy = Compression;  ///< the compression part
   using shear_policy = Shear;  ///< the shear part
+  /// True when the shear limit softens with the plastic slip: the state then stores u_slip.
+  static constexpr bool softens_with_slip = SlipSofteningShearLimit<Shear>;
 
   /// The stiffnesses and each part's parameters (validate refuses any out of range, naming it)
   struct params {
@@ -108,7 +117,7 @@ struct cohesive_frictional {
   };
 
   /// History of one sub-contact; value-initialised (`state{}`) = virgin, unloaded contact.
-  /// 88 bytes. Plain data (not formally std::is_trivially_copyable only because Eigen's vec3
+  /// 88 bytes (96 with u_slip). Plain data (not formally std::is_trivially_copyable only because Eigen's vec3
   /// declares its copy constructor; copying it is a plain memberwise copy).
   struct state {
     real sigma_n = 0;                  ///< normal stress (Pa, + tension)
@@ -120,22 +129,31 @@ struct cohesive_frictional {
     real dissipated_shear = 0;         ///< energy dissipated by shear failure and slip (J/m^2)
     real dissipated_compression = 0;   ///< energy dissipated on the compressive side (J/m^2)
     contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
+    /// plastic slip accumulated on the shear limit (m); a real only when softens_with_slip
+    [[no_unique_address]] std::conditional_t<softens_with_slip, real, detail::no_slip> u_slip{};
   };
   static_assert(std::is_trivially_destructible_v<state>);
   /// The state's fields, declared once (law::state_field): contact::face_contacts stores them as
   /// columns from this list and io::vtk::contact_snapshot writes one array each.
-  static constexpr std::array<state_field<state>, 9> state_fields{{
-      {"sigma_n", "Pa", &state::sigma_n},
-      {"tau", "Pa", &state::tau},
-      {"u_n", "m", &state::u_n},
-      {"u_p", "m", &state::u_p},
-      {"u_soft", "m", &state::u_soft},
-      {"dissipated_tension", "J/m^2", &state::dissipated_tension},
-      {"dissipated_shear", "J/m^2", &state::dissipated_shear},
-      {"dissipated_compression", "J/m^2", &state::dissipated_compression},
-      {"flags", "contact_status bits", &state::flags},
-  }};
-  // Ten reals and the flags (padded to one more): a field added to `state` must be declared above.
+  /// With softens_with_slip, "u_slip" (m) is declared after the dissipated energies.
+  static constexpr auto state_fields = [] {
+    using f = state_field<state>;
+    if constexpr (softens_with_slip)
+      return std::array<f, 10>{{{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
+                                {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
+                                {"dissipated_tension", "J/m^2", &state::dissipated_tension},
+                                {"dissipated_shear", "J/m^2", &state::dissipated_shear},
+                                {"dissipated_compression", "J/m^2", &state::dissipated_compression},
+                                {"u_slip", "m", &state::u_slip}, {"flags", "contact_status bits", &state::flags}}};
+    else
+      return std::array<f, 9>{{{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
+                               {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
+                               {"dissipated_tension", "J/m^2", &state::dissipated_tension},
+                               {"dissipated_shear", "J/m^2", &state::dissipated_shear},
+                               {"dissipated_compression", "J/m^2", &state::dissipated_compression},
+                               {"flags", "contact_status bits", &state::flags}}};
+  }();
+  // Ten reals (eleven with u_slip) and the flags (padded to one more): a field added to `state` must be declared above.
   static_assert(sizeof(state) == (real_column_count(state_fields) + 1) * sizeof(real),
                 "state has a field that state_fields does not declare");
   /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0, then the
@@ -145,7 +163,10 @@ struct cohesive_frictional {
     detail::require_positive(p.k_s, "shear stiffness k_s", "Pa/m");
     Tension::validate(p.tension, p.k_n);
     Compression::validate(p.compression);
-    Shear::validate(p.shear);
+    if constexpr (softens_with_slip)
+      Shear::validate_with_stiffness(p.shear, p.k_s);
+    else
+      Shear::validate(p.shear);
   }
 
   /// State of a sub-contact that was never bonded (contact::material_table::never_bonded): broken
@@ -197,6 +218,8 @@ struct cohesive_frictional {
     /** in/out: state fields */ /**@{*/ T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_shear,
         dissipated_compression, u_p, u_soft; /**@}*/
     T f_t;       ///< in/out: tensile_strength(p, state), a function of u_soft and the flags
+    /// in/out: the state's u_slip (m) when softens_with_slip (set after the aggregate's other members)
+    [[no_unique_address]] std::conditional_t<softens_with_slip, T, detail::no_slip> u_slip{};
   };
 
   /// Advances `s` by one step (see the file comment). du_n: opening increment (m, + opens);
@@ -211,6 +234,7 @@ struct cohesive_frictional {
                           s.dissipated_tension,     s.dissipated_shear,
                           s.dissipated_compression, s.u_p,     s.u_soft,
                           tensile_strength(p, s)};
+    if constexpr (softens_with_slip) x.u_slip = s.u_slip;
     auto flags = static_cast<lanes::mask_lane>(s.flags);
     static_cast<void>(step<real, true>(p, flags, x));  // takes every lane: nothing declined
     s.sigma_n = x.sigma_n;
@@ -223,6 +247,7 @@ struct cohesive_frictional {
     s.dissipated_tension = x.dissipated_tension;
     s.dissipated_shear = x.dissipated_shear;
     s.dissipated_compression = x.dissipated_compression;
+    if constexpr (softens_with_slip) s.u_slip = x.u_slip;
     s.flags = static_cast<contact_status>(flags);
   }
 
@@ -321,7 +346,11 @@ struct cohesive_frictional {
       const T softened = f_peak > 0 ? x.f_t / f_peak : T{};
       fraction = mask_select((x.u_soft > real(0)) & mask_not(broken), softened, fraction);
     }
-    T tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+    T tau_max;
+    if constexpr (softens_with_slip)
+      tau_max = Shear::lane_slip_strength(p.shear, sigma, broken, x.u_slip);
+    else
+      tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
     const M open = broken & (x.u_n > x.u_p);
     // Beyond the limit: a lane that has slipped before slides on it; a first slip changes the flags.
     const M beyond = mask_not(open) & (trial_sq > tau_max * tau_max);
@@ -329,7 +358,7 @@ struct cohesive_frictional {
       if (beyond && !slipped) [[unlikely]] {
         flags = flags | bit(contact_status::slipped);
         slipped = true;
-        tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+        if constexpr (!softens_with_slip) tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
         if constexpr (requires { p.shear.slip_breaks_tension; })
           if (p.shear.slip_breaks_tension) break_on_slip(p, x, flags);
       }
@@ -340,7 +369,16 @@ struct cohesive_frictional {
     if (lanes::any(limited)) [[unlikely]] {
       // Never above 1: at a first slip the residual limit can exceed the trial (phi_res > phi_0
       // under compression), and scaling the stress up would create energy; the stress then stays.
-      const T ratio = tau_max / lanes::sqrt(trial_sq);
+      const T trial_norm = lanes::sqrt(trial_sq);
+      if constexpr (softens_with_slip) {  // the limit softens during the step: its closed-form return
+        const M sliding = beyond & slipped;  // not the open cracks alone (their stress is dropped)
+        if (lanes::any(sliding)) {
+          const auto r = Shear::lane_slip_return(p.shear, k_s, sigma, broken, x.u_slip, trial_norm);
+          tau_max = mask_select(sliding, r.tau, tau_max);
+          x.u_slip = mask_select(sliding, r.slip, x.u_slip);
+        }
+      }
+      const T ratio = tau_max / trial_norm;
       const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
       c0 = mask_select(open, T{}, mask_select(beyond, c0 * scale, c0));
       c1 = mask_select(open, T{}, mask_select(beyond, c1 * scale, c1));
@@ -371,9 +409,10 @@ struct cohesive_frictional {
     const real f_peak = Tension::peak_strength(p.tension);
     return f_peak > 0 ? std::clamp(1 - tensile_strength(p, s) / f_peak, real(0), real(1)) : real(0);
   }
-  /// Current Coulomb limit tau_max (Pa) at the stored normal stress.
+  /// Current Coulomb limit tau_max (Pa) at the stored normal stress (and plastic slip, when it softens with it).
   [[nodiscard]] static real shear_strength(const params& p, const state& s) noexcept {
-    return Shear::strength(p.shear, s.sigma_n, s.flags, tensile_fraction(p, s));
+    if constexpr (softens_with_slip) return Shear::slip_strength(p.shear, s.sigma_n, s.flags, s.u_slip);
+    else return Shear::strength(p.shear, s.sigma_n, s.flags, tensile_fraction(p, s));
   }
   /// Energy dissipated so far by all mechanisms (J/m^2).
   [[nodiscard]] static real dissipated_energy(const state& s) noexcept {

@@ -32,6 +32,8 @@
 // | S::lane_strength(p, sigma_n,      | strength(p, sigma_n, flags, r) to the bit, lane by lane, for    |
 // |   slipped, broken, r)             | sigma_n and r reals or lanes::pack's (core/lanes.hpp) and the   |
 // |                                   | flags given as the masks slipped and broken (bool for a real)   |
+// Optional (a limit that softens with the plastic slip; the law then stores u_slip): the concept
+// SlipSofteningShearLimit of slip_softening.hpp (coulomb_slip_softening), detected by the law.
 
 #include <cmath>
 #include <concepts>

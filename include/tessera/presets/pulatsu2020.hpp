@@ -16,6 +16,9 @@
 // |                |                  |                     |                  | f_t (docs/model.md)           |
 // | coupled_beam_law| linear_softening| plastic_cap         | coulomb_coupled  | opt-in: the beam, cohesion    |
 // |                |                  |                     |                  | softening with f_t (rc_beam)  |
+// | slip_softening_beam_law | linear_softening | plastic_cap | coulomb_slip_softening | not the study's: cohesion |
+// |                |                  |                     |                  | and friction soften with slip |
+// |                |                  |                     |                  | (G_II; issue #63, compression)|
 //
 // The names live in tessera::presets; the end of this file also makes them reachable under the
 // names the examples and tests have always used (tessera::law::study_tie_law,
@@ -31,6 +34,7 @@
 #include "../law/cohesive_frictional.hpp"
 #include "../law/compression.hpp"
 #include "../law/shear.hpp"
+#include "../law/slip_softening.hpp"
 #include "../law/tension.hpp"
 #include "../law/with_elastic_packs.hpp"
 #include "../reinforcement/embedded_truss.hpp"
@@ -43,12 +47,15 @@ using linear_tie_law = law::cohesive_frictional<law::linear_softening, law::elas
 using study_beam_law = law::cohesive_frictional<law::linear_softening, law::plastic_cap, law::coulomb_residual>;
 using coupled_tie_law = law::cohesive_frictional<law::power_softening, law::elastic_compression, law::coulomb_coupled>;
 using coupled_beam_law = law::cohesive_frictional<law::linear_softening, law::plastic_cap, law::coulomb_coupled>;
+using slip_softening_beam_law =
+    law::cohesive_frictional<law::linear_softening, law::plastic_cap, law::coulomb_slip_softening>;
 
 static_assert(law::ContactLaw<study_tie_law>);
 static_assert(law::ContactLaw<linear_tie_law>);
 static_assert(law::ContactLaw<study_beam_law>);
 static_assert(law::ContactLaw<coupled_tie_law>);
 static_assert(law::ContactLaw<coupled_beam_law>);
+static_assert(law::ContactLaw<slip_softening_beam_law> && slip_softening_beam_law::softens_with_slip);
 
 /// Contact parameters of the study's plain concrete prism (Table 1, DESIGN.md §4) for a
 /// tessellation of `blocks` blocks (100, 250, 500 or 750): k_n = 1160/1570/1980/2260 GPa/m,
@@ -164,6 +171,21 @@ template <class Coupled, class DecoupledParams>
   return p;
 }
 
+/// The beam's contact with cohesion and friction softening with the plastic slip
+/// (coulomb_slip_softening, slip_softening.hpp; not the study's law): the stiffnesses, tension and
+/// compressive cap of `beam`, its c_0, c_res, phi_0 and phi_res, and the mode-II fracture energy
+/// G_II (J/m^2, the plastic work above c_res in pure shear at zero normal stress). The law's
+/// validate refuses c_res >= c_0, phi_res > phi_0 and G_II <= (c_0 - c_res)^2/(2 k_s).
+[[nodiscard]] inline slip_softening_beam_law::params with_slip_softening(const study_beam_law::params& beam, real G_II) {
+  slip_softening_beam_law::params p;
+  p.k_n = beam.k_n;
+  p.k_s = beam.k_s;
+  p.tension = beam.tension;
+  p.compression = beam.compression;
+  p.shear = {beam.shear.c_0, beam.shear.phi_0, beam.shear.c_res, beam.shear.phi_res, G_II};
+  return p;
+}
+
 // ---- the RC tie's bar (Sec. 3.1) ----
 /// E_s = 192.3 GPa, f_y = 400 MPa, d = 8 mm: A = 50.27 mm^2, yield force f_y A = 20.1 kN,
 /// E_s A = 9.666 MN. With 96 elements over the 0.6 m prism, L_el = 6.25 mm and
@@ -217,12 +239,14 @@ using presets::coupled_tie_law;
 using presets::in_table1;
 using presets::linear_tie_law;
 using presets::scaled_prism_params;
+using presets::slip_softening_beam_law;
 using presets::study_beam_law;
 using presets::study_beam_params;
 using presets::study_prism_params;
 using presets::study_tie_law;
 using presets::with_coupled_cohesion;
 using presets::with_linear_softening;
+using presets::with_slip_softening;
 }  // namespace tessera::law
 namespace tessera::reinforcement::pulatsu2020 {
 using presets::tie_bond;
