@@ -1,10 +1,12 @@
 #pragma once
 // The compression driver's specimen (main.cpp says what it measures): options, scene, run and
-// summary. The beam's concrete at the beam's block size: the default 250-block half beam
-// (725 x 150 x 200 mm) gives a mean cell volume of 8.7e-5 m^3 (a 44 mm block), which --blocks 0
-// keeps; another block count scales the contact stiffness with 1 / block size (k_n = E / t) and
-// the face zoning edge with the block size, so the macro modulus and the sub-contacts per face
-// stay the recipe's.
+// summary. The concrete is a recipe of examples/calibrate --material (common/scenes.hpp
+// concrete_recipe): beam (the default) the beam's concrete at the beam's block size, the default
+// 250-block half beam (725 x 150 x 200 mm) giving a mean cell volume of 8.7e-5 m^3 (a 44 mm
+// block); prism the study's prism concrete at the 100-block prism's (2.8e-5 m^3, a 30 mm block,
+// one zone per face triangle, no contact cap). --blocks 0 keeps the recipe's block size; another
+// block count scales the contact stiffness with 1 / block size (k_n = E / t) and the face zoning
+// edge with the block size, so the macro modulus and the sub-contacts per face stay the recipe's.
 
 #include <algorithm>
 #include <cmath>
@@ -23,14 +25,16 @@
 #include "tessera/presets/pulatsu2020.hpp"
 #include "tessera/solver/recorders.hpp"
 #include "tessera/solver/solver.hpp"
+#include "common/scenes.hpp"
 #include "compression/curve.hpp"
+#include "rc_beam/beam.hpp"
 
 namespace tessera::scenes {
 
 /// The compression driver's flags (main.cpp --help), SI units.
 struct compression_options {
   cli::standard_options common;
-  std::string shape = "cylinder", ends = "frictionless";
+  std::string material = "beam", shape = "cylinder", ends = "frictionless";
   real width = 0.15, height = 0.3;  ///< cylinder diameter or prism side, height (m)
   int blocks = 0;                   ///< 0: the beam's block size
   real friction = 0.15, confinement = 0;  ///< platen friction coefficient; lateral pressure (Pa)
@@ -39,17 +43,16 @@ struct compression_options {
   bool no_vtk = false;
 };
 
-/// The beam recipe's mean cell volume (m^3): the default half beam over its 250 blocks.
-inline constexpr real beam_cell_volume = 0.725 * 0.15 * 0.2 / 250;
-inline constexpr real beam_face_zone_edge = 0.03;  ///< m, the beam's h / 5
-inline constexpr int compression_sides = 36;       ///< the cylinder's polygon
+inline constexpr int compression_sides = 36;  ///< the cylinder's polygon
 
-using compression_law = presets::study_beam_law;
-using compression_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<compression_law>>;
+template <class Law>
+using compression_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>>;
 
+/// The specimen of `recipe`'s concrete (presets::study_beam_law for beam, law::study_tie_law for prism).
+template <class Law>
 class compression_specimen {
  public:
-  explicit compression_specimen(const compression_options& o) : o_(o) {
+  compression_specimen(const compression_options& o, const concrete_recipe<Law>& recipe) : o_(o), recipe_(recipe) {
     require(o.ends != "friction" || o.friction > 0, "compression: --friction ", o.friction,
             " must be > 0 with --ends friction (use --ends frictionless for none)");
     require(o.phi_res_deg <= o.phi_deg, "compression: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ",
@@ -62,46 +65,53 @@ class compression_specimen {
     section_ = cylinder ? 0.5 * compression_sides * R * R * std::sin(2 * pi / compression_sides) : o.width * o.width;
     apothem_ = cylinder ? R * std::cos(pi / compression_sides) : R;
     const real volume = section_ * o.height;
-    blocks_ = o.blocks > 0 ? o.blocks : std::max<index_t>(2, std::llround(volume / beam_cell_volume));
-    size_ratio_ = std::cbrt(beam_cell_volume / (volume / static_cast<real>(blocks_)));  // beam block / this block
-    zone_edge_ = beam_face_zone_edge / size_ratio_;
-    // Zones grow as the square of 1 / edge over the faces (rc_beam: 29 082 zones for 250 blocks at 30 mm).
-    const real zones = 29082 * (beam_face_zone_edge / zone_edge_) * (beam_face_zone_edge / zone_edge_) *
-                       (volume / (250 * beam_cell_volume)) * std::cbrt(blocks_ / 250.0);
+    const real cell = recipe.cell_volume;
+    blocks_ = o.blocks > 0 ? o.blocks : recipe.blocks_in(volume);
+    size_ratio_ = std::cbrt(cell / (volume / static_cast<real>(blocks_)));  // recipe block / this block
+    zone_edge_ = recipe.zone_edge / size_ratio_;  // 0 stays 0: one zone per face triangle
+    // Zones grow as the square of 1 / edge over the faces (rc_beam: 29 082 zones for 250 blocks at 30 mm;
+    // one zone per face triangle: about 115 a block).
+    const real zones = recipe.zone_edge > 0 ? 29082 * (recipe.zone_edge / zone_edge_) * (recipe.zone_edge / zone_edge_) *
+                                                  (volume / (250 * cell)) * std::cbrt(blocks_ / 250.0)
+                                            : 115.0 * static_cast<real>(blocks_);
     require(zones <= 5e6, "compression: ", blocks_, " blocks in ", volume, " m^3 would need about ", zones,
             " zones (~", zones * 1e-6, " GB); the limit is 5e6 zones: use a smaller specimen or fewer --blocks");
     tess_ = geometry::random_voronoi(domain, blocks_, o.common.seed);
-    geometry::zoning_options z;
+    geometry::zoning_options z = recipe.zoning();
     z.target_edge_length = zone_edge_;
-    z.refine_interior = false;
     mesh_ = geometry::zone_blocks(tess_, z);
-    law_ = presets::study_beam_params(250);
+    law_ = recipe.contact;
     law_.k_n *= size_ratio_, law_.k_s *= size_ratio_;
     if (o.f_t > 0) law_.tension.f_T = o.f_t;
     law_.shear.c_0 = o.cohesion_ratio * law_.tension.f_T;
     law_.shear.c_res = 0.01 * law_.shear.c_0;
     law_.shear.phi_0 = law::friction_angle::from_degrees(o.phi_deg);
     law_.shear.phi_res = law::friction_angle::from_degrees(o.phi_res_deg);
-    law_.compression.f_c = o.cap;
+    if constexpr (has_cap) law_.compression.f_c = o.cap;
   }
+
+  /// Whether the law caps the contacts' compression (the beam's; the prism's contacts have no cap).
+  static constexpr bool has_cap = requires(typename Law::params p) { p.compression.f_c; };
+  [[nodiscard]] const concrete_recipe<Law>& recipe() const { return recipe_; }
 
   [[nodiscard]] index_t block_count() const { return blocks_; }
   [[nodiscard]] index_t zone_count() const { return mesh_.zone_count(); }
   [[nodiscard]] real section() const { return section_; }
   [[nodiscard]] real size_ratio() const { return size_ratio_; }
   [[nodiscard]] real zone_edge() const { return zone_edge_; }
-  [[nodiscard]] const compression_law::params& contact_params() const { return law_; }
+  [[nodiscard]] const typename Law::params& contact_params() const { return law_; }
 
   /// Builds the solver, confines, loads and runs to the post-peak drop or --max-strain.
   [[nodiscard]] compression_result run() const;
 
  private:
   compression_options o_;
+  concrete_recipe<Law> recipe_;
   geometry::tessellation tess_;
   geometry::block_mesh mesh_;
-  compression_law::params law_;
+  typename Law::params law_;
   index_t blocks_ = 0;
-  real section_ = 0, apothem_ = 0, size_ratio_ = 1, zone_edge_ = beam_face_zone_edge;
+  real section_ = 0, apothem_ = 0, size_ratio_ = 1, zone_edge_ = 0;
 };
 
 }  // namespace tessera::scenes
