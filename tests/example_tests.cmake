@@ -751,6 +751,22 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_law_options_quick
          "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
 tessera_add_refusal_test(refuse_rc_beam_cohesion rc_beam "--cohesion: invalid value 'glued'" --threads 1 --cohesion glued)
+# The shear figure's beam (issue #63 item 3; docs/studies/one_concrete.md "Shear"): the beam with a
+# 100 mm constant-moment zone and bars that cannot yield, its hand values P = 2 V_c from EC2 6.2.a
+# without partial factor (0.18 k (100 rho f_c)^(1/3) b d, k = 2: 54.75 kN) and Zsutty's fit for a/d
+# >= 2.5 (2.14 (f_c rho d / a)^(1/3) MPa b d: 48.62 kN) with rho = 201 / (200 x 125) and f_c 35 MPa,
+# a/d = 3; the quick run stops soon after first cracking, so the peak is far below both.
+tessera_add_example_test(rc_beam NAME example_rc_beam_shear_hand_quick
+  ARGS --quick --threads 1 --no-vtk --moment-zone 0.1 --steel-yield 1e12
+  CHECKS "hand_ec2_shear_load_N GREATER 54.70e3" "hand_ec2_shear_load_N LESS 54.80e3"
+         "hand_zsutty_shear_load_N GREATER 48.57e3" "hand_zsutty_shear_load_N LESS 48.67e3"
+         "shear_span_over_depth GREATER 2.999" "shear_span_over_depth LESS 3.001"
+         "peak_over_ec2_shear LESS 1" "steel_yielded STREQUAL OFF"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
+tessera_add_refusal_test(refuse_rc_beam_moment_zone rc_beam
+  "plate length 0.05 m must be below twice the overhang .* and the constant-moment zone \\(0.04 m\\)" --threads 1
+  --moment-zone 0.04)
 tessera_add_refusal_test(refuse_rc_beam_coupled_elastic rc_beam
   "--cohesion coupled is built with --compression plastic only" --threads 1 --quick --cohesion coupled --compression elastic)
 tessera_add_refusal_test(refuse_rc_beam_steel_yield rc_beam "--steel-yield: value '0' must be > 0" --threads 1 --steel-yield 0)

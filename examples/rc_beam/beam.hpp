@@ -180,7 +180,7 @@ struct beam_hand_checks {
   /// The shear figure's hand values (issue #63; docs/studies/beam_failure_mode.md), P = 2 V_c (N):
   /// EC2 6.2.a without partial factor, V_c = 0.18 k (100 rho f_c)^(1/3) b d with k = min(2, 1 +
   /// sqrt(200 / d_mm)), f_c the contacts' cap as f_ck; and Zsutty's mean fit for a/d >= 2.5,
-  /// v_c = 2.14 (f_c rho d / a)^(1/3) MPa. For the default beam 54.8 and 48.6 kN.
+  /// v_c = 2.14 (f_c rho d / a)^(1/3) MPa. For the default beam 54.75 and 48.62 kN.
   real ec2_shear_load = 0;
   real zsutty_shear_load = 0;
   /// The reference of the shear figure: the mean of ec2_shear_load and zsutty_shear_load (N).
