@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
   cli.option("--diameter", in.width, "cylinder diameter or prism side (m)", "M").within(0.02, 2);
   cli.option("--height", in.height, "specimen height (m)", "M").within(0.02, 4);
   cli.option("--blocks", in.blocks, "Voronoi blocks; 0 = the material's block size (the default cylinder: 61 of the "
-             "beam's, 191 of the prism's)", "N")
+             "beam's, 190 of the prism's)", "N")
       .within(0, 5000);
   cli.option("--ends", in.ends, "fixed, frictionless or friction (rigid steel platens)", "E")
       .one_of({"fixed", "frictionless", "friction"});
