@@ -708,6 +708,23 @@ add_test(NAME example_brazilian_not_split_has_no_f_sp
                  "import json,sys; d=json.load(open(sys.argv[1])); sys.exit(0 if d['f_sp_Pa'] is None and d['peak_load_N'] is None else 1)"
                  ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_brazilian_not_split/summary.json)
 set_tests_properties(example_brazilian_not_split_has_no_f_sp PROPERTIES DEPENDS example_brazilian_not_split)
+# The beam's concrete in the disc (--material beam, issue #63): rc_beam's law and parameters at the
+# 250-block beam's block size (12 blocks) and 30 mm face zoning, f_sp against its f_T = 2.5 MPa.
+# Quick seed 1 (measured): splits, f_sp / f_T 2.00 (1.59 at the diametral crack's opening), 3 s of
+# CPU; the band holds the model where it is (above EC2's 1.11, as the prism's concrete).
+tessera_add_example_test(brazilian NAME example_brazilian_beam_quick
+  ARGS --quick --threads 1 --material beam
+  CHECKS "material STREQUAL beam"
+         "blocks EQUAL 12"
+         "zone_edge_m GREATER 0.0299" "zone_edge_m LESS 0.0301"
+         "f_T_Pa GREATER 2.49e6" "f_T_Pa LESS 2.51e6"
+         "split STREQUAL ON"
+         "f_sp_over_f_T GREATER 1.5" "f_sp_over_f_T LESS 2.5"
+         "bottom_over_top_at_peak_rel LESS 0.05"
+         "bottom_over_top_at_peak_rel GREATER -0.05"
+         "energy_balance_error_rel LESS 1e-3")
+tessera_add_refusal_test(refuse_brazilian_material brazilian
+  "brazilian: --material 'granite' is not a concrete recipe \\(expected prism or beam\\)" --threads 1 --material granite)
 
 # ---- rc_beam's law options and bars that cannot yield (issue #41 items 1-3): the quick beam with
 # --cohesion coupled (presets::coupled_beam_law), --slip-breaks-tension and --steel-yield 1e12
@@ -734,6 +751,22 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_law_options_quick
          "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
 tessera_add_refusal_test(refuse_rc_beam_cohesion rc_beam "--cohesion: invalid value 'glued'" --threads 1 --cohesion glued)
+# The shear figure's beam (issue #63 item 3; docs/studies/one_concrete.md "Shear"): the beam with a
+# 100 mm constant-moment zone and bars that cannot yield, its hand values P = 2 V_c from EC2 6.2.a
+# without partial factor (0.18 k (100 rho f_c)^(1/3) b d, k = 2: 54.75 kN) and Zsutty's fit for a/d
+# >= 2.5 (2.14 (f_c rho d / a)^(1/3) MPa b d: 48.62 kN) with rho = 201 / (200 x 125) and f_c 35 MPa,
+# a/d = 3; the quick run stops soon after first cracking, so the peak is far below both.
+tessera_add_example_test(rc_beam NAME example_rc_beam_shear_hand_quick
+  ARGS --quick --threads 1 --no-vtk --moment-zone 0.1 --steel-yield 1e12
+  CHECKS "hand_ec2_shear_load_N GREATER 54.70e3" "hand_ec2_shear_load_N LESS 54.80e3"
+         "hand_zsutty_shear_load_N GREATER 48.57e3" "hand_zsutty_shear_load_N LESS 48.67e3"
+         "shear_span_over_depth GREATER 2.999" "shear_span_over_depth LESS 3.001"
+         "peak_over_ec2_shear LESS 1" "steel_yielded STREQUAL OFF"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
+tessera_add_refusal_test(refuse_rc_beam_moment_zone rc_beam
+  "plate length 0.05 m must be below twice the overhang .* and the constant-moment zone \\(0.04 m\\)" --threads 1
+  --moment-zone 0.04)
 tessera_add_refusal_test(refuse_rc_beam_coupled_elastic rc_beam
   "--cohesion coupled is built with --compression plastic only" --threads 1 --quick --cohesion coupled --compression elastic)
 tessera_add_refusal_test(refuse_rc_beam_steel_yield rc_beam "--steel-yield: value '0' must be > 0" --threads 1 --steel-yield 0)
@@ -849,17 +882,16 @@ endif()
 # the strength where the study's law puts it, f_c 10-30 MPa (the cylinder: 17.4 MPa at 61 blocks; a
 # single facet sliding under uniaxial stress gives 2 c_0 cos(phi) / (1 - sin(phi)) = 19.2 MPa), i.e.
 # well below the 35 MPa reference (docs/validation.md "One concrete"); quasi-static; energy balance.
+# Checks of both materials' quick runs: a peak, the strength band, quasi-static, energy balance.
+set(compression_quick_checks "peak STREQUAL ON" "poisson GREATER 0.1" "poisson LESS 0.3" "f_c_Pa GREATER 10e6"
+    "f_c_Pa LESS 30e6" "quasi_static_index LESS 0.05" "energy_balance_error_rel LESS 1e-3")
 tessera_add_example_test(compression
   ARGS --quick --threads 1 --shape prism --diameter 0.1 --height 0.2
   FILES curve.csv end_zones.vtu end_contacts.vtp compression.pvd
-  CHECKS "peak STREQUAL ON"
+  CHECKS ${compression_quick_checks}
          "blocks EQUAL 23"
          "young_Pa GREATER 15e9" "young_Pa LESS 30e9"
-         "poisson GREATER 0.1" "poisson LESS 0.3"
-         "f_c_Pa GREATER 10e6" "f_c_Pa LESS 30e6"
          "peak_strain GREATER 3e-4"
-         "quasi_static_index LESS 0.05"
-         "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 900)
 tessera_add_refusal_test(refuse_compression_ends compression
   "--ends: invalid value 'glued' \\(expected fixed or frictionless or friction\\)" --threads 1 --ends glued)
@@ -879,3 +911,23 @@ tessera_add_refusal_test(refuse_compression_law compression
   "--law: invalid value 'soft' \\(expected study or slip_softening\\)" --threads 1 --law soft)
 tessera_add_refusal_test(refuse_compression_g_ii_small compression
   "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --law slip_softening --g-ii 10 --shape prism --diameter 0.1 --height 0.2)
+# The prism's concrete in compression (--material prism, issue #63): the study's prism law (power
+# softening, no contact cap) at the 100-block prism's block size, one zone per face triangle.
+# Quick (measured): 72 blocks in the 100 x 100 x 200 mm prism, f_c 17.07 MPa at 0.80e-3 (the single-facet
+# bound with c_0 = 2 x 0.907 x 2.15 MPa: 15.0 MPa), E 32.4 GPa, nu 0.18; 9 s of CPU.
+tessera_add_example_test(compression NAME example_compression_prism_quick
+  ARGS --quick --threads 1 --material prism --shape prism --diameter 0.1 --height 0.2
+  FILES curve.csv
+  CHECKS ${compression_quick_checks}
+         "material STREQUAL prism"
+         "blocks EQUAL 72"
+         "zone_edge_m LESS 1e-12"
+         "f_T_Pa GREATER 1.94e6" "f_T_Pa LESS 1.96e6"
+         "young_Pa GREATER 20e9" "young_Pa LESS 45e9"
+  TIMEOUT 900)
+tessera_add_refusal_test(refuse_compression_material compression
+  "--material: invalid value 'granite' \\(expected beam or prism\\)" --threads 1 --material granite)
+tessera_add_refusal_test(refuse_compression_cap_prism compression
+  "--cap 1e\\+08 applies to --material beam only" --threads 1 --material prism --cap 100e6)
+tessera_add_refusal_test(refuse_compression_law_prism compression
+  "--law slip_softening applies to --material beam only" --threads 1 --material prism --law slip_softening)

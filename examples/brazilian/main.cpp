@@ -1,13 +1,18 @@
 // brazilian: Brazilian splitting test of a concrete disc of random Voronoi blocks (public API only).
 // A disc D x t (150 x 60 mm, axis z) as a 36-gon prism with flats at y = +-a, the loading strips
-// 2 (D/2) sin(pi/36) = 13.1 mm = D/11.5 wide (EN 12390-6: 10 mm = D/15). The study's prism blocks
-// and 100-block Table 1 contacts, f_T, c_0, c_res times --strength-scale (0.907: the calibrated 100-block
-// prism peaks at f_T = 2.15 MPa); 38 blocks are the prism's block size. Bottom strip fixed, top strip
-// pushed down at 5 mm/s, 2 nm per step. P_max: the largest top reaction before the disc splits;
-// f_sp = 2 P_max / (pi D t) against f_T (EC2: 1/0.9 = 1.11), only for a disc that split: one that has not
-// split by --max-displacement reports "split": false and no f_sp (its largest load is the wedges' under the
-// strips). curve.csv also has the opening across the loaded diameter (the flats x = +-a over the middle
-// third); summary.json the load and opening when the split is found. Writes run.json, curve.csv, summary.json.
+// 2 (D/2) sin(pi/36) = 13.1 mm = D/11.5 wide (EN 12390-6: 10 mm = D/15). --material names the concrete,
+// a recipe of examples/calibrate (common/scenes.hpp concrete_recipe): its contact law and parameters, its
+// mean block size and face zoning, its blocks' material. prism (the default): the study's prism concrete,
+// the 100-block Table 1 contacts with f_T, c_0, c_res times --strength-scale (0.907: the calibrated
+// 100-block prism peaks at f_T = 2.15 MPa), at the prism's block size (38 blocks in the disc), one zone per
+// face triangle; beam: rc_beam's concrete (study_beam_params: linear softening, the 35 MPa cap; strength
+// scale 1, the study verbatim as rc_beam runs it), at the 250-block beam's block size (12 blocks in the
+// disc), faces zoned to 30 mm. Bottom strip fixed, top strip pushed down at 5 mm/s, 2 nm per step. P_max:
+// the largest top reaction before the disc splits; f_sp = 2 P_max / (pi D t) against the concrete's f_T
+// (EC2: 1/0.9 = 1.11), only for a disc that split: one that has not split by --max-displacement reports
+// "split": false and no f_sp (its largest load is the wedges' under the strips). curve.csv also has the
+// opening across the loaded diameter (the flats x = +-a over the middle third); summary.json the load and
+// opening when the split is found. Writes run.json, curve.csv, summary.json.
 #include <tessera/core/parallel.hpp>
 #include <tessera/geometry/shapes.hpp>
 #include <tessera/geometry/voronoi.hpp>
@@ -30,19 +35,35 @@
 #include <string>
 #include <vector>
 
-using namespace tessera;
-using joint_law = law::study_tie_law;
-using model = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<joint_law>>;
+#include "common/scenes.hpp"
+#include "rc_beam/beam.hpp"
 
-int main(int argc, char** argv) {
-  std::string out = "results/brazilian";
+using namespace tessera;
+
+namespace {
+
+// The flags (main's --help), SI units. blocks 0: the recipe's block size; scale NaN: the recipe's default.
+struct disc_options {
+  std::string out = "results/brazilian", material = "prism";
   bool quick = false;
-  real seed = 1, threads = 0, n_blocks = 38, sides = 36, diameter = 0.15, thickness = 0.06, scale = 0.907;
+  real seed = 1, threads = 0, n_blocks = 0, sides = 36, diameter = 0.15, thickness = 0.06;
+  real scale = std::numeric_limits<real>::quiet_NaN();
   real rate = 5e-3, du = 2e-9, u_max = 3e-4;  // m/s, strip displacement per step (m), last displacement (m)
   real cohesion_ratio = 2, phi_deg = 35;       // c_0 / f_T and phi_0 (deg) of the contacts (the study's)
+};
+
+template <class joint_law>
+int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run_record& record);
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  disc_options o;
+  auto& [out, material, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max, cohesion_ratio,
+         phi_deg] = o;
   struct flag { const char* name; real* value; real lo, hi; bool integer; };  // a number flag and its range
   const flag flags[] = {{"--seed", &seed, 1, 1e9, true}, {"--threads", &threads, 0, 256, true},
-      {"--blocks", &n_blocks, 2, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
+      {"--blocks", &n_blocks, 0, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
       {"--thickness", &thickness, 0.005, 2, false}, {"--strength-scale", &scale, 0.1, 10, false},
       {"--rate", &rate, 1e-5, 0.1, false}, {"--step-displacement", &du, 1e-10, 1e-7, false},
       {"--max-displacement", &u_max, 1e-6, 0.01, false}, {"--cohesion-ratio", &cohesion_ratio, 0.1, 20, false},
@@ -51,13 +72,18 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     const flag* f = std::find_if(std::begin(flags), std::end(flags), [&](const flag& g) { return a == g.name; });
     if (a == "--help") {
-      std::puts("brazilian [--out DIR] [--quick] [--seed 1..1e9] [--threads 0..256] [--blocks 2..2000]\n"
-                "  [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
+      std::puts("brazilian [--out DIR] [--quick] [--material prism|beam] [--seed 1..1e9] [--threads 0..256]\n"
+                "  [--blocks 0..2000] [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
-                "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]: f_sp = 2 P_max / (pi D t) against f_T, null for a disc not split\n"
-                "  by --max-displacement; --quick: 5 nm per step.");
+                "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]:\n"
+                "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
+                "  --material: the concrete of examples/calibrate --material, its law, parameters, block size and zoning:\n"
+                "  prism (default; the study's prism, f_T 2.15 MPa, strength scale 0.907, 38 blocks in the default disc)\n"
+                "  or beam (rc_beam's, f_T 2.5 MPa, linear softening, 35 MPa cap, strength scale 1, 12 blocks, 30 mm\n"
+                "  face zoning). --blocks 0: the material's block size. --quick: 5 nm per step.");
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
+    else if (a == "--material" && i + 1 < argc) material = argv[++i];
     else if (a == "--quick") quick = true;
     else if (f != std::end(flags)) {
       const char* v = i + 1 < argc ? argv[++i] : "";
@@ -69,27 +95,52 @@ int main(int argc, char** argv) {
       *f->value = x;
     } else return std::fprintf(stderr, "brazilian: unknown or incomplete argument '%s' (see --help)\n", a.c_str()), 2;
   }
+  if (material != "prism" && material != "beam")
+    return std::fprintf(stderr, "brazilian: --material '%s' is not a concrete recipe (expected prism or beam)\n",
+                        material.c_str()), 2;
   if (static_cast<int>(sides) % 4 != 0)  // a flat at the top and at the bottom needs sides = 4k
     return std::fprintf(stderr, "brazilian: --sides = %g must be a multiple of 4 (flats at top and bottom)\n", sides), 2;
   if (quick) du = std::max<real>(du, 5e-9);
+  if (std::isnan(scale)) scale = material == "prism" ? 0.907 : 1;
+  if (n_blocks == 1) return std::fprintf(stderr, "brazilian: --blocks = 1 must be 0 (the material's block size) or >= 2\n"), 2;
   if (threads > 0) set_threads(static_cast<int>(threads));
   io::run_record record(out, "brazilian", argc, argv);
   try {
+    if (material == "prism") return run_disc(o, scenes::prism_concrete(scale, cohesion_ratio), record);
+    scenes::beam_options beam;
+    beam.strength_scale = scale;
+    auto recipe = scenes::beam_concrete(beam);
+    recipe.contact.shear.c_0 = cohesion_ratio * recipe.contact.tension.f_T, recipe.contact.shear.c_res = 0.01 * recipe.contact.shear.c_0;
+    return run_disc(o, recipe, record);
+  } catch (const std::exception& e) {
+    return std::fprintf(stderr, "brazilian: %s\n", e.what()), 1;
+  }
+}
+
+namespace {
+
+template <class joint_law>
+int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run_record& record) {
+  using model = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<joint_law>>;
+  auto& [out, material, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max, cohesion_ratio,
+         phi_deg] = o;
+  {
     // ---- scene: geometry, materials, supports, loading ----
     const real pi = std::numbers::pi, R = diameter / 2, a = R * std::cos(pi / sides), strip = 2 * R * std::sin(pi / sides);
     // phase pi / sides puts a face across x and, with sides = 4k, across y: the strips at y = +-a.
     const auto disc = geometry::cylinder_prism(vec3::Zero(), vec3::UnitZ(), R, thickness, static_cast<index_t>(sides), pi / sides);
+    const real disc_volume = 0.5 * sides * R * R * std::sin(2 * pi / sides) * thickness;
+    if (n_blocks == 0) n_blocks = static_cast<real>(recipe.blocks_in(disc_volume));  // the recipe's block size
     const auto tess = geometry::random_voronoi(disc, static_cast<index_t>(n_blocks), static_cast<std::uint64_t>(seed));
-    const auto mesh = geometry::zone_blocks(tess);  // one zone per face triangle, as the prism
-    const zones::linear_elastic_tet::params concrete{280e9, 0.2, 2400};  // semi-rigid: 10 x the macro E
-    joint_law::params joint = law::study_prism_params(100);  // the 100-block prism's contacts: same block size
-    joint.tension.f_T *= scale, joint.shear.c_0 = cohesion_ratio * joint.tension.f_T, joint.shear.c_res = 0.01 * joint.shear.c_0;
+    const auto mesh = geometry::zone_blocks(tess, recipe.zoning());  // the recipe's zoning
+    const zones::linear_elastic_tet::params concrete = recipe.block_material;  // semi-rigid: 10 x the macro E
+    typename joint_law::params joint = recipe.contact;  // the recipe's contacts, at its block size
     joint.shear.phi_0 = law::friction_angle::from_degrees(phi_deg);
     require(joint.shear.phi_res.degrees() <= phi_deg, "brazilian: --phi-deg ", phi_deg, " must not be below the residual ",
             joint.shear.phi_res.degrees(), " deg");
     solver_options options;
     options.mass_scaling_dt = du / rate;  // quasi-static: masses scaled so the strip moves du per step
-    model s(tess, mesh, concrete, contact::material_table<joint_law::params>(joint), {}, options);
+    model s(tess, mesh, concrete, contact::material_table<typename joint_law::params>(joint), {}, options);
     const auto bottom = s.gridpoints_on_plane(1, -a, 1e-9 * diameter), top = s.gridpoints_on_plane(1, a, 1e-9 * diameter);
     s.fix(bottom);                                 // bottom strip held
     s.prescribe_velocity(top, vec3(0, -rate, 0));  // top strip pushed down at the rate
@@ -158,7 +209,7 @@ int main(int argc, char** argv) {
     const bool did_split = u_split > 0;
     const real none = std::numeric_limits<real>::quiet_NaN();
     const real f_sp = did_split ? 2 * p_max / (pi * diameter * thickness) : none;
-    const real f_t = law::study_prism_params(100).tension.f_T;  // calibrated prism peak
+    const real f_t = recipe.f_T;  // the concrete's tensile strength (the prism: its calibrated peak)
     const real mismatch = (p_max - p_bottom_at_peak) / p_max;
     // The diametral crack opening: the first load at which the opening across the diameter exceeds twice
     // its elastic value (the compliance w / P at the first sample above 20 % of P_max, before the split).
@@ -174,8 +225,8 @@ int main(int argc, char** argv) {
     const real f_crack = 2 * p_crack / (pi * diameter * thickness);
     io::write_csv(std::filesystem::path(out) / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {u, p_top, p_bottom, w_open});
     io::summary_json j;
-    j.set("example", "brazilian").set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
-        .set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
+    j.set("example", "brazilian").set("material", material).set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
+        .set("zone_edge_m", recipe.zone_edge).set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
         .set("strength_scale", scale).set("cohesion_ratio", cohesion_ratio).set("phi_0_deg", phi_deg).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
         .set("damping_in_force", s.damping_in_force())
         .set("peak_load_N", did_split ? p_max : none).set("largest_load_N", p_max).set("peak_displacement_m", u_peak)
@@ -190,17 +241,17 @@ int main(int argc, char** argv) {
     j.write(std::filesystem::path(out) / "summary.json");
     record.complete();
     if (did_split)
-      std::printf("brazilian: seed %d, P_max %.2f kN at %.1f um (split at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
+      std::printf("brazilian: %s concrete, %d blocks, seed %d, P_max %.2f kN at %.1f um (split at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
                   "%.3f f_T (EC2 1.11; at the crack's opening %.3f f_T), bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n",
-                  static_cast<int>(seed), p_max * 1e-3, u_peak * 1e6, u_split * 1e6, p_split * 1e-3, w_split * 1e6,
+                  material.c_str(), static_cast<int>(n_blocks), static_cast<int>(seed), p_max * 1e-3, u_peak * 1e6, u_split * 1e6, p_split * 1e-3, w_split * 1e6,
                   f_sp * 1e-6, f_sp / f_t, f_crack / f_t, 100 * mismatch, 100 * (cracked > 0 ? near / cracked : 0.0),
                   s.energies().error_rel(), runtime_s);
     else
-      std::printf("brazilian: seed %d did NOT split by --max-displacement %.1f um: no f_sp (the largest load, %.2f kN, is "
+      std::printf("brazilian: %s concrete, %d blocks, seed %d did NOT split by --max-displacement %.1f um: no f_sp (the largest load, %.2f kN, is "
                   "the load at that displacement, not a splitting strength); %.1f s\n",
-                  static_cast<int>(seed), u_max * 1e6, p_max * 1e-3, runtime_s);
+                  material.c_str(), static_cast<int>(n_blocks), static_cast<int>(seed), u_max * 1e6, p_max * 1e-3, runtime_s);
     return 0;
-  } catch (const std::exception& e) {
-    return std::fprintf(stderr, "brazilian: %s\n", e.what()), 1;
   }
 }
+
+}  // namespace

@@ -10,8 +10,10 @@
 //             c_0 = 2 f_T (prism_options::cohesion_ratio), c_res = 0.01 c_0, phi_0 = 35 deg, phi_res = 30 deg, power softening
 //             (alpha = 3) or linear softening
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "tessera/blocks/linear_elastic_tet.hpp"
 #include "tessera/presets.hpp"
@@ -62,6 +64,65 @@ struct prism_scene {
   [[nodiscard]] real length() const { return box.size().z(); }
 };
 
+/// Calibration scales and the cohesion ratio on the prism's contacts: f_T x strength_scale, G_f x
+/// fracture_energy_scale, c_0 = cohesion_ratio x the scaled f_T, c_res = 0.01 c_0.
+inline void scale_prism_contacts(law::study_tie_law::params& c, real strength_scale, real fracture_energy_scale,
+                                 real cohesion_ratio) {
+  c.tension.f_T *= strength_scale;
+  c.tension.G_f *= fracture_energy_scale;
+  c.shear.c_0 = cohesion_ratio * c.tension.f_T;
+  c.shear.c_res = 0.01 * c.shear.c_0;
+}
+
+/// A concrete of the example drivers, as examples/calibrate --material names them: the contact
+/// law's parameters with the block size and face zoning they belong to, and the blocks' material.
+/// "prism": the study's prism concrete (prism_concrete, below); "beam": the beam's concrete
+/// (rc_beam/beam.hpp beam_concrete). A driver that measures a concrete in another specimen keeps
+/// the recipe's mean block volume (blocks_in) and zoning (zoning), so its contacts are the ones
+/// the recipe's parameters were set for.
+template <class Law>
+struct concrete_recipe {
+  std::string material;          ///< "prism" or "beam"
+  typename Law::params contact;  ///< the contacts, calibration scales applied
+  real f_T = 0;                  ///< the concrete's tensile strength (Pa): the reference of strength figures
+  real young = 0;                ///< the concrete's E (Pa)
+  real cell_volume = 0;          ///< the recipe's mean block volume (m^3)
+  real zone_edge = 0;            ///< face zoning target edge (m); 0 = one zone per face triangle
+  bool refine_interior = true;   ///< whether the zoning refines the blocks' interiors too
+  zones::linear_elastic_tet::params block_material;  ///< semi-rigid blocks: 10 E
+  /// Blocks of the recipe's mean volume in `volume` (m^3), at least 2.
+  [[nodiscard]] index_t blocks_in(real volume) const {
+    return std::max<index_t>(2, static_cast<index_t>(std::llround(volume / cell_volume)));
+  }
+  /// The recipe's zoning options (zone_edge, refine_interior).
+  [[nodiscard]] geometry::zoning_options zoning() const {
+    geometry::zoning_options z;
+    z.target_edge_length = zone_edge;
+    z.refine_interior = refine_interior;
+    return z;
+  }
+};
+
+/// The study's prism concrete as a recipe: the 100-block prism's contacts (Table 1) times
+/// strength_scale (examples/calibrate --material prism fits it; 0.907 puts the 100-block prism's
+/// mean peak at f_T = 2.15 MPa), c_0 = cohesion_ratio f_T, the 100-block prism's mean block volume
+/// (68 x 68 x 600 mm / 100 = 27.7 cm^3, a 30 mm block), one zone per face triangle, blocks of
+/// 10 x 28 GPa.
+[[nodiscard]] inline concrete_recipe<law::study_tie_law> prism_concrete(real strength_scale, real cohesion_ratio = 2) {
+  constexpr int blocks = 100;
+  require(std::isfinite(strength_scale) && strength_scale > 0, "prism: strength scale = ", strength_scale,
+          " must be finite and > 0");
+  concrete_recipe<law::study_tie_law> r;
+  r.material = "prism";
+  r.contact = law::scaled_prism_params(blocks);
+  r.f_T = r.contact.tension.f_T;
+  scale_prism_contacts(r.contact, strength_scale, 1, cohesion_ratio);
+  r.young = concrete_young;
+  r.cell_volume = prism_options{}.size.prod() / blocks;
+  r.block_material = {semi_rigid_factor * concrete_young, concrete_poisson, concrete_density};
+  return r;
+}
+
 /// Builds the study's prism: tessellation, zoning, materials. Contacts of Table 1 for 100, 250,
 /// 500 and 750 blocks, of Table 1 scaled as blocks^(1/3) for any other count (scaled_prism_params).
 [[nodiscard]] inline prism_scene make_prism(const prism_options& o) {
@@ -73,10 +134,7 @@ struct prism_scene {
   s.contact = law::scaled_prism_params(o.blocks);
   s.f_T = s.contact.tension.f_T;
   s.G_f = s.contact.tension.G_f;
-  s.contact.tension.f_T *= o.strength_scale;
-  s.contact.tension.G_f *= o.fracture_energy_scale;
-  s.contact.shear.c_0 = o.cohesion_ratio * s.contact.tension.f_T;
-  s.contact.shear.c_res = 0.01 * s.contact.shear.c_0;
+  scale_prism_contacts(s.contact, o.strength_scale, o.fracture_energy_scale, o.cohesion_ratio);
   s.box.lo = vec3::Zero();
   s.box.hi = o.size;
   s.tess = geometry::random_voronoi(s.box, o.blocks, o.seed, o.tessellation);

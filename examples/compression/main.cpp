@@ -1,6 +1,9 @@
 // compression: uniaxial (or triaxial) compression of a concrete cylinder or prism of random Voronoi
-// blocks, the beam's concrete (rc_beam: study_beam_params, f_c cap 35 MPa, semi-rigid zones of
-// 10 x 25 GPa, faces zoned to a 30 mm edge) at the beam's block size unless told otherwise.
+// blocks. --material names the concrete, a recipe of examples/calibrate --material: beam (the
+// default; rc_beam: study_beam_params, f_c cap 35 MPa, semi-rigid zones of 10 x 25 GPa, faces zoned
+// to a 30 mm edge) at the beam's block size, or prism (the study's prism: the 100-block Table 1
+// contacts with f_T, c_0 times 0.907 as brazilian, power softening, no contact cap, zones of
+// 10 x 28 GPa, one per face triangle) at the 100-block prism's block size, unless told otherwise.
 //
 // Specimen: a cylinder 150 x 300 mm (a 36-gon prism, axis z; EN 12390-3's cylinder, EC2's f_c) or
 // a prism W x W x H. Ends (--ends):
@@ -22,7 +25,7 @@
 // secant modulus between 10 % and 40 % of the peak (of the largest stress without a peak); nu =
 // eps_lat / eps at 40 % (expansion over shortening). Cracked area (tensile damage >= 0.5 or slipped) by orientation: "axial"
 // cracks have normals within 30 deg of the horizontal plane (splitting), the rest are inclined.
-// Contact law (--law): study, the beam's (study_beam_law: brittle Coulomb shear onto c_res, phi_res),
+// Contact law (--law, --material beam): study, the beam's (study_beam_law: brittle Coulomb shear onto c_res, phi_res),
 // or slip_softening (slip_softening_beam_law, docs/model.md: c_0 and phi_0 soften linearly with the
 // plastic slip to c_res and --phi-res-deg, the slip scale set by the mode-II fracture energy --g-ii).
 // VTK (--no-vtk to skip): zones (displacement, stress) and contacts (every law field) at the end of the
@@ -43,24 +46,8 @@
 using namespace tessera;
 
 namespace {
-/// Builds the specimen under contact law Law, runs it, writes summary.json and prints the line.
 template <class Law>
-int run_scene(const scenes::compression_options& in, io::run_record& record) {
-  scenes::compression_specimen<Law> sp(in);
-  const scenes::compression_result r = sp.run();
-  io::summary_json j;
-  scenes::write_compression_summary(j, in, sp, r);
-  j.write(std::filesystem::path(in.common.out) / "summary.json");
-  record.complete();
-  std::printf("compression: %s, %d blocks, %s ends%s: %s; E %.1f GPa, nu %.3f; %lld steps, %.1f s\n",
-              in.shape.c_str(), static_cast<int>(sp.block_count()), in.ends.c_str(),
-              in.confinement > 0 ? tessera::detail::concat(", confined at ", in.confinement * 1e-6, " MPa").c_str() : "",
-              r.peak ? tessera::detail::concat("f_c ", r.peak_stress * 1e-6, " MPa at strain ", r.peak_strain).c_str()
-                     : tessera::detail::concat("no peak up to strain ", r.last_strain, " (largest stress ",
-                                               r.peak_stress * 1e-6, " MPa)").c_str(),
-              r.young * 1e-9, r.poisson, static_cast<long long>(r.steps), r.runtime_s);
-  return 0;
-}
+int run_specimen(const scenes::compression_options& in, const scenes::concrete_recipe<Law>& recipe, io::run_record& record);
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -68,25 +55,28 @@ int main(int argc, char** argv) {
   cli::parser cli("compression", "Uniaxial or triaxial compression of a concrete cylinder or prism of Voronoi blocks "
                                  "(the beam's concrete): f_c, strain at peak, E, Poisson's ratio, softening.");
   cli.add_standard(in.common);
+  cli.option("--material", in.material, "the concrete, a recipe of calibrate --material: beam (rc_beam's) or prism (the "
+             "study's prism, no contact cap)", "M").one_of({"beam", "prism"});
   cli.option("--shape", in.shape, "cylinder (150 x 300 mm) or prism", "S").one_of({"cylinder", "prism"});
   cli.option("--diameter", in.width, "cylinder diameter or prism side (m)", "M").within(0.02, 2);
   cli.option("--height", in.height, "specimen height (m)", "M").within(0.02, 4);
-  cli.option("--blocks", in.blocks, "Voronoi blocks; 0 = the beam's block size (about 61 in the default cylinder)", "N")
+  cli.option("--blocks", in.blocks, "Voronoi blocks; 0 = the material's block size (the default cylinder: 61 of the "
+             "beam's, 190 of the prism's)", "N")
       .within(0, 5000);
   cli.option("--ends", in.ends, "fixed, frictionless or friction (rigid steel platens)", "E")
       .one_of({"fixed", "frictionless", "friction"});
   cli.option("--friction", in.friction, "platen friction coefficient with --ends friction", "MU").within(0, 2);
   cli.option("--confinement", in.confinement, "lateral pressure on the mantle (Pa, compression positive)", "P")
       .within(0, 100e6);
-  cli.option("--f-t", in.f_t, "contact tensile strength f_T (Pa); 0 = the beam's 2.5 MPa", "PA").within(0, 1e9);
+  cli.option("--f-t", in.f_t, "contact tensile strength f_T (Pa); 0 = the material's (beam 2.5, prism 0.907 x 2.15 MPa)", "PA").within(0, 1e9);
   cli.option("--cohesion-ratio", in.cohesion_ratio, "c_0 / f_T (the study: 2)", "R").within(0.1, 20);
   cli.option("--phi-deg", in.phi_deg, "contact friction angle phi_0 (deg; the study: 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", in.phi_res_deg, "residual friction angle (deg; the study: 30)", "DEG").within(0, 80);
-  cli.option("--law", in.law, "contact law: study (the beam's) or slip_softening (cohesion and friction soften with "
-             "plastic slip over --g-ii)", "L").one_of({"study", "slip_softening"});
+  cli.option("--law", in.law, "contact law of the beam's concrete: study (the beam's) or slip_softening (cohesion and "
+             "friction soften with plastic slip over --g-ii)", "L").one_of({"study", "slip_softening"});
   cli.option("--g-ii", in.g_ii, "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)", "J")
       .within(0, 1e6);
-  cli.option("--cap", in.cap, "contact compressive cap f_c (Pa; the beam's 35 MPa)", "PA").within(1e6, 1e10);
+  cli.option("--cap", in.cap, "contact compressive cap f_c (Pa; the beam's 35 MPa; beam only)", "PA").within(1e6, 1e10);
   cli.option("--rate", in.rate, "top end speed (m/s)", "V").within(1e-5, 0.1);
   cli.option("--step-displacement", in.step_displacement, "top end travel per step (m)", "DU").within(1e-10, 1e-7);
   cli.option("--max-strain", in.max_strain, "axial strain at which the run ends without a peak", "EPS")
@@ -100,12 +90,48 @@ int main(int argc, char** argv) {
     if (!cli.given("--drop")) in.drop = 0.1;
   }
   if (in.common.threads > 0) set_threads(in.common.threads);
+  if (in.material == "prism" && cli.given("--cap")) {
+    std::fprintf(stderr, "compression: --cap %g applies to --material beam only (the prism's contacts have no cap)\n", in.cap);
+    return 2;
+  }
+  if (in.material == "prism" && in.law != "study") {
+    std::fprintf(stderr, "compression: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
+                 in.law.c_str());
+    return 2;
+  }
   io::run_record record(in.common.out, "compression", argc, argv);
   try {
-    if (in.law == "slip_softening") return run_scene<presets::slip_softening_beam_law>(in, record);
-    return run_scene<presets::study_beam_law>(in, record);
+    if (in.material == "prism") return run_specimen(in, scenes::prism_concrete(0.907), record);
+    if (in.law == "slip_softening")
+      return run_specimen(in, scenes::with_slip_softening(scenes::beam_concrete(), in.g_ii > 0 ? in.g_ii : scenes::default_g_ii),
+                          record);
+    return run_specimen(in, scenes::beam_concrete(), record);
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 1;
   }
 }
+
+namespace {
+
+template <class Law>
+int run_specimen(const scenes::compression_options& in, const scenes::concrete_recipe<Law>& recipe, io::run_record& record) {
+  {
+    scenes::compression_specimen<Law> sp(in, recipe);
+    const scenes::compression_result r = sp.run();
+    io::summary_json j;
+    scenes::write_compression_summary(j, in, sp, r);
+    j.write(std::filesystem::path(in.common.out) / "summary.json");
+    record.complete();
+    std::printf("compression: %s concrete (%s law), %s, %d blocks, %s ends%s: %s; E %.1f GPa, nu %.3f; %lld steps, %.1f s\n",
+                in.material.c_str(), in.law.c_str(), in.shape.c_str(), static_cast<int>(sp.block_count()), in.ends.c_str(),
+                in.confinement > 0 ? tessera::detail::concat(", confined at ", in.confinement * 1e-6, " MPa").c_str() : "",
+                r.peak ? tessera::detail::concat("f_c ", r.peak_stress * 1e-6, " MPa at strain ", r.peak_strain).c_str()
+                       : tessera::detail::concat("no peak up to strain ", r.last_strain, " (largest stress ",
+                                                 r.peak_stress * 1e-6, " MPa)").c_str(),
+                r.young * 1e-9, r.poisson, static_cast<long long>(r.steps), r.runtime_s);
+    return 0;
+  }
+}
+
+}  // namespace

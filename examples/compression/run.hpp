@@ -42,12 +42,12 @@ struct mantle_nodes {
 template <class Law>
 compression_result compression_specimen<Law>::run() const {
   using law_t = Law;
-  using compression_solver = solver_type;
+  using compression_solver = scenes::compression_solver<Law>;
   const auto start = std::chrono::steady_clock::now();
   solver_options opt;
   opt.mass_scaling_dt = o_.step_displacement / o_.rate;  // the top end moves step_displacement per step
   opt.threads = o_.common.threads;
-  const zones::linear_elastic_tet::params concrete{10 * 25e9, 0.2, 2400};  // semi-rigid: 10 x the beam's E
+  const zones::linear_elastic_tet::params concrete = recipe_.block_material;  // semi-rigid: 10 x the concrete's E
   compression_solver s(tess_, mesh_, concrete, contact::material_table<typename law_t::params>(law_), {}, opt);
   node_set& gp = s.gridpoints();
   const real H = o_.height, tol = 1e-9 * H, pi = std::numbers::pi;
@@ -58,7 +58,7 @@ compression_result compression_specimen<Law>::run() const {
     auto plate = law_;
     plate.shear.c_res = 0;
     plate.shear.phi_res = law::friction_angle::from_radians(std::atan(o_.friction));
-    plate.compression.f_c = 1e12;  // steel on concrete: the concrete's own contacts carry the cap
+    if constexpr (has_cap) plate.compression.f_c = 1e12;  // steel on concrete: the concrete's own contacts carry the cap
     if constexpr (Law::softens_with_slip)  // never bonded: only the residual acts; phi_0 >= phi_res for validate
       if (plate.shear.phi_res.radians() > plate.shear.phi_0.radians()) plate.shear.phi_0 = plate.shear.phi_res;
     contact::platen_motion m;      // held in x and y, moved along z (set_velocity), never turning
@@ -105,8 +105,8 @@ compression_result compression_specimen<Law>::run() const {
   r.dt = s.dt();
   // Quasi-static: the end's travel in one period of the first axial mode (both ends held, T = 2 H / c
   // at the scaled density) against its travel to 40 % of the expected peak (f_c cap / E x H).
-  const real c = std::sqrt(25e9 / (2400 * (1 + r.added_mass_ratio)));
-  r.quasi_static_index = o_.rate * 2 * H / c / (0.4 * o_.cap / 25e9 * H);
+  const real E = recipe_.young, c = std::sqrt(E / (recipe_.block_material.density * (1 + r.added_mass_ratio)));
+  r.quasi_static_index = o_.rate * 2 * H / c / (0.4 * o_.cap / E * H);  // the prism's, too, against 35 MPa
   require(r.quasi_static_index <= 0.05, "compression: --rate ", o_.rate, " m/s with --step-displacement ",
           o_.step_displacement, " m is not quasi-static: the end moves ", r.quasi_static_index,
           " x its travel to 40 % of the peak during one period of the first axial mode (limit 0.05); use a rate <= ",
@@ -215,13 +215,16 @@ template <class Law>
 void write_compression_summary(io::summary_json& j, const compression_options& o, const compression_specimen<Law>& sp,
                                const compression_result& r) {
   const auto& p = sp.contact_params();
-  j.set("example", "compression").set("quick", o.common.quick).set("seed", static_cast<std::int64_t>(o.common.seed))
+  const real none = std::numeric_limits<real>::quiet_NaN();  // null: a run without a peak has no f_c, the prism no cap
+  real cap = none;
+  if constexpr (compression_specimen<Law>::has_cap) cap = p.compression.f_c;
+  j.set("example", "compression").set("material", o.material).set("quick", o.common.quick).set("seed", static_cast<std::int64_t>(o.common.seed))
       .set("shape", o.shape).set("diameter_m", o.width).set("height_m", o.height).set("blocks", static_cast<std::int64_t>(sp.block_count()))
       .set("zones", static_cast<std::int64_t>(sp.zone_count())).set("zone_edge_m", sp.zone_edge()).set("ends", o.ends)
       .set("friction", o.ends == "friction" ? o.friction : 0.0).set("confinement_Pa", o.confinement)
       .set("k_n_Pa_per_m", p.k_n).set("k_s_Pa_per_m", p.k_s).set("f_T_Pa", p.tension.f_T).set("c_0_Pa", p.shear.c_0)
       .set("law", o.law).set("G_II_J_per_m2", slip_energy(p))
-      .set("phi_0_deg", o.phi_deg).set("phi_res_deg", o.phi_res_deg).set("cap_Pa", p.compression.f_c).set("G_f_N_per_m", p.tension.G_f)
+      .set("phi_0_deg", o.phi_deg).set("phi_res_deg", o.phi_res_deg).set("cap_Pa", cap).set("G_f_N_per_m", p.tension.G_f)
       .set("rate_m_per_s", o.rate).set("step_displacement_m", o.step_displacement).set("dt_s", r.dt).set("damping_in_force", r.damping)
       .set("added_mass_ratio", r.added_mass_ratio).set("quasi_static_index", r.quasi_static_index)
       .set("peak", r.peak).set("stop_reason", r.stop_reason)
@@ -232,7 +235,6 @@ void write_compression_summary(io::summary_json& j, const compression_options& o
       .set("cracked_area_m2", r.cracked_area).set("axial_crack_share", r.axial_crack_share)
       .set("energy_balance_error_rel", r.energy_error_rel).set("steps", r.steps).set("threads", max_threads())
       .set("runtime_s", r.runtime_s);
-  const real none = std::numeric_limits<real>::quiet_NaN();  // null: a run without a peak has no f_c
   j.set("f_c_Pa", r.peak ? r.peak_stress : none).set("peak_strain", r.peak ? r.peak_strain : none)
       .set("f_c_over_reference", r.peak ? r.peak_stress / 35e6 : none);
 }

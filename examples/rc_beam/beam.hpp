@@ -177,6 +177,14 @@ struct beam_hand_checks {
   /// Shear capacity without stirrups, P = 2 V_c with V_c = 0.15 k (100 rho f_c)^(1/3) b d
   /// (Eurocode 2's form, mean-value coefficient 0.15, k = min(2, 1 + sqrt(200 / d_mm))) (N).
   real shear_capacity_load = 0;
+  /// The shear figure's hand values (issue #63; docs/studies/beam_failure_mode.md), P = 2 V_c (N):
+  /// EC2 6.2.a without partial factor, V_c = 0.18 k (100 rho f_c)^(1/3) b d with k = min(2, 1 +
+  /// sqrt(200 / d_mm)), f_c the contacts' cap as f_ck; and Zsutty's mean fit for a/d >= 2.5,
+  /// v_c = 2.14 (f_c rho d / a)^(1/3) MPa. For the default beam 54.75 and 48.62 kN.
+  real ec2_shear_load = 0;
+  real zsutty_shear_load = 0;
+  /// The reference of the shear figure: the mean of ec2_shear_load and zsutty_shear_load (N).
+  [[nodiscard]] real shear_reference_load() const { return 0.5 * (ec2_shear_load + zsutty_shear_load); }
   real mean_block_size = 0;      ///< (V / N)^(1/3) (m)
 };
 
@@ -217,6 +225,9 @@ struct beam_scene {
   const real d_mm = d * 1e3, k = std::min(2.0, 1 + std::sqrt(200 / d_mm));
   const real vc_mpa = 0.15 * k * std::cbrt(100 * rho * c.compression.f_c * 1e-6);
   h.shear_capacity_load = 2 * vc_mpa * 1e6 * b * d;
+  const real f_c_mpa = c.compression.f_c * 1e-6;
+  h.ec2_shear_load = 2 * 0.18 * k * std::cbrt(100 * rho * f_c_mpa) * 1e6 * b * d;
+  h.zsutty_shear_load = 2 * 2.14 * std::cbrt(f_c_mpa * rho * d / a) * 1e6 * b * d;
   h.mean_block_size = std::cbrt(o.half_volume() / o.blocks);
   return h;
 }
@@ -231,19 +242,6 @@ inline void require_zone_budget(const beam_options& o, real volume, int blocks, 
           " GB); the limit is 5e6 zones: use a zone edge >= ", edge * std::sqrt(zones / 5e6), " m");
 }
 
-/// The beam's concrete in `box`: `blocks` Voronoi blocks (seed and regularisation of `o`), their
-/// faces zoned to the beam's face edge with the interior left coarse, semi-rigid zones of 10 E.
-inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options& o, geometry::tessellation& tess,
-                                 geometry::block_mesh& mesh, zones::linear_elastic_tet::params& material) {
-  geometry::tessellation_options to;
-  to.min_edge_rel = o.regularize;
-  tess = geometry::random_voronoi(box, blocks, o.seed, to);
-  geometry::zoning_options z;
-  z.target_edge_length = o.face_zone_edge();
-  z.refine_interior = false;
-  mesh = geometry::zone_blocks(tess, z);
-  material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};
-}
 
 /// Refuses a strength or fracture-energy scale that is not finite and positive, naming `program`.
 inline void require_calibration_scales(const beam_options& o, const char* program) {
@@ -261,6 +259,40 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   c.tension.G_f *= g;
   c.shear.c_0 = ratio * c.tension.f_T;
   c.shear.c_res = residual * c.shear.c_0;
+}
+
+/// The beam's concrete as a recipe (common/scenes.hpp concrete_recipe; examples/calibrate
+/// --material beam fits it, rc_beam runs it): study_beam_params for o.blocks (250 below 500)
+/// with o's calibration scales, the mean block volume of the half beam over o.blocks (87 cm^3, a
+/// 44 mm block, for the default 250), the faces zoned to o.face_zone_edge() (h/5 = 30 mm) with the
+/// interior left coarse, blocks of 10 x 25 GPa.
+[[nodiscard]] inline concrete_recipe<presets::study_beam_law> beam_concrete(const beam_options& o = {}) {
+  require_calibration_scales(o, "beam concrete");
+  require(o.blocks >= 8, "beam concrete: blocks = ", o.blocks, " must be >= 8");
+  concrete_recipe<presets::study_beam_law> r;
+  r.material = "beam";
+  r.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
+  r.f_T = r.contact.tension.f_T;
+  scale_beam_contacts(r.contact, o.strength_scale, o.fracture_energy_scale);
+  r.young = beam_concrete_young;
+  r.cell_volume = o.half_volume() / o.blocks;
+  r.zone_edge = o.face_zone_edge();
+  r.refine_interior = false;
+  r.block_material = {semi_rigid_factor * beam_concrete_young, 0.2, 2400};
+  return r;
+}
+
+/// The beam's concrete in `box`: `blocks` Voronoi blocks (seed and regularisation of `o`), their
+/// faces zoned to the beam's face edge with the interior left coarse, semi-rigid zones of 10 E
+/// (beam_concrete's zoning and block material).
+inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options& o, geometry::tessellation& tess,
+                                 geometry::block_mesh& mesh, zones::linear_elastic_tet::params& material) {
+  geometry::tessellation_options to;
+  to.min_edge_rel = o.regularize;
+  tess = geometry::random_voronoi(box, blocks, o.seed, to);
+  const concrete_recipe<presets::study_beam_law> recipe = beam_concrete(o);
+  mesh = geometry::zone_blocks(tess, recipe.zoning());
+  material = recipe.block_material;
 }
 
 /// Builds the beam. Throws invalid_input naming a bad option.

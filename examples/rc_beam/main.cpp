@@ -237,6 +237,12 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("yield_error_rel", r.steel_yielded ? rel(r.yield_load, h.yield_load) : 0.0)
       .set("yield_deflection_m", r.yield_deflection)
       .set("hand_shear_capacity_load_N", h.shear_capacity_load)
+      .set("hand_ec2_shear_load_N", h.ec2_shear_load)
+      .set("hand_zsutty_shear_load_N", h.zsutty_shear_load)
+      .set("shear_span_over_depth", o.shear_span / o.effective_depth)
+      .set("peak_over_ec2_shear", r.peak_load / h.ec2_shear_load)
+      .set("peak_over_zsutty_shear", r.peak_load / h.zsutty_shear_load)
+      .set("peak_over_shear_reference", r.peak_load / h.shear_reference_load())
       .set("peak_load_N", r.peak_load)
       .set("peak_deflection_m", r.peak_deflection)
       .set("flexural_cracks", r.flexural_cracks)
@@ -321,7 +327,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  first crack %.2f kN (hand: f_T %.2f, %+.1f %%; flexural strength %.2f, %+.1f %%); h/4 deep %.2f kN at x = %.0f mm,"
       " %.0f deg;"
       " K0 %.1f kN/mm (hand %.1f, %+.1f %%)\n"
-      "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN)\n"
+      "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN; %.2fx EC2's %.1f kN, %.2fx Zsutty's %.1f kN)\n"
       "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
       " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
       "  fastest inclined crack after the peak: %s%s\n"
@@ -335,7 +341,8 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       r.first_crack_angle_deg,
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
       yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
-      h.shear_capacity_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
+      h.shear_capacity_load * 1e-3, r.peak_load / h.ec2_shear_load, h.ec2_shear_load * 1e-3,
+      r.peak_load / h.zsutty_shear_load, h.zsutty_shear_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
       r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(),
       o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
