@@ -1906,11 +1906,11 @@ TEST_CASE("step bound: a cube dropped on a resting one halves its step's stiffne
 
 TEST_CASE("step bound: a block that covers more than the tolerance in one step is refused, naming it",
           "[rigid][step_bound][detected]") {
-  // The rebuild follows the motion once it passes tolerance / 2, so every gap up to the tolerance
-  // is seen before it closes, provided no step covers more than that margin. Cube 2 of the
-  // column, 1 cm above cube 1, thrown down at 3 tolerances per step: after one step its vertices
-  // moved 3 tolerances, past twice the trigger, and the next step refuses (block 2 named) rather
-  // than rebuild into an overlap. At 0.2 tolerance per step it runs on.
+  // A rebuild follows a block's motion once it passes 0.39 tolerance (detected/incremental.hpp), so
+  // every gap up to the tolerance is seen before it closes, provided no step covers more than the
+  // margin left. Cube 2 of the column, 1 cm above cube 1, thrown down at 3 tolerances per step:
+  // after one step its vertices moved 3 tolerances, past the tolerance, and the next step refuses
+  // (block 2 named) rather than rebuild into an overlap. At 0.2 tolerance per step it runs on.
   const auto tess = cube_column(1, 0.01);
   const auto mesh = geometry::zone_blocks(tess);
   const auto thrown = [&](real tolerances_per_step) {

@@ -78,8 +78,9 @@ struct detection_workspace {
   std::vector<contact_plane> planes;  ///< contact plane of each candidate
   std::vector<contact_patch> patches;  ///< contact patch of each candidate
   std::vector<index_t> face_first{0};         ///< CSR over blocks into faces
-  std::vector<geometry::plane> faces;       ///< every block's face planes (append_face_planes), this pass
-  /// Block b's face planes as the last pass computed them.
+  std::vector<geometry::plane> faces;       ///< the blocks' face planes (append_face_planes), this pass
+  std::vector<std::uint8_t> needs_faces;    ///< per block, whether this pass computed its face planes
+  /// Block b's face planes as the last pass computed them (valid where needs_faces[b]).
   [[nodiscard]] std::span<const geometry::plane> faces_of(std::size_t b) const {
     const auto first = static_cast<std::size_t>(face_first[b]), last = static_cast<std::size_t>(face_first[b + 1]);
     return std::span<const geometry::plane>(faces).subspan(first, last - first);
@@ -87,12 +88,17 @@ struct detection_workspace {
 };
 
 /// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
-/// `boxes[i]` = blocks[i].bounds()). Throws invalid_input for mismatched sizes or a bad option.
+/// `boxes[i]` = blocks[i].bounds()). `only` (empty: every pair) restricts the pass to the candidate
+/// pairs with at least one block b marked only[b] != 0 (an incremental rebuild: the pairs of the
+/// blocks that moved); the face planes are then computed for those pairs' blocks only. Throws
+/// invalid_input for mismatched sizes or a bad option.
 inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                    std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                   detection_workspace& w, detection_share share = {}) {
-  require(edges.size() == blocks.size() && boxes.size() == blocks.size(), "detect: ", blocks.size(), " blocks, ",
-          edges.size(), " edge lists and ", boxes.size(), " boxes: give one of each per block");
+                   detection_workspace& w, detection_share share = {}, std::span<const std::uint8_t> only = {}) {
+  require(edges.size() == blocks.size() && boxes.size() == blocks.size() &&
+              (only.empty() || only.size() == blocks.size()),
+          "detect: ", blocks.size(), " blocks, ", edges.size(), " edge lists, ", boxes.size(), " boxes and ",
+          only.size(), " marks: give one of each per block (marks: or none)");
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
           " m must be finite and > 0");
   require(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "detect: part ", share.part, " of ",
@@ -102,13 +108,24 @@ inline void detect(std::span<const geometry::convex_polyhedron> blocks, std::spa
     uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
-  // Every block's face planes, once per pass (the pairs read them, rather than each candidate
+  // An incremental pass: the candidates of the marked blocks (kept in order), and the blocks
+  // whose face planes they read.
+  w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
+  if (!only.empty()) {
+    std::erase_if(w.candidates, [&](const block_pair& c) {
+      return only[static_cast<std::size_t>(c.a)] == 0 && only[static_cast<std::size_t>(c.b)] == 0;
+    });
+    for (const block_pair& c : w.candidates)
+      w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
+  }
+  // The blocks' face planes, once per pass (the pairs read them, rather than each candidate
   // pair computing both blocks' normals again).
   w.face_first.assign(1, 0);
   for (const geometry::convex_polyhedron& p : blocks) w.face_first.push_back(w.face_first.back() + p.face_count());
   w.faces.resize(static_cast<std::size_t>(w.face_first.back()));
   parallel_for(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {
     const auto b = static_cast<std::size_t>(k);
+    if (w.needs_faces[b] == 0) return;
     for (index_t f = 0; f < blocks[b].face_count(); ++f)
       w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
   }, 64);
