@@ -984,10 +984,12 @@ constexpr real user_g = 9.81;
 struct user_scene {
   geometry::tessellation tess;
   geometry::block_mesh mesh;
-  explicit user_scene(real gap, bool deformable = false) {
+  /// The 1 x 1 x 0.25 m base (block 0) and a 0.5 x 0.5 m block `height` m tall (block 1, a cube
+  /// by default) `gap` m above it.
+  explicit user_scene(real gap, bool deformable = false, real height = 0.5) {
     const std::vector<geometry::convex_polyhedron> cells{
         geometry::convex_polyhedron::box({-0.5, -0.5, -0.25}, {0.5, 0.5, 0}),
-        geometry::convex_polyhedron::box({-0.25, -0.25, gap}, {0.25, 0.25, gap + 0.5})};
+        geometry::convex_polyhedron::box({-0.25, -0.25, gap}, {0.25, 0.25, gap + height})};
     tess = geometry::separate_blocks(cells);
     geometry::zoning_options z;
     z.target_edge_length = 0.5;
@@ -1105,19 +1107,26 @@ TEST_CASE("user layer: prescribe_block_velocity moves a block at v, set_block_ve
 
 TEST_CASE("user layer: integrator::dynamic names dynamics and the run result names the damping in force",
           "[rigid][user_layer][damping]") {
-  // The 0.5 m cube on the fixed base, thrown along x at v0 = 1 m/s on a 30 deg dry joint: undamped,
-  // it slides v0^2 / (2 g tan phi) = 88.3 mm. Under the default local damping the force 0.8 |F|
-  // against the motion adds to the friction, and it stops after v0^2 / (2 (1 + gamma) g tan phi)
-  // = 49.1 mm: a damped run is not dynamics, and its result says which damping was in force.
+  // A 0.5 x 0.5 x 0.25 m block on the fixed base, thrown along x at v0 = 1 m/s on a 30 deg dry
+  // joint: undamped, it slides v0^2 / (2 g tan phi) = 88.3 mm. Under the default local damping the
+  // force 0.8 |F| against the motion adds to the friction, and it stops after
+  // v0^2 / (2 (1 + gamma) g tan phi) = 49.1 mm: a damped run is not dynamics, and its result says
+  // which damping was in force. A slab, not the 0.5 m cube: the friction, applied at once, tilts the
+  // block by twice its static tilt, which unloads the trailing corners once mu h > w / 2
+  // (h > 0.43 m); the undamped cube then rocks and hops on its corners for the whole slide, and
+  // its slip is chaotic: 86.9-97.9 mm for v0 = 0.99-1.01 m/s, 102.5 mm with a 2 mm tolerance, on
+  // the full-pass detection as on the incremental one (docs/studies/incremental_detection.md).
+  // The slab (mu h = 0.14 < 0.25 m) stays on its four corners: 88.3 mm within 2e-4 whatever the
+  // rebuilds' timing, so both slips are asserted within 0.1 %.
   static_assert(std::is_same_v<integrator::dynamic, integrator::central_difference<integrator::no_damping>>);
   static_assert(std::is_same_v<integrator::quasi_static, integrator::central_difference<integrator::local_damping>>);
   static_assert(std::is_same_v<solver<blocks::rigid, verification::contacts>::integrator_type, integrator::quasi_static>);
   const real v0 = 1, mu = std::tan(30 * std::numbers::pi / 180);
   const auto slide = [&](auto tag, run_result& r) {
     using model = solver<blocks::rigid, verification::contacts, reinforcement::none, decltype(tag)>;
-    // The cube placed at its static overlap W / (k_n A) = 2943 N / (1e11 Pa/m x 0.25 m^2), so the
+    // The slab placed at its static overlap W / (k_n A) = 1472 N / (1e11 Pa/m x 0.25 m^2), so the
     // undamped run does not start with a bounce.
-    user_scene sc(-300 * user_g / (1e11 * 0.25));
+    user_scene sc(-150 * user_g / (1e11 * 0.25), false, 0.25);
     model s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
     s.set_gravity(vec3(0, 0, -user_g));
     s.fix_block(0);
@@ -1130,8 +1139,9 @@ TEST_CASE("user layer: integrator::dynamic names dynamics and the run result nam
   const real dynamic_slip = slide(integrator::dynamic{}, dynamic_run);
   const real damped_slip = slide(integrator::quasi_static{}, damped_run);
   INFO("slip " << dynamic_slip << " m undamped, " << damped_slip << " m damped");
-  CHECK(dynamic_slip == Approx(v0 * v0 / (2 * user_g * mu)).epsilon(0.01));
-  CHECK(damped_slip == Approx(v0 * v0 / (2 * 1.8 * user_g * mu)).epsilon(0.02));
+  // (measured: 88.295 mm undamped, 1.7e-4 above; 49.056 mm damped, 2.3e-4 above)
+  CHECK(dynamic_slip == Approx(v0 * v0 / (2 * user_g * mu)).epsilon(1e-3));
+  CHECK(damped_slip == Approx(v0 * v0 / (2 * 1.8 * user_g * mu)).epsilon(1e-3));
   CHECK_THAT(dynamic_run.damping, Catch::StartsWith("no damping (integrator::dynamic"));
   CHECK_THAT(damped_run.damping, Catch::StartsWith("local damping gamma = 0.8 (integrator::quasi_static") &&
                                      Catch::Contains("use integrator::dynamic"));
@@ -1906,11 +1916,11 @@ TEST_CASE("step bound: a cube dropped on a resting one halves its step's stiffne
 
 TEST_CASE("step bound: a block that covers more than the tolerance in one step is refused, naming it",
           "[rigid][step_bound][detected]") {
-  // The rebuild follows the motion once it passes tolerance / 2, so every gap up to the tolerance
-  // is seen before it closes, provided no step covers more than that margin. Cube 2 of the
-  // column, 1 cm above cube 1, thrown down at 3 tolerances per step: after one step its vertices
-  // moved 3 tolerances, past twice the trigger, and the next step refuses (block 2 named) rather
-  // than rebuild into an overlap. At 0.2 tolerance per step it runs on.
+  // A rebuild follows a block's motion once it passes 0.39 tolerance (detected/incremental.hpp), so
+  // every gap up to the tolerance is seen before it closes, provided no step covers more than the
+  // margin left. Cube 2 of the column, 1 cm above cube 1, thrown down at 3 tolerances per step:
+  // after one step its vertices moved 3 tolerances, past the tolerance, and the next step refuses
+  // (block 2 named) rather than rebuild into an overlap. At 0.2 tolerance per step it runs on.
   const auto tess = cube_column(1, 0.01);
   const auto mesh = geometry::zone_blocks(tess);
   const auto thrown = [&](real tolerances_per_step) {

@@ -7,6 +7,7 @@
 //   summary.json   the scene, steps, dt, rebuilds, storage growths, sub-contacts (final, peak),
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
 //                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s),
+//                  the blocks the rebuilds detected again (redetected_blocks, summed over them),
 //                  the phase split and ns_per_subcontact_step (common/phase_report.hpp; over the
 //                  mean sub-contact count, with and without the rebuilds; split: rank 0's), and
 //                  mpi_ranks (split: the mpi_* figures of common/mpi_run.hpp and mpi_rebalances)
@@ -290,6 +291,7 @@ int run(const inputs& in) {
       .set("spread_m", spread)
       .set("threads", max_threads())
       .set("rebuild_s", s.contacts().rebuild_seconds())
+      .set("redetected_blocks", s.contacts().redetected_blocks())
       .set("runtime_s", runtime_s);
   tessera::scenes::set_split_figures(j);
   if (split.rebalances() >= 0) j.set("mpi_rebalances", split.rebalances());
@@ -307,8 +309,10 @@ int run(const inputs& in) {
               static_cast<double>(steps) / std::max<index_t>(1, s.contacts().rebuild_count()),
               static_cast<long long>(s.contacts().subcontact_count()),
               static_cast<long long>(s.contacts().peak_subcontacts()));
-  std::printf("  highest centroid %.4g m, spread beyond the cube %.4g m, runtime_s %.2f (rebuilds %.2f s)\n", top_z(),
-              spread, runtime_s, s.contacts().rebuild_seconds());
+  std::printf("  highest centroid %.4g m, spread beyond the cube %.4g m, runtime_s %.2f (rebuilds %.2f s, %lld blocks "
+              "detected again)\n",
+              top_z(), spread, runtime_s, s.contacts().rebuild_seconds(),
+              static_cast<long long>(s.contacts().redetected_blocks()));
   std::printf("  gravity work %.4g J, rebuild exchange %.3g J, energy balance error %.2g\n", end.gravity_work,
               end.contact_rebuild_exchange, end.error_rel());
   std::printf("  wrote %s/{summary.json, curve.csv%s}\n", out.string().c_str(), in.vtk ? ", rubble.pvd, blocks_*.vtu" : "");

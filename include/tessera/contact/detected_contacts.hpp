@@ -7,9 +7,10 @@
 // model). DESIGN.md section 4, docs/model.md "Detected contacts".
 //
 // Rooms (contact/detected/), each with the part of this description that its code implements:
-//   rebuild.hpp         "Rebuilds": the detection pass every tolerance / 2 of motion (no contact
-//                       is missed), the merge of the sub-contacts that keeps a persisting corner's
-//                       state, bonded faces (params::bond_faces), tasks and gather slots
+//   rebuild.hpp         "Rebuilds": the detection pass (no contact is missed), the merge of the
+//                       sub-contacts that keeps a persisting corner's state, bonded faces
+//                       (params::bond_faces), tasks and gather slots
+//   incremental.hpp     rigid blocks: a rebuild detects again only the blocks that moved
 //   keys.hpp            the sub-contacts' keys (a, b, corner label) and their merge, sorted
 //   frames.hpp          a block's frame of four vertex gridpoints, sub-contact weights in it, its motion
 //   step.hpp            "Kinematics between rebuilds": the pairs' normals, each sub-contact's
@@ -51,6 +52,7 @@
 #include "../law/concepts.hpp"
 #include "concepts.hpp"
 #include "detected/frames.hpp"
+#include "detected/incremental.hpp"
 #include "detected/keys.hpp"
 #include "detected/params.hpp"
 #include "detected/refusals.hpp"
@@ -156,7 +158,8 @@ class detected_contacts {
 
   // ---- the time step (ContactSet) ----
 
-  /// Rebuilds when a vertex has moved more than tolerance / 2 since the last rebuild or the
+  /// Rebuilds when a vertex has moved more than the trigger since its block was last detected
+  /// (rigid: 0.39 x the tolerance, detected/incremental.hpp; deformable: tolerance / 2) or the
   /// interval is reached (the only call that allocates), then takes each block's motion for
   /// the step.
   void prepare_step(const node_set& gridpoints, real dt);  // detected/step.hpp
@@ -283,8 +286,13 @@ class detected_contacts {
   /// Candidate pairs of the last pass, and of them those this rank evaluated (set_detection_split).
   [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
   [[nodiscard]] std::size_t evaluated_candidate_count() const { return result_.evaluated; }  ///< Of candidate_count(), those this rank evaluated
-  /// Sub-contacts of the last rebuild that kept the state of an earlier one.
+  /// Sub-contacts of the last rebuild that kept the state of an earlier one (those of the pairs
+  /// it left untouched included).
   [[nodiscard]] index_t kept_last_rebuild() const { return kept_last_; }
+  /// Blocks detected again, summed over the rebuilds (a full pass counts every block; the
+  /// construction's included), and the pairs the last rebuild left untouched (detected/incremental.hpp).
+  [[nodiscard]] std::int64_t redetected_blocks() const { return redetected_; }
+  [[nodiscard]] index_t untouched_pairs_last_rebuild() const { return untouched_last_; }  ///< Pairs the last rebuild left untouched
   [[nodiscard]] real tolerance() const { return options_.tolerance; }  ///< The contact tolerance (m)
   /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
   [[nodiscard]] index_t bonded_at_start() const { return bonded_at_start_; }
@@ -346,7 +354,8 @@ class detected_contacts {
   void place_zoned(std::size_t i, index_t a, index_t b, const node_set* gp);
   bool collect_nodes(std::size_t k, const node_set* gp);
   // detected/rebuild.hpp
-  void rebuild(const node_set* gp);
+  void rebuild(const node_set* gp, bool full = true);
+  [[nodiscard]] real moved2_of(std::size_t b, const node_set& gp) const noexcept;
   void index_subcontacts();
   [[nodiscard]] std::size_t storage_capacity() const noexcept;
   [[nodiscard]] real stored_energy() const;
@@ -375,20 +384,8 @@ class detected_contacts {
     return detail::frame_inverse(reference_, b, gp);
   }
 
-  /// Energies of sub-contact i (J).
-  [[nodiscard]] contact_energies energies_of(std::size_t i) const {
-    contact_energies e;
-    const state_type& st = state_[i];
-    const real a = area_[i];
-    e.stored = a * Law::stored_energy(law_params_[at(pair_param_[at(pair_[i])])], st);
-    e.dissipated = a * Law::dissipated_energy(st);
-    if constexpr (detail::has_dissipation_split<state_type>) {
-      e.dissipated_tension = a * st.dissipated_tension;
-      e.dissipated_shear = a * st.dissipated_shear;
-      e.dissipated_compression = a * st.dissipated_compression;
-    }
-    return e;
-  }
+  /// Energies of sub-contact i (J). Defined in detected/subset.hpp.
+  [[nodiscard]] contact_energies energies_of(std::size_t i) const;
 
   [[nodiscard]] vec3 point(index_t i, bool side_a, const node_set& gp) const {
     const block_data& b = blocks_[at(side_a ? block_a(i) : block_b(i))];
@@ -478,10 +475,14 @@ class detected_contacts {
   std::vector<real> new_area_, new_gap_;
   std::vector<vec3> new_point_;
   std::vector<state_type> new_state_;
-  std::vector<std::uint8_t> new_fresh_, kept_old_;
+  std::vector<std::uint8_t> new_fresh_, kept_old_, redetect_;
+  std::vector<std::ptrdiff_t> new_source_;  ///< per new pair: its pass pair j >= 0, or -1 - the kept old pair
+  detail::previous_columns<feature_kind> prev_;  ///< the columns a rebuild copies for its kept pairs
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
   index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0;
+  index_t untouched_last_ = 0;
+  std::int64_t redetected_ = 0;
   double rebuild_seconds_ = 0;
 };
 

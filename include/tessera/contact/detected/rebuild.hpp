@@ -2,13 +2,16 @@
 // The rebuild pass of detected_contacts (contact/detected_contacts.hpp): one detection pass on the
 // blocks' current geometry and the merge of its corners with the sub-contacts so far.
 //
-// Rebuilds. At construction and whenever a block vertex has moved more than tolerance / 2 since
-// the last rebuild (or after max_rebuild_interval steps), prepare_step runs a detection pass on
-// the blocks' current geometry: grid broad phase with boxes enlarged by the tolerance, common
-// plane and contact patch of every candidate pair (common_plane.hpp). Guarantee: between
-// rebuilds no vertex moves more than tolerance / 2, so two blocks whose gap was above the
-// tolerance at the last rebuild cannot have closed it: no contact is missed. The check reads
-// every block vertex once per step (no velocity bound to guess).
+// Rebuilds. At construction, after max_rebuild_interval steps and, for deformable blocks,
+// whenever a block vertex has moved more than tolerance / 2 since the last rebuild, prepare_step
+// runs a detection pass on the blocks' current geometry: grid broad phase with boxes enlarged by
+// the tolerance, common plane and contact patch of every candidate pair (common_plane.hpp).
+// Guarantee: between rebuilds no vertex moves more than tolerance / 2, so two blocks whose gap
+// was above the tolerance at the last rebuild cannot have closed it: no contact is missed. Rigid
+// blocks rebuild incrementally in between (detected/incremental.hpp): once a block has moved 0.39
+// x the tolerance since it was last detected, the pass covers the pairs of the blocks that moved
+// more than 0.22 x it, and the other pairs stay as they are, with the same guarantee. The check
+// reads every block vertex once per step (no velocity bound to guess).
 //
 // Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a, block
 // b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an edge of B
@@ -59,16 +62,30 @@
 
 namespace tessera::contact {
 
-/// One detection pass on the current geometry and the merge of the sub-contacts (file comment).
+/// One detection pass on the current geometry and the merge of the sub-contacts (file comment);
+/// `full` false (rigid blocks during a run): of the blocks that moved only (detected/incremental.hpp).
 template <law::ContactLaw Law>
-inline void detected_contacts<Law>::rebuild(const node_set* gp) {
+inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   const auto started = std::chrono::steady_clock::now();
-  // The springs' energy before and after (the construction's pass sets the initial energy).
-  const real stored_before = gp != nullptr ? stored_energy() : 0.0;
   ++rebuilds_;
   steps_since_rebuild_ = 0;
   const std::size_t capacity_before = storage_capacity();
   const auto n_b = static_cast<index_t>(blocks_.size());
+  // The blocks detected again: all at a full pass, else those that moved past redetect_fraction
+  // x the tolerance since they were last detected (moved_, prepare_step's).
+  const bool incremental = gp != nullptr && !full && !options_.deformable_blocks;
+  const real redetect = detail::redetect_fraction * options_.tolerance;
+  redetect_.assign(at(n_b), 1);
+  if (incremental)
+    for (std::size_t b = 0; b < at(n_b); ++b) redetect_[b] = moved_[b] > redetect * redetect ? 1 : 0;
+  redetected_ += std::count(redetect_.begin(), redetect_.end(), 1);
+  const auto changed = [&](index_t a, index_t b) { return redetect_[at(a)] != 0 || redetect_[at(b)] != 0; };
+  // The springs' energy before and after, over the pairs detected again (the others keep theirs
+  // to the bit; the construction's pass sets the initial energy).
+  real stored_before = 0;
+  if (gp != nullptr)
+    for (std::size_t i = 0; i < key_label_.size(); ++i)
+      if (counted(i) && changed(pair_a_[at(pair_[i])], pair_b_[at(pair_[i])])) stored_before += energies_of(i).stored;
   real deviation = 0;
   for (index_t b = 0; b < n_b; ++b) {
     const block_data& bd = blocks_[at(b)];
@@ -93,24 +110,53 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
                             " m); detection reads the fit, so raise the tolerance (or stiffen the blocks)");
     max_deviation_ = deviation;
   }
-  rebuild_u_.resize(static_cast<index_t>(watch_gridpoints_.size()), 3);
-  for (std::size_t k = 0; k < watch_gridpoints_.size(); ++k)
-    for (int c = 0; c < 3; ++c)
-      rebuild_u_(static_cast<index_t>(k), c) = gp != nullptr ? gp->displacement(watch_gridpoints_[k], c) : 0.0;
-  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_, share_);
+  // The blocks detected again start their motion from here.
+  rebuild_u_.conservativeResize(static_cast<index_t>(watch_gridpoints_.size()), 3);
+  for (index_t b = 0; b < n_b; ++b) {
+    if (redetect_[at(b)] == 0) continue;
+    for (index_t k = blocks_[at(b)].watch_begin; k < blocks_[at(b)].watch_end; ++k)
+      for (int c = 0; c < 3; ++c) rebuild_u_(k, c) = gp != nullptr ? gp->displacement(watch_gridpoints_[at(k)], c) : 0.0;
+  }
+  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_, share_,
+                    incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>());
   if (share_.parts > 1) gather_(result_);  // the other parts, from the ranks that evaluated them
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
 
-  // New pairs and their corners, sorted by label within a pair (pairs come increasing).
-  const std::size_t n_pairs = result_.pairs.size();
+  // New pairs and their corners, sorted by label within a pair: the pass's pairs (increasing)
+  // and, merged in (a, b) order, the old pairs of two blocks not detected again, kept whole.
+  const std::size_t n_found = result_.pairs.size(), n_old_pairs = pair_a_.size();
   new_pair_a_.clear();
   new_pair_b_.clear();
   new_label_.clear();
   new_area_.clear();
   new_point_.clear();
   new_gap_.clear();
+  new_source_.clear();
   new_pair_first_.assign(1, 0);
-  for (std::size_t k = 0; k < n_pairs; ++k) {
+  untouched_last_ = 0;
+  std::size_t ko = 0;
+  for (std::size_t k = 0; k < n_found || ko < n_old_pairs;) {
+    // Old pairs with a block detected again make way for the pass's.
+    while (ko < n_old_pairs && changed(pair_a_[ko], pair_b_[ko])) ++ko;
+    const bool take_old = ko < n_old_pairs && (k == n_found || pair_a_[ko] < result_.pairs[k].a ||
+                                               (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
+    if (take_old) {
+      for (auto o = at(pair_first_[ko]); o < at(pair_first_[ko + 1]); ++o) {
+        new_label_.push_back(key_label_[o]);
+        new_area_.push_back(area_[o]);
+        new_point_.push_back(vec3::Zero());  // (unread: the kept weights stay)
+        new_gap_.push_back(0);
+      }
+      new_pair_a_.push_back(pair_a_[ko]);
+      new_pair_b_.push_back(pair_b_[ko]);
+      new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+      new_source_.push_back(-1 - static_cast<std::ptrdiff_t>(ko));
+      ++untouched_last_;
+      ++ko;
+      continue;
+    }
+    if (k == n_found) break;
+    new_source_.push_back(static_cast<std::ptrdiff_t>(k));
     const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
     // Deformable blocks: a face-to-face patch's sub-contacts at surface gridpoints.
     if (options_.deformable_blocks && result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
@@ -123,6 +169,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
       new_pair_a_.push_back(result_.pairs[k].a);
       new_pair_b_.push_back(result_.pairs[k].b);
       new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+      ++k;
       continue;
     }
     order_.clear();
@@ -133,13 +180,14 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
     const bool polygon = result_.type[k] == detection::patch_type::polygon;
     const real nominal =
         std::min(blocks_[at(result_.pairs[k].a)].nominal_area, blocks_[at(result_.pairs[k].b)].nominal_area);
+    const auto pair_begin = new_label_.size();
     for (std::size_t j : order_) {
       // A sliver polygon's corner keeps a floor of 1e-6 of the nominal area, so that areas stay
       // > 0 and the ratios of a rebuild (below) stay finite.
       const real a = polygon ? std::max(result_.area[j], 1e-6 * nominal) : nominal;
       // A label met twice (a corner within round-off of another) keeps its first point and
       // takes the other's area.
-      if (new_label_.size() > at(new_pair_first_.back()) && new_label_.back() == result_.label[j]) {
+      if (new_label_.size() > pair_begin && new_label_.back() == result_.label[j]) {
         if (polygon) new_area_.back() += a;
         continue;
       }
@@ -151,10 +199,13 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
     new_pair_a_.push_back(result_.pairs[k].a);
     new_pair_b_.push_back(result_.pairs[k].b);
     new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+    ++k;
   }
+  const std::size_t n_pairs = new_pair_a_.size();
   const std::size_t n = new_label_.size();
 
-  // Merge the states: old and new keys are both sorted by (a, b, label).
+  // Merge the states: old and new keys are both sorted by (a, b, label). A kept pair's
+  // sub-contacts keep theirs to the bit.
   new_state_.resize(n);
   new_fresh_.assign(n, 0);
   kept_last_ = 0;
@@ -163,6 +214,19 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
   const std::size_t n_old = key_label_.size();
   for (std::size_t k = 0; k < n_pairs; ++k) {
     const index_t a = new_pair_a_[k], b = new_pair_b_[k];
+    const std::ptrdiff_t source = new_source_[k];
+    if (source < 0) {
+      const auto o0 = at(pair_first_[at(-1 - source)]);
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+        const std::size_t o = o0 + (i - at(new_pair_first_[k]));
+        new_state_[i] = state_[o];
+        new_fresh_[i] = fresh_[o];
+        kept_old_[o] = 1;
+        ++kept_last_;
+      }
+      continue;
+    }
+    const auto j = at(source);
     const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
       if (detail::seek_old_key(old, a, b, new_label_[i], pair_a_, pair_b_, pair_, key_label_)) {
@@ -184,7 +248,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
       } else {
         // params::bond_faces: at construction, the coinciding faces of a bonded material pair.
         const bool bonded = gp == nullptr && options_.bond_faces &&
-                            result_.type[k] == detection::patch_type::polygon &&
+                            result_.type[j] == detection::patch_type::polygon &&
                             table_.get(material_[at(a)], material_[at(b)]).bonded &&
                             std::abs(new_gap_[i]) <= bond_gap_fraction * options_.tolerance;
         state_type s = bonded ? state_type{} : Law::unbonded_state(p);
@@ -199,7 +263,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
         // the energy it holds is in the books from the start.
         // (The law books that energy as work done on the contact; it was not: undo its entry.)
         const state_type unbonded = s;
-        Law::update(p, s, 0, vec3::Zero(), result_.planes[k].normal);
+        Law::update(p, s, 0, vec3::Zero(), result_.planes[j].normal);
         s.dissipated_tension = unbonded.dissipated_tension;
         s.dissipated_shear = unbonded.dissipated_shear;
         s.dissipated_compression = unbonded.dissipated_compression;
@@ -221,7 +285,14 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
   state_.swap(new_state_);
   fresh_.swap(new_fresh_);
 
-  // Per pair: blocks, parameters, normal feature, normals.
+  // Per pair: blocks, parameters, normal feature, normals (a kept pair: its own, copied).
+  std::swap(pair_param_, prev_.param);
+  std::swap(feature_, prev_.feature);
+  std::swap(feature_a_, prev_.feature_a);
+  std::swap(feature_b_, prev_.feature_b);
+  std::swap(side_a_, prev_.side_a);
+  std::swap(side_b_, prev_.side_b);
+  for (int j = 0; j < 3; ++j) normal_[at(j)].swap(prev_.normal[at(j)]);
   pair_a_.assign(new_pair_a_.begin(), new_pair_a_.end());
   pair_b_.assign(new_pair_b_.begin(), new_pair_b_.end());
   pair_param_.resize(n_pairs);
@@ -234,7 +305,17 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
   for (std::size_t k = 0; k < n_pairs; ++k) {
     const index_t a = pair_a_[k], b = pair_b_[k];
     pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
-    const detection::contact_plane& plane = result_.planes[k];
+    if (new_source_[k] < 0) {
+      const auto o = at(-1 - new_source_[k]);
+      feature_[k] = prev_.feature[o];
+      feature_a_[k] = prev_.feature_a[o];
+      feature_b_[k] = prev_.feature_b[o];
+      side_a_[k] = prev_.side_a[o];
+      side_b_[k] = prev_.side_b[o];
+      for (int j = 0; j < 3; ++j) normal_[at(j)].row(static_cast<index_t>(k)) = prev_.normal[at(j)].row(static_cast<index_t>(o));
+      continue;
+    }
+    const detection::contact_plane& plane = result_.planes[at(new_source_[k])];
     // The feature in each block's reference frame: n = R_a fa (face of A), -R_b fb (face of B),
     // or +-(R_a ea x R_b eb) (edges), so that n equals the plane's normal now.
     const mat3 ra = rotation(blocks_[at(a)], gp), rb = rotation(blocks_[at(b)], gp);
@@ -282,24 +363,35 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
     }
   }
 
-  // Per sub-contact: pair, area, weights.
+  // Per sub-contact: pair, area, weights (a kept pair's: its own, copied, and its forces).
+  std::swap(corner_normal_, prev_.corner_normal);
+  for (int s = 0; s < 8; ++s) weight_[at(s)].swap(prev_.weight[at(s)]);
+  for (int c = 0; c < 3; ++c) force_[at(c)].swap(prev_.force[at(c)]);
   pair_.resize(n);
   key_label_.assign(new_label_.begin(), new_label_.end());
   corner_normal_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto k = at(std::upper_bound(new_pair_first_.begin(), new_pair_first_.end(), static_cast<index_t>(i)) -
-                      new_pair_first_.begin() - 1);
-    // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
-    const std::uint64_t label = key_label_[i];
-    const bool node = detail::is_node_label(label), node_b = node && detail::node_label_side_b(label);
-    const auto kind = detection::corner_label::kind_of(label);
-    const bool of_b = node ? node_b : kind == detection::corner_label::kind::vertex_b;
-    const bool of_a = node ? !node_b : kind == detection::corner_label::kind::vertex_a;
-    corner_normal_[i] = of_b && side_a_[k].squaredNorm() > 0 ? 1 : of_a && side_b_[k].squaredNorm() > 0 ? 2 : 0;
-  }
   area_.resize(n);
   for (auto& w : weight_) w.resize(n);
   for (auto& f : force_) f.assign(n, 0.0);
+  for (std::size_t k = 0; k < n_pairs; ++k) {
+    const std::size_t o0 = new_source_[k] < 0 ? at(pair_first_[at(-1 - new_source_[k])]) : 0;
+    for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+      if (new_source_[k] < 0) {
+        const std::size_t o = o0 + (i - at(new_pair_first_[k]));
+        corner_normal_[i] = prev_.corner_normal[o];
+        for (int s = 0; s < 8; ++s) weight_[at(s)][i] = prev_.weight[at(s)][o];
+        for (int c = 0; c < 3; ++c) force_[at(c)][i] = prev_.force[at(c)][o];
+        continue;
+      }
+      // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
+      const std::uint64_t label = key_label_[i];
+      const bool node = detail::is_node_label(label), node_b = node && detail::node_label_side_b(label);
+      const auto kind = detection::corner_label::kind_of(label);
+      const bool of_b = node ? node_b : kind == detection::corner_label::kind::vertex_b;
+      const bool of_a = node ? !node_b : kind == detection::corner_label::kind::vertex_a;
+      corner_normal_[i] = of_b && side_a_[k].squaredNorm() > 0 ? 1 : of_a && side_b_[k].squaredNorm() > 0 ? 2 : 0;
+    }
+  }
   if (options_.deformable_blocks) {
     for (auto& v : node_) v.resize(n);
     for (std::size_t k = 0; k < n_pairs; ++k)
@@ -311,11 +403,14 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
   } else {
     for (std::size_t k = 0; k < n_pairs; ++k) {
       const index_t a = pair_a_[k], b = pair_b_[k];
-      const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
-      const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
       for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
         pair_[i] = static_cast<index_t>(k);
         area_[i] = new_area_[i];
+      }
+      if (new_source_[k] < 0) continue;  // a kept pair's weights stay
+      const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
+      const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
         const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
         weight_[0][i] = 1 - la.sum();
         weight_[4][i] = 1 - lb.sum();
@@ -331,7 +426,12 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp) {
 
   peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index_t>(n));
   if (storage_capacity() > capacity_before) ++growths_;
-  if (gp != nullptr) retired_.rebuild_exchange += stored_energy() - stored_before;
+  if (gp != nullptr) {
+    real stored_after = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (counted(i) && changed(pair_a_[at(pair_[i])], pair_b_[at(pair_[i])])) stored_after += energies_of(i).stored;
+    retired_.rebuild_exchange += stored_after - stored_before;
+  }
   rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
 
@@ -394,23 +494,6 @@ inline void detected_contacts<Law>::index_subcontacts() {
   for (index_t g = 0; g < gridpoint_count_; ++g)
     if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)] && (own_gridpoint_.empty() || own_gridpoint_[at(g)] != 0))
       contact_gridpoints_.push_back(g);
-}
-
-/// Capacity of the arrays a rebuild grows with the sub-contacts, pairs and gather slots (the
-/// growth count compares it before and after).
-template <law::ContactLaw Law>
-[[nodiscard]] inline std::size_t detected_contacts<Law>::storage_capacity() const noexcept {
-  return key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() + pair_force_.capacity();
-}
-
-/// Elastic energy of the current sub-contacts this rank books (J; all without set_own_blocks),
-/// summed in sub-contact order.
-template <law::ContactLaw Law>
-[[nodiscard]] inline real detected_contacts<Law>::stored_energy() const {
-  real e = 0;
-  for (index_t i = 0; i < size(); ++i)
-    if (counted(at(i))) e += energies_of(at(i)).stored;
-  return e;
 }
 
 }  // namespace tessera::contact

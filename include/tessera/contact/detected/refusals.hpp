@@ -127,21 +127,25 @@ inline void refuse_initial_overlaps(const detection::detection_workspace& worksp
 }
 
 /// prepare_step's refusal during a run. The rebuild comes at the first step whose motion since the
-/// last rebuild passes tolerance / 2 (less the deformable fit's deviation), so every gap of up to
-/// the tolerance is seen before it closes; a watched vertex already past twice that covered more
-/// than the trigger's margin in ONE step, so blocks may overlap by more than the tolerance unseen
-/// (the same depth the constructor refuses), and the rebuild would load a spring by the overlap.
-/// `moved2`: per block, the squared largest motion (m^2) of its watched gridpoints; `largest`: their
-/// maximum; `steps`: steps since the last rebuild; `tolerance`: params::tolerance (m).
-[[noreturn]] inline void refuse_fast_motion(const std::vector<real>& moved2, real largest, index_t steps, real tolerance) {
+/// block was last detected passes the trigger (`trigger`, m: 0.39 x the tolerance for rigid blocks,
+/// detected/incremental.hpp; tolerance / 2 less the deformable fit's deviation), so every gap of
+/// up to the tolerance is seen before it closes; a watched vertex already past the tolerance
+/// (deformable: twice the trigger) covered more than the tolerance less the trigger in ONE step, so
+/// blocks may overlap by more than the tolerance unseen (the same depth the constructor refuses),
+/// and the rebuild would load a spring by the overlap. `moved2`: per block, the squared largest
+/// motion (m^2) of its watched gridpoints; `largest`: their maximum; `steps`: steps since the last
+/// rebuild; `tolerance`: params::tolerance (m).
+[[noreturn]] inline void refuse_fast_motion(const std::vector<real>& moved2, real largest, index_t steps, real tolerance,
+                                            real trigger) {
   // A split run's vote (set_motion_vote): the largest motion may be another rank's block's.
   const auto found = std::find(moved2.begin(), moved2.end(), largest);
   const std::string block = found == moved2.end() ? std::string("a block of another MPI rank")
                                                   : tessera::detail::concat("block ", found - moved2.begin());
   throw invalid_input(tessera::detail::concat(
-      "detected_contacts: a vertex of ", block, " moved ", std::sqrt(largest), " m in the ", steps,
-      " step(s) since the last contact rebuild, more than the tolerance ", tolerance,
-      " m (the rebuild comes once it passes tolerance / 2, so one step covered more than that): blocks may overlap "
+      "detected_contacts: a vertex of ", block, " moved ", std::sqrt(largest),
+      " m since the block was last detected (", steps, " step(s) after the last contact rebuild), more than the "
+      "tolerance ", tolerance, " m (a rebuild comes once it passes ", trigger,
+      " m, so one step covered more than the difference): blocks may overlap "
       "by more than the tolerance unseen. Either the blocks move too fast for the step (a thrown or driven block: "
       "lower the time step, solver_options::safety or dt, or raise the contact tolerance), or a contact stiffness "
       "too soft for the loads lets a block sink more than the tolerance into what it rests on (its overlap "

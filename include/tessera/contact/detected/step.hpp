@@ -67,48 +67,59 @@ template <law::ContactLaw Law>
   return side_b_[k].squaredNorm() == 0 || (feature_[k] == feature_kind::face_b && side_b_[k] == feature_b_[k]);
 }
 
+/// The largest squared move (m^2) of block b's watched gridpoints since it was last detected.
+template <law::ContactLaw Law>
+[[nodiscard]] inline real detected_contacts<Law>::moved2_of(std::size_t b, const node_set& gp) const noexcept {
+  const real* u[3] = {gp.displacement.col(0).data(), gp.displacement.col(1).data(), gp.displacement.col(2).data()};
+  const block_data& bd = blocks_[b];
+  real m2 = 0;
+  for (index_t k = bd.watch_begin; k < bd.watch_end; ++k) {
+    const auto g = at(watch_gridpoints_[at(k)]);
+    const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1), dz = u[2][g] - rebuild_u_(k, 2);
+    m2 = std::max(m2, (dx * dx + dy * dy) + dz * dz);
+  }
+  return m2;
+}
+
 /// prepare_step (declared, with what it does, in the class).
 template <law::ContactLaw Law>
 inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, real /*dt*/) {
   ++steps_since_rebuild_;
-  const real* u[3] = {gridpoints.displacement.col(0).data(), gridpoints.displacement.col(1).data(),
-                      gridpoints.displacement.col(2).data()};
   // Per block, in one parallel loop: its affine motion this step (the pairs read it, rather
   // than gathering the four frame gridpoints of both blocks at every corner) and how far its
-  // watched gridpoints moved since the last rebuild (a rebuild leaves the motion as it is).
+  // watched gridpoints moved since it was last detected (a rebuild leaves the motion as it is).
+  // A split run's vote (set_motion_vote) watches the own blocks; the ranks reduce the largest.
+  const bool vote = static_cast<bool>(largest_motion_) && !own_block_.empty();
   parallel_for(
       static_cast<std::int64_t>(blocks_.size()),
       [&](std::int64_t b) {
-        const block_data& bd = blocks_[at(b)];
-        motion_[at(b)] = detail::motion_of(reference_, bd, gridpoints, options_.deformable_blocks);
-        real m2 = 0;
-        // A split run's vote (set_motion_vote) watches the own blocks; the ranks reduce the largest.
-        const bool watched = !largest_motion_ || own_block_.empty() || own_block_[at(b)] != 0;
-        for (index_t k = watched ? bd.watch_begin : bd.watch_end; k < bd.watch_end; ++k) {
-          const auto g = at(watch_gridpoints_[at(k)]);
-          const real dx = u[0][g] - rebuild_u_(k, 0), dy = u[1][g] - rebuild_u_(k, 1),
-                     dz = u[2][g] - rebuild_u_(k, 2);
-          m2 = std::max(m2, (dx * dx + dy * dy) + dz * dz);
-        }
-        moved_[at(b)] = m2;
+        motion_[at(b)] = detail::motion_of(reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
+        moved_[at(b)] = !vote || own_block_[at(b)] != 0 ? moved2_of(at(b), gridpoints) : real(0);
       },
       64);
   real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
   if (largest_motion_) moved2 = largest_motion_(moved2);
-  // Deformable blocks: detection read each block's affine fit, within max_deviation_ of its
-  // surface gridpoints, so the trigger keeps that much of the half tolerance in reserve.
-  const real half = 0.5 * options_.tolerance - max_deviation_;
-  // Past twice the trigger, one step covered more than it: refuse (detected/refusals.hpp).
-  if (half > 0 && moved2 > 4 * half * half) detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, options_.tolerance);
-  if (moved2 > half * half || steps_since_rebuild_ >= options_.max_rebuild_interval) {
+  // Rigid blocks: the incremental trigger (detected/incremental.hpp). Deformable blocks: every
+  // block at tolerance / 2; detection read each block's affine fit, within max_deviation_ of
+  // its surface gridpoints, so the trigger keeps that much in reserve.
+  const real tol = options_.tolerance;
+  const real trigger = options_.deformable_blocks ? 0.5 * tol - max_deviation_ : detail::trigger_fraction * tol;
+  // Past the tolerance (deformable: twice the trigger), one step covered more than the tolerance
+  // less the trigger: refuse (detected/refusals.hpp).
+  const real refuse = options_.deformable_blocks ? 2 * trigger : tol;
+  if (trigger > 0 && moved2 > refuse * refuse)
+    detail::refuse_fast_motion(moved_, moved2, steps_since_rebuild_, tol, trigger);
+  const bool interval = steps_since_rebuild_ >= options_.max_rebuild_interval;
+  if (moved2 > trigger * trigger || interval) {
     if (before_rebuild_) {
       // A split run's copies of other ranks' blocks are current now: their motions again.
       before_rebuild_();
       parallel_for(static_cast<std::int64_t>(blocks_.size()), [&](std::int64_t b) {
         motion_[at(b)] = detail::motion_of(reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
+        moved_[at(b)] = moved2_of(at(b), gridpoints);
       }, 64);
     }
-    rebuild(&gridpoints);
+    rebuild(&gridpoints, interval || options_.deformable_blocks);
   }
 }
 

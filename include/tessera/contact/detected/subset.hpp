@@ -36,6 +36,38 @@
 
 namespace tessera::contact {
 
+/// Capacity of the arrays a rebuild grows with the sub-contacts, pairs and gather slots (the
+/// growth count compares it before and after).
+template <law::ContactLaw Law>
+[[nodiscard]] inline std::size_t detected_contacts<Law>::storage_capacity() const noexcept {
+  return key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() + pair_force_.capacity();
+}
+
+/// Elastic energy of the current sub-contacts this rank books (J; all without set_own_blocks),
+/// summed in sub-contact order.
+template <law::ContactLaw Law>
+[[nodiscard]] inline real detected_contacts<Law>::stored_energy() const {
+  real e = 0;
+  for (index_t i = 0; i < size(); ++i)
+    if (counted(at(i))) e += energies_of(at(i)).stored;
+  return e;
+}
+
+template <law::ContactLaw Law>
+[[nodiscard]] inline contact_energies detected_contacts<Law>::energies_of(std::size_t i) const {
+  contact_energies e;
+  const state_type& st = state_[i];
+  const real a = area_[i];
+  e.stored = a * Law::stored_energy(law_params_[at(pair_param_[at(pair_[i])])], st);
+  e.dissipated = a * Law::dissipated_energy(st);
+  if constexpr (detail::has_dissipation_split<state_type>) {
+    e.dissipated_tension = a * st.dissipated_tension;
+    e.dissipated_shear = a * st.dissipated_shear;
+    e.dissipated_compression = a * st.dissipated_compression;
+  }
+  return e;
+}
+
 template <law::ContactLaw Law>
 inline void detected_contacts<Law>::set_own_blocks(std::span<const index_t> own) {
   require(!options_.deformable_blocks,

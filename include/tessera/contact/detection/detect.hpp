@@ -79,8 +79,9 @@ struct detection_workspace {
   std::vector<contact_plane> planes;  ///< contact plane of each candidate
   std::vector<contact_patch> patches;  ///< contact patch of each candidate
   std::vector<index_t> face_first{0};         ///< CSR over blocks into faces
-  std::vector<geometry::plane> faces;       ///< every block's face planes (append_face_planes), this pass
-  /// Block b's face planes as the last pass computed them.
+  std::vector<geometry::plane> faces;       ///< the blocks' face planes (append_face_planes), this pass
+  std::vector<std::uint8_t> needs_faces;    ///< per block, whether this pass computed its face planes
+  /// Block b's face planes as the last pass computed them (valid where needs_faces[b]).
   [[nodiscard]] std::span<const geometry::plane> faces_of(std::size_t b) const {
     const auto first = static_cast<std::size_t>(face_first[b]), last = static_cast<std::size_t>(face_first[b + 1]);
     return std::span<const geometry::plane>(faces).subspan(first, last - first);
@@ -88,10 +89,13 @@ struct detection_workspace {
 };
 
 /// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
-/// `boxes[i]` = blocks[i].bounds()). Throws invalid_input for mismatched sizes or a bad option.
+/// `boxes[i]` = blocks[i].bounds()). `only` (empty: every pair) restricts the pass to the candidate
+/// pairs with at least one block b marked only[b] != 0 (an incremental rebuild: the pairs of the
+/// blocks that moved); the face planes are then computed for those pairs' blocks only. Throws
+/// invalid_input for mismatched sizes or a bad option.
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                           detection_workspace& w, detection_share share = {});
+                           detection_workspace& w, detection_share share = {}, std::span<const std::uint8_t> only = {});
 
 }  // namespace tessera::contact::detection
 

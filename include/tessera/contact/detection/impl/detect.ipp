@@ -9,9 +9,11 @@ namespace tessera::contact::detection {
 
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                           detection_workspace& w, detection_share share) {
-  require(edges.size() == blocks.size() && boxes.size() == blocks.size(), "detect: ", blocks.size(), " blocks, ",
-          edges.size(), " edge lists and ", boxes.size(), " boxes: give one of each per block");
+                           detection_workspace& w, detection_share share, std::span<const std::uint8_t> only) {
+  require(edges.size() == blocks.size() && boxes.size() == blocks.size() &&
+              (only.empty() || only.size() == blocks.size()),
+          "detect: ", blocks.size(), " blocks, ", edges.size(), " edge lists, ", boxes.size(), " boxes and ",
+          only.size(), " marks: give one of each per block (marks: or none)");
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
           " m must be finite and > 0");
   require(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "detect: part ", share.part, " of ",
@@ -21,13 +23,24 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
     uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
-  // Every block's face planes, once per pass (the pairs read them, rather than each candidate
+  // An incremental pass: the candidates of the marked blocks (kept in order), and the blocks
+  // whose face planes they read.
+  w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
+  if (!only.empty()) {
+    std::erase_if(w.candidates, [&](const block_pair& c) {
+      return only[static_cast<std::size_t>(c.a)] == 0 && only[static_cast<std::size_t>(c.b)] == 0;
+    });
+    for (const block_pair& c : w.candidates)
+      w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
+  }
+  // The blocks' face planes, once per pass (the pairs read them, rather than each candidate
   // pair computing both blocks' normals again).
   w.face_first.assign(1, 0);
   for (const geometry::convex_polyhedron& p : blocks) w.face_first.push_back(w.face_first.back() + p.face_count());
   w.faces.resize(static_cast<std::size_t>(w.face_first.back()));
   parallel_for(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {
     const auto b = static_cast<std::size_t>(k);
+    if (w.needs_faces[b] == 0) return;
     for (index_t f = 0; f < blocks[b].face_count(); ++f)
       w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
   }, 64);
