@@ -725,6 +725,33 @@ tessera_add_example_test(brazilian NAME example_brazilian_beam_quick
          "energy_balance_error_rel LESS 1e-3")
 tessera_add_refusal_test(refuse_brazilian_material brazilian
   "brazilian: --material 'granite' is not a concrete recipe \\(expected prism or beam\\)" --threads 1 --material granite)
+# The beam's concrete with --law slip_softening (issue #63) at the compression set that met f_c 35 MPa
+# (phi_0 58 deg, phi_res 15 deg, G_II 300 J/m^2), quick seed 1 to 1 mm (measured: splits at 406 um,
+# f_sp / f_T 4.09, 4.05 at the diametral crack's opening; the study's law with the same set 2.79; 7 s
+# of CPU): the law reaches the disc (its G_II and phi_res in summary.json) and splitting stays above
+# EC2's 1.11 (docs/validation.md "One concrete").
+tessera_add_example_test(brazilian NAME example_brazilian_slip_softening_quick
+  ARGS --quick --threads 1 --material beam --law slip_softening --phi-deg 58 --phi-res-deg 15 --g-ii 300
+       --max-displacement 1e-3
+  CHECKS "law STREQUAL slip_softening"
+         "g_ii_J_per_m2 EQUAL 300" "phi_res_deg GREATER 14.99" "phi_res_deg LESS 15.01"
+         "split STREQUAL ON"
+         "f_sp_over_f_T GREATER 3" "f_sp_over_f_T LESS 5"
+         "bottom_over_top_at_peak_rel LESS 0.05"
+         "bottom_over_top_at_peak_rel GREATER -0.05"
+         "energy_balance_error_rel LESS 1e-3")
+# --law and --g-ii as compression has them (issue #63): the flags' refusals name the value, the law is
+# validated before the scene is built (a G_II below the elastic unloading's is refused).
+tessera_add_refusal_test(refuse_brazilian_g_ii_study brazilian
+  "brazilian: --g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --material beam --g-ii 100)
+tessera_add_refusal_test(refuse_brazilian_law brazilian
+  "brazilian: --law: invalid value 'soft' \\(expected study or slip_softening\\)" --threads 1 --material beam --law soft)
+tessera_add_refusal_test(refuse_brazilian_law_prism brazilian
+  "brazilian: --law slip_softening applies to --material beam only" --threads 1 --law slip_softening)
+tessera_add_refusal_test(refuse_brazilian_g_ii_small brazilian
+  "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --material beam --law slip_softening --g-ii 10)
+tessera_add_refusal_test(refuse_brazilian_phi_res brazilian
+  "brazilian: --phi-deg 35 must not be below the residual 40 deg" --threads 1 --material beam --phi-res-deg 40)
 
 # ---- rc_beam's law options and bars that cannot yield (issue #41 items 1-3): the quick beam with
 # --cohesion coupled (presets::coupled_beam_law), --slip-breaks-tension and --steel-yield 1e12

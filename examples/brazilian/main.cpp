@@ -12,7 +12,9 @@
 // (EC2: 1/0.9 = 1.11), only for a disc that split: one that has not split by --max-displacement reports
 // "split": false and no f_sp (its largest load is the wedges' under the strips). curve.csv also has the
 // opening across the loaded diameter (the flats x = +-a over the middle third); summary.json the load and
-// opening when the split is found. Writes run.json, curve.csv, summary.json.
+// opening when the split is found. --law (beam only): study (study_beam_law) or slip_softening
+// (slip_softening_beam_law: c_0 and phi_0 soften with the plastic slip to c_res and --phi-res-deg over
+// the mode-II fracture energy --g-ii), as compression. Writes run.json, curve.csv, summary.json.
 #include <tessera/core/parallel.hpp>
 #include <tessera/geometry/shapes.hpp>
 #include <tessera/geometry/voronoi.hpp>
@@ -35,6 +37,7 @@
 #include <string>
 #include <vector>
 
+#include "common/cli.hpp"
 #include "common/scenes.hpp"
 #include "rc_beam/beam.hpp"
 
@@ -44,12 +47,14 @@ namespace {
 
 // The flags (main's --help), SI units. blocks 0: the recipe's block size; scale NaN: the recipe's default.
 struct disc_options {
-  std::string out = "results/brazilian", material = "prism";
+  std::string out = "results/brazilian", material = "prism", law = "study";
   bool quick = false;
   real seed = 1, threads = 0, n_blocks = 0, sides = 36, diameter = 0.15, thickness = 0.06;
   real scale = std::numeric_limits<real>::quiet_NaN();
   real rate = 5e-3, du = 2e-9, u_max = 3e-4;  // m/s, strip displacement per step (m), last displacement (m)
   real cohesion_ratio = 2, phi_deg = 35;       // c_0 / f_T and phi_0 (deg) of the contacts (the study's)
+  real phi_res_deg = std::numeric_limits<real>::quiet_NaN();  // phi_res (deg); NaN: the recipe's (30)
+  real g_ii = 0;  // mode-II fracture energy with --law slip_softening (J/m^2); 0: scenes::default_g_ii
 };
 
 template <class joint_law>
@@ -59,15 +64,15 @@ int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run
 
 int main(int argc, char** argv) {
   disc_options o;
-  auto& [out, material, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max, cohesion_ratio,
-         phi_deg] = o;
+  auto& [out, material, law, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max, cohesion_ratio,
+         phi_deg, phi_res_deg, g_ii] = o;
   struct flag { const char* name; real* value; real lo, hi; bool integer; };  // a number flag and its range
   const flag flags[] = {{"--seed", &seed, 1, 1e9, true}, {"--threads", &threads, 0, 256, true},
       {"--blocks", &n_blocks, 0, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
       {"--thickness", &thickness, 0.005, 2, false}, {"--strength-scale", &scale, 0.1, 10, false},
       {"--rate", &rate, 1e-5, 0.1, false}, {"--step-displacement", &du, 1e-10, 1e-7, false},
       {"--max-displacement", &u_max, 1e-6, 0.01, false}, {"--cohesion-ratio", &cohesion_ratio, 0.1, 20, false},
-      {"--phi-deg", &phi_deg, 0, 80, false}};
+      {"--phi-deg", &phi_deg, 0, 80, false}, {"--phi-res-deg", &phi_res_deg, 0, 80, false}, {"--g-ii", &g_ii, 0, 1e6, false}};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const flag* f = std::find_if(std::begin(flags), std::end(flags), [&](const flag& g) { return a == g.name; });
@@ -75,15 +80,18 @@ int main(int argc, char** argv) {
       std::puts("brazilian [--out DIR] [--quick] [--material prism|beam] [--seed 1..1e9] [--threads 0..256]\n"
                 "  [--blocks 0..2000] [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
-                "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]:\n"
+                "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]\n"
+                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening] [--g-ii 0..1e6 J/m^2]:\n"
                 "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
                 "  --material: the concrete of examples/calibrate --material, its law, parameters, block size and zoning:\n"
                 "  prism (default; the study's prism, f_T 2.15 MPa, strength scale 0.907, 38 blocks in the default disc)\n"
                 "  or beam (rc_beam's, f_T 2.5 MPa, linear softening, 35 MPa cap, strength scale 1, 12 blocks, 30 mm\n"
                 "  face zoning). --blocks 0: the material's block size. --quick: 5 nm per step.");
+      std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n", scenes::law_flag_help, scenes::g_ii_flag_help);
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--material" && i + 1 < argc) material = argv[++i];
+    else if (a == "--law" && i + 1 < argc) law = argv[++i];
     else if (a == "--quick") quick = true;
     else if (f != std::end(flags)) {
       const char* v = i + 1 < argc ? argv[++i] : "";
@@ -98,6 +106,17 @@ int main(int argc, char** argv) {
   if (material != "prism" && material != "beam")
     return std::fprintf(stderr, "brazilian: --material '%s' is not a concrete recipe (expected prism or beam)\n",
                         material.c_str()), 2;
+  if (law != "study" && law != "slip_softening")
+    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study or slip_softening)\n", law.c_str()), 2;
+  if (material == "prism" && law != "study")
+    return std::fprintf(stderr, "brazilian: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
+                        law.c_str()), 2;
+  try {
+    scenes::require_g_ii_with_slip_softening("brazilian", law, g_ii);
+  } catch (const std::exception& e) {
+    cli::print_error("brazilian", e);
+    return 2;
+  }
   if (static_cast<int>(sides) % 4 != 0)  // a flat at the top and at the bottom needs sides = 4k
     return std::fprintf(stderr, "brazilian: --sides = %g must be a multiple of 4 (flats at top and bottom)\n", sides), 2;
   if (quick) du = std::max<real>(du, 5e-9);
@@ -111,9 +130,12 @@ int main(int argc, char** argv) {
     beam.strength_scale = scale;
     auto recipe = scenes::beam_concrete(beam);
     recipe.contact.shear.c_0 = cohesion_ratio * recipe.contact.tension.f_T, recipe.contact.shear.c_res = 0.01 * recipe.contact.shear.c_0;
+    if (law == "slip_softening")
+      return run_disc(o, scenes::with_slip_softening(recipe, g_ii > 0 ? g_ii : scenes::default_g_ii), record);
     return run_disc(o, recipe, record);
   } catch (const std::exception& e) {
-    return std::fprintf(stderr, "brazilian: %s\n", e.what()), 1;
+    cli::print_error("brazilian", e);  // one "brazilian: " before the message
+    return 1;
   }
 }
 
@@ -122,8 +144,8 @@ namespace {
 template <class joint_law>
 int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run_record& record) {
   using model = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<joint_law>>;
-  auto& [out, material, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max, cohesion_ratio,
-         phi_deg] = o;
+  auto& [out, material, law, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max, cohesion_ratio,
+         phi_deg, phi_res_deg, g_ii] = o;
   {
     // ---- scene: geometry, materials, supports, loading ----
     const real pi = std::numbers::pi, R = diameter / 2, a = R * std::cos(pi / sides), strip = 2 * R * std::sin(pi / sides);
@@ -131,13 +153,15 @@ int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run
     const auto disc = geometry::cylinder_prism(vec3::Zero(), vec3::UnitZ(), R, thickness, static_cast<index_t>(sides), pi / sides);
     const real disc_volume = 0.5 * sides * R * R * std::sin(2 * pi / sides) * thickness;
     if (n_blocks == 0) n_blocks = static_cast<real>(recipe.blocks_in(disc_volume));  // the recipe's block size
+    typename joint_law::params joint = recipe.contact;  // the recipe's contacts, at its block size
+    joint.shear.phi_0 = law::friction_angle::from_degrees(phi_deg);
+    if (!std::isnan(phi_res_deg)) joint.shear.phi_res = law::friction_angle::from_degrees(phi_res_deg);
+    require(joint.shear.phi_res.degrees() <= phi_deg, "brazilian: --phi-deg ", phi_deg, " must not be below the residual ",
+            joint.shear.phi_res.degrees(), " deg");
+    joint_law::validate(joint);  // names a bad parameter (c_res, phi_res, G_II) before the scene is built
     const auto tess = geometry::random_voronoi(disc, static_cast<index_t>(n_blocks), static_cast<std::uint64_t>(seed));
     const auto mesh = geometry::zone_blocks(tess, recipe.zoning());  // the recipe's zoning
     const zones::linear_elastic_tet::params concrete = recipe.block_material;  // semi-rigid: 10 x the macro E
-    typename joint_law::params joint = recipe.contact;  // the recipe's contacts, at its block size
-    joint.shear.phi_0 = law::friction_angle::from_degrees(phi_deg);
-    require(joint.shear.phi_res.degrees() <= phi_deg, "brazilian: --phi-deg ", phi_deg, " must not be below the residual ",
-            joint.shear.phi_res.degrees(), " deg");
     solver_options options;
     options.mass_scaling_dt = du / rate;  // quasi-static: masses scaled so the strip moves du per step
     model s(tess, mesh, concrete, contact::material_table<typename joint_law::params>(joint), {}, options);
@@ -225,7 +249,8 @@ int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run
     const real f_crack = 2 * p_crack / (pi * diameter * thickness);
     io::write_csv(std::filesystem::path(out) / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {u, p_top, p_bottom, w_open});
     io::summary_json j;
-    j.set("example", "brazilian").set("material", material).set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
+    j.set("example", "brazilian").set("material", material).set("law", law).set("g_ii_J_per_m2", law == "slip_softening" ? g_ii > 0 ? g_ii : scenes::default_g_ii : none)
+        .set("phi_res_deg", joint.shear.phi_res.degrees()).set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
         .set("zone_edge_m", recipe.zone_edge).set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
         .set("strength_scale", scale).set("cohesion_ratio", cohesion_ratio).set("phi_0_deg", phi_deg).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())
         .set("damping_in_force", s.damping_in_force())
@@ -241,15 +266,15 @@ int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run
     j.write(std::filesystem::path(out) / "summary.json");
     record.complete();
     if (did_split)
-      std::printf("brazilian: %s concrete, %d blocks, seed %d, P_max %.2f kN at %.1f um (split at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
+      std::printf("brazilian: %s concrete (%s law), %d blocks, seed %d, P_max %.2f kN at %.1f um (split at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
                   "%.3f f_T (EC2 1.11; at the crack's opening %.3f f_T), bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n",
-                  material.c_str(), static_cast<int>(n_blocks), static_cast<int>(seed), p_max * 1e-3, u_peak * 1e6, u_split * 1e6, p_split * 1e-3, w_split * 1e6,
+                  material.c_str(), law.c_str(), static_cast<int>(n_blocks), static_cast<int>(seed), p_max * 1e-3, u_peak * 1e6, u_split * 1e6, p_split * 1e-3, w_split * 1e6,
                   f_sp * 1e-6, f_sp / f_t, f_crack / f_t, 100 * mismatch, 100 * (cracked > 0 ? near / cracked : 0.0),
                   s.energies().error_rel(), runtime_s);
     else
-      std::printf("brazilian: %s concrete, %d blocks, seed %d did NOT split by --max-displacement %.1f um: no f_sp (the largest load, %.2f kN, is "
+      std::printf("brazilian: %s concrete (%s law), %d blocks, seed %d did NOT split by --max-displacement %.1f um: no f_sp (the largest load, %.2f kN, is "
                   "the load at that displacement, not a splitting strength); %.1f s\n",
-                  material.c_str(), static_cast<int>(n_blocks), static_cast<int>(seed), u_max * 1e6, p_max * 1e-3, runtime_s);
+                  material.c_str(), law.c_str(), static_cast<int>(n_blocks), static_cast<int>(seed), u_max * 1e6, p_max * 1e-3, runtime_s);
     return 0;
   }
 }

@@ -103,6 +103,36 @@ struct concrete_recipe {
   }
 };
 
+/// --g-ii 0 with --law slip_softening: the mode-II fracture energy G_II the drivers then use (J/m^2).
+inline constexpr real default_g_ii = 500;
+/// The --law and --g-ii help texts of the drivers that take them (compression, brazilian).
+inline constexpr const char* law_flag_help = "contact law of the beam's concrete: study (the beam's) or slip_softening "
+                                             "(cohesion and friction soften with plastic slip over --g-ii)";
+inline constexpr const char* g_ii_flag_help = "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)";
+
+/// Refuses --g-ii `g_ii` (J/m^2) given with a law other than slip_softening, naming the value;
+/// `driver` opens the message.
+inline void require_g_ii_with_slip_softening(const char* driver, const std::string& law, real g_ii) {
+  require(law == "slip_softening" || g_ii == 0, driver, ": --g-ii ", g_ii,
+          " J/m^2 applies to --law slip_softening only (the study's law has no mode-II fracture energy)");
+}
+
+/// The beam's concrete `beam` with its contacts' shear made slip-softening over G_II (J/m^2):
+/// presets::with_slip_softening on the recipe's contacts, everything else the recipe's.
+[[nodiscard]] inline concrete_recipe<presets::slip_softening_beam_law> with_slip_softening(
+    const concrete_recipe<presets::study_beam_law>& beam, real G_II) {
+  concrete_recipe<presets::slip_softening_beam_law> r;
+  r.material = beam.material;
+  r.contact = presets::with_slip_softening(beam.contact, G_II);
+  r.f_T = beam.f_T;
+  r.young = beam.young;
+  r.cell_volume = beam.cell_volume;
+  r.zone_edge = beam.zone_edge;
+  r.refine_interior = beam.refine_interior;
+  r.block_material = beam.block_material;
+  return r;
+}
+
 /// The study's prism concrete as a recipe: the 100-block prism's contacts (Table 1) times
 /// strength_scale (examples/calibrate --material prism fits it; 0.907 puts the 100-block prism's
 /// mean peak at f_T = 2.15 MPa), c_0 = cohesion_ratio f_T, the 100-block prism's mean block volume

@@ -72,10 +72,8 @@ int main(int argc, char** argv) {
   cli.option("--cohesion-ratio", in.cohesion_ratio, "c_0 / f_T (the study: 2)", "R").within(0.1, 20);
   cli.option("--phi-deg", in.phi_deg, "contact friction angle phi_0 (deg; the study: 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", in.phi_res_deg, "residual friction angle (deg; the study: 30)", "DEG").within(0, 80);
-  cli.option("--law", in.law, "contact law of the beam's concrete: study (the beam's) or slip_softening (cohesion and "
-             "friction soften with plastic slip over --g-ii)", "L").one_of({"study", "slip_softening"});
-  cli.option("--g-ii", in.g_ii, "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)", "J")
-      .within(0, 1e6);
+  cli.option("--law", in.law, scenes::law_flag_help, "L").one_of({"study", "slip_softening"});
+  cli.option("--g-ii", in.g_ii, scenes::g_ii_flag_help, "J").within(0, 1e6);
   cli.option("--cap", in.cap, "contact compressive cap f_c (Pa; the beam's 35 MPa; beam only)", "PA").within(1e6, 1e10);
   cli.option("--rate", in.rate, "top end speed (m/s)", "V").within(1e-5, 0.1);
   cli.option("--step-displacement", in.step_displacement, "top end travel per step (m)", "DU").within(1e-10, 1e-7);

@@ -49,24 +49,6 @@ struct compression_options {
 };
 
 inline constexpr int compression_sides = 36;  ///< the cylinder's polygon
-inline constexpr real default_g_ii = 500;     ///< J/m^2, --g-ii 0 with --law slip_softening
-
-/// The beam's concrete `beam` with its contacts' shear made slip-softening over G_II (J/m^2):
-/// presets::with_slip_softening on the recipe's contacts, everything else the recipe's.
-[[nodiscard]] inline concrete_recipe<presets::slip_softening_beam_law> with_slip_softening(
-    const concrete_recipe<presets::study_beam_law>& beam, real G_II) {
-  concrete_recipe<presets::slip_softening_beam_law> r;
-  r.material = beam.material;
-  r.contact = presets::with_slip_softening(beam.contact, G_II);
-  r.f_T = beam.f_T;
-  r.young = beam.young;
-  r.cell_volume = beam.cell_volume;
-  r.zone_edge = beam.zone_edge;
-  r.refine_interior = beam.refine_interior;
-  r.block_material = beam.block_material;
-  return r;
-}
-
 template <class Law>
 using compression_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>>;
 
@@ -75,8 +57,7 @@ template <class Law>
 class compression_specimen {
  public:
   compression_specimen(const compression_options& o, const concrete_recipe<Law>& recipe) : o_(o), recipe_(recipe) {
-    require(o.law == "slip_softening" || o.g_ii == 0, "compression: --g-ii ", o.g_ii,
-            " J/m^2 applies to --law slip_softening only (the study's law has no mode-II fracture energy)");
+    require_g_ii_with_slip_softening("compression", o.law, o.g_ii);
     require(o.ends != "friction" || o.friction > 0, "compression: --friction ", o.friction,
             " must be > 0 with --ends friction (use --ends frictionless for none)");
     require(o.phi_res_deg <= o.phi_deg, "compression: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ",
