@@ -1,9 +1,8 @@
 // rc_beam: the reference study's reinforced-concrete beam in four-point bending (Pulatsu et al.
 // 2020, Sec. 4, Figures 16-18; DESIGN.md §6): flexural cracks in the constant-moment zone, yield
-// of the bars, failure by diagonal tension. The default geometry is PROVISIONAL (DESIGN.md §6:
-// the study's dimension figure is not in its text; Walraven's series-A1 beam is assumed) and every
-// output says so. The scene: rc_beam/beam.hpp; the run: rc_beam/beam_run.hpp; the crack analysis
-// and the failure mode: rc_beam/beam_cracks.hpp; the tied plates: rc_beam/beam_plates.hpp.
+// of the bars, failure by diagonal tension. The default geometry is PROVISIONAL (DESIGN.md §6: not in
+// the study's text; Walraven's series-A1 beam is assumed) and every output says so. The scene:
+// rc_beam/beam.hpp; the run: beam_run.hpp; cracks and failure mode: beam_cracks.hpp; plates: beam_plates.hpp.
 //
 // Outputs in --out DIR:
 //   curve.csv     midspan_deflection_m, load_N (total load P, both half-spans: twice the half
@@ -11,16 +10,14 @@
 //                 concrete; the sum of the full beam's two), smoothed_load_N (over 0.02 mm of deflection),
 //                 plate_load_N (twice the force on the loading plate: larger by the local damping's
 //                 drag, beam_run.hpp), load_point_deflection_m (of the loading plate)
-//   curve.png     load against mid-span deflection with the hand first-cracking, yield and shear
-//                 capacity loads
+//   curve.png     load against mid-span deflection with the hand cracking, yield and shear loads
 //   cracks.csv    cracked sub-contacts (past their tensile peak) at the end: x_m, y_m, width_m
 //                 (the separation of their two gridpoints), point_size; cracks.png the side view of
 //                 the beam with them drawn by width
 //   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
-//   summary.json  provisional_geometry, inputs, hand values, first_crack_load_N, initial stiffness,
-//                 yield, peak, cracks, failure mode, energy balance, sizes, runtime_s; with a
-//                 --params file that records it, model_young_Pa (the modulus calibrate measured on
-//                 the recipe prism) and the hand stiffness at it (hand_initial_stiffness_model_modulus_*);
+//   summary.json  provisional_geometry, inputs, hand values (cracking, stiffness, yield, shear: EC2 and
+//                 Zsutty), first crack, stiffness, yield, peak, cracks, failure mode, energy balance,
+//                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params;
 //                 scheme and relaxation_* (--scheme relaxation: null energy balance and boundary work);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
@@ -30,11 +27,9 @@
 //                 span, elastic_check_* (the load at half the hand first-cracking deflection); with
 //                 --span full, failing_span and the left_* / right_* figures of each span
 //                 (beam_span.hpp), right_support_plate_* / right_loading_plate_* with its plates;
-//                 checkpoint_file, checkpoints_written, resumed_from, resumed_at_step and
-//                 runtime_before_resume_s (runtime_s counts the time before the checkpoint too)
+//                 checkpoint_file, checkpoints_written, resumed_from, resumed_at_step, runtime_before_resume_s
 //   --checkpoint FILE: the run's state (io/checkpoint.hpp) at the end and every --checkpoint-every s;
-//                 --resume FILE continues it (beam_run.hpp). The VTK snapshots taken before the
-//                 checkpoint stay where that run wrote them; beam.pvd lists this process's.
+//                 --resume FILE continues it (beam_run.hpp); beam.pvd lists this process's snapshots.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -237,11 +232,9 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("yield_error_rel", r.steel_yielded ? rel(r.yield_load, h.yield_load) : 0.0)
       .set("yield_deflection_m", r.yield_deflection)
       .set("hand_shear_capacity_load_N", h.shear_capacity_load)
-      .set("hand_ec2_shear_load_N", h.ec2_shear_load)
-      .set("hand_zsutty_shear_load_N", h.zsutty_shear_load)
+      .set("hand_ec2_shear_load_N", h.ec2_shear_load).set("hand_zsutty_shear_load_N", h.zsutty_shear_load)
       .set("shear_span_over_depth", o.shear_span / o.effective_depth)
-      .set("peak_over_ec2_shear", r.peak_load / h.ec2_shear_load)
-      .set("peak_over_zsutty_shear", r.peak_load / h.zsutty_shear_load)
+      .set("peak_over_ec2_shear", r.peak_load / h.ec2_shear_load).set("peak_over_zsutty_shear", r.peak_load / h.zsutty_shear_load)
       .set("peak_over_shear_reference", r.peak_load / h.shear_reference_load())
       .set("peak_load_N", r.peak_load)
       .set("peak_deflection_m", r.peak_deflection)
