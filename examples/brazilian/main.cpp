@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
     auto recipe = scenes::beam_concrete(beam);
     recipe.contact.shear.c_0 = cohesion_ratio * recipe.contact.tension.f_T, recipe.contact.shear.c_res = 0.01 * recipe.contact.shear.c_0;
     if (law == "slip_softening")
-      return run_disc(o, scenes::with_slip_softening(recipe, g_ii > 0 ? g_ii : scenes::default_g_ii), record);
+      return run_disc(o, scenes::with_slip_softening(recipe, scenes::g_ii_or_default(g_ii)), record);
     return run_disc(o, recipe, record);
   } catch (const std::exception& e) {
     cli::print_error("brazilian", e);  // one "brazilian: " before the message
@@ -249,7 +249,7 @@ int run_disc(disc_options& o, scenes::concrete_recipe<joint_law> recipe, io::run
     const real f_crack = 2 * p_crack / (pi * diameter * thickness);
     io::write_csv(std::filesystem::path(out) / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {u, p_top, p_bottom, w_open});
     io::summary_json j;
-    j.set("example", "brazilian").set("material", material).set("law", law).set("g_ii_J_per_m2", law == "slip_softening" ? g_ii > 0 ? g_ii : scenes::default_g_ii : none)
+    j.set("example", "brazilian").set("material", material).set("law", law).set("g_ii_J_per_m2", law == "slip_softening" ? scenes::g_ii_or_default(g_ii) : none)
         .set("phi_res_deg", joint.shear.phi_res.degrees()).set("quick", quick).set("seed", seed).set("blocks", n_blocks).set("sides", sides)
         .set("zone_edge_m", recipe.zone_edge).set("diameter_m", diameter).set("thickness_m", thickness).set("strip_over_diameter", strip / diameter)
         .set("strength_scale", scale).set("cohesion_ratio", cohesion_ratio).set("phi_0_deg", phi_deg).set("rate_m_per_s", rate).set("dt_s", s.dt()).set("steps", s.step_count())

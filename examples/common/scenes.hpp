@@ -101,10 +101,17 @@ struct concrete_recipe {
     z.refine_interior = refine_interior;
     return z;
   }
+  /// The same recipe with contacts `c` of another law Other (every other field kept).
+  template <class Other>
+  [[nodiscard]] concrete_recipe<Other> with_contact(const typename Other::params& c) const {
+    return {material, c, f_T, young, cell_volume, zone_edge, refine_interior, block_material};
+  }
 };
 
 /// --g-ii 0 with --law slip_softening: the mode-II fracture energy G_II the drivers then use (J/m^2).
 inline constexpr real default_g_ii = 500;
+/// The G_II (J/m^2) a --g-ii flag value gives: the value, or default_g_ii for 0.
+[[nodiscard]] inline real g_ii_or_default(real g_ii_flag) { return g_ii_flag > 0 ? g_ii_flag : default_g_ii; }
 /// The --law and --g-ii help texts of the drivers that take them (compression, brazilian).
 inline constexpr const char* law_flag_help = "contact law of the beam's concrete: study (the beam's) or slip_softening "
                                              "(cohesion and friction soften with plastic slip over --g-ii)";
@@ -121,16 +128,7 @@ inline void require_g_ii_with_slip_softening(const char* driver, const std::stri
 /// presets::with_slip_softening on the recipe's contacts, everything else the recipe's.
 [[nodiscard]] inline concrete_recipe<presets::slip_softening_beam_law> with_slip_softening(
     const concrete_recipe<presets::study_beam_law>& beam, real G_II) {
-  concrete_recipe<presets::slip_softening_beam_law> r;
-  r.material = beam.material;
-  r.contact = presets::with_slip_softening(beam.contact, G_II);
-  r.f_T = beam.f_T;
-  r.young = beam.young;
-  r.cell_volume = beam.cell_volume;
-  r.zone_edge = beam.zone_edge;
-  r.refine_interior = beam.refine_interior;
-  r.block_material = beam.block_material;
-  return r;
+  return beam.with_contact<presets::slip_softening_beam_law>(presets::with_slip_softening(beam.contact, G_II));
 }
 
 /// The study's prism concrete as a recipe: the 100-block prism's contacts (Table 1) times

@@ -101,7 +101,7 @@ int main(int argc, char** argv) {
   try {
     if (in.material == "prism") return run_specimen(in, scenes::prism_concrete(0.907), record);
     if (in.law == "slip_softening")
-      return run_specimen(in, scenes::with_slip_softening(scenes::beam_concrete(), in.g_ii > 0 ? in.g_ii : scenes::default_g_ii),
+      return run_specimen(in, scenes::with_slip_softening(scenes::beam_concrete(), scenes::g_ii_or_default(in.g_ii)),
                           record);
     return run_specimen(in, scenes::beam_concrete(), record);
   } catch (const std::exception& e) {
