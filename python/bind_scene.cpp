@@ -43,6 +43,13 @@ py::array view_of(const Eigen::VectorXd& a, py::handle owner) {
   py::detail::array_proxy(v.ptr())->flags &= ~py::detail::npy_api::NPY_ARRAY_WRITEABLE_;
   return v;
 }
+/// A NumPy copy (n) of a vector of numbers, one copy of the memory (no Python objects between).
+template <class T>
+py::array array_of(const std::vector<T>& v) {
+  py::array_t<T> out(static_cast<py::ssize_t>(v.size()));
+  std::copy(v.begin(), v.end(), out.mutable_data());
+  return out;
+}
 /// A NumPy copy (n x 3) of a list of 3-vectors.
 py::array rows_of(const std::vector<vec3>& v) {
   py::array_t<double> out({static_cast<py::ssize_t>(v.size()), py::ssize_t{3}});
@@ -320,11 +327,11 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("position", [](const contact_state& cs) { return rows_of(cs.position); },
                              "current position (m): the mean of the two gridpoints' positions, as the contact set's position()")
       .def_property_readonly("normal", [](const contact_state& cs) { return rows_of(cs.snapshot.normal); }, "unit normal A->B")
-      .def_property_readonly("area", [](const contact_state& cs) { return py::array(py::cast(cs.snapshot.area)); }, "area (m^2)")
-      .def_property_readonly("tensile_damage", [](const contact_state& cs) { return py::array(py::cast(cs.snapshot.tensile_damage)); }, "0 intact .. 1 broken")
-      .def_property_readonly("status", [](const contact_state& cs) { return py::array(py::cast(cs.snapshot.status)); }, "law::contact_status bits")
-      .def_property_readonly("block_a", [](const contact_state& cs) { return py::array(py::cast(cs.block_a)); }, "block A")
-      .def_property_readonly("block_b", [](const contact_state& cs) { return py::array(py::cast(cs.block_b)); }, "block B")
+      .def_property_readonly("area", [](const contact_state& cs) { return array_of(cs.snapshot.area); }, "area (m^2)")
+      .def_property_readonly("tensile_damage", [](const contact_state& cs) { return array_of(cs.snapshot.tensile_damage); }, "0 intact .. 1 broken")
+      .def_property_readonly("status", [](const contact_state& cs) { return array_of(cs.snapshot.status); }, "law::contact_status bits")
+      .def_property_readonly("block_a", [](const contact_state& cs) { return array_of(cs.block_a); }, "block A")
+      .def_property_readonly("block_b", [](const contact_state& cs) { return array_of(cs.block_b); }, "block B")
       .def("fields", [](const contact_state& cs) {
              std::vector<std::string> names;
              for (const auto& a : cs.snapshot.state) names.push_back(a.name);

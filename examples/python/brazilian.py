@@ -110,9 +110,10 @@ class disc_run:
                 b = root[b]
             return b
 
-        for a, b in np.unique(np.stack([cs.block_a[intact], cs.block_b[intact]], axis=1), axis=0):
-            root[find(int(a))] = find(int(b))
-        return not any(find(l) == find(r) for l in self.left for r in self.right)
+        n = len(root)
+        for key in np.unique(cs.block_a[intact] * n + cs.block_b[intact]).tolist():  # each joined pair once
+            root[find(key // n)] = find(key % n)
+        return not {find(b) for b in self.left} & {find(b) for b in self.right}
 
     def opening(self, s):
         """Mean x displacement on the flat x = +a minus that on x = -a (m), summed in order as
