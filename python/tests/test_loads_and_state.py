@@ -124,18 +124,11 @@ def test_neper_refuses_a_missing_or_bad_file_naming_it(tmp_path):
         tessera.io.read_neper_tess(str(tmp_path / "bad.tess"))
 
 
-def test_a_run_resumed_from_a_checkpoint_takes_the_same_steps_to_the_bit(tmp_path):
+def test_a_run_resumed_from_a_checkpoint_takes_the_same_steps_to_the_bit(tmp_path, resumed):
     path = str(tmp_path / "half.ckpt")
-    a = two_cells()
-    a.run_until(stop.after_steps(300))
-    tessera.io.save_checkpoint(a, path, "two cells at step 300")
-    a.run_until(stop.after_steps(300))
-    b = two_cells()
-    info = tessera.io.load_checkpoint(b, path)
+    a, b, info = resumed(two_cells, 300, path, "two cells at step 300")
     assert info.description == "two cells at step 300" and info.version == tessera.__version__
     assert tessera.io.read_checkpoint_info(path).records == info.records > 0
-    assert b.step_count() == 300 and b.time() == pytest.approx(300 * b.dt(), rel=1e-12)
-    b.run_until(stop.after_steps(300))
     assert same(state_of(a), state_of(b))
     assert a.energies().boundary_work > 0  # the pull did work: the compared state is not at rest
 

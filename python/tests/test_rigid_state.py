@@ -69,15 +69,9 @@ def settling_block():
     return s
 
 
-def test_a_rigid_run_resumed_from_a_checkpoint_takes_the_same_steps_to_the_bit(tmp_path):
-    path = str(tmp_path / "rigid.ckpt")
-    a = settling_block()
-    a.run_until(stop.after_steps(400))
-    tessera.io.save_checkpoint(a, path, "falling")
-    a.run_until(stop.after_steps(400))
-    b = settling_block()
-    assert tessera.io.load_checkpoint(b, path).description == "falling"
-    b.run_until(stop.after_steps(400))
+def test_a_rigid_run_resumed_from_a_checkpoint_takes_the_same_steps_to_the_bit(tmp_path, resumed):
+    a, b, info = resumed(settling_block, 400, str(tmp_path / "rigid.ckpt"), "falling")
+    assert info.description == "falling"
     assert (a.step_count(), a.time()) == (b.step_count(), b.time())
     assert np.array_equal(a.block_displacement(1), b.block_displacement(1))
     assert np.array_equal(a.block_velocity(1), b.block_velocity(1))
