@@ -16,6 +16,9 @@ CPU time is the figure (wall time also holds the time a process waited for a cor
   script; each prints run_cpu_s, the CPU time of its scene and run; the process's whole CPU time
   (with the interpreter's start and the imports) is given too. Checks that each pair wrote the
   same curve.csv.
+- Brazilian disc, two processes: examples/brazilian --quick --threads 1 against
+  examples/python/brazilian.py --quick (a Python callable every 40 steps that copies the
+  sub-contacts' state for the split check); the whole processes' CPU time; the same curve.csv.
 Prints the medians and the ratios Python / C++.
 """
 import filecmp
@@ -115,6 +118,31 @@ def prism(build, pairs):
                                                  "the same bits" if same else "DIFFERS"))
 
 
+def cpu_of(cmd, cwd, env):
+    """The process's CPU s (user + system)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(cmd, cwd=cwd, env=env, check=True, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+
+
+def brazilian(build, pairs):
+    env = dict(os.environ, OMP_NUM_THREADS="1", PYTHONPATH=str(build / "python"))
+    times = {"C++": [], "Python": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        dirs = {k: pathlib.Path(tmp) / k for k in times}
+        cmds = {"C++": [str(build / "examples" / "brazilian"), "--quick", "--threads", "1", "--out", str(dirs["C++"])],
+                "Python": ["/usr/bin/python3", str(ROOT / "examples/python/brazilian.py"), "--quick", "--threads", "1",
+                           "--out", str(dirs["Python"])]}
+        for _ in range(pairs):
+            for k in times:
+                times[k].append(cpu_of(cmds[k], tmp, env))
+        same = filecmp.cmp(dirs["C++"] / "curve.csv", dirs["Python"] / "curve.csv", shallow=False)
+    c, p = (statistics.median(times[k]) for k in times)
+    print("brazilian --quick, whole processes: C++ %.3f s, Python %.3f s, Python / C++ = %.3f; curve.csv %s"
+          % (c, p, p / c, "the same bits" if same else "DIFFERS"))
+
+
 def main():
     build = pathlib.Path(sys.argv[1]).resolve()
     pairs = int(sys.argv[2]) if len(sys.argv) > 2 else 5
@@ -125,6 +153,8 @@ def main():
     prism_in_process(pairs)
     ramp_callback_cost(pairs)
     prism(build, pairs)
+    if (build / "examples" / "brazilian").exists():
+        brazilian(build, pairs)
 
 
 if __name__ == "__main__":

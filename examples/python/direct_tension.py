@@ -143,13 +143,6 @@ class tension_run:
         return self
 
 
-def write_curve(path, curve):
-    with open(path, "w") as f:
-        f.write("displacement_m,stress_Pa,stress_top_Pa,stress_bottom_Pa,unbalanced_ratio\n")
-        for row in curve:
-            f.write(",".join("%.17g" % x for x in row) + "\n")
-
-
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--out", default="results/python_direct_tension", help="output folder")
@@ -160,7 +153,8 @@ def main(argv=None):
         cpu_start = time.process_time()
         run = tension_run(threads=a.threads).run()
         run_cpu_s = time.process_time() - cpu_start  # the scene and the run, as the C++ program's
-        write_curve(record.file("curve.csv"), run.curve)
+        names = ["displacement_m", "stress_Pa", "stress_top_Pa", "stress_bottom_Pa", "unbalanced_ratio"]
+        tessera.io.write_csv(record.file("curve.csv"), names, list(zip(*run.curve)))  # 17 digits: the C++ file
         run.s.contact_state().write(record.file("contacts_end.vtp"))
         run.s.write_zones_vtu(record.file("zones_end.vtu"), run.mesh)
     error = (run.peak_stress - run.f_t) / run.f_t

@@ -2,9 +2,10 @@
 
 The compiled module tessera._tessera holds the bindings; this package re-exports them under the
 C++ names: tessera.geometry, tessera.law, tessera.zones, tessera.blocks, tessera.contact,
-tessera.bc, tessera.quantity, tessera.stop, tessera.recorders, tessera.instances,
-tessera.solver_options, tessera.aabb and tessera.Error (tessera::error; InvalidInput,
-GeometryError, IoError, NumericalInstability derive from it); tessera.run_record writes run.json.
+tessera.bc, tessera.quantity, tessera.stop, tessera.recorders, tessera.instances, tessera.io
+(checkpoints, Neper .tess), tessera.calibration (calibrated.json), tessera.solver_options,
+tessera.aabb and tessera.Error (tessera::error; InvalidInput, GeometryError, IoError,
+NumericalInstability derive from it); tessera.run_record writes run.json.
 """
 from ._tessera import (  # noqa: F401
     Error,
@@ -16,11 +17,13 @@ from ._tessera import (  # noqa: F401
     aabb,
     bc,
     blocks,
+    calibration,
     contact,
     contact_state,
     energy_balance,
     geometry,
     instances,
+    io,
     law,
     mass_scaling_report,
     node_group,
