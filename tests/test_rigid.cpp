@@ -35,6 +35,7 @@
 #include "tessera/geometry/zoning.hpp"
 #include "tessera/integrator.hpp"
 #include "tessera/io/checkpoint.hpp"
+#include "tessera/io/vtk_contacts.hpp"
 #include "tessera/solver.hpp"
 #include "verification/cases.hpp"
 
@@ -1304,6 +1305,30 @@ TEST_CASE("user layer: a dropped block stops on when_settled with the reaction e
   CHECK(reaction == Approx(weight).epsilon(1e-6));
   const real overlap = -(0.01 + s.block_displacement(1).z());
   CHECK(overlap == Approx(s.blocks().weight_mass(1) * user_g / (1e11 * 0.25)).epsilon(0.01));
+}
+
+TEST_CASE("contact snapshot: a resting block's detected contacts are written on the interface", "[rigid][user_layer][vtk]") {
+  // The cube settled on the base (top face z = 0) with overlap W / (k_n A) = 1.2e-7 m: its four
+  // corner sub-contacts lie at its footprint's corners, half the overlap below z = 0, and a
+  // VTK point is reference + displacement (not the midpoint of the two blocks' centroids, which
+  // sits at z = (-0.125 + 0.25) / 2 under the cube).
+  user_scene sc(0.01);
+  user_damped s(sc.tess, sc.mesh, blocks::rigid::params{2400}, sc.contacts());
+  s.set_gravity(vec3(0, 0, -user_g));
+  s.fix_blocks(s.blocks_below(2, 0));
+  auto settled = stop::when_settled(quantity::block_displacement(1, 2), 1e-10, stop::over_time(0.02));
+  REQUIRE_FALSE(s.run_until(settled || stop::after_time(5.0), 10'000'000).hit_max_steps);
+  io::vtk::contact_snapshot snap;
+  snap.take(s.contacts(), s.gridpoints());
+  REQUIRE(snap.size() == 4);
+  const real overlap = -(0.01 + s.block_displacement(1).z());
+  for (std::size_t k = 0; k < snap.size(); ++k) {
+    const vec3 x = snap.reference[k] + snap.displacement[k];
+    INFO("sub-contact " << k << " at (" << x.x() << ", " << x.y() << ", " << x.z() << ") m");
+    CHECK(std::abs(std::abs(x.x()) - 0.25) < 1e-9);
+    CHECK(std::abs(std::abs(x.y()) - 0.25) < 1e-9);
+    CHECK(std::abs(x.z() + 0.5 * overlap) < 1e-9);
+  }
 }
 
 TEST_CASE("user layer: when_beyond fires at the step where |u| first exceeds the limit", "[rigid][user_layer]") {

@@ -4,7 +4,8 @@
 // factor 1 shows the deformed shape; docs/architecture.md "VTK output").
 //
 // contact_snapshot: the sub-contacts of any contact::ContactSet at one instant, one VTK vertex
-// each at the midpoint of its gridpoint pair, with point arrays
+// each at the midpoint of its gridpoint pair (detected contacts: of its two contact points), with
+// point arrays
 //     displacement (m), normal (unit, A -> B, current), area_m2, status (law::contact_status bits),
 //     tensile_damage (0 intact .. 1 broken), and one array per field the law declares
 //     (Law::state_fields, law::state_field) except the flags, which status already shows,
@@ -77,8 +78,16 @@ struct contact_snapshot {
     for (std::size_t k = 0; k < n; ++k) {
       const auto i = static_cast<index_t>(k);
       const index_t a = c.node_a(i), b = c.node_b(i);
-      reference[k] = 0.5 * (gp.reference.row(a) + gp.reference.row(b)).transpose();
       displacement[k] = 0.5 * (gp.displacement.row(a) + gp.displacement.row(b)).transpose();
+      if constexpr (requires { c.position_a(i, gp); }) {
+        // Detected contacts: node_a/node_b are frame gridpoints of the blocks (for rigid blocks
+        // their centroids), not points of the contact; the point is the mean of the two sides'
+        // current contact points, written as reference + displacement like every other point.
+        const vec3 now = 0.5 * (c.position_a(i, gp) + c.position_b(i, gp));
+        reference[k] = now - displacement[k];
+      } else {
+        reference[k] = 0.5 * (gp.reference.row(a) + gp.reference.row(b)).transpose();
+      }
       normal[k] = c.normal(i);
       area[k] = c.area(i);
       const auto& st = c.state(i);
