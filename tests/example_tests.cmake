@@ -1009,3 +1009,37 @@ tessera_add_refusal_test(refuse_compression_params_flag compression
 tessera_add_refusal_test(refuse_direct_tension_params_full_set direct_tension
   "entry for 100 blocks has phi_0_deg = 40 \\(the study's: 35\\), which direct_tension does not apply"
   --threads 1 --quick --params ${concrete_params_dir}/concrete_prism_phi40.json)
+
+# ---- calibrate --targets (issue #63 item 4): one concrete fitted to tension, splitting and compression at
+# once, residuals on a held-out seed. --quick: the beam recipe of calibrate --quick (60 blocks, 50 mm
+# zoning; tension on its 37-block prism), a 12-block disc, a 23-block 100 x 100 x 200 mm prism, seed 1
+# fitted, seed 2 held out, one compass iteration on the strength scale (at most 3 evaluations and the
+# held-out one). Then brazilian loads the calibrated.json it wrote and, on the held-out seed with the
+# same disc, must give the splitting figure calibrate reported for that seed (the same number: both run
+# brazilian/disc.hpp with the file's concrete).
+tessera_add_example_test(calibrate NAME example_calibrate_targets_quick
+  ARGS --targets tension,splitting,compression --quick --seed 1 --threads 1
+  FILES calibrated.json residuals.csv targets.csv
+  CHECKS "mode STREQUAL targets" "material STREQUAL beam" "blocks EQUAL 60" "residual_count EQUAL 4"
+         "evaluations LESS 4" "holdout_tension_reached EQUAL 1" "holdout_splitting_reached EQUAL 1"
+         "holdout_tension_value GREATER 2.0e6" "holdout_tension_value LESS 3.0e6"
+  TIMEOUT 600)
+tessera_add_example_test(brazilian NAME example_brazilian_params_from_targets
+  ARGS --quick --threads 1 --seed 2 --material beam --recipe-blocks 60 --zone-edge 0.05 --blocks 12
+       --params ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/calibrated.json
+  CHECKS "split STREQUAL ON" "recipe_blocks EQUAL 60"
+  TIMEOUT 300)
+set_tests_properties(example_brazilian_params_from_targets PROPERTIES DEPENDS example_calibrate_targets_quick)
+add_test(NAME example_calibrate_targets_rerun_matches
+         COMMAND ${CMAKE_COMMAND} -E env python3 -c
+                 "import json,sys; c=json.load(open(sys.argv[1])); b=json.load(open(sys.argv[2])); d=json.load(open(sys.argv[3])); e=d['entries'][0]; ok=abs(c['holdout_splitting_value']-b['f_sp_over_f_T'])<=1e-12*b['f_sp_over_f_T'] and b['strength_scale']==e['strength_scale'] and b['cohesion_ratio']==e['cohesion_ratio']; print(c['holdout_splitting_value'], b['f_sp_over_f_T'], e['strength_scale']); sys.exit(0 if ok else 1)"
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/summary.json
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_brazilian_params_from_targets/summary.json
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/calibrated.json)
+set_tests_properties(example_calibrate_targets_rerun_matches PROPERTIES DEPENDS example_brazilian_params_from_targets)
+tessera_add_refusal_test(refuse_calibrate_targets_name calibrate
+  "calibrate: --targets: 'shear' is not a target \\(tension, energy, splitting, compression\\)" --threads 1 --targets tension,shear)
+tessera_add_refusal_test(refuse_calibrate_targets_weights calibrate
+  "calibrate: --weights '1,2,3' has 3 values for 2 targets" --threads 1 --targets tension,splitting --weights 1,2,3)
+tessera_add_refusal_test(refuse_calibrate_targets_fit_gii calibrate
+  "calibrate: --fit gii needs --law slip_softening" --threads 1 --targets tension --fit strength,gii)

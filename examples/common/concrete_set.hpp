@@ -98,15 +98,14 @@ void apply_concrete_shear(Params& p, const concrete_set& c) {
 
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
 /// (law::study_tie_law for prism; presets::study_beam_law or slip_softening_beam_law for beam), and
-/// returns its result. Throws invalid_input naming a bad combination or value (the law's validate).
+/// returns its result. Throws invalid_input naming a bad combination or value (the law's validate;
+/// the drivers check phi_res <= phi_0 themselves, naming their flags).
 template <class F>
 decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   require(c.material == "prism" || c.material == "beam", "concrete: material '", c.material, "' must be prism or beam");
   require(c.law == "study" || c.law == "slip_softening", "concrete: law '", c.law, "' must be study or slip_softening");
   require(c.material == "beam" || c.law == "study", "concrete: law ", c.law,
           " applies to the beam's concrete only (the prism's concrete has the study's law)");
-  require(c.phi_res_deg <= c.phi_0_deg, "concrete: phi_0 ", c.phi_0_deg, " deg must not be below the residual ",
-          c.phi_res_deg, " deg");
   if (c.material == "prism") {
     auto r = prism_concrete(c.scale(), c.cohesion_ratio, c.blocks());
     r.contact.tension.G_f *= c.fracture_energy_scale;
