@@ -958,3 +958,88 @@ tessera_add_refusal_test(refuse_compression_cap_prism compression
   "--cap 1e\\+08 applies to --material beam only" --threads 1 --material prism --cap 100e6)
 tessera_add_refusal_test(refuse_compression_law_prism compression
   "--law slip_softening applies to --material beam only" --threads 1 --material prism --law slip_softening)
+
+# ---- --params on brazilian and compression (issue #63 item 4): calibrated.json carries the whole
+# concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap; common/concrete_set.hpp). The beam file
+# tests/data/concrete_beam_slip.json holds the slip-softening set that met f_c (phi_0 58, phi_res 15,
+# G_II 300 J/m^2, cap 100 MPa) for the 250-block beam recipe at 30 mm zoning. Loaded, each driver runs
+# exactly the set its flags give (measured, same curve.csv bits): the quick disc to 1 mm f_sp / f_T
+# 3.831 (flags: --material beam --law slip_softening --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6),
+# the 100 x 100 x 200 mm prism f_c 37.75 MPa at 1.56e-3 (the same flags).
+tessera_add_example_test(brazilian NAME example_brazilian_params_quick
+  ARGS --quick --threads 1 --material beam --max-displacement 1e-3
+       --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip.json
+  CHECKS "law STREQUAL slip_softening" "g_ii_J_per_m2 EQUAL 300" "cap_Pa EQUAL 100000000" "phi_0_deg EQUAL 58"
+         "split STREQUAL ON" "f_sp_over_f_T GREATER 3.826" "f_sp_over_f_T LESS 3.836"
+  TIMEOUT 300)
+tessera_add_example_test(compression NAME example_compression_params_quick
+  ARGS --quick --threads 1 --no-vtk --shape prism --diameter 0.1 --height 0.2 --max-strain 5e-3
+       --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip.json
+  CHECKS "law STREQUAL slip_softening" "G_II_J_per_m2 EQUAL 300" "cap_Pa EQUAL 100000000" "phi_res_deg EQUAL 15"
+         "peak STREQUAL ON" "f_c_Pa GREATER 37.70e6" "f_c_Pa LESS 37.80e6"
+  TIMEOUT 600)
+# Refusals: a file of another recipe (material, block count, zoning) names both values; a concrete flag
+# beside --params; a law the recipe does not have; a driver that applies the scales only
+# (direct_tension, rc_tie, rc_beam) refuses a file whose set is not the study's, naming the field.
+set(concrete_params_dir ${PROJECT_SOURCE_DIR}/tests/data)
+tessera_add_refusal_test(refuse_brazilian_params_material brazilian
+  "was fitted on the prism recipe, this run needs the beam recipe"
+  --threads 1 --material beam --params ${concrete_params_dir}/concrete_prism_phi40.json)
+tessera_add_refusal_test(refuse_brazilian_params_blocks brazilian
+  "concrete_beam_slip.json has no entry for 500 blocks \\(it has 250\\)"
+  --threads 1 --material beam --recipe-blocks 500 --params ${concrete_params_dir}/concrete_beam_slip.json)
+tessera_add_refusal_test(refuse_brazilian_params_zoning brazilian
+  "was fitted with a face zoning edge of 0.03 m, this run uses 0.05 m"
+  --threads 1 --material beam --zone-edge 0.05 --params ${concrete_params_dir}/concrete_beam_slip.json)
+tessera_add_refusal_test(refuse_brazilian_params_flag brazilian
+  "brazilian: --phi-deg with --params .*: the file sets the concrete"
+  --threads 1 --material beam --phi-deg 40 --params ${concrete_params_dir}/concrete_beam_slip.json)
+tessera_add_refusal_test(refuse_brazilian_params_law brazilian
+  "entries\\[0\\].law = 'slip_softening' is built for the beam recipe, this file's is 'prism'"
+  --threads 1 --params ${concrete_params_dir}/concrete_prism_slip.json)
+tessera_add_refusal_test(refuse_compression_params_zoning compression
+  "calibrated_beam_quick.json was fitted with a face zoning edge of 0.05 m, this run uses 0.03 m"
+  --threads 1 --params ${concrete_params_dir}/calibrated_beam_quick.json)
+tessera_add_refusal_test(refuse_compression_params_blocks compression
+  "calibrated_beam_quick.json has no entry for 250 blocks \\(it has 60\\)"
+  --threads 1 --zone-edge 0.05 --params ${concrete_params_dir}/calibrated_beam_quick.json)
+tessera_add_refusal_test(refuse_compression_params_flag compression
+  "compression: --cap with --params .*: the file sets the concrete"
+  --threads 1 --cap 50e6 --params ${concrete_params_dir}/concrete_beam_slip.json)
+tessera_add_refusal_test(refuse_direct_tension_params_full_set direct_tension
+  "entry for 100 blocks has phi_0_deg = 40 \\(the study's: 35\\), which direct_tension does not apply"
+  --threads 1 --quick --params ${concrete_params_dir}/concrete_prism_phi40.json)
+
+# ---- calibrate --targets (issue #63 item 4): one concrete fitted to tension, splitting and compression at
+# once, residuals on a held-out seed. --quick: the beam recipe of calibrate --quick (60 blocks, 50 mm
+# zoning; tension on its 37-block prism), a 12-block disc, a 23-block 100 x 100 x 200 mm prism, seed 1
+# fitted, seed 2 held out, one compass iteration on the strength scale (at most 3 evaluations and the
+# held-out one). Then brazilian loads the calibrated.json it wrote and, on the held-out seed with the
+# same disc, must give the splitting figure calibrate reported for that seed (the same number: both run
+# brazilian/disc.hpp with the file's concrete).
+tessera_add_example_test(calibrate NAME example_calibrate_targets_quick
+  ARGS --targets tension,splitting,compression --quick --seed 1 --threads 1
+  FILES calibrated.json residuals.csv targets.csv
+  CHECKS "mode STREQUAL targets" "material STREQUAL beam" "blocks EQUAL 60" "residual_count EQUAL 4"
+         "evaluations LESS 4" "holdout_tension_reached EQUAL 1" "holdout_splitting_reached EQUAL 1"
+         "holdout_tension_value GREATER 2.0e6" "holdout_tension_value LESS 3.0e6"
+  TIMEOUT 600)
+tessera_add_example_test(brazilian NAME example_brazilian_params_from_targets
+  ARGS --quick --threads 1 --seed 2 --material beam --recipe-blocks 60 --zone-edge 0.05 --blocks 12
+       --params ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/calibrated.json
+  CHECKS "split STREQUAL ON" "recipe_blocks EQUAL 60"
+  TIMEOUT 300)
+set_tests_properties(example_brazilian_params_from_targets PROPERTIES DEPENDS example_calibrate_targets_quick)
+add_test(NAME example_calibrate_targets_rerun_matches
+         COMMAND ${CMAKE_COMMAND} -E env python3 -c
+                 "import json,sys; c=json.load(open(sys.argv[1])); b=json.load(open(sys.argv[2])); d=json.load(open(sys.argv[3])); e=d['entries'][0]; ok=abs(c['holdout_splitting_value']-b['f_sp_over_f_T'])<=1e-12*b['f_sp_over_f_T'] and b['strength_scale']==e['strength_scale'] and b['cohesion_ratio']==e['cohesion_ratio']; print(c['holdout_splitting_value'], b['f_sp_over_f_T'], e['strength_scale']); sys.exit(0 if ok else 1)"
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/summary.json
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_brazilian_params_from_targets/summary.json
+                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/calibrated.json)
+set_tests_properties(example_calibrate_targets_rerun_matches PROPERTIES DEPENDS example_brazilian_params_from_targets)
+tessera_add_refusal_test(refuse_calibrate_targets_name calibrate
+  "calibrate: --targets: 'shear' is not a target \\(tension, energy, splitting, compression\\)" --threads 1 --targets tension,shear)
+tessera_add_refusal_test(refuse_calibrate_targets_weights calibrate
+  "calibrate: --weights '1,2,3' has 3 values for 2 targets" --threads 1 --targets tension,splitting --weights 1,2,3)
+tessera_add_refusal_test(refuse_calibrate_targets_fit_gii calibrate
+  "calibrate: --fit gii needs --law slip_softening" --threads 1 --targets tension --fit strength,gii)

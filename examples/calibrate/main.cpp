@@ -44,6 +44,7 @@
 #include <string>
 #include <vector>
 
+#include "calibrate/targets_run.hpp"
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
 #include "common/scenes.hpp"
@@ -340,6 +341,10 @@ void write_outputs(const fs::path& out, const inputs& in, const std::vector<fit_
         .set("peak_spread_rel", f.last.peak_spread).set("peaks_Pa", f.last.peaks)
         .set("prism_blocks", f.prism_blocks).set("initial_modulus_mean_Pa", f.last.modulus_mean);
     if (in.energy) e.set("dissipated_per_section_J_per_m2", f.last.energy_mean).set("energy_error_rel", f.energy_error);
+    scenes::concrete_set set;  // the whole concrete (law, c_0 / f_T, angles, cap), as calibrate --targets writes it
+    set.material = in.recipe.material, set.recipe_blocks = f.blocks, set.strength_scale = f.s;
+    set.fracture_energy_scale = f.g, set.cohesion_ratio = in.recipe.cohesion_ratio;
+    scenes::set_concrete_fields(e, set);
     entries.push_back(e);
     const std::string b = "b" + std::to_string(f.blocks) + "_";
     summary.set(b + "strength_scale", f.s).set(b + "fracture_energy_scale", f.g)
@@ -389,6 +394,8 @@ int run(inputs& in) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i)  // the multi-target fit (targets_run.hpp) has its own flags
+    if (std::string(argv[i]) == "--targets") return tessera::scenes::run_targets_main(argc, argv);
   inputs in;
   tessera::cli::parser cli(
       "calibrate",
@@ -397,7 +404,9 @@ int main(int argc, char** argv) {
       "--material prism: the study's prism (f_T = 2.15 MPa), for direct_tension/rc_tie --params; --material beam: the\n"
       "beam's concrete (f_T = 2.5 MPa, linear softening) on a 150 x 150 x 600 mm prism with the beam's block size,\n"
       "for rc_beam --params. Writes calibrated.json. Exit 3 if a block count did not converge.\n"
-      "--quick: prism 100 blocks (beam: 60 blocks, 50 mm zoning, as rc_beam --quick), 1 seed, 5 nm per step.");
+      "--quick: prism 100 blocks (beam: 60 blocks, 50 mm zoning, as rc_beam --quick), 1 seed, 5 nm per step.\n"
+      "calibrate --targets LIST [...] fits one concrete to several targets (tension, energy, splitting, compression);\n"
+      "calibrate --targets tension --help lists its flags.");
   cli.add_standard(in.common);
   cli.option("--material", in.recipe.material, "prism: the study's prism concrete (for direct_tension, rc_tie); beam: the beam's concrete on a prism of the "
              "beam's block size (for rc_beam)", "prism|beam")

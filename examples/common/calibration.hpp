@@ -32,6 +32,14 @@
 // beam recipe's half-beam volume (the default beam's dimensions), whose cell volume the prism's
 // blocks have; rc_beam refuses a file fitted for another (0 = not recorded, the prism's). Files
 // written before these fields existed are read as "prism", 0 and 0.
+//
+// The concrete of an entry (calibrate --targets writes every field; each is optional, an absent
+// one is the study's): "law" ("study" | "slip_softening", the latter beam only), "cohesion_ratio"
+// (c_0 / f_T; absent: the recipe's), "phi_0_deg", "phi_res_deg" (absent: 35, 30), "G_II_J_per_m2"
+// (slip_softening only), "cap_Pa" (the contacts' compressive cap f_c; beam only, absent: 35 MPa).
+// brazilian and compression --params apply the whole set (load_concrete); direct_tension, rc_tie
+// and rc_beam apply the two scales only (load_calibration) and so refuse an entry whose set is
+// not the study's, naming the field.
 
 #include <cmath>
 #include <cstdio>
@@ -68,7 +76,26 @@ struct calibration_entry {
   /// The recipe prism's mean initial modulus at the fitted scales (Pa; 0 = not recorded, files
   /// written before it existed): the modulus the contacts' stiffness gives these blocks.
   real initial_modulus = 0;
+  // The concrete beyond the scales (file comment); the defaults are the study's.
+  std::string law = "study";  ///< "study" or "slip_softening" (beam only)
+  real cohesion_ratio = 0;    ///< c_0 / f_T; 0 = the recipe's (files without the field)
+  real phi_0_deg = 35, phi_res_deg = 30;  ///< contact friction angles (deg)
+  real g_ii = 0;              ///< mode-II fracture energy (J/m^2), slip_softening only
+  real cap = 35e6;            ///< the contacts' compressive cap f_c (Pa), beam only
 };
+
+/// The study's value of the first field of entry e (of recipe r) that a driver applying the scales
+/// only would ignore, as "name = value (the study's: x)"; empty when the set is the study's.
+[[nodiscard]] inline std::string non_study_field(const calibration_entry& e, const calibration_recipe& r) {
+  using tessera::detail::concat;
+  if (e.law != "study") return concat("law = ", e.law, " (the study's: study)");
+  if (e.cohesion_ratio != 0 && std::abs(e.cohesion_ratio - r.cohesion_ratio) > 1e-12 * r.cohesion_ratio)
+    return concat("cohesion_ratio = ", e.cohesion_ratio, " (the recipe's: ", r.cohesion_ratio, ")");
+  if (e.phi_0_deg != 35) return concat("phi_0_deg = ", e.phi_0_deg, " (the study's: 35)");
+  if (e.phi_res_deg != 30) return concat("phi_res_deg = ", e.phi_res_deg, " (the study's: 30)");
+  if (r.material == "beam" && e.cap != 35e6) return concat("cap_Pa = ", e.cap, " (the study's: 3.5e+07)");
+  return {};
+}
 
 struct calibration {
   calibration_recipe recipe;
@@ -93,6 +120,36 @@ inline real scale_in_range(const io::json_value& v) {
     throw io_error(tessera::detail::concat(v.path(), " = ", x, " must lie in [", min_calibration_scale, ", ",
                                            max_calibration_scale, "]"));
   return x;
+}
+/// x's concrete fields from entry e of a `material` file (file comment; absent = the study's).
+inline void read_concrete_fields(const io::json_value& e, const std::string& material, calibration_entry& x) {
+  const auto number_in = [&](const char* key, real lo, real hi, real& to) {
+    const io::json_value* v = e.find(key);
+    if (v == nullptr) return;
+    to = v->number();
+    if (!(to >= lo && to <= hi)) throw io_error(tessera::detail::concat(v->path(), " = ", to, " must lie in [", lo, ", ", hi, "]"));
+  };
+  if (const io::json_value* v = e.find("law")) {
+    x.law = v->string();
+    if (x.law != "study" && x.law != "slip_softening")
+      throw io_error(tessera::detail::concat(v->path(), " = '", x.law, "' must be 'study' or 'slip_softening'"));
+    if (x.law == "slip_softening" && material != "beam")
+      throw io_error(tessera::detail::concat(v->path(), " = 'slip_softening' is built for the beam recipe, this file's is '",
+                                             material, "'"));
+  }
+  number_in("cohesion_ratio", 0.1, 20, x.cohesion_ratio);
+  number_in("phi_0_deg", 0, 80, x.phi_0_deg);
+  number_in("phi_res_deg", 0, x.phi_0_deg, x.phi_res_deg);
+  if (x.law == "slip_softening") {
+    x.g_ii = 0;
+    number_in("G_II_J_per_m2", 1e-3, 1e6, x.g_ii);
+    if (x.g_ii == 0) throw io_error(tessera::detail::concat(e.path(), ": law slip_softening needs \"G_II_J_per_m2\""));
+  }
+  if (const io::json_value* v = e.find("cap_Pa"); v != nullptr && !v->is_null()) {
+    if (material != "beam")
+      throw io_error(tessera::detail::concat(v->path(), ": the ", material, " recipe's contacts have no compressive cap"));
+    number_in("cap_Pa", 1e6, 1e10, x.cap);
+  }
 }
 }  // namespace calibration_checks
 
@@ -142,29 +199,24 @@ inline real scale_in_range(const io::json_value& v) {
       if (!(x.initial_modulus >= 1e6 && x.initial_modulus <= 1e13))
         throw io_error(tessera::detail::concat(m->path(), " = ", x.initial_modulus, " must lie in [1e6, 1e13] Pa"));
     }
+    calibration_checks::read_concrete_fields(e, c.recipe.material, x);
     c.entries.push_back(x);
   }
   if (c.entries.empty()) throw io_error(tessera::detail::concat(path.string(), ": \"entries\" is empty"));
   return c;
 }
 
-/// A driver's --params FILE: the entry for its block count, after checking that the file was
-/// fitted with the same law (throws invalid_input naming the mismatch). A different step or
-/// rate is allowed (the scales were fitted at one; the peak moves a few per cent with the step,
-/// docs/validation.md) and printed as a note on stdout; run.step_displacement = 0 says the run's
-/// step is set later (by its mass scaling), and the note gives the fitted step only.
-[[nodiscard]] inline calibration_entry load_calibration(const std::filesystem::path& file, int blocks,
-                                                        const calibration_recipe& run, const char* program) {
-  const calibration c = read_calibration(file);
-  const std::string f = file.string();
+namespace calibration_checks {
+/// The entry of `c` (read from `f`) for `blocks`, after checking its recipe against the run's
+/// (load_calibration's checks bar the cohesion ratio).
+[[nodiscard]] inline calibration_entry matching_entry(const calibration& c, const std::string& f, int blocks,
+                                                      const calibration_recipe& run, const char* program) {
   require(c.recipe.material == run.material, program, ": ", f, " was fitted on the ", c.recipe.material,
           " recipe, this run needs the ", run.material, " recipe (examples/calibrate --material ", run.material, ")");
   require(c.recipe.softening == run.softening, program, ": ", f, " was fitted with ", c.recipe.softening,
           " softening, this run uses ", run.softening);
   require(c.recipe.rigid == run.rigid, program, ": ", f, " was fitted with ", c.recipe.rigid ? "rigid" : "deformable",
           " blocks, this run uses ", run.rigid ? "rigid" : "deformable", " ones");
-  require(std::abs(c.recipe.cohesion_ratio - run.cohesion_ratio) <= 1e-12 * run.cohesion_ratio, program, ": ", f,
-          " was fitted with cohesion ratio ", c.recipe.cohesion_ratio, ", this run uses ", run.cohesion_ratio);
   require(std::abs(c.recipe.zone_edge - run.zone_edge) <= 1e-12 * std::max(run.zone_edge, real(1e-3)), program, ": ", f,
           " was fitted with a face zoning edge of ", c.recipe.zone_edge, " m, this run uses ", run.zone_edge, " m");
   require(c.recipe.beam_volume == 0 || run.beam_volume == 0 ||
@@ -179,6 +231,39 @@ inline real scale_in_range(const io::json_value& v) {
   else if (c.recipe.step_displacement != run.step_displacement || c.recipe.rate != run.rate)
     std::printf("%s: note: %s was fitted at %.3g m per step and %.3g m/s; this run uses %.3g m per step and %.3g m/s\n",
                 program, f.c_str(), c.recipe.step_displacement, c.recipe.rate, run.step_displacement, run.rate);
+  return e;
+}
+
+}  // namespace calibration_checks
+
+/// A driver's --params FILE: the entry for its block count, after checking that the file was
+/// fitted with the same law (throws invalid_input naming the mismatch). A different step or
+/// rate is allowed (the scales were fitted at one; the peak moves a few per cent with the step,
+/// docs/validation.md) and printed as a note on stdout; run.step_displacement = 0 says the run's
+/// step is set later (by its mass scaling), and the note gives the fitted step only.
+[[nodiscard]] inline calibration_entry load_calibration(const std::filesystem::path& file, int blocks,
+                                                        const calibration_recipe& run, const char* program) {
+  const calibration c = read_calibration(file);
+  const std::string f = file.string();
+  require(std::abs(c.recipe.cohesion_ratio - run.cohesion_ratio) <= 1e-12 * run.cohesion_ratio, program, ": ", f,
+          " was fitted with cohesion ratio ", c.recipe.cohesion_ratio, ", this run uses ", run.cohesion_ratio);
+  const calibration_entry e = calibration_checks::matching_entry(c, f, blocks, run, program);
+  const std::string extra = non_study_field(e, c.recipe);
+  require(extra.empty(), program, ": ", f, " entry for ", blocks, " blocks has ", extra, ", which ", program,
+          " does not apply (it applies the strength and fracture-energy scales only; brazilian and compression "
+          "--params apply the whole set)");
+  return e;
+}
+
+/// brazilian's and compression's --params FILE: the entry for the recipe's block count with its
+/// whole concrete (law, scales, c_0 / f_T, phi_0, phi_res, G_II, cap), after the recipe checks of
+/// load_calibration (material, softening, blocks, zoning, beam volume; throws invalid_input naming
+/// both values). The entry's cohesion ratio is the file's (its recipe's when the entry has none).
+[[nodiscard]] inline calibration_entry load_concrete(const std::filesystem::path& file, int blocks,
+                                                     const calibration_recipe& run, const char* program) {
+  const calibration c = read_calibration(file);
+  calibration_entry e = calibration_checks::matching_entry(c, file.string(), blocks, run, program);
+  if (e.cohesion_ratio == 0) e.cohesion_ratio = c.recipe.cohesion_ratio;
   return e;
 }
 

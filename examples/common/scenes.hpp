@@ -135,9 +135,11 @@ inline void require_g_ii_with_slip_softening(const char* driver, const std::stri
 /// strength_scale (examples/calibrate --material prism fits it; 0.907 puts the 100-block prism's
 /// mean peak at f_T = 2.15 MPa), c_0 = cohesion_ratio f_T, the 100-block prism's mean block volume
 /// (68 x 68 x 600 mm / 100 = 27.7 cm^3, a 30 mm block), one zone per face triangle, blocks of
-/// 10 x 28 GPa.
-[[nodiscard]] inline concrete_recipe<law::study_tie_law> prism_concrete(real strength_scale, real cohesion_ratio = 2) {
-  constexpr int blocks = 100;
+/// 10 x 28 GPa. `blocks` (calibrate --blocks) picks another prism's contacts (scaled_prism_params) and
+/// block volume.
+[[nodiscard]] inline concrete_recipe<law::study_tie_law> prism_concrete(real strength_scale, real cohesion_ratio = 2,
+                                                                        int blocks = 100) {
+  require(blocks >= 2, "prism: blocks = ", blocks, " must be >= 2");
   require(std::isfinite(strength_scale) && strength_scale > 0, "prism: strength scale = ", strength_scale,
           " must be finite and > 0");
   concrete_recipe<law::study_tie_law> r;

@@ -28,6 +28,9 @@
 // Contact law (--law, --material beam): study, the beam's (study_beam_law: brittle Coulomb shear onto c_res, phi_res),
 // or slip_softening (slip_softening_beam_law, docs/model.md: c_0 and phi_0 soften linearly with the
 // plastic slip to c_res and --phi-res-deg, the slip scale set by the mode-II fracture energy --g-ii).
+// --params FILE: the concrete of a calibrated.json entry (calibrate; common/concrete_set.hpp): law,
+// strength and fracture-energy scales, c_0/f_T, phi_0, phi_res, G_II, cap, for the recipe named by
+// --material, --recipe-blocks and --zone-edge (refused, naming both values, if the file's differs).
 // VTK (--no-vtk to skip): zones (displacement, stress) and contacts (every law field) at the end of the
 // run (past the peak, or at --max-strain), end_zones.vtu and end_contacts.vtp in compression.pvd.
 #include <tessera/analysis/curves.hpp>
@@ -41,13 +44,15 @@
 #include <tessera/solver/solver.hpp>
 
 #include "common/cli.hpp"
+#include "common/concrete_set.hpp"
 #include "compression/specimen.hpp"
 
 using namespace tessera;
 
 namespace {
 template <class Law>
-int run_specimen(const scenes::compression_options& in, const scenes::concrete_recipe<Law>& recipe, io::run_record& record);
+int run_specimen(const scenes::compression_options& in, const scenes::concrete_set& set, const std::string& params,
+                 const scenes::concrete_recipe<Law>& recipe, io::run_record& record);
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -82,7 +87,25 @@ int main(int argc, char** argv) {
   cli.option("--drop", in.drop, "post-peak drop that ends the run and marks the peak, as a fraction of f_c", "F")
       .within(0.02, 0.9);
   cli.flag("--no-vtk", in.no_vtk, "write no VTK files");
+  std::string params;
+  scenes::concrete_set set;
+  cli.option("--recipe-blocks", set.recipe_blocks, "the recipe's block count (calibrate --blocks): its contacts and block "
+             "size; 0 = prism 100, beam 250", "N").within(0, 750);
+  cli.option("--zone-edge", set.zone_edge, "beam: the recipe's face zoning edge (m; calibrate --zone-edge); default 0.03",
+             "M").within(0, 1);
+  cli.option("--params", params, "calibrate's calibrated.json: the concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, "
+             "cap) of its entry for this recipe, instead of the concrete flags", "FILE");
   cli.parse_or_exit(argc, argv);
+  for (const char* flag : {"--f-t", "--cohesion-ratio", "--phi-deg", "--phi-res-deg", "--law", "--g-ii", "--cap"})
+    if (!params.empty() && cli.given(flag)) {
+      std::fprintf(stderr, "compression: %s with --params %s: the file sets the concrete (drop the flag)\n", flag, params.c_str());
+      return 2;
+    }
+  if (in.material == "prism" && cli.given("--zone-edge")) {
+    std::fprintf(stderr, "compression: --zone-edge %g applies to --material beam only (the prism's recipe has one zone "
+                 "per face triangle)\n", set.zone_edge);
+    return 2;
+  }
   if (in.common.quick) {  // a coarser step and a shorter softening branch: the CTest
     if (!cli.given("--step-displacement")) in.step_displacement = 5e-9;
     if (!cli.given("--drop")) in.drop = 0.1;
@@ -97,13 +120,24 @@ int main(int argc, char** argv) {
                  in.law.c_str());
     return 2;
   }
+  if (set.recipe_blocks == 1) {
+    std::fprintf(stderr, "compression: --recipe-blocks 1 must be 0 (the material's) or >= 2\n");
+    return 2;
+  }
+  set.material = in.material;
+  scenes::concrete_set_from(in, set);
+  if (!params.empty()) {
+    try {
+      scenes::load_concrete_params(set, params, in.step_displacement, in.rate, "compression");
+    } catch (const std::exception& e) {
+      cli::print_error("compression", e);
+      return 2;
+    }
+    scenes::concrete_set_to(set, in);
+  }
   io::run_record record(in.common.out, "compression", argc, argv);
   try {
-    if (in.material == "prism") return run_specimen(in, scenes::prism_concrete(0.907), record);
-    if (in.law == "slip_softening")
-      return run_specimen(in, scenes::with_slip_softening(scenes::beam_concrete(), scenes::g_ii_or_default(in.g_ii)),
-                          record);
-    return run_specimen(in, scenes::beam_concrete(), record);
+    return scenes::with_concrete(set, [&](const auto& recipe) { return run_specimen(in, set, params, recipe, record); });
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 1;
@@ -113,12 +147,15 @@ int main(int argc, char** argv) {
 namespace {
 
 template <class Law>
-int run_specimen(const scenes::compression_options& in, const scenes::concrete_recipe<Law>& recipe, io::run_record& record) {
+int run_specimen(const scenes::compression_options& in, const scenes::concrete_set& set, const std::string& params,
+                 const scenes::concrete_recipe<Law>& recipe, io::run_record& record) {
   {
     scenes::compression_specimen<Law> sp(in, recipe);
     const scenes::compression_result r = sp.run();
     io::summary_json j;
     scenes::write_compression_summary(j, in, sp, r);
+    j.set("params", params.empty() ? "flags" : params).set("recipe_blocks", set.blocks())
+        .set("strength_scale", set.scale()).set("fracture_energy_scale", set.fracture_energy_scale);
     j.write(std::filesystem::path(in.common.out) / "summary.json");
     record.complete();
     std::printf("compression: %s concrete (%s law), %s, %d blocks, %s ends%s: %s; E %.1f GPa, nu %.3f; %lld steps, %.1f s\n",

@@ -28,6 +28,7 @@
 #include "tessera/presets/pulatsu2020.hpp"
 #include "tessera/solver/recorders.hpp"
 #include "tessera/solver/solver.hpp"
+#include "common/concrete_set.hpp"
 #include "common/scenes.hpp"
 #include "compression/curve.hpp"
 #include "rc_beam/beam.hpp"
@@ -47,6 +48,17 @@ struct compression_options {
   real rate = 5e-3, step_displacement = 2e-9, max_strain = 6e-3, drop = 0.2;     ///< m/s, m, -, -
   bool no_vtk = false;
 };
+
+/// The concrete flags of o (law, G_II, c_0 / f_T, phi_0, phi_res, cap) into c.
+inline void concrete_set_from(const compression_options& o, concrete_set& c) {
+  c.law = o.law, c.g_ii = o.g_ii, c.cohesion_ratio = o.cohesion_ratio, c.phi_0_deg = o.phi_deg;
+  c.phi_res_deg = o.phi_res_deg, c.cap = o.cap;
+}
+/// c's concrete into the flags of o (--params: the specimen applies them over the recipe's contacts).
+inline void concrete_set_to(const concrete_set& c, compression_options& o) {
+  o.law = c.law, o.g_ii = c.g_ii, o.cohesion_ratio = c.cohesion_ratio, o.phi_deg = c.phi_0_deg;
+  o.phi_res_deg = c.phi_res_deg, o.cap = c.cap, o.f_t = 0;
+}
 
 inline constexpr int compression_sides = 36;  ///< the cylinder's polygon
 template <class Law>

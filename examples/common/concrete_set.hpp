@@ -1,0 +1,127 @@
+#pragma once
+// The concrete of brazilian, compression and calibrate --targets as one set of values (issue #63
+// item 4): the recipe (material, its block count and face zoning: the contacts' stiffness table,
+// the mean block size, the sub-contacts' density) and the parameters a calibration may fit (the
+// law, the strength and fracture-energy scales, c_0 / f_T, phi_0, phi_res, G_II, the cap). The
+// drivers fill it from their flags or from a calibrated.json entry (--params, load_concrete), and
+// with_concrete builds the concrete_recipe of the set's law with every value applied, so a driver
+// that loads a file runs exactly the fitted concrete.
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "common/calibration.hpp"
+#include "common/scenes.hpp"
+#include "rc_beam/beam.hpp"
+
+namespace tessera::scenes {
+
+struct concrete_set {
+  std::string material = "beam";  ///< "prism" (the study's prism concrete) or "beam" (rc_beam's)
+  int recipe_blocks = 0;          ///< the recipe's block count (calibrate --blocks); 0 = prism 100, beam 250
+  real zone_edge = -1;            ///< beam: face zoning edge (m); < 0 = the beam's h/5 = 0.03 (prism: 0 always)
+  std::string law = "study";      ///< "study" or "slip_softening" (beam only)
+  /// Contact f_T (and c_0) x strength_scale; NaN = the material's (prism 0.907, its calibrated 100-block
+  /// scale; beam 1, the study verbatim).
+  real strength_scale = std::numeric_limits<real>::quiet_NaN();
+  real fracture_energy_scale = 1;     ///< contact G_f x this
+  real cohesion_ratio = 2;            ///< c_0 / f_T; c_res = 0.01 c_0
+  real phi_0_deg = 35, phi_res_deg = 30;  ///< contact friction angles (deg)
+  real g_ii = 0;                      ///< mode-II fracture energy (J/m^2) with law slip_softening; 0 = default_g_ii
+  real cap = 35e6;                    ///< contact compressive cap (Pa), beam only
+
+  [[nodiscard]] int blocks() const { return recipe_blocks > 0 ? recipe_blocks : material == "prism" ? 100 : 250; }
+  [[nodiscard]] real scale() const { return std::isnan(strength_scale) ? (material == "prism" ? 0.907 : 1.0) : strength_scale; }
+  /// The beam options whose concrete this is (block count, zoning, scales).
+  [[nodiscard]] beam_options beam() const {
+    beam_options b;
+    b.blocks = blocks();
+    if (zone_edge >= 0) b.zone_edge = zone_edge;
+    b.strength_scale = scale();
+    b.fracture_energy_scale = fracture_energy_scale;
+    return b;
+  }
+  /// The recipe a calibrated.json must have been fitted on to be loaded into this set (the step and
+  /// rate are the run's, step_displacement m, rate m/s: a difference is a note, not a refusal).
+  [[nodiscard]] calibration_recipe recipe(real step_displacement, real rate) const {
+    calibration_recipe r;
+    r.material = material;
+    r.softening = material == "prism" ? "power" : "linear";
+    r.cohesion_ratio = cohesion_ratio;
+    r.step_displacement = step_displacement;
+    r.rate = rate;
+    r.zone_edge = material == "prism" ? 0 : beam().face_zone_edge();
+    r.beam_volume = material == "prism" ? 0 : beam().half_volume();
+    return r;
+  }
+  /// The entry's concrete over this set's (material, recipe blocks and zoning kept).
+  void apply(const calibration_entry& e) {
+    law = e.law;
+    strength_scale = e.strength_scale;
+    fracture_energy_scale = e.fracture_energy_scale;
+    cohesion_ratio = e.cohesion_ratio;
+    phi_0_deg = e.phi_0_deg;
+    phi_res_deg = e.phi_res_deg;
+    g_ii = e.law == "slip_softening" ? e.g_ii : 0;
+    cap = e.cap;
+  }
+};
+
+/// The law of a concrete_recipe type (recipe_law<concrete_recipe<L>>::type is L).
+template <class Recipe>
+struct recipe_law;
+template <class Law>
+struct recipe_law<concrete_recipe<Law>> {
+  using type = Law;
+};
+
+/// --params FILE for brazilian and compression (`program`): the entry for c's recipe (material,
+/// block count, zoning; refused with both values named otherwise, load_concrete) applied to c.
+inline void load_concrete_params(concrete_set& c, const std::filesystem::path& file, real step_displacement, real rate,
+                                 const char* program) {
+  c.apply(load_concrete(file, c.blocks(), c.recipe(step_displacement, rate), program));
+}
+
+/// The set's friction angles, c_0 = cohesion_ratio f_T, c_res = 0.01 c_0 (and the cap where the law
+/// has one) on contact parameters p whose f_T and G_f are already scaled.
+template <class Params>
+void apply_concrete_shear(Params& p, const concrete_set& c) {
+  p.shear.c_0 = c.cohesion_ratio * p.tension.f_T;
+  p.shear.c_res = 0.01 * p.shear.c_0;
+  p.shear.phi_0 = law::friction_angle::from_degrees(c.phi_0_deg);
+  p.shear.phi_res = law::friction_angle::from_degrees(c.phi_res_deg);
+  if constexpr (requires { p.compression.f_c; }) p.compression.f_c = c.cap;
+}
+
+/// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
+/// (law::study_tie_law for prism; presets::study_beam_law or slip_softening_beam_law for beam), and
+/// returns its result. Throws invalid_input naming a bad combination or value (the law's validate;
+/// the drivers check phi_res <= phi_0 themselves, naming their flags).
+template <class F>
+decltype(auto) with_concrete(const concrete_set& c, F&& f) {
+  require(c.material == "prism" || c.material == "beam", "concrete: material '", c.material, "' must be prism or beam");
+  require(c.law == "study" || c.law == "slip_softening", "concrete: law '", c.law, "' must be study or slip_softening");
+  require(c.material == "beam" || c.law == "study", "concrete: law ", c.law,
+          " applies to the beam's concrete only (the prism's concrete has the study's law)");
+  if (c.material == "prism") {
+    auto r = prism_concrete(c.scale(), c.cohesion_ratio, c.blocks());
+    r.contact.tension.G_f *= c.fracture_energy_scale;
+    apply_concrete_shear(r.contact, c);
+    law::study_tie_law::validate(r.contact);
+    return std::forward<F>(f)(r);
+  }
+  auto r = beam_concrete(c.beam());
+  apply_concrete_shear(r.contact, c);
+  if (c.law == "slip_softening") {
+    auto s = with_slip_softening(r, g_ii_or_default(c.g_ii));
+    presets::slip_softening_beam_law::validate(s.contact);
+    return std::forward<F>(f)(s);
+  }
+  presets::study_beam_law::validate(r.contact);
+  return std::forward<F>(f)(r);
+}
+
+}  // namespace tessera::scenes
