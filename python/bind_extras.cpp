@@ -67,11 +67,17 @@ void bind_extras(py::module_& m) {
       .def_readwrite("rigid", &calibration_recipe::rigid, "rigid blocks")
       .def_readwrite("zone_edge", &calibration_recipe::zone_edge, "face zoning edge (m; 0 = one zone per face triangle)")
       .def_readwrite("beam_volume", &calibration_recipe::beam_volume, "the beam recipe's half-beam volume (m^3; 0 = none)");
-  py::class_<calibration_entry>(c, "calibration_entry", "The scales fitted for one block count")
+  py::class_<calibration_entry>(c, "calibration_entry", "The concrete fitted for one block count: its scales and, from calibrate --targets, the whole set")
       .def_readonly("blocks", &calibration_entry::blocks, "block count of the fitted prism")
       .def_readonly("strength_scale", &calibration_entry::strength_scale, "x Table 1's f_T (and the cohesion)")
       .def_readonly("fracture_energy_scale", &calibration_entry::fracture_energy_scale, "x Table 1's G_f")
-      .def_readonly("initial_modulus", &calibration_entry::initial_modulus, "mean initial modulus (Pa; 0 = not recorded)");
+      .def_readonly("initial_modulus", &calibration_entry::initial_modulus, "mean initial modulus (Pa; 0 = not recorded)")
+      .def_readonly("law", &calibration_entry::law, "'study' or 'slip_softening'")
+      .def_readonly("cohesion_ratio", &calibration_entry::cohesion_ratio, "c_0 / f_T (0 = the recipe's)")
+      .def_readonly("phi_0_deg", &calibration_entry::phi_0_deg, "peak friction angle (deg)")
+      .def_readonly("phi_res_deg", &calibration_entry::phi_res_deg, "residual friction angle (deg)")
+      .def_readonly("g_ii", &calibration_entry::g_ii, "mode-II fracture energy (J/m^2; slip_softening only)")
+      .def_readonly("cap", &calibration_entry::cap, "compressive cap f_c (Pa; the beam's concrete)");
   py::class_<scenes::calibration>(c, "calibration", "A calibrated.json: its recipe and one entry per block count")
       .def_readonly("recipe", &scenes::calibration::recipe, "the recipe it was fitted with")
       .def_readonly("entries", &scenes::calibration::entries, "one per block count")

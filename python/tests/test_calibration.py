@@ -5,6 +5,7 @@ study's contacts as the drivers do, and refuses what the drivers refuse with the
     PYTHONPATH=build/release/python python3 -m pytest python/tests/test_calibration.py
 """
 import json
+import pathlib
 
 import pytest
 
@@ -64,3 +65,11 @@ def test_a_bad_calibrated_file_is_refused_naming_the_field(tmp_path):
     ratio.cohesion_ratio = 3
     with pytest.raises(tessera.InvalidInput, match=r"was fitted with cohesion ratio 2, this run uses 3"):
         calibration.load_calibration(write(tmp_path, FILE), 100, ratio, "test")
+
+
+def test_a_whole_concrete_set_reads_every_field():
+    # tests/data/concrete_beam_slip.json: the slip-softening set that meets compression (calibrate --targets writes these fields)
+    path = pathlib.Path(__file__).resolve().parents[2] / "tests" / "data" / "concrete_beam_slip.json"
+    e = calibration.read_calibration(str(path)).entry_for(250)
+    assert (e.law, e.cohesion_ratio, e.phi_0_deg, e.phi_res_deg, e.g_ii, e.cap) == ("slip_softening", 2, 58, 15, 300, 100e6)
+    assert calibration.read_calibration(str(path)).recipe.material == "beam"
