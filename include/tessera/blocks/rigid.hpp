@@ -89,7 +89,8 @@
 // Where each job lives: the block record and its prescriptions in detail/rigid_body.hpp, steps
 // 1-5 of a block (reduction, integration, slaved gridpoints) in detail/rigid_motion.hpp, the
 // stable step, the blocks it leaves out and the mass scaling in detail/rigid_step_bound.hpp, the
-// rotation helpers in detail/rigid_rotation.hpp; this header holds the BlockModel and its state.
+// rotation helpers in detail/rigid_rotation.hpp; this header holds the BlockModel and its state,
+// impl/rigid.ipp the bodies of its larger members (compiled once in tessera::instances).
 
 #include <algorithm>
 #include <array>

@@ -18,7 +18,8 @@
 // closed (Euler characteristic 2) by construction.
 //
 // The clipping itself (one attempt: sides, kept faces, the new face) is in
-// detail/polyhedron_clip.hpp; this header holds construction, queries and clip's retry policy.
+// detail/polyhedron_clip.hpp; this header holds construction, queries and clip's retry policy
+// (the construction's and clip's bodies in impl/convex_polyhedron.ipp).
 //
 // Cost: clip is O(V + sum of loop lengths) and allocation-free once the per-thread scratch
 // buffers have grown. Thread safety: distinct objects may be used from distinct threads;
