@@ -89,7 +89,8 @@
 // Where each job lives: the block record and its prescriptions in detail/rigid_body.hpp, steps
 // 1-5 of a block (reduction, integration, slaved gridpoints) in detail/rigid_motion.hpp, the
 // stable step, the blocks it leaves out and the mass scaling in detail/rigid_step_bound.hpp, the
-// rotation helpers in detail/rigid_rotation.hpp; this header holds the BlockModel and its state.
+// rotation helpers in detail/rigid_rotation.hpp; this header holds the BlockModel and its state,
+// impl/rigid.ipp the bodies of its larger members (compiled once in tessera::instances).
 
 #include <algorithm>
 #include <array>
@@ -104,6 +105,7 @@
 #include <Eigen/Geometry>
 
 #include "../core/errors.hpp"
+#include "../core/separate_compilation.hpp"
 #include "../core/nodes.hpp"
 #include "../core/parallel.hpp"
 #include "../core/types.hpp"
@@ -156,62 +158,7 @@ class rigid {
   /// The same with one material per material id: block b takes materials[mesh.material(b)]
   /// (geometry::block_mesh::block_material); invalid_input for a block whose id has no entry.
   void build(const geometry::tessellation& tess, const geometry::block_mesh& mesh, std::span<const params> materials,
-             node_set& gridpoints) {
-    require(!materials.empty(), "rigid blocks: no block material given");
-    for (const params& m : materials) validate(m);
-    materials_.assign(materials.begin(), materials.end());
-    const index_t n_b = mesh.block_count();
-    const index_t n_gp = mesh.gridpoint_count();
-    require<geometry_error>(n_b > 0 && n_gp > 0, "rigid blocks: block_mesh has ", n_b, " blocks and ", n_gp,
-                            " gridpoints; build it with geometry::zone_blocks");
-    require<geometry_error>(tess.cell_count() == n_b, "rigid blocks: the tessellation has ", tess.cell_count(),
-                            " cells but the block_mesh ", n_b, " blocks; block b must be cell b");
-    gridpoints.resize(n_gp);
-    for (index_t i = 0; i < n_gp; ++i) gridpoints.reference.row(i) = mesh.gridpoints[static_cast<std::size_t>(i)];
-    gridpoint_block_ = mesh.gridpoint_block;
-    bodies_.assign(static_cast<std::size_t>(n_b), body{});
-    body_position_.setZero(n_gp, 3);
-    for (index_t b = 0; b < n_b; ++b) {
-      body& bd = bodies_[static_cast<std::size_t>(b)];
-      bd.first = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b)];
-      bd.end = mesh.block_gridpoint_offsets[static_cast<std::size_t>(b) + 1];
-      require<geometry_error>(bd.end > bd.first, "rigid blocks: block ", b, " has no gridpoint");
-      const int id = mesh.material(b);
-      require(id >= 0 && static_cast<std::size_t>(id) < materials_.size(), "rigid blocks: block ", b,
-              " has material id ", id, ", but ", materials_.size(), " block material(s) were given");
-      const params& p = materials_[static_cast<std::size_t>(id)];
-      const geometry::mass_properties mp = geometry::cell_mass_properties(tess, b);
-      require<geometry_error>(mp.volume > 0, "rigid blocks: cell ", b, " has volume ", mp.volume,
-                              " m^3; expected > 0 (faces CCW seen from outside)");
-      const mat3 inertia = geometry::inertia_tensor(mp.second_moment, p.density);
-      // Principal moments ascending and axes with det = +1 by 3x3 Jacobi rotations, not Eigen's
-      // SelfAdjointEigenSolver: this non-template function made GCC compile that solver in every
-      // translation unit including this header (issue #40 item 9).
-      const detail::symmetric_eigen3 eig = detail::symmetric_eigen_3x3(inertia);
-      const mat3& axes = eig.vectors;
-      bd.mass = p.density * mp.volume;
-      bd.weight_mass = bd.mass;
-      bd.inertia = eig.values;
-      require<geometry_error>(bd.inertia.minCoeff() > 0, "rigid blocks: cell ", b, " has principal moments (",
-                              bd.inertia.transpose(), ") kg m^2; expected all > 0");
-      bd.centroid = mp.centroid;
-      bd.axes = axes;
-      bd.orientation = Eigen::Quaterniond(axes);
-      bd.orientation.normalize();
-      bd.half_orientation = bd.orientation;
-      bd.rotation = bd.orientation.toRotationMatrix();
-      for (index_t i = bd.first; i < bd.end; ++i) {
-        require<geometry_error>(gridpoint_block_[static_cast<std::size_t>(i)] == b, "rigid blocks: gridpoint ", i,
-                                " lies in the range of block ", b, " but belongs to block ",
-                                gridpoint_block_[static_cast<std::size_t>(i)]);
-        body_position_.row(i) = (bd.rotation.transpose() * (mesh.gridpoints[static_cast<std::size_t>(i)] - bd.centroid)).transpose();
-      }
-    }
-    share_masses(gridpoints);
-    constraints_.assign(static_cast<std::size_t>(n_b), block_constraints{});
-    work_.assign(static_cast<std::size_t>(n_b), integrator::step_work{});
-    zone_stress_.resize(0, 6);
-  }
+             node_set& gridpoints);
 
   /// Step 2: rigid blocks have no internal forces.
   void accumulate_forces(node_set& /*gridpoints*/) noexcept {}
@@ -252,53 +199,17 @@ class rigid {
   static constexpr int body_state_size = 29;
   /// Appends the state of each listed block after its step (body_state_size doubles a block) to
   /// `out`, for read_body_states on another rank.
-  void write_body_states(std::span<const index_t> blocks, std::vector<double>& out) const {
-    for (const index_t b : blocks) {
-      const body& bd = at(b);
-      for (const vec3* v : {&bd.displacement, &bd.velocity, &bd.angular_velocity, &bd.force, &bd.moment,
-                            &bd.reaction_force, &bd.reaction_moment})
-        out.insert(out.end(), v->data(), v->data() + 3);
-      out.insert(out.end(), bd.orientation.coeffs().data(), bd.orientation.coeffs().data() + 4);
-      out.insert(out.end(), bd.half_orientation.coeffs().data(), bd.half_orientation.coeffs().data() + 4);
-    }
-  }
+  void write_body_states(std::span<const index_t> blocks, std::vector<double>& out) const;
   /// Takes the listed blocks' states from `in` (write_body_states' layout, one step of `dt` s on
   /// from the states held here) and slaves their gridpoints as their owner's step did, so a copy
   /// of a block has its owner's bits. With `slave_now` (per block of the model), a block whose
   /// flag is 0 keeps its gridpoints and puts its rotation before the step in rotation_before[b],
   /// for slave_gridpoints later in the same step. Returns the doubles read.
   std::size_t read_body_states(std::span<const index_t> blocks, const double* in, node_set& gridpoints, real dt,
-                               std::span<const std::uint8_t> slave_now = {}, std::span<mat3> rotation_before = {}) {
-    const double* p = in;
-    for (const index_t b : blocks) {
-      body& bd = bodies_[static_cast<std::size_t>(b)];
-      const mat3 rotation_old = bd.rotation;
-      for (vec3* v : {&bd.displacement, &bd.velocity, &bd.angular_velocity, &bd.force, &bd.moment, &bd.reaction_force,
-                      &bd.reaction_moment}) {
-        *v = vec3(p[0], p[1], p[2]);
-        p += 3;
-      }
-      bd.orientation.coeffs() = Eigen::Vector4d(p[0], p[1], p[2], p[3]);
-      bd.half_orientation.coeffs() = Eigen::Vector4d(p[4], p[5], p[6], p[7]);
-      p += 8;
-      bd.rotation = bd.orientation.toRotationMatrix();
-      if (slave_now.empty() || slave_now[static_cast<std::size_t>(b)] != 0)
-        slave_gridpoints(b, rotation_old, gridpoints, dt);
-      else
-        rotation_before[static_cast<std::size_t>(b)] = rotation_old;
-    }
-    return static_cast<std::size_t>(p - in);
-  }
+                               std::span<const std::uint8_t> slave_now = {}, std::span<mat3> rotation_before = {});
   /// Block b's gridpoints after a step of `dt` s from its body state now and its rotation before
   /// that step (the slaving of the integration, read_body_states): the owner's bits.
-  void slave_gridpoints(index_t b, const mat3& rotation_before, node_set& gridpoints, real dt) const noexcept {
-    const body& bd = bodies_[static_cast<std::size_t>(b)];
-    std::array<index_t, 3> count{0, 0, 0};
-    for (index_t i = bd.first; i < bd.end; ++i)
-      for (int c = 0; c < 3; ++c)
-        count[static_cast<std::size_t>(c)] += gridpoints.constraint(i, c) == static_cast<std::uint8_t>(dof_constraint::prescribed);
-    detail::slave_rigid_gridpoints(gridpoints, body_position_, bd, rotation_before, bd.angular_velocity * dt, dt, count);
-  }
+  void slave_gridpoints(index_t b, const mat3& rotation_before, node_set& gridpoints, real dt) const noexcept;
 
   /// Empty: rigid blocks have no zones (reinforcement sees no confinement).
   [[nodiscard]] const zone_stress_matrix& zone_stress() const { return zone_stress_; }
@@ -323,12 +234,7 @@ class rigid {
   /// Rigid blocks store no elastic energy (J).
   [[nodiscard]] real stored_energy(const node_set& /*gridpoints*/) const { return 0; }
   /// sum_b 1/2 m |v|^2 + 1/2 sum_k I_k w_k^2 (J) at the half step (scaled masses).
-  [[nodiscard]] real kinetic_energy(const node_set& /*gridpoints*/) const {
-    real e = 0;
-    for (const body& bd : bodies_)
-      e += 0.5 * (bd.mass * bd.velocity.squaredNorm() + bd.angular_velocity.dot(bd.inertia.cwiseProduct(bd.angular_velocity)));
-    return e;
-  }
+  [[nodiscard]] real kinetic_energy(const node_set& gridpoints) const;
   [[nodiscard]] index_t block_count() const { return static_cast<index_t>(bodies_.size()); }  ///< Number of blocks
 
   // ---- time step and mass scaling (called by the solver instead of the nodal versions) ----
@@ -338,13 +244,7 @@ class rigid {
   /// amplification of the damping. Blocks without stiffness are skipped, and so are fully
   /// prescribed blocks (fully_prescribed, as the gridpoints' constraints stand now) unless no
   /// other block has a stiffness. Throws invalid_input for a < 1.
-  [[nodiscard]] integrator::critical_step critical_time_step(const node_set& gridpoints, real amplification = 1) const {
-    require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
-    const integrator::critical_step free =
-        detail::rigid_step_bound(bodies_, gridpoints, body_position_, amplification, true);
-    return std::isfinite(free.dt) ? free
-                                  : detail::rigid_step_bound(bodies_, gridpoints, body_position_, amplification, false);
-  }
+  [[nodiscard]] integrator::critical_step critical_time_step(const node_set& gridpoints, real amplification = 1) const;
   /// True when every translation component of block b is prescribed on some gridpoint of it (then
   /// its rotations are held too: all six DOFs are set, none integrated). Reads the gridpoints'
   /// constraints as they stand. Throws invalid_input for a bad id.
@@ -353,43 +253,23 @@ class rigid {
   }
   /// Remembers which blocks critical_time_step(gridpoints) leaves out (fully prescribed, while a
   /// free block has a stiffness), for check_step_bound. The solver calls it when it sets dt.
-  void record_step_bound(const node_set& gridpoints) {
-    unbounded_.clear();
-    // every block counts when no free block has a stiffness
-    if (!std::isfinite(detail::rigid_step_bound(bodies_, gridpoints, body_position_, 1, true).dt)) return;
-    for (index_t b = 0; b < block_count(); ++b)
-      if (fully_prescribed(gridpoints, b)) unbounded_.push_back(b);
-  }
+  void record_step_bound(const node_set& gridpoints);
   /// Throws invalid_input when a block left out of the step in use (record_step_bound) is no
   /// longer fully prescribed: that step does not bound it. The solver calls it before each step
   /// (O(gridpoints of the blocks left out), nothing when none was).
-  void check_step_bound(const node_set& gridpoints) const {
-    for (index_t b : unbounded_)
-      if (!fully_prescribed(gridpoints, b)) detail::throw_rigid_unbounded(gridpoints, b, at(b));
-  }
+  void check_step_bound(const node_set& gridpoints) const;
 
   /// Multiplies m and I of every block whose bound is below target_dt by the smallest common
   /// factor that makes safety x its bound reach target_dt; updates the gridpoints' shared masses.
   /// The report counts blocks in `scaled_nodes`.
   integrator::mass_scaling_report scale_masses(node_set& gridpoints, real target_dt, real safety = integrator::default_safety,
-                                               real amplification = 1) {
-    require_positive(target_dt, "rigid blocks: mass-scaling target time step (s)");
-    require(safety > 0 && safety <= 1, "rigid blocks: mass-scaling safety factor = ", safety, " must lie in (0, 1]");
-    require(amplification >= 1, "rigid blocks: stiffness amplification a = ", amplification, " must be >= 1");
-    const integrator::mass_scaling_report rep =
-        detail::scale_rigid_masses(bodies_, gridpoints, body_position_, target_dt, safety, amplification);
-    share_masses(gridpoints);
-    return rep;
-  }
+                                               real amplification = 1);
 
   // ---- gravity ----
 
   /// Acceleration of gravity g (m/s^2, world): each block gets its weight m0 g at the centroid
   /// (m0 its unscaled mass). Throws invalid_input for a non-finite vector.
-  void set_gravity(const vec3& g) {
-    require(g.allFinite(), "rigid blocks: gravity (", g.transpose(), ") m/s^2 is not finite");
-    gravity_ = g;
-  }
+  void set_gravity(const vec3& g);
   [[nodiscard]] const vec3& gravity() const { return gravity_; }  ///< Acceleration of gravity (m/s^2)
   /// Power of the weights at the half-step velocities, sum_b m0_b g . v_b (W); the solver
   /// multiplies it by dt for the work of gravity over the step.
@@ -412,16 +292,7 @@ class rigid {
   /// Sets the centroid velocity v (m/s) and the angular velocity omega (rad/s, world frame) of
   /// block b as the half-step velocities of the next step, and the gridpoint velocities to the
   /// rigid field v + omega x (x_i - c). Throws invalid_input for a bad block id or a non-finite vector.
-  void set_velocity(index_t b, const vec3& v, const vec3& omega, node_set& gridpoints) {
-    require(b >= 0 && b < block_count(), "rigid blocks: block ", b, " does not exist (", block_count(), " blocks)");
-    require(v.allFinite() && omega.allFinite(), "rigid blocks: velocity (", v.transpose(), ") m/s or angular velocity (",
-            omega.transpose(), ") rad/s of block ", b, " is not finite");
-    body& bd = bodies_[static_cast<std::size_t>(b)];
-    bd.velocity = v;
-    bd.angular_velocity = bd.rotation.transpose() * omega;
-    for (index_t i = bd.first; i < bd.end; ++i)
-      gridpoints.velocity.row(i) = (v + omega.cross(bd.rotation * body_position(i))).transpose();
-  }
+  void set_velocity(index_t b, const vec3& v, const vec3& omega, node_set& gridpoints);
 
   // ---- state of block b ----
 
@@ -430,10 +301,7 @@ class rigid {
   /// Principal axes E (columns) in the reference configuration.
   [[nodiscard]] const mat3& principal_axes(index_t b) const { return at(b).axes; }
   /// Inertia tensor about the centroid in the current orientation, R diag(I) R^T (kg m^2).
-  [[nodiscard]] mat3 inertia(index_t b) const {
-    const body& bd = at(b);
-    return bd.rotation * bd.inertia.asDiagonal() * bd.rotation.transpose();
-  }
+  [[nodiscard]] mat3 inertia(index_t b) const;
   [[nodiscard]] const vec3& reference_centroid(index_t b) const { return at(b).centroid; }  ///< c (m)
   [[nodiscard]] vec3 centroid(index_t b) const { return at(b).centroid + at(b).displacement; }  ///< c + u_c (m)
   [[nodiscard]] const vec3& displacement(index_t b) const { return at(b).displacement; }  ///< u_c (m)
@@ -441,14 +309,10 @@ class rigid {
   /// Angular velocity (rad/s) in the body principal frame, half step.
   [[nodiscard]] const vec3& body_angular_velocity(index_t b) const { return at(b).angular_velocity; }
   /// Angular velocity (rad/s) in the world frame, R(q_half) w, half step.
-  [[nodiscard]] vec3 angular_velocity(index_t b) const {
-    return at(b).half_orientation.toRotationMatrix() * at(b).angular_velocity;
-  }
+  [[nodiscard]] vec3 angular_velocity(index_t b) const;
   /// Angular momentum about the centroid (kg m^2/s, world) at the half step: R(q_half) I w, with
   /// q_half the orientation halfway through the last step's rotation.
-  [[nodiscard]] vec3 angular_momentum(index_t b) const {
-    return at(b).half_orientation.toRotationMatrix() * at(b).inertia.cwiseProduct(at(b).angular_velocity);
-  }
+  [[nodiscard]] vec3 angular_momentum(index_t b) const;
   /// Orientation q (body principal frame -> world), full step.
   [[nodiscard]] const Eigen::Quaterniond& orientation(index_t b) const { return at(b).orientation; }
   /// Rotation of the block since the reference configuration, R(q) E^T.
@@ -478,10 +342,7 @@ class rigid {
     return bodies_[static_cast<std::size_t>(b)];
   }
 
-  void share_masses(node_set& gridpoints) const {
-    for (const body& bd : bodies_)
-      for (index_t i = bd.first; i < bd.end; ++i) gridpoints.mass[i] = bd.mass / static_cast<real>(bd.end - bd.first);
-  }
+  void share_masses(node_set& gridpoints) const;
 
   std::vector<params> materials_;
   vec3 gravity_ = vec3::Zero();                 ///< acceleration of gravity (m/s^2)
@@ -497,3 +358,7 @@ class rigid {
 static_assert(BlockModel<rigid>);
 
 }  // namespace tessera::blocks
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/rigid.ipp"
+#endif

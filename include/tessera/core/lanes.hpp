@@ -28,8 +28,13 @@
 
 #include "types.hpp"
 
-#if defined(__GNUC__) && (defined(__AVX512F__) || defined(__AVX__) || defined(__SSE2__))
+// The intrinsics of the widest instruction set in use only: <immintrin.h> declares every x86
+// extension's (AVX-512 included) and costs a scene about 1 s and 100 MB of compile (GCC 12), while
+// the x86-64 baseline needs SSE2's alone (docs/studies/compile_time.md).
+#if defined(__GNUC__) && (defined(__AVX512F__) || defined(__AVX__))
 #include <immintrin.h>
+#elif defined(__GNUC__) && defined(__SSE2__)
+#include <emmintrin.h>
 #endif
 
 namespace tessera::lanes {

@@ -18,7 +18,8 @@
 // closed (Euler characteristic 2) by construction.
 //
 // The clipping itself (one attempt: sides, kept faces, the new face) is in
-// detail/polyhedron_clip.hpp; this header holds construction, queries and clip's retry policy.
+// detail/polyhedron_clip.hpp; this header holds construction, queries and clip's retry policy
+// (the construction's and clip's bodies in impl/convex_polyhedron.ipp).
 //
 // Cost: clip is O(V + sum of loop lengths) and allocation-free once the per-thread scratch
 // buffers have grown. Thread safety: distinct objects may be used from distinct threads;
@@ -31,9 +32,8 @@
 #include <vector>
 
 #include "../core/errors.hpp"
+#include "../core/separate_compilation.hpp"
 #include "../core/types.hpp"
-#include "convex_hull.hpp"
-#include "detail/polyhedron_clip.hpp"
 #include "mass_properties.hpp"
 #include "predicates.hpp"
 #include "tessellation.hpp"
@@ -53,61 +53,16 @@ class convex_polyhedron {
   convex_polyhedron() = default;
 
   /// The box [lo, hi] (m) with faces tagged boundary_tag(0..5) = x-, x+, y-, y+, z-, z+.
-  [[nodiscard]] static convex_polyhedron box(const vec3& lo, const vec3& hi) {
-    require((hi.array() > lo.array()).all() && lo.allFinite() && hi.allFinite(),
-            "convex_polyhedron::box: lo = (", lo.x(), ", ", lo.y(), ", ", lo.z(), "), hi = (", hi.x(), ", ",
-            hi.y(), ", ", hi.z(), ") must be finite with hi > lo in every direction");
-    convex_polyhedron p;
-    p.assign_box(lo, hi);
-    return p;
-  }
+  [[nodiscard]] static convex_polyhedron box(const vec3& lo, const vec3& hi);
 
   /// Resets *this to the box [lo, hi], reusing the storage (no allocation once grown).
-  void assign_box(const vec3& lo, const vec3& hi) {
-    vertices_.clear();
-    // vertex k has x = hi if bit 0, y = hi if bit 1, z = hi if bit 2
-    for (int k = 0; k < 8; ++k)
-      vertices_.emplace_back((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
-    static constexpr std::array<std::array<index_t, 4>, 6> loops{{
-        {0, 4, 6, 2},  // x-  (normal -x)
-        {1, 3, 7, 5},  // x+
-        {0, 1, 5, 4},  // y-
-        {2, 6, 7, 3},  // y+
-        {0, 2, 3, 1},  // z-
-        {4, 5, 7, 6},  // z+
-    }};
-    face_offsets_.assign(1, 0);
-    face_vertices_.clear();
-    face_tags_.clear();
-    for (int s = 0; s < 6; ++s) {
-      face_vertices_.insert(face_vertices_.end(), loops[static_cast<std::size_t>(s)].begin(),
-                            loops[static_cast<std::size_t>(s)].end());
-      face_offsets_.push_back(static_cast<index_t>(face_vertices_.size()));
-      face_tags_.push_back(boundary_tag(s));
-    }
-  }
+  void assign_box(const vec3& lo, const vec3& hi);
 
   /// Builds a polyhedron from vertices and outward CCW face loops (CSR), e.g. a block read from
   /// a file. Checks sizes and ids; convexity and closedness are the caller's promise (see
   /// euler_characteristic and tessellation check()).
   [[nodiscard]] static convex_polyhedron from_faces(std::vector<vec3> vertices, std::vector<index_t> face_offsets,
-                                                    std::vector<index_t> face_vertices, std::vector<index_t> face_tags) {
-    require<geometry_error>(face_offsets.size() >= 2 && face_offsets.front() == 0 &&
-                                face_offsets.back() == static_cast<index_t>(face_vertices.size()),
-                            "convex_polyhedron::from_faces: face_offsets must start at 0 and end at the loop length ",
-                            face_vertices.size());
-    require<geometry_error>(face_tags.size() + 1 == face_offsets.size(), "convex_polyhedron::from_faces: ",
-                            face_tags.size(), " face tags for ", face_offsets.size() - 1, " faces");
-    for (index_t v : face_vertices)
-      require<geometry_error>(v >= 0 && v < static_cast<index_t>(vertices.size()),
-                              "convex_polyhedron::from_faces: vertex id ", v, " out of range [0, ", vertices.size(), ")");
-    convex_polyhedron p;
-    p.vertices_ = std::move(vertices);
-    p.face_offsets_ = std::move(face_offsets);
-    p.face_vertices_ = std::move(face_vertices);
-    p.face_tags_ = std::move(face_tags);
-    return p;
-  }
+                                                    std::vector<index_t> face_vertices, std::vector<index_t> face_tags);
 
   /// The convex hull of `points` (m): a block from its vertices, in any order, interior points
   /// allowed (they are dropped, and so are points inside a hull edge or face). Coplanar hull
@@ -117,23 +72,12 @@ class convex_polyhedron {
   /// (plane_tolerance_rel x largest extent; see convex_hull.hpp). Throws invalid_input for fewer
   /// than 4 points, a non-finite point (its index and value), two coincident points (both
   /// indices), or all points on one line or plane. O(n^2).
-  [[nodiscard]] static convex_polyhedron from_vertices(std::span<const vec3> points) {
-    detail::hull_loops h = detail::compute_hull_loops(points, "convex_polyhedron::from_vertices");
-    std::vector<index_t> tags(h.face_offsets.size() - 1, boundary_tag(0));
-    return from_faces(std::move(h.vertices), std::move(h.face_offsets), std::move(h.face_vertices), std::move(tags));
-  }
+  [[nodiscard]] static convex_polyhedron from_vertices(std::span<const vec3> points);
 
   /// Every vertex x mapped to map x + translation: a rigid move for a rotation `map`, a scaling
   /// about a point for a multiple of the identity. `map` must have a positive determinant (the
   /// face loops stay outward CCW; convexity is kept by any linear map).
-  [[nodiscard]] convex_polyhedron transformed(const mat3& map, const vec3& translation) const {
-    require(map.allFinite() && map.determinant() > 0 && translation.allFinite(),
-            "convex_polyhedron::transformed: the map must be finite with a positive determinant (it is ",
-            map.determinant(), ")");
-    convex_polyhedron p = *this;
-    for (vec3& x : p.vertices_) x = map * x + translation;
-    return p;
-  }
+  [[nodiscard]] convex_polyhedron transformed(const mat3& map, const vec3& translation) const;
 
   // ---- topology and geometry access ------------------------------------------------------
   [[nodiscard]] bool empty() const { return face_tags_.empty(); }  ///< True when it has no face
@@ -204,26 +148,7 @@ class convex_polyhedron {
   /// (1e-6) of extent(). When no band gives a consistent cut, the attempts are repeated in
   /// fallback mode, which settles features below the tolerance (see detail::try_clip); throws
   /// geometry_error when that fails too.
-  bool clip(const plane& h, index_t tag, real tol = -1) {
-    if (empty()) return false;
-    if (tol < 0) tol = plane_tolerance_rel * extent();
-    real coordinate_max = std::abs(h.offset);
-    for (const vec3& v : vertices_) coordinate_max = std::max(coordinate_max, v.cwiseAbs().maxCoeff());
-    tol = std::max(tol, plane_rounding_tolerance(coordinate_max));
-    const real narrowest = tol, widest = std::max(tol, max_widened_tolerance_rel * extent());
-    for (const bool fallback : {false, true}) {
-      for (tol = narrowest;; tol = std::min(100 * tol, widest)) {  // rounding broke the bitonic side pattern of a face: widen the "on" band
-        const detail::clip_result r =
-            detail::try_clip({vertices_, face_offsets_, face_vertices_, face_tags_}, h, tag, tol, fallback);
-        if (r != detail::clip_result::inconsistent) return r == detail::clip_result::cut;
-        if (tol >= widest) break;
-      }
-    }
-    throw geometry_error(tessera::detail::concat("convex_polyhedron::clip: no consistent cut by plane n = (", h.normal.x(),
-                                        ", ", h.normal.y(), ", ", h.normal.z(), "), offset = ", h.offset,
-                                        " m (tag ", tag, ") on a polyhedron of ", vertex_count(),
-                                        " vertices, even with the plane tolerance widened to ", tol, " m"));
-  }
+  bool clip(const plane& h, index_t tag, real tol = -1);
 
   /// Squared distance (m^2) from p to the farthest vertex.
   [[nodiscard]] real max_squared_distance(const vec3& p) const {
@@ -245,3 +170,7 @@ class convex_polyhedron {
 }
 
 }  // namespace tessera::geometry
+
+#ifndef TESSERA_SEPARATE_COMPILATION
+#include "impl/convex_polyhedron.ipp"
+#endif

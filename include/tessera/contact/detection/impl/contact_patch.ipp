@@ -4,10 +4,36 @@
 #pragma once
 
 #include "../contact_patch.hpp"
+#include "../../detail/convex_polygon2.hpp"
 
 namespace tessera::contact::detection {
 namespace detail {
 
+/// Parameter t where the line x + t n leaves a convex polyhedron with outward face planes
+/// `faces`: the least bound of the faces facing along n; +inf if none does.
+[[nodiscard]] inline real exit_along(std::span<const geometry::plane> faces, const vec3& x, const vec3& n) {
+  real t = std::numeric_limits<real>::infinity();
+  for (const geometry::plane& f : faces) {
+    const real c = f.normal.dot(n);
+    if (c > 1e-12) t = std::min(t, (f.offset - f.normal.dot(x)) / c);
+  }
+  return t;
+}
+
+/// Index of the point nearest to q (the first of equals).
+[[nodiscard]] inline std::size_t nearest_point(const point2& q, const std::vector<point2>& points) {
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < points.size(); ++i)
+    if ((points[i] - q).squaredNorm() < (points[best] - q).squaredNorm()) best = i;
+  return best;
+}
+/// Vertex id of the touching point equal to hull corner h (hull2 keeps input points as they are).
+[[nodiscard]] inline index_t hull_vertex(const point2& h, const std::vector<point2>& points, const std::vector<index_t>& ids) {
+  return ids[nearest_point(h, points)];
+}
+
+/// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
+/// (within 1e-6 of the hull's size); else the crossing of the nearest hull edges of A and B.
 [[nodiscard]] TESSERA_INLINE std::uint64_t label_corner(const point2& q, const std::vector<point2>& pa, const std::vector<index_t>& ids_a,
                                                         const std::vector<point2>& hull_a, const std::vector<point2>& pb,
                                                         const std::vector<index_t>& ids_b, const std::vector<point2>& hull_b) {
