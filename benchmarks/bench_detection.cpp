@@ -6,7 +6,8 @@
 // which takes in every opened face (test_contacts "detection pass").
 // Args: blocks (1 000, 10 000), threads.
 // Last, a whole solver step of 1 000 rigid blocks with fixed face contacts and with detected
-// contacts (at the default rebuild policy, and with a pass forced every step): see below.
+// contacts (at the default rebuild policy, and with a pass forced every step), and the step of
+// the README's arch (21 blocks) and of a 5-block stack: see below.
 //
 // Counters: pairs / candidates (of the broad phase), touching pairs, subcontacts (patch corners
 // created), time_per_block (broad phase), time_per_pair, time_per_candidate, time_per_subcontact.
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include <tessera/contact/detected_contacts.hpp>
@@ -26,6 +28,7 @@
 #include <tessera/contact/detection/detect.hpp>
 #include <tessera/core/parallel.hpp>
 #include <tessera/geometry.hpp>
+#include <tessera/law.hpp>
 #include <tessera/solver/solver.hpp>
 
 #include "verification/cases.hpp"
@@ -194,8 +197,44 @@ void BM_step_detected_contacts(benchmark::State& state) {
   tessera::set_threads(saved);
 }
 
+// ---- a small scene's step (issue #65: 5-50 rigid blocks, the cost outside the contacts) ----
+// The README's arch (tests/consumer/arch.cpp: a 6 x 1 x 0.5 m base held and 20 voussoirs between
+// radii 2.0 and 2.4 m, dry joints k_n = k_s = 1e10 Pa/m, 35 deg, tolerance 1 mm, gravity) and a
+// stack of four 0.5 m cubes on the same base (5 blocks), on detected contacts at the default
+// rebuild policy. One step taken before the timed ones (the construction's pass is not timed).
+// Counters: subcontacts, rebuilds (during the timed steps), time per step (wall; on a loaded
+// host read the CPU column: these scenes run every loop serially, below its grain, on 2 threads too).
+void BM_step_small_scene(benchmark::State& state) {
+  namespace law = tessera::law;
+  std::vector<geometry::convex_polyhedron> blocks{geometry::convex_polyhedron::box(vec3(-3, -0.5, -0.5), vec3(3, 0.5, 0))};
+  if (state.range(0) == 5) {
+    for (int k = 0; k < 4; ++k)
+      blocks.push_back(geometry::convex_polyhedron::box(vec3(-0.25, -0.25, 0.5 * k), vec3(0.25, 0.25, 0.5 * k + 0.5)));
+  } else {
+    for (int k = 0; k < 20; ++k)
+      blocks.push_back(geometry::voussoir(vec3(0, 0, 0), 2.0, 2.4, std::numbers::pi * k / 20, std::numbers::pi * (k + 1) / 20, 1.0));
+  }
+  const auto tess = geometry::separate_blocks(blocks);
+  const auto mesh = geometry::zone_blocks(tess);
+  const int saved = tessera::max_threads();
+  tessera::set_threads(static_cast<int>(state.range(1)));
+  using joints = tessera::contact::detected_contacts<law::dry_joint_law>;
+  const joints::params joint(law::dry_joint(1e10, 1e10, law::friction_angle::from_degrees(35)), 1e-3);
+  tessera::solver<tessera::blocks::rigid, joints> s(tess, mesh, tessera::blocks::rigid::params{2400}, joint);
+  s.fix_blocks(s.blocks_below(2, 0.0));
+  s.set_gravity(vec3(0, 0, -9.81));
+  s.step();
+  const tessera::index_t before = s.contacts().rebuild_count();
+  for (auto _ : state) s.step();
+  state.counters["subcontacts"] = static_cast<double>(s.contacts().subcontact_count());
+  state.counters["rebuilds"] = static_cast<double>(s.contacts().rebuild_count() - before);
+  state.counters["time_per_step"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  tessera::set_threads(saved);
+}
+
 }  // namespace
 
+BENCHMARK(BM_step_small_scene)->ArgNames({"blocks", "threads"})->Args({5, 1})->Args({21, 1})->Args({5, 2})->Args({21, 2})->UseRealTime()->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_step_fixed_contacts)->ArgName("threads")->Arg(1)->Arg(2)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_step_detected_contacts)->ArgNames({"threads", "interval"})->Args({1, 0})->Args({2, 0})->Args({1, 1})->Args({2, 1})->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_common_plane)->ArgName("blocks")->Arg(1000)->Unit(benchmark::kMillisecond);
