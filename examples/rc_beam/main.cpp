@@ -22,7 +22,7 @@
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
 //                 the supports and plates did on the beam; the law options (cohesion, slip_breaks_tension;
-//                 law, g_ii_J_per_m2, phi_0_deg, phi_res_deg, cap_Pa: beam_law.hpp) and steel_yield_Pa; inclined_after_peak_* the fastest-opening
+//                 law, g_ii_J_per_m2, phi_*_deg, cap_Pa: beam_law.hpp), steel_yield_Pa; inclined_after_peak_* the fastest-opening
 //                 inclined crack after the peak and diagonal_crack_after_peak (beam_post_peak.hpp);
 //                 span, elastic_check_* (the load at half the hand first-cracking deflection); with
 //                 --span full, failing_span and the left_* / right_* figures of each span
