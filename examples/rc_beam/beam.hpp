@@ -16,7 +16,8 @@
 //             depth; the study: at least ten), semi-rigid: 10 E = 250 GPa, nu = 0.2, 2400 kg/m^3
 //   contacts  study_beam_params: k_n 500 / 625 GPa/m, k_s = k_n / 2.4, f_T 2.5 MPa, c = 2 f_T,
 //             phi 35 deg, G_f 60 N/m, linear softening, plastic cap f_c = 35 MPa (--compression
-//             elastic: no cap)
+//             elastic: no cap); --law slip_softening (cohesion and friction soften with slip over
+//             G_II), --phi-deg, --phi-res-deg, --cap: beam_law.hpp
 //   bars      4 Ø8 (201 mm^2) at y = h - d, evenly across the width, from x = end cover to the
 //             symmetry face; 210 GPa, 440 MPa; about four trusses per block along the bar; bond
 //             xi = 4 per unit length, c_bond = 1e9 N/m
@@ -117,6 +118,14 @@ struct beam_options {
   /// hand values stay at the concrete's f_T.
   real strength_scale = 1;
   real fracture_energy_scale = 1;
+  /// The contacts' law (rc_beam --law, beam_law.hpp): "study" (study_beam_law) or "slip_softening"
+  /// (slip_softening_beam_law: cohesion and friction soften with the plastic slip over g_ii)
+  std::string law = "study";
+  real g_ii = 0;          ///< mode-II fracture energy with law slip_softening (J/m^2); 0 = default_g_ii
+  real phi_deg = 35;      ///< the contacts' friction angle phi_0 (deg; the study's 35)
+  real phi_res_deg = 30;  ///< their residual friction angle phi_res (deg; the study's 30)
+  /// Their compressive cap f_c (Pa; the study's 35 MPa). The hand values keep the concrete's 35 MPa.
+  real cap = 35e6;
   /// "half" (the half beam with its symmetry face) or "full" (the whole beam, 2 x `blocks` blocks:
   /// `blocks` stays the count of one half, so block size, contacts and hand values are the half's)
   std::string span = "half";
@@ -261,6 +270,40 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
   c.shear.c_res = residual * c.shear.c_0;
 }
 
+/// The plate-concrete pair's friction angle (deg): the study's phi_0, whatever --phi-deg the
+/// concrete's own contacts take (steel on concrete is not the concrete's interface).
+inline constexpr real beam_plate_friction_deg = 35;
+
+/// o's friction angles and compressive cap (--phi-deg, --phi-res-deg, --cap) on the contacts `c`;
+/// the defaults are study_beam_params' own values, to the bit.
+inline void set_beam_law_set(presets::study_beam_law::params& c, const beam_options& o) {
+  c.shear.phi_0 = law::friction_angle::from_degrees(o.phi_deg);
+  c.shear.phi_res = law::friction_angle::from_degrees(o.phi_res_deg);
+  c.compression.f_c = o.cap;
+}
+
+/// Refuses (invalid_input naming the value) a contact law that rc_beam cannot run: phi_res above
+/// phi_0, --g-ii without --law slip_softening, --cap with --compression elastic (no cap), and the
+/// slip-softening law with --compression elastic, --cohesion coupled or --slip-breaks-tension
+/// (no such variant is built); then the law's own check of the contacts `c` (G_II above the
+/// elastic unloading's bound). --scheme relaxation: check_beam_relaxation; --params: check_beam_law_flags.
+inline void check_beam_law(const beam_options& o, const presets::study_beam_law::params& c) {
+  require(o.law == "study" || o.law == "slip_softening", "rc_beam: --law '", o.law, "' must be study or slip_softening");
+  require(o.phi_res_deg <= o.phi_deg, "rc_beam: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ", o.phi_deg);
+  require_g_ii_with_slip_softening("rc_beam", o.law, o.g_ii);
+  require(o.compression == "plastic" || o.cap == 35e6, "rc_beam: --cap ", o.cap,
+          " Pa applies to --compression plastic (--compression elastic has no cap)");
+  const bool slip = o.law == "slip_softening";
+  require(!slip || (o.compression == "plastic" && o.cohesion == "decoupled" && !o.slip_breaks_tension),
+          "rc_beam: --law slip_softening is built with --compression plastic, --cohesion decoupled and without "
+          "--slip-breaks-tension (presets::slip_softening_beam_law), got --compression ", o.compression, ", --cohesion ",
+          o.cohesion, o.slip_breaks_tension ? ", --slip-breaks-tension" : "");
+  if (slip)
+    presets::slip_softening_beam_law::validate(presets::with_slip_softening(c, g_ii_or_default(o.g_ii)));
+  else
+    presets::study_beam_law::validate(c);
+}
+
 /// The beam's concrete as a recipe (common/scenes.hpp concrete_recipe; examples/calibrate
 /// --material beam fits it, rc_beam runs it): study_beam_params for o.blocks (250 below 500)
 /// with o's calibration scales, the mean block volume of the half beam over o.blocks (87 cm^3, a
@@ -336,6 +379,8 @@ inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options
   s.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
   s.hand = beam_hand(o, s.contact);  // at the concrete's f_T, before the calibration scales
   scale_beam_contacts(s.contact, o.strength_scale, o.fracture_energy_scale);
+  set_beam_law_set(s.contact, o);  // after the hand values: they keep the concrete's f_c = 35 MPa
+  check_beam_law(o, s.contact);
   s.box.lo = vec3::Zero();
   s.box.hi = vec3(o.model_length(), o.height, o.width);
   beam_concrete_blocks(s.box, o.model_blocks(), o, s.tess, s.mesh, s.block_material);

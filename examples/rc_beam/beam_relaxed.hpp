@@ -17,9 +17,9 @@ namespace tessera::scenes {
 /// relaxation's own state, its predictor and pattern, is not saved). Nothing for an explicit run.
 inline void check_beam_relaxation(const beam_options& o, const beam_loading& l) {
   if (!l.relaxation) return;
-  require(o.compression == "plastic" && o.cohesion == "decoupled", "rc_beam: --scheme relaxation is built for the "
-          "study's law (--compression plastic, --cohesion decoupled), got --compression ", o.compression,
-          ", --cohesion ", o.cohesion);
+  require(o.compression == "plastic" && o.cohesion == "decoupled" && o.law == "study", "rc_beam: --scheme relaxation is "
+          "built for the study's law (--law study, --compression plastic, --cohesion decoupled), got --law ", o.law,
+          ", --compression ", o.compression, ", --cohesion ", o.cohesion);
   require(l.checkpoint_file.empty() && l.resume_file.empty(),
           "rc_beam: --scheme relaxation keeps no checkpoint; drop --checkpoint and --resume");
 }

@@ -65,9 +65,12 @@ template <class Law, bool Relaxed = false, class OnEvent>
   const int sides = o.full() ? 2 : 1;  // the full beam's right support and loading plate: side 1
   std::array<std::optional<contact::rigid_platen<Law>>, 2> support_platen, loading_platen;
   if (contact_plates) {
-    auto plate = law_params;  // the plate-concrete pair: frictional at phi_0, no cohesion, never bonded
+    auto plate = law_params;  // the plate-concrete pair: frictional at the study's phi_0, no cohesion, never bonded
     plate.shear.c_res = 0;
-    plate.shear.phi_res = law_params.shear.phi_0;
+    plate.shear.phi_res = law::friction_angle::from_degrees(beam_plate_friction_deg);
+    if (plate.shear.phi_res.radians() > plate.shear.phi_0.radians()) plate.shear.phi_0 = plate.shear.phi_res;
+    if constexpr (Law::softens_with_slip)  // never bonded, so only the residual acts: G_II just has to pass validate
+      plate.shear.G_II = std::max(plate.shear.G_II, plate.shear.c_0 * plate.shear.c_0 / plate.k_s);
     contact::platen_motion m;
     m.mass = 7850 * o.plate * o.width * o.plate_thickness;
     m.inertia = m.mass * (o.plate * o.plate / 12 + o.plate_thickness * o.plate_thickness / 3);  // about the contact face's axis
@@ -460,7 +463,8 @@ template <class Law, bool Relaxed = false, class OnEvent>
 /// run_beam with the law of the scene's options: the study's (linear softening, plastic cap,
 /// decoupled cohesion), --compression elastic (linear_tie_law) or --cohesion coupled
 /// (coupled_beam_law; with the plastic cap only, make_beam refuses the other), each with the
-/// options' slip_breaks_tension.
+/// options' slip_breaks_tension; or --law slip_softening (slip_softening_beam_law over the
+/// options' G_II).
 template <class OnEvent>
 [[nodiscard]] beam_result run_beam(const beam_scene& scene, const beam_loading& loading, OnEvent&& on_event) {
   const beam_options& o = scene.options;
@@ -470,6 +474,9 @@ template <class OnEvent>
     return run_beam<presets::study_beam_law, true>(scene, contact, loading, on_event);
   require(o.cohesion == "decoupled" || o.compression == "plastic", "rc_beam: --cohesion ", o.cohesion,
           " is built with --compression plastic only, got --compression ", o.compression);
+  if (o.law == "slip_softening")  // built with the plastic cap and decoupled cohesion only (check_beam_law)
+    return run_beam<presets::slip_softening_beam_law>(
+        scene, presets::with_slip_softening(scene.contact, g_ii_or_default(o.g_ii)), loading, on_event);
   if (o.compression == "elastic")
     return run_beam<presets::linear_tie_law>(scene, beam_elastic_compression(contact), loading, on_event);
   if (o.cohesion == "coupled")

@@ -21,8 +21,8 @@
 //                 scheme and relaxation_* (--scheme relaxation: null energy balance and boundary work);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
-//                 the supports and plates did on the beam; the law options (cohesion,
-//                 slip_breaks_tension) and steel_yield_Pa; inclined_after_peak_* the fastest-opening
+//                 the supports and plates did on the beam; the law options (cohesion, slip_breaks_tension;
+//                 law, g_ii_J_per_m2, phi_*_deg, cap_Pa: beam_law.hpp), steel_yield_Pa; inclined_after_peak_* the fastest-opening
 //                 inclined crack after the peak and diagonal_crack_after_peak (beam_post_peak.hpp);
 //                 span, elastic_check_* (the load at half the hand first-cracking deflection); with
 //                 --span full, failing_span and the left_* / right_* figures of each span
@@ -43,6 +43,7 @@
 #include "common/calibration.hpp"
 #include "common/cli.hpp"
 #include "common/relaxed_scheme.hpp"
+#include "rc_beam/beam_law.hpp"
 #include "rc_beam/beam_run.hpp"
 #include "rc_beam/beam_snapshots.hpp"
 #include "tessera/io/csv.hpp"
@@ -94,7 +95,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.span, " beam, ", o.blocks,
                                        o.full() ? " blocks per half" : " blocks", ", seed ", o.seed, ", ",
-                                       o.compression, " compression",
+                                       o.compression, " compression", o.law == "study" ? "" : ", slip-softening law",
                                        in.params.empty() ? "" : tessera::detail::concat(", strength x ", o.strength_scale));
   plot.xlabel = "mid-span deflection (mm)";
   plot.ylabel = "total load P (kN)";
@@ -144,21 +145,17 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("model_blocks", o.model_blocks())
       .set("seed", o.seed)
       .set("compression", o.compression)
-      .set("cohesion", o.cohesion)
-      .set("slip_breaks_tension", o.slip_breaks_tension)
+      .set("cohesion", o.cohesion).set("slip_breaks_tension", o.slip_breaks_tension)
       .set("steel_yield_Pa", o.steel_yield)
       .set("parameters", in.params.empty() ? "verbatim" : "calibrated")
       .set("params_file", in.params)
       .set("strength_scale", o.strength_scale)
       .set("fracture_energy_scale", o.fracture_energy_scale)
-      .set("width_m", o.width)
-      .set("height_m", o.height)
-      .set("effective_depth_m", o.effective_depth)
-      .set("shear_span_m", o.shear_span)
-      .set("moment_zone_m", o.moment_zone)
-      .set("overhang_m", o.overhang)
-      .set("plate_m", o.plate)
-      .set("plate_thickness_m", o.plate_thickness);
+      .set("width_m", o.width).set("height_m", o.height)
+      .set("effective_depth_m", o.effective_depth).set("shear_span_m", o.shear_span)
+      .set("moment_zone_m", o.moment_zone).set("overhang_m", o.overhang)
+      .set("plate_m", o.plate).set("plate_thickness_m", o.plate_thickness);
+  tessera::scenes::set_beam_law_figures(js, scene);
   if (o.plates == "contact")
     js.set("support_plate_subcontacts", static_cast<std::int64_t>(r.plate_subcontacts[0]))
         .set("loading_plate_subcontacts", static_cast<std::int64_t>(r.plate_subcontacts[1]))
@@ -326,7 +323,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  fastest inclined crack after the peak: %s%s\n"
       "  shear at the peak (section x: intact + softening + broken/slipped + bars = total; P/2): %s\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
-      o.blocks, in.params.empty() ? "" : tessera::detail::concat(" (contact strength x ", o.strength_scale, ")").c_str(),
+      o.blocks, tessera::scenes::beam_law_label(o, !in.params.empty()).c_str(),
       static_cast<long long>(r.subcontacts), o.blocks == 500 ? 55228 : 27274, r.contact_points_over_depth,
       r.trusses_per_block, r.first_crack_load * 1e-3, h.first_crack_load * 1e-3,
       100 * rel(r.first_crack_load, h.first_crack_load), h.flexural_crack_load * 1e-3,
@@ -407,6 +404,7 @@ int main(int argc, char** argv) {
              "the whole beam, both shear spans, supports and loading plates (on a spreader: equal plate loads), no "
              "symmetry condition", "half|full")
       .one_of({"half", "full"});
+  tessera::scenes::add_beam_law_flags(cli, b);  // --law, --g-ii, --phi-deg, --phi-res-deg, --cap
   cli.option("--compression", b.compression, "contact law in compression: plastic (cap at f_c = 35 MPa) or elastic",
              "plastic|elastic").one_of({"plastic", "elastic"});
   cli.option("--cohesion", b.cohesion,
@@ -482,6 +480,7 @@ int main(int argc, char** argv) {
   }
   try {
     mpi.require_splittable(!l.relaxation, "rc_beam --scheme relaxation", "kinetic relaxation is not distributed");
+    tessera::scenes::check_beam_law_flags(in.beam, in.params);
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);

@@ -1,0 +1,80 @@
+#pragma once
+// rc_beam's contact law flags (issue #63): --law study|slip_softening, --g-ii, --phi-deg,
+// --phi-res-deg and --cap on the beam's concrete (beam_options), as compression and brazilian
+// take them; what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
+// and the summary keys that record the law a run used.
+//
+//   study           presets::study_beam_law: linear tension softening, the plastic cap, Coulomb
+//                   shear that drops to (c_res, phi_res) at the first slip (the study's)
+//   slip_softening  presets::slip_softening_beam_law: the same tension and cap, cohesion and
+//                   friction softening linearly with the plastic slip from (c_0, phi_0) to
+//                   (c_res, phi_res) over s_u = 2 G_II / (c_0 - c_res) (docs/model.md)
+//
+// In pure tension the two laws are the same law. The hand values (cracking, yield, EC2's and
+// Zsutty's shear) keep the concrete's f_c = 35 MPa whatever --cap the contacts take: the cap is a
+// contact parameter, and with the slip-softening set of the compression meeting (phi_0 58 deg,
+// phi_res 15 deg, G_II 300 J/m^2, cap 100 MPa) the cylinder's f_c is 35.0-38.9 MPa.
+
+#include <limits>
+#include <string>
+
+#include "common/cli.hpp"
+#include "common/scenes.hpp"
+#include "rc_beam/beam.hpp"
+#include "tessera/io/json.hpp"
+
+namespace tessera::scenes {
+
+/// Registers --law, --g-ii, --phi-deg, --phi-res-deg and --cap on `cli`, into `o` (law, g_ii in
+/// J/m^2, phi_deg and phi_res_deg in deg, cap in Pa).
+inline void add_beam_law_flags(cli::parser& cli, beam_options& o) {
+  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
+  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
+  cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
+  cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
+      .within(0, 80);
+  cli.option("--cap", o.cap, "contact compressive cap f_c (Pa; the study's 35e6; the hand values keep the concrete's "
+             "35 MPa)", "PA").within(1e6, 1e10);
+}
+
+/// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set, before
+/// anything is built, and --law slip_softening with --params `params` (a calibration file holds a
+/// fit of the study's law). Throws invalid_input naming the value.
+inline void check_beam_law_flags(const beam_options& o, const std::string& params) {
+  require(o.law == "study" || params.empty(), "rc_beam: --params ", params, " holds a fit of the study's law; "
+          "--law ", o.law, " takes the study's parameters: drop --params");
+  auto c = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
+  set_beam_law_set(c, o);
+  check_beam_law(o, c);
+}
+
+/// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (null for the study's law),
+/// phi_0_deg, phi_res_deg, cap_Pa, contact_c_0_Pa, contact_c_res_Pa of the scene's contacts (after
+/// calibration), plate_friction_deg.
+inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
+  const beam_options& o = s.options;
+  const bool slip = o.law == "slip_softening";
+  const real none = std::numeric_limits<real>::quiet_NaN(), g_ii = slip ? g_ii_or_default(o.g_ii) : none;
+  js.set("law", o.law)
+      .set("g_ii_J_per_m2", g_ii)
+      .set("softening_slip_m", slip ? 2 * g_ii / (s.contact.shear.c_0 - s.contact.shear.c_res) : none)
+      .set("phi_0_deg", s.contact.shear.phi_0.degrees())
+      .set("phi_res_deg", s.contact.shear.phi_res.degrees())
+      .set("cap_Pa", s.contact.compression.f_c)
+      .set("contact_c_0_Pa", s.contact.shear.c_0)
+      .set("contact_c_res_Pa", s.contact.shear.c_res)
+      .set("plate_friction_deg", beam_plate_friction_deg);
+}
+
+/// The run's law and calibration for rc_beam's report line: empty for the study's law verbatim.
+[[nodiscard]] inline std::string beam_law_label(const beam_options& o, bool calibrated) {
+  std::string label = calibrated ? tessera::detail::concat(" (contact strength x ", o.strength_scale, ")") : "";
+  if (o.law == "slip_softening")
+    label += tessera::detail::concat(", slip-softening law (G_II ", g_ii_or_default(o.g_ii), " J/m^2)");
+  if (o.phi_deg != 35 || o.phi_res_deg != 30 || o.cap != 35e6)
+    label += tessera::detail::concat(", phi_0 ", o.phi_deg, " deg, phi_res ", o.phi_res_deg, " deg, cap ", o.cap * 1e-6,
+                                     " MPa");
+  return label;
+}
+
+}  // namespace tessera::scenes
