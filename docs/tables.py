@@ -251,13 +251,13 @@ PERFORMANCE = [
         "`direct_tension --seed 1 --threads 1 --max-displacement 8e-5 --scheme relaxation`",
         ("8 457", "4.9× fewer", "2.9–3.5 s (1 thread)")),
     Row("compile the README's prism program header-only (tests/consumer/main.cpp), CPU and peak memory", "",
-        "`REPEAT=3 benchmarks/compile_time.sh`", ("27.8 s, 1 167 MB (median of 3, idle machine)", "", "")),
+        "`REPEAT=3 benchmarks/compile_time.sh`", ("24.4 s, 1 043 MB (median of 3, quiet machine)", "", "")),
     Row("compile a guide rigid scene linking tessera::instances (benchmarks/compile_time/rigid_scene.cpp), CPU and peak memory",
-        "before its members left the headers: 12.5 s, 593 MB", "`benchmarks/compile_time.sh`",
-        ("7.7 s, 456 MB (median of 3 alternated, load 13-15)", "0.62× the time", "")),
+        "before its members left the headers: 10.5 s, 593 MB", "`REPEAT=3 benchmarks/compile_time.sh`",
+        ("5.6 s, 456 MB (median of 3, quiet machine)", "0.53× the time", "")),
     Row("compile the README's arch linking tessera::instances (tests/consumer/arch.cpp), CPU and peak memory",
-        "before: 14.9 s, 735 MB", "`benchmarks/compile_time.sh`",
-        ("13.0 s, 544 MB (median of 3 alternated, load 13-15)", "0.87× the time", "")),
+        "before: 12.6 s, 735 MB", "`REPEAT=3 benchmarks/compile_time.sh`",
+        ("8.6 s, 544 MB (median of 3, quiet machine)", "0.68× the time", "")),
 ]
 
 PAGES = {"docs/validation.md": VALIDATION, "docs/performance.md": PERFORMANCE}
