@@ -140,7 +140,10 @@ void bind_scene(py::module_& m) {
       .def_readwrite("tolerance", &dry_contacts::params::tolerance, "contact tolerance (m)")
       .def_readwrite("max_rebuild_interval", &dry_contacts::params::max_rebuild_interval, "steps between rebuilds")
       .def_readwrite("allow_initial_overlap", &dry_contacts::params::allow_initial_overlap,
-                     "accept overlaps within the tolerance at the start");
+                     "accept overlaps within the tolerance at the start")
+      .def_readwrite("deformable_blocks", &dry_contacts::params::deformable_blocks,
+                     "True for deformable blocks (instances.deformable_dry_solver and its damped twin): the "
+                     "sub-contacts sit on surface gridpoints; False (default) for rigid blocks");
   py::class_<reinforcement::none::params>(m, "no_reinforcement", "The params of reinforcement::none").def(py::init<>());
 
   // ---- solver options, state, results ----
@@ -308,6 +311,13 @@ void bind_scene(py::module_& m) {
       },
       py::arg("domain"), py::arg("n"), py::arg("seed"), py::arg("options") = geometry::tessellation_options{},
       "Voronoi tessellation of a convex domain (m) from n random generators (seed)");
+  g.def(
+      "voronoi",
+      [](const aabb& box, const std::vector<vec3>& seeds, const geometry::tessellation_options& o) {
+        return geometry::voronoi(box, seeds, o);
+      },
+      py::arg("box"), py::arg("seeds"), py::arg("options") = geometry::tessellation_options{},
+      "Voronoi tessellation of the box (m) from the given generators (m): cells that share their faces");
   py::class_<geometry::zoning_options>(g, "zoning_options", "How blocks are split into tetrahedral zones")
       .def(py::init<>())
       .def_readwrite("target_edge_length", &geometry::zoning_options::target_edge_length,
@@ -325,7 +335,10 @@ void bind_scene(py::module_& m) {
       .def_property_readonly("reference", [](const contact_state& cs) { return rows_of(cs.snapshot.reference); }, "reference position (m)")
       .def_property_readonly("displacement", [](const contact_state& cs) { return rows_of(cs.snapshot.displacement); }, "displacement (m)")
       .def_property_readonly("position", [](const contact_state& cs) { return rows_of(cs.position); },
-                             "current position (m): the mean of the two gridpoints' positions, as the contact set's position()")
+                             "current position (m): contact.subcontact_position (face contacts: the mean of the two "
+                             "gridpoints' positions; detected contacts: the mean of the two blocks' material points)")
+      .def_property_readonly("force", [](const contact_state& cs) { return rows_of(cs.force); },
+                             "force on block B's side in the last step (N); block A's side took its opposite")
       .def_property_readonly("normal", [](const contact_state& cs) { return rows_of(cs.snapshot.normal); }, "unit normal A->B")
       .def_property_readonly("area", [](const contact_state& cs) { return array_of(cs.snapshot.area); }, "area (m^2)")
       .def_property_readonly("tensile_damage", [](const contact_state& cs) { return array_of(cs.snapshot.tensile_damage); }, "0 intact .. 1 broken")

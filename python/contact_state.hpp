@@ -2,6 +2,7 @@
 // Per-sub-contact state as the module hands it out (contact_state: copies, SI), shared by the
 // solvers' bindings (tessera_module.cpp, take_contact_state) and the class's binding
 // (bind_scene.cpp).
+#include <tessera/contact/concepts.hpp>  // subcontact_position
 #include <tessera/core/types.hpp>
 #include <tessera/io/vtk_contacts.hpp>
 
@@ -16,7 +17,8 @@ namespace tessera::python {
 struct contact_state {
   io::vtk::contact_snapshot snapshot;
   std::vector<index_t> block_a, block_b;
-  std::vector<vec3> position;  ///< current position (m): the contact set's position(i, gridpoints)
+  std::vector<vec3> position;  ///< current position (m): contact::subcontact_position
+  std::vector<vec3> force;     ///< force on block B's side in the last step (N; A's side took its opposite)
 };
 
 template <class S>
@@ -25,15 +27,13 @@ contact_state take_contact_state(const S& s) {
   const auto& c = s.contacts();
   out.snapshot.take(c, s.gridpoints());
   const auto n = static_cast<std::size_t>(c.subcontact_count());
-  out.block_a.resize(n), out.block_b.resize(n), out.position.resize(n);
+  out.block_a.resize(n), out.block_b.resize(n), out.position.resize(n), out.force.resize(n);
   for (std::size_t k = 0; k < n; ++k) {
     out.block_a[k] = c.block_a(static_cast<index_t>(k));
     out.block_b[k] = c.block_b(static_cast<index_t>(k));
     const auto i = static_cast<index_t>(k);
-    if constexpr (requires { c.position(i, s.gridpoints()); })
-      out.position[k] = c.position(i, s.gridpoints());  // face contacts: the mean of the two gridpoints' positions
-    else  // detected contacts: the mean of the material points on the two blocks
-      out.position[k] = 0.5 * (c.position_a(i, s.gridpoints()) + c.position_b(i, s.gridpoints()));
+    out.position[k] = contact::subcontact_position(c, i, s.gridpoints());
+    out.force[k] = c.force(i);
   }
   return out;
 }

@@ -2,7 +2,8 @@
 
 The compiled module tessera._tessera holds the bindings; this package re-exports them under the
 C++ names: tessera.geometry, tessera.law, tessera.zones, tessera.blocks, tessera.contact,
-tessera.bc, tessera.quantity, tessera.stop, tessera.recorders, tessera.instances, tessera.io
+tessera.bc, tessera.reinforcement (steel bars), tessera.quantity, tessera.stop, tessera.recorders,
+tessera.instances, tessera.io
 (checkpoints, Neper .tess), tessera.calibration (calibrated.json), tessera.solver_options,
 tessera.aabb and tessera.Error (tessera::error; InvalidInput, GeometryError, IoError,
 NumericalInstability derive from it); tessera.run_record writes run.json.
@@ -31,6 +32,7 @@ from ._tessera import (  # noqa: F401
     out_of_balance,
     quantity,
     recorders,
+    reinforcement,
     run_result,
     solver_options,
     stop,

@@ -87,4 +87,17 @@ concept ContactSet = requires(C& c, const C& cc, const geometry::tessellation& t
   { cc.subcontact_params(i) } -> std::convertible_to<const typename C::law_type::params&>;
 };
 
+/// Current position (m) of sub-contact i of contact set c with gridpoints gp: the mean of the two
+/// material points on its blocks for a detecting set (c.position_a, c.position_b: node_a and
+/// node_b are frame gridpoints there, not points of the contact), else the set's own position
+/// (face contacts: the mean of the two gridpoints' positions). The one definition the VTK
+/// snapshot (io/vtk_contacts.hpp) and the Python module's contact state share.
+template <class C>
+[[nodiscard]] vec3 subcontact_position(const C& c, index_t i, const node_set& gp) {
+  if constexpr (requires { c.position_a(i, gp); })
+    return 0.5 * (c.position_a(i, gp) + c.position_b(i, gp));
+  else
+    return c.position(i, gp);
+}
+
 }  // namespace tessera::contact

@@ -24,6 +24,7 @@
 #include <string_view>
 #include <vector>
 
+#include "../contact/concepts.hpp"  // subcontact_position
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
 #include "../law/concepts.hpp"
@@ -82,10 +83,10 @@ struct contact_snapshot {
       if constexpr (requires { c.position_a(i, gp); }) {
         // Detected contacts: node_a/node_b are frame gridpoints of the blocks (for rigid blocks
         // their centroids), not points of the contact; the point is the mean of the two sides'
-        // current contact points, written as reference + displacement like every other point.
-        const vec3 now = 0.5 * (c.position_a(i, gp) + c.position_b(i, gp));
-        reference[k] = now - displacement[k];
-      } else {
+        // current contact points (contact::subcontact_position), written as reference +
+        // displacement like every other point.
+        reference[k] = contact::subcontact_position(c, i, gp) - displacement[k];
+      } else {  // face contacts: the reference midpoint (the current one is reference + displacement)
         reference[k] = 0.5 * (gp.reference.row(a) + gp.reference.row(b)).transpose();
       }
       normal[k] = c.normal(i);

@@ -326,6 +326,12 @@ class embedded_truss {
   [[nodiscard]] real transverse_gap(index_t n) const { return transverse_gap_[static_cast<std::size_t>(n)]; }  ///< |d_t| (m)
   [[nodiscard]] real confining_stress(index_t n) const { return confining_stress_[static_cast<std::size_t>(n)]; }  ///< Pa
   [[nodiscard]] vec3 position(index_t n) const { return nodes_.position(n); }  ///< current (m)
+  /// Every element's state in element order (axial force N, plastic elongation m, ...): the
+  /// storage itself, valid until the next step (the Python module's strided NumPy views).
+  [[nodiscard]] std::span<const truss_element::state> element_states() const { return elements_; }
+  /// Every bar node's bond state in node order (slip m, bond force N, ...; empty entries on an
+  /// unbonded bar): the storage itself, valid until the next step.
+  [[nodiscard]] std::span<const bond_state> bond_states() const { return bonds_; }
 
  private:
   /// Element e's axial force on its two nodes, its plastic history advanced (compute_forces).
