@@ -9,8 +9,9 @@
 #     [FILES <file>...]             outputs that must exist besides summary.json
 #     [TIMEOUT <s>] [LABELS <label>...])
 #
-# The test fails if the driver exits non-zero, an output is missing, a key is missing or null,
-# or a check is false; the driver's stdout is shown with --output-on-failure.
+# The test fails if the driver exits non-zero, an output is missing, a key is missing or null
+# (but for a check "<key> IS NULL", which asks for null), or a check is false; the driver's stdout is
+# shown with --output-on-failure.
 function(tessera_add_example_test target)
   cmake_parse_arguments(PARSE_ARGV 1 ex "" "NAME;TIMEOUT" "ARGS;CHECKS;FILES;LABELS")
   # tests/ is configured before examples/, so the driver's target does not exist yet: test its source.
@@ -782,13 +783,18 @@ tessera_add_refusal_test(refuse_rc_beam_cohesion rc_beam "--cohesion: invalid va
 # 100 mm constant-moment zone and bars that cannot yield, its hand values P = 2 V_c from EC2 6.2.a
 # without partial factor (0.18 k (100 rho f_c)^(1/3) b d, k = 2: 54.75 kN) and Zsutty's fit for a/d
 # >= 2.5 (2.14 (f_c rho d / a)^(1/3) MPa b d: 48.62 kN) with rho = 201 / (200 x 125) and f_c 35 MPa,
-# a/d = 3; the quick run stops soon after first cracking, so the peak is far below both.
+# a/d = 3. The quick run stops soon after first cracking (measured: 32.08 kN at 0.27 mm, the first
+# crack at 10.96 kN against the hand 10.98), never at the 25 % load drop that is the failure: it
+# says so (failure_reached false) and reports no peak ratios (null), only the highest load it carried,
+# which lies between the hand first cracking and Zsutty's shear capacity.
 tessera_add_example_test(rc_beam NAME example_rc_beam_shear_hand_quick
   ARGS --quick --threads 1 --no-vtk --moment-zone 0.1 --steel-yield 1e12
   CHECKS "hand_ec2_shear_load_N GREATER 54.70e3" "hand_ec2_shear_load_N LESS 54.80e3"
          "hand_zsutty_shear_load_N GREATER 48.57e3" "hand_zsutty_shear_load_N LESS 48.67e3"
          "shear_span_over_depth GREATER 2.999" "shear_span_over_depth LESS 3.001"
-         "peak_over_ec2_shear LESS 1" "steel_yielded STREQUAL OFF"
+         "failure_reached STREQUAL OFF" "peak_over_ec2_shear IS NULL" "peak_over_zsutty_shear IS NULL"
+         "peak_over_shear_reference IS NULL" "peak_load_N GREATER 10.98e3" "peak_load_N LESS 48.62e3"
+         "load_at_stop_N GREATER 10.98e3" "steel_yielded STREQUAL OFF"
          "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
 tessera_add_refusal_test(refuse_rc_beam_moment_zone rc_beam

@@ -16,7 +16,10 @@
 //                 the beam with them drawn by width
 //   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
 //   summary.json  provisional_geometry, inputs, hand values (cracking, stiffness, yield, shear: EC2 and
-//                 Zsutty), first crack, stiffness, yield, peak, cracks, failure mode, energy balance,
+//                 Zsutty), first crack, stiffness, yield, peak, cracks, energy balance, failure_reached
+//                 (the load fell by --failure-drop; without it peak_over_* are null, peak_load_N is the
+//                 highest load before the stop, load_at_stop_N the last), failure_mode (the widest
+//                 crack's classification at the end, reached or not: beam_cracks.hpp),
 //                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params;
 //                 scheme and relaxation_* (--scheme relaxation: null energy balance and boundary work);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
@@ -231,10 +234,6 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("hand_shear_capacity_load_N", h.shear_capacity_load)
       .set("hand_ec2_shear_load_N", h.ec2_shear_load).set("hand_zsutty_shear_load_N", h.zsutty_shear_load)
       .set("shear_span_over_depth", o.shear_span / o.effective_depth)
-      .set("peak_over_ec2_shear", r.peak_load / h.ec2_shear_load).set("peak_over_zsutty_shear", r.peak_load / h.zsutty_shear_load)
-      .set("peak_over_shear_reference", r.peak_load / h.shear_reference_load())
-      .set("peak_load_N", r.peak_load)
-      .set("peak_deflection_m", r.peak_deflection)
       .set("flexural_cracks", r.flexural_cracks)
       .set("flexural_crack_positions_m", r.flexural_crack_positions)
       .set("mean_crack_spacing_m", r.mean_crack_spacing)
@@ -244,10 +243,6 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("crack_angles_deg", crack_angle)
       .set("crack_widths_m", crack_width)
       .set("crack_tops_m", crack_top)
-      .set("failure_mode", r.failure_mode)
-      .set("widest_crack_x_m", r.widest.x)
-      .set("widest_crack_angle_deg", r.widest.angle_deg)
-      .set("widest_crack_width_m", r.widest.width)
       .set("inclined_after_peak_found", p.found)
       .set("inclined_after_peak_x_m", p.x)
       .set("inclined_after_peak_angle_deg", p.angle_deg)
@@ -259,7 +254,6 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("inclined_after_peak_load_drop_N", p.load_drop)
       .set("flexural_opening_rate_same_window", p.flexural_opening_rate)
       .set("diagonal_crack_after_peak", p.diagonal)
-      .set("end_deflection_m", r.deflection.empty() ? 0.0 : r.deflection.back())
       .set("boundary_work_J", r.boundary_work)
       .set("contact_dissipated_J", r.contact_dissipated)
       .set("tension_dissipated_J", r.tension_dissipated)
@@ -278,6 +272,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("runtime_before_resume_s", r.runtime_before_resume_s)
       .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
       .set("runtime_s", r.runtime_before_resume_s + timer.seconds());
+  tessera::scenes::set_failure_figures(js, r, h);
   tessera::scenes::set_shear_figures(js, r);
   if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
   // The phase times are this process's (a resumed run's from its checkpoint on): per its own steps.
@@ -317,9 +312,9 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  first crack %.2f kN (hand: f_T %.2f, %+.1f %%; flexural strength %.2f, %+.1f %%); h/4 deep %.2f kN at x = %.0f mm,"
       " %.0f deg;"
       " K0 %.1f kN/mm (hand %.1f, %+.1f %%)\n"
-      "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN; %.2fx EC2's %.1f kN, %.2fx Zsutty's %.1f kN)\n"
-      "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
-      " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
+      "  %s; %s\n"
+      "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure mode "
+      "(the widest crack's): %s (x = %.0f mm, %.0f deg, %.2f mm)\n"
       "  fastest inclined crack after the peak: %s%s\n"
       "  shear at the peak (section x: intact + softening + broken/slipped + bars = total; P/2): %s\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
@@ -330,9 +325,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       100 * rel(r.first_crack_load, h.flexural_crack_load), r.developed_crack_load * 1e-3, r.first_crack_x * 1e3,
       r.first_crack_angle_deg,
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
-      yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
-      h.shear_capacity_load * 1e-3, r.peak_load / h.ec2_shear_load, h.ec2_shear_load * 1e-3,
-      r.peak_load / h.zsutty_shear_load, h.zsutty_shear_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
+      yield_text.c_str(), tessera::scenes::beam_peak_text(r, h, in.loading.failure_drop).c_str(), r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
       r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(),
       o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
@@ -447,7 +440,9 @@ int main(int argc, char** argv) {
   cli.option("--added-mass", l.added_mass_ratio, "mass scaling to the step at which R x the original mass is added", "R").at_least(0);
   cli.option("--dt", l.dt, "instead of --added-mass: mass-scaled time step (s); 0 = use --added-mass", "DT").at_least(0);
   cli.option("--max-deflection", l.max_deflection, "stop at this mid-span deflection (m)", "U").greater_than(0);
-  cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak", "R").within(0.01, 0.99);
+  cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak: the failure "
+             "(summary.json failure_reached; without it the peak_over_* ratios are null, and failure_mode is the "
+             "widest crack's classification either way)", "R").within(0.01, 0.99);
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
