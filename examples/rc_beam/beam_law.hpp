@@ -1,7 +1,7 @@
 #pragma once
-// rc_beam's contact law flags (issue #63): --law study|slip_softening, --g-ii, --phi-deg,
-// --phi-res-deg and --cap on the beam's concrete (beam_options), as compression and brazilian
-// take them; what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
+// rc_beam's contact law (issue #63): --law study|slip_softening, --g-ii, --phi-deg, --phi-res-deg
+// and --cap on the beam's concrete (beam_options; registered by concrete_set.hpp add_law_flags, as
+// compression's); what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
 // and the summary keys that record the law a run used.
 //
 //   study           presets::study_beam_law: linear tension softening, the plastic cap, Coulomb
@@ -19,23 +19,12 @@
 #include <string>
 
 #include "common/cli.hpp"
+#include "common/concrete_set.hpp"
 #include "common/scenes.hpp"
 #include "rc_beam/beam.hpp"
 #include "tessera/io/json.hpp"
 
 namespace tessera::scenes {
-
-/// Registers --law, --g-ii, --phi-deg, --phi-res-deg and --cap on `cli`, into `o` (law, g_ii in
-/// J/m^2, phi_deg and phi_res_deg in deg, cap in Pa).
-inline void add_beam_law_flags(cli::parser& cli, beam_options& o) {
-  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
-  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
-  cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
-  cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
-      .within(0, 80);
-  cli.option("--cap", o.cap, "contact compressive cap f_c (Pa; the study's 35e6; the hand values keep the concrete's "
-             "35 MPa)", "PA").within(1e6, 1e10);
-}
 
 /// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set, before
 /// anything is built, and --law slip_softening with --params `params` (a calibration file holds a
@@ -44,7 +33,7 @@ inline void check_beam_law_flags(const beam_options& o, const std::string& param
   require(o.law == "study" || params.empty(), "rc_beam: --params ", params, " holds a fit of the study's law; "
           "--law ", o.law, " takes the study's parameters: drop --params");
   auto c = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
-  set_beam_law_set(c, o);
+  apply_concrete_shear(c, o.cohesion_ratio, o.phi_deg, o.phi_res_deg, o.cap);
   check_beam_law(o, c);
 }
 
