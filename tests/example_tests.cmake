@@ -848,8 +848,37 @@ tessera_add_refusal_test(refuse_rc_beam_slip_relaxation rc_beam
   "--scheme relaxation is built for the study's law .*got --law slip_softening" --quick --scheme relaxation
   --law slip_softening)
 tessera_add_refusal_test(refuse_rc_beam_slip_params rc_beam
-  "rc_beam: --params calibrated.json holds a fit of the study.s law.*drop --params" --threads 1 --law slip_softening
-  --params calibrated.json)
+  "rc_beam: --law with --params calibrated.json: the file sets the concrete \\(drop the flag\\)" --threads 1
+  --law slip_softening --params calibrated.json)
+# rc_beam --params with a slip-softening entry (issue #63): the file's whole concrete (law, scales,
+# c_0/f_T, phi_0, phi_res, G_II, cap; beam_law.hpp load_beam_params, through concrete_set.hpp). The
+# quick beam's recipe (60 blocks, 50 mm zoning) with the compression set in
+# tests/data/concrete_beam_slip_quick.json runs exactly the beam of the five flags: the same
+# curve.csv bits as example_rc_beam_slip_softening_quick (measured). A file of another recipe
+# (concrete_beam_slip.json: 250 blocks, 30 mm) is refused, naming both zoning edges.
+tessera_add_example_test(rc_beam NAME example_rc_beam_params_slip_quick
+  ARGS --quick --threads 1 --no-vtk --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip_quick.json
+  FILES curve.csv
+  CHECKS "parameters STREQUAL calibrated" "law STREQUAL slip_softening" "g_ii_J_per_m2 EQUAL 300"
+         "phi_0_deg GREATER 57.99" "phi_0_deg LESS 58.01" "phi_res_deg GREATER 14.99" "phi_res_deg LESS 15.01"
+         "cap_Pa EQUAL 100000000" "contact_c_0_Pa EQUAL 5000000"
+  TIMEOUT 600)
+if(TEST example_rc_beam_params_slip_quick)
+  set_tests_properties(example_rc_beam_slip_softening_quick example_rc_beam_params_slip_quick PROPERTIES
+                       FIXTURES_SETUP rc_beam_slip_pair)
+  add_test(NAME example_rc_beam_params_slip_same_bits
+           COMMAND ${CMAKE_COMMAND} -E compare_files
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rc_beam_params_slip_quick/curve.csv
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rc_beam_slip_softening_quick/curve.csv)
+  set_tests_properties(example_rc_beam_params_slip_same_bits PROPERTIES FIXTURES_REQUIRED rc_beam_slip_pair
+                       LABELS example)
+endif()
+tessera_add_refusal_test(refuse_rc_beam_params_slip_zoning rc_beam
+  "concrete_beam_slip.json was fitted with a face zoning edge of 0.03 m, this run uses 0.05 m"
+  --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip.json)
+tessera_add_refusal_test(refuse_rc_beam_params_flag rc_beam
+  "rc_beam: --phi-deg with --params .*: the file sets the concrete"
+  --threads 1 --quick --phi-deg 40 --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip_quick.json)
 # ---- rc_beam --span full (issue #41 item 3): the whole beam, 120 blocks (--blocks 60 per half
 # span), both supports and loading plates, the plates on a spreader (equal loads), held in x at
 # mid-span (examples/rc_beam/beam_span.hpp); 28 s of CPU on one thread. Checks, in the elastic
@@ -1032,7 +1061,7 @@ tessera_add_example_test(compression NAME example_compression_params_quick
   TIMEOUT 600)
 # Refusals: a file of another recipe (material, block count, zoning) names both values; a concrete flag
 # beside --params; a law the recipe does not have; a driver that applies the scales only
-# (direct_tension, rc_tie, rc_beam) refuses a file whose set is not the study's, naming the field.
+# (direct_tension, rc_tie) refuses a file whose set is not the study's, naming the field.
 set(concrete_params_dir ${PROJECT_SOURCE_DIR}/tests/data)
 tessera_add_refusal_test(refuse_brazilian_params_material brazilian
   "was fitted on the prism recipe, this run needs the beam recipe"

@@ -79,11 +79,18 @@ struct recipe_law<concrete_recipe<Law>> {
   using type = Law;
 };
 
-/// --params FILE for brazilian and compression (`program`): the entry for c's recipe (material,
-/// block count, zoning; refused with both values named otherwise, load_concrete) applied to c.
-inline void load_concrete_params(concrete_set& c, const std::filesystem::path& file, real step_displacement, real rate,
-                                 const char* program) {
-  c.apply(load_concrete(file, c.blocks(), c.recipe(step_displacement, rate), program));
+/// --params FILE for brazilian, compression and rc_beam (`program`): the entry for c's recipe
+/// (material, block count, zoning, the half beam's volume; refused with both values named
+/// otherwise, load_concrete) applied to c, and returned. step_displacement (m; 0 = set later by the
+/// run) and rate (m/s) only print a note where they differ from the fit's; beam_volume (m^3): the
+/// run's half beam (rc_beam), 0 = the default beam's.
+inline calibration_entry load_concrete_params(concrete_set& c, const std::filesystem::path& file, real step_displacement,
+                                              real rate, const char* program, real beam_volume = 0) {
+  calibration_recipe r = c.recipe(step_displacement, rate);
+  if (beam_volume > 0) r.beam_volume = beam_volume;
+  const calibration_entry e = load_concrete(file, c.blocks(), r, program);
+  c.apply(e);
+  return e;
 }
 
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into

@@ -20,7 +20,8 @@
 //                 (the load fell by --failure-drop; without it peak_over_* are null, peak_load_N is the
 //                 highest load before the stop, load_at_stop_N the last), failure_mode (the widest
 //                 crack's classification at the end, reached or not: beam_cracks.hpp),
-//                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params;
+//                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params
+//                 (the file's whole concrete: beam_law.hpp load_beam_params);
 //                 scheme and relaxation_* (--scheme relaxation: null energy balance and boundary work);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
@@ -339,21 +340,6 @@ int run(inputs in) {
   const tessera::cli::wall_timer timer;
   in.beam.seed = in.common.seed;
   in.loading.threads = in.common.threads;
-  if (!in.params.empty()) {
-    // The beam recipe's law; the step is set later by the mass scaling (0: the note gives the fitted one).
-    tessera::scenes::calibration_recipe recipe;
-    recipe.softening = "linear";
-    recipe.cohesion_ratio = 2;
-    recipe.step_displacement = 0;
-    recipe.rate = in.loading.rate;
-    recipe.material = "beam";
-    recipe.zone_edge = in.beam.face_zone_edge();
-    recipe.beam_volume = in.beam.half_volume();
-    const auto e = tessera::scenes::load_calibration(in.params, in.beam.blocks, recipe, "rc_beam");
-    in.beam.strength_scale = e.strength_scale;
-    in.beam.fracture_energy_scale = e.fracture_energy_scale;
-    in.model_young = e.initial_modulus;
-  }
   tessera::scenes::check_scheme_flags({.driver = "rc_beam", .scheme = in.scheme, .explicit_given = in.explicit_given,
                                        .relax_given = in.relax_given, .explicit_load = "loading",
                                        .moves = "the loading plate moves", .increment = in.loading.relax_increment,
@@ -446,8 +432,10 @@ int main(int argc, char** argv) {
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
-             "calibrated contact strength: calibrated.json of calibrate --material beam (its entry for --blocks; the "
-             "zoning and the beam's dimensions must match); default: the study's parameters verbatim", "FILE");
+             "calibrated concrete: calibrated.json of calibrate --material beam, its entry for --blocks (the zoning and "
+             "the beam's dimensions must match) with its whole set (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap), "
+             "instead of --law, --g-ii, --phi-deg, --phi-res-deg and --cap; default: the study's parameters verbatim",
+             "FILE");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
   cli.option("--checkpoint", l.checkpoint_file,
              "save the run's state to FILE (atomically) when it ends and every --checkpoint-every s of wall time, "
@@ -475,7 +463,9 @@ int main(int argc, char** argv) {
   }
   try {
     mpi.require_splittable(!l.relaxation, "rc_beam --scheme relaxation", "kinetic relaxation is not distributed");
-    tessera::scenes::check_beam_law_flags(in.beam, in.params);
+    tessera::scenes::check_beam_law_flags(cli, in.params);
+    if (!in.params.empty()) in.model_young = tessera::scenes::load_beam_params(in.beam, in.params, l.rate);
+    tessera::scenes::check_beam_law_set(in.beam);
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);
