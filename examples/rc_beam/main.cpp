@@ -368,7 +368,8 @@ int main(int argc, char** argv) {
       "its symmetry face or the whole beam (--span): flexural cracks, yield of the bars, diagonal tension. Default\n"
       "geometry PROVISIONAL (DESIGN.md 6): Walraven's series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm,\n"
       "constant-moment zone 500 mm, 4 x 8 mm bars.\n"
-      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.\n"
+      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep (on the default\n"
+      "beam short of the failure: summary.json failure_reached false, the peak_over_* ratios null).\n"
       "Under mpirun -np N (builds with MPI): split over N ranks, the same curve.csv to the bit; rank 0 writes --out.\n"
       "--checkpoint FILE saves a long run's state as it goes; --resume FILE continues it, to the same bits.");
   cli.add_standard(in.common);
