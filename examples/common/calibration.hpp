@@ -37,9 +37,9 @@
 // one is the study's): "law" ("study" | "slip_softening", the latter beam only), "cohesion_ratio"
 // (c_0 / f_T; absent: the recipe's), "phi_0_deg", "phi_res_deg" (absent: 35, 30), "G_II_J_per_m2"
 // (slip_softening only), "cap_Pa" (the contacts' compressive cap f_c; beam only, absent: 35 MPa).
-// brazilian and compression --params apply the whole set (load_concrete); direct_tension, rc_tie
-// and rc_beam apply the two scales only (load_calibration) and so refuse an entry whose set is
-// not the study's, naming the field.
+// brazilian, compression and rc_beam --params apply the whole set (load_concrete); direct_tension
+// and rc_tie apply the two scales only (load_calibration) and so refuse an entry whose set is not
+// the study's, naming the field.
 
 #include <cmath>
 #include <cstdio>
@@ -250,12 +250,12 @@ namespace calibration_checks {
   const calibration_entry e = calibration_checks::matching_entry(c, f, blocks, run, program);
   const std::string extra = non_study_field(e, c.recipe);
   require(extra.empty(), program, ": ", f, " entry for ", blocks, " blocks has ", extra, ", which ", program,
-          " does not apply (it applies the strength and fracture-energy scales only; brazilian and compression "
-          "--params apply the whole set)");
+          " does not apply (it applies the strength and fracture-energy scales only; brazilian, compression and "
+          "rc_beam --params apply the whole set)");
   return e;
 }
 
-/// brazilian's and compression's --params FILE: the entry for the recipe's block count with its
+/// brazilian's, compression's and rc_beam's --params FILE: the entry for the recipe's block count with its
 /// whole concrete (law, scales, c_0 / f_T, phi_0, phi_res, G_II, cap), after the recipe checks of
 /// load_calibration (material, softening, blocks, zoning, beam volume; throws invalid_input naming
 /// both values). The entry's cohesion ratio is the file's (its recipe's when the entry has none).

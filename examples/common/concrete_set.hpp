@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "common/calibration.hpp"
+#include "common/cli.hpp"
 #include "common/scenes.hpp"
 #include "rc_beam/beam.hpp"
 
@@ -78,22 +79,34 @@ struct recipe_law<concrete_recipe<Law>> {
   using type = Law;
 };
 
-/// --params FILE for brazilian and compression (`program`): the entry for c's recipe (material,
-/// block count, zoning; refused with both values named otherwise, load_concrete) applied to c.
-inline void load_concrete_params(concrete_set& c, const std::filesystem::path& file, real step_displacement, real rate,
-                                 const char* program) {
-  c.apply(load_concrete(file, c.blocks(), c.recipe(step_displacement, rate), program));
+/// --params FILE for brazilian, compression and rc_beam (`program`): the entry for c's recipe
+/// (material, block count, zoning, the half beam's volume; refused with both values named
+/// otherwise, load_concrete) applied to c, and returned. step_displacement (m; 0 = set later by the
+/// run) and rate (m/s) only print a note where they differ from the fit's; beam_volume (m^3): the
+/// run's half beam (rc_beam), 0 = the default beam's.
+inline calibration_entry load_concrete_params(concrete_set& c, const std::filesystem::path& file, real step_displacement,
+                                              real rate, const char* program, real beam_volume = 0) {
+  calibration_recipe r = c.recipe(step_displacement, rate);
+  if (beam_volume > 0) r.beam_volume = beam_volume;
+  const calibration_entry e = load_concrete(file, c.blocks(), r, program);
+  c.apply(e);
+  return e;
 }
 
-/// The set's friction angles, c_0 = cohesion_ratio f_T, c_res = 0.01 c_0 (and the cap where the law
-/// has one) on contact parameters p whose f_T and G_f are already scaled.
-template <class Params>
-void apply_concrete_shear(Params& p, const concrete_set& c) {
-  p.shear.c_0 = c.cohesion_ratio * p.tension.f_T;
-  p.shear.c_res = 0.01 * p.shear.c_0;
-  p.shear.phi_0 = law::friction_angle::from_degrees(c.phi_0_deg);
-  p.shear.phi_res = law::friction_angle::from_degrees(c.phi_res_deg);
-  if constexpr (requires { p.compression.f_c; }) p.compression.f_c = c.cap;
+/// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
+/// o.law (--law study|slip_softening), o.g_ii (--g-ii, J/m^2), o.phi_deg and o.phi_res_deg
+/// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
+/// --cap's help (what the driver does with the cap). brazilian parses its own flags with the same
+/// ranges and help texts (law_flag_help, g_ii_flag_help); calibrate's start flags differ on purpose.
+template <class Options>
+void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
+  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
+  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
+  cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
+  cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
+      .within(0, 80);
+  cli.option("--cap", o.cap, tessera::detail::concat("contact compressive cap f_c (Pa; the study's 35e6; ", cap_note, ")"),
+             "PA").within(1e6, 1e10);
 }
 
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
@@ -109,12 +122,12 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   if (c.material == "prism") {
     auto r = prism_concrete(c.scale(), c.cohesion_ratio, c.blocks());
     r.contact.tension.G_f *= c.fracture_energy_scale;
-    apply_concrete_shear(r.contact, c);
+    apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
     law::study_tie_law::validate(r.contact);
     return std::forward<F>(f)(r);
   }
   auto r = beam_concrete(c.beam());
-  apply_concrete_shear(r.contact, c);
+  apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
   if (c.law == "slip_softening") {
     auto s = with_slip_softening(r, g_ii_or_default(c.g_ii));
     presets::slip_softening_beam_law::validate(s.contact);

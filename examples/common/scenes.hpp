@@ -117,6 +117,20 @@ inline constexpr const char* law_flag_help = "contact law of the beam's concrete
                                              "(cohesion and friction soften with plastic slip over --g-ii)";
 inline constexpr const char* g_ii_flag_help = "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)";
 
+/// The concrete's shear and cap on contact parameters p whose f_T is already scaled: c_0 =
+/// cohesion_ratio f_T, c_res = 0.01 c_0, phi_0 and phi_res (deg), and the compressive cap (Pa) where
+/// the law has one. With 2, 35, 30 and 35e6 it leaves study_beam_params' contacts as they are, to the
+/// bit. Used by the concrete set of brazilian, compression and calibrate (concrete_set.hpp
+/// with_concrete) and by rc_beam (beam.hpp make_beam).
+template <class Params>
+void apply_concrete_shear(Params& p, real cohesion_ratio, real phi_0_deg, real phi_res_deg, real cap) {
+  p.shear.c_0 = cohesion_ratio * p.tension.f_T;
+  p.shear.c_res = 0.01 * p.shear.c_0;
+  p.shear.phi_0 = law::friction_angle::from_degrees(phi_0_deg);
+  p.shear.phi_res = law::friction_angle::from_degrees(phi_res_deg);
+  if constexpr (requires { p.compression.f_c; }) p.compression.f_c = cap;
+}
+
 /// Refuses --g-ii `g_ii` (J/m^2) given with a law other than slip_softening, naming the value;
 /// `driver` opens the message.
 inline void require_g_ii_with_slip_softening(const char* driver, const std::string& law, real g_ii) {

@@ -75,11 +75,7 @@ int main(int argc, char** argv) {
       .within(0, 100e6);
   cli.option("--f-t", in.f_t, "contact tensile strength f_T (Pa); 0 = the material's (beam 2.5, prism 0.907 x 2.15 MPa)", "PA").within(0, 1e9);
   cli.option("--cohesion-ratio", in.cohesion_ratio, "c_0 / f_T (the study: 2)", "R").within(0.1, 20);
-  cli.option("--phi-deg", in.phi_deg, "contact friction angle phi_0 (deg; the study: 35)", "DEG").within(0, 80);
-  cli.option("--phi-res-deg", in.phi_res_deg, "residual friction angle (deg; the study: 30)", "DEG").within(0, 80);
-  cli.option("--law", in.law, scenes::law_flag_help, "L").one_of({"study", "slip_softening"});
-  cli.option("--g-ii", in.g_ii, scenes::g_ii_flag_help, "J").within(0, 1e6);
-  cli.option("--cap", in.cap, "contact compressive cap f_c (Pa; the beam's 35 MPa; beam only)", "PA").within(1e6, 1e10);
+  scenes::add_law_flags(cli, in, "--material beam only");  // --law, --g-ii, --phi-deg, --phi-res-deg, --cap
   cli.option("--rate", in.rate, "top end speed (m/s)", "V").within(1e-5, 0.1);
   cli.option("--step-displacement", in.step_displacement, "top end travel per step (m)", "DU").within(1e-10, 1e-7);
   cli.option("--max-strain", in.max_strain, "axial strain at which the run ends without a peak", "EPS")

@@ -122,6 +122,9 @@ struct beam_options {
   /// (slip_softening_beam_law: cohesion and friction soften with the plastic slip over g_ii)
   std::string law = "study";
   real g_ii = 0;          ///< mode-II fracture energy with law slip_softening (J/m^2); 0 = default_g_ii
+  /// c_0 / f_T of the contacts (c_res = 0.01 c_0): the study's 2; a --params entry of the
+  /// slip-softening law sets its own (concrete_set.hpp)
+  real cohesion_ratio = 2;
   real phi_deg = 35;      ///< the contacts' friction angle phi_0 (deg; the study's 35)
   real phi_res_deg = 30;  ///< their residual friction angle phi_res (deg; the study's 30)
   /// Their compressive cap f_c (Pa; the study's 35 MPa). The hand values keep the concrete's 35 MPa.
@@ -274,14 +277,6 @@ inline void scale_beam_contacts(presets::study_beam_law::params& c, real s, real
 /// concrete's own contacts take (steel on concrete is not the concrete's interface).
 inline constexpr real beam_plate_friction_deg = 35;
 
-/// o's friction angles and compressive cap (--phi-deg, --phi-res-deg, --cap) on the contacts `c`;
-/// the defaults are study_beam_params' own values, to the bit.
-inline void set_beam_law_set(presets::study_beam_law::params& c, const beam_options& o) {
-  c.shear.phi_0 = law::friction_angle::from_degrees(o.phi_deg);
-  c.shear.phi_res = law::friction_angle::from_degrees(o.phi_res_deg);
-  c.compression.f_c = o.cap;
-}
-
 /// Refuses (invalid_input naming the value) a contact law that rc_beam cannot run: phi_res above
 /// phi_0, --g-ii without --law slip_softening, --cap with --compression elastic (no cap), and the
 /// slip-softening law with --compression elastic, --cohesion coupled or --slip-breaks-tension
@@ -379,7 +374,9 @@ inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options
   s.contact = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
   s.hand = beam_hand(o, s.contact);  // at the concrete's f_T, before the calibration scales
   scale_beam_contacts(s.contact, o.strength_scale, o.fracture_energy_scale);
-  set_beam_law_set(s.contact, o);  // after the hand values: they keep the concrete's f_c = 35 MPa
+  // o's shear and cap (the concrete set's setter; the defaults leave the study's contacts to the bit),
+  // after the hand values: they keep the concrete's f_c = 35 MPa
+  apply_concrete_shear(s.contact, o.cohesion_ratio, o.phi_deg, o.phi_res_deg, o.cap);
   check_beam_law(o, s.contact);
   s.box.lo = vec3::Zero();
   s.box.hi = vec3(o.model_length(), o.height, o.width);

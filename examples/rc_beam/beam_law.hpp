@@ -1,7 +1,7 @@
 #pragma once
-// rc_beam's contact law flags (issue #63): --law study|slip_softening, --g-ii, --phi-deg,
-// --phi-res-deg and --cap on the beam's concrete (beam_options), as compression and brazilian
-// take them; what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
+// rc_beam's contact law (issue #63): --law study|slip_softening, --g-ii, --phi-deg, --phi-res-deg
+// and --cap on the beam's concrete (beam_options; registered by concrete_set.hpp add_law_flags, as
+// compression's); what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
 // and the summary keys that record the law a run used.
 //
 //   study           presets::study_beam_law: linear tension softening, the plastic cap, Coulomb
@@ -19,32 +19,54 @@
 #include <string>
 
 #include "common/cli.hpp"
+#include "common/concrete_set.hpp"
 #include "common/scenes.hpp"
 #include "rc_beam/beam.hpp"
 #include "tessera/io/json.hpp"
 
 namespace tessera::scenes {
 
-/// Registers --law, --g-ii, --phi-deg, --phi-res-deg and --cap on `cli`, into `o` (law, g_ii in
-/// J/m^2, phi_deg and phi_res_deg in deg, cap in Pa).
-inline void add_beam_law_flags(cli::parser& cli, beam_options& o) {
-  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
-  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
-  cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
-  cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
-      .within(0, 80);
-  cli.option("--cap", o.cap, "contact compressive cap f_c (Pa; the study's 35e6; the hand values keep the concrete's "
-             "35 MPa)", "PA").within(1e6, 1e10);
+/// The flags --params replaces: the file sets the concrete.
+inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg", "--phi-res-deg", "--cap"};
+
+/// rc_beam --params FILE (`file`): the entry of calibrated.json for o's recipe (the beam material,
+/// o.blocks, o's face zoning and this beam's half volume; refused with both values named otherwise,
+/// load_concrete_params) with its whole concrete (law, strength and fracture-energy scales, c_0 /
+/// f_T, phi_0, phi_res, G_II, cap) applied to o through concrete_set. rate: the plate's (m/s, for the
+/// note on the fitted rate). Returns the entry's initial modulus (Pa; 0 = not recorded).
+inline real load_beam_params(beam_options& o, const std::string& file, real rate) {
+  concrete_set c;
+  c.recipe_blocks = o.blocks;
+  c.zone_edge = o.face_zone_edge();
+  // the step is set later by the mass scaling (0: the note gives the fitted one)
+  const calibration_entry e = load_concrete_params(c, file, 0, rate, "rc_beam", o.half_volume());
+  o.law = c.law;
+  o.strength_scale = c.scale();
+  o.fracture_energy_scale = c.fracture_energy_scale;
+  o.cohesion_ratio = c.cohesion_ratio;
+  o.phi_deg = c.phi_0_deg;
+  o.phi_res_deg = c.phi_res_deg;
+  o.g_ii = c.g_ii;
+  o.cap = c.cap;
+  return e.initial_modulus;
 }
 
-/// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set, before
-/// anything is built, and --law slip_softening with --params `params` (a calibration file holds a
-/// fit of the study's law). Throws invalid_input naming the value.
-inline void check_beam_law_flags(const beam_options& o, const std::string& params) {
-  require(o.law == "study" || params.empty(), "rc_beam: --params ", params, " holds a fit of the study's law; "
-          "--law ", o.law, " takes the study's parameters: drop --params");
+/// Refuses a law flag (beam_law_flags) given beside --params `params`: the file sets the concrete.
+/// Throws invalid_input naming the flag and the file.
+inline void check_beam_law_flags(const cli::parser& cli, const std::string& params) {
+  for (const char* flag : beam_law_flags)
+    require(params.empty() || !cli.given(flag), "rc_beam: ", flag, " with --params ", params,
+            ": the file sets the concrete (drop the flag)");
+}
+
+/// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set and
+/// scales (the flags', or a --params file's), before anything is built. Throws invalid_input
+/// naming the value.
+inline void check_beam_law_set(const beam_options& o) {
+  require_calibration_scales(o, "rc_beam");
   auto c = presets::study_beam_params(o.blocks >= 500 ? 500 : 250);
-  set_beam_law_set(c, o);
+  scale_beam_contacts(c, o.strength_scale, o.fracture_energy_scale);
+  apply_concrete_shear(c, o.cohesion_ratio, o.phi_deg, o.phi_res_deg, o.cap);
   check_beam_law(o, c);
 }
 

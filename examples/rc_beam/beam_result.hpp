@@ -4,7 +4,9 @@
 // the flags that define a run (beam_run_key) and their checks (check_beam_checkpoint_flags).
 
 #include <array>
+#include <cstdio>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -98,11 +100,18 @@ struct beam_result {
   real initial_stiffness = 0;
   bool steel_yielded = false;
   real yield_load = 0, yield_deflection = 0;
+  /// The highest smoothed load of the run and its deflection (N, m): the peak where the run reached
+  /// failure (failure_reached), else the highest load carried before the stop.
   real peak_load = 0, peak_deflection = 0;
+  /// The load fell by beam_loading::failure_drop below its peak after first cracking: the run
+  /// stopped at the failure it measures (false: it stopped at --max-deflection or the quick stop).
+  bool failure_reached = false;
   std::vector<beam_crack> final_cracks;  ///< cracks at the end (beam_crack_profile)
   std::vector<real> flexural_crack_positions;  ///< in the modelled constant-moment zone, m
   int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (half: mirrored)
   real mean_crack_spacing = 0;           ///< m, 0 with fewer than two
+  /// The widest crack's classification at the end (beam_failure_mode: none, flexure,
+  /// diagonal_tension, crushing), whether or not the run reached failure (failure_reached).
   std::string failure_mode = "none";
   beam_crack widest;
   beam_post_peak_crack after_peak;  ///< the fastest-opening inclined crack after the peak (beam_post_peak.hpp)
@@ -223,6 +232,47 @@ inline void check_beam_checkpoint_flags(const cli::parser& cli, const beam_loadi
   require(ranks <= 1 || (l.checkpoint_file.empty() && l.resume_file.empty()),
           "rc_beam: --checkpoint and --resume run in one process; this run is split over ", ranks, " MPI ranks");
   if (!l.resume_file.empty()) require_beam_run_key(l);
+}
+
+/// summary.json's peak and failure keys: failure_reached; peak_load_N and peak_deflection_m (the
+/// highest load so far where failure was not reached); load_at_stop_N and end_deflection_m;
+/// peak_over_ec2_shear, peak_over_zsutty_shear and peak_over_shear_reference against the hand
+/// values h, null when failure was not reached (a capped load is not a capacity); failure_mode
+/// (the widest crack's classification, reached or not) and the widest crack.
+inline void set_failure_figures(io::summary_json& js, const beam_result& r, const beam_hand_checks& h) {
+  const real none = std::numeric_limits<real>::quiet_NaN(), peak = r.failure_reached ? r.peak_load : none;
+  js.set("failure_reached", r.failure_reached)
+      .set("peak_load_N", r.peak_load)
+      .set("peak_deflection_m", r.peak_deflection)
+      .set("load_at_stop_N", r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back())
+      .set("end_deflection_m", r.deflection.empty() ? 0.0 : r.deflection.back())
+      .set("peak_over_ec2_shear", peak / h.ec2_shear_load)
+      .set("peak_over_zsutty_shear", peak / h.zsutty_shear_load)
+      .set("peak_over_shear_reference", peak / h.shear_reference_load())
+      .set("failure_mode", r.failure_mode)
+      .set("failure_mode_rule", std::string("the widest crack's classification at the end of the run (beam_cracks.hpp), "
+                                            "whether or not failure_reached (the load fell by --failure-drop)"))
+      .set("widest_crack_x_m", r.widest.x)
+      .set("widest_crack_angle_deg", r.widest.angle_deg)
+      .set("widest_crack_width_m", r.widest.width);
+}
+
+/// The report's peak: the peak against the hand shear values h where the load fell by `drop` (a
+/// fraction), else the highest load before the stop and the load at it, without ratios.
+[[nodiscard]] inline std::string beam_peak_text(const beam_result& r, const beam_hand_checks& h, real drop) {
+  char buf[320];
+  if (r.failure_reached)
+    std::snprintf(buf, sizeof buf, "failure (the load fell %.0f %% below its peak): peak %.2f kN at %.2f mm (shear "
+                  "capacity, hand %.1f kN; %.2fx EC2's %.1f kN, %.2fx Zsutty's %.1f kN)", 100 * drop, r.peak_load * 1e-3,
+                  r.peak_deflection * 1e3, h.shear_capacity_load * 1e-3, r.peak_load / h.ec2_shear_load,
+                  h.ec2_shear_load * 1e-3, r.peak_load / h.zsutty_shear_load, h.zsutty_shear_load * 1e-3);
+  else
+    std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load never fell %.0f %% below its peak): highest load "
+                  "%.2f kN at %.2f mm, %.2f kN at the stop (hand EC2 %.1f kN, Zsutty %.1f kN)",
+                  (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop, r.peak_load * 1e-3,
+                  r.peak_deflection * 1e3, (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3,
+                  h.ec2_shear_load * 1e-3, h.zsutty_shear_load * 1e-3);
+  return buf;
 }
 
 /// summary.json's shear_at_first_inclined_crack_* and shear_at_peak_* (beam_shear.hpp).

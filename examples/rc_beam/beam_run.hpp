@@ -358,6 +358,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
                         defl > r.peak_deflection;
     const bool quick_done = loading.first_crack_only > 0 && first_found &&
                             defl >= loading.first_crack_only * r.developed_crack_deflection;
+    r.failure_reached = failed;  // the last sample's: whether the run stopped at the load drop
     done = defl >= loading.max_deflection || failed || quick_done;
     if (loading.progress)
       progress.update(std::min(1.0, defl / loading.max_deflection),

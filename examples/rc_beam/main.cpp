@@ -16,8 +16,12 @@
 //                 the beam with them drawn by width
 //   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
 //   summary.json  provisional_geometry, inputs, hand values (cracking, stiffness, yield, shear: EC2 and
-//                 Zsutty), first crack, stiffness, yield, peak, cracks, failure mode, energy balance,
-//                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params;
+//                 Zsutty), first crack, stiffness, yield, peak, cracks, energy balance, failure_reached
+//                 (the load fell by --failure-drop; without it peak_over_* are null, peak_load_N is the
+//                 highest load before the stop, load_at_stop_N the last), failure_mode (the widest
+//                 crack's classification at the end, reached or not: beam_cracks.hpp),
+//                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params
+//                 (the file's whole concrete: beam_law.hpp load_beam_params);
 //                 scheme and relaxation_* (--scheme relaxation: null energy balance and boundary work);
 //                 with --plates contact, each plate's sub-contacts, those in contact at the end and
 //                 its rotation (support_plate_*, loading_plate_*); boundary_work_J is the work
@@ -231,10 +235,6 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("hand_shear_capacity_load_N", h.shear_capacity_load)
       .set("hand_ec2_shear_load_N", h.ec2_shear_load).set("hand_zsutty_shear_load_N", h.zsutty_shear_load)
       .set("shear_span_over_depth", o.shear_span / o.effective_depth)
-      .set("peak_over_ec2_shear", r.peak_load / h.ec2_shear_load).set("peak_over_zsutty_shear", r.peak_load / h.zsutty_shear_load)
-      .set("peak_over_shear_reference", r.peak_load / h.shear_reference_load())
-      .set("peak_load_N", r.peak_load)
-      .set("peak_deflection_m", r.peak_deflection)
       .set("flexural_cracks", r.flexural_cracks)
       .set("flexural_crack_positions_m", r.flexural_crack_positions)
       .set("mean_crack_spacing_m", r.mean_crack_spacing)
@@ -244,10 +244,6 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("crack_angles_deg", crack_angle)
       .set("crack_widths_m", crack_width)
       .set("crack_tops_m", crack_top)
-      .set("failure_mode", r.failure_mode)
-      .set("widest_crack_x_m", r.widest.x)
-      .set("widest_crack_angle_deg", r.widest.angle_deg)
-      .set("widest_crack_width_m", r.widest.width)
       .set("inclined_after_peak_found", p.found)
       .set("inclined_after_peak_x_m", p.x)
       .set("inclined_after_peak_angle_deg", p.angle_deg)
@@ -259,7 +255,6 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("inclined_after_peak_load_drop_N", p.load_drop)
       .set("flexural_opening_rate_same_window", p.flexural_opening_rate)
       .set("diagonal_crack_after_peak", p.diagonal)
-      .set("end_deflection_m", r.deflection.empty() ? 0.0 : r.deflection.back())
       .set("boundary_work_J", r.boundary_work)
       .set("contact_dissipated_J", r.contact_dissipated)
       .set("tension_dissipated_J", r.tension_dissipated)
@@ -278,6 +273,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("runtime_before_resume_s", r.runtime_before_resume_s)
       .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
       .set("runtime_s", r.runtime_before_resume_s + timer.seconds());
+  tessera::scenes::set_failure_figures(js, r, h);
   tessera::scenes::set_shear_figures(js, r);
   if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
   // The phase times are this process's (a resumed run's from its checkpoint on): per its own steps.
@@ -317,9 +313,9 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       "  first crack %.2f kN (hand: f_T %.2f, %+.1f %%; flexural strength %.2f, %+.1f %%); h/4 deep %.2f kN at x = %.0f mm,"
       " %.0f deg;"
       " K0 %.1f kN/mm (hand %.1f, %+.1f %%)\n"
-      "  %s; peak %.2f kN at %.2f mm (shear capacity, hand %.1f kN; %.2fx EC2's %.1f kN, %.2fx Zsutty's %.1f kN)\n"
-      "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure: %s"
-      " (widest crack x = %.0f mm, %.0f deg, %.2f mm)\n"
+      "  %s; %s\n"
+      "  %d flexural cracks in the constant-moment zone (whole beam), mean spacing %.0f mm (study 90); failure mode "
+      "(the widest crack's): %s (x = %.0f mm, %.0f deg, %.2f mm)\n"
       "  fastest inclined crack after the peak: %s%s\n"
       "  shear at the peak (section x: intact + softening + broken/slipped + bars = total; P/2): %s\n"
       "  energy balance %.2g; dt %.3g s (added mass %.1fx, quasi-static index %.2f), %lld steps, %.1f s; wrote %s\n",
@@ -330,9 +326,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       100 * rel(r.first_crack_load, h.flexural_crack_load), r.developed_crack_load * 1e-3, r.first_crack_x * 1e3,
       r.first_crack_angle_deg,
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
-      yield_text.c_str(), r.peak_load * 1e-3, r.peak_deflection * 1e3,
-      h.shear_capacity_load * 1e-3, r.peak_load / h.ec2_shear_load, h.ec2_shear_load * 1e-3,
-      r.peak_load / h.zsutty_shear_load, h.zsutty_shear_load * 1e-3, r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
+      yield_text.c_str(), tessera::scenes::beam_peak_text(r, h, in.loading.failure_drop).c_str(), r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
       r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(),
       o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
@@ -346,21 +340,6 @@ int run(inputs in) {
   const tessera::cli::wall_timer timer;
   in.beam.seed = in.common.seed;
   in.loading.threads = in.common.threads;
-  if (!in.params.empty()) {
-    // The beam recipe's law; the step is set later by the mass scaling (0: the note gives the fitted one).
-    tessera::scenes::calibration_recipe recipe;
-    recipe.softening = "linear";
-    recipe.cohesion_ratio = 2;
-    recipe.step_displacement = 0;
-    recipe.rate = in.loading.rate;
-    recipe.material = "beam";
-    recipe.zone_edge = in.beam.face_zone_edge();
-    recipe.beam_volume = in.beam.half_volume();
-    const auto e = tessera::scenes::load_calibration(in.params, in.beam.blocks, recipe, "rc_beam");
-    in.beam.strength_scale = e.strength_scale;
-    in.beam.fracture_energy_scale = e.fracture_energy_scale;
-    in.model_young = e.initial_modulus;
-  }
   tessera::scenes::check_scheme_flags({.driver = "rc_beam", .scheme = in.scheme, .explicit_given = in.explicit_given,
                                        .relax_given = in.relax_given, .explicit_load = "loading",
                                        .moves = "the loading plate moves", .increment = in.loading.relax_increment,
@@ -389,7 +368,8 @@ int main(int argc, char** argv) {
       "its symmetry face or the whole beam (--span): flexural cracks, yield of the bars, diagonal tension. Default\n"
       "geometry PROVISIONAL (DESIGN.md 6): Walraven's series-A1 beam, b 200, h 150, d 125 mm, shear span 375 mm,\n"
       "constant-moment zone 500 mm, 4 x 8 mm bars.\n"
-      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep.\n"
+      "--quick: 60 blocks, 50 mm face zoning, stops at twice the deflection of the first crack h/4 deep (on the default\n"
+      "beam short of the failure: summary.json failure_reached false, the peak_over_* ratios null).\n"
       "Under mpirun -np N (builds with MPI): split over N ranks, the same curve.csv to the bit; rank 0 writes --out.\n"
       "--checkpoint FILE saves a long run's state as it goes; --resume FILE continues it, to the same bits.");
   cli.add_standard(in.common);
@@ -404,7 +384,7 @@ int main(int argc, char** argv) {
              "the whole beam, both shear spans, supports and loading plates (on a spreader: equal plate loads), no "
              "symmetry condition", "half|full")
       .one_of({"half", "full"});
-  tessera::scenes::add_beam_law_flags(cli, b);  // --law, --g-ii, --phi-deg, --phi-res-deg, --cap
+  tessera::scenes::add_law_flags(cli, b, "the hand values keep the concrete's 35 MPa");
   cli.option("--compression", b.compression, "contact law in compression: plastic (cap at f_c = 35 MPa) or elastic",
              "plastic|elastic").one_of({"plastic", "elastic"});
   cli.option("--cohesion", b.cohesion,
@@ -447,12 +427,16 @@ int main(int argc, char** argv) {
   cli.option("--added-mass", l.added_mass_ratio, "mass scaling to the step at which R x the original mass is added", "R").at_least(0);
   cli.option("--dt", l.dt, "instead of --added-mass: mass-scaled time step (s); 0 = use --added-mass", "DT").at_least(0);
   cli.option("--max-deflection", l.max_deflection, "stop at this mid-span deflection (m)", "U").greater_than(0);
-  cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak", "R").within(0.01, 0.99);
+  cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak: the failure "
+             "(summary.json failure_reached; without it the peak_over_* ratios are null, and failure_mode is the "
+             "widest crack's classification either way)", "R").within(0.01, 0.99);
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
-             "calibrated contact strength: calibrated.json of calibrate --material beam (its entry for --blocks; the "
-             "zoning and the beam's dimensions must match); default: the study's parameters verbatim", "FILE");
+             "calibrated concrete: calibrated.json of calibrate --material beam, its entry for --blocks (the zoning and "
+             "the beam's dimensions must match) with its whole set (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap), "
+             "instead of --law, --g-ii, --phi-deg, --phi-res-deg and --cap; default: the study's parameters verbatim",
+             "FILE");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
   cli.option("--checkpoint", l.checkpoint_file,
              "save the run's state to FILE (atomically) when it ends and every --checkpoint-every s of wall time, "
@@ -480,7 +464,9 @@ int main(int argc, char** argv) {
   }
   try {
     mpi.require_splittable(!l.relaxation, "rc_beam --scheme relaxation", "kinetic relaxation is not distributed");
-    tessera::scenes::check_beam_law_flags(in.beam, in.params);
+    tessera::scenes::check_beam_law_flags(cli, in.params);
+    if (!in.params.empty()) in.model_young = tessera::scenes::load_beam_params(in.beam, in.params, l.rate);
+    tessera::scenes::check_beam_law_set(in.beam);
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);
