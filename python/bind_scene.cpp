@@ -58,6 +58,15 @@ py::array rows_of(const std::vector<vec3>& v) {
     for (py::ssize_t d = 0; d < 3; ++d) w(static_cast<py::ssize_t>(k), d) = v[k][d];
   return out;
 }
+/// The fields every detected_contacts<Law>::params shares (tolerance, rebuild interval, initial
+/// overlap), bound on its class.
+template <class P>
+void bind_detected_fields(py::class_<P>& cls) {
+  cls.def_readwrite("tolerance", &P::tolerance, "contact tolerance (m)")
+      .def_readwrite("max_rebuild_interval", &P::max_rebuild_interval, "steps between rebuilds")
+      .def_readwrite("allow_initial_overlap", &P::allow_initial_overlap,
+                     "accept overlaps within the tolerance at the start");
+}
 
 }  // namespace
 
@@ -122,6 +131,28 @@ void bind_scene(py::module_& m) {
       .def_readonly("k_s", &law::dry_joint_law::params::k_s, "shear stiffness (Pa/m)");
   l.def("dry_joint", &law::dry_joint, py::arg("k_n"), py::arg("k_s"), py::arg("phi"),
         "A dry frictional joint: k_n, k_s (Pa/m, > 0), friction angle phi in [0, 90) deg");
+  using bonded = law::bonded_joint_law::params;
+  py::class_<bonded>(l, "bonded_joint_params", "The params of a bonded cohesive joint (law::bonded_joint_law)")
+      .def_readonly("k_n", &bonded::k_n, "normal stiffness (Pa/m)")
+      .def_readonly("k_s", &bonded::k_s, "shear stiffness (Pa/m)")
+      .def_property_readonly("tensile_strength", [](const bonded& p) { return p.tension.f_T; }, "f_T (Pa)")
+      .def_property_readonly("fracture_energy", [](const bonded& p) { return p.tension.G_f; }, "G_f (N/m)")
+      .def_property_readonly("cohesion", [](const bonded& p) { return p.shear.c_0; }, "c_0 (Pa)")
+      .def_property_readonly("residual_cohesion", [](const bonded& p) { return p.shear.c_res; }, "c_res (Pa)");
+  l.def(
+      "bonded_joint",
+      [](real k_n, real k_s, real f_t, real g_f, real c_0, const law::friction_angle& phi_0, real c_res,
+         const law::friction_angle& phi_res) {
+        return law::bonded_joint({.k_n = k_n, .k_s = k_s, .tensile_strength = f_t, .fracture_energy = g_f,
+                                  .cohesion = c_0, .friction = phi_0, .residual_cohesion = c_res,
+                                  .residual_friction = phi_res});
+      },
+      py::kw_only(), py::arg("k_n"), py::arg("k_s"), py::arg("tensile_strength"), py::arg("fracture_energy"),
+      py::arg("cohesion"), py::arg("friction"), py::arg("residual_cohesion"), py::arg("residual_friction"),
+      "A bonded cohesive joint (law::bonded_joint), every value named: k_n, k_s (Pa/m, > 0), tensile_strength f_T "
+      "(Pa, > 0) softening linearly over fracture_energy G_f (N/m, > f_T^2 / (2 k_n)), cohesion c_0 (Pa) and "
+      "friction phi_0 while intact, residual_cohesion c_res (Pa, [0, c_0]) and residual_friction phi_res once "
+      "broken or slipped (friction angles: law.friction_angle)");
 
   // ---- blocks and contacts ----
   auto b = m.def_submodule("blocks", "Block models");
@@ -132,18 +163,30 @@ void bind_scene(py::module_& m) {
       .def_readwrite("density", &blocks::rigid::params::density, "density (kg/m^3)");
   auto c = m.def_submodule("contact", "Contact sets");
   using dry_contacts = contact::detected_contacts<law::dry_joint_law>;
-  py::class_<dry_contacts::params>(c, "detected_dry_joints",
-                                   "contact::detected_contacts<law::dry_joint_law>::params: a dry joint law and the "
-                                   "contact tolerance (m)")
-      .def(py::init([](const law::dry_joint_law::params& p, real tol) { return dry_contacts::params(p, tol); }),
-           py::arg("law"), py::arg("tolerance"))
-      .def_readwrite("tolerance", &dry_contacts::params::tolerance, "contact tolerance (m)")
-      .def_readwrite("max_rebuild_interval", &dry_contacts::params::max_rebuild_interval, "steps between rebuilds")
-      .def_readwrite("allow_initial_overlap", &dry_contacts::params::allow_initial_overlap,
-                     "accept overlaps within the tolerance at the start")
+  py::class_<dry_contacts::params> dry(c, "detected_dry_joints",
+                                       "contact::detected_contacts<law::dry_joint_law>::params: a dry joint law and "
+                                       "the contact tolerance (m)");
+  bind_detected_fields(dry);
+  dry.def(py::init([](const law::dry_joint_law::params& p, real tol) { return dry_contacts::params(p, tol); }),
+          py::arg("law"), py::arg("tolerance"))
       .def_readwrite("deformable_blocks", &dry_contacts::params::deformable_blocks,
                      "True for deformable blocks (instances.deformable_dry_solver and its damped twin): the "
                      "sub-contacts sit on surface gridpoints; False (default) for rigid blocks");
+  using bonded_contacts = contact::detected_contacts<law::bonded_joint_law>;
+  py::class_<bonded_contacts::params> bonded_joints(
+      c, "detected_bonded_joints",
+      "contact::detected_contacts<law::bonded_joint_law>::params: a bonded joint law, the contact tolerance (m) and "
+      "whether the faces the blocks start on are bonded");
+  bind_detected_fields(bonded_joints);
+  bonded_joints
+      .def(py::init([](const law::bonded_joint_law::params& p, real tol, bool bond_faces) {
+             return bonded_contacts::params(p, tol, 1000, bond_faces);
+           }),
+           py::arg("law"), py::arg("tolerance"), py::arg("bond_faces") = false)
+      .def_readwrite("bond_faces", &bonded_contacts::params::bond_faces,
+                     "True: the corners of faces that coincide at the start (gap within 1e-3 x tolerance, as "
+                     "separate_blocks' neighbours) start intact with f_T, c_0, phi_0; False (default): every "
+                     "contact starts unbonded on c_res, phi_res");
   py::class_<reinforcement::none::params>(m, "no_reinforcement", "The params of reinforcement::none").def(py::init<>());
 
   // ---- solver options, state, results ----
@@ -376,7 +419,14 @@ void bind_scene(py::module_& m) {
       .def_readonly("contact_stored", &energy_balance::contact_stored, "elastic energy in the contact springs (J)")
       .def_readonly("contact_dissipated", &energy_balance::contact_dissipated, "dissipated by the contacts (J)")
       .def_readonly("damping_dissipated", &energy_balance::damping_dissipated, "removed by local damping (J)")
-      .def("error_rel", &energy_balance::error_rel, "(supplied - accounted) / supplied");
+      .def_readonly("reinforcement_stored", &energy_balance::reinforcement_stored,
+                    "elastic energy of bars and bond springs (J)")
+      .def_readonly("reinforcement_dissipated", &energy_balance::reinforcement_dissipated,
+                    "dissipated by bar yielding and bond slip (J)")
+      .def("supplied", &energy_balance::supplied,
+           "initial + boundary, gravity and applied work + the detected contacts' rebuild exchange (J)")
+      .def("accounted", &energy_balance::accounted, "kinetic + stored + dissipated (J)")
+      .def("error_rel", &energy_balance::error_rel, "|supplied - accounted| / |supplied|");
 }
 
 }  // namespace tessera::python

@@ -1,7 +1,8 @@
 #pragma once
 // bind_solver<S>: the binding of one solver type of tessera::instances, shared by the translation
 // units that bind solvers (tessera_module.cpp: the rigid ones and the prism; bind_solvers.cpp:
-// the tie with bars and the deformable blocks on detected contacts), so each unit instantiates
+// the tie with bars and the deformable blocks on detected contacts; bind_twins.cpp: rigid blocks
+// on bonded joints, the undamped prism and tie), so each unit instantiates
 // only its own solvers and compiles in less memory. What a solver type has decides what it gets:
 // deformable blocks the applied forces and zone stresses, bars (reinforcement enabled) their
 // nodes, supports and read-only NumPy views of the element and bond states.

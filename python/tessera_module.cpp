@@ -5,7 +5,8 @@
 // program that spells the condition out). The scene's parts are bound in bind_scene.cpp, files and
 // calibration in bind_extras.cpp, one solver type in bind_solver.hpp; the rigid solvers and the
 // prism are bound here, the tie with bars and the deformable blocks on detected contacts in
-// bind_solvers.cpp. State crosses as read-only NumPy views of the solver's arrays
+// bind_solvers.cpp, the rigid blocks on bonded joints and the undamped prism and tie in
+// bind_twins.cpp. State crosses as read-only NumPy views of the solver's arrays
 // (valid until the next step). tessera's exceptions arrive as tessera.Error (and its subclasses)
 // with the C++ message.
 #include <pybind11/eigen.h>
@@ -26,6 +27,7 @@
 #include "bind_scene.hpp"         // geometry, laws, options, state classes (bind_scene.cpp)
 #include "bind_solver.hpp"        // bind_solver<S>
 #include "bind_solvers.hpp"       // the tie and the deformable blocks on detected contacts (bind_solvers.cpp)
+#include "bind_twins.hpp"         // rigid blocks on bonded joints, the undamped prism and tie (bind_twins.cpp)
 #include "conditions.hpp"         // any_quantity, any_condition, csv_record
 #include "tension_reference.hpp"  // the prism script in C++ (tessera._tension_reference)
 
@@ -191,6 +193,7 @@ PYBIND11_MODULE(_tessera, m) {
       "The README's prism: deformable linear-elastic tetrahedral blocks on the tessellation's bonded faces with "
       "the study's law (law.study_tie_law), central differences with local damping");
   python::bind_solvers(m, inst, iom);
+  python::bind_twins(inst, iom);
 
   m.attr("__version__") = TESSERA_VERSION_STRING;
   m.def(

@@ -20,9 +20,23 @@ using rigid_dry_solver = solver<blocks::rigid, contact::detected_contacts<law::d
 /// stability of rigid block assemblies.
 using rigid_dry_damped_solver = solver<blocks::rigid, contact::detected_contacts<law::dry_joint_law>, reinforcement::none,
                                        integrator::central_difference<integrator::local_damping>>;
+/// Rigid blocks on detected bonded joints (law::bonded_joint_law: linear tension softening f_T,
+/// G_f; Coulomb limit c_0 + sigma_c tan(phi_0) while intact, c_res + sigma_c tan(phi_res) once
+/// broken or slipped), undamped central differences: the faces the blocks start on are bonded
+/// when the contact params' bond_faces is true (detected_contacts::bond_gap_fraction), every
+/// contact found later starts on the residual values. Dynamics of a bonded assembly that cracks.
+using rigid_bonded_solver = solver<blocks::rigid, contact::detected_contacts<law::bonded_joint_law>,
+                                   reinforcement::none, integrator::central_difference<integrator::no_damping>>;
+/// The same with local damping (solver_options::damping_gamma): quasi-static loading of bonded
+/// rigid blocks to cracking.
+using rigid_bonded_damped_solver = solver<blocks::rigid, contact::detected_contacts<law::bonded_joint_law>,
+                                          reinforcement::none, integrator::central_difference<integrator::local_damping>>;
 
 }  // namespace tessera::instances
 
 TESSERA_SOLVER_INSTANCE(tessera::instances::rigid_dry_solver)
 TESSERA_SOLVER_INSTANCE(tessera::instances::rigid_dry_damped_solver)
+TESSERA_SOLVER_INSTANCE(tessera::instances::rigid_bonded_solver)
+TESSERA_SOLVER_INSTANCE(tessera::instances::rigid_bonded_damped_solver)
 TESSERA_INSTANCE(class tessera::contact::detected_contacts<tessera::law::dry_joint_law>)
+TESSERA_INSTANCE(class tessera::contact::detected_contacts<tessera::law::bonded_joint_law>)

@@ -14,8 +14,14 @@ namespace tessera::instances {
 /// from presets::tie_reinforcement), central differences with local damping.
 using tie_solver = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<prism_law>,
                           reinforcement::embedded_truss<reinforcement::coulomb_bond>>;
+/// The tie undamped (integrator::no_damping): the bars' and the concrete's dynamics (elastic
+/// waves, free vibration) with the energy kept.
+using tie_undamped_solver = solver<blocks::deformable<zones::linear_elastic_tet>, contact::face_contacts<prism_law>,
+                                   reinforcement::embedded_truss<reinforcement::coulomb_bond>,
+                                   integrator::central_difference<integrator::no_damping>>;
 
 }  // namespace tessera::instances
 
 TESSERA_SOLVER_INSTANCE(tessera::instances::tie_solver)
+TESSERA_SOLVER_INSTANCE(tessera::instances::tie_undamped_solver)
 TESSERA_INSTANCE(class tessera::reinforcement::embedded_truss<tessera::reinforcement::coulomb_bond>)
