@@ -423,6 +423,8 @@ void bind_scene(py::module_& m) {
                     "elastic energy of bars and bond springs (J)")
       .def_readonly("reinforcement_dissipated", &energy_balance::reinforcement_dissipated,
                     "dissipated by bar yielding and bond slip (J)")
+      .def_readonly("peak_work", &energy_balance::peak_work,
+                    "largest |boundary| + |gravity| + |applied| work after any step so far (J; the step checker's bound)")
       .def("supplied", &energy_balance::supplied,
            "initial + boundary, gravity and applied work + the detected contacts' rebuild exchange (J)")
       .def("accounted", &energy_balance::accounted, "kinetic + stored + dissipated (J)")

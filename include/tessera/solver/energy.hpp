@@ -32,6 +32,11 @@ struct energy_balance {
   real reinforcement_stored = 0;      ///< elastic energy of bars and bond springs
   real reinforcement_dissipated = 0;  ///< bar yielding and bond slip
   real contact_rebuild_exchange = 0;  ///< put into contact springs by re-discretising detected patches (J)
+  /// The largest |W_boundary| + |W_gravity| + |W_applied| after any step so far (J): not a term of
+  /// the balance but the step checker's measure of the energy a run was given (checks::default_step_checker),
+  /// since the works themselves return to zero with every swing of an undamped block back to its start.
+  /// Not checkpointed: a resumed run starts it again from its current works.
+  real peak_work = 0;
 
   /// Energy accounted for in the model (J).
   [[nodiscard]] real accounted() const {

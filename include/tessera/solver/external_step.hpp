@@ -68,6 +68,7 @@ class solver_external_steps {
     s.damping_dissipated_ += work.damping;
     s.applied_work_ += applied_work;
     s.gravity_work_ += gravity_work;
+    s.note_peak_work();
     ++s.step_;
     s.time_ += s.dt_;
   }

@@ -272,12 +272,17 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
         gravity_work_ += detail::gravity_work_of_step(gravity_force_, gridpoints_, dt_);
       }
     }
+    note_peak_work();
     ++step_;
     time_ += dt_;
     if constexpr (Checker::enabled)
       if (step_ % checker_.interval == 0) checker_.check(*this);
   }
 
+  /// energy_balance::peak_work: the largest sum of the works' magnitudes after any step (J).
+  void note_peak_work() {
+    peak_work_ = std::max(peak_work_, std::abs(boundary_work_) + std::abs(gravity_work_) + std::abs(applied_work_));
+  }
   /// The work of the last step's applied forces (solver/applied_forces.hpp), F(t) those now written.
   [[nodiscard]] real applied_work_of_last_step() const {
     return detail::applied_work_of_step(applied_nodes_, applied_previous_, applied_force_, gridpoints_, dt_);
@@ -302,6 +307,7 @@ class solver : public solver_supports<solver<Blocks, Contacts, Reinforcement, In
   real boundary_work_ = 0;
   real damping_dissipated_ = 0;
   real gravity_work_ = 0;
+  real peak_work_ = 0;  ///< energy_balance::peak_work (J), not checkpointed
   real initial_energy_ = 0;
   vec3 gravity_ = vec3::Zero();
   soa3 gravity_force_;               ///< m0_i g per gridpoint (N), deformable blocks

@@ -223,6 +223,7 @@ energy_balance solver<Blocks, Contacts, Reinforcement, Integrator, Checker>::ene
   // The last step's share is booked with the forces written since, if any (applied_forces).
   e.applied_work = applied_work_ + (applied_active_ ? applied_work_of_last_step() : 0);
   e.damping_dissipated = damping_dissipated_;
+  e.peak_work = std::max(peak_work_, std::abs(e.boundary_work) + std::abs(e.gravity_work) + std::abs(e.applied_work));
   detail::add_state_energies(e, blocks_, gridpoints_, contacts_, reinforcement_);
   return e;
 }
