@@ -31,6 +31,19 @@ namespace tessera::python {
 
 namespace py = pybind11;
 
+/// A (blocks, 3) NumPy array whose row b is row(b), a vec3 (a copy: block quantities are computed).
+template <class S, class Row>
+py::array_t<double> per_block_rows(const S& s, Row&& row) {
+  const index_t n = s.block_count();
+  py::array_t<double> out({static_cast<py::ssize_t>(n), py::ssize_t{3}});
+  auto o = out.template mutable_unchecked<2>();
+  for (index_t b = 0; b < n; ++b) {
+    const vec3 v = row(b);
+    for (py::ssize_t c = 0; c < 3; ++c) o(b, c) = v[c];
+  }
+  return out;
+}
+
 // ---- NumPy views ---------------------------------------------------------------------------------
 
 /// A writable NumPy view (n x 3, no copy) of a column-major soa3 owned by `owner`.
@@ -162,6 +175,17 @@ void bind_solver(py::module_& m, py::module_& io, const char* name, const char* 
       .def("block_count", &S::block_count, "Number of blocks")
       .def("block_displacement", &S::block_displacement, py::arg("b"), "Displacement of block b (m, NumPy 3-vector)")
       .def("block_velocity", &S::block_velocity, py::arg("b"), "Velocity of block b (m/s, half step)")
+      .def("block_rotation", &S::block_rotation, py::arg("b"),
+           "Rotation of block b since the reference as a rotation vector (rad; axis times angle in [0, pi]; "
+           "deformable: the best-fit rotation of its gridpoints)")
+      .def(
+          "block_displacements",
+          [](const S& s) { return per_block_rows(s, [&](index_t b) { return s.block_displacement(b); }); },
+          "Every block's displacement (m): a new (blocks, 3) NumPy array")
+      .def(
+          "block_rotations",
+          [](const S& s) { return per_block_rows(s, [&](index_t b) { return s.block_rotation(b); }); },
+          "Every block's rotation vector (rad): a new (blocks, 3) NumPy array")
       .def("kinetic_energy", &S::kinetic_energy, "Kinetic energy of the model (J)")
       .def("unbalanced_force", &S::unbalanced_force, "Unbalanced force of the last step over free components (N)")
       .def("mass_scaling", &S::mass_scaling, "What mass scaling did (kg)")

@@ -954,7 +954,8 @@ TEST_CASE("zero damping conserves energy, gamma = 0.8 removes it and balances th
   }
 }
 
-TEST_CASE("two deformable blocks turned through 360 deg by prescribed velocities carry no stress", "[stability][rotation]") {
+TEST_CASE("two deformable blocks turned through 360 deg by prescribed velocities carry no stress and report the rotation",
+          "[stability][rotation]") {
   const real a = 0.05;
   const auto tess = cube_column(2, a);
   const auto mesh = geometry::zone_blocks(tess);
@@ -976,6 +977,16 @@ TEST_CASE("two deformable blocks turned through 360 deg by prescribed velocities
       gp.prescribed_velocity.row(i) = ((next - now) / s.dt()).transpose();
     }
     s.step();
+    if ((k + 1) % 120 == 0) {  // every 30 deg: each block's best-fit rotation is the rigid one
+      real angle = 2 * std::numbers::pi * (k + 1) / n;
+      if (angle > std::numbers::pi) angle -= 2 * std::numbers::pi;  // the same rotation, angle in [0, pi]
+      const vec3 expected = angle * axis;
+      for (idx b = 0; b < 2; ++b) {
+        const vec3 got = s.block_rotation(b);
+        INFO("step " << k + 1 << " block " << b << ": " << got.transpose() << " against " << expected.transpose());
+        CHECK((k + 1 == n / 2 ? std::min((got - expected).norm(), (got + expected).norm()) : (got - expected).norm()) < 1e-9);
+      }
+    }
     worst_zone = std::max(worst_zone, s.blocks().zone_stress().cwiseAbs().maxCoeff());
     for (idx i = 0; i < s.contacts().size(); ++i)
       worst_contact = std::max({worst_contact, std::abs(s.contacts().state(i).sigma_n), s.contacts().state(i).tau.norm()});

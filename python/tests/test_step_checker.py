@@ -37,3 +37,12 @@ def test_an_undamped_cube_dropped_on_a_stiff_joint_swings_without_being_stopped(
     e = s.energies()
     assert e.damping_dissipated == 0.0
     assert e.peak_work >= 1.9 * RHO * G * u_s  # the most gravity gave: m g (2 u_s)
+
+    # A symmetric drop turns nothing: the rotations stay at round-off, and the arrays hold the
+    # per-block values row for row.
+    rot, disp = s.block_rotations(), s.block_displacements()
+    assert rot.shape == disp.shape == (2, 3)
+    for b in range(2):
+        assert (rot[b] == s.block_rotation(b)).all() and (disp[b] == s.block_displacement(b)).all()
+    assert abs(rot).max() < 1e-9
+    assert disp[1][2] == s.block_displacement(1)[2] != 0.0
