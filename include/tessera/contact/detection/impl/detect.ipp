@@ -23,13 +23,34 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
     uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
+  // reuse_axes: each candidate's kept axis (both lists increasing: one merge), and the whole
+  // candidate list, whose unevaluated pairs keep theirs.
+  if (options.reuse_axes) {
+    w.all_candidates.assign(w.candidates.begin(), w.candidates.end());
+    w.all_hints.assign(w.candidates.size(), axis_hint{});
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < w.candidates.size(); ++i) {
+      while (k < w.axis_pairs.size() && w.axis_pairs[k] < w.candidates[i]) ++k;
+      if (k < w.axis_pairs.size() && w.axis_pairs[k] == w.candidates[i]) w.all_hints[i] = w.axes[k];
+    }
+    w.hints.assign(w.all_hints.begin(), w.all_hints.end());
+  }
   // An incremental pass: the candidates of the marked blocks (kept in order), and the blocks
   // whose face planes they read.
   w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
   if (!only.empty()) {
-    std::erase_if(w.candidates, [&](const block_pair& c) {
-      return only[static_cast<std::size_t>(c.a)] == 0 && only[static_cast<std::size_t>(c.b)] == 0;
-    });
+    const auto marked = [&](const block_pair& c) {
+      return only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0;
+    };
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < w.candidates.size(); ++i) {
+      if (!marked(w.candidates[i])) continue;
+      w.candidates[kept] = w.candidates[i];
+      if (options.reuse_axes) w.hints[kept] = w.hints[i];
+      ++kept;
+    }
+    w.candidates.resize(kept);
+    if (options.reuse_axes) w.hints.resize(kept);
     for (const block_pair& c : w.candidates)
       w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
   }
@@ -49,15 +70,47 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   const std::size_t first = cut(share.part), last = cut(share.part + 1);
   w.planes.resize(n);
   w.patches.resize(n);
+  w.skipped.assign(options.reuse_axes ? n : 0, 0);
   parallel_for(static_cast<std::int64_t>(last - first), [&](std::int64_t k) {
     const auto i = first + static_cast<std::size_t>(k);
     const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
     const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
+    // A kept axis that still separates the pair by more than the tolerance: not touching.
+    if (options.reuse_axes && w.hints[i].names_axis()) {
+      w.planes[i] = hinted_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, w.hints[i]);
+      if (w.planes[i].gap > options.tolerance) {
+        w.patches[i] = contact_patch{};
+        w.skipped[i] = 1;
+        return;
+      }
+    }
     w.planes[i] = common_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b);
     w.patches[i] = w.planes[i].gap <= options.tolerance
                        ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
                        : contact_patch{};
   }, 16);
+  // The kept axes: each candidate's, this pass's plane where it evaluated the pair, else the
+  // one it had (the candidates of unmarked blocks, those of another part).
+  if (options.reuse_axes) {
+    w.next_pairs.clear();
+    w.next_axes.clear();
+    std::size_t e = 0;
+    for (std::size_t i = 0; i < w.all_candidates.size(); ++i) {
+      axis_hint h = w.all_hints[i];
+      if (e < n && w.candidates[e] == w.all_candidates[i]) {
+        if (e >= first && e < last) {
+          h = axis_hint::of(w.planes[e]);
+          w.axis_skips += w.skipped[e];
+        }
+        ++e;
+      }
+      if (!h.names_axis()) continue;
+      w.next_pairs.push_back(w.all_candidates[i]);
+      w.next_axes.push_back(h);
+    }
+    w.axis_pairs.swap(w.next_pairs);
+    w.axes.swap(w.next_axes);
+  }
   out.candidates = n;
   out.evaluated = last - first;
   out.clear_pairs();
