@@ -91,12 +91,13 @@ struct detection_workspace {
   std::vector<geometry::plane> faces;       ///< the blocks' face planes (append_face_planes), this pass
   std::vector<std::uint8_t> needs_faces;    ///< per block, whether this pass computed its face planes
   /// The pairs whose plane axis the passes keep (detection_options::reuse_axes), increasing, and
-  /// those axes: each candidate of the last pass, with the axis of the pass that last evaluated it.
+  /// those axes: each candidate of the last pass and the kept pairs of two blocks it did not mark,
+  /// with the axis of the pass that last evaluated the pair.
   std::vector<block_pair> axis_pairs;
   std::vector<axis_hint> axes;  ///< (see axis_pairs)
   std::vector<axis_hint> hints;  ///< per candidate of this pass: its pair's kept axis (none: none kept)
-  /** scratch of the axes' merge */ /**@{*/ std::vector<block_pair> all_candidates, next_pairs;
-  std::vector<axis_hint> all_hints, next_axes; /**@}*/
+  /** scratch of the axes' merge */ /**@{*/ std::vector<block_pair> next_pairs;
+  std::vector<axis_hint> next_axes; /**@}*/
   std::vector<std::uint8_t> skipped;  ///< per candidate of this pass: whether its kept axis showed it apart
   std::size_t axis_skips = 0;  ///< candidates the kept axes showed apart, over the workspace's passes
   /// Block b's face planes as the last pass computed them (valid where needs_faces[b]).

@@ -20,39 +20,28 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
           share.parts, " parts: need parts >= 1 and 0 <= part < parts");
   // The grid unless the layout would need too many cells (a few huge boxes): then sort and sweep.
   if (const grid_layout g = layout_grid(boxes, options.margin); g.suits(boxes.size()))
-    uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
+    uniform_grid(boxes, options.margin, g, w.candidates, w.grid, only);  // (the marked blocks' pairs only)
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
-  // reuse_axes: each candidate's kept axis (both lists increasing: one merge), and the whole
-  // candidate list, whose unevaluated pairs keep theirs.
+  // An incremental pass: the candidates of the marked blocks (kept in order), and the blocks
+  // whose face planes they read.
+  const auto marked = [&](const block_pair& c) {
+    return only.empty() || only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0;
+  };
+  w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
+  if (!only.empty()) {
+    std::erase_if(w.candidates, [&](const block_pair& c) { return !marked(c); });
+    for (const block_pair& c : w.candidates)
+      w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
+  }
+  // reuse_axes: each candidate's kept axis (both lists increasing: one merge).
   if (options.reuse_axes) {
-    w.all_candidates.assign(w.candidates.begin(), w.candidates.end());
-    w.all_hints.assign(w.candidates.size(), axis_hint{});
+    w.hints.assign(w.candidates.size(), axis_hint{});
     std::size_t k = 0;
     for (std::size_t i = 0; i < w.candidates.size(); ++i) {
       while (k < w.axis_pairs.size() && w.axis_pairs[k] < w.candidates[i]) ++k;
-      if (k < w.axis_pairs.size() && w.axis_pairs[k] == w.candidates[i]) w.all_hints[i] = w.axes[k];
+      if (k < w.axis_pairs.size() && w.axis_pairs[k] == w.candidates[i]) w.hints[i] = w.axes[k];
     }
-    w.hints.assign(w.all_hints.begin(), w.all_hints.end());
-  }
-  // An incremental pass: the candidates of the marked blocks (kept in order), and the blocks
-  // whose face planes they read.
-  w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
-  if (!only.empty()) {
-    const auto marked = [&](const block_pair& c) {
-      return only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0;
-    };
-    std::size_t kept = 0;
-    for (std::size_t i = 0; i < w.candidates.size(); ++i) {
-      if (!marked(w.candidates[i])) continue;
-      w.candidates[kept] = w.candidates[i];
-      if (options.reuse_axes) w.hints[kept] = w.hints[i];
-      ++kept;
-    }
-    w.candidates.resize(kept);
-    if (options.reuse_axes) w.hints.resize(kept);
-    for (const block_pair& c : w.candidates)
-      w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
   }
   // The blocks' face planes, once per pass (the pairs read them, rather than each candidate
   // pair computing both blocks' normals again).
@@ -89,25 +78,29 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
                        ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
                        : contact_patch{};
   }, 16);
-  // The kept axes: each candidate's, this pass's plane where it evaluated the pair, else the
-  // one it had (the candidates of unmarked blocks, those of another part).
+  // The kept axes, merged in pair order: this pass's candidates with this pass's plane's axis
+  // (those of another part: the axis they had), and the kept pairs of two unmarked blocks, which
+  // this pass did not look at.
   if (options.reuse_axes) {
     w.next_pairs.clear();
     w.next_axes.clear();
-    std::size_t e = 0;
-    for (std::size_t i = 0; i < w.all_candidates.size(); ++i) {
-      axis_hint h = w.all_hints[i];
-      if (e < n && w.candidates[e] == w.all_candidates[i]) {
-        if (e >= first && e < last) {
-          h = axis_hint::of(w.planes[e]);
-          w.axis_skips += w.skipped[e];
+    std::size_t k = 0;
+    const auto keep_old_until = [&](const block_pair* before) {
+      for (; k < w.axis_pairs.size() && (before == nullptr || w.axis_pairs[k] < *before); ++k)
+        if (!marked(w.axis_pairs[k])) {
+          w.next_pairs.push_back(w.axis_pairs[k]);
+          w.next_axes.push_back(w.axes[k]);
         }
-        ++e;
-      }
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      keep_old_until(&w.candidates[i]);
+      const axis_hint h = i >= first && i < last ? axis_hint::of(w.planes[i]) : w.hints[i];
+      if (i >= first && i < last) w.axis_skips += w.skipped[i];
       if (!h.names_axis()) continue;
-      w.next_pairs.push_back(w.all_candidates[i]);
+      w.next_pairs.push_back(w.candidates[i]);
       w.next_axes.push_back(h);
     }
+    keep_old_until(nullptr);
     w.axis_pairs.swap(w.next_pairs);
     w.axes.swap(w.next_axes);
   }
