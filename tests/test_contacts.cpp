@@ -2213,3 +2213,135 @@ TEST_CASE("incremental rebuild: a pair sliding at its friction limit keeps its s
 }
 
 }  // namespace tessera::test_incremental
+
+namespace tessera::test_kept_axes {
+namespace {
+using geometry::convex_polyhedron;
+namespace detection = contact::detection;
+}  // namespace
+
+TEST_CASE("detection pass with kept axes: the full search's result to the bit over moving passes, most apart pairs shown apart by their last axis",
+          "[detection]") {
+  // 300 Voronoi cells shrunk 1 % about their centroids, then each turned and moved a little more
+  // at every pass (up to 3 % of the mean size: pairs come into and out of the tolerance).
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.15, 0.15, 0.3)}, 300, 11);
+  std::vector<convex_polyhedron> start;
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
+    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
+    start.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
+  }
+  const real size = std::cbrt(0.15 * 0.15 * 0.3 / 300);
+  std::vector<detection::polyhedron_edges> edges;
+  for (const convex_polyhedron& p : start) edges.push_back(detection::edges_of(p));
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<real> unit(-1, 1);
+  std::vector<vec3> drift, spin;
+  for (std::size_t b = 0; b < start.size(); ++b) {
+    drift.emplace_back(unit(rng), unit(rng), unit(rng));
+    spin.emplace_back(unit(rng), unit(rng), unit(rng));
+  }
+  detection::detection_options full;
+  full.margin = full.tolerance = 0.05 * size;
+  detection::detection_options kept = full;
+  kept.reuse_axes = true;
+  detection::detection_workspace w_kept;
+  std::size_t skipped_before = 0, apart_total = 0, skipped_total = 0;
+  for (int pass = 0; pass < 6; ++pass) {
+    std::vector<convex_polyhedron> blocks;
+    std::vector<aabb> boxes;
+    std::vector<std::uint8_t> only(start.size(), 1);
+    for (std::size_t b = 0; b < start.size(); ++b) {
+      const real s = 0.006 * size * pass;
+      const mat3 turn = Eigen::AngleAxis<real>(0.02 * pass, spin[b].normalized()).toRotationMatrix();
+      const vec3 c = start[b].centroid();
+      blocks.push_back(start[b].transformed(turn, c - turn * c + s * drift[b]));
+      boxes.push_back(blocks.back().bounds());
+      only[b] = pass % 2 == 1 && b % 3 == 0 ? 0 : 1;  // odd passes: an incremental pass without every third block
+    }
+    const std::span<const std::uint8_t> marks = pass % 2 == 1 ? std::span<const std::uint8_t>(only) : std::span<const std::uint8_t>();
+    detection::detection_result a, b;
+    detection::detection_workspace w_full;
+    detection::detect(blocks, edges, boxes, full, a, w_full, {}, marks);
+    detection::detect(blocks, edges, boxes, kept, b, w_kept, {}, marks);
+    REQUIRE(a.pairs == b.pairs);
+    REQUIRE(a.first_corner == b.first_corner);
+    CHECK(a.label == b.label);
+    CHECK(a.type == b.type);
+    REQUIRE(a.point.size() == b.point.size());
+    CHECK(std::memcmp(a.point.data(), b.point.data(), a.point.size() * sizeof(vec3)) == 0);
+    CHECK(std::memcmp(a.gap.data(), b.gap.data(), a.gap.size() * sizeof(real)) == 0);
+    CHECK(std::memcmp(a.area.data(), b.area.data(), a.area.size() * sizeof(real)) == 0);
+    for (std::size_t k = 0; k < a.pairs.size(); ++k) {
+      CHECK(std::memcmp(&a.planes[k].normal, &b.planes[k].normal, sizeof(vec3)) == 0);
+      CHECK(a.planes[k].gap == b.planes[k].gap);
+      CHECK(a.planes[k].offset == b.planes[k].offset);
+    }
+    // Every skipped candidate is apart by the full search, and the bound it was skipped on is
+    // below the full search's gap.
+    for (std::size_t i = 0; i < w_kept.candidates.size(); ++i) {
+      if (w_full.planes[i].gap > full.tolerance) ++apart_total;
+      if (w_kept.skipped[i] == 0) continue;
+      CHECK(w_full.planes[i].gap > full.tolerance);
+      CHECK(w_kept.planes[i].gap <= w_full.planes[i].gap);
+    }
+    if (pass > 0) skipped_total += w_kept.axis_skips - skipped_before;
+    skipped_before = w_kept.axis_skips;
+  }
+  // The first pass has no axes to try; the later ones skip most of the apart candidates.
+  INFO(skipped_total << " of " << apart_total << " apart candidates skipped");
+  CHECK(static_cast<double>(skipped_total) > 0.6 * static_cast<double>(apart_total));
+}
+
+TEST_CASE("hinted plane: any face or edge pair's bound is below the common plane's gap, and a hint that is not a candidate gives none",
+          "[detection]") {
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.1)}, 40, 3);
+  std::vector<convex_polyhedron> cells;
+  std::vector<detection::polyhedron_edges> edges;
+  std::vector<std::vector<geometry::plane>> faces;
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
+    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
+    cells.push_back(cell.transformed(0.97 * mat3::Identity(), 0.03 * cell.centroid()));
+    edges.push_back(detection::edges_of(cells.back()));
+    faces.emplace_back();
+    detection::append_face_planes(cells.back(), faces.back());
+  }
+  std::size_t bounds = 0, edge_bounds = 0, attained = 0;
+  for (std::size_t a = 0; a < cells.size(); ++a)
+    for (std::size_t b = a + 1; b < cells.size(); b += 3) {
+      const auto plane = detection::common_plane(cells[a], edges[a], faces[a], cells[b], edges[b], faces[b]);
+      const auto hinted = [&](detection::axis_hint h) {
+        return detection::hinted_plane(cells[a], edges[a], faces[a], cells[b], edges[b], faces[b], h);
+      };
+      // The plane's own axis: its gap less the margin (2e-9 x size).
+      const auto own = hinted(detection::axis_hint::of(plane));
+      if (own.gap > -std::numeric_limits<real>::infinity()) {
+        ++attained;
+        CHECK(own.gap <= plane.gap);
+        CHECK(own.gap >= plane.gap - 1e-8 * 0.1);
+      }
+      for (index_t f = 0; f < cells[a].face_count(); ++f) {
+        CHECK(hinted({detection::plane_source::face_a, f, invalid_index}).gap <= plane.gap);
+        ++bounds;
+      }
+      for (index_t f = 0; f < cells[b].face_count(); ++f) {
+        CHECK(hinted({detection::plane_source::face_b, invalid_index, f}).gap <= plane.gap);
+        ++bounds;
+      }
+      for (std::size_t i = 0; i < edges[a].list.size(); i += 2)
+        for (std::size_t j = 0; j < edges[b].list.size(); j += 2) {
+          const real g = hinted({detection::plane_source::edge_edge, static_cast<index_t>(i), static_cast<index_t>(j)}).gap;
+          CHECK(g <= plane.gap);
+          if (g > -std::numeric_limits<real>::infinity()) ++edge_bounds;
+        }
+      // Features out of range name no axis.
+      CHECK(hinted({detection::plane_source::face_a, cells[a].face_count(), invalid_index}).gap ==
+            -std::numeric_limits<real>::infinity());
+      CHECK(hinted({detection::plane_source::edge_edge, 0, static_cast<index_t>(edges[b].list.size())}).gap ==
+            -std::numeric_limits<real>::infinity());
+    }
+  INFO(bounds << " face bounds, " << edge_bounds << " edge-pair bounds, " << attained << " planes' own axes");
+  CHECK(edge_bounds > 100);  // the edge pairs whose arcs cross are checked, not only refused
+  CHECK(attained > 200);
+}
+
+}  // namespace tessera::test_kept_axes

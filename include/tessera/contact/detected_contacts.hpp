@@ -280,8 +280,7 @@ class detected_contacts {
   /// Rebuilds at which a per-sub-contact or per-pair array had to grow (allocate).
   [[nodiscard]] index_t growth_count() const { return growths_; }
   [[nodiscard]] index_t peak_subcontacts() const { return peak_subcontacts_; }  ///< Largest sub-contact count seen
-  /// Wall time spent in rebuilds so far, the construction's included (s; for reports, never
-  /// for results).
+  /// Wall time spent in rebuilds so far, the construction's included (s; for reports only).
   [[nodiscard]] double rebuild_seconds() const { return rebuild_seconds_; }
   /// Candidate pairs of the last pass, and of them those this rank evaluated (set_detection_split).
   [[nodiscard]] std::size_t candidate_count() const { return result_.candidates; }
@@ -293,6 +292,10 @@ class detected_contacts {
   /// construction's included), and the pairs the last rebuild left untouched (detected/incremental.hpp).
   [[nodiscard]] std::int64_t redetected_blocks() const { return redetected_; }
   [[nodiscard]] index_t untouched_pairs_last_rebuild() const { return untouched_last_; }  ///< Pairs the last rebuild left untouched
+  /// Candidate pairs the rebuilds' narrow phase evaluated, summed (this rank's part), and of them
+  /// those their last plane's axis showed apart without the full search (detection_options::reuse_axes).
+  [[nodiscard]] std::int64_t narrow_phase_pairs() const { return narrow_pairs_; }
+  [[nodiscard]] std::int64_t pairs_apart_by_kept_axis() const { return static_cast<std::int64_t>(workspace_.axis_skips); }  ///< (see narrow_phase_pairs)
   [[nodiscard]] real tolerance() const { return options_.tolerance; }  ///< The contact tolerance (m)
   /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
   [[nodiscard]] index_t bonded_at_start() const { return bonded_at_start_; }
@@ -482,7 +485,7 @@ class detected_contacts {
   // statistics
   index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0;
   index_t untouched_last_ = 0;
-  std::int64_t redetected_ = 0;
+  std::int64_t redetected_ = 0, narrow_pairs_ = 0;
   double rebuild_seconds_ = 0;
 };
 

@@ -18,9 +18,11 @@
 // closer by at most 2 trigger + redetect = the tolerance: a gap above the tolerance at t_p has
 // not closed. The same bound as a full rebuild at every tolerance / 2 of motion (then 2 x 1/2).
 //
-// Cost: the pass runs on the moved blocks' candidate pairs; the rest of a rebuild (the blocks'
+// Cost: the pass runs on the moved blocks' candidate pairs, and of those the pairs that the axis
+// of their last plane still shows apart skip the full common-plane search (detect.hpp,
+// reuse_axes: about two thirds of them in the rubble scene); the rest of a rebuild (the blocks'
 // boxes, the broad phase, the copy of the kept pairs' columns, the tasks and gather slots) is
-// O(blocks + sub-contacts) and small beside it. No allocation beyond a rebuild's.
+// O(blocks + sub-contacts). No allocation beyond a rebuild's.
 
 #include <array>
 #include <cstdint>

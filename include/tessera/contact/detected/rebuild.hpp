@@ -10,8 +10,8 @@
 // was above the tolerance at the last rebuild cannot have closed it: no contact is missed. Rigid
 // blocks rebuild incrementally in between (detected/incremental.hpp): once a block has moved 0.39
 // x the tolerance since it was last detected, the pass covers the pairs of the blocks that moved
-// more than 0.22 x it, and the other pairs stay as they are, with the same guarantee. The check
-// reads every block vertex once per step (no velocity bound to guess).
+// more than 0.22 x it; the other pairs stay as they are (the same guarantee; the check reads
+// every block vertex once per step), and a pair its last axis shows apart skips the full search.
 //
 // Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a, block
 // b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an edge of B
@@ -117,8 +117,9 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     for (index_t k = blocks_[at(b)].watch_begin; k < blocks_[at(b)].watch_end; ++k)
       for (int c = 0; c < 3; ++c) rebuild_u_(k, c) = gp != nullptr ? gp->displacement(watch_gridpoints_[at(k)], c) : 0.0;
   }
-  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance}, result_, workspace_, share_,
+  detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance, true}, result_, workspace_, share_,
                     incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>());
+  narrow_pairs_ += static_cast<std::int64_t>(result_.evaluated);
   if (share_.parts > 1) gather_(result_);  // the other parts, from the ranks that evaluated them
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
 

@@ -96,7 +96,7 @@ TESSERA_INLINE void sweep_and_prune(std::span<const aabb> boxes, real margin, st
 struct grid_workspace {
   std::vector<std::int64_t> cell_of_entry;  ///< cell of each (box, cell) entry
   /** block of each entry, and the entries' order by cell */ /**@{*/ std::vector<index_t> block_of_entry, order; /**@}*/
-  std::vector<std::size_t> starts;  ///< first entry of each cell (CSR)
+  std::vector<std::size_t> starts;  ///< first entry of each cell (CSR of the counting sort by cell)
 };
 
 /// The grid of uniform_grid for `boxes` enlarged by `margin`: its origin, cell size (the largest
@@ -117,8 +117,10 @@ struct grid_layout {
 
 /// The pairs of all_pairs by binning into the grid `g` = layout_grid(boxes, margin) (see the file
 /// comment). Refuses a layout that does not suit a grid (grid_layout::suits: use sweep_and_prune).
+/// `only` (empty: every pair) keeps the pairs with at least one block b marked only[b] != 0 (an
+/// incremental pass's), the same pairs as filtering the whole list afterwards.
 TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const grid_layout& g, std::vector<block_pair>& pairs,
-                                 grid_workspace& w);
+                                 grid_workspace& w, std::span<const std::uint8_t> only = {});
 
 /// The same, laying out the grid first.
 inline void uniform_grid(std::span<const aabb> boxes, real margin, std::vector<block_pair>& pairs, grid_workspace& w) {

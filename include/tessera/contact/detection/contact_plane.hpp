@@ -57,6 +57,20 @@ struct contact_plane {
   index_t feature_b = invalid_index;  ///< face of B (face_b), or edge of B (edge_edge)
 };
 
+/// The axis of a pair's last contact plane, which a later pass tries first (separating_axis_hint):
+/// where it came from and its features (contact_plane's source, feature_a, feature_b).
+struct axis_hint {
+  plane_source source = plane_source::face_a;  ///< face of A, face of B, or an edge of each
+  index_t feature_a = invalid_index;  ///< face or edge of A (invalid_index: none)
+  index_t feature_b = invalid_index;  ///< face or edge of B (invalid_index: none)
+  /// Whether the hint names an axis (a default hint names none).
+  [[nodiscard]] bool names_axis() const noexcept { return feature_a != invalid_index || feature_b != invalid_index; }
+  /// The axis of `plane`.
+  [[nodiscard]] static axis_hint of(const contact_plane& plane) noexcept {
+    return {plane.source, plane.feature_a, plane.feature_b};
+  }
+};
+
 /// The edges of a convex polyhedron with their two faces: face_left holds the loop u -> v,
 /// face_right the loop v -> u (outward CCW loops).
 struct polyhedron_edges {
@@ -107,6 +121,23 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
                                                         std::span<const geometry::plane> faces_a,
                                                         const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
                                                         std::span<const geometry::plane> faces_b, bool prune_edges = true);
+
+/// A lower bound (m) of common_plane(a, ..., b, ...).gap from one of its candidate axes, the one
+/// `hint` names (a face of A, a face of B, or an edge of each: the axis of the pair's plane at an
+/// earlier pass, its features being the same in the blocks' current geometry): that axis's gap,
+/// computed as common_plane computes it, less 2 plane_tie_rel x size (common_plane keeps an
+/// earlier axis within plane_tie_rel x size of a later one, and the margin covers the rounding).
+/// The returned plane carries the axis and the bound as its gap (offset 0). Its gap is -infinity
+/// where the axis is not certainly one of common_plane's candidates now (a feature out of range,
+/// an edge pair whose arcs on the Gauss map do not cross, or cross within 1e-12 of not crossing,
+/// parallel edges, an orientation within rounding of flipping): a caller then runs common_plane.
+/// A pass that finds the bound above its tolerance knows the pair is not touching without the
+/// full search (detect.hpp's detection_options::reuse_axes: the same result, cheaper). Arguments
+/// as common_plane's. Cost O(V_A + V_B); no allocation.
+[[nodiscard]] TESSERA_INLINE contact_plane hinted_plane(const geometry::convex_polyhedron& a, const polyhedron_edges& edges_a,
+                                                        std::span<const geometry::plane> faces_a,
+                                                        const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
+                                                        std::span<const geometry::plane> faces_b, const axis_hint& hint);
 
 /// Overload that computes the face planes.
 [[nodiscard]] inline contact_plane common_plane(const geometry::convex_polyhedron& a, const polyhedron_edges& edges_a,

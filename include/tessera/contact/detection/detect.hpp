@@ -10,6 +10,11 @@
 // The narrow phase runs in parallel over the candidate pairs (each pair writes its own slot),
 // and the slots are concatenated in pair order. A pass can evaluate one contiguous part of the
 // candidates (detection_share), for ranks that split the narrow phase and gather the parts.
+// With detection_options::reuse_axes the workspace keeps each candidate pair's plane axis, and
+// the next pass tries it first (hinted_plane): a pair it still shows apart by more than the
+// tolerance skips the full common-plane search. The result is the same to the bit (the axis is
+// one of the search's candidates, so the search's gap is at least the axis's); a checkpoint's
+// restart or a new workspace only runs more full searches.
 //
 // Cost: see docs/performance.md ("Contact detection kernels"). Allocates: each touching pair's
 // patch (three small vectors), and the result and workspace arrays when they grow (they keep
@@ -34,6 +39,10 @@ namespace tessera::contact::detection {
 struct detection_options {
   real margin = 0;     ///< broad-phase enlargement of each box (m): rebuild_margin
   real tolerance = 0;  ///< contact tolerance (m, > 0): pairs with a gap up to it touch
+  /// Try each candidate pair's axis of the workspace's earlier passes first (hinted_plane): a
+  /// pair that axis still separates by more than the tolerance is not touching, without the
+  /// full common-plane search. The same result as without; the workspace keeps the axes.
+  bool reuse_axes = false;
 };
 
 /// Which contiguous part of the broad phase's candidate list a pass evaluates: part `part` of
@@ -81,6 +90,16 @@ struct detection_workspace {
   std::vector<index_t> face_first{0};         ///< CSR over blocks into faces
   std::vector<geometry::plane> faces;       ///< the blocks' face planes (append_face_planes), this pass
   std::vector<std::uint8_t> needs_faces;    ///< per block, whether this pass computed its face planes
+  /// The pairs whose plane axis the passes keep (detection_options::reuse_axes), increasing, and
+  /// those axes: each candidate of the last pass and the kept pairs of two blocks it did not mark,
+  /// with the axis of the pass that last evaluated the pair.
+  std::vector<block_pair> axis_pairs;
+  std::vector<axis_hint> axes;  ///< (see axis_pairs)
+  std::vector<axis_hint> hints;  ///< per candidate of this pass: its pair's kept axis (none: none kept)
+  /** scratch of the axes' merge */ /**@{*/ std::vector<block_pair> next_pairs;
+  std::vector<axis_hint> next_axes; /**@}*/
+  std::vector<std::uint8_t> skipped;  ///< per candidate of this pass: whether its kept axis showed it apart
+  std::size_t axis_skips = 0;  ///< candidates the kept axes showed apart, over the workspace's passes
   /// Block b's face planes as the last pass computed them (valid where needs_faces[b]).
   [[nodiscard]] std::span<const geometry::plane> faces_of(std::size_t b) const {
     const auto first = static_cast<std::size_t>(face_first[b]), last = static_cast<std::size_t>(face_first[b + 1]);

@@ -50,8 +50,10 @@ TESSERA_INLINE void sweep_and_prune(std::span<const aabb> boxes, real margin, st
 }
 
 TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const grid_layout& g, std::vector<block_pair>& pairs,
-                                 grid_workspace& w) {
+                                 grid_workspace& w, std::span<const std::uint8_t> only) {
   detail::require_boxes(boxes, margin, "uniform_grid");
+  require(only.empty() || only.size() == boxes.size(), "uniform_grid: ", only.size(), " marks for ", boxes.size(),
+          " boxes: give one per box, or none");
   pairs.clear();
   if (boxes.empty()) return;
   require(g.suits(boxes.size()), "uniform_grid: ", g.cells(), " cells for ", boxes.size(), " blocks (cell ", g.cell,
@@ -74,12 +76,13 @@ TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const
           w.block_of_entry.push_back(static_cast<index_t>(b));
         }
   }
+  // The entries by cell, then by entry (a counting sort: at most 64 cells a block, grid_layout::suits).
+  w.starts.assign(static_cast<std::size_t>(g.cells()) + 1, 0);
+  for (const std::int64_t c : w.cell_of_entry) ++w.starts[static_cast<std::size_t>(c) + 1];
+  for (std::size_t c = 1; c < w.starts.size(); ++c) w.starts[c] += w.starts[c - 1];
   w.order.resize(w.cell_of_entry.size());
-  for (std::size_t e = 0; e < w.order.size(); ++e) w.order[e] = static_cast<index_t>(e);
-  std::sort(w.order.begin(), w.order.end(), [&](index_t p, index_t q) {
-    const auto cp = w.cell_of_entry[static_cast<std::size_t>(p)], cq = w.cell_of_entry[static_cast<std::size_t>(q)];
-    return cp < cq || (cp == cq && p < q);
-  });
+  for (std::size_t e = 0; e < w.order.size(); ++e)
+    w.order[w.starts[static_cast<std::size_t>(w.cell_of_entry[e])]++] = static_cast<index_t>(e);
   const real m2 = 2 * margin;
   for (std::size_t s = 0; s < w.order.size();) {
     std::size_t e = s;
@@ -89,6 +92,7 @@ TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const
       for (std::size_t y = x + 1; y < e; ++y) {
         const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
         const index_t b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
+        if (!only.empty() && only[static_cast<std::size_t>(a0)] == 0 && only[static_cast<std::size_t>(b0)] == 0) continue;
         const aabb& p = boxes[static_cast<std::size_t>(a0)];
         const aabb& q = boxes[static_cast<std::size_t>(b0)];
         if (!detail::boxes_overlap(p, q, m2)) continue;

@@ -145,4 +145,58 @@ namespace tessera::contact::detection {
   return best;
 }
 
+[[nodiscard]] TESSERA_INLINE contact_plane hinted_plane(const geometry::convex_polyhedron& a, const polyhedron_edges& edges_a,
+                                                        std::span<const geometry::plane> faces_a,
+                                                        const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
+                                                        std::span<const geometry::plane> faces_b, const axis_hint& hint) {
+  contact_plane out;
+  out.gap = -std::numeric_limits<real>::infinity();
+  out.source = hint.source;
+  out.feature_a = hint.feature_a;
+  out.feature_b = hint.feature_b;
+  if (a.empty() || b.empty() || faces_a.size() != static_cast<std::size_t>(a.face_count()) ||
+      faces_b.size() != static_cast<std::size_t>(b.face_count()))
+    return out;
+  const auto in_range = [](index_t f, std::size_t n) { return f >= 0 && static_cast<std::size_t>(f) < n; };
+  const real margin = 2 * plane_tie_rel * std::max(a.extent(), b.extent());
+  // A face axis: common_plane's consider() for it, the same expressions.
+  if (hint.source != plane_source::edge_edge) {
+    const bool of_a = hint.source == plane_source::face_a;
+    if (!(of_a ? in_range(hint.feature_a, faces_a.size()) : in_range(hint.feature_b, faces_b.size()))) return out;
+    const vec3 n = of_a ? faces_a[static_cast<std::size_t>(hint.feature_a)].normal
+                        : vec3(-faces_b[static_cast<std::size_t>(hint.feature_b)].normal);
+    out.normal = n;
+    out.gap = detail::support_min(b, n) - detail::support_max(a, n) - margin;
+    return out;
+  }
+  if (!in_range(hint.feature_a, edges_a.list.size()) || !in_range(hint.feature_b, edges_b.list.size())) return out;
+  const auto& ea = edges_a.list[static_cast<std::size_t>(hint.feature_a)];
+  const auto& eb = edges_b.list[static_cast<std::size_t>(hint.feature_b)];
+  // The arc test of common_plane's pruned edge loop, with its three signs held 1e-12 clear of
+  // zero so that no rounding of the vectorised loop can take the pair out of its candidates.
+  const vec3& na = faces_a[static_cast<std::size_t>(ea.face_left)].normal;
+  const vec3& nb = faces_a[static_cast<std::size_t>(ea.face_right)].normal;
+  const vec3 c = -faces_b[static_cast<std::size_t>(eb.face_left)].normal;
+  const vec3 d = -faces_b[static_cast<std::size_t>(eb.face_right)].normal;
+  const vec3 b_x_a = nb.cross(na), d_x_c = d.cross(c);
+  const real cba = c.dot(b_x_a), dba = d.dot(b_x_a), adc = na.dot(d_x_c), bdc = nb.dot(d_x_c);
+  constexpr real clear = 1e-12;
+  if (!(cba * dba < -clear && adc * bdc < -clear && cba * bdc > clear)) return out;
+  const vec3 da = a.vertex(ea.v) - a.vertex(ea.u);
+  const vec3 db = b.vertex(eb.v) - b.vertex(eb.u);
+  vec3 n = da.cross(db);
+  const real length = n.norm();
+  if (!(length > 2e-9 * da.norm() * db.norm())) return out;  // (common_plane skips below 1e-9)
+  n /= length;
+  vec3 ca = vec3::Zero();
+  for (const vec3& x : a.vertices()) ca += x;
+  ca /= static_cast<real>(a.vertex_count());
+  const real side = n.dot(a.vertex(ea.u) - ca);
+  if (!(std::abs(side) > margin)) return out;
+  if (side < 0) n = -n;  // outward from A at its edge
+  out.normal = n;
+  out.gap = n.dot(b.vertex(eb.u)) - n.dot(a.vertex(ea.u)) - margin;
+  return out;
+}
+
 }  // namespace tessera::contact::detection

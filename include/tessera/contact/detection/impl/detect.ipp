@@ -20,18 +20,28 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
           share.parts, " parts: need parts >= 1 and 0 <= part < parts");
   // The grid unless the layout would need too many cells (a few huge boxes): then sort and sweep.
   if (const grid_layout g = layout_grid(boxes, options.margin); g.suits(boxes.size()))
-    uniform_grid(boxes, options.margin, g, w.candidates, w.grid);
+    uniform_grid(boxes, options.margin, g, w.candidates, w.grid, only);  // (the marked blocks' pairs only)
   else
     sweep_and_prune(boxes, options.margin, w.candidates, w.sweep);
   // An incremental pass: the candidates of the marked blocks (kept in order), and the blocks
   // whose face planes they read.
+  const auto marked = [&](const block_pair& c) {
+    return only.empty() || only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0;
+  };
   w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
   if (!only.empty()) {
-    std::erase_if(w.candidates, [&](const block_pair& c) {
-      return only[static_cast<std::size_t>(c.a)] == 0 && only[static_cast<std::size_t>(c.b)] == 0;
-    });
+    std::erase_if(w.candidates, [&](const block_pair& c) { return !marked(c); });
     for (const block_pair& c : w.candidates)
       w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
+  }
+  // reuse_axes: each candidate's kept axis (both lists increasing: one merge).
+  if (options.reuse_axes) {
+    w.hints.assign(w.candidates.size(), axis_hint{});
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < w.candidates.size(); ++i) {
+      while (k < w.axis_pairs.size() && w.axis_pairs[k] < w.candidates[i]) ++k;
+      if (k < w.axis_pairs.size() && w.axis_pairs[k] == w.candidates[i]) w.hints[i] = w.axes[k];
+    }
   }
   // The blocks' face planes, once per pass (the pairs read them, rather than each candidate
   // pair computing both blocks' normals again).
@@ -49,15 +59,51 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   const std::size_t first = cut(share.part), last = cut(share.part + 1);
   w.planes.resize(n);
   w.patches.resize(n);
+  w.skipped.assign(options.reuse_axes ? n : 0, 0);
   parallel_for(static_cast<std::int64_t>(last - first), [&](std::int64_t k) {
     const auto i = first + static_cast<std::size_t>(k);
     const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
     const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
+    // A kept axis that still separates the pair by more than the tolerance: not touching.
+    if (options.reuse_axes && w.hints[i].names_axis()) {
+      w.planes[i] = hinted_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, w.hints[i]);
+      if (w.planes[i].gap > options.tolerance) {
+        w.patches[i] = contact_patch{};
+        w.skipped[i] = 1;
+        return;
+      }
+    }
     w.planes[i] = common_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b);
     w.patches[i] = w.planes[i].gap <= options.tolerance
                        ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
                        : contact_patch{};
   }, 16);
+  // The kept axes, merged in pair order: this pass's candidates with this pass's plane's axis
+  // (those of another part: the axis they had), and the kept pairs of two unmarked blocks, which
+  // this pass did not look at.
+  if (options.reuse_axes) {
+    w.next_pairs.clear();
+    w.next_axes.clear();
+    std::size_t k = 0;
+    const auto keep_old_until = [&](const block_pair* before) {
+      for (; k < w.axis_pairs.size() && (before == nullptr || w.axis_pairs[k] < *before); ++k)
+        if (!marked(w.axis_pairs[k])) {
+          w.next_pairs.push_back(w.axis_pairs[k]);
+          w.next_axes.push_back(w.axes[k]);
+        }
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      keep_old_until(&w.candidates[i]);
+      const axis_hint h = i >= first && i < last ? axis_hint::of(w.planes[i]) : w.hints[i];
+      if (i >= first && i < last) w.axis_skips += w.skipped[i];
+      if (!h.names_axis()) continue;
+      w.next_pairs.push_back(w.candidates[i]);
+      w.next_axes.push_back(h);
+    }
+    keep_old_until(nullptr);
+    w.axis_pairs.swap(w.next_pairs);
+    w.axes.swap(w.next_axes);
+  }
   out.candidates = n;
   out.evaluated = last - first;
   out.clear_pairs();
