@@ -177,7 +177,7 @@ void bind_solver(py::module_& m, py::module_& io, const char* name, const char* 
       .def("block_velocity", &S::block_velocity, py::arg("b"), "Velocity of block b (m/s, half step)")
       .def("block_rotation", &S::block_rotation, py::arg("b"),
            "Rotation of block b since the reference as a rotation vector (rad; axis times angle in [0, pi]; "
-           "deformable: the best-fit rotation of its gridpoints)")
+           "deformable: the polar factor of its deformation gradient now)")
       .def(
           "block_displacements",
           [](const S& s) { return per_block_rows(s, [&](index_t b) { return s.block_displacement(b); }); },

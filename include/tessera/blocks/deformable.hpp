@@ -339,6 +339,11 @@ class deformable : private detail::zone_geometry {
   [[nodiscard]] real zone_volume(index_t z) const { return volume_[at(z)]; }  ///< Reference volume of zone z (m^3)
   /// Rotation R_b of block b at the last accumulate_forces.
   [[nodiscard]] const mat3& rotation(index_t b) const { return rotation_[static_cast<std::size_t>(b)]; }
+  /// R_b = polar(F_b) of block b for the gridpoints' displacements now (warm-started from
+  /// rotation(b)): the rotation the next accumulate_forces will use.
+  [[nodiscard]] mat3 current_rotation(const node_set& gp, index_t b) const noexcept {
+    return block_rotation(gp, b, rotation(b));
+  }
   [[nodiscard]] index_t gridpoint_block(index_t i) const { return gridpoint_block_[static_cast<std::size_t>(i)]; }  ///< The block of gridpoint i
   /// Material of block b.
   [[nodiscard]] const params& material_of_block(index_t b) const { return materials_[at(block_material_[at(b)])]; }

@@ -24,49 +24,14 @@
 #include <utility>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "../core/errors.hpp"
 #include "../core/nodes.hpp"
 #include "../core/types.hpp"
 #include "boundary.hpp"
 
 namespace tessera {
-
-namespace detail {
-/// The rotation vector (rad; axis times angle, angle in [0, pi]) of a rotation matrix r.
-[[nodiscard]] inline vec3 rotation_vector(const mat3& r) {
-  const real c = std::clamp((r.trace() - 1) / 2, real(-1), real(1));
-  const vec3 w(r(2, 1) - r(1, 2), r(0, 2) - r(2, 0), r(1, 0) - r(0, 1));  // 2 sin(angle) axis
-  const real sin2 = w.norm(), angle = std::atan2(sin2 / 2, c);
-  if (angle < 1e-6) return w / 2;                       // sin(angle) axis = angle axis to O(angle^3)
-  if (c > -0.9) return angle * w / sin2;                // away from pi the skew part gives the axis
-  // Near pi: axis axis^T = (sym(r) - c I) / (1 - c); its largest column, signed by the skew part.
-  const mat3 aat = ((r + r.transpose()) / 2 - c * mat3::Identity()) / (1 - c);
-  index_t k = 0;
-  for (index_t j = 1; j < 3; ++j)
-    if (aat(j, j) > aat(k, k)) k = j;
-  vec3 axis = aat.col(k) / std::sqrt(aat(k, k));
-  if (axis.dot(w) < 0) axis = -axis;
-  return angle * axis.normalized();
-}
-/// The orthogonal polar factor of a (det a > 0), by Higham's iteration r <- (r + r^-T) / 2 with
-/// r^-T = cofactor(r) / det(r) (quadratic convergence; at most 60 passes).
-[[nodiscard]] inline mat3 polar_rotation(const mat3& a) {
-  mat3 r = a / a.norm() * std::sqrt(real(3));
-  for (int pass = 0; pass < 60; ++pass) {
-    mat3 cof;
-    cof.col(0) = r.col(1).cross(r.col(2));
-    cof.col(1) = r.col(2).cross(r.col(0));
-    cof.col(2) = r.col(0).cross(r.col(1));
-    const real det = r.col(0).dot(cof.col(0));
-    require(det > 0, "block_rotation: the block's gridpoints are degenerate or turned inside out (det = ", det, ")");
-    const mat3 next = (r + cof / det) / 2;
-    const real change = (next - r).norm();
-    r = next;
-    if (change < 1e-15) break;
-  }
-  return r;
-}
-}  // namespace detail
 
 /// The supports-by-block part of solver<...> (file comment). Solver is the derived solver type.
 template <class Solver>
@@ -213,22 +178,18 @@ class solver_supports {
   }
   /// Rotation of block b since the reference configuration as a rotation vector (rad, world
   /// frame: the axis times the angle in [0, pi]): rigid, the body's rotation; deformable, the
-  /// best-fit rotation of its gridpoints (the polar factor of sum_i m_i (x_i - c)(X_i - C)^T,
-  /// unscaled masses; a rigid motion of the block gives its rotation to round-off).
+  /// polar factor of the block's deformation gradient F_b now (blocks::deformable::current_rotation,
+  /// the rotation its zones' corotational forces use; a rigid motion of the block gives its rotation
+  /// to round-off).
   [[nodiscard]] vec3 block_rotation(index_t b) const {
     require_block(b, "block_rotation");
-    if constexpr (Solver::blocks_type::is_rigid) {
-      return detail::rotation_vector(self().blocks_.rotation(b));
-    } else {
-      const auto& weight_mass = self().weight_mass_;
-      const node_set& gridpoints = self().gridpoints_;
-      const vec3 c = block_mean(b, gridpoints.displacement) + block_mean(b, gridpoints.reference);
-      const vec3 c0 = block_mean(b, gridpoints.reference);
-      mat3 a = mat3::Zero();
-      for (index_t i = block_first(b); i < block_end(b); ++i)
-        a += weight_mass[i] * (current_position(i) - c) * (gridpoints.reference.row(i).transpose() - c0).transpose();
-      return detail::rotation_vector(detail::polar_rotation(a));
-    }
+    const Eigen::AngleAxis<real> turn = [&] {
+      if constexpr (Solver::blocks_type::is_rigid)
+        return Eigen::AngleAxis<real>(self().blocks_.rotation(b));
+      else
+        return Eigen::AngleAxis<real>(self().blocks_.current_rotation(self().gridpoints_, b));
+    }();
+    return turn.angle() * turn.axis();
   }
   /// Velocity of block b (m/s, half step): rigid, its centroid's v; deformable, the mass-weighted
   /// mean of its gridpoints' velocities (momentum over mass, unscaled masses).
