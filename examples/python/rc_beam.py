@@ -160,7 +160,11 @@ def main(argv=None):
     p.add_argument("--max-deflection", type=float, help="stop at this mid-span deflection (m; 6e-3, --quick 2e-3)")
     a = p.parse_args(argv)
     blocks = a.blocks or (60 if a.quick else 250)
-    last = a.max_deflection or (2e-3 if a.quick else 6e-3)
+    last = a.max_deflection if a.max_deflection is not None else (2e-3 if a.quick else 6e-3)
+    if not (8 <= blocks <= 250 or blocks == 500):  # the driver's refusal (beam.hpp make_beam)
+        p.error("--blocks %d must be 250 or 500 (the study's Table 3), or 8..249 for a coarse run" % blocks)
+    if not last > 0:
+        p.error("--max-deflection %g m must be > 0" % last)
     with tessera.run_record(a.out, "rc_beam.py", sys.argv[1:] if argv is None else argv) as record:
         run = beam_run(blocks, 0.05 if a.quick else 0.0, a.seed, a.threads, last).run()
         tessera.io.write_csv(record.file("curve.csv"), ["midspan_deflection_m", "load_N", "smoothed_load_N",

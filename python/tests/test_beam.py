@@ -151,3 +151,10 @@ def test_beam_values_are_refused_naming_them(beam_in_process):
                              contact.platen_motion(damping_gamma=1.0), good)
     with pytest.raises(tessera.Error, match=r"velocity \(0, nan, 0\)"):
         beam_in_process.loading.set_velocity([0, float("nan"), 0])
+
+
+def test_the_script_refuses_the_drivers_bad_block_counts():
+    env = dict(os.environ, PYTHONPATH=str(pathlib.Path(tessera.__file__).resolve().parents[1]))
+    r = subprocess.run([sys.executable, str(EXAMPLES / "rc_beam.py"), "--blocks", "300"], env=env,
+                       capture_output=True, text=True, check=False)
+    assert r.returncode == 2 and "--blocks 300 must be 250 or 500" in r.stderr
