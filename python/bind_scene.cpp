@@ -15,6 +15,7 @@
 #include <tessera/presets/pulatsu2020.hpp>  // the study's presets (study_prism_params, ...)
 #include <tessera/solver.hpp>
 
+#include "bind_table.hpp"  // bind_material_table
 #include "contact_state.hpp"
 
 #include <algorithm>
@@ -196,6 +197,9 @@ void bind_scene(py::module_& m) {
       .def_readwrite("dt", &solver_options::dt, "user time step (s); 0 = automatic")
       .def_readwrite("mass_scaling_dt", &solver_options::mass_scaling_dt,
                      "> 0: nodal masses raised so this step (s) is stable, and used")
+      .def_readwrite("mass_scaling_ratio", &solver_options::mass_scaling_ratio,
+                     "> 0 (instead of mass_scaling_dt): masses scaled to the step at which the added mass is this "
+                     "multiple of the model's mass (-)")
       .def_readwrite("damping_gamma", &solver_options::damping_gamma, "local damping constant")
       .def_readwrite("threads", &solver_options::threads, "OpenMP threads; 0 = leave the current setting")
       .def_readwrite("check_interval", &solver_options::check_interval, "steps between step-checker passes");
@@ -292,15 +296,8 @@ void bind_scene(py::module_& m) {
         "The study's Table 1 prism contacts for 100, 250, 500 or 750 blocks (law::study_prism_params)");
   l.def("scaled_prism_params", &presets::scaled_prism_params, py::arg("blocks"),
         "Table 1 carried to any block count >= 2 (k_n, k_s as blocks^(1/3); law::scaled_prism_params)");
-  using tie_table = contact::material_table<tie::params>;
-  py::class_<tie_table>(c, "study_tie_table",
-                        "contact::material_table of the study's bonded joint: params per pair of block materials")
-      .def(py::init<const tie::params&>(), py::arg("all"), "One law for every pair")
-      .def("set", &tie_table::set, py::arg("a"), py::arg("b"), py::arg("params"), py::return_value_policy::reference_internal,
-           "Bonded params for the pair {a, b} of material ids")
-      .def("never_bonded", &tie_table::never_bonded, py::arg("a"), py::arg("b"), py::arg("params"),
-           py::return_value_policy::reference_internal, "The pair {a, b} starts unbonded");
-  py::implicitly_convertible<tie::params, tie_table>();
+  bind_material_table<tie::params>(
+      c, "study_tie_table", "contact::material_table of the study's bonded joint: params per pair of block materials");
 
   // ---- more geometry: boxes, prisms, cuts, random Voronoi tessellations, zoning options ----
   py::class_<aabb>(m, "aabb", "An axis-aligned box (m)")

@@ -120,7 +120,9 @@ struct csv_record {
                std::unique_ptr<recorders::csv_recorder<instances::rigid_bonded_damped_solver>>,
                std::unique_ptr<recorders::csv_recorder<instances::rigid_bonded_solver>>,
                std::unique_ptr<recorders::csv_recorder<instances::prism_undamped_solver>>,
-               std::unique_ptr<recorders::csv_recorder<instances::tie_undamped_solver>>>
+               std::unique_ptr<recorders::csv_recorder<instances::tie_undamped_solver>>,
+               std::unique_ptr<recorders::csv_recorder<instances::beam_solver>>,
+               std::unique_ptr<recorders::csv_recorder<instances::beam_undamped_solver>>>
       rec;
   std::int64_t last_step = -1;  ///< the step count of the last call (the row made with it)
   template <class Solver>

@@ -23,6 +23,7 @@
 #include <tessera/presets/pulatsu2020.hpp>  // the study's presets (study_prism_params, ...)
 #include <tessera/solver.hpp>
 
+#include "bind_beam.hpp"          // the study's RC beam, its law and the rigid plates (bind_beam.cpp)
 #include "bind_extras.hpp"        // calibration files, Neper import, contact_status (bind_extras.cpp)
 #include "bind_scene.hpp"         // geometry, laws, options, state classes (bind_scene.cpp)
 #include "bind_solver.hpp"        // bind_solver<S>
@@ -194,6 +195,7 @@ PYBIND11_MODULE(_tessera, m) {
       "the study's law (law.study_tie_law), central differences with local damping");
   python::bind_solvers(m, inst, iom);
   python::bind_twins(inst, iom);
+  python::bind_beam(m, inst, iom);
 
   m.attr("__version__") = TESSERA_VERSION_STRING;
   m.def(

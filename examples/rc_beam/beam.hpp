@@ -51,6 +51,7 @@
 #include <numbers>
 #include <numeric>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -66,6 +67,9 @@
 #include "tessera/presets.hpp"
 #include "tessera/reinforcement/embedded_truss.hpp"
 #include "tessera/solver.hpp"
+#ifdef TESSERA_SEPARATE_COMPILATION  // linked with tessera::instances (examples/CMakeLists.txt)
+#include "tessera/instances/beam.hpp"
+#endif
 
 namespace tessera::scenes {
 
@@ -75,6 +79,11 @@ using beam_bar = reinforcement::embedded_truss<reinforcement::coulomb_bond>;
 template <class Law, class Checker = checks::default_step_checker>
 using beam_solver = solver<blocks::deformable<zones::linear_elastic_tet>, presets::bonded_faces<Law>, beam_bar,
                            integrator::central_difference<integrator::local_damping>, Checker>;
+#ifdef TESSERA_SEPARATE_COMPILATION
+// The study's law gives the solver tessera::instances compiles and the Python module binds
+// (tessera.instances.beam_solver, examples/python/rc_beam.py): its steps are the library's.
+static_assert(std::is_same_v<beam_solver<presets::study_beam_law>, instances::beam_solver>);
+#endif
 
 struct beam_options {
   int blocks = 250;              ///< 250 or 500 (study Table 3 stiffnesses)

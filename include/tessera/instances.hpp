@@ -17,8 +17,9 @@
 // (one definition per program: link one tessera::instances, built with the compiler and
 // -march flags of the rest of the program). A scene of one family may include only its header,
 // <tessera/instances/rigid.hpp> or <tessera/instances/prism.hpp>, and parse less. The prism with
-// bars (instances/tie.hpp) and the deformable blocks on detected contacts
-// (instances/deformable_detected.hpp) have headers of their own too.
+// bars (instances/tie.hpp), the study's beam with bars (instances/beam.hpp) and the deformable
+// blocks on detected contacts (instances/deformable_detected.hpp) have headers of their own too.
+#include "instances/beam.hpp"
 #include "instances/deformable_detected.hpp"
 #include "instances/prism.hpp"
 #include "instances/rigid.hpp"
