@@ -97,6 +97,8 @@ struct softening_cap {
                                                   " J/m^2 (a softening steeper than the elastic unloading)"));
   }
   [[nodiscard]] static real strength(const params& p) noexcept { return p.f_c; }  ///< f_c (Pa), the uncrushed cap
+  /// The residual cap f_c - (1 - residual) f_c (Pa), the least lane_strength returns (exactly).
+  [[nodiscard]] static real residual_strength(const params& p) noexcept { return p.f_c - (1 - p.residual) * p.f_c; }
   /// Plastic closure at which the residual is reached: kappa_u = 2 G_c / ((1 - residual) f_c) (m; +inf at residual 1).
   [[nodiscard]] static real crushing_closure(const params& p) noexcept {
     return p.residual < 1 ? 2 * p.G_c / ((1 - p.residual) * p.f_c) : std::numeric_limits<real>::infinity();
@@ -135,6 +137,7 @@ concept SofteningCompressionLimit =
     CompressionLimit<C> && C::softens_with_crushing && requires(const typename C::params& p, real x, lanes::pack v) {
       { C::validate_with_stiffness(p, x) } -> std::same_as<void>;
       { C::lane_strength(p, x) } noexcept -> std::same_as<real>;
+      { C::residual_strength(p) } noexcept -> std::same_as<real>;
       { C::lane_strength(p, v) } noexcept -> std::same_as<lanes::pack>;
       { C::lane_crush_return(p, x, v, v).cap } -> std::convertible_to<lanes::pack>;
       { p.scales_shear } -> std::convertible_to<bool>;
