@@ -1049,6 +1049,7 @@ tessera_add_example_test(compression NAME example_compression_crushing_quick
   CHECKS "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
          "peak STREQUAL ON" "f_c_Pa GREATER 55.2e6" "f_c_Pa LESS 55.4e6" "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
+# Refused, naming the value: the crushing law's flags with another law, a residual outside [0, 1].
 tessera_add_refusal_test(refuse_compression_g_c_study compression
   "--g-c applies to --law crushing only" --threads 1 --g-c 2e4)
 tessera_add_refusal_test(refuse_compression_cap_residual compression
