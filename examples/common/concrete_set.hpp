@@ -107,6 +107,8 @@ template <class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
   if constexpr (requires { o.g_c; }) {
     cli.option("--law", o.law, crushing_law_flag_help, "L").one_of({"study", "slip_softening", "crushing"});
+    cli.option("--g-ii", o.g_ii, "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500)",
+               "J").within(0, 1e6);
     cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
                "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
     cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")
@@ -115,8 +117,8 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
              "fraction too");
   } else {
     cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
+    cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
   }
-  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
   cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
       .within(0, 80);

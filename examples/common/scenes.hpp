@@ -139,7 +139,8 @@ void apply_concrete_shear(Params& p, real cohesion_ratio, real phi_0_deg, real p
 /// crushing take it), naming the value; `driver` opens the message.
 inline void require_g_ii_with_slip_softening(const char* driver, const std::string& law, real g_ii) {
   require(law != "study" || g_ii == 0, driver, ": --g-ii ", g_ii,
-          " J/m^2 applies to --law slip_softening only (the study's law has no mode-II fracture energy)");
+          " J/m^2 applies to --law slip_softening only (or compression's --law crushing; the study's law has no "
+          "mode-II fracture energy)");
 }
 
 /// --g-c 0 with --law crushing: the compressive fracture energy G_c the drivers then use (J/m^2).
