@@ -7,13 +7,18 @@
 //   elastic: every contact intact, normal stress within +-0.9 f_T, shear well below the limit.
 //   mixed:   about 55 % elastic, 25 % on the softening branch (envelope evaluated every sweep),
 //            10 % broken in tension, 10 % slipped on the residual Coulomb limit.
+//   crushed: the mixed set with the slipped tenth replaced by contacts closed to 1.2 times the
+//            compressive cap's closure (beam laws: at the cap every other sweep; study_beam_law's
+//            is perfectly plastic, crushing_beam_law's softens with u_crush).
 // Reported: time_per_update = CPU time of a sweep / 4096 (single thread), e.g. "15.2n" = 15.2 ns.
 // bench_update runs Law::update one sub-contact at a time; bench_packed runs the same states as
 // columns through contact::detail::advance_states (law::with_elastic_packs: the path
 // contact::face_contacts takes, update_elastic over lanes::pack's and Law::update on the lanes it
 // declines), the cost per sub-contact-step of a solver sweep without its kinematics.
 // slip_softening_beam_law (G_II = 500 J/m^2, s_u = 0.2 mm) against study_beam_law: the cost of the
-// plastic slip u_slip and its softening limit (issue #63; docs/performance.md).
+// plastic slip u_slip and its softening limit (issue #63; docs/performance.md). crushing_beam_law
+// (the same with softening_cap, G_c = 10 kJ/m^2, residual 0.1) against slip_softening_beam_law: the
+// cost of the plastic closure u_crush and its softening cap (issue #63).
 //
 //   cmake -S . -B build/laws -DCMAKE_BUILD_TYPE=Release -DTESSERA_BUILD_BENCHMARKS=ON
 //   cmake --build build/laws --target bench_laws && build/laws/benchmarks/bench_laws --benchmark_repetitions=5
@@ -35,7 +40,8 @@ using namespace tessera::law;
 
 constexpr int subcontact_count = 4096;
 
-enum class mix { elastic = 0, mixed = 1 };
+enum class mix { elastic = 0, mixed = 1, crushed = 2 };
+const char* mix_label(std::int64_t m) { return m == 0 ? "elastic" : m == 1 ? "mixed" : "crushed"; }
 
 linear_tie_law::params linear_tie_params() {
   return with_linear_softening(study_prism_params(100));
@@ -48,6 +54,8 @@ typename Law::params params_for() {
   if constexpr (std::is_same_v<Law, study_tie_law>) return study_prism_params(100);
   else if constexpr (std::is_same_v<Law, linear_tie_law>) return linear_tie_params();
   else if constexpr (std::is_same_v<Law, slip_softening_beam_law>) return with_slip_softening(beam_params(), 500);
+  else if constexpr (std::is_same_v<Law, crushing_beam_law>)
+    return with_softening_cap(with_slip_softening(beam_params(), 500), 1e4, 0.1);
   else return beam_params();
 }
 
@@ -76,7 +84,9 @@ struct workload {
       const real pick = kind == mix::elastic ? 0 : unit(rng);
       real opening = (1.8 * unit(rng) - 0.9) * eta;  // elastic, |sigma_n| <= 0.9 f_T
       real slip = 0.3 * unit(rng) * tau_slip;
-      if (pick > 0.9) slip = 1.5 * tau_slip;                                        // slipped
+      if (pick > 0.9 && kind == mix::crushed) {  // closed past the cap (a beam law's)
+        if constexpr (Law::compression_policy::bounded) opening = -1.2 * Law::compression_policy::strength(p.compression) / p.k_n;
+      } else if (pick > 0.9) slip = 1.5 * tau_slip;                                 // slipped
       else if (pick > 0.8) opening = 1.2 * cutoff;                                  // broken in tension
       else if (pick > 0.55) opening = eta + (0.05 + 0.4 * unit(rng)) * (cutoff - eta);  // softening
       // Bring the contact there in 20 steps, then fix its per-sweep increments.
@@ -103,7 +113,7 @@ void bench_update(benchmark::State& bench) {
   // Seconds of CPU time per sub-contact update, printed with an SI prefix (e.g. 15.2n = 15.2 ns).
   bench.counters["time_per_update"] = benchmark::Counter(
       subcontact_count, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  bench.SetLabel(bench.range(0) == 0 ? "elastic" : "mixed");
+  bench.SetLabel(mix_label(bench.range(0)));
 }
 
 template <class Law>
@@ -139,7 +149,7 @@ void bench_packed(benchmark::State& bench) {
   bench.SetItemsProcessed(bench.iterations() * subcontact_count);
   bench.counters["time_per_update"] = benchmark::Counter(
       subcontact_count, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
-  bench.SetLabel(bench.range(0) == 0 ? "elastic" : "mixed");
+  bench.SetLabel(mix_label(bench.range(0)));
 }
 
 }  // namespace
@@ -147,8 +157,10 @@ void bench_packed(benchmark::State& bench) {
 BENCHMARK_TEMPLATE(bench_update, tessera::law::study_tie_law)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::linear_tie_law)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::study_beam_law)->Arg(0)->Arg(1);
-BENCHMARK_TEMPLATE(bench_update, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1);
-BENCHMARK_TEMPLATE(bench_packed, tessera::law::study_beam_law)->Arg(0)->Arg(1);
-BENCHMARK_TEMPLATE(bench_packed, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1);
+BENCHMARK_TEMPLATE(bench_update, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(bench_update, tessera::law::crushing_beam_law)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(bench_packed, tessera::law::study_beam_law)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(bench_packed, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(bench_packed, tessera::law::crushing_beam_law)->Arg(0)->Arg(1)->Arg(2);
 
 BENCHMARK_MAIN();

@@ -52,6 +52,7 @@ void bind_extras(py::module_& m) {
       .value("softening", law::contact_status::softening, "past the tensile strength, on the softening branch")
       .value("broken_tension", law::contact_status::broken_tension, "tensile strength exhausted for good")
       .value("slipped", law::contact_status::slipped, "failed in shear, on the residual Coulomb limit")
+      .value("crushed", law::contact_status::crushed, "past the compressive cap of a softening_cap (law::crushing_beam_law)")
       .def("__or__", [](law::contact_status a, law::contact_status b) { return a | b; });
 
   // ---- calibrated parameter files (examples/calibrate's calibrated.json) ----

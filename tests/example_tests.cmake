@@ -1016,7 +1016,7 @@ tessera_add_refusal_test(refuse_compression_confinement compression
 tessera_add_refusal_test(refuse_compression_g_ii_study compression
   "--g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --g-ii 100)
 tessera_add_refusal_test(refuse_compression_law compression
-  "--law: invalid value 'soft' \\(expected study or slip_softening\\)" --threads 1 --law soft)
+  "--law: invalid value 'soft' \\(expected study or slip_softening or crushing\\)" --threads 1 --law soft)
 tessera_add_refusal_test(refuse_compression_g_ii_small compression
   "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --law slip_softening --g-ii 10 --shape prism --diameter 0.1 --height 0.2)
 # The prism's concrete in compression (--material prism, issue #63): the study's prism law (power
@@ -1039,6 +1039,25 @@ tessera_add_refusal_test(refuse_compression_cap_prism compression
   "--cap 1e\\+08 applies to --material beam only" --threads 1 --material prism --cap 100e6)
 tessera_add_refusal_test(refuse_compression_law_prism compression
   "--law slip_softening applies to --material beam only" --threads 1 --material prism --law slip_softening)
+# --law crushing (crushing_beam_law: slip softening and a cap softening with the plastic closure over
+# --g-c, law/compression.hpp softening_cap): the 100 x 100 x 200 mm prism between fixed ends with the
+# compression set (phi_0 58, phi_res 15, G_II 300, cap 100 MPa) and G_c = 10 kJ/m^2 peaks (measured:
+# 55.29 MPa at 2.79e-3, 34 s); with --law slip_softening the same prism has no peak by 5e-3 (84.3 MPa).
+tessera_add_example_test(compression NAME example_compression_crushing_quick
+  ARGS --quick --threads 1 --no-vtk --shape prism --diameter 0.1 --height 0.2 --max-strain 5e-3 --ends fixed
+       --law crushing --g-c 1e4 --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6
+  CHECKS "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
+         "peak STREQUAL ON" "f_c_Pa GREATER 55.2e6" "f_c_Pa LESS 55.4e6" "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
+# Refused, naming the value: the crushing law's flags with another law, a residual outside [0, 1].
+tessera_add_refusal_test(refuse_compression_g_c_study compression
+  "--g-c applies to --law crushing only" --threads 1 --g-c 2e4)
+tessera_add_refusal_test(refuse_compression_cap_residual compression
+  "--cap-residual: value '1.5' must be <= 1" --threads 1 --law crushing --cap-residual 1.5)
+# ((1 - 0.1) 35 MPa)^2 / (2 x 500 GPa/m) = 992 J/m^2 (the 23-block prism's k_n is the recipe's to 1 %)
+tessera_add_refusal_test(refuse_compression_g_c_small compression
+  "compressive fracture energy too small for the law: G_c = 500 J/m.2 must exceed" --threads 1 --law crushing
+  --g-c 500 --shape prism --diameter 0.1 --height 0.2)
 
 # ---- --params on brazilian and compression (issue #63 item 4): calibrated.json carries the whole
 # concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap; common/concrete_set.hpp). The beam file

@@ -859,13 +859,20 @@ bool same_slip(const State& a, const State& b) {
   if constexpr (requires { requires std::is_same_v<decltype(a.u_slip), real>; }) return same_bits(a.u_slip, b.u_slip);
   else return true;
 }
+/// The plastic closure u_crush of two states, where the law stores it (compression.hpp softening_cap), to the bit.
+template <class State>
+bool same_crush(const State& a, const State& b) {
+  if constexpr (requires { requires std::is_same_v<decltype(a.u_crush), real>; }) return same_bits(a.u_crush, b.u_crush);
+  else return true;
+}
 template <class State>
 bool same_state(const State& a, const State& b) {
   return same_bits(a.sigma_n, b.sigma_n) && same_bits(a.tau[0], b.tau[0]) && same_bits(a.tau[1], b.tau[1]) &&
          same_bits(a.tau[2], b.tau[2]) && same_bits(a.u_n, b.u_n) && same_bits(a.u_p, b.u_p) &&
          same_bits(a.u_soft, b.u_soft) && same_bits(a.dissipated_tension, b.dissipated_tension) &&
          same_bits(a.dissipated_shear, b.dissipated_shear) &&
-         same_bits(a.dissipated_compression, b.dissipated_compression) && a.flags == b.flags && same_slip(a, b);
+         same_bits(a.dissipated_compression, b.dissipated_compression) && a.flags == b.flags && same_slip(a, b) &&
+         same_crush(a, b);
 }
 
 /// One step of `count` sub-contacts of a mixed population: each is driven by Law::update from a
@@ -952,10 +959,10 @@ struct population {
           n.push_back(n0);
           break;
         }
-        case 7:  // deep compression (at a compressive cap, if the law has one)
+        case 7:  // deep compression (at a compressive cap, if the law has one; softened, if it softens)
           drive(-1e2 * eta * (1 + uni(rng)), vec3::Zero(), 4);
           if constexpr (Law::compression_policy::bounded) {
-            const real f_c = Law::compression_policy::strength(p.compression);
+            const real f_c = Law::compressive_strength(p, s);
             step_n = -f_c / p.k_n * nudge - s.u_n + s.u_p;
           }
           break;
@@ -1025,6 +1032,14 @@ void check_pack_against_scalar(const typename Law::params& p, std::size_t count,
     // The pack's f_t column is the law's tensile strength of the state it holds.
     CHECK(same_bits(columns.f_t[i], Law::tensile_strength(p, expected[i])));
   }
+  // A cap that softens: contacts crushed before crush further on the pack path (the flag stays).
+  if constexpr (Law::softens_with_crushing) {
+    std::size_t crushing_on_pack = 0;
+    for (std::size_t i = 0; i < count; ++i)
+      crushing_on_pack += step.elastic[i] != 0 && law::has(pop.states[i].flags, law::contact_status::crushed) &&
+                          expected[i].u_crush > pop.states[i].u_crush;
+    CHECK(crushing_on_pack > 0);
+  }
   // Both paths ran, and the population holds intact, softening, broken and slipped contacts.
   CHECK(accepted > count / 8);
   CHECK(accepted < count);
@@ -1072,6 +1087,13 @@ TEST_CASE("elastic pack path: the same states and forces as Law::update, to the 
     // softening line and on the residual.
     check_pack_against_scalar<law::slip_softening_beam_law>(law::with_slip_softening(law::study_beam_params(250), 6000),
                                                             203, 37, 5);
+  }
+  SECTION("crushing_beam_law (the cap softens with the plastic closure u_crush, shear scaled with it)") {
+    // G_c = 1e4 J/m^2, residual 0.2: kappa_u = 0.71 mm, so the compressed population (0.5-1 mm of
+    // closure) holds contacts on the softening cap and on its residual.
+    const auto slip = law::with_slip_softening(law::study_beam_params(250), 6000);
+    check_pack_against_scalar<law::crushing_beam_law>(law::with_softening_cap(slip, 1e4, 0.2, true), 203, 37, 6);
+    check_pack_against_scalar<law::crushing_beam_law>(law::with_softening_cap(slip, 1e4, 0.2, false), 203, 37, 7);
   }
   SECTION("coupled_tie_law (cohesion softens with the tensile strength)") {
     check_pack_against_scalar<law::coupled_tie_law>(law::with_coupled_cohesion(law::study_prism_params(100)), 203,

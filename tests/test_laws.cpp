@@ -1007,3 +1007,149 @@ TEST_CASE("slip softening validation names the bad parameter", "[laws][validatio
   p.shear.phi_0 = friction_angle::from_degrees(95);
   REQUIRE_THROWS_WITH(slip_law::validate(p), Catch::Contains("phi_0"));
 }
+
+// ---- softening_cap (compression.hpp): the compressive cap softens with the plastic closure u_crush ----
+namespace {
+using crush_law = crushing_beam_law;
+static_assert(sizeof(crush_law::state) == 104 && crush_law::state_fields.size() == 11);
+static_assert(crush_law::state_fields[9].name == std::string_view("u_crush"));
+
+/// The slip-softening beam contact (G_II = 100 J/m^2) with its 35 MPa cap softening over G_c (J/m^2)
+/// to residual x f_c: kappa_u = 2 G_c / ((1 - residual) f_c); k_n = 500 GPa/m.
+crush_law::params crush_params(real G_c, real residual, bool scales_shear = false) {
+  return with_softening_cap(with_slip_softening(beam_params(), 100), G_c, residual, scales_shear);
+}
+
+/// Closes the contact along e_z in three legs ending at the closed form's kinks (the cap reached at
+/// closure u_peak, the residual reached at u_end), so the trapezoidal bookkeeping is exact; returns
+/// the largest |sigma_n| seen.
+real crush_through_softening(contact_driver<crush_law>& c, real u_peak, real u_end, real u_total) {
+  real largest = 0;
+  const auto leg = [&](real to, int steps) {
+    const real from = -c.s.u_n;
+    for (int k = 0; k < steps; ++k) {
+      c.step(-(to - from) / steps);
+      largest = std::max(largest, -c.s.sigma_n);
+    }
+  };
+  leg(u_peak, 100);
+  leg(u_end, 400);
+  leg(u_total, 100);
+  return largest;
+}
+}  // namespace
+
+TEST_CASE("softening cap in pure compression: peak f_c and dissipation G_c plus residual work", "[laws][compression][crush]") {
+  for (const real residual : {0.0, 0.2}) {
+    INFO("residual " << residual);
+    const real G_c = 2000;  // J/m^2; the snap-back bound ((1 - r) f_c)^2 / (2 k_n) is 1225 at r = 0
+    const auto p = crush_params(G_c, residual);
+    const real k_n = p.k_n, f_c = p.compression.f_c, f_r = residual * f_c;
+    const real kappa_u = softening_cap::crushing_closure(p.compression);
+    REQUIRE(kappa_u == Approx(2 * G_c / ((1 - residual) * f_c)).epsilon(1e-15));
+    contact_driver<crush_law> c(p);
+    const real u_peak = f_c / k_n, u_end = kappa_u + f_r / k_n, u_total = u_end + 2e-4;
+    const real largest = crush_through_softening(c, u_peak, u_end, u_total);
+    CHECK(largest == Approx(f_c).epsilon(1e-12));  // the peak is the cap
+    CHECK(-c.s.sigma_n == Approx(f_r).margin(1e-9 * f_c));
+    const real plastic = u_total - f_r / k_n;  // total closure minus the elastic part
+    CHECK(c.s.u_crush == Approx(plastic).epsilon(1e-9));
+    // The triangle above the residual is G_c; the residual cap crushes over all the plastic closure.
+    CHECK(c.s.dissipated_compression == Approx(G_c + f_r * plastic).epsilon(1e-9));
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+    CHECK(c.s.dissipated_tension == 0);
+    CHECK(c.s.dissipated_shear == 0);
+    CHECK(crush_law::status(c.s) == contact_status::crushed);
+  }
+}
+
+TEST_CASE("softening cap unloaded and reloaded keeps the softened cap f(u_crush)", "[laws][compression][crush]") {
+  const auto p = crush_params(5000, 0.1);
+  const real k_n = p.k_n, f_c = p.compression.f_c, kappa_u = softening_cap::crushing_closure(p.compression);
+  contact_driver<crush_law> c(p);
+  c.open_by(-f_c / k_n, 50);
+  c.open_by(-0.3 * kappa_u, 300);
+  const real kappa = c.s.u_crush, cap = -c.s.sigma_n;
+  CHECK(kappa > 0);
+  CHECK(cap == Approx(f_c * (0.1 + 0.9 * (1 - kappa / kappa_u))).epsilon(1e-12));
+  CHECK(crush_law::compressive_strength(p, c.s) == Approx(cap).epsilon(1e-12));
+  // Elastic unloading to zero stress and reloading to just below the softened cap: u_crush stays.
+  c.open_by(cap / k_n, 10);
+  CHECK(std::abs(c.s.sigma_n) < 1e-9 * cap);
+  CHECK(c.s.u_crush == kappa);
+  c.open_by(-0.999 * cap / k_n, 10);
+  CHECK(c.s.u_crush == kappa);
+  CHECK(-c.s.sigma_n == Approx(0.999 * cap).epsilon(1e-12));
+  // Past it: crushing resumes from kappa on the same line, below the old cap (never back at f_c).
+  c.open_by(-0.01 * cap / k_n, 10);
+  CHECK(c.s.u_crush > kappa);
+  CHECK(-c.s.sigma_n == Approx(crush_law::compressive_strength(p, c.s)).epsilon(1e-12));
+  CHECK(-c.s.sigma_n < cap);
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  // Opened again: elastic up to the tensile peak f_T from the crushed position, as with plastic_cap.
+  const real u_crush = c.s.u_crush;
+  c.open_by((p.tension.f_T - c.s.sigma_n) / k_n, 400);
+  CHECK(c.s.sigma_n == Approx(p.tension.f_T).epsilon(1e-9));
+  CHECK(crush_law::status(c.s) == contact_status::crushed);  // not softening yet
+  c.open_by(1e-6, 10);
+  CHECK(has(crush_law::status(c.s), contact_status::softening));
+  CHECK(c.s.sigma_n < p.tension.f_T);
+  CHECK(c.s.u_crush == u_crush);
+}
+
+TEST_CASE("softening cap at residual 1 is plastic_cap to the bit", "[laws][compression][crush]") {
+  contact_driver<crush_law> a(crush_params(5000, 1));
+  contact_driver<slip_law> b(with_slip_softening(beam_params(), 100));
+  for (const real du : {-1e-4, 3e-5, -2e-4, 5e-5}) {
+    for (int k = 0; k < 100; ++k) a.step(du / 100, e_x * (1e-7)), b.step(du / 100, e_x * (1e-7));
+    CHECK(a.s.sigma_n == b.s.sigma_n);
+    CHECK(a.s.u_p == b.s.u_p);
+    CHECK(a.s.tau.x() == b.s.tau.x());
+    CHECK(a.s.dissipated_compression == b.s.dissipated_compression);
+  }
+  a.open_by(-1e-4, 10);
+  CHECK(a.s.sigma_n == -a.p.compression.f_c);
+  CHECK(a.s.u_crush > 0);
+}
+
+TEST_CASE("softening cap with scales_shear: the shear limit falls with the cap's fraction", "[laws][compression][crush]") {
+  const auto p = crush_params(5000, 0.1, true);
+  const real k_n = p.k_n, f_c = p.compression.f_c, kappa_u = softening_cap::crushing_closure(p.compression);
+  contact_driver<crush_law> c(p);
+  c.open_by(-f_c / k_n - 0.5 * kappa_u, 400);
+  const real fraction = crush_law::compressive_strength(p, c.s) / f_c;
+  REQUIRE(c.s.u_crush > 0.5 * kappa_u);
+  REQUIRE(c.s.u_crush < kappa_u);
+  CHECK(fraction == Approx(0.1 + 0.9 * (1 - c.s.u_crush / kappa_u)).epsilon(1e-12));
+  const real sigma = c.s.sigma_n, intact = coulomb_slip_softening::slip_strength(p.shear, sigma, c.s.flags, 0);
+  CHECK(crush_law::shear_strength(p, c.s) == Approx(fraction * intact).epsilon(1e-12));
+  // Slide: the first slip at fraction x (c_0 - sigma tan phi_0), then the slip-softening return of the scaled limit.
+  real largest = 0;
+  for (int k = 0; k < 400; ++k) c.step(0, e_x * (2 * intact / p.k_s / 400)), largest = std::max(largest, c.s.tau.norm());
+  CHECK(largest == Approx(fraction * intact).epsilon(2e-3));  // within one step's increment of the limit
+  CHECK(c.s.u_slip > 0);
+  CHECK(c.s.tau.norm() == Approx(crush_law::shear_strength(p, c.s)).epsilon(1e-12));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  // Without scales_shear the same crushed contact keeps its whole Coulomb limit.
+  auto q = p;
+  q.compression.scales_shear = false;
+  CHECK(crush_law::shear_strength(q, c.s) == Approx(coulomb_slip_softening::slip_strength(q.shear, c.s.sigma_n, c.s.flags,
+                                                                                           c.s.u_slip)).epsilon(1e-15));
+}
+
+TEST_CASE("softening cap validation names the bad parameter", "[laws][validation][crush]") {
+  const auto good = crush_params(5000, 0.2);
+  CHECK_NOTHROW(crush_law::validate(good));
+  const auto refuses = [&](auto change, const char* message) {
+    auto p = good;
+    change(p.compression);
+    REQUIRE_THROWS_WITH(crush_law::validate(p), Catch::Contains(message));
+  };
+  using cap = softening_cap::params;
+  refuses([](cap& c) { c.G_c = -5; }, "compressive fracture energy G_c = -5 J/m^2");
+  refuses([](cap& c) { c.residual = -0.1; }, "residual cap fraction = -0.1");
+  refuses([](cap& c) { c.residual = 1.5; }, "residual cap fraction = 1.5 (of f_c) must be in [0, 1]");
+  refuses([](cap& c) { c.f_c = 0; }, "compressive strength f_c = 0 Pa");
+  // ((1 - 0.2) 35 MPa)^2 / (2 x 500 GPa/m) = 784 J/m^2
+  refuses([](cap& c) { c.G_c = 700; }, "G_c = 700 J/m^2 must exceed ((1 - residual) f_c)^2/(2 k_n) = 784");
+}

@@ -24,7 +24,7 @@ struct concrete_set {
   std::string material = "beam";  ///< "prism" (the study's prism concrete) or "beam" (rc_beam's)
   int recipe_blocks = 0;          ///< the recipe's block count (calibrate --blocks); 0 = prism 100, beam 250
   real zone_edge = -1;            ///< beam: face zoning edge (m); < 0 = the beam's h/5 = 0.03 (prism: 0 always)
-  std::string law = "study";      ///< "study" or "slip_softening" (beam only)
+  std::string law = "study";      ///< "study", "slip_softening" or "crushing" (beam only; crushing: compression only)
   /// Contact f_T (and c_0) x strength_scale; NaN = the material's (prism 0.907, its calibrated 100-block
   /// scale; beam 1, the study verbatim).
   real strength_scale = std::numeric_limits<real>::quiet_NaN();
@@ -33,6 +33,9 @@ struct concrete_set {
   real phi_0_deg = 35, phi_res_deg = 30;  ///< contact friction angles (deg)
   real g_ii = 0;                      ///< mode-II fracture energy (J/m^2) with law slip_softening; 0 = default_g_ii
   real cap = 35e6;                    ///< contact compressive cap (Pa), beam only
+  real g_c = 0;                       ///< compressive fracture energy (J/m^2) with law crushing; 0 = default_g_c
+  real cap_residual = 0.1;            ///< residual cap / cap with law crushing, in [0, 1]
+  bool crush_shear = false;           ///< law crushing: the shear limit times the cap's remaining fraction
 
   [[nodiscard]] int blocks() const { return recipe_blocks > 0 ? recipe_blocks : material == "prism" ? 100 : 250; }
   [[nodiscard]] real scale() const { return std::isnan(strength_scale) ? (material == "prism" ? 0.907 : 1.0) : strength_scale; }
@@ -96,12 +99,26 @@ inline calibration_entry load_concrete_params(concrete_set& c, const std::filesy
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
 /// o.law (--law study|slip_softening), o.g_ii (--g-ii, J/m^2), o.phi_deg and o.phi_res_deg
 /// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
-/// --cap's help (what the driver does with the cap). brazilian parses its own flags with the same
-/// ranges and help texts (law_flag_help, g_ii_flag_help); calibrate's start flags differ on purpose.
+/// --cap's help (what the driver does with the cap). Options with a member g_c (compression) also
+/// get --law crushing and its --g-c (J/m^2), --cap-residual and --crush-shear. brazilian parses its
+/// own flags with the same ranges and help texts (law_flag_help, g_ii_flag_help); calibrate's start
+/// flags differ on purpose.
 template <class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
-  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
-  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
+  if constexpr (requires { o.g_c; }) {
+    cli.option("--law", o.law, crushing_law_flag_help, "L").one_of({"study", "slip_softening", "crushing"});
+    cli.option("--g-ii", o.g_ii, "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500)",
+               "J").within(0, 1e6);
+    cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
+               "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
+    cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")
+        .within(0, 1);
+    cli.flag("--crush-shear", o.crush_shear, "with --law crushing: the shear limit falls with the cap's remaining "
+             "fraction too");
+  } else {
+    cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
+    cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
+  }
   cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
       .within(0, 80);
@@ -116,7 +133,8 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
 template <class F>
 decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   require(c.material == "prism" || c.material == "beam", "concrete: material '", c.material, "' must be prism or beam");
-  require(c.law == "study" || c.law == "slip_softening", "concrete: law '", c.law, "' must be study or slip_softening");
+  require(c.law == "study" || c.law == "slip_softening" || c.law == "crushing", "concrete: law '", c.law,
+          "' must be study, slip_softening or crushing");
   require(c.material == "beam" || c.law == "study", "concrete: law ", c.law,
           " applies to the beam's concrete only (the prism's concrete has the study's law)");
   if (c.material == "prism") {
@@ -128,8 +146,13 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   }
   auto r = beam_concrete(c.beam());
   apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
-  if (c.law == "slip_softening") {
+  if (c.law == "slip_softening" || c.law == "crushing") {
     auto s = with_slip_softening(r, g_ii_or_default(c.g_ii));
+    if (c.law == "crushing") {
+      auto k = with_softening_cap(s, c.g_c > 0 ? c.g_c : default_g_c, c.cap_residual, c.crush_shear);
+      presets::crushing_beam_law::validate(k.contact);
+      return std::forward<F>(f)(k);
+    }
     presets::slip_softening_beam_law::validate(s.contact);
     return std::forward<F>(f)(s);
   }

@@ -116,6 +116,10 @@ inline constexpr real default_g_ii = 500;
 inline constexpr const char* law_flag_help = "contact law of the beam's concrete: study (the beam's) or slip_softening "
                                              "(cohesion and friction soften with plastic slip over --g-ii)";
 inline constexpr const char* g_ii_flag_help = "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)";
+/// compression's --law help: the two laws above and crushing (slip softening and a softening cap).
+inline constexpr const char* crushing_law_flag_help =
+    "contact law of the beam's concrete: study (the beam's), slip_softening (cohesion and friction soften with plastic "
+    "slip over --g-ii) or crushing (slip_softening whose cap --cap also softens with the plastic closure over --g-c)";
 
 /// The concrete's shear and cap on contact parameters p whose f_T is already scaled: c_0 =
 /// cohesion_ratio f_T, c_res = 0.01 c_0, phi_0 and phi_res (deg), and the compressive cap (Pa) where
@@ -131,11 +135,22 @@ void apply_concrete_shear(Params& p, real cohesion_ratio, real phi_0_deg, real p
   if constexpr (requires { p.compression.f_c; }) p.compression.f_c = cap;
 }
 
-/// Refuses --g-ii `g_ii` (J/m^2) given with a law other than slip_softening, naming the value;
-/// `driver` opens the message.
+/// Refuses --g-ii `g_ii` (J/m^2) given with the study's law (slip_softening and compression's
+/// crushing take it), naming the value; `driver` opens the message.
 inline void require_g_ii_with_slip_softening(const char* driver, const std::string& law, real g_ii) {
-  require(law == "slip_softening" || g_ii == 0, driver, ": --g-ii ", g_ii,
-          " J/m^2 applies to --law slip_softening only (the study's law has no mode-II fracture energy)");
+  require(law != "study" || g_ii == 0, driver, ": --g-ii ", g_ii,
+          " J/m^2 applies to --law slip_softening only (or compression's --law crushing; the study's law has no "
+          "mode-II fracture energy)");
+}
+
+/// --g-c 0 with --law crushing: the compressive fracture energy G_c the drivers then use (J/m^2).
+inline constexpr real default_g_c = 20000;
+
+/// The slip-softening concrete `slip` with its cap softening with crushing over G_c (J/m^2) to
+/// residual x f_c (presets::with_softening_cap), everything else the recipe's.
+[[nodiscard]] inline concrete_recipe<presets::crushing_beam_law> with_softening_cap(
+    const concrete_recipe<presets::slip_softening_beam_law>& slip, real G_c, real residual, bool scales_shear) {
+  return slip.with_contact<presets::crushing_beam_law>(presets::with_softening_cap(slip.contact, G_c, residual, scales_shear));
 }
 
 /// The beam's concrete `beam` with its contacts' shear made slip-softening over G_II (J/m^2):

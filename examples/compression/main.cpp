@@ -27,7 +27,10 @@
 // cracks have normals within 30 deg of the horizontal plane (splitting), the rest are inclined.
 // Contact law (--law, --material beam): study, the beam's (study_beam_law: brittle Coulomb shear onto c_res, phi_res),
 // or slip_softening (slip_softening_beam_law, docs/model.md: c_0 and phi_0 soften linearly with the
-// plastic slip to c_res and --phi-res-deg, the slip scale set by the mode-II fracture energy --g-ii).
+// plastic slip to c_res and --phi-res-deg, the slip scale set by the mode-II fracture energy --g-ii),
+// or crushing (crushing_beam_law: slip_softening whose cap --cap softens linearly with the plastic
+// closure to --cap-residual x --cap over the compressive fracture energy --g-c; --crush-shear scales
+// the shear limit by the cap's remaining fraction too).
 // --params FILE: the concrete of a calibrated.json entry (calibrate; common/concrete_set.hpp): law,
 // strength and fracture-energy scales, c_0/f_T, phi_0, phi_res, G_II, cap, for the recipe named by
 // --material, --recipe-blocks and --zone-edge (refused, naming both values, if the file's differs).
@@ -92,7 +95,8 @@ int main(int argc, char** argv) {
   cli.option("--params", params, "calibrate's calibrated.json: the concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, "
              "cap) of its entry for this recipe, instead of the concrete flags", "FILE");
   cli.parse_or_exit(argc, argv);
-  for (const char* flag : {"--f-t", "--cohesion-ratio", "--phi-deg", "--phi-res-deg", "--law", "--g-ii", "--cap"})
+  for (const char* flag : {"--f-t", "--cohesion-ratio", "--phi-deg", "--phi-res-deg", "--law", "--g-ii", "--cap", "--g-c",
+                           "--cap-residual", "--crush-shear"})
     if (!params.empty() && cli.given(flag)) {
       std::fprintf(stderr, "compression: %s with --params %s: the file sets the concrete (drop the flag)\n", flag, params.c_str());
       return 2;
@@ -116,6 +120,12 @@ int main(int argc, char** argv) {
                  in.law.c_str());
     return 2;
   }
+  for (const char* flag : {"--g-c", "--cap-residual", "--crush-shear"})
+    if (in.law != "crushing" && cli.given(flag)) {
+      std::fprintf(stderr, "compression: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
+                   flag, in.law.c_str());
+      return 2;
+    }
   if (set.recipe_blocks == 1) {
     std::fprintf(stderr, "compression: --recipe-blocks 1 must be 0 (the material's) or >= 2\n");
     return 2;

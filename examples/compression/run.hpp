@@ -59,6 +59,7 @@ compression_result compression_specimen<Law>::run() const {
     plate.shear.c_res = 0;
     plate.shear.phi_res = law::friction_angle::from_radians(std::atan(o_.friction));
     if constexpr (has_cap) plate.compression.f_c = 1e12;  // steel on concrete: the concrete's own contacts carry the cap
+    if constexpr (Law::softens_with_crushing) plate.compression.residual = 1;  // and it does not crush
     if constexpr (Law::softens_with_slip)  // never bonded: only the residual acts; phi_0 >= phi_res for validate
       if (plate.shear.phi_res.radians() > plate.shear.phi_0.radians()) plate.shear.phi_0 = plate.shear.phi_res;
     contact::platen_motion m;      // held in x and y, moved along z (set_velocity), never turning
@@ -210,6 +211,15 @@ template <class Params>
   else return std::numeric_limits<real>::quiet_NaN();
 }
 
+/// The softening cap's G_c (J/m^2), residual fraction and shear coupling (1 or 0) of contact
+/// parameters p; NaN (null) for a law whose cap does not soften.
+template <class Params>
+[[nodiscard]] std::array<real, 3> crush_parameters(const Params& p) {
+  if constexpr (requires { p.compression.G_c; })
+    return {p.compression.G_c, p.compression.residual, p.compression.scales_shear ? 1.0 : 0.0};
+  else return {std::numeric_limits<real>::quiet_NaN(), std::numeric_limits<real>::quiet_NaN(), std::numeric_limits<real>::quiet_NaN()};
+}
+
 /// summary.json of a compression run.
 template <class Law>
 void write_compression_summary(io::summary_json& j, const compression_options& o, const compression_specimen<Law>& sp,
@@ -223,7 +233,8 @@ void write_compression_summary(io::summary_json& j, const compression_options& o
       .set("zones", static_cast<std::int64_t>(sp.zone_count())).set("zone_edge_m", sp.zone_edge()).set("ends", o.ends)
       .set("friction", o.ends == "friction" ? o.friction : 0.0).set("confinement_Pa", o.confinement)
       .set("k_n_Pa_per_m", p.k_n).set("k_s_Pa_per_m", p.k_s).set("f_T_Pa", p.tension.f_T).set("c_0_Pa", p.shear.c_0)
-      .set("law", o.law).set("G_II_J_per_m2", slip_energy(p))
+      .set("law", o.law).set("G_II_J_per_m2", slip_energy(p)).set("G_c_J_per_m2", crush_parameters(p)[0])
+      .set("cap_residual", crush_parameters(p)[1]).set("crush_shear", crush_parameters(p)[2])
       .set("phi_0_deg", o.phi_deg).set("phi_res_deg", o.phi_res_deg).set("cap_Pa", cap).set("G_f_N_per_m", p.tension.G_f)
       .set("rate_m_per_s", o.rate).set("step_displacement_m", o.step_displacement).set("dt_s", r.dt).set("damping_in_force", r.damping)
       .set("added_mass_ratio", r.added_mass_ratio).set("quasi_static_index", r.quasi_static_index)

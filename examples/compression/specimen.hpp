@@ -39,8 +39,11 @@ namespace tessera::scenes {
 struct compression_options {
   cli::standard_options common;
   std::string material = "beam", shape = "cylinder", ends = "frictionless";
-  std::string law = "study";  ///< study or slip_softening (--material beam only)
+  std::string law = "study";  ///< study, slip_softening or crushing (--material beam only)
   real g_ii = 0;              ///< mode-II fracture energy with --law slip_softening (J/m^2; 0 = default_g_ii)
+  real g_c = 0;               ///< compressive fracture energy with --law crushing (J/m^2; 0 = default_g_c)
+  real cap_residual = 0.1;    ///< residual cap / --cap with --law crushing
+  bool crush_shear = false;   ///< --crush-shear: the shear limit falls with the crushed cap
   real width = 0.15, height = 0.3;  ///< cylinder diameter or prism side, height (m)
   int blocks = 0;                   ///< 0: the beam's block size
   real friction = 0.15, confinement = 0;  ///< platen friction coefficient; lateral pressure (Pa)
@@ -49,10 +52,11 @@ struct compression_options {
   bool no_vtk = false;
 };
 
-/// The concrete flags of o (law, G_II, c_0 / f_T, phi_0, phi_res, cap) into c.
+/// The concrete flags of o (law, G_II, c_0 / f_T, phi_0, phi_res, cap, and the crushing law's) into c.
 inline void concrete_set_from(const compression_options& o, concrete_set& c) {
   c.law = o.law, c.g_ii = o.g_ii, c.cohesion_ratio = o.cohesion_ratio, c.phi_0_deg = o.phi_deg;
-  c.phi_res_deg = o.phi_res_deg, c.cap = o.cap;
+  c.phi_res_deg = o.phi_res_deg, c.cap = o.cap, c.g_c = o.g_c, c.cap_residual = o.cap_residual;
+  c.crush_shear = o.crush_shear;
 }
 /// c's concrete into the flags of o (--params: the specimen applies them over the recipe's contacts).
 inline void concrete_set_to(const concrete_set& c, compression_options& o) {

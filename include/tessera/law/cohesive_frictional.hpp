@@ -3,7 +3,7 @@
 // reference study (eqs. 4-6, DESIGN.md §3 "Contact law"), composed from three policies in the
 // manner of MercuryDPM's Species<Normal, Friction, ...>:
 //     Tension      TensionSoftening  (tension.hpp):     linear_softening, power_softening, no_tension
-//     Compression  CompressionLimit  (compression.hpp): elastic_compression, plastic_cap
+//     Compression  CompressionLimit  (compression.hpp): elastic_compression, plastic_cap, softening_cap
 //     Shear        ShearLimit        (shear.hpp):       coulomb_residual, coulomb_coupled,
 //                  SlipSofteningShearLimit (slip_softening.hpp): coulomb_slip_softening
 // The named combinations of the study are in aliases.hpp. The law is a pure evaluator of one
@@ -36,6 +36,8 @@
 //     sigma = k_n min(0, u_n): compression only once the faces overlap geometrically again.
 //     While such a broken contact is open (u_n > u_p) it carries no shear stress either (step 3).
 //     Compression (plastic_cap): sigma >= -f_c, perfectly plastic; the irreversible closure goes into u_p.
+//     softening_cap: sigma >= -f(u_crush), the cap softening with the plastic closure u_crush (state,
+//     flag `crushed` from the first crush), its closed-form return (compression.hpp); closure into u_p too.
 //  3. Shear. tau_trial = tau + k_s du_s, limited by tau_max = Shear::strength(sigma_n, flags) with the
 //     new sigma_n. At the first exceedance the contact is marked `slipped` for good (brittle: the
 //     coulomb_residual policy then returns the residual limit) and tau is scaled back onto the limit
@@ -43,7 +45,7 @@
 //     also drops the cohesion to c_res (policy). Tension and shear are otherwise decoupled with
 //     coulomb_residual (DESIGN.md); coulomb_coupled softens the cohesion with f_t/f_T as well.
 //     Opt-in (shear params slip_breaks_tension = true): the first shear failure also breaks the
-//     contact in tension (3DEC's brittle Coulomb joint, YADE's fragile cohesive contact), see break_on_slip.
+//     contact in tension (3DEC's brittle Coulomb joint, YADE's fragile cohesive contact), see detail::break_on_slip.
 //     A slip-softening policy (slip_softening.hpp) instead takes the plastic slip state::u_slip: no
 //     brittle drop at the first slip (the flag `slipped` only records it), the limit falls with
 //     u_slip and the return is its closed form (Shear::lane_slip_return), u_slip advanced by it.
@@ -87,15 +89,14 @@
 #include "shear.hpp"
 #include "slip_softening.hpp"
 #include "tension.hpp"
+#include "detail/transitions.hpp"
 
 namespace tessera::law {
 
 namespace detail {
-[[nodiscard]] constexpr contact_status without(contact_status s, contact_status flag) noexcept {
-  return static_cast<contact_status>(static_cast<std::uint8_t>(s) & ~static_cast<std::uint8_t>(flag));
-}
-/// The member u_slip of a law whose shear limit does not soften with slip: nothing stored.
+/// The member u_slip (u_crush) of a law whose shear limit (cap) does not soften with slip (crushing): nothing stored.
 struct no_slip {};
+struct no_crush {};  ///< see no_slip
 }  // namespace detail
 
 /// A contact law of three parts, tension softening, a compression limit and a shear limit (file comment); stresses in Pa, displacements in m, normal stress positive in tension
@@ -106,6 +107,8 @@ struct cohesive_frictional {
   using shear_policy = Shear;  ///< the shear part
   /// True when the shear limit softens with the plastic slip: the state then stores u_slip.
   static constexpr bool softens_with_slip = SlipSofteningShearLimit<Shear>;
+  /// True when the compressive cap softens with the plastic closure: the state then stores u_crush.
+  static constexpr bool softens_with_crushing = SofteningCompressionLimit<Compression>;
 
   /// The stiffnesses and each part's parameters (validate refuses any out of range, naming it)
   struct params {
@@ -117,7 +120,7 @@ struct cohesive_frictional {
   };
 
   /// History of one sub-contact; value-initialised (`state{}`) = virgin, unloaded contact.
-  /// 88 bytes (96 with u_slip). Plain data (not formally std::is_trivially_copyable only because Eigen's vec3
+  /// 88 bytes (8 more with each of u_slip, u_crush). Plain data (not formally std::is_trivially_copyable only because Eigen's vec3
   /// declares its copy constructor; copying it is a plain memberwise copy).
   struct state {
     real sigma_n = 0;                  ///< normal stress (Pa, + tension)
@@ -131,29 +134,28 @@ struct cohesive_frictional {
     contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
     /// plastic slip accumulated on the shear limit (m); a real only when softens_with_slip
     [[no_unique_address]] std::conditional_t<softens_with_slip, real, detail::no_slip> u_slip{};
+    /// plastic normal closure on the softening cap (m, >= 0); a real only when softens_with_crushing
+    [[no_unique_address]] std::conditional_t<softens_with_crushing, real, detail::no_crush> u_crush{};
   };
   static_assert(std::is_trivially_destructible_v<state>);
   /// The state's fields, declared once (law::state_field): contact::face_contacts stores them as
   /// columns from this list and io::vtk::contact_snapshot writes one array each.
-  /// With softens_with_slip, "u_slip" (m) is declared after the dissipated energies.
+  /// "u_slip" (m, softens_with_slip) and "u_crush" (m, softens_with_crushing) follow the dissipated energies.
   static constexpr auto state_fields = [] {
     using f = state_field<state>;
-    if constexpr (softens_with_slip)
-      return std::array<f, 10>{{{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
-                                {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
-                                {"dissipated_tension", "J/m^2", &state::dissipated_tension},
-                                {"dissipated_shear", "J/m^2", &state::dissipated_shear},
-                                {"dissipated_compression", "J/m^2", &state::dissipated_compression},
-                                {"u_slip", "m", &state::u_slip}, {"flags", "contact_status bits", &state::flags}}};
-    else
-      return std::array<f, 9>{{{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
-                               {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
-                               {"dissipated_tension", "J/m^2", &state::dissipated_tension},
-                               {"dissipated_shear", "J/m^2", &state::dissipated_shear},
-                               {"dissipated_compression", "J/m^2", &state::dissipated_compression},
-                               {"flags", "contact_status bits", &state::flags}}};
+    std::array<f, 9 + softens_with_slip + softens_with_crushing> a{
+        {{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
+         {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
+         {"dissipated_tension", "J/m^2", &state::dissipated_tension},
+         {"dissipated_shear", "J/m^2", &state::dissipated_shear},
+         {"dissipated_compression", "J/m^2", &state::dissipated_compression}, {"flags", "contact_status bits", &state::flags}}};
+    std::size_t i = 8;
+    if constexpr (softens_with_slip) a[i++] = f{"u_slip", "m", &state::u_slip};
+    if constexpr (softens_with_crushing) a[i++] = f{"u_crush", "m", &state::u_crush};
+    a[i] = f{"flags", "contact_status bits", &state::flags};
+    return a;
   }();
-  // Ten reals (eleven with u_slip) and the flags (padded to one more): a field added to `state` must be declared above.
+  // Ten reals (one more with each of u_slip, u_crush) and the flags (padded to one more): a field added to `state` must be declared above.
   static_assert(sizeof(state) == (real_column_count(state_fields) + 1) * sizeof(real),
                 "state has a field that state_fields does not declare");
   /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0, then the
@@ -162,7 +164,10 @@ struct cohesive_frictional {
     detail::require_positive(p.k_n, "normal stiffness k_n", "Pa/m");
     detail::require_positive(p.k_s, "shear stiffness k_s", "Pa/m");
     Tension::validate(p.tension, p.k_n);
-    Compression::validate(p.compression);
+    if constexpr (softens_with_crushing)
+      Compression::validate_with_stiffness(p.compression, p.k_n);
+    else
+      Compression::validate(p.compression);
     if constexpr (softens_with_slip)
       Shear::validate_with_stiffness(p.shear, p.k_s);
     else
@@ -220,6 +225,8 @@ struct cohesive_frictional {
     T f_t;       ///< in/out: tensile_strength(p, state), a function of u_soft and the flags
     /// in/out: the state's u_slip (m) when softens_with_slip (set after the aggregate's other members)
     [[no_unique_address]] std::conditional_t<softens_with_slip, T, detail::no_slip> u_slip{};
+    /// in/out: the state's u_crush (m) when softens_with_crushing
+    [[no_unique_address]] std::conditional_t<softens_with_crushing, T, detail::no_crush> u_crush{};
   };
 
   /// Advances `s` by one step (see the file comment). du_n: opening increment (m, + opens);
@@ -235,6 +242,7 @@ struct cohesive_frictional {
                           s.dissipated_compression, s.u_p,     s.u_soft,
                           tensile_strength(p, s)};
     if constexpr (softens_with_slip) x.u_slip = s.u_slip;
+    if constexpr (softens_with_crushing) x.u_crush = s.u_crush;
     auto flags = static_cast<lanes::mask_lane>(s.flags);
     static_cast<void>(step<real, true>(p, flags, x));  // takes every lane: nothing declined
     s.sigma_n = x.sigma_n;
@@ -248,6 +256,7 @@ struct cohesive_frictional {
     s.dissipated_shear = x.dissipated_shear;
     s.dissipated_compression = x.dissipated_compression;
     if constexpr (softens_with_slip) s.u_slip = x.u_slip;
+    if constexpr (softens_with_crushing) s.u_crush = x.u_crush;
     s.flags = static_cast<contact_status>(flags);
   }
 
@@ -319,10 +328,30 @@ struct cohesive_frictional {
     }
     if constexpr (Transitions) {
       if (!elastic) [[unlikely]]  // the peak reached, or the envelope exhausted: flags change
-        sigma = tension_transition(p, x, flags, trial);
+        sigma = detail::tension_transition<cohesive_frictional>(p, x, flags, trial);
       broken = detail::flag_mask<M>(flags, bit(contact_status::broken_tension));
     }
-    if constexpr (Compression::bounded) {
+    if constexpr (softens_with_crushing) {  // the cap softened by u_crush; a first crush sets `crushed`
+      // No lane below the residual cap (almost always): none can crush, nothing to evaluate.
+      if (lanes::any(sigma < -Compression::residual_strength(p.compression))) [[unlikely]] {
+        // Uncrushed lanes (u_crush = 0, flag unset) have the cap f_c exactly: no envelope evaluated.
+        const M crushed = detail::flag_mask<M>(flags, bit(contact_status::crushed));
+        T cap = lanes::splat<T>(Compression::strength(p.compression));
+        if (lanes::any(crushed)) cap = mask_select(crushed, Compression::lane_strength(p.compression, x.u_crush), cap);
+        const M crushing = sigma < -cap;
+        if constexpr (Transitions) {
+          if (crushing) flags = flags | bit(contact_status::crushed);
+        } else {
+          elastic = elastic & mask_not(crushing & mask_not(crushed));
+        }
+        if (lanes::any(crushing)) [[unlikely]] {
+          const auto r = Compression::lane_crush_return(p.compression, k_n, -sigma, x.u_crush);
+          sigma = mask_select(crushing, -r.cap, sigma);
+          x.u_p = mask_select(crushing, x.u_n + r.cap / k_n, x.u_p);
+          x.u_crush = mask_select(crushing, r.kappa, x.u_crush);
+        }
+      }
+    } else if constexpr (Compression::bounded) {
       const real f_c = Compression::strength(p.compression);
       if constexpr (Transitions) {
         if (sigma < -f_c) {
@@ -346,11 +375,16 @@ struct cohesive_frictional {
       const T softened = f_peak > 0 ? x.f_t / f_peak : T{};
       fraction = mask_select((x.u_soft > real(0)) & mask_not(broken), softened, fraction);
     }
-    T tau_max;
+    T tau_max, crush_scale = lanes::splat<T>(1);  // f(u_crush)/f_c with softening_cap's scales_shear
     if constexpr (softens_with_slip)
       tau_max = Shear::lane_slip_strength(p.shear, sigma, broken, x.u_slip);
     else
       tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+    if constexpr (softens_with_crushing)
+      if (p.compression.scales_shear) {
+        crush_scale = Compression::lane_strength(p.compression, x.u_crush) * (1 / Compression::strength(p.compression));
+        tau_max = crush_scale * tau_max;
+      }
     const M open = broken & (x.u_n > x.u_p);
     // Beyond the limit: a lane that has slipped before slides on it; a first slip changes the flags.
     const M beyond = mask_not(open) & (trial_sq > tau_max * tau_max);
@@ -358,9 +392,9 @@ struct cohesive_frictional {
       if (beyond && !slipped) [[unlikely]] {
         flags = flags | bit(contact_status::slipped);
         slipped = true;
-        if constexpr (!softens_with_slip) tau_max = Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
+        if constexpr (!softens_with_slip) tau_max = crush_scale * Shear::lane_strength(p.shear, sigma, slipped, broken, fraction);
         if constexpr (requires { p.shear.slip_breaks_tension; })
-          if (p.shear.slip_breaks_tension) break_on_slip(p, x, flags);
+          if (p.shear.slip_breaks_tension) detail::break_on_slip<cohesive_frictional>(p, x, flags);
       }
     } else {
       elastic = elastic & mask_not(beyond & mask_not(slipped));
@@ -373,7 +407,7 @@ struct cohesive_frictional {
       if constexpr (softens_with_slip) {  // the limit softens during the step: its closed-form return
         const M sliding = beyond & slipped;  // not the open cracks alone (their stress is dropped)
         if (lanes::any(sliding)) {
-          const auto r = Shear::lane_slip_return(p.shear, k_s, sigma, broken, x.u_slip, trial_norm);
+          const auto r = Shear::lane_slip_return(p.shear, k_s, sigma, broken, x.u_slip, trial_norm, crush_scale);
           tau_max = mask_select(sliding, r.tau, tau_max);
           x.u_slip = mask_select(sliding, r.slip, x.u_slip);
         }
@@ -409,10 +443,19 @@ struct cohesive_frictional {
     const real f_peak = Tension::peak_strength(p.tension);
     return f_peak > 0 ? std::clamp(1 - tensile_strength(p, s) / f_peak, real(0), real(1)) : real(0);
   }
-  /// Current Coulomb limit tau_max (Pa) at the stored normal stress (and plastic slip, when it softens with it).
+  /// Current Coulomb limit tau_max (Pa) at the stored normal stress (and plastic slip, when it softens with it;
+  /// times f(u_crush)/f_c with softening_cap's scales_shear).
   [[nodiscard]] static real shear_strength(const params& p, const state& s) noexcept {
-    if constexpr (softens_with_slip) return Shear::slip_strength(p.shear, s.sigma_n, s.flags, s.u_slip);
-    else return Shear::strength(p.shear, s.sigma_n, s.flags, tensile_fraction(p, s));
+    real scale = 1;
+    if constexpr (softens_with_crushing)
+      if (p.compression.scales_shear) scale = compressive_strength(p, s) * (1 / Compression::strength(p.compression));
+    if constexpr (softens_with_slip) return scale * Shear::slip_strength(p.shear, s.sigma_n, s.flags, s.u_slip);
+    else return scale * Shear::strength(p.shear, s.sigma_n, s.flags, tensile_fraction(p, s));
+  }
+  /// Current compressive cap (Pa, a magnitude): f_c, or f(u_crush) with softening_cap; +inf unbounded.
+  [[nodiscard]] static real compressive_strength(const params& p, const state& s) noexcept {
+    if constexpr (softens_with_crushing) return Compression::lane_strength(p.compression, s.u_crush);
+    else return Compression::strength(p.compression);
   }
   /// Energy dissipated so far by all mechanisms (J/m^2).
   [[nodiscard]] static real dissipated_energy(const state& s) noexcept {
@@ -446,53 +489,6 @@ struct cohesive_frictional {
       }
     }
     return 1;
-  }
-
-  /// Shear failure that also ends the tensile strength (opt-in, Shear::params::slip_breaks_tension):
-  /// the contact is marked broken in tension and u_p is reset to the compressive plastic closure,
-  /// so from the next step on it carries compression only, and no shear while its faces are apart.
-  /// The normal stress of this step stands; its stored energy is released, and booked as
-  /// dissipated in tension, by the next step's trapezoidal increment.
-  template <class F>
-  static void break_on_slip(const params& p, elastic_lanes<real>& x, F& flags) noexcept {
-    if ((flags & static_cast<lanes::mask_lane>(contact_status::broken_tension)) != 0) return;
-    real closure = 0;
-    if constexpr (Compression::bounded) {
-      // u_p = closure + w + (f_T - f_t(w))/k_n on or below the envelope, closure alone while intact
-      const real f_peak = Tension::peak_strength(p.tension);
-      closure = x.u_soft > 0 ? x.u_p - x.u_soft - (f_peak - Tension::strength(p.tension, p.k_n, x.u_soft)) / p.k_n
-                             : x.u_p;
-    }
-    x.u_p = closure;
-    flags = static_cast<F>(detail::without(static_cast<contact_status>(flags), contact_status::softening) |
-                           contact_status::broken_tension);
-  }
-
-  /// The tension transitions of one sub-contact whose trial stress `trial` > 0 exceeds its current
-  /// strength x.f_t and that step<> did not return onto its envelope: the peak reached (softening
-  /// starts) or the envelope exhausted (broken for good). Returns the normal stress and updates
-  /// u_soft, u_p, f_t and the flags.
-  template <class F>
-  static real tension_transition(const params& p, elastic_lanes<real>& x, F& flags, real trial) noexcept {
-    const real k_n = p.k_n;
-    const real f_peak = Tension::peak_strength(p.tension);
-    x.u_soft += (trial - x.f_t) / k_n;
-    const real f_new = Tension::strength(p.tension, k_n, x.u_soft);
-    const auto status = static_cast<contact_status>(flags);
-    if (Tension::exhausted(p.tension, f_new)) [[unlikely]] {
-      // Broken: the faces separate from the position they had before any tension, shifted by the
-      // compressive plastic closure (u_n = eta + u_soft + closure on the envelope).
-      real closure = 0;
-      if constexpr (Compression::bounded) closure = x.u_n - x.u_soft - f_peak / k_n;
-      x.u_p = closure;
-      x.f_t = 0;
-      flags = static_cast<F>(detail::without(status, contact_status::softening) | contact_status::broken_tension);
-      return std::min(real(0), k_n * (x.u_n - x.u_p));
-    }
-    x.u_p = x.u_n - f_new / k_n;
-    x.f_t = f_new;
-    flags = static_cast<F>(status | contact_status::softening);
-    return f_new;
   }
 };
 

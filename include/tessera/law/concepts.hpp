@@ -46,6 +46,7 @@ enum class contact_status : std::uint8_t {
   softening = 1,       ///< past the tensile strength, on the softening branch
   broken_tension = 2,  ///< tensile strength exhausted for good
   slipped = 4,         ///< failed in shear, on the residual Coulomb limit
+  crushed = 8,         ///< past the compressive cap of a softening_cap (compression.hpp), which softens with u_crush
 };
 [[nodiscard]] constexpr contact_status operator|(contact_status a, contact_status b) {
   return static_cast<contact_status>(static_cast<std::uint8_t>(a) | static_cast<std::uint8_t>(b));
@@ -69,6 +70,7 @@ struct state_field {
   real S::*scalar = nullptr;  ///< the real member (kind scalar)
   vec3 S::*vector = nullptr;  ///< the vector member (kind vector)
   contact_status S::*flags = nullptr;  ///< the flags member (kind flags)
+  constexpr state_field() : name(""), unit(""), type(kind::scalar) {}  ///< An empty entry (a law's list fills it in)
   constexpr state_field(const char* n, const char* u, real S::*m) : name(n), unit(u), type(kind::scalar), scalar(m) {}  ///< A real field
   constexpr state_field(const char* n, const char* u, vec3 S::*m) : name(n), unit(u), type(kind::vector), vector(m) {}  ///< A 3-vector field
   /// The flags field

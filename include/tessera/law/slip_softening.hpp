@@ -145,15 +145,17 @@ struct coulomb_slip_softening {
   };
   /// Return of a trial of magnitude t (Pa) beyond tau_max(sigma_n, s) at shear stiffness k_s (Pa/m):
   /// closed form on the softening line, else on the flat part (file comment). T = real or a pack.
+  /// `scale` (in [0, 1], default 1) multiplies the whole limit (the law's softening_cap with scales_shear).
   template <class T, class M>
   [[nodiscard, gnu::always_inline]] static slip_return_result<T> lane_slip_return(const params& p, real k_s, T sigma_n,
-                                                                                 M broken, T s, T t) noexcept {
+                                                                                 M broken, T s, T t,
+                                                                                 T scale = lanes::splat<T>(1)) noexcept {
     using detail::mask_not;
     using detail::mask_select;
     const real drop_c = p.c_0 - p.c_res, drop_tan = p.phi_0.tan() - p.phi_res.tan();
     const real s_u = 2 * p.G_II / drop_c, inv_su = drop_c / (2 * p.G_II);
-    const T R = p.c_res - sigma_n * p.phi_res.tan();  // residual limit (before the clamp at 0)
-    const T H = drop_c - sigma_n * drop_tan;          // its drop over s_u
+    const T R = scale * (p.c_res - sigma_n * p.phi_res.tan());  // residual limit (before the clamp at 0)
+    const T H = scale * (drop_c - sigma_n * drop_tan);          // its drop over s_u
     const T slope = k_s - H * inv_su;                  // k_s - H/s_u
     const T v = 1 - s * inv_su;
     const T line_now = R + H * lanes::select(v > real(0), v, T{});

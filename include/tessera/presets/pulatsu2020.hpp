@@ -19,6 +19,9 @@
 // | slip_softening_beam_law | linear_softening | plastic_cap | coulomb_slip_softening | not the study's: cohesion |
 // |                |                  |                     |                  | and friction soften with slip |
 // |                |                  |                     |                  | (G_II; issue #63, compression)|
+// | crushing_beam_law | linear_softening | softening_cap    | coulomb_slip_softening | not the study's: slip     |
+// |                |                  |                     |                  | softening and a cap softening |
+// |                |                  |                     |                  | with crushing (G_c; issue #63)|
 //
 // The names live in tessera::presets; the end of this file also makes them reachable under the
 // names the examples and tests have always used (tessera::law::study_tie_law,
@@ -56,6 +59,9 @@ static_assert(law::ContactLaw<study_beam_law>);
 static_assert(law::ContactLaw<coupled_tie_law>);
 static_assert(law::ContactLaw<coupled_beam_law>);
 static_assert(law::ContactLaw<slip_softening_beam_law> && slip_softening_beam_law::softens_with_slip);
+using crushing_beam_law =
+    law::cohesive_frictional<law::linear_softening, law::softening_cap, law::coulomb_slip_softening>;
+static_assert(law::ContactLaw<crushing_beam_law> && crushing_beam_law::softens_with_crushing);
 
 /// Contact parameters of the study's plain concrete prism (Table 1, DESIGN.md §4) for a
 /// tessellation of `blocks` blocks (100, 250, 500 or 750): k_n = 1160/1570/1980/2260 GPa/m,
@@ -186,6 +192,22 @@ template <class Coupled, class DecoupledParams>
   return p;
 }
 
+/// The slip-softening contact `slip` with its cap f_c softening with the plastic closure
+/// (softening_cap, compression.hpp; not the study's law): linearly to residual x f_c (residual in
+/// [0, 1]) over the compressive fracture energy G_c (J/m^2, the plastic work above the residual cap);
+/// scales_shear also scales the shear limit by the cap's remaining fraction. Everything else is
+/// `slip`'s. The law's validate refuses G_c <= ((1 - residual) f_c)^2 / (2 k_n).
+[[nodiscard]] inline crushing_beam_law::params with_softening_cap(const slip_softening_beam_law::params& slip, real G_c,
+                                                                  real residual, bool scales_shear = false) {
+  crushing_beam_law::params p;
+  p.k_n = slip.k_n;
+  p.k_s = slip.k_s;
+  p.tension = slip.tension;
+  p.compression = {slip.compression.f_c, G_c, residual, scales_shear};
+  p.shear = slip.shear;
+  return p;
+}
+
 // ---- the RC tie's bar (Sec. 3.1) ----
 /// E_s = 192.3 GPa, f_y = 400 MPa, d = 8 mm: A = 50.27 mm^2, yield force f_y A = 20.1 kN,
 /// E_s A = 9.666 MN. With 96 elements over the 0.6 m prism, L_el = 6.25 mm and
@@ -236,6 +258,7 @@ using coupled_rigid_prism_solver = solver<blocks::rigid, bonded_faces<coupled_ti
 namespace tessera::law {
 using presets::coupled_beam_law;
 using presets::coupled_tie_law;
+using presets::crushing_beam_law;
 using presets::in_table1;
 using presets::linear_tie_law;
 using presets::scaled_prism_params;
@@ -246,6 +269,7 @@ using presets::study_prism_params;
 using presets::study_tie_law;
 using presets::with_coupled_cohesion;
 using presets::with_linear_softening;
+using presets::with_softening_cap;
 using presets::with_slip_softening;
 }  // namespace tessera::law
 namespace tessera::reinforcement::pulatsu2020 {

@@ -163,6 +163,10 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
   constexpr bool with_slip = requires { requires Law::softens_with_slip; };
   [[maybe_unused]] real* u_slip = nullptr;
   if constexpr (with_slip) u_slip = s.col(columns::column("u_slip")).data();
+  // The plastic closure of a law whose cap softens with it (compression.hpp softening_cap).
+  constexpr bool with_crush = requires { requires Law::softens_with_crushing; };
+  [[maybe_unused]] real* u_crush = nullptr;
+  if constexpr (with_crush) u_crush = s.col(columns::column("u_crush")).data();
   const auto lanes_at = [&]<class T, bool Damaged>(std::size_t i, auto flags) __attribute__((always_inline)) {
     using lanes::load;
     typename Law::template elastic_lanes<T> x{load<T>(&k.du_n[i]),  load<T>(&k.ds0[i]),     load<T>(&k.ds1[i]),
@@ -175,6 +179,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
                                               load<T>(&u_p[i]),     load<T>(&u_soft[i]),
                                               Damaged ? load<T>(&f_t[i]) : lanes::splat<T>(f_t_virgin)};
     if constexpr (with_slip) x.u_slip = Damaged ? load<T>(&u_slip[i]) : T{};
+    if constexpr (with_crush) x.u_crush = Damaged ? load<T>(&u_crush[i]) : T{};
     const auto old = x;
     const auto elastic = Law::update_elastic(p, flags, x);
     using law::detail::mask_blend;  // xor, and, xor: `elastic` is no comparison (lane_masks.hpp)
@@ -192,6 +197,7 @@ void advance_states(const typename Law::params& p, state_columns<Law>& s, step_c
       store(&u_soft[i], mask_blend(elastic, x.u_soft, old.u_soft));
       store(&f_t[i], mask_blend(elastic, x.f_t, old.f_t));
       if constexpr (with_slip) store(&u_slip[i], mask_blend(elastic, x.u_slip, old.u_slip));
+      if constexpr (with_crush) store(&u_crush[i], mask_blend(elastic, x.u_crush, old.u_crush));
     }
     const T a = load<T>(&area[i]);
     store(&force[0][i], a * (x.sigma_n * x.n0 + x.tau0));
