@@ -1500,6 +1500,58 @@ TEST_CASE("detection broad phase: sweep and prune and the uniform grid give the 
   CHECK_THROWS_AS(detection::uniform_grid(boxes, -1, pairs, gw), invalid_input);
 }
 
+TEST_CASE("detection broad phase: the grid with marked blocks gives the all-pairs list of the marked pairs", "[detection]") {
+  // An incremental pass bins only the cells a marked box reaches and pairs only marked entries,
+  // and a big box (a floor, a wall) is tested against every box instead of setting the cell:
+  // the list must be the O(n^2) list filtered to the pairs with a marked block, whatever the
+  // share marked, the margin, or the workspace's earlier passes (one workspace throughout).
+  std::mt19937_64 rng(29);
+  std::uniform_real_distribution<real> u(0, 1);
+  std::vector<aabb> boxes;
+  for (int i = 0; i < 800; ++i) {
+    const vec3 lo(1.2 * u(rng), 0.8 * u(rng), 0.4 * u(rng));
+    const real size = i % 97 == 0 ? 0.25 : 0.02 + 0.08 * u(rng);  // a few large boxes among small ones
+    boxes.push_back({lo, lo + size * vec3(0.5 + u(rng), 0.5 + u(rng), 0.5 + u(rng))});
+  }
+  boxes.push_back({vec3(1, 0.5, 0.25), vec3(1, 0.5, 0.25)});  // a point box
+  // A floor under them and a wall beside them (big boxes, not binned: tested against every box).
+  boxes.push_back({vec3(-0.5, -0.5, -0.1), vec3(2, 2, 0.02)});
+  boxes.push_back({vec3(-0.05, -0.5, -0.1), vec3(0.01, 2, 1)});
+  detection::grid_workspace gw;
+  std::vector<std::uint8_t> only(boxes.size());
+  std::size_t checked = 0, floor_pairs = 0;
+  for (const real share : {0.0, 0.02, 0.2, 0.7, 1.0})
+    for (const real margin : {0.0, 0.003, 0.04}) {
+      for (std::size_t b = 0; b < only.size(); ++b) only[b] = u(rng) < share ? 1 : 0;
+      std::vector<detection::block_pair> all, reference, gridded, full;
+      detection::all_pairs(boxes, margin, all);
+      for (const auto& c : all)
+        if (only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0) reference.push_back(c);
+      const detection::grid_layout g = detection::layout_grid(boxes, margin);
+      REQUIRE(g.suits(boxes.size()));
+      CHECK(g.big < 2.5);  // the floor and the wall are big
+      CHECK(g.cell < 0.5);  // and do not set the cell
+      detection::uniform_grid(boxes, margin, g, gridded, gw, only);
+      INFO("share " << share << ", margin " << margin << ": " << reference.size() << " of " << all.size() << " pairs");
+      CHECK(gridded == reference);
+      // A full pass on the same workspace afterwards still gives the whole list.
+      detection::uniform_grid(boxes, margin, g, full, gw);
+      CHECK(full == all);
+      CHECK(all.size() > 500);
+      if (share > 0 && share < 1) CHECK(reference.size() < all.size());
+      if (share == 0) CHECK(reference.empty());
+      checked += reference.size();
+      floor_pairs += static_cast<std::size_t>(std::count_if(reference.begin(), reference.end(), [&](const auto& c) {
+        return c.b + 2 >= static_cast<index_t>(boxes.size());
+      }));
+    }
+  CHECK(checked > 5000);
+  CHECK(floor_pairs > 100);  // the big boxes' pairs are among them
+  const std::vector<std::uint8_t> short_marks(3, 1);
+  std::vector<detection::block_pair> pairs;
+  CHECK_THROWS_AS(detection::uniform_grid(boxes, 0, detection::layout_grid(boxes, 0), pairs, gw, short_marks), invalid_input);
+}
+
 TEST_CASE("detection broad phase: with the rebuild margin no pair that comes to touch is missed", "[detection]") {
   // 400 boxes drift and spin at bounded speeds for `steps` steps; every pair whose boxes overlap
   // at any step must have been a candidate at the rebuild (margin = rebuild_margin).

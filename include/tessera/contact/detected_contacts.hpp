@@ -349,7 +349,7 @@ class detected_contacts {
   // Defined, each with its doc comment, in the detected/ header named above its group.
   // detected/step_bound.hpp
   void add_bounds(node_set& gridpoints, step_bound_scope scope) const;
-  void bound_present_contacts();
+  void bound_present_contacts(bool kept_pairs = false);
   // detected/deformable_fit.hpp
   void build_surfaces(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real row_max);
   void locate(index_t b, const vec3& x, const node_set* gp, std::array<index_t, 4>& nodes,
@@ -359,7 +359,7 @@ class detected_contacts {
   // detected/rebuild.hpp
   void rebuild(const node_set* gp, bool full = true);
   [[nodiscard]] real moved2_of(std::size_t b, const node_set& gp) const noexcept;
-  void index_subcontacts();
+  void index_subcontacts(bool kept_pairs = false);
   [[nodiscard]] std::size_t storage_capacity() const noexcept;
   [[nodiscard]] real stored_energy() const;
   // detected/step.hpp
@@ -439,6 +439,10 @@ class detected_contacts {
   // rigid blocks: the stable step from the sub-contacts present (bound_present_contacts)
   std::vector<real> present_bound_;   ///< per block, N/m on its farthest vertex
   std::vector<real> present_reach2_;  ///< per block, largest |material point - centroid|^2 (m^2)
+  /// Per pair, its sub-contacts' stiffness sum (N/m) and largest reach^2 from A's and B's centroids
+  /// (m^2): bound_present_contacts' terms, which a kept pair keeps.
+  std::vector<real> pair_stiffness_;
+  std::vector<std::array<real, 2>> pair_reach2_;  ///< (see pair_stiffness_)
   soa3 rebuild_u_;                                 ///< vertex displacements at the last rebuild
   index_t steps_since_rebuild_ = 0;
   detection::detection_result result_;
@@ -480,6 +484,11 @@ class detected_contacts {
   std::vector<state_type> new_state_;
   std::vector<std::uint8_t> new_fresh_, kept_old_, redetect_;
   std::vector<std::ptrdiff_t> new_source_;  ///< per new pair: its pass pair j >= 0, or -1 - the kept old pair
+  /// A run of the kept pairs' sub-contacts: old sub-contacts [from, from + count) are new [to, to + count).
+  struct kept_run {
+    std::size_t from = 0, to = 0, count = 0;
+  };
+  std::vector<kept_run> kept_runs_;  ///< the kept pairs' sub-contacts, in runs (a rebuild's copies)
   detail::previous_columns<feature_kind> prev_;  ///< the columns a rebuild copies for its kept pairs
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics

@@ -79,6 +79,11 @@ class convex_polyhedron {
   /// face loops stay outward CCW; convexity is kept by any linear map).
   [[nodiscard]] convex_polyhedron transformed(const mat3& map, const vec3& translation) const;
 
+  /// Resets *this to source.transformed(map, translation) (the same vertices to the bit),
+  /// reusing the storage: no allocation once *this has held a polyhedron as large (a detecting
+  /// contact set's current geometry at each rebuild). `source` may be *this. The same refusal.
+  void assign_transformed(const convex_polyhedron& source, const mat3& map, const vec3& translation);
+
   // ---- topology and geometry access ------------------------------------------------------
   [[nodiscard]] bool empty() const { return face_tags_.empty(); }  ///< True when it has no face
   [[nodiscard]] index_t vertex_count() const { return static_cast<index_t>(vertices_.size()); }  ///< Number of vertices

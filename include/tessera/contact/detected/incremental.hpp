@@ -20,9 +20,12 @@
 //
 // Cost: the pass runs on the moved blocks' candidate pairs, and of those the pairs that the axis
 // of their last plane still shows apart skip the full common-plane search (detect.hpp,
-// reuse_axes: about two thirds of them in the rubble scene); the rest of a rebuild (the blocks'
-// boxes, the broad phase, the copy of the kept pairs' columns, the tasks and gather slots) is
-// O(blocks + sub-contacts). No allocation beyond a rebuild's.
+// reuse_axes: about two thirds of them in the rubble scene); the rest of a rebuild is
+// O(blocks + sub-contacts) with small constants: each block's current shape and box (into its own
+// storage), the broad phase (every box's cells scanned, only the cells a moved block reaches binned,
+// only the pairs with a moved block tested), the kept pairs' columns copied in runs (their
+// stiffness terms of the step bound with them), the tasks and gather slots. No allocation beyond
+// a rebuild's growth.
 
 #include <array>
 #include <cstdint>
@@ -54,6 +57,8 @@ struct previous_columns {
   std::vector<std::uint8_t> corner_normal;
   std::array<std::vector<real>, 8> weight;
   std::array<std::vector<real>, 3> force;
+  std::vector<real> stiffness;                 // bound_present_contacts' terms
+  std::vector<std::array<real, 2>> reach2;
 };
 
 }  // namespace tessera::contact::detail

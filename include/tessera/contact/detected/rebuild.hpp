@@ -84,14 +84,16 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   // to the bit; the construction's pass sets the initial energy).
   real stored_before = 0;
   if (gp != nullptr)
-    for (std::size_t i = 0; i < key_label_.size(); ++i)
-      if (counted(i) && changed(pair_a_[at(pair_[i])], pair_b_[at(pair_[i])])) stored_before += energies_of(i).stored;
+    for (std::size_t k = 0; k < pair_a_.size(); ++k)
+      if (changed(pair_a_[k], pair_b_[k]))
+        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i)
+          if (counted(i)) stored_before += energies_of(i).stored;
   real deviation = 0;
   for (index_t b = 0; b < n_b; ++b) {
     const block_data& bd = blocks_[at(b)];
     const mat3 map = rotation(bd, gp);
     const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
-    current_[at(b)] = shapes_[at(b)].transformed(map, translation);
+    current_[at(b)].assign_transformed(shapes_[at(b)], map, translation);  // (in its own storage)
     boxes_[at(b)] = current_[at(b)].bounds();
     // A deformable block is detected by its affine fit (the frame's map of its reference
     // shape): how far its surface gridpoints are from it.
@@ -134,6 +136,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   new_gap_.clear();
   new_source_.clear();
   new_pair_first_.assign(1, 0);
+  kept_runs_.clear();
   untouched_last_ = 0;
   std::size_t ko = 0;
   for (std::size_t k = 0; k < n_found || ko < n_old_pairs;) {
@@ -142,12 +145,19 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     const bool take_old = ko < n_old_pairs && (k == n_found || pair_a_[ko] < result_.pairs[k].a ||
                                                (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
     if (take_old) {
-      for (auto o = at(pair_first_[ko]); o < at(pair_first_[ko + 1]); ++o) {
-        new_label_.push_back(key_label_[o]);
-        new_area_.push_back(area_[o]);
-        new_point_.push_back(vec3::Zero());  // (unread: the kept weights stay)
-        new_gap_.push_back(0);
-      }
+      // Its sub-contacts, a run of the old columns that the merges below copy whole.
+      const auto o0 = at(pair_first_[ko]), o1 = at(pair_first_[ko + 1]), i0 = new_label_.size();
+      if (!kept_runs_.empty() && kept_runs_.back().to + kept_runs_.back().count == i0 &&
+          kept_runs_.back().from + kept_runs_.back().count == o0)
+        kept_runs_.back().count += o1 - o0;
+      else
+        kept_runs_.push_back({o0, i0, o1 - o0});
+      new_label_.insert(new_label_.end(), key_label_.begin() + static_cast<std::ptrdiff_t>(o0),
+                        key_label_.begin() + static_cast<std::ptrdiff_t>(o1));
+      new_area_.insert(new_area_.end(), area_.begin() + static_cast<std::ptrdiff_t>(o0),
+                       area_.begin() + static_cast<std::ptrdiff_t>(o1));
+      new_point_.resize(new_point_.size() + (o1 - o0), vec3::Zero());  // (unread: the kept weights stay)
+      new_gap_.resize(new_gap_.size() + (o1 - o0), 0);
       new_pair_a_.push_back(pair_a_[ko]);
       new_pair_b_.push_back(pair_b_[ko]);
       new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
@@ -211,22 +221,22 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   new_fresh_.assign(n, 0);
   kept_last_ = 0;
   kept_old_.assign(key_label_.size(), 0);
+  const auto copy_kept = [&](const auto& from, auto& to) {
+    for (const kept_run& r : kept_runs_)
+      std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(r.from), r.count, to.begin() + static_cast<std::ptrdiff_t>(r.to));
+  };
+  copy_kept(state_, new_state_);
+  copy_kept(fresh_, new_fresh_);
+  for (const kept_run& r : kept_runs_) {
+    std::fill_n(kept_old_.begin() + static_cast<std::ptrdiff_t>(r.from), r.count, std::uint8_t{1});
+    kept_last_ += static_cast<index_t>(r.count);
+  }
   std::size_t old = 0;
   const std::size_t n_old = key_label_.size();
   for (std::size_t k = 0; k < n_pairs; ++k) {
     const index_t a = new_pair_a_[k], b = new_pair_b_[k];
     const std::ptrdiff_t source = new_source_[k];
-    if (source < 0) {
-      const auto o0 = at(pair_first_[at(-1 - source)]);
-      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        const std::size_t o = o0 + (i - at(new_pair_first_[k]));
-        new_state_[i] = state_[o];
-        new_fresh_[i] = fresh_[o];
-        kept_old_[o] = 1;
-        ++kept_last_;
-      }
-      continue;
-    }
+    if (source < 0) continue;  // (kept: copied above)
     const auto j = at(source);
     const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
@@ -293,6 +303,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   std::swap(feature_b_, prev_.feature_b);
   std::swap(side_a_, prev_.side_a);
   std::swap(side_b_, prev_.side_b);
+  std::swap(pair_stiffness_, prev_.stiffness);
+  std::swap(pair_reach2_, prev_.reach2);
   for (int j = 0; j < 3; ++j) normal_[at(j)].swap(prev_.normal[at(j)]);
   pair_a_.assign(new_pair_a_.begin(), new_pair_a_.end());
   pair_b_.assign(new_pair_b_.begin(), new_pair_b_.end());
@@ -302,6 +314,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   feature_b_.resize(n_pairs);
   side_a_.resize(n_pairs);
   side_b_.resize(n_pairs);
+  pair_stiffness_.resize(n_pairs);
+  pair_reach2_.resize(n_pairs);
   for (soa3& m : normal_) m.resize(static_cast<index_t>(n_pairs), 3);
   for (std::size_t k = 0; k < n_pairs; ++k) {
     const index_t a = pair_a_[k], b = pair_b_[k];
@@ -313,6 +327,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       feature_b_[k] = prev_.feature_b[o];
       side_a_[k] = prev_.side_a[o];
       side_b_[k] = prev_.side_b[o];
+      pair_stiffness_[k] = prev_.stiffness[o];  // (a kept pair: rigid blocks, bounded at the last rebuild)
+      pair_reach2_[k] = prev_.reach2[o];
       for (int j = 0; j < 3; ++j) normal_[at(j)].row(static_cast<index_t>(k)) = prev_.normal[at(j)].row(static_cast<index_t>(o));
       continue;
     }
@@ -374,16 +390,12 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   area_.resize(n);
   for (auto& w : weight_) w.resize(n);
   for (auto& f : force_) f.assign(n, 0.0);
+  copy_kept(prev_.corner_normal, corner_normal_);
+  for (int s = 0; s < 8; ++s) copy_kept(prev_.weight[at(s)], weight_[at(s)]);
+  for (int c = 0; c < 3; ++c) copy_kept(prev_.force[at(c)], force_[at(c)]);
   for (std::size_t k = 0; k < n_pairs; ++k) {
-    const std::size_t o0 = new_source_[k] < 0 ? at(pair_first_[at(-1 - new_source_[k])]) : 0;
+    if (new_source_[k] < 0) continue;  // (kept: copied above)
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-      if (new_source_[k] < 0) {
-        const std::size_t o = o0 + (i - at(new_pair_first_[k]));
-        corner_normal_[i] = prev_.corner_normal[o];
-        for (int s = 0; s < 8; ++s) weight_[at(s)][i] = prev_.weight[at(s)][o];
-        for (int c = 0; c < 3; ++c) force_[at(c)][i] = prev_.force[at(c)][o];
-        continue;
-      }
       // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
       const std::uint64_t label = key_label_[i];
       const bool node = detail::is_node_label(label), node_b = node && detail::node_label_side_b(label);
@@ -402,12 +414,10 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
         place_zoned(i, pair_a_[k], pair_b_[k], gp);
       }
   } else {
+    std::copy(new_area_.begin(), new_area_.end(), area_.begin());
     for (std::size_t k = 0; k < n_pairs; ++k) {
       const index_t a = pair_a_[k], b = pair_b_[k];
-      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        pair_[i] = static_cast<index_t>(k);
-        area_[i] = new_area_[i];
-      }
+      std::fill(pair_.begin() + new_pair_first_[k], pair_.begin() + new_pair_first_[k + 1], static_cast<index_t>(k));
       if (new_source_[k] < 0) continue;  // a kept pair's weights stay
       const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
       const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
@@ -423,14 +433,16 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     }
   }
   pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
-  index_subcontacts();
+  index_subcontacts(true);
 
   peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index_t>(n));
   if (storage_capacity() > capacity_before) ++growths_;
   if (gp != nullptr) {
     real stored_after = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (counted(i) && changed(pair_a_[at(pair_[i])], pair_b_[at(pair_[i])])) stored_after += energies_of(i).stored;
+    for (std::size_t k = 0; k < n_pairs; ++k)
+      if (changed(pair_a_[k], pair_b_[k]))
+        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i)
+          if (counted(i)) stored_after += energies_of(i).stored;
     retired_.rebuild_exchange += stored_after - stored_before;
   }
   rebuild_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
@@ -438,8 +450,9 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
 
 /// Tasks (runs of pairs with at least task_subcontacts sub-contacts) and gather slots, from the
 /// pairs' first sub-contacts and the sub-contacts' pairs and weights: after a rebuild or a load.
+/// `kept_pairs`: a rebuild's call (bound_present_contacts reuses its kept pairs' terms).
 template <law::ContactLaw Law>
-inline void detected_contacts<Law>::index_subcontacts() {
+inline void detected_contacts<Law>::index_subcontacts(bool kept_pairs) {
   const std::size_t n_pairs = pair_a_.size(), n = pair_.size();
   // Runs of consecutive pairs this rank evaluates (all, without set_own_blocks), each closed once
   // it holds task_subcontacts sub-contacts.
@@ -489,7 +502,7 @@ inline void detected_contacts<Law>::index_subcontacts() {
     }
   if (rigid) {
     pair_force_.assign(24 * n_pairs, 0.0);
-    bound_present_contacts();
+    bound_present_contacts(kept_pairs);
   }
   contact_gridpoints_.clear();
   for (index_t g = 0; g < gridpoint_count_; ++g)

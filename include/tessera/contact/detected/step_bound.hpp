@@ -61,29 +61,39 @@ inline void detected_contacts<Law>::add_bounds(node_set& gridpoints, step_bound_
 
 /// Rigid blocks: per block, the bound of its present sub-contacts on its farthest vertex (file
 /// comment), from the pairs' law entries, the areas and the weights (so a
-/// checkpoint load gets the same bits as the rebuild). Allocates nothing.
+/// checkpoint load gets the same bits as the rebuild). `kept_pairs` (a rebuild's call): the pairs
+/// it kept have their terms already (copied with their sub-contacts); the others are computed.
+/// Allocates only when the per-pair terms grow.
 template <law::ContactLaw Law>
-inline void detected_contacts<Law>::bound_present_contacts() {
+inline void detected_contacts<Law>::bound_present_contacts(bool kept_pairs) {
   std::fill(present_bound_.begin(), present_bound_.end(), 0.0);
   std::fill(present_reach2_.begin(), present_reach2_.end(), 0.0);
+  pair_stiffness_.resize(pair_a_.size());
+  pair_reach2_.resize(pair_a_.size());
   for (std::size_t k = 0; k < pair_a_.size(); ++k) {
-    const real per_area = 2 * entry_row_bound_[at(pair_param_[k])];
     const std::array<index_t, 2> ab{pair_a_[k], pair_b_[k]};
-    for (int side = 0; side < 2; ++side) {
-      const block_data& bd = blocks_[at(ab[at(side)])];
-      // The material point in the block's reference frame: X0 + D (w1, w2, w3), rigid motion
-      // keeps its distance from the centroid.
-      const mat3 d = frame_matrix(bd, nullptr);
-      const vec3 x0 = reference_.row(bd.frame[0]).transpose();
-      real k_sum = 0, reach2 = 0;
-      for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
-        k_sum += per_area * area_[i];
-        const int w = 4 * side;
-        const vec3 local(weight_[at(w + 1)][i], weight_[at(w + 2)][i], weight_[at(w + 3)][i]);
-        reach2 = std::max(reach2, (x0 + d * local - bd.centroid).squaredNorm());
+    if (!kept_pairs || new_source_[k] >= 0) {
+      const real per_area = 2 * entry_row_bound_[at(pair_param_[k])];
+      for (int side = 0; side < 2; ++side) {
+        const block_data& bd = blocks_[at(ab[at(side)])];
+        // The material point in the block's reference frame: X0 + D (w1, w2, w3), rigid motion
+        // keeps its distance from the centroid.
+        const mat3 d = frame_matrix(bd, nullptr);
+        const vec3 x0 = reference_.row(bd.frame[0]).transpose();
+        real k_sum = 0, reach2 = 0;
+        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+          k_sum += per_area * area_[i];
+          const int w = 4 * side;
+          const vec3 local(weight_[at(w + 1)][i], weight_[at(w + 2)][i], weight_[at(w + 3)][i]);
+          reach2 = std::max(reach2, (x0 + d * local - bd.centroid).squaredNorm());
+        }
+        pair_stiffness_[k] = k_sum;  // (the same sum on both sides)
+        pair_reach2_[k][at(side)] = reach2;
       }
-      present_bound_[at(ab[at(side)])] += k_sum;
-      present_reach2_[at(ab[at(side)])] = std::max(present_reach2_[at(ab[at(side)])], reach2);
+    }
+    for (int side = 0; side < 2; ++side) {
+      present_bound_[at(ab[at(side)])] += pair_stiffness_[k];
+      present_reach2_[at(ab[at(side)])] = std::max(present_reach2_[at(ab[at(side)])], pair_reach2_[k][at(side)]);
     }
   }
   for (std::size_t b = 0; b < blocks_.size(); ++b) {

@@ -8,7 +8,9 @@
 //   uniform_grid     bin every box into the cells of a grid whose cell is the largest enlarged
 //                    box, and test the pairs sharing a cell, each pair once (in the cell of the
 //                    lower corner of the two boxes' intersection; Munjiza and Andrews' NBS idea);
-//                    O(n + pairs), memory O(n) cells
+//                    O(n + pairs), memory O(n) cells. A box more than big_box_ratio times the
+//                    mean size (a floor under a heap) is not binned but tested against every box,
+//                    so that it does not set the cell: O(n) for each such box
 // bench_detection measures both on Voronoi blocks; docs/model.md gives the choice.
 //
 // Rebuild margin (rebuild_margin): a pair whose enlarged boxes do not overlap at a rebuild
@@ -97,13 +99,21 @@ struct grid_workspace {
   std::vector<std::int64_t> cell_of_entry;  ///< cell of each (box, cell) entry
   /** block of each entry, and the entries' order by cell */ /**@{*/ std::vector<index_t> block_of_entry, order; /**@}*/
   std::vector<std::size_t> starts;  ///< first entry of each cell (CSR of the counting sort by cell)
+  std::vector<std::uint8_t> reached;  ///< per cell, whether a marked box reaches it (a pass with marks)
 };
 
+/// An enlarged box whose largest side exceeds this many times the mean of all boxes' is a big
+/// box of the grid (grid_layout::big).
+inline constexpr real big_box_ratio = 8;
+
 /// The grid of uniform_grid for `boxes` enlarged by `margin`: its origin, cell size (the largest
-/// enlarged box) and cells per axis.
+/// enlarged box but the big ones) and cells per axis, over the boxes but the big ones.
 struct grid_layout {
   vec3 lo = vec3::Zero();  ///< origin (m)
   real cell = 0;  ///< cell size (m)
+  /// Enlarged boxes whose largest side exceeds this (m: big_box_ratio x the mean) are not binned
+  /// but tested against every box (a floor among blocks would otherwise make the cell its size).
+  real big = std::numeric_limits<real>::infinity();
   std::array<std::int64_t, 3> dims{1, 1, 1};  ///< cells per axis
   /// Cells in all (as a double: it may exceed any integer type for a degenerate layout).
   [[nodiscard]] double cells() const {
@@ -118,7 +128,8 @@ struct grid_layout {
 /// The pairs of all_pairs by binning into the grid `g` = layout_grid(boxes, margin) (see the file
 /// comment). Refuses a layout that does not suit a grid (grid_layout::suits: use sweep_and_prune).
 /// `only` (empty: every pair) keeps the pairs with at least one block b marked only[b] != 0 (an
-/// incremental pass's), the same pairs as filtering the whole list afterwards.
+/// incremental pass's), the same pairs as filtering the whole list afterwards: it bins only the
+/// cells a marked box reaches and tests only the pairs with a marked entry, O(n + marked pairs).
 TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const grid_layout& g, std::vector<block_pair>& pairs,
                                  grid_workspace& w, std::span<const std::uint8_t> only = {});
 

@@ -69,12 +69,23 @@ TESSERA_INLINE convex_polyhedron convex_polyhedron::from_vertices(std::span<cons
 }
 
 TESSERA_INLINE convex_polyhedron convex_polyhedron::transformed(const mat3& map, const vec3& translation) const {
+  convex_polyhedron p;
+  p.assign_transformed(*this, map, translation);
+  return p;
+}
+
+TESSERA_INLINE void convex_polyhedron::assign_transformed(const convex_polyhedron& source, const mat3& map,
+                                                          const vec3& translation) {
   require(map.allFinite() && map.determinant() > 0 && translation.allFinite(),
           "convex_polyhedron::transformed: the map must be finite with a positive determinant (it is ",
           map.determinant(), ")");
-  convex_polyhedron p = *this;
-  for (vec3& x : p.vertices_) x = map * x + translation;
-  return p;
+  if (this != &source) {
+    vertices_.resize(source.vertices_.size());
+    face_offsets_.assign(source.face_offsets_.begin(), source.face_offsets_.end());
+    face_vertices_.assign(source.face_vertices_.begin(), source.face_vertices_.end());
+    face_tags_.assign(source.face_tags_.begin(), source.face_tags_.end());
+  }
+  for (std::size_t v = 0; v < vertices_.size(); ++v) vertices_[v] = map * source.vertices_[v] + translation;
 }
 
 TESSERA_INLINE bool convex_polyhedron::clip(const plane& h, index_t tag, real tol) {

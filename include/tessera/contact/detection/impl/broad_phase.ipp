@@ -36,11 +36,16 @@ TESSERA_INLINE void sweep_and_prune(std::span<const aabb> boxes, real margin, st
 [[nodiscard]] TESSERA_INLINE grid_layout layout_grid(std::span<const aabb> boxes, real margin) {
   grid_layout g;
   if (boxes.empty()) return g;
+  real mean = 0;
+  for (const aabb& b : boxes) mean += b.size().maxCoeff() + 2 * margin;
+  g.big = big_box_ratio * mean / static_cast<real>(boxes.size());
   aabb domain;
   for (const aabb& b : boxes) {
-    domain.expand(b.lo);
-    domain.expand(b.hi);
-    g.cell = std::max(g.cell, b.size().maxCoeff() + 2 * margin);
+    if (const real size = b.size().maxCoeff() + 2 * margin; size <= g.big) {
+      domain.expand(b.lo);
+      domain.expand(b.hi);
+      g.cell = std::max(g.cell, size);
+    }
   }
   g.cell = std::max(g.cell, 1e-12 * std::max(domain.size().maxCoeff(), real(1)));
   g.lo = domain.lo - vec3::Constant(margin);
@@ -65,19 +70,32 @@ TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const
     return std::clamp<std::int64_t>(static_cast<std::int64_t>((x - lo[c]) / cell), 0, dims[static_cast<std::size_t>(c)] - 1);
   };
   const auto cell_id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return (k * dims[1] + j) * dims[0] + i; };
-  w.cell_of_entry.clear();
-  w.block_of_entry.clear();
-  for (std::size_t b = 0; b < boxes.size(); ++b) {
-    const aabb& box = boxes[b];
+  // An incremental pass: the cells a marked box reaches, where its pairs are; only their entries
+  // are binned.
+  const bool marks = !only.empty();
+  const auto marked = [&](index_t b) { return !marks || only[static_cast<std::size_t>(b)] != 0; };
+  const auto for_cells = [&](const aabb& box, auto&& visit) {
     for (std::int64_t k = cell_coord(box.lo.z() - margin, 2); k <= cell_coord(box.hi.z() + margin, 2); ++k)
       for (std::int64_t j = cell_coord(box.lo.y() - margin, 1); j <= cell_coord(box.hi.y() + margin, 1); ++j)
-        for (std::int64_t i = cell_coord(box.lo.x() - margin, 0); i <= cell_coord(box.hi.x() + margin, 0); ++i) {
-          w.cell_of_entry.push_back(cell_id(i, j, k));
-          w.block_of_entry.push_back(static_cast<index_t>(b));
-        }
-  }
+        for (std::int64_t i = cell_coord(box.lo.x() - margin, 0); i <= cell_coord(box.hi.x() + margin, 0); ++i)
+          visit(cell_id(i, j, k));
+  };
+  const auto n_cells = static_cast<std::size_t>(g.cells());
+  const auto is_big = [&](std::size_t b) { return boxes[b].size().maxCoeff() + 2 * margin > g.big; };
+  w.reached.assign(marks ? n_cells : 0, 0);
+  if (marks)
+    for (std::size_t b = 0; b < boxes.size(); ++b)
+      if (only[b] != 0 && !is_big(b)) for_cells(boxes[b], [&](std::int64_t c) { w.reached[static_cast<std::size_t>(c)] = 1; });
+  w.cell_of_entry.clear();
+  w.block_of_entry.clear();
+  for (std::size_t b = 0; b < boxes.size(); ++b)
+    if (!is_big(b)) for_cells(boxes[b], [&](std::int64_t c) {
+      if (marks && w.reached[static_cast<std::size_t>(c)] == 0) return;
+      w.cell_of_entry.push_back(c);
+      w.block_of_entry.push_back(static_cast<index_t>(b));
+    });
   // The entries by cell, then by entry (a counting sort: at most 64 cells a block, grid_layout::suits).
-  w.starts.assign(static_cast<std::size_t>(g.cells()) + 1, 0);
+  w.starts.assign(n_cells + 1, 0);
   for (const std::int64_t c : w.cell_of_entry) ++w.starts[static_cast<std::size_t>(c) + 1];
   for (std::size_t c = 1; c < w.starts.size(); ++c) w.starts[c] += w.starts[c - 1];
   w.order.resize(w.cell_of_entry.size());
@@ -88,11 +106,14 @@ TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const
     std::size_t e = s;
     const auto cell_here = w.cell_of_entry[static_cast<std::size_t>(w.order[s])];
     while (e < w.order.size() && w.cell_of_entry[static_cast<std::size_t>(w.order[e])] == cell_here) ++e;
-    for (std::size_t x = s; x < e; ++x)
-      for (std::size_t y = x + 1; y < e; ++y) {
-        const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
+    // Each unordered pair of the cell's entries once, and (marks) only those with a marked block:
+    // entry x marked, then y any other entry but a marked one before x.
+    for (std::size_t x = s; x < e; ++x) {
+      const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
+      if (!marked(a0)) continue;
+      for (std::size_t y = marks ? s : x + 1; y < e; ++y) {
         const index_t b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
-        if (!only.empty() && only[static_cast<std::size_t>(a0)] == 0 && only[static_cast<std::size_t>(b0)] == 0) continue;
+        if (marks && (y == x || (y < x && marked(b0)))) continue;
         const aabb& p = boxes[static_cast<std::size_t>(a0)];
         const aabb& q = boxes[static_cast<std::size_t>(b0)];
         if (!detail::boxes_overlap(p, q, m2)) continue;
@@ -102,7 +123,18 @@ TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const
         if (cell_id(cell_coord(corner.x(), 0), cell_coord(corner.y(), 1), cell_coord(corner.z(), 2)) != cell_here) continue;
         pairs.push_back({std::min(a0, b0), std::max(a0, b0)});
       }
+    }
     s = e;
+  }
+  // The big boxes, against every box (two big ones once).
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
+    if (!is_big(b)) continue;
+    const auto a0 = static_cast<index_t>(b);
+    for (std::size_t x = 0; x < boxes.size(); ++x) {
+      const auto b0 = static_cast<index_t>(x);
+      if (x == b || (x < b && is_big(x)) || (!marked(a0) && !marked(b0))) continue;
+      if (detail::boxes_overlap(boxes[b], boxes[x], m2)) pairs.push_back({std::min(a0, b0), std::max(a0, b0)});
+    }
   }
   std::sort(pairs.begin(), pairs.end());
 }
