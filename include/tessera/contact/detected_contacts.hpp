@@ -359,7 +359,7 @@ class detected_contacts {
   // detected/rebuild.hpp
   void rebuild(const node_set* gp, bool full = true);
   [[nodiscard]] real moved2_of(std::size_t b, const node_set& gp) const noexcept;
-  void index_subcontacts(bool kept_pairs = false);
+  void index_subcontacts(bool kept_pairs = false);  // detected/tasks.hpp
   [[nodiscard]] std::size_t storage_capacity() const noexcept;
   [[nodiscard]] real stored_energy() const;
   // detected/step.hpp
@@ -377,15 +377,9 @@ class detected_contacts {
   [[nodiscard]] vec3 position(index_t g, const node_set* gp) const {
     return detail::gridpoint_position(reference_, g, gp);
   }
-  [[nodiscard]] mat3 frame_matrix(const block_data& b, const node_set* gp) const {
-    return detail::frame_matrix(reference_, b, gp);
-  }
-  [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const {
-    return detail::frame_rotation(reference_, b, gp);
-  }
-  [[nodiscard]] mat3 frame_inverse(const block_data& b, const node_set* gp) const {
-    return detail::frame_inverse(reference_, b, gp);
-  }
+  [[nodiscard]] mat3 frame_matrix(const block_data& b, const node_set* gp) const { return detail::frame_matrix(reference_, b, gp); }
+  [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const { return detail::frame_rotation(reference_, b, gp); }
+  [[nodiscard]] mat3 frame_inverse(const block_data& b, const node_set* gp) const { return detail::frame_inverse(reference_, b, gp); }
 
   /// Energies of sub-contact i (J). Defined in detected/subset.hpp.
   [[nodiscard]] contact_energies energies_of(std::size_t i) const;
@@ -423,8 +417,7 @@ class detected_contacts {
   std::vector<block_motion> motion_;  ///< per block, this step (prepare_step)
   std::vector<real> moved_;  ///< per block, its watched gridpoints' largest squared move since the rebuild (m^2)
   std::vector<index_t> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
-  /// Gridpoints the rebuild trigger reads (rigid: the vertices; deformable: the surface).
-  std::vector<index_t> watch_gridpoints_;
+  std::vector<index_t> watch_gridpoints_;  ///< read by the rebuild trigger (rigid: vertices; deformable: surface)
   // deformable blocks only
   std::vector<index_t> face_node_offsets_, face_nodes_, surface_zones_;
   std::vector<real> face_node_area_, gridpoint_bound_;
@@ -439,10 +432,8 @@ class detected_contacts {
   // rigid blocks: the stable step from the sub-contacts present (bound_present_contacts)
   std::vector<real> present_bound_;   ///< per block, N/m on its farthest vertex
   std::vector<real> present_reach2_;  ///< per block, largest |material point - centroid|^2 (m^2)
-  /// Per pair, its sub-contacts' stiffness sum (N/m) and largest reach^2 from A's and B's centroids
-  /// (m^2): bound_present_contacts' terms, which a kept pair keeps.
-  std::vector<real> pair_stiffness_;
-  std::vector<std::array<real, 2>> pair_reach2_;  ///< (see pair_stiffness_)
+  std::vector<real> pair_stiffness_;  ///< per pair: its sub-contacts' stiffness sum (N/m), kept by a kept pair
+  std::vector<std::array<real, 2>> pair_reach2_;  ///< per pair: largest reach^2 from A's, B's centroids (m^2)
   soa3 rebuild_u_;                                 ///< vertex displacements at the last rebuild
   index_t steps_since_rebuild_ = 0;
   detection::detection_result result_;
@@ -468,8 +459,7 @@ class detected_contacts {
   std::vector<std::uint8_t> fresh_;                ///< created at the last rebuild, not yet updated
   std::array<std::vector<real>, 8> weight_;        ///< affine weights, A's frame 0-3, B's 4-7
   std::array<std::vector<real>, 3> force_;         ///< force on A's side (N)
-  // gather
-  // slot_source_: rigid blocks, an offset into pair_force_; deformable, a sub-contact
+  // gather; slot_source_: rigid blocks, an offset into pair_force_; deformable, a sub-contact
   std::vector<index_t> slot_offsets_{0}, slot_source_, contact_gridpoints_, fill_;
   std::vector<real> slot_weight_;  ///< deformable blocks: the weight of the slot's sub-contact
   /// Rigid blocks, per pair: the forces on A's four frame gridpoints (w f) then B's (-w f),
@@ -485,15 +475,12 @@ class detected_contacts {
   std::vector<std::uint8_t> new_fresh_, kept_old_, redetect_;
   std::vector<std::ptrdiff_t> new_source_;  ///< per new pair: its pass pair j >= 0, or -1 - the kept old pair
   /// A run of the kept pairs' sub-contacts: old sub-contacts [from, from + count) are new [to, to + count).
-  struct kept_run {
-    std::size_t from = 0, to = 0, count = 0;
-  };
+  struct kept_run { std::size_t from = 0, to = 0, count = 0; };
   std::vector<kept_run> kept_runs_;  ///< the kept pairs' sub-contacts, in runs (a rebuild's copies)
   detail::previous_columns<feature_kind> prev_;  ///< the columns a rebuild copies for its kept pairs
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
-  index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0;
-  index_t untouched_last_ = 0;
+  index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0, untouched_last_ = 0;
   std::int64_t redetected_ = 0, narrow_pairs_ = 0;
   double rebuild_seconds_ = 0;
 };
@@ -507,3 +494,4 @@ class detected_contacts {
 #include "detected/step.hpp"
 #include "detected/step_bound.hpp"
 #include "detected/subset.hpp"
+#include "detected/tasks.hpp"
