@@ -24,7 +24,7 @@ struct concrete_set {
   std::string material = "beam";  ///< "prism" (the study's prism concrete) or "beam" (rc_beam's)
   int recipe_blocks = 0;          ///< the recipe's block count (calibrate --blocks); 0 = prism 100, beam 250
   real zone_edge = -1;            ///< beam: face zoning edge (m); < 0 = the beam's h/5 = 0.03 (prism: 0 always)
-  std::string law = "study";      ///< "study", "slip_softening" or "crushing" (beam only; crushing: compression only)
+  std::string law = "study";      ///< "study", "slip_softening" or "crushing" (beam only)
   /// Contact f_T (and c_0) x strength_scale; NaN = the material's (prism 0.907, its calibrated 100-block
   /// scale; beam 1, the study verbatim).
   real strength_scale = std::numeric_limits<real>::quiet_NaN();
@@ -69,8 +69,11 @@ struct concrete_set {
     cohesion_ratio = e.cohesion_ratio;
     phi_0_deg = e.phi_0_deg;
     phi_res_deg = e.phi_res_deg;
-    g_ii = e.law == "slip_softening" ? e.g_ii : 0;
+    g_ii = e.law == "slip_softening" || e.law == "crushing" ? e.g_ii : 0;
     cap = e.cap;
+    g_c = e.law == "crushing" ? e.g_c : 0;
+    cap_residual = e.law == "crushing" ? e.cap_residual : real(0.1);
+    crush_shear = e.law == "crushing" && e.crush_shear;
   }
 };
 
