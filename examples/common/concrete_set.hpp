@@ -102,10 +102,10 @@ inline calibration_entry load_concrete_params(concrete_set& c, const std::filesy
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
 /// o.law (--law study|slip_softening), o.g_ii (--g-ii, J/m^2), o.phi_deg and o.phi_res_deg
 /// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
-/// --cap's help (what the driver does with the cap). Options with a member g_c (compression) also
-/// get --law crushing and its --g-c (J/m^2), --cap-residual and --crush-shear. brazilian parses its
-/// own flags with the same ranges and help texts (law_flag_help, g_ii_flag_help); calibrate's start
-/// flags differ on purpose.
+/// --cap's help (what the driver does with the cap). Options with a member g_c (compression,
+/// rc_beam) also get --law crushing and its --g-c (J/m^2), --cap-residual and --crush-shear.
+/// brazilian parses its own flags with the same ranges and help texts (crushing_law_flag_help);
+/// calibrate's start flags differ on purpose.
 template <class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
   if constexpr (requires { o.g_c; }) {
@@ -130,7 +130,8 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
 }
 
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
-/// (law::study_tie_law for prism; presets::study_beam_law or slip_softening_beam_law for beam), and
+/// (law::study_tie_law for prism; presets::study_beam_law, slip_softening_beam_law or
+/// crushing_beam_law for beam), and
 /// returns its result. Throws invalid_input naming a bad combination or value (the law's validate;
 /// the drivers check phi_res <= phi_0 themselves, naming their flags).
 template <class F>
