@@ -746,7 +746,7 @@ tessera_add_example_test(brazilian NAME example_brazilian_slip_softening_quick
 tessera_add_refusal_test(refuse_brazilian_g_ii_study brazilian
   "brazilian: --g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --material beam --g-ii 100)
 tessera_add_refusal_test(refuse_brazilian_law brazilian
-  "brazilian: --law: invalid value 'soft' \\(expected study or slip_softening\\)" --threads 1 --material beam --law soft)
+  "brazilian: --law: invalid value 'soft' \\(expected study, slip_softening or crushing\\)" --threads 1 --material beam --law soft)
 tessera_add_refusal_test(refuse_brazilian_law_prism brazilian
   "brazilian: --law slip_softening applies to --material beam only" --threads 1 --law slip_softening)
 tessera_add_refusal_test(refuse_brazilian_g_ii_small brazilian
@@ -833,7 +833,7 @@ tessera_add_refusal_test(refuse_rc_beam_g_ii_study rc_beam
 tessera_add_refusal_test(refuse_rc_beam_g_ii_small rc_beam
   "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --law slip_softening --g-ii 10)
 tessera_add_refusal_test(refuse_rc_beam_law rc_beam
-  "--law: invalid value 'soft' \\(expected study or slip_softening\\)" --threads 1 --law soft)
+  "--law: invalid value 'soft' \\(expected study or slip_softening or crushing\\)" --threads 1 --law soft)
 tessera_add_refusal_test(refuse_rc_beam_phi_res rc_beam
   "rc_beam: --phi-res-deg 40 must not exceed --phi-deg 35" --threads 1 --phi-res-deg 40)
 tessera_add_refusal_test(refuse_rc_beam_cap_elastic rc_beam
@@ -863,16 +863,18 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_params_slip_quick
          "phi_0_deg GREATER 57.99" "phi_0_deg LESS 58.01" "phi_res_deg GREATER 14.99" "phi_res_deg LESS 15.01"
          "cap_Pa EQUAL 100000000" "contact_c_0_Pa EQUAL 5000000"
   TIMEOUT 600)
-if(TEST example_rc_beam_params_slip_quick)
-  set_tests_properties(example_rc_beam_slip_softening_quick example_rc_beam_params_slip_quick PROPERTIES
-                       FIXTURES_SETUP rc_beam_slip_pair)
-  add_test(NAME example_rc_beam_params_slip_same_bits
-           COMMAND ${CMAKE_COMMAND} -E compare_files
-                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rc_beam_params_slip_quick/curve.csv
-                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_rc_beam_slip_softening_quick/curve.csv)
-  set_tests_properties(example_rc_beam_params_slip_same_bits PROPERTIES FIXTURES_REQUIRED rc_beam_slip_pair
-                       LABELS example)
-endif()
+# tessera_add_same_curve_test(NAME A B): NAME passes when example tests A and B wrote the same
+# curve.csv bits (A and B run first, as its fixture).
+function(tessera_add_same_curve_test name a b)
+  if(TEST ${a} AND TEST ${b})
+    set_tests_properties(${a} ${b} PROPERTIES FIXTURES_SETUP ${name}_pair)
+    add_test(NAME ${name} COMMAND ${CMAKE_COMMAND} -E compare_files
+             ${CMAKE_CURRENT_BINARY_DIR}/example_out/${a}/curve.csv ${CMAKE_CURRENT_BINARY_DIR}/example_out/${b}/curve.csv)
+    set_tests_properties(${name} PROPERTIES FIXTURES_REQUIRED ${name}_pair LABELS example)
+  endif()
+endfunction()
+tessera_add_same_curve_test(example_rc_beam_params_slip_same_bits example_rc_beam_params_slip_quick
+                            example_rc_beam_slip_softening_quick)
 tessera_add_refusal_test(refuse_rc_beam_params_slip_zoning rc_beam
   "concrete_beam_slip.json was fitted with a face zoning edge of 0.03 m, this run uses 0.05 m"
   --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip.json)
@@ -1059,6 +1061,65 @@ tessera_add_refusal_test(refuse_compression_g_c_small compression
   "compressive fracture energy too small for the law: G_c = 500 J/m.2 must exceed" --threads 1 --law crushing
   --g-c 500 --shape prism --diameter 0.1 --height 0.2)
 
+# ---- --law crushing beyond compression (issue #63): brazilian, rc_beam, calibrated.json and calibrate
+# --targets take the crushing law with --g-c, --cap-residual and --crush-shear as compression does.
+# The quick disc with the compression set (phi_0 58, phi_res 15, G_II 300, cap 100 MPa, G_c 10 kJ/m^2),
+# seed 1 to 1 mm (6 s): before its peak no contact reaches the softening cap, so P_max and f_sp / f_T
+# are the slip-softening law's to the bit (3.831, measured); after it the crushing cap takes the wedges'
+# load away: the disc splits at 453 um under 28.35 kN, where --law slip_softening still carries 82.56 kN
+# at 477 um (measured, docs/studies/one_concrete.md).
+tessera_add_example_test(brazilian NAME example_brazilian_crushing_quick
+  ARGS --quick --threads 1 --material beam --law crushing --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6
+       --g-c 1e4 --max-displacement 1e-3
+  CHECKS "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
+         "g_ii_J_per_m2 EQUAL 300" "split STREQUAL ON" "f_sp_over_f_T GREATER 3.826" "f_sp_over_f_T LESS 3.836"
+         "split_load_N LESS 40e3" "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 300)
+tessera_add_refusal_test(refuse_brazilian_g_c_study brazilian
+  "brazilian: --g-c applies to --law crushing only \\(--law slip_softening" --threads 1 --material beam
+  --law slip_softening --g-c 1e4)
+tessera_add_refusal_test(refuse_brazilian_cap_residual brazilian
+  "brazilian: --cap-residual = '1.5' must be a number in \\[0, 1\\]" --threads 1 --material beam --law crushing
+  --cap-residual 1.5)
+# The quick beam with the crushing law to 0.4 mm (15 s of CPU): in tension the law is the slip-softening
+# law (first crack 14.14 kN, as example_rc_beam_slip_softening_quick), the law's set is recorded; the
+# same beam from tests/data/concrete_beam_crushing_quick.json (--params) writes the same curve.csv bits
+# (measured). Refused: a crushing flag with another law, a G_c below the law's bound for the cap, a
+# file entry of law crushing without G_c, with a residual outside [0, 1], G_c in a slip-softening entry.
+tessera_add_example_test(rc_beam NAME example_rc_beam_crushing_quick
+  ARGS --quick --threads 1 --no-vtk --law crushing --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6 --g-c 1e4
+       --max-deflection 4e-4
+  FILES curve.csv
+  CHECKS "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
+         "crush_shear STREQUAL OFF" "g_ii_J_per_m2 EQUAL 300" "cap_Pa EQUAL 100000000"
+         "first_crack_load_N GREATER 14.13e3" "first_crack_load_N LESS 14.15e3" "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 300)
+tessera_add_example_test(rc_beam NAME example_rc_beam_params_crushing_quick
+  ARGS --quick --threads 1 --no-vtk --max-deflection 4e-4
+       --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_crushing_quick.json
+  FILES curve.csv
+  CHECKS "parameters STREQUAL calibrated" "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "phi_0_deg GREATER 57.99"
+         "phi_0_deg LESS 58.01"
+  TIMEOUT 300)
+tessera_add_same_curve_test(example_rc_beam_params_crushing_same_bits example_rc_beam_params_crushing_quick
+                            example_rc_beam_crushing_quick)
+tessera_add_refusal_test(refuse_rc_beam_crush_shear_study rc_beam
+  "rc_beam: --crush-shear applies to --law crushing only \\(--law study" --threads 1 --crush-shear)
+tessera_add_refusal_test(refuse_rc_beam_g_c_small rc_beam
+  "compressive fracture energy too small for the law: G_c = 100 J/m.2 must exceed" --threads 1 --law crushing --g-c 100)
+tessera_add_refusal_test(refuse_rc_beam_params_no_g_c rc_beam
+  "concrete_beam_crushing_no_gc.json: entries\\[0\\]: law crushing needs \"G_c_J_per_m2\""
+  --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_crushing_no_gc.json)
+tessera_add_refusal_test(refuse_compression_params_cap_residual compression
+  "entries\\[0\\].cap_residual = 1.5 must lie in \\[0, 1\\]" --threads 1 --zone-edge 0.05 --recipe-blocks 60
+  --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_crushing_bad_residual.json)
+tessera_add_refusal_test(refuse_brazilian_params_g_c_slip brazilian
+  "entries\\[0\\].G_c_J_per_m2: applies to law crushing only \\(this entry's law is slip_softening\\)"
+  --threads 1 --material beam --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip_with_gc.json)
+tessera_add_refusal_test(refuse_calibrate_targets_fit_gc calibrate
+  "calibrate: --fit gc needs --law crushing \\(--law slip_softening has no G_c\\)" --threads 1 --targets tension
+  --law slip_softening --fit gc)
+
 # ---- --params on brazilian and compression (issue #63 item 4): calibrated.json carries the whole
 # concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap; common/concrete_set.hpp). The beam file
 # tests/data/concrete_beam_slip.json holds the slip-softening set that met f_c (phi_0 58, phi_res 15,
@@ -1130,13 +1191,39 @@ tessera_add_example_test(brazilian NAME example_brazilian_params_from_targets
   CHECKS "split STREQUAL ON" "recipe_blocks EQUAL 60"
   TIMEOUT 300)
 set_tests_properties(example_brazilian_params_from_targets PROPERTIES DEPENDS example_calibrate_targets_quick)
-add_test(NAME example_calibrate_targets_rerun_matches
-         COMMAND ${CMAKE_COMMAND} -E env python3 -c
-                 "import json,sys; c=json.load(open(sys.argv[1])); b=json.load(open(sys.argv[2])); d=json.load(open(sys.argv[3])); e=d['entries'][0]; ok=abs(c['holdout_splitting_value']-b['f_sp_over_f_T'])<=1e-12*b['f_sp_over_f_T'] and b['strength_scale']==e['strength_scale'] and b['cohesion_ratio']==e['cohesion_ratio']; print(c['holdout_splitting_value'], b['f_sp_over_f_T'], e['strength_scale']); sys.exit(0 if ok else 1)"
-                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/summary.json
-                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_brazilian_params_from_targets/summary.json
-                 ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/calibrated.json)
-set_tests_properties(example_calibrate_targets_rerun_matches PROPERTIES DEPENDS example_brazilian_params_from_targets)
+# tessera_add_targets_rerun_test(NAME CALIBRATE BRAZILIAN FIELD...): NAME passes when the brazilian
+# example test BRAZILIAN (run on calibrate's held-out seed with its calibrated.json) gives the
+# splitting figure the calibrate example test CALIBRATE reported for that seed, and its summary.json
+# has each FIELD as the file's entry has it.
+function(tessera_add_targets_rerun_test name calibrate brazilian)
+  set(out ${CMAKE_CURRENT_BINARY_DIR}/example_out)
+  add_test(NAME ${name}
+           COMMAND ${CMAKE_COMMAND} -E env python3 -c
+                   "import json,sys; c=json.load(open(sys.argv[1])); b=json.load(open(sys.argv[2])); e=json.load(open(sys.argv[3]))['entries'][0]; ok=abs(c['holdout_splitting_value']-b['f_sp_over_f_T'])<=1e-12*b['f_sp_over_f_T'] and all(b[k]==e[k] for k in sys.argv[4:]); print(c['holdout_splitting_value'], b['f_sp_over_f_T'], [e[k] for k in sys.argv[4:]]); sys.exit(0 if ok else 1)"
+                   ${out}/${calibrate}/summary.json ${out}/${brazilian}/summary.json ${out}/${calibrate}/calibrated.json
+                   ${ARGN})
+  set_tests_properties(${name} PROPERTIES DEPENDS ${brazilian})
+endfunction()
+tessera_add_targets_rerun_test(example_calibrate_targets_rerun_matches example_calibrate_targets_quick
+                               example_brazilian_params_from_targets strength_scale cohesion_ratio)
+# calibrate --targets --law crushing --fit gc: the quick disc on seed 1, one compass iteration on G_c
+# from 20 kJ/m^2 (10 s): calibrated.json carries the law, G_c and the residual; brazilian loads it and
+# on the held-out seed 2 gives the splitting figure calibrate reported for that seed.
+tessera_add_example_test(calibrate NAME example_calibrate_targets_crushing_quick
+  ARGS --targets splitting --law crushing --fit gc --quick --seed 1 --threads 1
+  FILES calibrated.json
+  CHECKS "mode STREQUAL targets" "law STREQUAL crushing" "G_c_J_per_m2 GREATER 1000" "cap_residual GREATER 0.099"
+         "cap_residual LESS 0.101" "holdout_splitting_reached EQUAL 1"
+  TIMEOUT 300)
+tessera_add_example_test(brazilian NAME example_brazilian_params_from_crushing_targets
+  ARGS --quick --threads 1 --seed 2 --material beam --recipe-blocks 60 --zone-edge 0.05 --blocks 12
+       --params ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_crushing_quick/calibrated.json
+  CHECKS "split STREQUAL ON" "law STREQUAL crushing" "G_c_J_per_m2 GREATER 1000"
+  TIMEOUT 300)
+set_tests_properties(example_brazilian_params_from_crushing_targets PROPERTIES
+                     DEPENDS example_calibrate_targets_crushing_quick)
+tessera_add_targets_rerun_test(example_calibrate_targets_crushing_rerun_matches example_calibrate_targets_crushing_quick
+                               example_brazilian_params_from_crushing_targets G_c_J_per_m2 cap_residual)
 tessera_add_refusal_test(refuse_calibrate_targets_name calibrate
   "calibrate: --targets: 'shear' is not a target \\(tension, energy, splitting, compression\\)" --threads 1 --targets tension,shear)
 tessera_add_refusal_test(refuse_calibrate_targets_weights calibrate

@@ -14,7 +14,10 @@
 // opening across the loaded diameter (the flats x = +-a over the middle third); summary.json the load and
 // opening when the split is found. --law (beam only): study (study_beam_law) or slip_softening
 // (slip_softening_beam_law: c_0 and phi_0 soften with the plastic slip to c_res and --phi-res-deg over
-// the mode-II fracture energy --g-ii), as compression; --cap (beam): the contacts' compressive cap (35 MPa).
+// the mode-II fracture energy --g-ii) or crushing (crushing_beam_law: slip_softening whose cap --cap softens
+// with the plastic closure to --cap-residual x --cap over the compressive fracture energy --g-c;
+// --crush-shear: the shear limit falls with it), as compression; --cap (beam): the contacts' compressive
+// cap (35 MPa).
 // --params FILE: the concrete of a calibrated.json
 // entry (calibrate; common/concrete_set.hpp), its law, scales, c_0/f_T, phi_0, phi_res, G_II and cap,
 // for the recipe named by --material, --recipe-blocks and --zone-edge (refused, naming both values, if
@@ -52,6 +55,8 @@ struct disc_flags {
   real g_ii = 0;  // mode-II fracture energy with --law slip_softening (J/m^2); 0: scenes::default_g_ii
   real recipe_blocks = 0, zone_edge = -1;  // the recipe's block count (0: prism 100, beam 250); beam zoning (m, <0: 0.03)
   real cap = 35e6;  // the beam's contact compressive cap (Pa)
+  real g_c = 0, cap_residual = 0.1;  // --law crushing: G_c (J/m^2; 0: scenes::default_g_c), residual cap / cap
+  bool crush_shear = false;          // --law crushing: the shear limit times the cap's remaining fraction
 };
 
 template <class joint_law>
@@ -63,7 +68,7 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
 int main(int argc, char** argv) {
   disc_flags o;
   auto& [out, material, law, params, quick, seed, threads, n_blocks, sides, diameter, thickness, scale, rate, du, u_max,
-         cohesion_ratio, phi_deg, phi_res_deg, g_ii, recipe_blocks, zone_edge, cap] = o;
+         cohesion_ratio, phi_deg, phi_res_deg, g_ii, recipe_blocks, zone_edge, cap, g_c, cap_residual, crush_shear] = o;
   struct flag { const char* name; real* value; real lo, hi; bool integer; };  // a number flag and its range
   const flag flags[] = {{"--seed", &seed, 1, 1e9, true}, {"--threads", &threads, 0, 256, true},
       {"--blocks", &n_blocks, 0, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
@@ -71,7 +76,8 @@ int main(int argc, char** argv) {
       {"--rate", &rate, 1e-5, 0.1, false}, {"--step-displacement", &du, 1e-10, 1e-7, false},
       {"--max-displacement", &u_max, 1e-6, 0.01, false}, {"--cohesion-ratio", &cohesion_ratio, 0.1, 20, false},
       {"--phi-deg", &phi_deg, 0, 80, false}, {"--phi-res-deg", &phi_res_deg, 0, 80, false}, {"--g-ii", &g_ii, 0, 1e6, false},
-      {"--recipe-blocks", &recipe_blocks, 0, 750, true}, {"--zone-edge", &zone_edge, 0, 1, false}, {"--cap", &cap, 1e6, 1e10, false}};
+      {"--recipe-blocks", &recipe_blocks, 0, 750, true}, {"--zone-edge", &zone_edge, 0, 1, false}, {"--cap", &cap, 1e6, 1e10, false},
+      {"--g-c", &g_c, 0, 1e8, false}, {"--cap-residual", &cap_residual, 0, 1, false}};
   std::vector<std::string> concrete_flags;  // flags --params replaces
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -81,7 +87,8 @@ int main(int argc, char** argv) {
                 "  [--blocks 0..2000] [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
                 "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]\n"
-                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening] [--g-ii 0..1e6 J/m^2]\n"
+                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening|crushing] [--g-ii 0..1e6 J/m^2]\n"
+                "  [--g-c 0..1e8 J/m^2] [--cap-residual 0..1] [--crush-shear]\n"
                 "  [--recipe-blocks 0..750] [--zone-edge 0..1 m] [--cap 1e6..1e10 Pa, beam: 35e6] [--params FILE]:\n"
                 "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
                 "  --material: the concrete of examples/calibrate --material, its law, parameters, block size and zoning:\n"
@@ -90,15 +97,21 @@ int main(int argc, char** argv) {
                 "  face zoning). --recipe-blocks: the recipe's block count (calibrate --blocks; 0 = prism 100, beam 250):\n"
                 "  its contacts and block size; --zone-edge (beam): its face zoning (0 = 0.03 m). --params FILE: the\n"
                 "  concrete of calibrate's calibrated.json for that recipe (law, scales, c_0/f_T, phi_0, phi_res, G_II,\n"
-                "  cap), instead of --strength-scale, --cohesion-ratio, --phi-deg, --phi-res-deg, --law, --g-ii and --cap.\n"
+                "  cap, G_c, residual cap), instead of --strength-scale, --cohesion-ratio, --phi-deg, --phi-res-deg, --law,\n"
+                "  --g-ii, --cap, --g-c, --cap-residual and --crush-shear.\n"
                 "  --blocks 0: the material's block size. --quick: 5 nm per step.");
-      std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n", scenes::law_flag_help, scenes::g_ii_flag_help);
+      std::printf("  --law: %s; --material beam only.\n  --g-ii: mode-II fracture energy G_II with --law slip_softening or "
+                  "crushing (J/m^2; 0 = 500).\n  --g-c: compressive fracture energy G_c with --law crushing, plastic work per "
+                  "contact area above the residual cap (J/m^2; 0 = 20000).\n  --cap-residual: residual cap with --law crushing, "
+                  "a fraction of --cap (0.1).\n  --crush-shear: with --law crushing, the shear limit falls with the cap's "
+                  "remaining fraction too.\n", scenes::crushing_law_flag_help);
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--material" && i + 1 < argc) material = argv[++i];
     else if (a == "--law" && i + 1 < argc) law = argv[++i], concrete_flags.push_back(a);
     else if (a == "--params" && i + 1 < argc) params = argv[++i];
     else if (a == "--quick") quick = true;
+    else if (a == "--crush-shear") crush_shear = true, concrete_flags.push_back(a);
     else if (f != std::end(flags)) {
       const char* v = i + 1 < argc ? argv[++i] : "";
       char* end = nullptr;
@@ -108,15 +121,20 @@ int main(int argc, char** argv) {
                             f->integer ? "an integer" : "a number", f->lo, f->hi), 2;
       *f->value = x;
       if (f->value == &scale || f->value == &cohesion_ratio || f->value == &phi_deg || f->value == &phi_res_deg || f->value == &g_ii ||
-          f->value == &cap)
+          f->value == &cap || f->value == &g_c || f->value == &cap_residual)
         concrete_flags.push_back(a);
     } else return std::fprintf(stderr, "brazilian: unknown or incomplete argument '%s' (see --help)\n", a.c_str()), 2;
   }
   if (material != "prism" && material != "beam")
     return std::fprintf(stderr, "brazilian: --material '%s' is not a concrete recipe (expected prism or beam)\n",
                         material.c_str()), 2;
-  if (law != "study" && law != "slip_softening")
-    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study or slip_softening)\n", law.c_str()), 2;
+  if (law != "study" && law != "slip_softening" && law != "crushing")
+    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study, slip_softening or crushing)\n",
+                        law.c_str()), 2;
+  for (const char* crush_flag : {"--g-c", "--cap-residual", "--crush-shear"})
+    if (law != "crushing" && std::find(concrete_flags.begin(), concrete_flags.end(), crush_flag) != concrete_flags.end())
+      return std::fprintf(stderr, "brazilian: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
+                          crush_flag, law.c_str()), 2;
   if (material == "prism" && law != "study")
     return std::fprintf(stderr, "brazilian: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
                         law.c_str()), 2;
@@ -144,6 +162,7 @@ int main(int argc, char** argv) {
   set.material = material, set.recipe_blocks = static_cast<int>(recipe_blocks), set.zone_edge = zone_edge;
   set.law = law, set.strength_scale = scale, set.cohesion_ratio = cohesion_ratio, set.phi_0_deg = phi_deg;
   set.phi_res_deg = phi_res_deg, set.g_ii = g_ii, set.cap = cap;
+  set.g_c = g_c, set.cap_residual = cap_residual, set.crush_shear = crush_shear;
   try {
     if (!params.empty()) scenes::load_concrete_params(set, params, du, rate, "brazilian");
     require(set.phi_res_deg <= set.phi_0_deg, "brazilian: --phi-deg ", set.phi_0_deg, " must not be below the residual ",
@@ -172,11 +191,13 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   io::ensure_directory(o.out);  // run.json "running"
   const scenes::disc_result r = scenes::run_brazilian_disc(d, recipe);
   const real none = std::numeric_limits<real>::quiet_NaN(), f_t = r.f_t;
-  const bool slip = set.law == "slip_softening";
+  const bool slip = set.law == "slip_softening" || set.law == "crushing", crush = set.law == "crushing";
   const std::filesystem::path out(o.out);
   io::write_csv(out / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {r.u, r.p_top, r.p_bottom, r.opening});
   io::summary_json j;
   j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", slip ? scenes::g_ii_or_default(set.g_ii) : none)
+      .set("G_c_J_per_m2", crush ? (set.g_c > 0 ? set.g_c : scenes::default_g_c) : none)
+      .set("cap_residual", crush ? set.cap_residual : none).set("crush_shear", crush && set.crush_shear)
       .set("params", o.params.empty() ? "flags" : o.params).set("recipe_blocks", set.blocks())
       .set("fracture_energy_scale", set.fracture_energy_scale).set("cap_Pa", set.material == "beam" ? set.cap : none)
       .set("phi_res_deg", r.phi_res_deg).set("quick", o.quick).set("seed", o.seed).set("blocks", r.blocks).set("sides", o.sides)

@@ -20,9 +20,10 @@
 // value at the cap.
 //
 // Search: compass (coordinate pattern) search on J = sum_i w_i r_i^2 over the parameters of --fit
-// (strength scale, c_0/f_T, phi_0, phi_res, G_f scale, G_II, cap). From the start set, each
+// (strength scale, c_0/f_T, phi_0, phi_res, G_f scale, G_II, cap, G_c). From the start set, each
 // iteration tries every parameter in turn one step up, then one step down, and keeps the first
-// move that lowers J; an iteration without a move halves the step. Scales, c_0/f_T, G_II and the
+// move that lowers J; an iteration without a move halves the step (a move the law refuses, such as
+// a G_c below its snap-back bound for the cap, is skipped). Scales, c_0/f_T, G_II, G_c and the
 // cap move by a factor (1 + h), the angles by 25 h degrees, h = --step (0.2) at first; each stays
 // in its bounds (fit_bounds). Derivative-free, so a noisy objective (Voronoi seeds, a peak found on
 // a sampled curve) cannot mislead it with a bad gradient; every evaluation is one run of each
@@ -95,14 +96,15 @@ struct fit_parameter {
       {"phires", &concrete_set::phi_res_deg, 0, 75, true},
       {"energy", &concrete_set::fracture_energy_scale, 0.1, 10, false},
       {"gii", &concrete_set::g_ii, 10, 1e5, false},
-      {"cap", &concrete_set::cap, 5e6, 1e9, false}};
+      {"cap", &concrete_set::cap, 5e6, 1e9, false},
+      {"gc", &concrete_set::g_c, 100, 1e8, false}};
   return p;
 }
 [[nodiscard]] inline const fit_parameter& fit_parameter_named(const std::string& name) {
   for (const fit_parameter& p : fit_parameters())
     if (name == p.name) return p;
   throw invalid_input(tessera::detail::concat("calibrate: --fit: '", name,
-                                              "' is not a parameter (strength, cohesion, phi0, phires, energy, gii, cap)"));
+                                              "' is not a parameter (strength, cohesion, phi0, phires, energy, gii, cap, gc)"));
 }
 
 /// One target's figure over a set of seeds.
@@ -224,11 +226,22 @@ struct evaluation {
   real& x = c.*p.field;
   if (p.field == &concrete_set::strength_scale) x = c.scale();
   if (p.field == &concrete_set::g_ii) x = g_ii_or_default(x);
+  if (p.field == &concrete_set::g_c && x == 0) x = default_g_c;
   const real hi = p.field == &concrete_set::phi_res_deg ? std::min(p.hi, c.phi_0_deg) : p.hi;
   const real lo = p.field == &concrete_set::phi_0_deg ? std::max(p.lo, c.phi_res_deg) : p.lo;
   x = p.angle ? x + dir * 25 * h : x * (dir > 0 ? 1 + h : 1 / (1 + h));
   x = std::clamp(x, lo, hi);
   return c;
+}
+
+/// Whether the contact law accepts set c (with_concrete's checks; e.g. G_c above its bound for the cap).
+[[nodiscard]] inline bool law_accepts(const concrete_set& c) {
+  try {
+    with_concrete(c, [](const auto&) { return 0; });
+    return true;
+  } catch (const invalid_input&) {
+    return false;
+  }
 }
 
 /// The compass search of the file comment; `log` prints and records every evaluation.
@@ -243,7 +256,7 @@ template <class Log>
       const fit_parameter& p = fit_parameter_named(name);
       for (const int dir : {+1, -1}) {
         const concrete_set trial = moved(best.set, p, h, dir);
-        if (trial.*p.field == best.set.*p.field) continue;  // at a bound
+        if (trial.*p.field == best.set.*p.field || !law_accepts(trial)) continue;  // at a bound, or refused
         const evaluation ev = evaluate_targets(o, trial, o.seed, o.seeds);
         log(ev, it, tessera::detail::concat(name, dir > 0 ? " +" : " -", h));
         if (ev.objective < best.objective) {

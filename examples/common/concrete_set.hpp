@@ -24,7 +24,7 @@ struct concrete_set {
   std::string material = "beam";  ///< "prism" (the study's prism concrete) or "beam" (rc_beam's)
   int recipe_blocks = 0;          ///< the recipe's block count (calibrate --blocks); 0 = prism 100, beam 250
   real zone_edge = -1;            ///< beam: face zoning edge (m); < 0 = the beam's h/5 = 0.03 (prism: 0 always)
-  std::string law = "study";      ///< "study", "slip_softening" or "crushing" (beam only; crushing: compression only)
+  std::string law = "study";      ///< "study", "slip_softening" or "crushing" (beam only)
   /// Contact f_T (and c_0) x strength_scale; NaN = the material's (prism 0.907, its calibrated 100-block
   /// scale; beam 1, the study verbatim).
   real strength_scale = std::numeric_limits<real>::quiet_NaN();
@@ -69,8 +69,11 @@ struct concrete_set {
     cohesion_ratio = e.cohesion_ratio;
     phi_0_deg = e.phi_0_deg;
     phi_res_deg = e.phi_res_deg;
-    g_ii = e.law == "slip_softening" ? e.g_ii : 0;
+    g_ii = e.law == "slip_softening" || e.law == "crushing" ? e.g_ii : 0;
     cap = e.cap;
+    g_c = e.law == "crushing" ? e.g_c : 0;
+    cap_residual = e.law == "crushing" ? e.cap_residual : real(0.1);
+    crush_shear = e.law == "crushing" && e.crush_shear;
   }
 };
 
@@ -99,10 +102,10 @@ inline calibration_entry load_concrete_params(concrete_set& c, const std::filesy
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
 /// o.law (--law study|slip_softening), o.g_ii (--g-ii, J/m^2), o.phi_deg and o.phi_res_deg
 /// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
-/// --cap's help (what the driver does with the cap). Options with a member g_c (compression) also
-/// get --law crushing and its --g-c (J/m^2), --cap-residual and --crush-shear. brazilian parses its
-/// own flags with the same ranges and help texts (law_flag_help, g_ii_flag_help); calibrate's start
-/// flags differ on purpose.
+/// --cap's help (what the driver does with the cap). Options with a member g_c (compression,
+/// rc_beam) also get --law crushing and its --g-c (J/m^2), --cap-residual and --crush-shear.
+/// brazilian parses its own flags with the same ranges and help texts (crushing_law_flag_help);
+/// calibrate's start flags differ on purpose.
 template <class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
   if constexpr (requires { o.g_c; }) {
@@ -127,7 +130,8 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
 }
 
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
-/// (law::study_tie_law for prism; presets::study_beam_law or slip_softening_beam_law for beam), and
+/// (law::study_tie_law for prism; presets::study_beam_law, slip_softening_beam_law or
+/// crushing_beam_law for beam), and
 /// returns its result. Throws invalid_input naming a bad combination or value (the law's validate;
 /// the drivers check phi_res <= phi_0 themselves, naming their flags).
 template <class F>

@@ -32,7 +32,7 @@
 // closure to --cap-residual x --cap over the compressive fracture energy --g-c; --crush-shear scales
 // the shear limit by the cap's remaining fraction too).
 // --params FILE: the concrete of a calibrated.json entry (calibrate; common/concrete_set.hpp): law,
-// strength and fracture-energy scales, c_0/f_T, phi_0, phi_res, G_II, cap, for the recipe named by
+// strength and fracture-energy scales, c_0/f_T, phi_0, phi_res, G_II, cap (G_c, residual cap), for the recipe named by
 // --material, --recipe-blocks and --zone-edge (refused, naming both values, if the file's differs).
 // VTK (--no-vtk to skip): zones (displacement, stress) and contacts (every law field) at the end of the
 // run (past the peak, or at --max-strain), end_zones.vtu and end_contacts.vtp in compression.pvd.

@@ -62,6 +62,7 @@ inline void concrete_set_from(const compression_options& o, concrete_set& c) {
 inline void concrete_set_to(const concrete_set& c, compression_options& o) {
   o.law = c.law, o.g_ii = c.g_ii, o.cohesion_ratio = c.cohesion_ratio, o.phi_deg = c.phi_0_deg;
   o.phi_res_deg = c.phi_res_deg, o.cap = c.cap, o.f_t = 0;
+  o.g_c = c.g_c, o.cap_residual = c.cap_residual, o.crush_shear = c.crush_shear;
 }
 
 inline constexpr int compression_sides = 36;  ///< the cylinder's polygon

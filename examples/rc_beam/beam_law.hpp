@@ -9,6 +9,9 @@
 //   slip_softening  presets::slip_softening_beam_law: the same tension and cap, cohesion and
 //                   friction softening linearly with the plastic slip from (c_0, phi_0) to
 //                   (c_res, phi_res) over s_u = 2 G_II / (c_0 - c_res) (docs/model.md)
+//   crushing        presets::crushing_beam_law: slip_softening whose cap --cap softens linearly with
+//                   the plastic closure to --cap-residual x --cap over G_c (--g-c); --crush-shear
+//                   scales the shear limit by the cap's remaining fraction (law::softening_cap)
 //
 // In pure tension the two laws are the same law. The hand values (cracking, yield, EC2's and
 // Zsutty's shear) keep the concrete's f_c = 35 MPa whatever --cap the contacts take: the cap is a
@@ -27,7 +30,10 @@
 namespace tessera::scenes {
 
 /// The flags --params replaces: the file sets the concrete.
-inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg", "--phi-res-deg", "--cap"};
+inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg", "--phi-res-deg", "--cap",
+                                                 "--g-c", "--cap-residual", "--crush-shear"};
+/// The flags of --law crushing only (refused with another law).
+inline constexpr const char* beam_crushing_flags[] = {"--g-c", "--cap-residual", "--crush-shear"};
 
 /// rc_beam --params FILE (`file`): the entry of calibrated.json for o's recipe (the beam material,
 /// o.blocks, o's face zoning and this beam's half volume; refused with both values named otherwise,
@@ -48,15 +54,22 @@ inline real load_beam_params(beam_options& o, const std::string& file, real rate
   o.phi_res_deg = c.phi_res_deg;
   o.g_ii = c.g_ii;
   o.cap = c.cap;
+  o.g_c = c.g_c;
+  o.cap_residual = c.cap_residual;
+  o.crush_shear = c.crush_shear;
   return e.initial_modulus;
 }
 
-/// Refuses a law flag (beam_law_flags) given beside --params `params`: the file sets the concrete.
-/// Throws invalid_input naming the flag and the file.
-inline void check_beam_law_flags(const cli::parser& cli, const std::string& params) {
+/// Refuses a law flag (beam_law_flags) given beside --params `params`: the file sets the concrete;
+/// and a crushing flag (beam_crushing_flags) with --law `law` other than crushing. Throws
+/// invalid_input naming the flag and the file or law.
+inline void check_beam_law_flags(const cli::parser& cli, const std::string& params, const std::string& law) {
   for (const char* flag : beam_law_flags)
     require(params.empty() || !cli.given(flag), "rc_beam: ", flag, " with --params ", params,
             ": the file sets the concrete (drop the flag)");
+  for (const char* flag : beam_crushing_flags)
+    require(law == "crushing" || !cli.given(flag), "rc_beam: ", flag, " applies to --law crushing only (--law ", law,
+            " has a cap that does not soften)");
 }
 
 /// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set and
@@ -71,14 +84,18 @@ inline void check_beam_law_set(const beam_options& o) {
 }
 
 /// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (null for the study's law),
+/// G_c_J_per_m2, cap_residual and crush_shear (null, null, false but with law crushing),
 /// phi_0_deg, phi_res_deg, cap_Pa, contact_c_0_Pa, contact_c_res_Pa of the scene's contacts (after
 /// calibration), plate_friction_deg.
 inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
   const beam_options& o = s.options;
-  const bool slip = o.law == "slip_softening";
+  const bool slip = o.law != "study", crush = o.law == "crushing";
   const real none = std::numeric_limits<real>::quiet_NaN(), g_ii = slip ? g_ii_or_default(o.g_ii) : none;
   js.set("law", o.law)
       .set("g_ii_J_per_m2", g_ii)
+      .set("G_c_J_per_m2", crush ? (o.g_c > 0 ? o.g_c : default_g_c) : none)
+      .set("cap_residual", crush ? o.cap_residual : none)
+      .set("crush_shear", crush && o.crush_shear)
       .set("softening_slip_m", slip ? 2 * g_ii / (s.contact.shear.c_0 - s.contact.shear.c_res) : none)
       .set("phi_0_deg", s.contact.shear.phi_0.degrees())
       .set("phi_res_deg", s.contact.shear.phi_res.degrees())
@@ -93,6 +110,10 @@ inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
   std::string label = calibrated ? tessera::detail::concat(" (contact strength x ", o.strength_scale, ")") : "";
   if (o.law == "slip_softening")
     label += tessera::detail::concat(", slip-softening law (G_II ", g_ii_or_default(o.g_ii), " J/m^2)");
+  if (o.law == "crushing")
+    label += tessera::detail::concat(", crushing law (G_II ", g_ii_or_default(o.g_ii), " J/m^2, G_c ",
+                                     o.g_c > 0 ? o.g_c : default_g_c, " J/m^2, residual cap ", o.cap_residual,
+                                     o.crush_shear ? ", shear scaled" : "", ")");
   if (o.phi_deg != 35 || o.phi_res_deg != 30 || o.cap != 35e6)
     label += tessera::detail::concat(", phi_0 ", o.phi_deg, " deg, phi_res ", o.phi_res_deg, " deg, cap ", o.cap * 1e-6,
                                      " MPa");

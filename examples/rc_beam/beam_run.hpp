@@ -71,6 +71,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
     if (plate.shear.phi_res.radians() > plate.shear.phi_0.radians()) plate.shear.phi_0 = plate.shear.phi_res;
     if constexpr (Law::softens_with_slip)  // never bonded, so only the residual acts: G_II just has to pass validate
       plate.shear.G_II = std::max(plate.shear.G_II, plate.shear.c_0 * plate.shear.c_0 / plate.k_s);
+    if constexpr (Law::softens_with_crushing) plate.compression.residual = 1;  // steel on concrete does not crush
     contact::platen_motion m;
     m.mass = 7850 * o.plate * o.width * o.plate_thickness;
     m.inertia = m.mass * (o.plate * o.plate / 12 + o.plate_thickness * o.plate_thickness / 3);  // about the contact face's axis
@@ -475,6 +476,11 @@ template <class OnEvent>
     return run_beam<presets::study_beam_law, true>(scene, contact, loading, on_event);
   require(o.cohesion == "decoupled" || o.compression == "plastic", "rc_beam: --cohesion ", o.cohesion,
           " is built with --compression plastic only, got --compression ", o.compression);
+  if (o.law == "crushing")  // the same, its cap softening with crushing over G_c (check_beam_law)
+    return run_beam<presets::crushing_beam_law>(
+        scene, presets::with_softening_cap(presets::with_slip_softening(scene.contact, g_ii_or_default(o.g_ii)),
+                                           o.g_c > 0 ? o.g_c : default_g_c, o.cap_residual, o.crush_shear),
+        loading, on_event);
   if (o.law == "slip_softening")  // built with the plastic cap and decoupled cohesion only (check_beam_law)
     return run_beam<presets::slip_softening_beam_law>(
         scene, presets::with_slip_softening(scene.contact, g_ii_or_default(o.g_ii)), loading, on_event);

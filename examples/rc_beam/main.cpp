@@ -99,7 +99,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.span, " beam, ", o.blocks,
                                        o.full() ? " blocks per half" : " blocks", ", seed ", o.seed, ", ",
-                                       o.compression, " compression", o.law == "study" ? "" : ", slip-softening law",
+                                       o.compression, " compression", o.law == "study" ? "" : ", " + o.law + " law",
                                        in.params.empty() ? "" : tessera::detail::concat(", strength x ", o.strength_scale));
   plot.xlabel = "mid-span deflection (mm)";
   plot.ylabel = "total load P (kN)";
@@ -434,8 +434,8 @@ int main(int argc, char** argv) {
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
              "calibrated concrete: calibrated.json of calibrate --material beam, its entry for --blocks (the zoning and "
-             "the beam's dimensions must match) with its whole set (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap), "
-             "instead of --law, --g-ii, --phi-deg, --phi-res-deg and --cap; default: the study's parameters verbatim",
+             "the beam's dimensions must match) with its whole set (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap, G_c, "
+             "residual cap), instead of the law flags (--law ... --crush-shear); default: the study's parameters verbatim",
              "FILE");
   cli.flag("--no-vtk", no_vtk, "skip the VTK snapshots");
   cli.option("--checkpoint", l.checkpoint_file,
@@ -464,7 +464,7 @@ int main(int argc, char** argv) {
   }
   try {
     mpi.require_splittable(!l.relaxation, "rc_beam --scheme relaxation", "kinetic relaxation is not distributed");
-    tessera::scenes::check_beam_law_flags(cli, in.params);
+    tessera::scenes::check_beam_law_flags(cli, in.params, in.beam.law);
     if (!in.params.empty()) in.model_young = tessera::scenes::load_beam_params(in.beam, in.params, l.rate);
     tessera::scenes::check_beam_law_set(in.beam);
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
