@@ -1940,22 +1940,31 @@ TEST_CASE("detected keys: the merge of sorted keys finds each persisting corner 
   CHECK(on_a < on_b);  // side A's gridpoint labels sort first
   // Old sub-contacts, sorted by (a, b, label): pairs (0, 1), (0, 2), (1, 2).
   const std::vector<index_t> pair_a{0, 0, 1}, pair_b{1, 2, 2}, pair_first{0, 3, 4, 6};
-  const std::vector<index_t> pair{0, 0, 0, 1, 2, 2};
   const std::vector<std::uint64_t> label{5, 9, 12, on_b, 1, 7};
   // New keys in increasing order: (0,1,9) persists as old 1, (0,1,10) is new (the cursor stops at
-  // (0,1,12)), (0,2,on_b) persists as old 3, (1,2,7) as old 5, (1,3,0) is new past the end.
+  // (0,1,12)), (0,2,on_b) persists as old 3, (1,2,7) as old 5, (1,3,0) is new past the end (no
+  // old pair (1, 3): the pair cursor stops at the end).
   struct key {
     index_t a, b;
     std::uint64_t label;
-    bool found;
-    std::size_t old;
+    bool pair_found, found;
+    std::size_t old_pair, old;
   };
-  const std::vector<key> keys{{0, 1, 9, true, 1}, {0, 1, 10, false, 2}, {0, 2, on_b, true, 3}, {1, 2, 7, true, 5},
-                              {1, 3, 0, false, 6}};
-  std::size_t old = 0;
-  for (const key& k : keys) {
+  const std::vector<key> keys{{0, 1, 9, true, true, 0, 1}, {0, 1, 10, true, false, 0, 2},
+                              {0, 2, on_b, true, true, 1, 3}, {1, 2, 7, true, true, 2, 5},
+                              {1, 3, 0, false, false, 3, 0}};
+  std::size_t old_pair = 0, old = 0, end = 0;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    const key& k = keys[i];
     INFO("key (" << k.a << ", " << k.b << ", " << k.label << ")");
-    CHECK(contact::detail::seek_old_key(old, k.a, k.b, k.label, pair_a, pair_b, pair, label) == k.found);
+    const bool new_pair = i == 0 || keys[i - 1].a != k.a || keys[i - 1].b != k.b;
+    if (new_pair) {
+      CHECK(contact::detail::seek_old_pair(old_pair, k.a, k.b, pair_a, pair_b) == k.pair_found);
+      old = k.pair_found ? static_cast<std::size_t>(pair_first[old_pair]) : 0;
+      end = k.pair_found ? static_cast<std::size_t>(pair_first[old_pair + 1]) : 0;
+    }
+    CHECK(old_pair == k.old_pair);
+    CHECK(contact::detail::seek_old_label(old, end, k.label, label) == k.found);
     CHECK(old == k.old);
   }
   // The side a pair's gridpoint sub-contacts used at the last rebuild: B for (0, 2), none for the

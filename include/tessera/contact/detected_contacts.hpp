@@ -466,7 +466,7 @@ class detected_contacts {
   /// summed over its sub-contacts in order (N; 24 per pair).
   std::vector<real> pair_force_;
   // rebuild scratch
-  std::vector<index_t> new_pair_a_, new_pair_b_, new_pair_first_;
+  std::vector<index_t> new_pair_a_, new_pair_b_, new_pair_first_, new_found_first_;
   std::vector<std::uint64_t> new_label_;
   std::vector<std::size_t> order_;
   std::vector<real> new_area_, new_gap_;

@@ -23,9 +23,10 @@
 // reuse_axes: about two thirds of them in the rubble scene); the rest of a rebuild is
 // O(blocks + sub-contacts) with small constants: each block's current shape and box (into its own
 // storage), the broad phase (every box's cells scanned, only the cells a moved block reaches binned,
-// only the pairs with a moved block tested), the kept pairs' columns copied in runs (their
-// stiffness terms of the step bound with them), the tasks and gather slots. No allocation beyond
-// a rebuild's growth.
+// only the pairs with a moved block tested), the kept pairs' columns copied in runs (their keys,
+// areas and stiffness terms of the step bound with them; the merge of the states visits the old
+// pairs and only the sub-contacts of those detected again), the tasks and gather slots. No
+// allocation beyond a rebuild's growth.
 
 #include <array>
 #include <cstdint>
@@ -59,6 +60,8 @@ struct previous_columns {
   std::array<std::vector<real>, 3> force;
   std::vector<real> stiffness;                 // bound_present_contacts' terms
   std::vector<std::array<real, 2>> reach2;
+  std::vector<std::uint64_t> label;            // the sub-contacts' keys and areas
+  std::vector<real> area;
 };
 
 }  // namespace tessera::contact::detail

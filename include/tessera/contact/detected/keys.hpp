@@ -7,11 +7,12 @@
 // (detection::corner_label). Deformable blocks add the gridpoint sub-contacts of a face-to-face
 // patch (detected/deformable_fit.hpp), labelled by the gridpoint and its side (node_label). Keys
 // are kept sorted by (a, b, label); at a rebuild the new keys, sorted the same way, are merged
-// with the old ones in one pass (seek_old_key), so a corner that persists is found again and
-// keeps its law state (detected/rebuild.hpp).
+// with the old ones in one pass (seek_old_pair, then seek_old_label within the pair), so a corner
+// that persists is found again and keeps its law state (detected/rebuild.hpp).
 //
-// Cost: seek_old_key is amortised O(1) per new key over a rebuild's merge, previous_node_side a
-// binary search over the old pairs; no allocation. Thread safety: they read their arguments only.
+// Cost: a rebuild's merge visits each old pair once and the sub-contacts of the old pairs the
+// pass detects again (not those of the pairs it keeps), previous_node_side a binary search over
+// the old pairs; no allocation. Thread safety: they read their arguments only.
 
 #include <concepts>
 #include <cstddef>
@@ -68,21 +69,23 @@ struct node_contact {
   return node_label_side_b(label) ? 1 : 0;
 }
 
-/// The merge of sorted keys at a rebuild: advances `old` over the old sub-contacts whose key
-/// (pair_a[pair[o]], pair_b[pair[o]], key_label[o]) comes before (a, b, label), and says whether
-/// the one it stops at has that key (then the sub-contact persists). Called with the new keys in
-/// increasing order and `old` starting at 0, it visits every old sub-contact once.
-[[nodiscard]] inline bool seek_old_key(std::size_t& old, index_t a, index_t b, std::uint64_t label,
-                                       const std::vector<index_t>& pair_a, const std::vector<index_t>& pair_b,
-                                       const std::vector<index_t>& pair,
-                                       const std::vector<std::uint64_t>& key_label) noexcept {
-  const std::size_t n_old = key_label.size();
-  const auto before = [&](std::size_t o) {
-    const index_t oa = pair_a[at(pair[o])], ob = pair_b[at(pair[o])];
-    return oa < a || (oa == a && (ob < b || (ob == b && key_label[o] < label)));
-  };
-  while (old < n_old && before(old)) ++old;
-  return old < n_old && pair_a[at(pair[old])] == a && pair_b[at(pair[old])] == b && key_label[old] == label;
+/// The merge of sorted keys at a rebuild, by pair: advances `old_pair` over the old pairs before
+/// (a, b) and says whether the one it stops at is (a, b). Called with the new pairs in increasing
+/// order and `old_pair` starting at 0, it visits every old pair once.
+[[nodiscard]] inline bool seek_old_pair(std::size_t& old_pair, index_t a, index_t b, const std::vector<index_t>& pair_a,
+                                        const std::vector<index_t>& pair_b) noexcept {
+  const std::size_t n_old = pair_a.size();
+  while (old_pair < n_old && (pair_a[old_pair] < a || (pair_a[old_pair] == a && pair_b[old_pair] < b))) ++old_pair;
+  return old_pair < n_old && pair_a[old_pair] == a && pair_b[old_pair] == b;
+}
+
+/// Then within that old pair's sub-contacts [old, end): advances `old` over the labels below
+/// `label` and says whether the one it stops at is `label` (the sub-contact persists). Called with
+/// the pair's new labels in increasing order, it visits each of the old pair's sub-contacts once.
+[[nodiscard]] inline bool seek_old_label(std::size_t& old, std::size_t end, std::uint64_t label,
+                                         const std::vector<std::uint64_t>& key_label) noexcept {
+  while (old < end && key_label[old] < label) ++old;
+  return old < end && key_label[old] == label;
 }
 
 }  // namespace tessera::contact::detail

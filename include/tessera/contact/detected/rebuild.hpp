@@ -127,6 +127,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
 
   // New pairs and their corners, sorted by label within a pair: the pass's pairs (increasing)
   // and, merged in (a, b) order, the old pairs of two blocks not detected again, kept whole.
+  // new_label_, new_area_, new_point_ and new_gap_ hold the pass's corners only (pair k's from
+  // new_found_first_[k]); a kept pair's sub-contacts are a run of the old columns (kept_runs_).
   const std::size_t n_found = result_.pairs.size(), n_old_pairs = pair_a_.size();
   new_pair_a_.clear();
   new_pair_b_.clear();
@@ -135,10 +137,11 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   new_point_.clear();
   new_gap_.clear();
   new_source_.clear();
+  new_found_first_.clear();
   new_pair_first_.assign(1, 0);
   kept_runs_.clear();
   untouched_last_ = 0;
-  std::size_t ko = 0;
+  std::size_t ko = 0, n_kept = 0;
   for (std::size_t k = 0; k < n_found || ko < n_old_pairs;) {
     // Old pairs with a block detected again make way for the pass's.
     while (ko < n_old_pairs && changed(pair_a_[ko], pair_b_[ko])) ++ko;
@@ -146,21 +149,17 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
                                                (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
     if (take_old) {
       // Its sub-contacts, a run of the old columns that the merges below copy whole.
-      const auto o0 = at(pair_first_[ko]), o1 = at(pair_first_[ko + 1]), i0 = new_label_.size();
+      const auto o0 = at(pair_first_[ko]), o1 = at(pair_first_[ko + 1]), i0 = n_kept + new_label_.size();
       if (!kept_runs_.empty() && kept_runs_.back().to + kept_runs_.back().count == i0 &&
           kept_runs_.back().from + kept_runs_.back().count == o0)
         kept_runs_.back().count += o1 - o0;
       else
         kept_runs_.push_back({o0, i0, o1 - o0});
-      new_label_.insert(new_label_.end(), key_label_.begin() + static_cast<std::ptrdiff_t>(o0),
-                        key_label_.begin() + static_cast<std::ptrdiff_t>(o1));
-      new_area_.insert(new_area_.end(), area_.begin() + static_cast<std::ptrdiff_t>(o0),
-                       area_.begin() + static_cast<std::ptrdiff_t>(o1));
-      new_point_.resize(new_point_.size() + (o1 - o0), vec3::Zero());  // (unread: the kept weights stay)
-      new_gap_.resize(new_gap_.size() + (o1 - o0), 0);
+      n_kept += o1 - o0;
       new_pair_a_.push_back(pair_a_[ko]);
       new_pair_b_.push_back(pair_b_[ko]);
-      new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+      new_pair_first_.push_back(static_cast<index_t>(n_kept + new_label_.size()));
+      new_found_first_.push_back(0);  // (none: its columns are copied)
       new_source_.push_back(-1 - static_cast<std::ptrdiff_t>(ko));
       ++untouched_last_;
       ++ko;
@@ -168,6 +167,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     }
     if (k == n_found) break;
     new_source_.push_back(static_cast<std::ptrdiff_t>(k));
+    new_found_first_.push_back(static_cast<index_t>(new_label_.size()));
     const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
     // Deformable blocks: a face-to-face patch's sub-contacts at surface gridpoints.
     if (options_.deformable_blocks && result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
@@ -179,7 +179,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       }
       new_pair_a_.push_back(result_.pairs[k].a);
       new_pair_b_.push_back(result_.pairs[k].b);
-      new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+      new_pair_first_.push_back(static_cast<index_t>(n_kept + new_label_.size()));
       ++k;
       continue;
     }
@@ -209,17 +209,19 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     }
     new_pair_a_.push_back(result_.pairs[k].a);
     new_pair_b_.push_back(result_.pairs[k].b);
-    new_pair_first_.push_back(static_cast<index_t>(new_label_.size()));
+    new_pair_first_.push_back(static_cast<index_t>(n_kept + new_label_.size()));
     ++k;
   }
   const std::size_t n_pairs = new_pair_a_.size();
-  const std::size_t n = new_label_.size();
+  const std::size_t n = n_kept + new_label_.size();
+  // The pass's corner of new sub-contact i of pass pair k.
+  const auto found = [&](std::size_t k, std::size_t i) { return at(new_found_first_[k]) + (i - at(new_pair_first_[k])); };
 
   // Merge the states: old and new keys are both sorted by (a, b, label). A kept pair's
-  // sub-contacts keep theirs to the bit.
+  // sub-contacts keep theirs to the bit; a pass pair's corner looks for its label among the
+  // sub-contacts of the old pair of the same blocks (if any).
   new_state_.resize(n);
   new_fresh_.assign(n, 0);
-  kept_last_ = 0;
   kept_old_.assign(key_label_.size(), 0);
   const auto copy_kept = [&](const auto& from, auto& to) {
     for (const kept_run& r : kept_runs_)
@@ -227,28 +229,28 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   };
   copy_kept(state_, new_state_);
   copy_kept(fresh_, new_fresh_);
-  for (const kept_run& r : kept_runs_) {
-    std::fill_n(kept_old_.begin() + static_cast<std::ptrdiff_t>(r.from), r.count, std::uint8_t{1});
-    kept_last_ += static_cast<index_t>(r.count);
-  }
-  std::size_t old = 0;
-  const std::size_t n_old = key_label_.size();
+  kept_last_ = static_cast<index_t>(n_kept);
+  std::size_t old_pair = 0;  // the old pairs before (a, b), in order
   for (std::size_t k = 0; k < n_pairs; ++k) {
     const index_t a = new_pair_a_[k], b = new_pair_b_[k];
     const std::ptrdiff_t source = new_source_[k];
     if (source < 0) continue;  // (kept: copied above)
     const auto j = at(source);
     const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
+    const bool had = detail::seek_old_pair(old_pair, a, b, pair_a_, pair_b_);
+    std::size_t old = had ? at(pair_first_[old_pair]) : 0;
+    const std::size_t old_end = had ? at(pair_first_[old_pair + 1]) : 0;
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-      if (detail::seek_old_key(old, a, b, new_label_[i], pair_a_, pair_b_, pair_, key_label_)) {
+      const std::size_t f = found(k, i);
+      if (detail::seek_old_label(old, old_end, new_label_[f], key_label_)) {
         new_state_[i] = state_[old];
         // A tributary area that grows keeps the corner's force (stresses scaled down), one that
         // shrinks keeps its stresses: either way the spring's energy can only drop, so a
         // rebuild never feeds energy into the scene.
         // The energy it dissipated (per area in the state) stays what it was.
-        if (const real a_old = area_[old]; new_area_[i] != a_old) {
+        if (const real a_old = area_[old]; new_area_[f] != a_old) {
           state_type& st = new_state_[i];
-          const real r = a_old / new_area_[i];
+          const real r = a_old / new_area_[f];
           if (r < 1) Law::scale_stresses(p, st, r);
           st.dissipated_tension *= r;
           st.dissipated_shear *= r;
@@ -261,7 +263,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
         const bool bonded = gp == nullptr && options_.bond_faces &&
                             result_.type[j] == detection::patch_type::polygon &&
                             table_.get(material_[at(a)], material_[at(b)]).bonded &&
-                            std::abs(new_gap_[i]) <= bond_gap_fraction * options_.tolerance;
+                            std::abs(new_gap_[f]) <= bond_gap_fraction * options_.tolerance;
         state_type s = bonded ? state_type{} : Law::unbonded_state(p);
         if (bonded) ++bonded_at_start_;
         // At construction a corner takes its gap (a scene may start in contact, e.g. at its
@@ -269,7 +271,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
         // born overlapped (a new crossing of two edges inside a loaded patch) starts at zero
         // opening: its overlap is the neighbours' share, and a spring born compressed would
         // inject energy that no force supplied.
-        s.u_n = gp == nullptr ? new_gap_[i] : std::max<real>(new_gap_[i], 0);
+        s.u_n = gp == nullptr ? new_gap_[f] : std::max<real>(new_gap_[f], 0);
         // A zero increment sets the stresses of that opening (compression if it overlaps), so
         // the energy it holds is in the books from the start.
         // (The law books that energy as work done on the contact; it was not: undo its entry.)
@@ -284,17 +286,33 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     }
   }
   // Sub-contacts that end keep what they dissipated in the books; what they still stored leaves
-  // the springs through the rebuild exchange.
-  for (std::size_t o = 0; o < n_old; ++o) {
-    if (kept_old_[o] != 0 || !counted(o)) continue;
-    const contact_energies e = energies_of(o);
-    retired_.dissipated += e.dissipated;
-    retired_.dissipated_tension += e.dissipated_tension;
-    retired_.dissipated_shear += e.dissipated_shear;
-    retired_.dissipated_compression += e.dissipated_compression;
+  // the springs through the rebuild exchange. (They are among the old pairs detected again.)
+  for (std::size_t ok = 0; ok < n_old_pairs; ++ok) {
+    if (!changed(pair_a_[ok], pair_b_[ok])) continue;
+    for (auto o = at(pair_first_[ok]); o < at(pair_first_[ok + 1]); ++o) {
+      if (kept_old_[o] != 0 || !counted(o)) continue;
+      const contact_energies e = energies_of(o);
+      retired_.dissipated += e.dissipated;
+      retired_.dissipated_tension += e.dissipated_tension;
+      retired_.dissipated_shear += e.dissipated_shear;
+      retired_.dissipated_compression += e.dissipated_compression;
+    }
   }
   state_.swap(new_state_);
   fresh_.swap(new_fresh_);
+  // Keys and areas: the kept runs of the old ones, then the pass's corners.
+  std::swap(key_label_, prev_.label);
+  std::swap(area_, prev_.area);
+  key_label_.resize(n);
+  area_.resize(n);
+  copy_kept(prev_.label, key_label_);
+  copy_kept(prev_.area, area_);
+  for (std::size_t k = 0; k < n_pairs; ++k)
+    if (new_source_[k] >= 0)
+      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+        key_label_[i] = new_label_[found(k, i)];
+        area_[i] = new_area_[found(k, i)];
+      }
 
   // Per pair: blocks, parameters, normal feature, normals (a kept pair: its own, copied).
   std::swap(pair_param_, prev_.param);
@@ -306,8 +324,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   std::swap(pair_stiffness_, prev_.stiffness);
   std::swap(pair_reach2_, prev_.reach2);
   for (int j = 0; j < 3; ++j) normal_[at(j)].swap(prev_.normal[at(j)]);
-  pair_a_.assign(new_pair_a_.begin(), new_pair_a_.end());
-  pair_b_.assign(new_pair_b_.begin(), new_pair_b_.end());
+  pair_a_.swap(new_pair_a_);  // (the new_ scratch is cleared at the next rebuild)
+  pair_b_.swap(new_pair_b_);
   pair_param_.resize(n_pairs);
   feature_.resize(n_pairs);
   feature_a_.resize(n_pairs);
@@ -319,9 +337,9 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   for (soa3& m : normal_) m.resize(static_cast<index_t>(n_pairs), 3);
   for (std::size_t k = 0; k < n_pairs; ++k) {
     const index_t a = pair_a_[k], b = pair_b_[k];
-    pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
     if (new_source_[k] < 0) {
       const auto o = at(-1 - new_source_[k]);
+      pair_param_[k] = prev_.param[o];
       feature_[k] = prev_.feature[o];
       feature_a_[k] = prev_.feature_a[o];
       feature_b_[k] = prev_.feature_b[o];
@@ -332,6 +350,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       for (int j = 0; j < 3; ++j) normal_[at(j)].row(static_cast<index_t>(k)) = prev_.normal[at(j)].row(static_cast<index_t>(o));
       continue;
     }
+    pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
     const detection::contact_plane& plane = result_.planes[at(new_source_[k])];
     // The feature in each block's reference frame: n = R_a fa (face of A), -R_b fb (face of B),
     // or +-(R_a ea x R_b eb) (edges), so that n equals the plane's normal now.
@@ -385,16 +404,15 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   for (int s = 0; s < 8; ++s) weight_[at(s)].swap(prev_.weight[at(s)]);
   for (int c = 0; c < 3; ++c) force_[at(c)].swap(prev_.force[at(c)]);
   pair_.resize(n);
-  key_label_.assign(new_label_.begin(), new_label_.end());
   corner_normal_.resize(n);
-  area_.resize(n);
   for (auto& w : weight_) w.resize(n);
-  for (auto& f : force_) f.assign(n, 0.0);
+  for (auto& f : force_) f.resize(n);  // (a pass pair's: zero, below)
   copy_kept(prev_.corner_normal, corner_normal_);
   for (int s = 0; s < 8; ++s) copy_kept(prev_.weight[at(s)], weight_[at(s)]);
   for (int c = 0; c < 3; ++c) copy_kept(prev_.force[at(c)], force_[at(c)]);
   for (std::size_t k = 0; k < n_pairs; ++k) {
     if (new_source_[k] < 0) continue;  // (kept: copied above)
+    for (auto& f : force_) std::fill(f.begin() + new_pair_first_[k], f.begin() + new_pair_first_[k + 1], 0.0);
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
       // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
       const std::uint64_t label = key_label_[i];
@@ -410,11 +428,9 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     for (std::size_t k = 0; k < n_pairs; ++k)
       for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
         pair_[i] = static_cast<index_t>(k);
-        area_[i] = new_area_[i];
-        place_zoned(i, pair_a_[k], pair_b_[k], gp);
+        place_zoned(i, pair_a_[k], pair_b_[k], gp);  // (every pair is the pass's: new_point_[i] is its)
       }
   } else {
-    std::copy(new_area_.begin(), new_area_.end(), area_.begin());
     for (std::size_t k = 0; k < n_pairs; ++k) {
       const index_t a = pair_a_[k], b = pair_b_[k];
       std::fill(pair_.begin() + new_pair_first_[k], pair_.begin() + new_pair_first_[k + 1], static_cast<index_t>(k));
@@ -422,7 +438,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
       const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
       for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        const vec3 la = inv_a * (new_point_[i] - xa), lb = inv_b * (new_point_[i] - xb);
+        const vec3 la = inv_a * (new_point_[found(k, i)] - xa), lb = inv_b * (new_point_[found(k, i)] - xb);
         weight_[0][i] = 1 - la.sum();
         weight_[4][i] = 1 - lb.sum();
         for (int c = 0; c < 3; ++c) {
@@ -432,7 +448,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       }
     }
   }
-  pair_first_.assign(new_pair_first_.begin(), new_pair_first_.end());
+  pair_first_.swap(new_pair_first_);
   index_subcontacts(true);
 
   peak_subcontacts_ = std::max(peak_subcontacts_, static_cast<index_t>(n));

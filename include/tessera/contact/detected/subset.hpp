@@ -37,10 +37,12 @@
 namespace tessera::contact {
 
 /// Capacity of the arrays a rebuild grows with the sub-contacts, pairs and gather slots (the
-/// growth count compares it before and after).
+/// growth count compares it before and after; the keys and pairs with the buffers a rebuild
+/// swaps them with, so that the sum grows only when one of them does).
 template <law::ContactLaw Law>
 [[nodiscard]] inline std::size_t detected_contacts<Law>::storage_capacity() const noexcept {
-  return key_label_.capacity() + pair_a_.capacity() + slot_source_.capacity() + pair_force_.capacity();
+  return key_label_.capacity() + prev_.label.capacity() + pair_a_.capacity() + new_pair_a_.capacity() +
+         slot_source_.capacity() + pair_force_.capacity();
 }
 
 /// Elastic energy of the current sub-contacts this rank books (J; all without set_own_blocks),
