@@ -130,7 +130,8 @@ struct mixed_mode_cohesive {
   [[nodiscard]] static real mode_two_length(const params& p) noexcept { return 2 * p.shear.G_II / p.shear.c_0; }
   /// The damage D in [0, 1] of a state (1 when broken).
   [[nodiscard]] static real damage(const params& p, const state& s) noexcept {
-    return has(s.flags, contact_status::broken_tension) ? real(1) : s.u_soft * (1 / mode_one_length(p));
+    if (has(s.flags, contact_status::broken_tension)) return 1;
+    return has(s.flags, contact_status::softening) ? s.u_soft * (1 / mode_one_length(p)) : real(0);
   }
   /// Current tensile strength f_T (1 - D) (Pa), 0 once broken: a function of u_soft and the flags.
   [[nodiscard]] static real tensile_strength(const params& p, const state& s) noexcept {
@@ -254,71 +255,78 @@ struct mixed_mode_cohesive {
       }
     }
     // The limits at the current damage D = u_soft / l_I (f_t = f_T (1 - D) is x.f_t).
-    const T d = x.u_soft * inv_l_I;
+    // D = 0 unless softening (an intact pack, flags constant zero, folds it away); broken: friction only.
+    const T d = mask_select(softening, x.u_soft * inv_l_I, T{});
     const T slip = d * l_II;
-    const T coulomb = coulomb_slip_softening::lane_slip_strength(p.shear, sigma, broken, slip);  // phi_res alone when broken
+    T coulomb = detail::coulomb_line(lanes::splat<T>(p.shear.c_0), lanes::splat<T>(p.shear.phi_0.tan()), sigma);
+    const M damaged_before = softening | broken;
+    if (lanes::any(damaged_before))
+      coulomb = mask_select(damaged_before, coulomb_slip_softening::lane_slip_strength(p.shear, sigma, broken, slip),
+                            coulomb);
     const T tension_sq = sigma * sigma + alpha * alpha * trial_sq;
     const M beyond_tension = tension_side & (tension_sq > x.f_t * x.f_t);
     const M open = broken & (x.u_n > x.u_p);
     const M beyond_coulomb = mask_not(tension_side) & mask_not(open) & (trial_sq > coulomb * coulomb);
-    T d_new = d;
-    T tau_scale = lanes::splat<T>(1);
-    if (lanes::any(beyond_tension)) [[unlikely]] {  // the radial return onto the ellipse (file comment)
-      const T e_tr = lanes::sqrt(tension_sq), t_tr = lanes::sqrt(trial_sq);
-      const T bx = sigma * (1 / (k_n * l_I)), by = t_tr * (1 / (k_s * l_II));
-      const T b = lanes::sqrt(bx * bx + by * by);
-      const T lam_raw = f_T * ((1 - d) - b) / (e_tr - f_T * b);
-      const M breaks = mask_not(lam_raw > real(0));
-      const T lam = mask_select(breaks, T{}, lam_raw);
-      sigma = mask_select(beyond_tension, lam * sigma, sigma);
-      tau_scale = mask_select(beyond_tension, lam, tau_scale);
-      d_new = mask_select(beyond_tension, mask_select(breaks, lanes::splat<T>(1), d + (1 - lam) * b), d_new);
-      const T closure = lanes::select(x.u_p < real(0), x.u_p, T{});  // min(u_p, 0): kept at a break
-      x.u_p = mask_select(beyond_tension, mask_select(breaks, closure, x.u_n - sigma * (1 / k_n)), x.u_p);
-    }
     const M sliding = beyond_coulomb | open;
-    if (lanes::any(sliding)) [[unlikely]] {  // slip-softening Coulomb return (broken: friction alone)
-      const T t_tr = lanes::sqrt(trial_sq);
-      const auto r = coulomb_slip_softening::lane_slip_return(p.shear, k_s, sigma, broken, slip, t_tr);
-      const T limit = mask_select(broken, coulomb, r.tau);
-      const T ratio = limit / t_tr;
-      const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
-      tau_scale = mask_select(open, T{}, mask_select(beyond_coulomb, scale, tau_scale));
-      const T s_new = r.slip * (1 / l_II);
-      d_new = mask_select(beyond_coulomb & mask_not(broken), lanes::select(s_new < real(1), s_new, lanes::splat<T>(1)), d_new);
-    }
-    // New flags: softening while 0 < D < 1, broken at D = 1, slipped after a Coulomb slide.
-    const M now_broken = broken | (d_new >= real(1));
-    const M now_softening = mask_not(now_broken) & (d_new > real(0));
-    const M now_slipped = slipped | (beyond_coulomb & mask_not(broken));
-    if constexpr (Transitions) {
-      lanes::mask_lane f = flags & ~(bit(contact_status::softening) | bit(contact_status::broken_tension) |
-                                     bit(contact_status::slipped));
-      if (now_broken) f |= bit(contact_status::broken_tension);
-      if (now_softening) f |= bit(contact_status::softening);
-      if (now_slipped) f |= bit(contact_status::slipped);
-      flags = static_cast<F>(f);
-    } else {
-      keep = keep & mask_not(now_broken ^ broken) & mask_not(now_softening ^ softening) & mask_not(now_slipped ^ slipped);
-    }
-    const M damaged = beyond_tension | (beyond_coulomb & mask_not(broken));  // D advanced this step
-    x.u_soft = mask_select(damaged, d_new * l_I, x.u_soft);
-    x.f_t = mask_select(now_broken, T{}, mask_select(damaged, f_T * (1 - x.u_soft * inv_l_I), x.f_t));
-    x.sigma_n = sigma;
-    // Energy: the normal part by sign, the shear part of the limited lanes (file comment).
-    const T sigma_sum = sigma_old + sigma;
-    const T normal = real(0.5) * sigma_sum * (x.du_n - (sigma - sigma_old) * (1 / k_n));
-    const M compressive = sigma_sum < real(0);
-    x.dissipated_compression = mask_select(compressive, x.dissipated_compression + normal, x.dissipated_compression);
-    x.dissipated_tension = mask_select(compressive, x.dissipated_tension, x.dissipated_tension + normal);
     const M limited = beyond_tension | sliding;
-    if (lanes::any(limited)) [[unlikely]] {
+    if (lanes::any(limited)) [[unlikely]] {  // the returns; D, the flags and the shear dissipation advance
+      T d_new = d, tau_scale = lanes::splat<T>(1);
+      if (lanes::any(beyond_tension)) {  // the radial return onto the ellipse (file comment)
+        const T e_tr = lanes::sqrt(tension_sq);
+        const T bx = sigma * (1 / (k_n * l_I));
+        const real inv_y = 1 / (k_s * l_II);
+        const T b = lanes::sqrt(bx * bx + trial_sq * (inv_y * inv_y));
+        const T lam_raw = f_T * ((1 - d) - b) / (e_tr - f_T * b);
+        const M breaks = mask_not(lam_raw > real(0));
+        const T lam = mask_select(breaks, T{}, lam_raw);
+        sigma = mask_select(beyond_tension, lam * sigma, sigma);
+        tau_scale = mask_select(beyond_tension, lam, tau_scale);
+        d_new = mask_select(beyond_tension, mask_select(breaks, lanes::splat<T>(1), d + (1 - lam) * b), d_new);
+        const T closure = lanes::select(x.u_p < real(0), x.u_p, T{});  // min(u_p, 0): kept at a break
+        x.u_p = mask_select(beyond_tension, mask_select(breaks, closure, x.u_n - sigma * (1 / k_n)), x.u_p);
+      }
+      if (lanes::any(sliding)) {  // slip-softening Coulomb return (broken: friction alone)
+        const T t_tr = lanes::sqrt(trial_sq);
+        const auto r = coulomb_slip_softening::lane_slip_return(p.shear, k_s, sigma, broken, slip, t_tr);
+        const T limit = mask_select(broken, coulomb, r.tau);
+        const T ratio = limit / t_tr;
+        const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
+        tau_scale = mask_select(open, T{}, mask_select(beyond_coulomb, scale, tau_scale));
+        const T s_new = r.slip * (1 / l_II);
+        d_new = mask_select(beyond_coulomb & mask_not(broken), lanes::select(s_new < real(1), s_new, lanes::splat<T>(1)),
+                            d_new);
+      }
+      // New flags: softening while 0 < D < 1, broken at D = 1, slipped after a Coulomb slide.
+      const M now_broken = broken | (d_new >= real(1));
+      const M now_softening = mask_not(now_broken) & (d_new > real(0));
+      const M now_slipped = slipped | (beyond_coulomb & mask_not(broken));
+      if constexpr (Transitions) {
+        lanes::mask_lane f = flags & ~(bit(contact_status::softening) | bit(contact_status::broken_tension) |
+                                       bit(contact_status::slipped));
+        if (now_broken) f |= bit(contact_status::broken_tension);
+        if (now_softening) f |= bit(contact_status::softening);
+        if (now_slipped) f |= bit(contact_status::slipped);
+        flags = static_cast<F>(f);
+      } else {
+        keep = keep & mask_not(now_broken ^ broken) & mask_not(now_softening ^ softening) &
+               mask_not(now_slipped ^ slipped);
+      }
+      const M damaged = beyond_tension | (beyond_coulomb & mask_not(broken));  // D advanced this step
+      x.u_soft = mask_select(damaged, d_new * l_I, x.u_soft);
+      x.f_t = mask_select(now_broken, T{}, mask_select(damaged, f_T * (1 - x.u_soft * inv_l_I), x.f_t));
       c0 = c0 * tau_scale, c1 = c1 * tau_scale, c2 = c2 * tau_scale;
       const real inv_k_s = 1 / k_s;
       const T w0 = x.ds0 - (c0 - t0) * inv_k_s, w1 = x.ds1 - (c1 - t1) * inv_k_s, w2 = x.ds2 - (c2 - t2) * inv_k_s;
       const T dissipated = x.dissipated_shear + real(0.5) * (((t0 + c0) * w0 + (t1 + c1) * w1) + (t2 + c2) * w2);
       x.dissipated_shear = mask_select(limited, dissipated, x.dissipated_shear);
     }
+    x.sigma_n = sigma;
+    // Energy: the normal part by sign (file comment); the shear part above, for the limited lanes.
+    const T sigma_sum = sigma_old + sigma;
+    const T normal = real(0.5) * sigma_sum * (x.du_n - (sigma - sigma_old) * (1 / k_n));
+    const M compressive = sigma_sum < real(0);
+    x.dissipated_compression = mask_select(compressive, x.dissipated_compression + normal, x.dissipated_compression);
+    x.dissipated_tension = mask_select(compressive, x.dissipated_tension, x.dissipated_tension + normal);
     x.tau0 = c0;
     x.tau1 = c1;
     x.tau2 = c2;
