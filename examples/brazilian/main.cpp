@@ -14,7 +14,8 @@
 // opening across the loaded diameter (the flats x = +-a over the middle third); summary.json the load and
 // opening when the split is found. --law (beam only): study (study_beam_law) or slip_softening
 // (slip_softening_beam_law: c_0 and phi_0 soften with the plastic slip to c_res and --phi-res-deg over
-// the mode-II fracture energy --g-ii), as compression; --cap (beam): the contacts' compressive cap (35 MPa).
+// the mode-II fracture energy --g-ii), as compression, or mixed_mode (presets::mixed_mode_beam_law: one damage
+// for tension and shear over G_f and --g-ii); --cap (beam): the contacts' compressive cap (35 MPa).
 // --params FILE: the concrete of a calibrated.json
 // entry (calibrate; common/concrete_set.hpp), its law, scales, c_0/f_T, phi_0, phi_res, G_II and cap,
 // for the recipe named by --material, --recipe-blocks and --zone-edge (refused, naming both values, if
@@ -30,6 +31,7 @@
 #include <iterator>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "brazilian/disc.hpp"
@@ -81,7 +83,7 @@ int main(int argc, char** argv) {
                 "  [--blocks 0..2000] [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
                 "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]\n"
-                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening] [--g-ii 0..1e6 J/m^2]\n"
+                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening|mixed_mode] [--g-ii 0..1e6 J/m^2]\n"
                 "  [--recipe-blocks 0..750] [--zone-edge 0..1 m] [--cap 1e6..1e10 Pa, beam: 35e6] [--params FILE]:\n"
                 "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
                 "  --material: the concrete of examples/calibrate --material, its law, parameters, block size and zoning:\n"
@@ -92,7 +94,7 @@ int main(int argc, char** argv) {
                 "  concrete of calibrate's calibrated.json for that recipe (law, scales, c_0/f_T, phi_0, phi_res, G_II,\n"
                 "  cap), instead of --strength-scale, --cohesion-ratio, --phi-deg, --phi-res-deg, --law, --g-ii and --cap.\n"
                 "  --blocks 0: the material's block size. --quick: 5 nm per step.");
-      std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n", scenes::law_flag_help, scenes::g_ii_flag_help);
+      std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n", scenes::mixed_law_flag_help, scenes::mixed_g_ii_flag_help);
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--material" && i + 1 < argc) material = argv[++i];
@@ -115,8 +117,9 @@ int main(int argc, char** argv) {
   if (material != "prism" && material != "beam")
     return std::fprintf(stderr, "brazilian: --material '%s' is not a concrete recipe (expected prism or beam)\n",
                         material.c_str()), 2;
-  if (law != "study" && law != "slip_softening")
-    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study or slip_softening)\n", law.c_str()), 2;
+  if (law != "study" && law != "slip_softening" && law != "mixed_mode")
+    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study, slip_softening or mixed_mode)\n",
+                        law.c_str()), 2;
   if (material == "prism" && law != "study")
     return std::fprintf(stderr, "brazilian: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
                         law.c_str()), 2;
@@ -154,7 +157,7 @@ int main(int argc, char** argv) {
   }
   io::run_record record(out, "brazilian", argc, argv);
   try {
-    return scenes::with_concrete(set, [&](const auto& recipe) { return run_disc(o, set, recipe, record); });
+    return scenes::with_concrete_or_mixed(set, [&](const auto& recipe) { return run_disc(o, set, recipe, record); });
   } catch (const std::exception& e) {
     cli::print_error("brazilian", e);  // one "brazilian: " before the message
     return 1;
@@ -173,10 +176,12 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   const scenes::disc_result r = scenes::run_brazilian_disc(d, recipe);
   const real none = std::numeric_limits<real>::quiet_NaN(), f_t = r.f_t;
   const bool slip = set.law == "slip_softening";
+  real g_ii = slip ? scenes::g_ii_or_default(set.g_ii) : std::numeric_limits<real>::quiet_NaN();
+  if constexpr (std::is_same_v<joint_law, presets::mixed_mode_beam_law>) g_ii = recipe.contact.shear.G_II;
   const std::filesystem::path out(o.out);
   io::write_csv(out / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {r.u, r.p_top, r.p_bottom, r.opening});
   io::summary_json j;
-  j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", slip ? scenes::g_ii_or_default(set.g_ii) : none)
+  j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", g_ii)
       .set("params", o.params.empty() ? "flags" : o.params).set("recipe_blocks", set.blocks())
       .set("fracture_energy_scale", set.fracture_energy_scale).set("cap_Pa", set.material == "beam" ? set.cap : none)
       .set("phi_res_deg", r.phi_res_deg).set("quick", o.quick).set("seed", o.seed).set("blocks", r.blocks).set("sides", o.sides)

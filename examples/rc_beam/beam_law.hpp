@@ -9,6 +9,9 @@
 //   slip_softening  presets::slip_softening_beam_law: the same tension and cap, cohesion and
 //                   friction softening linearly with the plastic slip from (c_0, phi_0) to
 //                   (c_res, phi_res) over s_u = 2 G_II / (c_0 - c_res) (docs/model.md)
+//   mixed_mode      presets::mixed_mode_beam_law (presets/mixed_mode.hpp): one damage for tension and
+//                   shear, grown by the plastic opening over G_f and the plastic slip over G_II
+//                   (--g-ii; 0 = (c_0/f_T) G_f), the same cap; c_res 0 (docs/model.md)
 //
 // In pure tension the two laws are the same law. The hand values (cracking, yield, EC2's and
 // Zsutty's shear) keep the concrete's f_c = 35 MPa whatever --cap the contacts take: the cap is a
@@ -70,16 +73,17 @@ inline void check_beam_law_set(const beam_options& o) {
   check_beam_law(o, c);
 }
 
-/// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (null for the study's law),
+/// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (l_II = 2 G_II / c_0 with mixed_mode; null for the study's law),
 /// phi_0_deg, phi_res_deg, cap_Pa, contact_c_0_Pa, contact_c_res_Pa of the scene's contacts (after
 /// calibration), plate_friction_deg.
 inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
   const beam_options& o = s.options;
-  const bool slip = o.law == "slip_softening";
-  const real none = std::numeric_limits<real>::quiet_NaN(), g_ii = slip ? g_ii_or_default(o.g_ii) : none;
+  const bool slip = o.law == "slip_softening", mixed = o.law == "mixed_mode";
+  const real none = std::numeric_limits<real>::quiet_NaN();
+  const real g_ii = slip ? g_ii_or_default(o.g_ii) : mixed ? presets::with_mixed_mode(s.contact, o.g_ii).shear.G_II : none;
   js.set("law", o.law)
       .set("g_ii_J_per_m2", g_ii)
-      .set("softening_slip_m", slip ? 2 * g_ii / (s.contact.shear.c_0 - s.contact.shear.c_res) : none)
+      .set("softening_slip_m", slip ? 2 * g_ii / (s.contact.shear.c_0 - s.contact.shear.c_res) : mixed ? 2 * g_ii / s.contact.shear.c_0 : none)
       .set("phi_0_deg", s.contact.shear.phi_0.degrees())
       .set("phi_res_deg", s.contact.shear.phi_res.degrees())
       .set("cap_Pa", s.contact.compression.f_c)
@@ -93,6 +97,7 @@ inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
   std::string label = calibrated ? tessera::detail::concat(" (contact strength x ", o.strength_scale, ")") : "";
   if (o.law == "slip_softening")
     label += tessera::detail::concat(", slip-softening law (G_II ", g_ii_or_default(o.g_ii), " J/m^2)");
+  if (o.law == "mixed_mode") label += ", mixed-mode law";
   if (o.phi_deg != 35 || o.phi_res_deg != 30 || o.cap != 35e6)
     label += tessera::detail::concat(", phi_0 ", o.phi_deg, " deg, phi_res ", o.phi_res_deg, " deg, cap ", o.cap * 1e-6,
                                      " MPa");

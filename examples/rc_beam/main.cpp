@@ -99,7 +99,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC beam (provisional geometry), ", o.span, " beam, ", o.blocks,
                                        o.full() ? " blocks per half" : " blocks", ", seed ", o.seed, ", ",
-                                       o.compression, " compression", o.law == "study" ? "" : ", slip-softening law",
+                                       o.compression, " compression", o.law == "study" ? "" : ", " + o.law + " law",
                                        in.params.empty() ? "" : tessera::detail::concat(", strength x ", o.strength_scale));
   plot.xlabel = "mid-span deflection (mm)";
   plot.ylabel = "total load P (kN)";
