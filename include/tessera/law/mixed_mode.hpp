@@ -285,16 +285,20 @@ struct mixed_mode_cohesive {
         const T closure = lanes::select(x.u_p < real(0), x.u_p, T{});  // min(u_p, 0): kept at a break
         x.u_p = mask_select(beyond_tension, mask_select(breaks, closure, x.u_n - sigma * (1 / k_n)), x.u_p);
       }
-      if (lanes::any(sliding)) {  // slip-softening Coulomb return (broken: friction alone)
+      tau_scale = mask_select(open, T{}, tau_scale);  // an open crack carries no shear
+      if (lanes::any(beyond_coulomb)) {  // slip-softening Coulomb return (broken: friction alone)
         const T t_tr = lanes::sqrt(trial_sq);
-        const auto r = coulomb_slip_softening::lane_slip_return(p.shear, k_s, sigma, broken, slip, t_tr);
-        const T limit = mask_select(broken, coulomb, r.tau);
+        T limit = coulomb;
+        const M softens = beyond_coulomb & mask_not(broken);
+        if (lanes::any(softens)) {
+          const auto r = coulomb_slip_softening::lane_slip_return(p.shear, k_s, sigma, broken, slip, t_tr);
+          limit = mask_select(broken, coulomb, r.tau);
+          const T s_new = r.slip * (1 / l_II);
+          d_new = mask_select(softens, lanes::select(s_new < real(1), s_new, lanes::splat<T>(1)), d_new);
+        }
         const T ratio = limit / t_tr;
         const T scale = lanes::select(ratio < real(1), ratio, lanes::splat<T>(1));
-        tau_scale = mask_select(open, T{}, mask_select(beyond_coulomb, scale, tau_scale));
-        const T s_new = r.slip * (1 / l_II);
-        d_new = mask_select(beyond_coulomb & mask_not(broken), lanes::select(s_new < real(1), s_new, lanes::splat<T>(1)),
-                            d_new);
+        tau_scale = mask_select(beyond_coulomb, scale, tau_scale);
       }
       // New flags: softening while 0 < D < 1, broken at D = 1, slipped after a Coulomb slide.
       const M now_broken = broken | (d_new >= real(1));
