@@ -844,6 +844,20 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_slip_softening_quick
          "peak_load_N GREATER 22.93e3" "peak_load_N LESS 22.97e3"
          "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
+# rc_beam --law mixed_mode (law/mixed_mode.hpp; issue #63's second family): the quick beam, 17-20 s of
+# CPU. Checks: the law and its default G_II = (c_0 / f_T) G_f = 120 J/m^2 with l_II = 2 G_II / c_0 =
+# 48 um recorded; first cracking near the study law's 14.11 kN (measured 14.57 kN: the faces that
+# open and slide at once crack on the ellipse); the peak of this short run (measured 23.36 kN at
+# a629f53, 23.45 kN at acc3bbc: the rounding of tan phi_0 moves it by 0.4 %), within 1 %; energy balance.
+tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_quick
+  ARGS --quick --threads 1 --no-vtk --law mixed_mode
+  CHECKS "law STREQUAL mixed_mode"
+         "g_ii_J_per_m2 EQUAL 120"
+         "softening_slip_m GREATER 4.79e-5" "softening_slip_m LESS 4.81e-5"
+         "first_crack_load_N GREATER 14.42e3" "first_crack_load_N LESS 14.71e3"
+         "peak_load_N GREATER 23.12e3" "peak_load_N LESS 23.68e3"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
 tessera_add_refusal_test(refuse_rc_beam_g_ii_study rc_beam
   "rc_beam: --g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --g-ii 100)
 tessera_add_refusal_test(refuse_rc_beam_g_ii_small rc_beam
