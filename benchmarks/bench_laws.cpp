@@ -18,7 +18,9 @@
 // slip_softening_beam_law (G_II = 500 J/m^2, s_u = 0.2 mm) against study_beam_law: the cost of the
 // plastic slip u_slip and its softening limit (issue #63; docs/performance.md). crushing_beam_law
 // (the same with softening_cap, G_c = 10 kJ/m^2, residual 0.1) against slip_softening_beam_law: the
-// cost of the plastic closure u_crush and its softening cap (issue #63).
+// cost of the plastic closure u_crush and its softening cap (issue #63). presets::mixed_mode_beam_law
+// (law/mixed_mode.hpp, G_II = 120 J/m^2) against study_beam_law: the cost of one damage for tension
+// and shear (issue #63's target: within 20 % per sub-contact-step, packed).
 //
 //   cmake -S . -B build/laws -DCMAKE_BUILD_TYPE=Release -DTESSERA_BUILD_BENCHMARKS=ON
 //   cmake --build build/laws --target bench_laws && build/laws/benchmarks/bench_laws --benchmark_repetitions=5
@@ -54,6 +56,7 @@ typename Law::params params_for() {
   if constexpr (std::is_same_v<Law, study_tie_law>) return study_prism_params(100);
   else if constexpr (std::is_same_v<Law, linear_tie_law>) return linear_tie_params();
   else if constexpr (std::is_same_v<Law, slip_softening_beam_law>) return with_slip_softening(beam_params(), 500);
+  else if constexpr (std::is_same_v<Law, presets::mixed_mode_beam_law>) return presets::with_mixed_mode(beam_params());
   else if constexpr (std::is_same_v<Law, crushing_beam_law>)
     return with_softening_cap(with_slip_softening(beam_params(), 500), 1e4, 0.1);
   else return beam_params();
@@ -159,7 +162,9 @@ BENCHMARK_TEMPLATE(bench_update, tessera::law::linear_tie_law)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::study_beam_law)->Arg(0)->Arg(1);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK_TEMPLATE(bench_update, tessera::law::crushing_beam_law)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(bench_update, tessera::presets::mixed_mode_beam_law)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK_TEMPLATE(bench_packed, tessera::law::study_beam_law)->Arg(0)->Arg(1)->Arg(2);
+BENCHMARK_TEMPLATE(bench_packed, tessera::presets::mixed_mode_beam_law)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK_TEMPLATE(bench_packed, tessera::law::slip_softening_beam_law)->Arg(0)->Arg(1)->Arg(2);
 BENCHMARK_TEMPLATE(bench_packed, tessera::law::crushing_beam_law)->Arg(0)->Arg(1)->Arg(2);
 

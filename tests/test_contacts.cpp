@@ -1095,6 +1095,11 @@ TEST_CASE("elastic pack path: the same states and forces as Law::update, to the 
     check_pack_against_scalar<law::crushing_beam_law>(law::with_softening_cap(slip, 1e4, 0.2, true), 203, 37, 6);
     check_pack_against_scalar<law::crushing_beam_law>(law::with_softening_cap(slip, 1e4, 0.2, false), 203, 37, 7);
   }
+  SECTION("mixed_mode_beam_law (one damage for tension and shear, law/mixed_mode.hpp)") {
+    // G_II = 6000 J/m^2: l_II = 2.4 mm, so slid contacts (0.5-5 mm) are softening or broken.
+    check_pack_against_scalar<presets::mixed_mode_beam_law>(presets::with_mixed_mode(law::study_beam_params(250), 6000),
+                                                            203, 37, 8);
+  }
   SECTION("coupled_tie_law (cohesion softens with the tensile strength)") {
     check_pack_against_scalar<law::coupled_tie_law>(law::with_coupled_cohesion(law::study_prism_params(100)), 203,
                                                     37, 3);

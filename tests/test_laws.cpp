@@ -1153,3 +1153,197 @@ TEST_CASE("softening cap validation names the bad parameter", "[laws][validation
   // ((1 - 0.2) 35 MPa)^2 / (2 x 500 GPa/m) = 784 J/m^2
   refuses([](cap& c) { c.G_c = 700; }, "G_c = 700 J/m^2 must exceed ((1 - residual) f_c)^2/(2 k_n) = 784");
 }
+
+// ---- law::mixed_mode_cohesive: one damage for tension and shear (include/tessera/law/mixed_mode.hpp) ----
+namespace {
+using mixed_law = presets::mixed_mode_beam_law;
+static_assert(ContactLaw<mixed_law> && ElasticPackLaw<mixed_law>);
+
+/// The beam's contact (k_n 500 GPa/m, k_s 208 GPa/m, f_T 2.5 MPa, G_I 60 J/m^2, c_0 5 MPa, phi_0 35 deg,
+/// phi_res 30 deg, cap 35 MPa) with G_II = 120 J/m^2 (the preset's default): l_I = l_II = 48 um.
+mixed_law::params mixed_params(real G_II = 0) { return presets::with_mixed_mode(beam_params(), G_II); }
+
+/// Drives the contact along du = (cos theta n + sin theta e_x) in three legs ending at the closed
+/// form's kinks (the peak at delta_peak, the break at delta_end) and 20 % beyond, so the trapezoidal
+/// bookkeeping is exact on each straight piece; returns the largest |sigma_n| and |tau| seen.
+std::pair<real, real> drive_at_angle(contact_driver<mixed_law>& c, real theta, real delta_peak, real delta_end) {
+  real largest_sigma = 0, largest_tau = 0, done = 0;
+  const vec3 dir = std::cos(theta) * e_z + std::sin(theta) * e_x;
+  const auto leg = [&](real to, int steps) {
+    for (int k = 0; k < steps; ++k) {
+      const vec3 d = dir * ((to - done) / (steps - k));
+      c.step(d.dot(e_z), d.dot(e_x) * e_x);
+      done += (to - done) / (steps - k);
+      largest_sigma = std::max(largest_sigma, std::abs(c.s.sigma_n));
+      largest_tau = std::max(largest_tau, c.s.tau.norm());
+    }
+  };
+  leg(delta_peak, 100);
+  leg(delta_end, 400);
+  leg(1.2 * delta_end, 100);
+  return {largest_sigma, largest_tau};
+}
+
+/// The displacements of a contact driven along theta: the peak, where (k_n cos, k_s sin) delta meets
+/// the ellipse, and the break, where the plastic displacement (all of it: the stress is zero) has
+/// |(u_n / l_I, u_s / l_II)| = 1.
+std::pair<real, real> mixed_kinks(const mixed_law::params& p, real theta) {
+  const real alpha = p.tension.f_T / p.shear.c_0, a = p.k_n * std::cos(theta), b = p.k_s * std::sin(theta);
+  const real l_I = mixed_law::mode_one_length(p), l_II = mixed_law::mode_two_length(p);
+  const real x = std::cos(theta) / l_I, y = std::sin(theta) / l_II;
+  return {p.tension.f_T / std::sqrt(a * a + alpha * alpha * b * b), 1 / std::sqrt(x * x + y * y)};
+}
+}  // namespace
+
+TEST_CASE("mixed mode in pure tension: peak f_T and G_I dissipated, the study's linear envelope",
+          "[laws][mixed]") {
+  const auto p = mixed_params();
+  contact_driver<mixed_law> c(p);
+  contact_driver<study_beam_law> study(beam_params());
+  const auto [u_peak, u_end] = mixed_kinks(p, 0);
+  REQUIRE(u_peak == Approx(eta_of(p)).epsilon(1e-15));
+  REQUIRE(u_end == Approx(zeta_of(p)).epsilon(1e-15));  // l_I = 2 G_I / f_T is linear_softening's zeta
+  const auto [sigma_max, tau_max] = drive_at_angle(c, 0, u_peak, u_end);
+  CHECK(sigma_max == Approx(p.tension.f_T).epsilon(1e-12));
+  CHECK(tau_max == 0);
+  CHECK(has(c.s.flags, contact_status::broken_tension));
+  CHECK(c.s.sigma_n == 0);
+  // Every step on the straight softening line: the trapezoidal sum is the triangle f_T zeta / 2 = G_I.
+  CHECK(c.s.dissipated_tension == Approx(p.tension.G_f).epsilon(1e-9));
+  CHECK(c.s.dissipated_shear == 0);
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  CHECK(mixed_law::mixed_separation_energy(p, 1, 0) == Approx(p.tension.G_f).epsilon(1e-14));
+  // The same envelope as the study's linear softening, point by point (to rounding: other arithmetic).
+  contact_driver<mixed_law> m(p);
+  for (int k = 1; k <= 40; ++k) {
+    const real u = 1.1 * zeta_of(p) * k / 40;
+    m.open_to(u, 5), study.open_to(u, 5);
+    CHECK(m.s.sigma_n == Approx(study.s.sigma_n).margin(1e-9 * p.tension.f_T));
+  }
+}
+
+TEST_CASE("mixed mode in pure shear at zero normal stress: peak c_0 and G_II dissipated, then no cohesion",
+          "[laws][mixed]") {
+  const auto p = mixed_params(200);  // l_II = 80 um, l_I = 48 um
+  contact_driver<mixed_law> c(p);
+  const real theta = std::numbers::pi / 2;
+  const auto [u_peak, u_end] = mixed_kinks(p, theta);
+  CHECK(u_peak == Approx(p.shear.c_0 / p.k_s).epsilon(1e-14));
+  CHECK(u_end == Approx(2 * 200 / p.shear.c_0).epsilon(1e-14));
+  const auto [sigma_max, tau_max] = drive_at_angle(c, theta, u_peak, u_end);
+  CHECK(tau_max == Approx(p.shear.c_0).epsilon(1e-12));
+  CHECK(std::abs(sigma_max) < 1e-6);  // cos(pi/2) in the driver: no normal stress to speak of
+  CHECK(has(c.s.flags, contact_status::broken_tension));
+  CHECK(c.s.tau.norm() < 1e-6 * p.shear.c_0);  // no cohesion left, no compression to rub on
+  CHECK(c.dissipated() == Approx(200).epsilon(1e-6));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  CHECK(mixed_law::mixed_separation_energy(p, 0, 1) == Approx(200).epsilon(1e-14));
+}
+
+TEST_CASE("mixed mode at a fixed angle of 45 deg: peak on the ellipse and the mixed energy in closed form",
+          "[laws][mixed]") {
+  for (const real G_II : {120.0, 300.0}) {
+    const auto p = mixed_params(G_II);
+    const real theta = std::numbers::pi / 4, alpha = p.tension.f_T / p.shear.c_0;
+    contact_driver<mixed_law> c(p);
+    const auto [u_peak, u_end] = mixed_kinks(p, theta);
+    const auto [sigma_max, tau_max] = drive_at_angle(c, theta, u_peak, u_end);
+    // At the peak (sigma, tau) = u_peak (k_n, k_s) / sqrt(2) lies on sigma^2 + alpha^2 tau^2 = f_T^2.
+    const real sigma_peak = p.k_n * u_peak / std::sqrt(2.0), tau_peak = p.k_s * u_peak / std::sqrt(2.0);
+    CHECK(sigma_peak * sigma_peak + alpha * alpha * tau_peak * tau_peak == Approx(p.tension.f_T * p.tension.f_T).epsilon(1e-12));
+    CHECK(sigma_max == Approx(sigma_peak).epsilon(1e-12));
+    CHECK(tau_max == Approx(tau_peak).epsilon(1e-12));
+    CHECK(has(c.s.flags, contact_status::broken_tension));
+    const real expected = mixed_law::mixed_separation_energy(p, p.k_n, p.k_s);
+    INFO("G_II " << G_II << ": mixed energy " << expected << " J/m^2");  // 58.8 and 80.3 J/m^2
+    CHECK(c.dissipated() == Approx(expected).epsilon(1e-9));
+    CHECK(c.s.dissipated_tension > 0);
+    CHECK(c.s.dissipated_shear > 0);
+    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("mixed mode unloading and reloading keep the damage, and one damage weakens both modes",
+          "[laws][mixed]") {
+  const auto p = mixed_params();
+  const real f_T = p.tension.f_T, c_0 = p.shear.c_0, l_I = mixed_law::mode_one_length(p);
+  contact_driver<mixed_law> c(p);
+  c.open_to(eta_of(p), 20);
+  c.open_to(eta_of(p) + 0.3 * l_I, 300);  // on the softening line
+  const real d = mixed_law::damage(p, c.s), sigma = c.s.sigma_n, u_soft = c.s.u_soft;
+  REQUIRE(d > 0.25);
+  REQUIRE(d < 0.35);
+  CHECK(sigma == Approx(f_T * (1 - d)).epsilon(1e-12));
+  CHECK(mixed_law::tensile_strength(p, c.s) == Approx(sigma).epsilon(1e-12));
+  c.open_by(-sigma / p.k_n, 10);  // unload to zero stress along k_n
+  CHECK(std::abs(c.s.sigma_n) < 1e-9 * f_T);
+  CHECK(c.s.u_soft == u_soft);
+  c.open_by(0.999 * sigma / p.k_n, 10);  // reload below the softened strength: elastic
+  CHECK(c.s.u_soft == u_soft);
+  CHECK(c.s.sigma_n == Approx(0.999 * sigma).epsilon(1e-9));
+  // Back to zero normal stress, then slide: the cohesion is c_0 (1 - D), the damage tension left.
+  c.open_by(-0.999 * sigma / p.k_n, 10);
+  real largest = 0;
+  for (int k = 0; k < 400; ++k) {
+    c.step(0, e_x * (1.2 * c_0 / p.k_s / 400));
+    largest = std::max(largest, c.s.tau.norm());
+  }
+  // The peak is the softened cohesion; the step that crosses it overshoots by at most one increment
+  // (0.3 % of c_0 / k_s), whose return then softens the stress by at most c_0 / (k_s l_II) = 0.5 of that.
+  CHECK(largest <= c_0 * (1 - d) * (1 + 1e-12));
+  CHECK(largest > (1 - 2e-3) * c_0 * (1 - d));
+  CHECK(mixed_law::damage(p, c.s) > d);
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+TEST_CASE("mixed mode under compression: Coulomb peak c_0 + sigma tan phi_0, friction phi_res once spent",
+          "[laws][mixed]") {
+  const auto p = mixed_params();
+  const real c_0 = p.shear.c_0, tan_0 = p.shear.phi_0.tan(), tan_res = p.shear.phi_res.tan(), sigma_c = 5e6;
+  const real l_II = mixed_law::mode_two_length(p);
+  contact_driver<mixed_law> c(p);
+  c.open_by(-sigma_c / p.k_n, 10);
+  const real dissipated_normal = c.dissipated();
+  const real peak = c_0 + sigma_c * tan_0, residual = sigma_c * tan_res;
+  const real u_peak = peak / p.k_s, u_end = l_II + residual / p.k_s, u_total = u_end + 3e-5;
+  real largest = 0, done = 0;
+  for (const auto& [to, steps] : {std::pair{u_peak, 100}, {u_end, 400}, {u_total, 100}})
+    for (int k = 0; k < steps; ++k) {
+      const real du = (to - done) / (steps - k);
+      c.step(0, e_x * du);
+      done += du;
+      largest = std::max(largest, c.s.tau.norm());
+    }
+  CHECK(largest == Approx(peak).epsilon(1e-12));
+  CHECK(c.s.tau.norm() == Approx(residual).epsilon(1e-9));
+  CHECK(c.s.sigma_n == Approx(-sigma_c).epsilon(1e-12));
+  CHECK(has(c.s.flags, contact_status::broken_tension));
+  CHECK(has(c.s.flags, contact_status::slipped));
+  // The triangle above the residual friction, (c_0 + sigma (tan phi_0 - tan phi_res)) l_II / 2, and the residual's work.
+  const real triangle = (c_0 + sigma_c * (tan_0 - tan_res)) * l_II / 2, plastic = u_total - residual / p.k_s;
+  CHECK(c.dissipated() - dissipated_normal == Approx(triangle + residual * plastic).epsilon(1e-9));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+TEST_CASE("mixed mode validation names the bad parameter", "[laws][validation][mixed]") {
+  const auto good = mixed_params();
+  CHECK_NOTHROW(mixed_law::validate(good));
+  auto p = good;
+  p.shear.c_res = 1e4;
+  REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("residual cohesion c_res = 10000 Pa must be 0"));
+  p = good;
+  p.shear.G_II = 50;  // c_0^2 / (2 k_s) = 60 J/m^2
+  REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("G_II must exceed (c_0 - c_res)^2/(2 k_s)"));
+  p = good;
+  p.tension.G_f = 5;  // f_T^2 / (2 k_n) = 6.25 J/m^2
+  REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("G_f must exceed"));
+  p = good;
+  p.k_s = -1;
+  REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("shear stiffness k_s = -1 Pa/m"));
+  p = good;
+  p.shear.phi_res = friction_angle::from_degrees(40);
+  REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("phi_res = 40 deg must not exceed phi_0 = 35 deg"));
+  p = good;
+  p.compression.f_c = 0;
+  REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("compressive strength f_c = 0 Pa"));
+}

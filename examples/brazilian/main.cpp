@@ -12,12 +12,13 @@
 // (EC2: 1/0.9 = 1.11), only for a disc that split: one that has not split by --max-displacement reports
 // "split": false and no f_sp (its largest load is the wedges' under the strips). curve.csv also has the
 // opening across the loaded diameter (the flats x = +-a over the middle third); summary.json the load and
-// opening when the split is found. --law (beam only): study (study_beam_law) or slip_softening
+// opening when the split is found. --law (beam only): study (study_beam_law), slip_softening
 // (slip_softening_beam_law: c_0 and phi_0 soften with the plastic slip to c_res and --phi-res-deg over
-// the mode-II fracture energy --g-ii) or crushing (crushing_beam_law: slip_softening whose cap --cap softens
+// the mode-II fracture energy --g-ii), crushing (crushing_beam_law: slip_softening whose cap --cap softens
 // with the plastic closure to --cap-residual x --cap over the compressive fracture energy --g-c;
-// --crush-shear: the shear limit falls with it), as compression; --cap (beam): the contacts' compressive
-// cap (35 MPa).
+// --crush-shear: the shear limit falls with it), as compression, or mixed_mode
+// (presets::mixed_mode_beam_law: one damage for tension and shear over G_f and --g-ii); --cap (beam):
+// the contacts' compressive cap (35 MPa).
 // --params FILE: the concrete of a calibrated.json
 // entry (calibrate; common/concrete_set.hpp), its law, scales, c_0/f_T, phi_0, phi_res, G_II and cap,
 // for the recipe named by --material, --recipe-blocks and --zone-edge (refused, naming both values, if
@@ -33,6 +34,7 @@
 #include <iterator>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "brazilian/disc.hpp"
@@ -87,8 +89,8 @@ int main(int argc, char** argv) {
                 "  [--blocks 0..2000] [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
                 "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]\n"
-                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening|crushing] [--g-ii 0..1e6 J/m^2]\n"
-                "  [--g-c 0..1e8 J/m^2] [--cap-residual 0..1] [--crush-shear]\n"
+                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening|crushing|mixed_mode]\n"
+                "  [--g-ii 0..1e6 J/m^2] [--g-c 0..1e8 J/m^2] [--cap-residual 0..1] [--crush-shear]\n"
                 "  [--recipe-blocks 0..750] [--zone-edge 0..1 m] [--cap 1e6..1e10 Pa, beam: 35e6] [--params FILE]:\n"
                 "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
                 "  --material: the concrete of examples/calibrate --material, its law, parameters, block size and zoning:\n"
@@ -100,11 +102,11 @@ int main(int argc, char** argv) {
                 "  cap, G_c, residual cap), instead of --strength-scale, --cohesion-ratio, --phi-deg, --phi-res-deg, --law,\n"
                 "  --g-ii, --cap, --g-c, --cap-residual and --crush-shear.\n"
                 "  --blocks 0: the material's block size. --quick: 5 nm per step.");
-      std::printf("  --law: %s; --material beam only.\n  --g-ii: mode-II fracture energy G_II with --law slip_softening or "
-                  "crushing (J/m^2; 0 = 500).\n  --g-c: compressive fracture energy G_c with --law crushing, plastic work per "
-                  "contact area above the residual cap (J/m^2; 0 = 20000).\n  --cap-residual: residual cap with --law crushing, "
-                  "a fraction of --cap (0.1).\n  --crush-shear: with --law crushing, the shear limit falls with the cap's "
-                  "remaining fraction too.\n", scenes::crushing_law_flag_help);
+      std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n  --g-c: compressive fracture energy G_c with "
+                  "--law crushing, plastic work per contact area above the residual cap (J/m^2; 0 = 20000).\n  "
+                  "--cap-residual: residual cap with --law crushing, a fraction of --cap (0.1).\n  --crush-shear: with "
+                  "--law crushing, the shear limit falls with the cap's remaining fraction too.\n",
+                  scenes::mixed_law_flag_help, scenes::mixed_g_ii_flag_help);
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--material" && i + 1 < argc) material = argv[++i];
@@ -128,9 +130,9 @@ int main(int argc, char** argv) {
   if (material != "prism" && material != "beam")
     return std::fprintf(stderr, "brazilian: --material '%s' is not a concrete recipe (expected prism or beam)\n",
                         material.c_str()), 2;
-  if (law != "study" && law != "slip_softening" && law != "crushing")
-    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study, slip_softening or crushing)\n",
-                        law.c_str()), 2;
+  if (law != "study" && law != "slip_softening" && law != "crushing" && law != "mixed_mode")
+    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study, slip_softening, crushing or "
+                        "mixed_mode)\n", law.c_str()), 2;
   for (const char* crush_flag : {"--g-c", "--cap-residual", "--crush-shear"})
     if (law != "crushing" && std::find(concrete_flags.begin(), concrete_flags.end(), crush_flag) != concrete_flags.end())
       return std::fprintf(stderr, "brazilian: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
@@ -173,7 +175,7 @@ int main(int argc, char** argv) {
   }
   io::run_record record(out, "brazilian", argc, argv);
   try {
-    return scenes::with_concrete(set, [&](const auto& recipe) { return run_disc(o, set, recipe, record); });
+    return scenes::with_concrete_or_mixed(set, [&](const auto& recipe) { return run_disc(o, set, recipe, record); });
   } catch (const std::exception& e) {
     cli::print_error("brazilian", e);  // one "brazilian: " before the message
     return 1;
@@ -192,10 +194,12 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   const scenes::disc_result r = scenes::run_brazilian_disc(d, recipe);
   const real none = std::numeric_limits<real>::quiet_NaN(), f_t = r.f_t;
   const bool slip = set.law == "slip_softening" || set.law == "crushing", crush = set.law == "crushing";
+  real g_ii = slip ? scenes::g_ii_or_default(set.g_ii) : none;
+  if constexpr (std::is_same_v<joint_law, presets::mixed_mode_beam_law>) g_ii = recipe.contact.shear.G_II;
   const std::filesystem::path out(o.out);
   io::write_csv(out / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {r.u, r.p_top, r.p_bottom, r.opening});
   io::summary_json j;
-  j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", slip ? scenes::g_ii_or_default(set.g_ii) : none)
+  j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", g_ii)
       .set("G_c_J_per_m2", crush ? (set.g_c > 0 ? set.g_c : scenes::default_g_c) : none)
       .set("cap_residual", crush ? set.cap_residual : none).set("crush_shear", crush && set.crush_shear)
       .set("params", o.params.empty() ? "flags" : o.params).set("recipe_blocks", set.blocks())

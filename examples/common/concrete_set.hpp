@@ -17,6 +17,7 @@
 #include "common/cli.hpp"
 #include "common/scenes.hpp"
 #include "rc_beam/beam.hpp"
+#include "tessera/presets/mixed_mode.hpp"
 
 namespace tessera::scenes {
 
@@ -99,29 +100,46 @@ inline calibration_entry load_concrete_params(concrete_set& c, const std::filesy
   return e;
 }
 
+/// --law and --g-ii help of the drivers that take every beam law, mixed_mode too (rc_beam, brazilian).
+inline constexpr const char* mixed_law_flag_help =
+    "contact law of the beam's concrete: study (the beam's), slip_softening (cohesion and friction soften with plastic "
+    "slip over --g-ii), crushing (slip_softening whose cap --cap also softens with the plastic closure over --g-c) or "
+    "mixed_mode (one damage for tension and shear, driven by the plastic opening and slip over G_f and --g-ii; "
+    "law/mixed_mode.hpp)";
+inline constexpr const char* mixed_g_ii_flag_help =
+    "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500) or mixed_mode (0 = (c_0/f_T) "
+    "G_f, 120 for the beam's contacts)";
+
+/// The recipe `beam` with the mixed-mode law (presets::with_mixed_mode: G_II in J/m^2, 0 = (c_0/f_T) G_f),
+/// everything else the recipe's.
+[[nodiscard]] inline concrete_recipe<presets::mixed_mode_beam_law> with_mixed_mode(
+    const concrete_recipe<presets::study_beam_law>& beam, real G_II) {
+  return beam.with_contact<presets::mixed_mode_beam_law>(presets::with_mixed_mode(beam.contact, G_II));
+}
+
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
-/// o.law (--law study|slip_softening), o.g_ii (--g-ii, J/m^2), o.phi_deg and o.phi_res_deg
-/// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
-/// --cap's help (what the driver does with the cap). Options with a member g_c (compression,
-/// rc_beam) also get --law crushing and its --g-c (J/m^2), --cap-residual and --crush-shear.
-/// brazilian parses its own flags with the same ranges and help texts (crushing_law_flag_help);
-/// calibrate's start flags differ on purpose.
-template <class Options>
+/// o.law (--law study|slip_softening|crushing, and mixed_mode when takes_mixed_mode), o.g_ii (--g-ii,
+/// J/m^2), o.g_c (--g-c, J/m^2), o.cap_residual (--cap-residual), o.crush_shear (--crush-shear),
+/// o.phi_deg and o.phi_res_deg (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set
+/// of ranges; `cap_note` ends --cap's help (what the driver does with the cap). brazilian parses
+/// its own flags with the same ranges and help texts (mixed_law_flag_help); calibrate's start flags
+/// differ on purpose.
+template <bool takes_mixed_mode = false, class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
-  if constexpr (requires { o.g_c; }) {
+  if constexpr (takes_mixed_mode) {
+    cli.option("--law", o.law, mixed_law_flag_help, "L").one_of({"study", "slip_softening", "crushing", "mixed_mode"});
+    cli.option("--g-ii", o.g_ii, mixed_g_ii_flag_help, "J").within(0, 1e6);
+  } else {
     cli.option("--law", o.law, crushing_law_flag_help, "L").one_of({"study", "slip_softening", "crushing"});
     cli.option("--g-ii", o.g_ii, "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500)",
                "J").within(0, 1e6);
-    cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
-               "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
-    cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")
-        .within(0, 1);
-    cli.flag("--crush-shear", o.crush_shear, "with --law crushing: the shear limit falls with the cap's remaining "
-             "fraction too");
-  } else {
-    cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening"});
-    cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
   }
+  cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
+             "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
+  cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")
+      .within(0, 1);
+  cli.flag("--crush-shear", o.crush_shear, "with --law crushing: the shear limit falls with the cap's remaining "
+           "fraction too");
   cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
       .within(0, 80);
@@ -162,6 +180,20 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   }
   presets::study_beam_law::validate(r.contact);
   return std::forward<F>(f)(r);
+}
+
+/// with_concrete, and c.law "mixed_mode" (the beam's concrete only): f(with_mixed_mode(recipe, c.g_ii))
+/// after the law's validate. brazilian runs through it; the other drivers keep with_concrete.
+template <class F>
+decltype(auto) with_concrete_or_mixed(const concrete_set& c, F&& f) {
+  if (c.law != "mixed_mode") return with_concrete(c, std::forward<F>(f));
+  require(c.material == "beam", "concrete: law mixed_mode applies to the beam's concrete only (the prism's concrete "
+          "has the study's law), got material ", c.material);
+  auto r = beam_concrete(c.beam());
+  apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
+  auto m = with_mixed_mode(r, c.g_ii);
+  presets::mixed_mode_beam_law::validate(m.contact);
+  return std::forward<F>(f)(m);
 }
 
 }  // namespace tessera::scenes

@@ -135,11 +135,11 @@ void apply_concrete_shear(Params& p, real cohesion_ratio, real phi_0_deg, real p
   if constexpr (requires { p.compression.f_c; }) p.compression.f_c = cap;
 }
 
-/// Refuses --g-ii `g_ii` (J/m^2) given with the study's law (slip_softening and
-/// crushing take it), naming the value; `driver` opens the message.
+/// Refuses --g-ii `g_ii` (J/m^2) given with the study's law (slip_softening, crushing and
+/// mixed_mode take it), naming the value; `driver` opens the message.
 inline void require_g_ii_with_slip_softening(const char* driver, const std::string& law, real g_ii) {
   require(law != "study" || g_ii == 0, driver, ": --g-ii ", g_ii,
-          " J/m^2 applies to --law slip_softening only (or --law crushing; the study's law has no "
+          " J/m^2 applies to --law slip_softening only (or --law crushing or mixed_mode; the study's law has no "
           "mode-II fracture energy)");
 }
 

@@ -127,10 +127,11 @@ struct beam_options {
   /// hand values stay at the concrete's f_T.
   real strength_scale = 1;
   real fracture_energy_scale = 1;
-  /// The contacts' law (rc_beam --law, beam_law.hpp): "study" (study_beam_law) or "slip_softening"
-  /// (slip_softening_beam_law: cohesion and friction soften with the plastic slip over g_ii)
+  /// The contacts' law (rc_beam --law, beam_law.hpp): "study" (study_beam_law), "slip_softening"
+  /// (slip_softening_beam_law: cohesion and friction soften with the plastic slip over g_ii) or
+  /// "mixed_mode" (presets::mixed_mode_beam_law: one damage for tension and shear over G_f and g_ii)
   std::string law = "study";
-  real g_ii = 0;          ///< mode-II fracture energy with law slip_softening or crushing (J/m^2); 0 = default_g_ii
+  real g_ii = 0;          ///< G_II with law slip_softening or crushing (J/m^2; 0 = default_g_ii) or mixed_mode (0 = (c_0/f_T) G_f)
   /// law "crushing" (crushing_beam_law: slip_softening whose cap softens with crushing): the
   /// compressive fracture energy G_c (J/m^2; 0 = default_g_c), the residual cap over the cap, and
   /// whether the shear limit falls with the cap's remaining fraction
@@ -297,14 +298,14 @@ inline constexpr real beam_plate_friction_deg = 35;
 /// (no such variant is built); then the law's own check of the contacts `c` (G_II above the
 /// elastic unloading's bound). --scheme relaxation: check_beam_relaxation; --params: check_beam_law_flags.
 inline void check_beam_law(const beam_options& o, const presets::study_beam_law::params& c) {
-  require(o.law == "study" || o.law == "slip_softening" || o.law == "crushing", "rc_beam: --law '", o.law,
-          "' must be study, slip_softening or crushing");
+  require(o.law == "study" || o.law == "slip_softening" || o.law == "crushing" || o.law == "mixed_mode", "rc_beam: --law '",
+          o.law, "' must be study, slip_softening, crushing or mixed_mode");
   require(o.phi_res_deg <= o.phi_deg, "rc_beam: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ", o.phi_deg);
   require_g_ii_with_slip_softening("rc_beam", o.law, o.g_ii);
   require(o.compression == "plastic" || o.cap == 35e6, "rc_beam: --cap ", o.cap,
           " Pa applies to --compression plastic (--compression elastic has no cap)");
-  const bool slip = o.law != "study";
-  require(!slip || (o.compression == "plastic" && o.cohesion == "decoupled" && !o.slip_breaks_tension),
+  const bool slip = o.law == "slip_softening" || o.law == "crushing", mixed = o.law == "mixed_mode";
+  require(!(slip || mixed) || (o.compression == "plastic" && o.cohesion == "decoupled" && !o.slip_breaks_tension),
           "rc_beam: --law ", o.law, " is built with --compression plastic, --cohesion decoupled and without "
           "--slip-breaks-tension (presets::", o.law, "_beam_law), got --compression ", o.compression, ", --cohesion ",
           o.cohesion, o.slip_breaks_tension ? ", --slip-breaks-tension" : "");
@@ -314,6 +315,8 @@ inline void check_beam_law(const beam_options& o, const presets::study_beam_law:
                                                                      o.crush_shear));
   else if (slip)
     presets::slip_softening_beam_law::validate(presets::with_slip_softening(c, g_ii_or_default(o.g_ii)));
+  else if (mixed)
+    presets::mixed_mode_beam_law::validate(presets::with_mixed_mode(c, o.g_ii));
   else
     presets::study_beam_law::validate(c);
 }

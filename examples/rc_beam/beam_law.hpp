@@ -12,6 +12,9 @@
 //   crushing        presets::crushing_beam_law: slip_softening whose cap --cap softens linearly with
 //                   the plastic closure to --cap-residual x --cap over G_c (--g-c); --crush-shear
 //                   scales the shear limit by the cap's remaining fraction (law::softening_cap)
+//   mixed_mode      presets::mixed_mode_beam_law (presets/mixed_mode.hpp): one damage for tension and
+//                   shear, grown by the plastic opening over G_f and the plastic slip over G_II
+//                   (--g-ii; 0 = (c_0/f_T) G_f), the same cap; c_res 0 (docs/model.md)
 //
 // In pure tension the two laws are the same law. The hand values (cracking, yield, EC2's and
 // Zsutty's shear) keep the concrete's f_c = 35 MPa whatever --cap the contacts take: the cap is a
@@ -83,20 +86,22 @@ inline void check_beam_law_set(const beam_options& o) {
   check_beam_law(o, c);
 }
 
-/// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (null for the study's law),
-/// G_c_J_per_m2, cap_residual and crush_shear (null, null, false but with law crushing),
+/// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (l_II = 2 G_II / c_0 with
+/// mixed_mode; null for the study's law), G_c_J_per_m2, cap_residual and crush_shear (null, null,
+/// false but with law crushing),
 /// phi_0_deg, phi_res_deg, cap_Pa, contact_c_0_Pa, contact_c_res_Pa of the scene's contacts (after
 /// calibration), plate_friction_deg.
 inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
   const beam_options& o = s.options;
-  const bool slip = o.law != "study", crush = o.law == "crushing";
-  const real none = std::numeric_limits<real>::quiet_NaN(), g_ii = slip ? g_ii_or_default(o.g_ii) : none;
+  const bool slip = o.law == "slip_softening" || o.law == "crushing", crush = o.law == "crushing", mixed = o.law == "mixed_mode";
+  const real none = std::numeric_limits<real>::quiet_NaN();
+  const real g_ii = slip ? g_ii_or_default(o.g_ii) : mixed ? presets::with_mixed_mode(s.contact, o.g_ii).shear.G_II : none;
   js.set("law", o.law)
       .set("g_ii_J_per_m2", g_ii)
       .set("G_c_J_per_m2", crush ? (o.g_c > 0 ? o.g_c : default_g_c) : none)
       .set("cap_residual", crush ? o.cap_residual : none)
       .set("crush_shear", crush && o.crush_shear)
-      .set("softening_slip_m", slip ? 2 * g_ii / (s.contact.shear.c_0 - s.contact.shear.c_res) : none)
+      .set("softening_slip_m", slip ? 2 * g_ii / (s.contact.shear.c_0 - s.contact.shear.c_res) : mixed ? 2 * g_ii / s.contact.shear.c_0 : none)
       .set("phi_0_deg", s.contact.shear.phi_0.degrees())
       .set("phi_res_deg", s.contact.shear.phi_res.degrees())
       .set("cap_Pa", s.contact.compression.f_c)
@@ -114,6 +119,7 @@ inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
     label += tessera::detail::concat(", crushing law (G_II ", g_ii_or_default(o.g_ii), " J/m^2, G_c ",
                                      o.g_c > 0 ? o.g_c : default_g_c, " J/m^2, residual cap ", o.cap_residual,
                                      o.crush_shear ? ", shear scaled" : "", ")");
+  if (o.law == "mixed_mode") label += ", mixed-mode law";
   if (o.phi_deg != 35 || o.phi_res_deg != 30 || o.cap != 35e6)
     label += tessera::detail::concat(", phi_0 ", o.phi_deg, " deg, phi_res ", o.phi_res_deg, " deg, cap ", o.cap * 1e-6,
                                      " MPa");

@@ -6,6 +6,7 @@
 #include "law/compression.hpp"
 #include "law/shear.hpp"
 #include "law/slip_softening.hpp"
+#include "law/mixed_mode.hpp"
 #include "law/cohesive_frictional.hpp"
 #include "law/with_elastic_packs.hpp"
 #include "law/joints.hpp"

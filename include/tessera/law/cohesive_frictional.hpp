@@ -89,6 +89,7 @@
 #include "shear.hpp"
 #include "slip_softening.hpp"
 #include "tension.hpp"
+#include "detail/state_lanes.hpp"
 #include "detail/transitions.hpp"
 
 namespace tessera::law {
@@ -245,16 +246,7 @@ struct cohesive_frictional {
     if constexpr (softens_with_crushing) x.u_crush = s.u_crush;
     auto flags = static_cast<lanes::mask_lane>(s.flags);
     static_cast<void>(step<real, true>(p, flags, x));  // takes every lane: nothing declined
-    s.sigma_n = x.sigma_n;
-    s.tau[0] = x.tau0;
-    s.tau[1] = x.tau1;
-    s.tau[2] = x.tau2;
-    s.u_n = x.u_n;
-    s.u_p = x.u_p;
-    s.u_soft = x.u_soft;
-    s.dissipated_tension = x.dissipated_tension;
-    s.dissipated_shear = x.dissipated_shear;
-    s.dissipated_compression = x.dissipated_compression;
+    detail::store_state_lanes(x, s);
     if constexpr (softens_with_slip) s.u_slip = x.u_slip;
     if constexpr (softens_with_crushing) s.u_crush = x.u_crush;
     s.flags = static_cast<contact_status>(flags);

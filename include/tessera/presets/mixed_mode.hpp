@@ -1,0 +1,40 @@
+#pragma once
+// presets/mixed_mode.hpp: the beam's concrete with the mixed-mode law (law::mixed_mode_cohesive,
+// issue #63's second candidate family; not the study's law): one damage for tension and shear,
+// driven by the effective plastic opening, with the study's beam contacts' f_T, G_f (= G_I), c_0,
+// phi_0, phi_res, cap and stiffnesses.
+//
+// | alias                | law                                  | use                                  |
+// |----------------------|--------------------------------------|--------------------------------------|
+// | mixed_mode_beam_law  | mixed_mode_cohesive<plastic_cap>     | rc_beam / brazilian --law mixed_mode |
+
+#include "../law/mixed_mode.hpp"
+#include "pulatsu2020.hpp"
+
+namespace tessera::presets {
+
+using mixed_mode_beam_law = law::mixed_mode_cohesive<law::plastic_cap>;
+static_assert(law::ElasticPackLaw<mixed_mode_beam_law>);
+
+/// The default mode-II fracture energy of the mixed-mode beam law (J/m^2): (c_0 / f_T) G_I, which
+/// makes the shear softening length l_II = 2 G_II / c_0 equal to the tensile one l_I = 2 G_I / f_T,
+/// so the damage grows with the Euclidean norm of the plastic opening and slip (Camacho and
+/// Ortiz's effective opening with beta = 1). 120 J/m^2 for the study's beam (c_0 = 2 f_T, G_f = 60).
+[[nodiscard]] inline real mixed_mode_default_g_ii(const study_beam_law::params& beam) noexcept {
+  return beam.shear.c_0 / beam.tension.f_T * beam.tension.G_f;
+}
+
+/// The beam's contact `beam` with the mixed-mode law: its stiffnesses, f_T, G_f (as G_I), cap,
+/// c_0, phi_0 and phi_res, the residual cohesion 0 (the law has none), and G_II (J/m^2; 0 = the
+/// default above). The law's validate refuses G_II <= c_0^2 / (2 k_s) and phi_res > phi_0.
+[[nodiscard]] inline mixed_mode_beam_law::params with_mixed_mode(const study_beam_law::params& beam, real G_II = 0) {
+  mixed_mode_beam_law::params p;
+  p.k_n = beam.k_n;
+  p.k_s = beam.k_s;
+  p.tension = beam.tension;
+  p.compression = beam.compression;
+  p.shear = {beam.shear.c_0, beam.shear.phi_0, 0, beam.shear.phi_res, G_II > 0 ? G_II : mixed_mode_default_g_ii(beam)};
+  return p;
+}
+
+}  // namespace tessera::presets
