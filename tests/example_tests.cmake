@@ -1053,7 +1053,7 @@ tessera_add_refusal_test(refuse_compression_confinement compression
 tessera_add_refusal_test(refuse_compression_g_ii_study compression
   "--g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --g-ii 100)
 tessera_add_refusal_test(refuse_compression_law compression
-  "--law: invalid value 'soft' \\(expected study or slip_softening or crushing\\)" --threads 1 --law soft)
+  "--law: invalid value 'soft' \\(expected study or slip_softening or crushing or mixed_mode\\)" --threads 1 --law soft)
 tessera_add_refusal_test(refuse_compression_g_ii_small compression
   "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --law slip_softening --g-ii 10 --shape prism --diameter 0.1 --height 0.2)
 # The prism's concrete in compression (--material prism, issue #63): the study's prism law (power
@@ -1086,6 +1086,14 @@ tessera_add_example_test(compression NAME example_compression_crushing_quick
   CHECKS "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
          "peak STREQUAL ON" "f_c_Pa GREATER 55.2e6" "f_c_Pa LESS 55.4e6" "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
+# --law mixed_mode (law/mixed_mode.hpp: one damage for tension and shear; issue #63) on the same
+# prism, frictionless ends, with the compression set: peaks (measured: 36.58 MPa at 1.53e-3, 6 s of
+# CPU); checks that the law and its G_II reach the contacts (c_res 0: the law has none) and the peak.
+tessera_add_example_test(compression NAME example_compression_mixed_mode_quick
+  ARGS --quick --threads 1 --no-vtk --shape prism --diameter 0.1 --height 0.2 --max-strain 5e-3
+       --material beam --law mixed_mode --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6
+  CHECKS "law STREQUAL mixed_mode" "G_II_J_per_m2 EQUAL 300" "peak STREQUAL ON"
+         "f_c_Pa GREATER 36.4e6" "f_c_Pa LESS 36.8e6" "energy_balance_error_rel LESS 1e-3")
 # Refused, naming the value: the crushing law's flags with another law, a residual outside [0, 1].
 tessera_add_refusal_test(refuse_compression_g_c_study compression
   "--g-c applies to --law crushing only" --threads 1 --g-c 2e4)

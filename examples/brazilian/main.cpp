@@ -106,7 +106,7 @@ int main(int argc, char** argv) {
                   "--law crushing, plastic work per contact area above the residual cap (J/m^2; 0 = 20000).\n  "
                   "--cap-residual: residual cap with --law crushing, a fraction of --cap (0.1).\n  --crush-shear: with "
                   "--law crushing, the shear limit falls with the cap's remaining fraction too.\n",
-                  scenes::mixed_law_flag_help, scenes::mixed_g_ii_flag_help);
+                  scenes::law_flag_help, scenes::g_ii_flag_help);
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--material" && i + 1 < argc) material = argv[++i];

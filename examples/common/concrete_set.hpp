@@ -100,13 +100,13 @@ inline calibration_entry load_concrete_params(concrete_set& c, const std::filesy
   return e;
 }
 
-/// --law and --g-ii help of the drivers that take every beam law, mixed_mode too (rc_beam, brazilian).
-inline constexpr const char* mixed_law_flag_help =
+/// --law and --g-ii help of the drivers that take every beam law (rc_beam, brazilian, compression).
+inline constexpr const char* law_flag_help =
     "contact law of the beam's concrete: study (the beam's), slip_softening (cohesion and friction soften with plastic "
     "slip over --g-ii), crushing (slip_softening whose cap --cap also softens with the plastic closure over --g-c) or "
     "mixed_mode (one damage for tension and shear, driven by the plastic opening and slip over G_f and --g-ii; "
     "law/mixed_mode.hpp)";
-inline constexpr const char* mixed_g_ii_flag_help =
+inline constexpr const char* g_ii_flag_help =
     "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500) or mixed_mode (0 = (c_0/f_T) "
     "G_f, 120 for the beam's contacts)";
 
@@ -118,22 +118,15 @@ inline constexpr const char* mixed_g_ii_flag_help =
 }
 
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
-/// o.law (--law study|slip_softening|crushing, and mixed_mode when takes_mixed_mode), o.g_ii (--g-ii,
-/// J/m^2), o.g_c (--g-c, J/m^2), o.cap_residual (--cap-residual), o.crush_shear (--crush-shear),
-/// o.phi_deg and o.phi_res_deg (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set
-/// of ranges; `cap_note` ends --cap's help (what the driver does with the cap). brazilian parses
-/// its own flags with the same ranges and help texts (mixed_law_flag_help); calibrate's start flags
-/// differ on purpose.
-template <bool takes_mixed_mode = false, class Options>
+/// o.law (--law study|slip_softening|crushing|mixed_mode), o.g_ii (--g-ii, J/m^2), o.g_c (--g-c,
+/// J/m^2), o.cap_residual (--cap-residual), o.crush_shear (--crush-shear), o.phi_deg and o.phi_res_deg
+/// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
+/// --cap's help (what the driver does with the cap). brazilian parses its own flags with the same
+/// ranges and help texts (law_flag_help); calibrate's start flags differ on purpose.
+template <class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
-  if constexpr (takes_mixed_mode) {
-    cli.option("--law", o.law, mixed_law_flag_help, "L").one_of({"study", "slip_softening", "crushing", "mixed_mode"});
-    cli.option("--g-ii", o.g_ii, mixed_g_ii_flag_help, "J").within(0, 1e6);
-  } else {
-    cli.option("--law", o.law, crushing_law_flag_help, "L").one_of({"study", "slip_softening", "crushing"});
-    cli.option("--g-ii", o.g_ii, "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500)",
-               "J").within(0, 1e6);
-  }
+  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening", "crushing", "mixed_mode"});
+  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
   cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
              "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
   cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")

@@ -112,14 +112,6 @@ struct concrete_recipe {
 inline constexpr real default_g_ii = 500;
 /// The G_II (J/m^2) a --g-ii flag value gives: the value, or default_g_ii for 0.
 [[nodiscard]] inline real g_ii_or_default(real g_ii_flag) { return g_ii_flag > 0 ? g_ii_flag : default_g_ii; }
-/// The --law and --g-ii help texts of the drivers that take them (compression, brazilian).
-inline constexpr const char* law_flag_help = "contact law of the beam's concrete: study (the beam's) or slip_softening "
-                                             "(cohesion and friction soften with plastic slip over --g-ii)";
-inline constexpr const char* g_ii_flag_help = "mode-II fracture energy G_II with --law slip_softening (J/m^2; 0 = 500)";
-/// compression's --law help: the two laws above and crushing (slip softening and a softening cap).
-inline constexpr const char* crushing_law_flag_help =
-    "contact law of the beam's concrete: study (the beam's), slip_softening (cohesion and friction soften with plastic "
-    "slip over --g-ii) or crushing (slip_softening whose cap --cap also softens with the plastic closure over --g-c)";
 
 /// The concrete's shear and cap on contact parameters p whose f_T is already scaled: c_0 =
 /// cohesion_ratio f_T, c_res = 0.01 c_0, phi_0 and phi_res (deg), and the compressive cap (Pa) where

@@ -30,7 +30,8 @@
 // plastic slip to c_res and --phi-res-deg, the slip scale set by the mode-II fracture energy --g-ii),
 // or crushing (crushing_beam_law: slip_softening whose cap --cap softens linearly with the plastic
 // closure to --cap-residual x --cap over the compressive fracture energy --g-c; --crush-shear scales
-// the shear limit by the cap's remaining fraction too).
+// the shear limit by the cap's remaining fraction too), or mixed_mode (presets::mixed_mode_beam_law: one
+// damage for tension and shear over G_f and --g-ii; law/mixed_mode.hpp).
 // --params FILE: the concrete of a calibrated.json entry (calibrate; common/concrete_set.hpp): law,
 // strength and fracture-energy scales, c_0/f_T, phi_0, phi_res, G_II, cap (G_c, residual cap), for the recipe named by
 // --material, --recipe-blocks and --zone-edge (refused, naming both values, if the file's differs).
@@ -143,7 +144,7 @@ int main(int argc, char** argv) {
   }
   io::run_record record(in.common.out, "compression", argc, argv);
   try {
-    return scenes::with_concrete(set, [&](const auto& recipe) { return run_specimen(in, set, params, recipe, record); });
+    return scenes::with_concrete_or_mixed(set, [&](const auto& recipe) { return run_specimen(in, set, params, recipe, record); });
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 1;

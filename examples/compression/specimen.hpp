@@ -106,7 +106,7 @@ class compression_specimen {
     law_.k_n *= size_ratio_, law_.k_s *= size_ratio_;
     if (o.f_t > 0) law_.tension.f_T = o.f_t;
     law_.shear.c_0 = o.cohesion_ratio * law_.tension.f_T;
-    law_.shear.c_res = 0.01 * law_.shear.c_0;
+    law_.shear.c_res = recipe.contact.shear.c_res == 0 ? 0 : 0.01 * law_.shear.c_0;  // 0: the mixed-mode law has none
     law_.shear.phi_0 = law::friction_angle::from_degrees(o.phi_deg);
     law_.shear.phi_res = law::friction_angle::from_degrees(o.phi_res_deg);
     if constexpr (has_cap) law_.compression.f_c = o.cap;
