@@ -25,7 +25,8 @@ struct concrete_set {
   std::string material = "beam";  ///< "prism" (the study's prism concrete) or "beam" (rc_beam's)
   int recipe_blocks = 0;          ///< the recipe's block count (calibrate --blocks); 0 = prism 100, beam 250
   real zone_edge = -1;            ///< beam: face zoning edge (m); < 0 = the beam's h/5 = 0.03 (prism: 0 always)
-  std::string law = "study";      ///< "study", "slip_softening" or "crushing" (beam only)
+  /// "study", "slip_softening", "crushing" or "mixed_mode" (beam only; mixed_mode not in calibrated.json)
+  std::string law = "study";
   /// Contact f_T (and c_0) x strength_scale; NaN = the material's (prism 0.907, its calibrated 100-block
   /// scale; beam 1, the study verbatim).
   real strength_scale = std::numeric_limits<real>::quiet_NaN();
