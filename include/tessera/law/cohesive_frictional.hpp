@@ -236,12 +236,7 @@ struct cohesive_frictional {
   /// with every transition (peak, breaking, a first slip, the compressive cap) taken.
   [[gnu::always_inline]] static inline void update(const params& p, state& s, real du_n, const vec3& du_s,
                                                   const vec3& n) noexcept {
-    elastic_lanes<real> x{du_n,          du_s[0],   du_s[1],   du_s[2],
-                          n[0],          n[1],      n[2],      s.sigma_n,
-                          s.tau[0],      s.tau[1],  s.tau[2],  s.u_n,
-                          s.dissipated_tension,     s.dissipated_shear,
-                          s.dissipated_compression, s.u_p,     s.u_soft,
-                          tensile_strength(p, s)};
+    auto x = detail::load_state_lanes<elastic_lanes<real>>(s, du_n, du_s, n, tensile_strength(p, s));
     if constexpr (softens_with_slip) x.u_slip = s.u_slip;
     if constexpr (softens_with_crushing) x.u_crush = s.u_crush;
     auto flags = static_cast<lanes::mask_lane>(s.flags);

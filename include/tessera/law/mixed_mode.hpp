@@ -203,9 +203,7 @@ struct mixed_mode_cohesive {
   /// Advances s by one step: du_n opening increment (m), du_s slip increment of B w.r.t. A (m, in
   /// the plane of n), n the unit normal A -> B; every transition taken (step<real, true>).
   static void update(const params& p, state& s, real du_n, const vec3& du_s, const vec3& n) noexcept {
-    elastic_lanes<real> x{du_n, du_s[0], du_s[1], du_s[2], n[0], n[1], n[2], s.sigma_n, s.tau[0], s.tau[1], s.tau[2],
-                          s.u_n, s.dissipated_tension, s.dissipated_shear, s.dissipated_compression, s.u_p, s.u_soft,
-                          tensile_strength(p, s)};
+    auto x = detail::load_state_lanes<elastic_lanes<real>>(s, du_n, du_s, n, tensile_strength(p, s));
     auto flags = static_cast<lanes::mask_lane>(s.flags);
     static_cast<void>(step<real, true>(p, flags, x));
     detail::store_state_lanes(x, s);
