@@ -74,7 +74,7 @@ template <class Law>
 class compression_specimen {
  public:
   compression_specimen(const compression_options& o, const concrete_recipe<Law>& recipe) : o_(o), recipe_(recipe) {
-    require_g_ii_with_slip_softening("compression", o.law, o.g_ii);
+    require_g_ii_with_law("compression", o.law, o.g_ii);
     require(o.ends != "friction" || o.friction > 0, "compression: --friction ", o.friction,
             " must be > 0 with --ends friction (use --ends frictionless for none)");
     require(o.phi_res_deg <= o.phi_deg, "compression: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ",
