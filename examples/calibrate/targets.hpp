@@ -19,6 +19,10 @@
 // separation with the energy target) is NOT met and enters the objective as r = 10, never as the
 // value at the cap.
 //
+// The law (--law) is any row of common/concrete_laws.hpp with calibrate set: study, slip_softening,
+// crushing, mixed_mode; its row says which law parameters --fit may move (gii, gc), and the set's
+// G_II starts at the law's default when --g-ii is 0 (mixed_mode: (c_0/f_T) G_f of the contacts).
+//
 // Search: compass (coordinate pattern) search on J = sum_i w_i r_i^2 over the parameters of --fit
 // (strength scale, c_0/f_T, phi_0, phi_res, G_f scale, G_II, cap, G_c). From the start set, each
 // iteration tries every parameter in turn one step up, then one step down, and keeps the first

@@ -174,6 +174,7 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
     presets::slip_softening_beam_law::validate(s.contact);
     return std::forward<F>(f)(s);
   }
+  require(c.law == "study", "concrete: law ", c.law, " is a row of concrete_laws.hpp without a recipe here (with_concrete)");
   presets::study_beam_law::validate(r.contact);
   return std::forward<F>(f)(r);
 }

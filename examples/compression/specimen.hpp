@@ -7,9 +7,8 @@
 // one zone per face triangle, no contact cap). --blocks 0 keeps the recipe's block size; another
 // block count scales the contact stiffness with 1 / block size (k_n = E / t) and the face zoning
 // edge with the block size, so the macro modulus and the sub-contacts per face stay the recipe's.
-// --law picks the beam concrete's contact law: study (study_beam_law) or slip_softening
-// (slip_softening_beam_law: cohesion and friction soften with the plastic slip over the mode-II
-// fracture energy --g-ii); the specimen is a template on the law.
+// --law picks the beam concrete's contact law, a row of common/concrete_laws.hpp (study_beam_law,
+// slip_softening_beam_law, crushing_beam_law, mixed_mode_beam_law); the specimen is a template on the law.
 
 #include <algorithm>
 #include <cmath>
