@@ -271,8 +271,10 @@ inline void set_failure_figures(io::summary_json& js, const beam_result& r, cons
 }
 
 /// The report's peak: the peak against the hand shear values h where the load fell by `drop` (a
-/// fraction), else the highest load before the stop and the load at it, without ratios.
-[[nodiscard]] inline std::string beam_peak_text(const beam_result& r, const beam_hand_checks& h, real drop) {
+/// fraction; held over `confirm` m of deflection, beam_loading::failure_confirm), else the highest
+/// load before the stop and the load at it, without ratios.
+[[nodiscard]] inline std::string beam_peak_text(const beam_result& r, const beam_hand_checks& h, real drop,
+                                                real confirm = 0) {
   char buf[320];
   if (r.failure_reached)
     std::snprintf(buf, sizeof buf, "failure (the load fell %.0f %% below its peak): peak %.2f kN at %.2f mm (shear "
@@ -285,6 +287,12 @@ inline void set_failure_figures(io::summary_json& js, const beam_result& r, cons
                   (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop,
                   r.unconfirmed_drop_deflection * 1e3, r.peak_load * 1e-3, r.peak_deflection * 1e3,
                   (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3);
+  else if (confirm > 0)
+    std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load never stayed %.0f %% below its peak over %.2f mm): "
+                  "highest load %.2f kN at %.2f mm, %.2f kN at the stop (hand EC2 %.1f kN, Zsutty %.1f kN)",
+                  (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop, confirm * 1e3, r.peak_load * 1e-3,
+                  r.peak_deflection * 1e3, (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3,
+                  h.ec2_shear_load * 1e-3, h.zsutty_shear_load * 1e-3);
   else
     std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load never fell %.0f %% below its peak): highest load "
                   "%.2f kN at %.2f mm, %.2f kN at the stop (hand EC2 %.1f kN, Zsutty %.1f kN)",

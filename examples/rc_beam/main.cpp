@@ -327,7 +327,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       100 * rel(r.first_crack_load, h.flexural_crack_load), r.developed_crack_load * 1e-3, r.first_crack_x * 1e3,
       r.first_crack_angle_deg,
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
-      yield_text.c_str(), tessera::scenes::beam_peak_text(r, h, in.loading.failure_drop).c_str(), r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
+      yield_text.c_str(), tessera::scenes::beam_peak_text(r, h, in.loading.failure_drop, in.loading.failure_confirm).c_str(), r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
       r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(),
       o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
