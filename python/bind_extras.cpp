@@ -73,11 +73,11 @@ void bind_extras(py::module_& m) {
       .def_readonly("strength_scale", &calibration_entry::strength_scale, "x Table 1's f_T (and the cohesion)")
       .def_readonly("fracture_energy_scale", &calibration_entry::fracture_energy_scale, "x Table 1's G_f")
       .def_readonly("initial_modulus", &calibration_entry::initial_modulus, "mean initial modulus (Pa; 0 = not recorded)")
-      .def_readonly("law", &calibration_entry::law, "'study' or 'slip_softening'")
+      .def_readonly("law", &calibration_entry::law, "'study', 'slip_softening', 'crushing' or 'mixed_mode' (examples/common/concrete_laws.hpp)")
       .def_readonly("cohesion_ratio", &calibration_entry::cohesion_ratio, "c_0 / f_T (0 = the recipe's)")
       .def_readonly("phi_0_deg", &calibration_entry::phi_0_deg, "peak friction angle (deg)")
       .def_readonly("phi_res_deg", &calibration_entry::phi_res_deg, "residual friction angle (deg)")
-      .def_readonly("g_ii", &calibration_entry::g_ii, "mode-II fracture energy (J/m^2; slip_softening only)")
+      .def_readonly("g_ii", &calibration_entry::g_ii, "mode-II fracture energy (J/m^2; slip_softening, crushing, mixed_mode; 0 = none)")
       .def_readonly("cap", &calibration_entry::cap, "compressive cap f_c (Pa; the beam's concrete)");
   py::class_<scenes::calibration>(c, "calibration", "A calibrated.json: its recipe and one entry per block count")
       .def_readonly("recipe", &scenes::calibration::recipe, "the recipe it was fitted with")

@@ -744,7 +744,7 @@ tessera_add_example_test(brazilian NAME example_brazilian_slip_softening_quick
 # --law and --g-ii as compression has them (issue #63): the flags' refusals name the value, the law is
 # validated before the scene is built (a G_II below the elastic unloading's is refused).
 tessera_add_refusal_test(refuse_brazilian_g_ii_study brazilian
-  "brazilian: --g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --material beam --g-ii 100)
+  "brazilian: --g-ii 100 J/m.2 applies to --law slip_softening, crushing or mixed_mode only" --threads 1 --material beam --g-ii 100)
 tessera_add_refusal_test(refuse_brazilian_law brazilian
   "brazilian: --law: invalid value 'soft' \\(expected study, slip_softening, crushing or mixed_mode\\)" --threads 1
   --material beam --law soft)
@@ -859,7 +859,7 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_quick
          "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
 tessera_add_refusal_test(refuse_rc_beam_g_ii_study rc_beam
-  "rc_beam: --g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --g-ii 100)
+  "rc_beam: --g-ii 100 J/m.2 applies to --law slip_softening, crushing or mixed_mode only" --threads 1 --g-ii 100)
 tessera_add_refusal_test(refuse_rc_beam_g_ii_small rc_beam
   "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --law slip_softening --g-ii 10)
 tessera_add_refusal_test(refuse_rc_beam_law rc_beam
@@ -1051,7 +1051,7 @@ tessera_add_refusal_test(refuse_compression_memory compression
 tessera_add_refusal_test(refuse_compression_confinement compression
   "--confinement: value '-1' must be >= 0" --threads 1 --confinement -1)
 tessera_add_refusal_test(refuse_compression_g_ii_study compression
-  "--g-ii 100 J/m.2 applies to --law slip_softening only" --threads 1 --g-ii 100)
+  "--g-ii 100 J/m.2 applies to --law slip_softening, crushing or mixed_mode only" --threads 1 --g-ii 100)
 tessera_add_refusal_test(refuse_compression_law compression
   "--law: invalid value 'soft' \\(expected study or slip_softening or crushing or mixed_mode\\)" --threads 1 --law soft)
 tessera_add_refusal_test(refuse_compression_g_ii_small compression
@@ -1267,6 +1267,63 @@ set_tests_properties(example_brazilian_params_from_crushing_targets PROPERTIES
                      DEPENDS example_calibrate_targets_crushing_quick)
 tessera_add_targets_rerun_test(example_calibrate_targets_crushing_rerun_matches example_calibrate_targets_crushing_quick
                                example_brazilian_params_from_crushing_targets G_c_J_per_m2 cap_residual)
+# calibrate --targets --law mixed_mode --fit strength,gii: the quick disc on seed 1, one compass iteration
+# on the strength scale and G_II from the law's default (c_0/f_T) G_f = 120 J/m^2 (15 s; measured: s
+# 0.833 and G_II 100 J/m^2, splitting 1.821 on seed 1, 1.939 on the held-out seed 2). calibrated.json
+# carries the law and the G_II the fit ran (written out, never the default); brazilian loads it and on
+# seed 2 gives the splitting figure calibrate reported for that seed, with that G_II.
+tessera_add_example_test(calibrate NAME example_calibrate_targets_mixed_mode_quick
+  ARGS --targets splitting --law mixed_mode --fit strength,gii --quick --seed 1 --threads 1
+  FILES calibrated.json
+  CHECKS "mode STREQUAL targets" "law STREQUAL mixed_mode" "G_II_J_per_m2 GREATER 60" "G_II_J_per_m2 LESS 150"
+         "holdout_splitting_reached EQUAL 1" "holdout_splitting_value GREATER 1.0" "holdout_splitting_value LESS 4.0"
+  TIMEOUT 300)
+tessera_add_example_test(brazilian NAME example_brazilian_params_from_mixed_mode_targets
+  ARGS --quick --threads 1 --seed 2 --material beam --recipe-blocks 60 --zone-edge 0.05 --blocks 12
+       --params ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_mixed_mode_quick/calibrated.json
+  CHECKS "split STREQUAL ON" "law STREQUAL mixed_mode" "g_ii_J_per_m2 GREATER 60" "g_ii_J_per_m2 LESS 150"
+  TIMEOUT 300)
+set_tests_properties(example_brazilian_params_from_mixed_mode_targets PROPERTIES
+                     DEPENDS example_calibrate_targets_mixed_mode_quick)
+tessera_add_targets_rerun_test(example_calibrate_targets_mixed_mode_rerun_matches example_calibrate_targets_mixed_mode_quick
+                               example_brazilian_params_from_mixed_mode_targets strength_scale cohesion_ratio law)
+# rc_beam --params with a mixed-mode entry (tests/data/concrete_beam_mixed_quick.json: G_II 70 J/m^2,
+# the study's other values, the quick beam's recipe) runs the beam its flags give, to the bit, and
+# records the file's G_II. Refused, naming the value: an entry of law mixed_mode without G_II, with G_c
+# (a crushing field), with a G_II below the law's bound for these contacts (60 J/m^2); G_II in an entry
+# of the study's law; mixed_mode with the crushing flags or the prism recipe in calibrate.
+tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_g_ii_quick
+  ARGS --quick --threads 1 --no-vtk --law mixed_mode --g-ii 70 --max-deflection 4e-4
+  FILES curve.csv
+  CHECKS "law STREQUAL mixed_mode" "g_ii_J_per_m2 EQUAL 70" "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 300)
+tessera_add_example_test(rc_beam NAME example_rc_beam_params_mixed_mode_quick
+  ARGS --quick --threads 1 --no-vtk --max-deflection 4e-4
+       --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_quick.json
+  FILES curve.csv
+  CHECKS "parameters STREQUAL calibrated" "law STREQUAL mixed_mode" "g_ii_J_per_m2 EQUAL 70"
+  TIMEOUT 300)
+tessera_add_same_curve_test(example_rc_beam_params_mixed_mode_same_bits example_rc_beam_params_mixed_mode_quick
+                            example_rc_beam_mixed_mode_g_ii_quick)
+tessera_add_refusal_test(refuse_rc_beam_params_mixed_no_g_ii rc_beam
+  "concrete_beam_mixed_no_gii.json: entries\\[0\\]: law mixed_mode needs \"G_II_J_per_m2\""
+  --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_no_gii.json)
+tessera_add_refusal_test(refuse_brazilian_params_mixed_g_c brazilian
+  "entries\\[0\\].G_c_J_per_m2: applies to law crushing only \\(this entry's law is mixed_mode\\)"
+  --threads 1 --material beam --recipe-blocks 60 --zone-edge 0.05
+  --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_with_gc.json)
+tessera_add_refusal_test(refuse_rc_beam_params_mixed_small_g_ii rc_beam
+  "G_II = 10 J/m.2 gives s_u .* G_II must exceed"
+  --threads 1 --quick --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_small_gii.json)
+tessera_add_refusal_test(refuse_compression_params_study_g_ii compression
+  "entries\\[0\\].G_II_J_per_m2: applies to law slip_softening, crushing or mixed_mode only \\(this entry's law is study\\)"
+  --threads 1 --zone-edge 0.05 --recipe-blocks 60 --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_study_with_gii.json)
+tessera_add_refusal_test(refuse_calibrate_targets_mixed_g_c calibrate
+  "calibrate: --g-c applies to --law crushing only \\(--law mixed_mode has no G_c\\)" --threads 1 --targets splitting
+  --law mixed_mode --g-c 1e4)
+tessera_add_refusal_test(refuse_calibrate_targets_mixed_prism calibrate
+  "calibrate: --law mixed_mode applies to --material beam only" --threads 1 --targets splitting --law mixed_mode
+  --material prism)
 tessera_add_refusal_test(refuse_calibrate_targets_name calibrate
   "calibrate: --targets: 'shear' is not a target \\(tension, energy, splitting, compression\\)" --threads 1 --targets tension,shear)
 tessera_add_refusal_test(refuse_calibrate_targets_weights calibrate

@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
                 "  [--blocks 0..2000] [--diameter 0.02..2 m] [--thickness 0.005..2 m] [--sides 8..360, a multiple of 4]\n"
                 "  [--strength-scale 0.1..10] [--rate 1e-5..0.1 m/s] [--step-displacement 1e-10..1e-7 m]\n"
                 "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]\n"
-                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law study|slip_softening|crushing|mixed_mode]\n"
+                "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law L, a law below]\n"
                 "  [--g-ii 0..1e6 J/m^2] [--g-c 0..1e8 J/m^2] [--cap-residual 0..1] [--crush-shear]\n"
                 "  [--recipe-blocks 0..750] [--zone-edge 0..1 m] [--cap 1e6..1e10 Pa, beam: 35e6] [--params FILE]:\n"
                 "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
@@ -102,11 +102,10 @@ int main(int argc, char** argv) {
                 "  cap, G_c, residual cap), instead of --strength-scale, --cohesion-ratio, --phi-deg, --phi-res-deg, --law,\n"
                 "  --g-ii, --cap, --g-c, --cap-residual and --crush-shear.\n"
                 "  --blocks 0: the material's block size. --quick: 5 nm per step.");
-      std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n  --g-c: compressive fracture energy G_c with "
-                  "--law crushing, plastic work per contact area above the residual cap (J/m^2; 0 = 20000).\n  "
-                  "--cap-residual: residual cap with --law crushing, a fraction of --cap (0.1).\n  --crush-shear: with "
-                  "--law crushing, the shear limit falls with the cap's remaining fraction too.\n",
-                  scenes::law_flag_help, scenes::g_ii_flag_help);
+      std::printf("  --law: %s; every law but study: --material beam only.\n  --g-ii: %s.\n  --g-c: %s.\n  --cap-residual: %s.\n"
+                  "  --crush-shear: %s.\n", scenes::law_flag_help().c_str(), scenes::g_ii_flag_help().c_str(),
+                  scenes::g_c_flag_help().c_str(), scenes::cap_residual_flag_help().c_str(),
+                  scenes::crush_shear_flag_help().c_str());
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
     else if (a == "--material" && i + 1 < argc) material = argv[++i];
@@ -130,17 +129,25 @@ int main(int argc, char** argv) {
   if (material != "prism" && material != "beam")
     return std::fprintf(stderr, "brazilian: --material '%s' is not a concrete recipe (expected prism or beam)\n",
                         material.c_str()), 2;
-  if (law != "study" && law != "slip_softening" && law != "crushing" && law != "mixed_mode")
-    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study, slip_softening, crushing or "
-                        "mixed_mode)\n", law.c_str()), 2;
-  for (const char* crush_flag : {"--g-c", "--cap-residual", "--crush-shear"})
-    if (law != "crushing" && std::find(concrete_flags.begin(), concrete_flags.end(), crush_flag) != concrete_flags.end())
-      return std::fprintf(stderr, "brazilian: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
-                          crush_flag, law.c_str()), 2;
-  if (material == "prism" && law != "study")
+  const scenes::concrete_law* law_row = scenes::find_concrete_law(law);
+  if (law_row == nullptr)
+    return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected %s)\n", law.c_str(),
+                        scenes::concrete_law_list().c_str()), 2;
+  const auto given = [&](const char* flag) {
+    return std::find(concrete_flags.begin(), concrete_flags.end(), flag) != concrete_flags.end();
+  };
+  try {
+    for (const scenes::law_parameter_row& r : scenes::law_parameter_rows)
+      if (r.id != scenes::law_g_ii) scenes::require_law_takes("brazilian", law, r.id, given(r.flag));
+    scenes::require_g_ii_with_law("brazilian", law, g_ii);
+  } catch (const std::exception& e) {
+    cli::print_error("brazilian", e);
+    return 2;
+  }
+  if (material == "prism" && law_row->beam_only)
     return std::fprintf(stderr, "brazilian: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
                         law.c_str()), 2;
-  if (material == "prism" && std::find(concrete_flags.begin(), concrete_flags.end(), "--cap") != concrete_flags.end())
+  if (material == "prism" && given("--cap"))
     return std::fprintf(stderr, "brazilian: --cap %g applies to --material beam only (the prism's contacts have no cap)\n", cap), 2;
   if (material == "prism" && zone_edge >= 0)
     return std::fprintf(stderr, "brazilian: --zone-edge %g applies to --material beam only (the prism's recipe has one "
@@ -148,12 +155,6 @@ int main(int argc, char** argv) {
   if (!params.empty() && !concrete_flags.empty())
     return std::fprintf(stderr, "brazilian: %s with --params %s: the file sets the concrete (drop the flag)\n",
                         concrete_flags.front().c_str(), params.c_str()), 2;
-  try {
-    scenes::require_g_ii_with_slip_softening("brazilian", law, g_ii);
-  } catch (const std::exception& e) {
-    cli::print_error("brazilian", e);
-    return 2;
-  }
   if (static_cast<int>(sides) % 4 != 0)  // a flat at the top and at the bottom needs sides = 4k
     return std::fprintf(stderr, "brazilian: --sides = %g must be a multiple of 4 (flats at top and bottom)\n", sides), 2;
   if (quick) du = std::max<real>(du, 5e-9);
@@ -175,7 +176,7 @@ int main(int argc, char** argv) {
   }
   io::run_record record(out, "brazilian", argc, argv);
   try {
-    return scenes::with_concrete_or_mixed(set, [&](const auto& recipe) { return run_disc(o, set, recipe, record); });
+    return scenes::with_concrete(set, [&](const auto& recipe) { return run_disc(o, set, recipe, record); });
   } catch (const std::exception& e) {
     cli::print_error("brazilian", e);  // one "brazilian: " before the message
     return 1;
@@ -193,15 +194,15 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   io::ensure_directory(o.out);  // run.json "running"
   const scenes::disc_result r = scenes::run_brazilian_disc(d, recipe);
   const real none = std::numeric_limits<real>::quiet_NaN(), f_t = r.f_t;
-  const bool slip = set.law == "slip_softening" || set.law == "crushing", crush = set.law == "crushing";
-  real g_ii = slip ? scenes::g_ii_or_default(set.g_ii) : none;
-  if constexpr (std::is_same_v<joint_law, presets::mixed_mode_beam_law>) g_ii = recipe.contact.shear.G_II;
+  const real g_ii = scenes::g_ii_in_effect(set);  // NaN for a law without G_II
+  const bool crush = scenes::law_takes(set.law, scenes::law_g_c);
   const std::filesystem::path out(o.out);
   io::write_csv(out / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {r.u, r.p_top, r.p_bottom, r.opening});
   io::summary_json j;
   j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", g_ii)
       .set("G_c_J_per_m2", crush ? (set.g_c > 0 ? set.g_c : scenes::default_g_c) : none)
-      .set("cap_residual", crush ? set.cap_residual : none).set("crush_shear", crush && set.crush_shear)
+      .set("cap_residual", scenes::law_takes(set.law, scenes::law_cap_residual) ? set.cap_residual : none)
+      .set("crush_shear", scenes::law_takes(set.law, scenes::law_crush_shear) && set.crush_shear)
       .set("params", o.params.empty() ? "flags" : o.params).set("recipe_blocks", set.blocks())
       .set("fracture_energy_scale", set.fracture_energy_scale).set("cap_Pa", set.material == "beam" ? set.cap : none)
       .set("phi_res_deg", r.phi_res_deg).set("quick", o.quick).set("seed", o.seed).set("blocks", r.blocks).set("sides", o.sides)

@@ -19,6 +19,10 @@
 // separation with the energy target) is NOT met and enters the objective as r = 10, never as the
 // value at the cap.
 //
+// The law (--law) is any row of common/concrete_laws.hpp with calibrate set: study, slip_softening,
+// crushing, mixed_mode; its row says which law parameters --fit may move (gii, gc), and the set's
+// G_II starts at the law's default when --g-ii is 0 (mixed_mode: (c_0/f_T) G_f of the contacts).
+//
 // Search: compass (coordinate pattern) search on J = sum_i w_i r_i^2 over the parameters of --fit
 // (strength scale, c_0/f_T, phi_0, phi_res, G_f scale, G_II, cap, G_c). From the start set, each
 // iteration tries every parameter in turn one step up, then one step down, and keeps the first
@@ -105,6 +109,37 @@ struct fit_parameter {
     if (name == p.name) return p;
   throw invalid_input(tessera::detail::concat("calibrate: --fit: '", name,
                                               "' is not a parameter (strength, cohesion, phi0, phires, energy, gii, cap, gc)"));
+}
+
+/// The laws calibrate --targets --law takes (concrete_laws.hpp rows with calibrate).
+[[nodiscard]] inline std::vector<std::string> calibrated_law_names() {
+  std::vector<std::string> v;
+  for (const concrete_law& l : concrete_laws)
+    if (l.calibrate) v.emplace_back(l.name);
+  return v;
+}
+
+/// --fit's help: the common parameters, then each law parameter's fit name with the laws that fit it.
+[[nodiscard]] inline std::string fit_flag_help() {
+  std::string s = "parameters: strength, cohesion, phi0, phires, energy, cap (--material beam)";
+  for (const law_parameter_row& r : law_parameter_rows)
+    if (*r.fit != 0)
+      s += tessera::detail::concat(", ", r.fit, " (", r.symbol, "; --law ",
+                                   concrete_law_list([&r](const concrete_law& l) { return (l.fits & r.id) != 0; }), ")");
+  return s;
+}
+
+/// Refuses --fit `name` with law `law` when name is a law parameter's fit (gii, gc) that law does not
+/// fit (concrete_laws.hpp: its row's fits), naming both: "calibrate: --fit gc needs --law crushing
+/// (--law slip_softening has no G_c)".
+inline void require_law_fits(const std::string& law, const std::string& name) {
+  for (const law_parameter_row& r : law_parameter_rows) {
+    if (name != r.fit) continue;
+    const concrete_law* l = find_concrete_law(law);
+    require(l != nullptr && (l->fits & r.id) != 0, "calibrate: --fit ", name, " needs --law ",
+            concrete_law_list([&r](const concrete_law& x) { return (x.fits & r.id) != 0; }), " (--law ", law,
+            law_takes(law, r.id) ? " cannot fit " : " has no ", r.symbol, ")");
+  }
 }
 
 /// One target's figure over a set of seeds.
@@ -225,7 +260,7 @@ struct evaluation {
 [[nodiscard]] inline concrete_set moved(concrete_set c, const fit_parameter& p, real h, int dir) {
   real& x = c.*p.field;
   if (p.field == &concrete_set::strength_scale) x = c.scale();
-  if (p.field == &concrete_set::g_ii) x = g_ii_or_default(x);
+  if (p.field == &concrete_set::g_ii) x = g_ii_in_effect(c);  // the law's default made explicit
   if (p.field == &concrete_set::g_c && x == 0) x = default_g_c;
   const real hi = p.field == &concrete_set::phi_res_deg ? std::min(p.hi, c.phi_0_deg) : p.hi;
   const real lo = p.field == &concrete_set::phi_0_deg ? std::max(p.lo, c.phi_res_deg) : p.lo;

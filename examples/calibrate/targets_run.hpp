@@ -1,8 +1,9 @@
 #pragma once
 // calibrate --targets: the flags, the fit (targets.hpp) and the outputs. Writes in --out:
 //   calibrated.json  the recipe and one entry with the whole concrete (law, scales, c_0/f_T, phi_0,
-//                    phi_res, G_II, cap; with --law crushing G_c, the residual cap, crush_shear),
-//                    which brazilian, compression and rc_beam load with --params
+//                    phi_res, cap; G_II with a law that takes it, its default written out; with --law
+//                    crushing G_c, the residual cap, crush_shear), which brazilian, compression and
+//                    rc_beam load with --params
 //   residuals.csv    per target: reference, tolerance, weight, the fit seeds' value and residual,
 //                    the held-out seeds' value, residual and met / not met
 //   targets.csv      every evaluation of the search: the set, each target's value and residual, J, time
@@ -48,10 +49,11 @@ inline void set_concrete_fields(io::summary_json& j, const concrete_set& c) {
   const real none = std::numeric_limits<real>::quiet_NaN();
   j.set("blocks", c.blocks()).set("strength_scale", c.scale()).set("fracture_energy_scale", c.fracture_energy_scale)
       .set("law", c.law).set("cohesion_ratio", c.cohesion_ratio).set("phi_0_deg", c.phi_0_deg)
-      .set("phi_res_deg", c.phi_res_deg).set("G_II_J_per_m2", c.law != "study" ? g_ii_or_default(c.g_ii) : none)
+      .set("phi_res_deg", c.phi_res_deg).set("G_II_J_per_m2", g_ii_in_effect(c))  // null for a law without G_II
       .set("cap_Pa", c.material == "beam" ? c.cap : none);
-  if (c.law == "crushing")
-    j.set("G_c_J_per_m2", c.g_c > 0 ? c.g_c : default_g_c).set("cap_residual", c.cap_residual).set("crush_shear", c.crush_shear);
+  if (law_takes(c.law, law_g_c)) j.set("G_c_J_per_m2", c.g_c > 0 ? c.g_c : default_g_c);
+  if (law_takes(c.law, law_cap_residual)) j.set("cap_residual", c.cap_residual);
+  if (law_takes(c.law, law_crush_shear)) j.set("crush_shear", c.crush_shear);
 }
 
 inline void write_target_outputs(const std::filesystem::path& out, const targets_options& o, const evaluation& fit,
@@ -80,8 +82,9 @@ inline void write_target_outputs(const std::filesystem::path& out, const targets
     for (std::size_t k = 0; k < trail.size(); ++k) {
       const evaluation& e = trail[k];
       std::vector<double> row = {static_cast<double>(k), e.set.scale(), e.set.fracture_energy_scale, e.set.cohesion_ratio,
-                                 e.set.phi_0_deg, e.set.phi_res_deg, g_ii_or_default(e.set.g_ii), e.set.cap,
-                                 e.set.law == "crushing" ? (e.set.g_c > 0 ? e.set.g_c : default_g_c) : 0.0};
+                                 e.set.phi_0_deg, e.set.phi_res_deg,
+                                 law_takes(e.set.law, law_g_ii) ? g_ii_in_effect(e.set) : 0.0, e.set.cap,
+                                 law_takes(e.set.law, law_g_c) ? (e.set.g_c > 0 ? e.set.g_c : default_g_c) : 0.0};
       for (const target_value& v : e.values) row.push_back(v.value), row.push_back(v.residual());
       row.push_back(e.objective);
       row.push_back(e.cpu_s);
@@ -141,29 +144,32 @@ inline int run_targets_main(int argc, char** argv) {
   cli::parser cli("calibrate", "calibrate --targets: fits ONE concrete of a recipe (--material, --blocks, --zone-edge) to several\n"
                   "targets at once (calibrate/targets.hpp): tension f_t, energy G_f, splitting f_sp/f_T in [1.0, 1.4], compression\n"
                   "f_c and its peak strain, by compass search on the weighted squared residuals over the fit seeds, and reports\n"
-                  "every residual on held-out seeds. Writes calibrated.json (brazilian / compression --params), residuals.csv,\n"
+                  "every residual on held-out seeds. Writes calibrated.json (brazilian, compression, rc_beam --params), residuals.csv,\n"
                   "targets.csv, summary.json. --quick: the beam recipe of calibrate --quick (60 blocks, 50 mm zoning), a 12-block\n"
                   "disc, a 23-block 100 x 100 x 200 mm prism, 1 seed, 1 held\n"
-                  "out, 1 iteration, 5 nm per step (4 nm in compression).");
+                  "out, 1 iteration, 5 nm per step (4 nm in compression).\n"
+                  "--law: every law of common/concrete_laws.hpp; the file holds the G_II (and G_c) the fit ran, its default\n"
+                  "written out (a mixed_mode entry without G_II is refused on loading). --fit gii moves G_II (slip_softening,\n"
+                  "crushing, mixed_mode) against the targets given: shear is not a target (a 60-block beam costs ~100 s a run).");
   cli.add_standard(common);
   cli.option("--targets", targets, "comma-separated: tension, energy, splitting, compression", "LIST");
   cli.option("--weights", weights, "one weight per target (default 1 each)", "LIST");
   cli.option("--tolerances", tolerances, "one relative tolerance per target (default 0.05, 0.15, 1/6, 0.15)", "LIST");
-  cli.option("--fit", fit, "parameters: strength, cohesion, phi0, phires, energy, gii, cap, gc (G_c, --law crushing)", "LIST");
+  cli.option("--fit", fit, fit_flag_help(), "LIST");
   cli.option("--material", c.material, "the recipe's concrete", "prism|beam").one_of({"prism", "beam"});
   cli.option("--blocks", c.recipe_blocks, "the recipe's block count (0: prism 100, beam 250)", "N").within(0, 750);
   cli.option("--zone-edge", c.zone_edge, "beam: the recipe's face zoning edge (m; default 0.03)", "M").within(0, 1);
-  cli.option("--law", c.law, "the contact law (slip_softening, crushing: beam only)", "L")
-      .one_of({"study", "slip_softening", "crushing"});
+  cli.option("--law", c.law, tessera::detail::concat("the contact law (all but study: --material beam only); ", law_flag_help()),
+             "L").one_of(calibrated_law_names());
   cli.option("--strength-scale", c.strength_scale, "start: contact f_T and c_0 x this (default prism 0.907, beam 1)", "S").within(0.1, 10);
   cli.option("--energy-scale", c.fracture_energy_scale, "start: contact G_f x this", "G").within(0.1, 10);
   cli.option("--cohesion-ratio", c.cohesion_ratio, "start: c_0 / f_T", "R").within(0.3, 10);
   cli.option("--phi-deg", c.phi_0_deg, "start: phi_0 (deg)", "DEG").within(10, 75);
   cli.option("--phi-res-deg", c.phi_res_deg, "start: phi_res (deg)", "DEG").within(0, 75);
-  cli.option("--g-ii", c.g_ii, "start: G_II with --law slip_softening or crushing (J/m^2; 0 = 500)", "J").within(0, 1e5);
-  cli.option("--g-c", c.g_c, "start: G_c with --law crushing (J/m^2; 0 = 20000)", "J").within(0, 1e8);
-  cli.option("--cap-residual", c.cap_residual, "with --law crushing: residual cap / cap (0.1; not fitted)", "R").within(0, 1);
-  cli.flag("--crush-shear", c.crush_shear, "with --law crushing: the shear limit falls with the cap too");
+  cli.option("--g-ii", c.g_ii, "start: " + g_ii_flag_help(), "J").within(0, 1e5);
+  cli.option("--g-c", c.g_c, "start: " + g_c_flag_help(), "J").within(0, 1e8);
+  cli.option("--cap-residual", c.cap_residual, cap_residual_flag_help() + "; not fitted", "R").within(0, 1);
+  cli.flag("--crush-shear", c.crush_shear, crush_shear_flag_help());
   cli.option("--cap", c.cap, "start: contact compressive cap (Pa, beam)", "PA").within(5e6, 1e9);
   cli.option("--seeds", o.seeds, "fit seeds (seed .. seed+K-1)", "K").within(1, 50);
   cli.option("--holdout", o.holdout, "held-out seeds after the fit seeds", "K").within(1, 50);
@@ -217,19 +223,15 @@ inline int run_targets_main(int argc, char** argv) {
     o.fit = cli::split_list(fit, "calibrate: --fit");
     for (const std::string& p : o.fit) {
       (void)fit_parameter_named(p);
-      require(p != "gii" || c.law != "study", "calibrate: --fit gii needs --law slip_softening or crushing (the study's law "
-              "has no G_II)");
-      require(p != "gc" || c.law == "crushing", "calibrate: --fit gc needs --law crushing (--law ", c.law,
-              " has no G_c)");
+      require_law_fits(c.law, p);
       require(p != "cap" || c.material == "beam", "calibrate: --fit cap needs --material beam (the prism's contacts have no cap)");
     }
     require(c.material == "beam" || !cli.given("--zone-edge"), "calibrate: --zone-edge ", c.zone_edge,
             " applies to --material beam only (the prism's recipe has one zone per face triangle)");
-    require(c.law == "study" || c.material == "beam", "calibrate: --law ", c.law, " applies to --material beam only");
-    require_g_ii_with_slip_softening("calibrate", c.law, c.g_ii);
-    for (const char* flag : {"--g-c", "--cap-residual", "--crush-shear"})
-      require(c.law == "crushing" || !cli.given(flag), "calibrate: ", flag, " applies to --law crushing only (--law ", c.law,
-              " has a cap that does not soften)");
+    require(!concrete_law_named(c.law, "calibrate").beam_only || c.material == "beam", "calibrate: --law ", c.law,
+            " applies to --material beam only");
+    require_g_ii_with_law("calibrate", c.law, c.g_ii);
+    require_law_flags(cli, "calibrate", c.law);
     require(c.phi_res_deg <= c.phi_0_deg, "calibrate: --phi-res-deg ", c.phi_res_deg, " must not exceed --phi-deg ", c.phi_0_deg);
     with_concrete(c, [](const auto&) { return 0; });  // refuses a bad start before any run
   } catch (const std::exception& e) {
@@ -244,8 +246,10 @@ inline int run_targets_main(int argc, char** argv) {
     std::vector<evaluation> trail;
     const auto log = [&](const evaluation& e, int it, const std::string& move) {
       trail.push_back(e);
-      std::printf("calibrate: iteration %d (%s): s %.4f, g %.3f, c0/fT %.3f, phi %.1f/%.1f, J %.3f [", it, move.c_str(),
-                  e.set.scale(), e.set.fracture_energy_scale, e.set.cohesion_ratio, e.set.phi_0_deg, e.set.phi_res_deg, e.objective);
+      std::printf("calibrate: iteration %d (%s): s %.4f, g %.3f, c0/fT %.3f, phi %.1f/%.1f%s, J %.3f [", it, move.c_str(),
+                  e.set.scale(), e.set.fracture_energy_scale, e.set.cohesion_ratio, e.set.phi_0_deg, e.set.phi_res_deg,
+                  law_takes(e.set.law, law_g_ii) ? tessera::detail::concat(", G_II ", g_ii_in_effect(e.set)).c_str() : "",
+                  e.objective);
       for (const target_value& v : e.values) std::printf(" %s %.4g (r %+.2f)", v.name.c_str(), v.value, v.residual());
       std::printf(" ] %.1f s\n", e.cpu_s);
       std::fflush(stdout);

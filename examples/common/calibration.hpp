@@ -34,9 +34,12 @@
 // written before these fields existed are read as "prism", 0 and 0.
 //
 // The concrete of an entry (calibrate --targets writes every field; each is optional, an absent
-// one is the study's): "law" ("study" | "slip_softening" | "crushing", the latter two beam only),
-// "cohesion_ratio" (c_0 / f_T; absent: the recipe's), "phi_0_deg", "phi_res_deg" (absent: 35, 30),
-// "G_II_J_per_m2" (slip_softening and crushing, required), "cap_Pa" (the contacts' compressive cap
+// one is the study's): "law" (a law of concrete_laws.hpp whose row has calibrate: "study" |
+// "slip_softening" | "crushing" | "mixed_mode", all but study beam only), "cohesion_ratio" (c_0 / f_T;
+// absent: the recipe's), "phi_0_deg", "phi_res_deg" (absent: 35, 30), "G_II_J_per_m2" (the laws that
+// take G_II: slip_softening, crushing, mixed_mode; required, in [1e-3, 1e6] J/m^2, and above the
+// law's own bound c_0^2 / (2 k_s), checked when the driver builds the contacts; refused with the
+// study's law), "cap_Pa" (the contacts' compressive cap
 // f_c; beam only, absent: 35 MPa), with crushing "G_c_J_per_m2" (the compressive fracture energy,
 // required), "cap_residual" (the residual cap over the cap, in [0, 1]; absent: 0.1) and
 // "crush_shear" (true: the shear limit falls with the cap; absent: false).
@@ -80,10 +83,10 @@ struct calibration_entry {
   /// written before it existed): the modulus the contacts' stiffness gives these blocks.
   real initial_modulus = 0;
   // The concrete beyond the scales (file comment); the defaults are the study's.
-  std::string law = "study";  ///< "study", "slip_softening" or "crushing" (the latter two beam only)
+  std::string law = "study";  ///< a law of concrete_laws.hpp (all but study beam only)
   real cohesion_ratio = 0;    ///< c_0 / f_T; 0 = the recipe's (files without the field)
   real phi_0_deg = 35, phi_res_deg = 30;  ///< contact friction angles (deg)
-  real g_ii = 0;              ///< mode-II fracture energy (J/m^2), slip_softening and crushing only
+  real g_ii = 0;              ///< mode-II fracture energy (J/m^2) of a law that takes it
   real cap = 35e6;            ///< the contacts' compressive cap f_c (Pa), beam only
   real g_c = 0;               ///< compressive fracture energy (J/m^2), crushing only
   real cap_residual = 0.1;    ///< residual cap / cap, crushing only
@@ -137,30 +140,38 @@ inline void read_concrete_fields(const io::json_value& e, const std::string& mat
   };
   if (const io::json_value* v = e.find("law")) {
     x.law = v->string();
-    if (x.law != "study" && x.law != "slip_softening" && x.law != "crushing")
-      throw io_error(tessera::detail::concat(v->path(), " = '", x.law, "' must be 'study', 'slip_softening' or 'crushing'"));
-    if (x.law != "study" && material != "beam")
+    const concrete_law* law = find_concrete_law(x.law);
+    if (law == nullptr || !law->calibrate)
+      throw io_error(tessera::detail::concat(v->path(), " = '", x.law, "' must be ",
+                                             concrete_law_list([](const concrete_law& l) { return l.calibrate; })));
+    if (law->beam_only && material != "beam")
       throw io_error(tessera::detail::concat(v->path(), " = '", x.law, "' is built for the beam recipe, this file's is '",
                                              material, "'"));
   }
   number_in("cohesion_ratio", 0.1, 20, x.cohesion_ratio);
   number_in("phi_0_deg", 0, 80, x.phi_0_deg);
   number_in("phi_res_deg", 0, x.phi_0_deg, x.phi_res_deg);
-  if (x.law == "slip_softening" || x.law == "crushing") {
-    x.g_ii = 0;
-    number_in("G_II_J_per_m2", 1e-3, 1e6, x.g_ii);
-    if (x.g_ii == 0) throw io_error(tessera::detail::concat(e.path(), ": law ", x.law, " needs \"G_II_J_per_m2\""));
-  }
-  if (x.law == "crushing") {
-    number_in("G_c_J_per_m2", 1e-3, 1e8, x.g_c);
-    if (x.g_c == 0) throw io_error(tessera::detail::concat(e.path(), ": law crushing needs \"G_c_J_per_m2\""));
-    number_in("cap_residual", 0, 1, x.cap_residual);
-    if (const io::json_value* v = e.find("crush_shear")) x.crush_shear = v->boolean();
-  } else {
-    for (const char* key : {"G_c_J_per_m2", "cap_residual", "crush_shear"})
-      if (const io::json_value* v = e.find(key); v != nullptr && !v->is_null() &&
-          !(v->type() == io::json_value::kind::boolean && !v->boolean()))
-        throw io_error(tessera::detail::concat(v->path(), ": applies to law crushing only (this entry's law is ", x.law, ")"));
+  // The law's own parameters (concrete_laws.hpp): G_II and G_c required where the law takes them (the
+  // file says the value the fit ran, never a default that would move with the scales); a parameter of
+  // another law refused, naming the key and the entry's law (null and false read as absent).
+  for (const law_parameter_row& r : law_parameter_rows) {
+    const io::json_value* v = e.find(r.key);
+    if (!law_takes(x.law, r.id)) {
+      if (v != nullptr && !v->is_null() && !(v->type() == io::json_value::kind::boolean && !v->boolean()))
+        throw io_error(tessera::detail::concat(v->path(), ": applies to law ", laws_taking(r.id),
+                                               " only (this entry's law is ", x.law, ")"));
+      continue;
+    }
+    if (r.id == law_g_ii || r.id == law_g_c) {
+      real& to = r.id == law_g_ii ? x.g_ii : x.g_c;
+      to = 0;
+      number_in(r.key, 1e-3, r.id == law_g_ii ? 1e6 : 1e8, to);
+      if (to == 0) throw io_error(tessera::detail::concat(e.path(), ": law ", x.law, " needs \"", r.key, "\""));
+    } else if (r.id == law_cap_residual) {
+      number_in(r.key, 0, 1, x.cap_residual);
+    } else if (v != nullptr) {
+      x.crush_shear = v->boolean();
+    }
   }
   if (const io::json_value* v = e.find("cap_Pa"); v != nullptr && !v->is_null()) {
     if (material != "beam")

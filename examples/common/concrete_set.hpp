@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 #include <string>
+#include <string_view>
 #include <utility>
 
 #include "common/calibration.hpp"
@@ -25,7 +26,7 @@ struct concrete_set {
   std::string material = "beam";  ///< "prism" (the study's prism concrete) or "beam" (rc_beam's)
   int recipe_blocks = 0;          ///< the recipe's block count (calibrate --blocks); 0 = prism 100, beam 250
   real zone_edge = -1;            ///< beam: face zoning edge (m); < 0 = the beam's h/5 = 0.03 (prism: 0 always)
-  /// "study", "slip_softening", "crushing" or "mixed_mode" (beam only; mixed_mode not in calibrated.json)
+  /// A law of concrete_laws.hpp: "study", "slip_softening", "crushing" or "mixed_mode" (the latter three beam only)
   std::string law = "study";
   /// Contact f_T (and c_0) x strength_scale; NaN = the material's (prism 0.907, its calibrated 100-block
   /// scale; beam 1, the study verbatim).
@@ -33,7 +34,8 @@ struct concrete_set {
   real fracture_energy_scale = 1;     ///< contact G_f x this
   real cohesion_ratio = 2;            ///< c_0 / f_T; c_res = 0.01 c_0
   real phi_0_deg = 35, phi_res_deg = 30;  ///< contact friction angles (deg)
-  real g_ii = 0;                      ///< mode-II fracture energy (J/m^2) with law slip_softening; 0 = default_g_ii
+  /// mode-II fracture energy (J/m^2) of a law that takes it (concrete_laws.hpp); 0 = the law's default
+  real g_ii = 0;
   real cap = 35e6;                    ///< contact compressive cap (Pa), beam only
   real g_c = 0;                       ///< compressive fracture energy (J/m^2) with law crushing; 0 = default_g_c
   real cap_residual = 0.1;            ///< residual cap / cap with law crushing, in [0, 1]
@@ -71,11 +73,11 @@ struct concrete_set {
     cohesion_ratio = e.cohesion_ratio;
     phi_0_deg = e.phi_0_deg;
     phi_res_deg = e.phi_res_deg;
-    g_ii = e.law == "slip_softening" || e.law == "crushing" ? e.g_ii : 0;
+    g_ii = law_takes(e.law, law_g_ii) ? e.g_ii : 0;
     cap = e.cap;
-    g_c = e.law == "crushing" ? e.g_c : 0;
-    cap_residual = e.law == "crushing" ? e.cap_residual : real(0.1);
-    crush_shear = e.law == "crushing" && e.crush_shear;
+    g_c = law_takes(e.law, law_g_c) ? e.g_c : 0;
+    cap_residual = law_takes(e.law, law_cap_residual) ? e.cap_residual : real(0.1);
+    crush_shear = law_takes(e.law, law_crush_shear) && e.crush_shear;
   }
 };
 
@@ -101,16 +103,6 @@ inline calibration_entry load_concrete_params(concrete_set& c, const std::filesy
   return e;
 }
 
-/// --law and --g-ii help of the drivers that take every beam law (rc_beam, brazilian, compression).
-inline constexpr const char* law_flag_help =
-    "contact law of the beam's concrete: study (the beam's), slip_softening (cohesion and friction soften with plastic "
-    "slip over --g-ii), crushing (slip_softening whose cap --cap also softens with the plastic closure over --g-c) or "
-    "mixed_mode (one damage for tension and shear, driven by the plastic opening and slip over G_f and --g-ii; "
-    "law/mixed_mode.hpp)";
-inline constexpr const char* g_ii_flag_help =
-    "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500) or mixed_mode (0 = (c_0/f_T) "
-    "G_f, 120 for the beam's contacts)";
-
 /// The recipe `beam` with the mixed-mode law (presets::with_mixed_mode: G_II in J/m^2, 0 = (c_0/f_T) G_f),
 /// everything else the recipe's.
 [[nodiscard]] inline concrete_recipe<presets::mixed_mode_beam_law> with_mixed_mode(
@@ -119,21 +111,19 @@ inline constexpr const char* g_ii_flag_help =
 }
 
 /// Registers the contact-law flags of the drivers built on cli::parser (compression, rc_beam) into
-/// o.law (--law study|slip_softening|crushing|mixed_mode), o.g_ii (--g-ii, J/m^2), o.g_c (--g-c,
+/// o.law (--law, a name of concrete_laws.hpp), o.g_ii (--g-ii, J/m^2), o.g_c (--g-c,
 /// J/m^2), o.cap_residual (--cap-residual), o.crush_shear (--crush-shear), o.phi_deg and o.phi_res_deg
 /// (--phi-deg, --phi-res-deg, deg) and o.cap (--cap, Pa), with one set of ranges; `cap_note` ends
 /// --cap's help (what the driver does with the cap). brazilian parses its own flags with the same
-/// ranges and help texts (law_flag_help); calibrate's start flags differ on purpose.
+/// ranges and help texts (law_flag_help); calibrate's start flags differ on purpose. A parameter given
+/// with a law that does not take it is refused by require_law_flags.
 template <class Options>
 void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
-  cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening", "crushing", "mixed_mode"});
-  cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
-  cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
-             "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
-  cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")
-      .within(0, 1);
-  cli.flag("--crush-shear", o.crush_shear, "with --law crushing: the shear limit falls with the cap's remaining "
-           "fraction too");
+  cli.option("--law", o.law, law_flag_help(), "L").one_of(concrete_law_names());
+  cli.option("--g-ii", o.g_ii, g_ii_flag_help(), "J").within(0, 1e6);
+  cli.option("--g-c", o.g_c, g_c_flag_help(), "J").within(0, 1e8);
+  cli.option("--cap-residual", o.cap_residual, cap_residual_flag_help(), "R").within(0, 1);
+  cli.flag("--crush-shear", o.crush_shear, crush_shear_flag_help());
   cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
       .within(0, 80);
@@ -141,17 +131,24 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
              "PA").within(1e6, 1e10);
 }
 
+/// Refuses a law parameter's flag (law_parameter_rows: --g-c, --cap-residual, --crush-shear; --g-ii
+/// is require_g_ii_with_law's, with its value) given on `cli` with law `law` that does not take it,
+/// throwing invalid_input "`driver`: --g-c applies to --law crushing only (--law study has no G_c)".
+inline void require_law_flags(const cli::parser& cli, std::string_view driver, const std::string& law) {
+  for (const law_parameter_row& r : law_parameter_rows)
+    if (r.id != law_g_ii) require_law_takes(driver, law, r.id, cli.given(r.flag));
+}
+
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
-/// (law::study_tie_law for prism; presets::study_beam_law, slip_softening_beam_law or
-/// crushing_beam_law for beam), and
-/// returns its result. Throws invalid_input naming a bad combination or value (the law's validate;
-/// the drivers check phi_res <= phi_0 themselves, naming their flags).
+/// (law::study_tie_law for prism; presets::study_beam_law, slip_softening_beam_law,
+/// crushing_beam_law or mixed_mode_beam_law for beam: concrete_laws.hpp), and returns its result.
+/// Throws invalid_input naming a bad combination or value (a law not in the table, a beam-only law
+/// on the prism, the law's validate; the drivers check phi_res <= phi_0 themselves, naming their flags).
 template <class F>
 decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   require(c.material == "prism" || c.material == "beam", "concrete: material '", c.material, "' must be prism or beam");
-  require(c.law == "study" || c.law == "slip_softening" || c.law == "crushing", "concrete: law '", c.law,
-          "' must be study, slip_softening or crushing");
-  require(c.material == "beam" || c.law == "study", "concrete: law ", c.law,
+  const concrete_law& law = concrete_law_named(c.law, "concrete");
+  require(c.material == "beam" || !law.beam_only, "concrete: law ", c.law,
           " applies to the beam's concrete only (the prism's concrete has the study's law)");
   if (c.material == "prism") {
     auto r = prism_concrete(c.scale(), c.cohesion_ratio, c.blocks());
@@ -162,6 +159,11 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   }
   auto r = beam_concrete(c.beam());
   apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
+  if (c.law == "mixed_mode") {
+    auto m = with_mixed_mode(r, c.g_ii);
+    presets::mixed_mode_beam_law::validate(m.contact);
+    return std::forward<F>(f)(m);
+  }
   if (c.law == "slip_softening" || c.law == "crushing") {
     auto s = with_slip_softening(r, g_ii_or_default(c.g_ii));
     if (c.law == "crushing") {
@@ -172,22 +174,21 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
     presets::slip_softening_beam_law::validate(s.contact);
     return std::forward<F>(f)(s);
   }
+  require(c.law == "study", "concrete: law ", c.law, " is a row of concrete_laws.hpp without a recipe here (with_concrete)");
   presets::study_beam_law::validate(r.contact);
   return std::forward<F>(f)(r);
 }
 
-/// with_concrete, and c.law "mixed_mode" (the beam's concrete only): f(with_mixed_mode(recipe, c.g_ii))
-/// after the law's validate. brazilian runs through it; the other drivers keep with_concrete.
-template <class F>
-decltype(auto) with_concrete_or_mixed(const concrete_set& c, F&& f) {
-  if (c.law != "mixed_mode") return with_concrete(c, std::forward<F>(f));
-  require(c.material == "beam", "concrete: law mixed_mode applies to the beam's concrete only (the prism's concrete "
-          "has the study's law), got material ", c.material);
-  auto r = beam_concrete(c.beam());
-  apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
-  auto m = with_mixed_mode(r, c.g_ii);
-  presets::mixed_mode_beam_law::validate(m.contact);
-  return std::forward<F>(f)(m);
+/// The G_II (J/m^2) set c's contacts take: the flag's value or the law's default (concrete_laws.hpp:
+/// 500 for slip_softening and crushing, (c_0/f_T) G_f of the scaled contacts for mixed_mode); NaN
+/// for a law without G_II. Throws what with_concrete throws.
+[[nodiscard]] inline real g_ii_in_effect(const concrete_set& c) {
+  if (!law_takes(c.law, law_g_ii)) return std::numeric_limits<real>::quiet_NaN();
+  if (c.law != "mixed_mode") return g_ii_or_default(c.g_ii);
+  return with_concrete(c, [](const auto& recipe) -> real {
+    if constexpr (requires { recipe.contact.shear.G_II; }) return recipe.contact.shear.G_II;
+    else return 0;
+  });
 }
 
 }  // namespace tessera::scenes

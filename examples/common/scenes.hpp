@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/concrete_laws.hpp"
 #include "tessera/blocks/linear_elastic_tet.hpp"
 #include "tessera/presets.hpp"
 #include "tessera/core/types.hpp"
@@ -125,14 +126,6 @@ void apply_concrete_shear(Params& p, real cohesion_ratio, real phi_0_deg, real p
   p.shear.phi_0 = law::friction_angle::from_degrees(phi_0_deg);
   p.shear.phi_res = law::friction_angle::from_degrees(phi_res_deg);
   if constexpr (requires { p.compression.f_c; }) p.compression.f_c = cap;
-}
-
-/// Refuses --g-ii `g_ii` (J/m^2) given with the study's law (slip_softening, crushing and
-/// mixed_mode take it), naming the value; `driver` opens the message.
-inline void require_g_ii_with_slip_softening(const char* driver, const std::string& law, real g_ii) {
-  require(law != "study" || g_ii == 0, driver, ": --g-ii ", g_ii,
-          " J/m^2 applies to --law slip_softening only (or --law crushing or mixed_mode; the study's law has no "
-          "mode-II fracture energy)");
 }
 
 /// --g-c 0 with --law crushing: the compressive fracture energy G_c the drivers then use (J/m^2).

@@ -116,17 +116,17 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "compression: --cap %g applies to --material beam only (the prism's contacts have no cap)\n", in.cap);
     return 2;
   }
-  if (in.material == "prism" && in.law != "study") {
+  if (in.material == "prism" && scenes::concrete_law_named(in.law, "compression").beam_only) {
     std::fprintf(stderr, "compression: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
                  in.law.c_str());
     return 2;
   }
-  for (const char* flag : {"--g-c", "--cap-residual", "--crush-shear"})
-    if (in.law != "crushing" && cli.given(flag)) {
-      std::fprintf(stderr, "compression: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
-                   flag, in.law.c_str());
-      return 2;
-    }
+  try {
+    scenes::require_law_flags(cli, "compression", in.law);
+  } catch (const std::exception& e) {
+    cli::print_error("compression", e);
+    return 2;
+  }
   if (set.recipe_blocks == 1) {
     std::fprintf(stderr, "compression: --recipe-blocks 1 must be 0 (the material's) or >= 2\n");
     return 2;
@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
   }
   io::run_record record(in.common.out, "compression", argc, argv);
   try {
-    return scenes::with_concrete_or_mixed(set, [&](const auto& recipe) { return run_specimen(in, set, params, recipe, record); });
+    return scenes::with_concrete(set, [&](const auto& recipe) { return run_specimen(in, set, params, recipe, record); });
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 1;

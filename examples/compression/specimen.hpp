@@ -7,9 +7,8 @@
 // one zone per face triangle, no contact cap). --blocks 0 keeps the recipe's block size; another
 // block count scales the contact stiffness with 1 / block size (k_n = E / t) and the face zoning
 // edge with the block size, so the macro modulus and the sub-contacts per face stay the recipe's.
-// --law picks the beam concrete's contact law: study (study_beam_law) or slip_softening
-// (slip_softening_beam_law: cohesion and friction soften with the plastic slip over the mode-II
-// fracture energy --g-ii); the specimen is a template on the law.
+// --law picks the beam concrete's contact law, a row of common/concrete_laws.hpp (study_beam_law,
+// slip_softening_beam_law, crushing_beam_law, mixed_mode_beam_law); the specimen is a template on the law.
 
 #include <algorithm>
 #include <cmath>
@@ -74,7 +73,7 @@ template <class Law>
 class compression_specimen {
  public:
   compression_specimen(const compression_options& o, const concrete_recipe<Law>& recipe) : o_(o), recipe_(recipe) {
-    require_g_ii_with_slip_softening("compression", o.law, o.g_ii);
+    require_g_ii_with_law("compression", o.law, o.g_ii);
     require(o.ends != "friction" || o.friction > 0, "compression: --friction ", o.friction,
             " must be > 0 with --ends friction (use --ends frictionless for none)");
     require(o.phi_res_deg <= o.phi_deg, "compression: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ",

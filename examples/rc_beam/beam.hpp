@@ -298,14 +298,13 @@ inline constexpr real beam_plate_friction_deg = 35;
 /// (no such variant is built); then the law's own check of the contacts `c` (G_II above the
 /// elastic unloading's bound). --scheme relaxation: check_beam_relaxation; --params: check_beam_law_flags.
 inline void check_beam_law(const beam_options& o, const presets::study_beam_law::params& c) {
-  require(o.law == "study" || o.law == "slip_softening" || o.law == "crushing" || o.law == "mixed_mode", "rc_beam: --law '",
-          o.law, "' must be study, slip_softening, crushing or mixed_mode");
+  const concrete_law& law = concrete_law_named(o.law, "rc_beam: --law");
   require(o.phi_res_deg <= o.phi_deg, "rc_beam: --phi-res-deg ", o.phi_res_deg, " must not exceed --phi-deg ", o.phi_deg);
-  require_g_ii_with_slip_softening("rc_beam", o.law, o.g_ii);
+  require_g_ii_with_law("rc_beam", o.law, o.g_ii);
   require(o.compression == "plastic" || o.cap == 35e6, "rc_beam: --cap ", o.cap,
           " Pa applies to --compression plastic (--compression elastic has no cap)");
   const bool slip = o.law == "slip_softening" || o.law == "crushing", mixed = o.law == "mixed_mode";
-  require(!(slip || mixed) || (o.compression == "plastic" && o.cohesion == "decoupled" && !o.slip_breaks_tension),
+  require(law.variants || (o.compression == "plastic" && o.cohesion == "decoupled" && !o.slip_breaks_tension),
           "rc_beam: --law ", o.law, " is built with --compression plastic, --cohesion decoupled and without "
           "--slip-breaks-tension (presets::", o.law, "_beam_law), got --compression ", o.compression, ", --cohesion ",
           o.cohesion, o.slip_breaks_tension ? ", --slip-breaks-tension" : "");

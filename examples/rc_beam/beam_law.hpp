@@ -1,5 +1,5 @@
 #pragma once
-// rc_beam's contact law (issue #63): --law study|slip_softening, --g-ii, --phi-deg, --phi-res-deg
+// rc_beam's contact law (issue #63): --law (a law of common/concrete_laws.hpp), --g-ii, --phi-deg, --phi-res-deg
 // and --cap on the beam's concrete (beam_options; registered by concrete_set.hpp add_law_flags, as
 // compression's); what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
 // and the summary keys that record the law a run used.
@@ -35,8 +35,6 @@ namespace tessera::scenes {
 /// The flags --params replaces: the file sets the concrete.
 inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg", "--phi-res-deg", "--cap",
                                                  "--g-c", "--cap-residual", "--crush-shear"};
-/// The flags of --law crushing only (refused with another law).
-inline constexpr const char* beam_crushing_flags[] = {"--g-c", "--cap-residual", "--crush-shear"};
 
 /// rc_beam --params FILE (`file`): the entry of calibrated.json for o's recipe (the beam material,
 /// o.blocks, o's face zoning and this beam's half volume; refused with both values named otherwise,
@@ -64,15 +62,13 @@ inline real load_beam_params(beam_options& o, const std::string& file, real rate
 }
 
 /// Refuses a law flag (beam_law_flags) given beside --params `params`: the file sets the concrete;
-/// and a crushing flag (beam_crushing_flags) with --law `law` other than crushing. Throws
+/// and a law parameter's flag with a --law `law` that does not take it (require_law_flags). Throws
 /// invalid_input naming the flag and the file or law.
 inline void check_beam_law_flags(const cli::parser& cli, const std::string& params, const std::string& law) {
   for (const char* flag : beam_law_flags)
     require(params.empty() || !cli.given(flag), "rc_beam: ", flag, " with --params ", params,
             ": the file sets the concrete (drop the flag)");
-  for (const char* flag : beam_crushing_flags)
-    require(law == "crushing" || !cli.given(flag), "rc_beam: ", flag, " applies to --law crushing only (--law ", law,
-            " has a cap that does not soften)");
+  require_law_flags(cli, "rc_beam", law);
 }
 
 /// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set and

@@ -30,6 +30,11 @@ struct beam_loading {
   real dt = 0;                 ///< > 0 (instead): mass-scaled target step (s)
   real max_deflection = 0.006; ///< stop here at the latest (m)
   real failure_drop = 0.25;    ///< stop once the load has fallen this fraction below its peak
+  /// m: the drop must hold over this much further mid-span deflection before the run stops (the
+  /// load staying below (1 - failure_drop) x the peak at every sample); a load that climbs back
+  /// above it was a transient dip and the run goes on. 0 = the first sample below stops (the rule
+  /// every recorded figure was taken with).
+  real failure_confirm = 0;
   real first_crack_only = 0;   ///< > 0: stop at this multiple of the developed-crack deflection (quick runs)
   index_t sample = 50;           ///< steps between samples
   index_t crack_every = 10;      ///< samples between crack analyses during the run
@@ -106,6 +111,12 @@ struct beam_result {
   /// The load fell by beam_loading::failure_drop below its peak after first cracking: the run
   /// stopped at the failure it measures (false: it stopped at --max-deflection or the quick stop).
   bool failure_reached = false;
+  /// Where failure was reached: the deflection at which the load fell below (1 - failure_drop) x
+  /// the peak for good (m; with beam_loading::failure_confirm 0 the stop's own); -1 otherwise.
+  real failure_deflection = -1;
+  /// The run stopped (at --max-deflection) with the load below the drop since this deflection (m),
+  /// not yet held over beam_loading::failure_confirm: not a failure; -1 otherwise.
+  real unconfirmed_drop_deflection = -1;
   std::vector<beam_crack> final_cracks;  ///< cracks at the end (beam_crack_profile)
   std::vector<real> flexural_crack_positions;  ///< in the modelled constant-moment zone, m
   int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (half: mirrored)
@@ -196,7 +207,7 @@ void checkpoint_beam_samples(Archive& ar, beam_result& r) {
 /// free to differ between a run and its continuation (with their values).
 [[nodiscard]] inline std::string beam_run_key(int argc, char** argv) {
   static const char* const free_with_value[] = {"--threads", "--out", "--max-deflection", "--failure-drop",
-                                                "--checkpoint", "--checkpoint-every", "--resume"};
+                                                "--failure-confirm", "--checkpoint", "--checkpoint-every", "--resume"};
   std::string key = "rc_beam";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -217,7 +228,7 @@ inline void require_beam_run_key(const beam_loading& l) {
   const io::checkpoint_info info = io::read_checkpoint_info(l.resume_file);
   require(info.description == l.run_key, "rc_beam: --resume ", l.resume_file,
           " was saved by a run with other flags than this one's (only --threads, --out, --no-vtk, --max-deflection, "
-          "--failure-drop, --checkpoint and --checkpoint-every may differ):\n  saved: ",
+          "--failure-drop, --failure-confirm, --checkpoint and --checkpoint-every may differ):\n  saved: ",
           info.description, "\n  now:   ", l.run_key);
 }
 
@@ -242,6 +253,8 @@ inline void check_beam_checkpoint_flags(const cli::parser& cli, const beam_loadi
 inline void set_failure_figures(io::summary_json& js, const beam_result& r, const beam_hand_checks& h) {
   const real none = std::numeric_limits<real>::quiet_NaN(), peak = r.failure_reached ? r.peak_load : none;
   js.set("failure_reached", r.failure_reached)
+      .set("failure_deflection_m", r.failure_reached ? r.failure_deflection : none)
+      .set("unconfirmed_drop_deflection_m", r.unconfirmed_drop_deflection >= 0 ? r.unconfirmed_drop_deflection : none)
       .set("peak_load_N", r.peak_load)
       .set("peak_deflection_m", r.peak_deflection)
       .set("load_at_stop_N", r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back())
@@ -258,14 +271,28 @@ inline void set_failure_figures(io::summary_json& js, const beam_result& r, cons
 }
 
 /// The report's peak: the peak against the hand shear values h where the load fell by `drop` (a
-/// fraction), else the highest load before the stop and the load at it, without ratios.
-[[nodiscard]] inline std::string beam_peak_text(const beam_result& r, const beam_hand_checks& h, real drop) {
+/// fraction; held over `confirm` m of deflection, beam_loading::failure_confirm), else the highest
+/// load before the stop and the load at it, without ratios.
+[[nodiscard]] inline std::string beam_peak_text(const beam_result& r, const beam_hand_checks& h, real drop,
+                                                real confirm = 0) {
   char buf[320];
   if (r.failure_reached)
     std::snprintf(buf, sizeof buf, "failure (the load fell %.0f %% below its peak): peak %.2f kN at %.2f mm (shear "
                   "capacity, hand %.1f kN; %.2fx EC2's %.1f kN, %.2fx Zsutty's %.1f kN)", 100 * drop, r.peak_load * 1e-3,
                   r.peak_deflection * 1e3, h.shear_capacity_load * 1e-3, r.peak_load / h.ec2_shear_load,
                   h.ec2_shear_load * 1e-3, r.peak_load / h.zsutty_shear_load, h.zsutty_shear_load * 1e-3);
+  else if (r.unconfirmed_drop_deflection >= 0)
+    std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load fell %.0f %% below its peak at %.2f mm, not held "
+                  "over --failure-confirm by the stop): highest load %.2f kN at %.2f mm, %.2f kN at the stop",
+                  (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop,
+                  r.unconfirmed_drop_deflection * 1e3, r.peak_load * 1e-3, r.peak_deflection * 1e3,
+                  (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3);
+  else if (confirm > 0)
+    std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load never stayed %.0f %% below its peak over %.2f mm): "
+                  "highest load %.2f kN at %.2f mm, %.2f kN at the stop (hand EC2 %.1f kN, Zsutty %.1f kN)",
+                  (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop, confirm * 1e3, r.peak_load * 1e-3,
+                  r.peak_deflection * 1e3, (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3,
+                  h.ec2_shear_load * 1e-3, h.zsutty_shear_load * 1e-3);
   else
     std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load never fell %.0f %% below its peak): highest load "
                   "%.2f kN at %.2f mm, %.2f kN at the stop (hand EC2 %.1f kN, Zsutty %.1f kN)",

@@ -355,8 +355,20 @@ template <class Law, bool Relaxed = false, class OnEvent>
         on_event(sv, std::string("yield"));
       }
     }
-    const bool failed = first_found && load < (1 - loading.failure_drop) * max_load &&
-                        defl > r.peak_deflection;
+    // Failure: the load below (1 - failure_drop) x the peak past the peak, and with failure_confirm
+    // > 0 below it at every sample over that much further deflection. max_load cannot change over
+    // such a run of samples (a load above the peak ends it), so the run is found by scanning back
+    // over the samples: exact, and the same after a --resume (the samples are in the checkpoint).
+    const real threshold = (1 - loading.failure_drop) * max_load;
+    const bool below = first_found && load < threshold && defl > r.peak_deflection;
+    real drop_from = defl;
+    if (below && loading.failure_confirm > 0)
+      for (std::size_t i = r.deflection.size() - 1; i > 0 && r.smoothed_load[i - 1] < threshold &&
+                                                    r.deflection[i - 1] > r.peak_deflection; --i)
+        drop_from = r.deflection[i - 1];
+    const bool failed = below && defl >= drop_from + loading.failure_confirm;
+    if (failed) r.failure_deflection = drop_from;
+    r.unconfirmed_drop_deflection = below && !failed ? drop_from : -1;
     const bool quick_done = loading.first_crack_only > 0 && first_found &&
                             defl >= loading.first_crack_only * r.developed_crack_deflection;
     r.failure_reached = failed;  // the last sample's: whether the run stopped at the load drop

@@ -17,7 +17,8 @@
 //   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
 //   summary.json  provisional_geometry, inputs, hand values (cracking, stiffness, yield, shear: EC2 and
 //                 Zsutty), first crack, stiffness, yield, peak, cracks, energy balance, failure_reached
-//                 (the load fell by --failure-drop; without it peak_over_* are null, peak_load_N is the
+//                 (the load fell by --failure-drop, held over --failure-confirm; failure_deflection_m where
+//                 it fell; without it peak_over_* are null, peak_load_N is the
 //                 highest load before the stop, load_at_stop_N the last), failure_mode (the widest
 //                 crack's classification at the end, reached or not: beam_cracks.hpp),
 //                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params
@@ -326,7 +327,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       100 * rel(r.first_crack_load, h.flexural_crack_load), r.developed_crack_load * 1e-3, r.first_crack_x * 1e3,
       r.first_crack_angle_deg,
       r.initial_stiffness * 1e-6, h.initial_stiffness * 1e-6, 100 * rel(r.initial_stiffness, h.initial_stiffness),
-      yield_text.c_str(), tessera::scenes::beam_peak_text(r, h, in.loading.failure_drop).c_str(), r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
+      yield_text.c_str(), tessera::scenes::beam_peak_text(r, h, in.loading.failure_drop, in.loading.failure_confirm).c_str(), r.flexural_cracks, r.mean_crack_spacing * 1e3, r.failure_mode.c_str(),
       r.widest.x * 1e3, r.widest.angle_deg, r.widest.width * 1e3, after_peak_text.c_str(),
       o.full() ? tessera::detail::concat("\n  full beam: failing span ", r.failing_span, "; support reactions at the peak ",
                                          r.spans[0].reaction_at_peak * 1e-3, " / ", r.spans[1].reaction_at_peak * 1e-3,
@@ -430,6 +431,10 @@ int main(int argc, char** argv) {
   cli.option("--failure-drop", l.failure_drop, "stop once the load has fallen this fraction below its peak: the failure "
              "(summary.json failure_reached; without it the peak_over_* ratios are null, and failure_mode is the "
              "widest crack's classification either way)", "R").within(0.01, 0.99);
+  cli.option("--failure-confirm", l.failure_confirm, "the drop of --failure-drop must hold (the load below it at every "
+             "sample) over this much further mid-span deflection before the run stops; a load that climbs back above it "
+             "was a transient dip and the run goes on, the peak rising if the load passes it (m; 0 = the first sample "
+             "below stops; summary.json failure_deflection_m: where the drop began)", "U").within(0, 0.1);
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
@@ -445,8 +450,8 @@ int main(int argc, char** argv) {
       .at_least(0);
   cli.option("--resume", l.resume_file,
              "continue the run saved in FILE by --checkpoint, to the same bits as a run that never stopped; give the "
-             "saved run's flags (all but --threads, --out, --no-vtk, --max-deflection, --failure-drop, --checkpoint "
-             "and --checkpoint-every must be the same)", "FILE");
+             "saved run's flags (all but --threads, --out, --no-vtk, --max-deflection, --failure-drop, --failure-confirm, "
+             "--checkpoint and --checkpoint-every must be the same)", "FILE");
   cli.parse_or_exit(argc, argv);
   in.write_vtk = !no_vtk;
   l.relaxation = in.scheme == "relaxation";
