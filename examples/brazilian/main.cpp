@@ -103,9 +103,11 @@ int main(int argc, char** argv) {
                 "  --g-ii, --cap, --g-c, --cap-residual and --crush-shear.\n"
                 "  --blocks 0: the material's block size. --quick: 5 nm per step.");
       std::printf("  --law: %s; --material beam only.\n  --g-ii: %s.\n  --g-c: compressive fracture energy G_c with "
-                  "--law crushing, plastic work per contact area above the residual cap (J/m^2; 0 = 20000).\n  "
-                  "--cap-residual: residual cap with --law crushing, a fraction of --cap (0.1).\n  --crush-shear: with "
-                  "--law crushing, the shear limit falls with the cap's remaining fraction too.\n",
+                  "--law crushing, plastic work per contact area above the residual cap (J/m^2; 0 = 20000); with --law "
+                  "mixed_mode > 0 makes its cap soften with crushing (0 = the plastic cap).\n  "
+                  "--cap-residual: residual cap with --law crushing (or mixed_mode and --g-c), a fraction of --cap (0.1).\n"
+                  "  --crush-shear: with --law crushing (or mixed_mode and --g-c), the shear limit (mixed_mode: its "
+                  "Coulomb limit in compression) falls with the cap's remaining fraction too.\n",
                   scenes::law_flag_help, scenes::g_ii_flag_help);
       return 0;
     } else if (a == "--out" && i + 1 < argc) out = argv[++i];
@@ -134,9 +136,11 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "brazilian: --law: invalid value '%s' (expected study, slip_softening, crushing or "
                         "mixed_mode)\n", law.c_str()), 2;
   for (const char* crush_flag : {"--g-c", "--cap-residual", "--crush-shear"})
-    if (law != "crushing" && std::find(concrete_flags.begin(), concrete_flags.end(), crush_flag) != concrete_flags.end())
-      return std::fprintf(stderr, "brazilian: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
-                          crush_flag, law.c_str()), 2;
+    if (std::find(concrete_flags.begin(), concrete_flags.end(), crush_flag) != concrete_flags.end()) try {
+        scenes::require_crushing_flag("brazilian", crush_flag, law, g_c);  // mixed_mode: --g-c > 0 softens its cap
+      } catch (const std::exception& e) {
+        return std::fprintf(stderr, "%s\n", e.what()), 2;
+      }
   if (material == "prism" && law != "study")
     return std::fprintf(stderr, "brazilian: --law %s applies to --material beam only (the prism's concrete has the study's law)\n",
                         law.c_str()), 2;
@@ -193,9 +197,12 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   io::ensure_directory(o.out);  // run.json "running"
   const scenes::disc_result r = scenes::run_brazilian_disc(d, recipe);
   const real none = std::numeric_limits<real>::quiet_NaN(), f_t = r.f_t;
-  const bool slip = set.law == "slip_softening" || set.law == "crushing", crush = set.law == "crushing";
+  const bool slip = set.law == "slip_softening" || set.law == "crushing";
+  const bool crush = set.law == "crushing" || (set.law == "mixed_mode" && set.g_c > 0);  // a softening cap
   real g_ii = slip ? scenes::g_ii_or_default(set.g_ii) : none;
-  if constexpr (std::is_same_v<joint_law, presets::mixed_mode_beam_law>) g_ii = recipe.contact.shear.G_II;
+  if constexpr (std::is_same_v<joint_law, presets::mixed_mode_beam_law> ||
+                std::is_same_v<joint_law, presets::mixed_crushing_beam_law>)
+    g_ii = recipe.contact.shear.G_II;
   const std::filesystem::path out(o.out);
   io::write_csv(out / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {r.u, r.p_top, r.p_bottom, r.opening});
   io::summary_json j;

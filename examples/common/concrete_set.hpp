@@ -35,7 +35,7 @@ struct concrete_set {
   real phi_0_deg = 35, phi_res_deg = 30;  ///< contact friction angles (deg)
   real g_ii = 0;                      ///< mode-II fracture energy (J/m^2) with law slip_softening; 0 = default_g_ii
   real cap = 35e6;                    ///< contact compressive cap (Pa), beam only
-  real g_c = 0;                       ///< compressive fracture energy (J/m^2) with law crushing; 0 = default_g_c
+  real g_c = 0;                       ///< G_c (J/m^2) with law crushing (0 = default_g_c) or mixed_mode (0 = plastic cap)
   real cap_residual = 0.1;            ///< residual cap / cap with law crushing, in [0, 1]
   bool crush_shear = false;           ///< law crushing: the shear limit times the cap's remaining fraction
 
@@ -106,7 +106,7 @@ inline constexpr const char* law_flag_help =
     "contact law of the beam's concrete: study (the beam's), slip_softening (cohesion and friction soften with plastic "
     "slip over --g-ii), crushing (slip_softening whose cap --cap also softens with the plastic closure over --g-c) or "
     "mixed_mode (one damage for tension and shear, driven by the plastic opening and slip over G_f and --g-ii; "
-    "law/mixed_mode.hpp)";
+    "law/mixed_mode.hpp; with --g-c > 0 its cap softens with crushing too)";
 inline constexpr const char* g_ii_flag_help =
     "mode-II fracture energy G_II with --law slip_softening or crushing (J/m^2; 0 = 500) or mixed_mode (0 = (c_0/f_T) "
     "G_f, 120 for the beam's contacts)";
@@ -129,11 +129,12 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
   cli.option("--law", o.law, law_flag_help, "L").one_of({"study", "slip_softening", "crushing", "mixed_mode"});
   cli.option("--g-ii", o.g_ii, g_ii_flag_help, "J").within(0, 1e6);
   cli.option("--g-c", o.g_c, "compressive fracture energy G_c with --law crushing: plastic work per contact area above "
-             "the residual cap (J/m^2; 0 = 20000)", "J").within(0, 1e8);
-  cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing, a fraction of --cap (0.1)", "R")
-      .within(0, 1);
-  cli.flag("--crush-shear", o.crush_shear, "with --law crushing: the shear limit falls with the cap's remaining "
-           "fraction too");
+             "the residual cap (J/m^2; 0 = 20000); with --law mixed_mode > 0 makes its cap soften with crushing (0 = the "
+             "plastic cap)", "J").within(0, 1e8);
+  cli.option("--cap-residual", o.cap_residual, "residual cap with --law crushing (or mixed_mode and --g-c), a fraction "
+             "of --cap (0.1)", "R").within(0, 1);
+  cli.flag("--crush-shear", o.crush_shear, "with --law crushing (or mixed_mode and --g-c): the shear limit (mixed_mode: "
+           "its Coulomb limit in compression) falls with the cap's remaining fraction too");
   cli.option("--phi-deg", o.phi_deg, "contact friction angle phi_0 (deg; the study's 35)", "DEG").within(0, 80);
   cli.option("--phi-res-deg", o.phi_res_deg, "residual contact friction angle phi_res (deg; the study's 30)", "DEG")
       .within(0, 80);
@@ -177,7 +178,8 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
 }
 
 /// with_concrete, and c.law "mixed_mode" (the beam's concrete only): f(with_mixed_mode(recipe, c.g_ii))
-/// after the law's validate. brazilian runs through it; the other drivers keep with_concrete.
+/// after the law's validate, or with c.g_c > 0 the mixed law whose cap softens with crushing
+/// (presets::mixed_crushing_beam_law: G_c = c.g_c J/m^2, c.cap_residual, c.crush_shear).
 template <class F>
 decltype(auto) with_concrete_or_mixed(const concrete_set& c, F&& f) {
   if (c.law != "mixed_mode") return with_concrete(c, std::forward<F>(f));
@@ -186,6 +188,12 @@ decltype(auto) with_concrete_or_mixed(const concrete_set& c, F&& f) {
   auto r = beam_concrete(c.beam());
   apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
   auto m = with_mixed_mode(r, c.g_ii);
+  if (c.g_c > 0) {  // the cap softens with crushing (law/mixed_mode.hpp with softening_cap)
+    auto k = m.with_contact<presets::mixed_crushing_beam_law>(
+        presets::with_softening_cap(m.contact, c.g_c, c.cap_residual, c.crush_shear));
+    presets::mixed_crushing_beam_law::validate(k.contact);
+    return std::forward<F>(f)(k);
+  }
   presets::mixed_mode_beam_law::validate(m.contact);
   return std::forward<F>(f)(m);
 }

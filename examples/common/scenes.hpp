@@ -138,6 +138,21 @@ inline void require_g_ii_with_slip_softening(const char* driver, const std::stri
 /// --g-c 0 with --law crushing: the compressive fracture energy G_c the drivers then use (J/m^2).
 inline constexpr real default_g_c = 20000;
 
+/// Refuses a crushing flag `flag` (--g-c, --cap-residual, --crush-shear) given with --law `law`
+/// where it does not apply, naming the flag, the law and G_c: all three apply to crushing; with
+/// mixed_mode --g-c > 0 (g_c, J/m^2) selects the softening cap (0 keeps the plastic cap) and the
+/// other two apply beside it. `driver` opens the message.
+inline void require_crushing_flag(const char* driver, const std::string& flag, const std::string& law, real g_c) {
+  if (law == "crushing") return;
+  if (law == "mixed_mode") {
+    require(flag == "--g-c" || g_c > 0, driver, ": ", flag, " with --law mixed_mode needs --g-c > 0 (got --g-c ", g_c,
+            ": the plastic cap, which does not soften)");
+    return;
+  }
+  require(false, driver, ": ", flag, " applies to --law crushing or mixed_mode only (--law ", law,
+          " has a cap that does not soften)");
+}
+
 /// The slip-softening concrete `slip` with its cap softening with crushing over G_c (J/m^2) to
 /// residual x f_c (presets::with_softening_cap), everything else the recipe's.
 [[nodiscard]] inline concrete_recipe<presets::crushing_beam_law> with_softening_cap(

@@ -121,12 +121,13 @@ int main(int argc, char** argv) {
                  in.law.c_str());
     return 2;
   }
-  for (const char* flag : {"--g-c", "--cap-residual", "--crush-shear"})
-    if (in.law != "crushing" && cli.given(flag)) {
-      std::fprintf(stderr, "compression: %s applies to --law crushing only (--law %s has a cap that does not soften)\n",
-                   flag, in.law.c_str());
-      return 2;
-    }
+  try {
+    for (const char* flag : {"--g-c", "--cap-residual", "--crush-shear"})
+      if (cli.given(flag)) scenes::require_crushing_flag("compression", flag, in.law, in.g_c);
+  } catch (const std::exception& e) {
+    cli::print_error("compression", e);
+    return 2;
+  }
   if (set.recipe_blocks == 1) {
     std::fprintf(stderr, "compression: --recipe-blocks 1 must be 0 (the material's) or >= 2\n");
     return 2;
