@@ -1094,9 +1094,26 @@ tessera_add_example_test(compression NAME example_compression_mixed_mode_quick
        --material beam --law mixed_mode --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6
   CHECKS "law STREQUAL mixed_mode" "G_II_J_per_m2 EQUAL 300" "peak STREQUAL ON"
          "f_c_Pa GREATER 36.4e6" "f_c_Pa LESS 36.8e6" "energy_balance_error_rel LESS 1e-3")
+# --law mixed_mode --g-c (presets::mixed_crushing_beam_law: the mixed law whose cap softens with
+# crushing, law/mixed_mode.hpp) on the same prism between fixed ends, where the mixed law with its
+# plastic cap has no peak: peaks (measured: 54.87 MPa at 2.79e-3, 12 s of CPU) and softens to the
+# drop; checks that G_c and the residual reach the contacts and the peak. Refused: --cap-residual
+# (or --crush-shear) with --law mixed_mode but no --g-c.
+tessera_add_example_test(compression NAME example_compression_mixed_crushing_quick
+  ARGS --quick --threads 1 --no-vtk --shape prism --diameter 0.1 --height 0.2 --max-strain 3.5e-3 --ends fixed
+       --material beam --law mixed_mode --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6 --g-c 1e4
+  CHECKS "law STREQUAL mixed_mode" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
+         "G_II_J_per_m2 EQUAL 300" "peak STREQUAL ON" "f_c_Pa GREATER 54.8e6" "f_c_Pa LESS 54.95e6"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 300)
+tessera_add_refusal_test(refuse_compression_mixed_cap_residual_no_g_c compression
+  "--cap-residual with --law mixed_mode needs --g-c > 0 \\(got --g-c 0" --threads 1 --material beam --law mixed_mode
+  --cap-residual 0.2)
+tessera_add_refusal_test(refuse_rc_beam_mixed_crush_shear_no_g_c rc_beam
+  "rc_beam: --crush-shear with --law mixed_mode needs --g-c > 0" --threads 1 --law mixed_mode --crush-shear)
 # Refused, naming the value: the crushing law's flags with another law, a residual outside [0, 1].
 tessera_add_refusal_test(refuse_compression_g_c_study compression
-  "--g-c applies to --law crushing only" --threads 1 --g-c 2e4)
+  "--g-c applies to --law crushing or mixed_mode only \\(--law study" --threads 1 --g-c 2e4)
 tessera_add_refusal_test(refuse_compression_cap_residual compression
   "--cap-residual: value '1.5' must be <= 1" --threads 1 --law crushing --cap-residual 1.5)
 # ((1 - 0.1) 35 MPa)^2 / (2 x 500 GPa/m) = 992 J/m^2 (the 23-block prism's k_n is the recipe's to 1 %)
@@ -1119,7 +1136,7 @@ tessera_add_example_test(brazilian NAME example_brazilian_crushing_quick
          "split_load_N LESS 40e3" "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 300)
 tessera_add_refusal_test(refuse_brazilian_g_c_study brazilian
-  "brazilian: --g-c applies to --law crushing only \\(--law slip_softening" --threads 1 --material beam
+  "brazilian: --g-c applies to --law crushing or mixed_mode only \\(--law slip_softening" --threads 1 --material beam
   --law slip_softening --g-c 1e4)
 tessera_add_refusal_test(refuse_brazilian_cap_residual brazilian
   "brazilian: --cap-residual = '1.5' must be a number in \\[0, 1\\]" --threads 1 --material beam --law crushing
@@ -1147,7 +1164,7 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_params_crushing_quick
 tessera_add_same_curve_test(example_rc_beam_params_crushing_same_bits example_rc_beam_params_crushing_quick
                             example_rc_beam_crushing_quick)
 tessera_add_refusal_test(refuse_rc_beam_crush_shear_study rc_beam
-  "rc_beam: --crush-shear applies to --law crushing only \\(--law study" --threads 1 --crush-shear)
+  "rc_beam: --crush-shear applies to --law crushing or mixed_mode only \\(--law study" --threads 1 --crush-shear)
 tessera_add_refusal_test(refuse_rc_beam_g_c_small rc_beam
   "compressive fracture energy too small for the law: G_c = 100 J/m.2 must exceed" --threads 1 --law crushing --g-c 100)
 tessera_add_refusal_test(refuse_rc_beam_params_no_g_c rc_beam
@@ -1319,7 +1336,7 @@ tessera_add_refusal_test(refuse_compression_params_study_g_ii compression
   "entries\\[0\\].G_II_J_per_m2: applies to law slip_softening, crushing or mixed_mode only \\(this entry's law is study\\)"
   --threads 1 --zone-edge 0.05 --recipe-blocks 60 --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_study_with_gii.json)
 tessera_add_refusal_test(refuse_calibrate_targets_mixed_g_c calibrate
-  "calibrate: --g-c applies to --law crushing only \\(--law mixed_mode has no G_c\\)" --threads 1 --targets splitting
+  "calibrate: --g-c applies to --law crushing only \\(--law mixed_mode has no G_c in calibrated.json\\)" --threads 1 --targets splitting
   --law mixed_mode --g-c 1e4)
 tessera_add_refusal_test(refuse_calibrate_targets_mixed_prism calibrate
   "calibrate: --law mixed_mode applies to --material beam only" --threads 1 --targets splitting --law mixed_mode

@@ -1100,6 +1100,16 @@ TEST_CASE("elastic pack path: the same states and forces as Law::update, to the 
     check_pack_against_scalar<presets::mixed_mode_beam_law>(presets::with_mixed_mode(law::study_beam_params(250), 6000),
                                                             203, 37, 8);
   }
+  SECTION("mixed_crushing_beam_law (the mixed law whose cap softens with u_crush, shear scaled with it or not)") {
+    // G_c = 1e4 J/m^2, residual 0.2: kappa_u = 0.71 mm, so the compressed population (0.5-1 mm of
+    // closure) holds contacts on the softening cap and on its residual.
+    const auto mixed = presets::with_mixed_mode(law::study_beam_params(250), 6000);
+    // Seed 8 as mixed_mode_beam_law's: the same population (its displacements do not depend on the law).
+    check_pack_against_scalar<presets::mixed_crushing_beam_law>(presets::with_softening_cap(mixed, 1e4, 0.2, true), 203,
+                                                                37, 8);
+    check_pack_against_scalar<presets::mixed_crushing_beam_law>(presets::with_softening_cap(mixed, 1e4, 0.2, false), 203,
+                                                                37, 8);
+  }
   SECTION("coupled_tie_law (cohesion softens with the tensile strength)") {
     check_pack_against_scalar<law::coupled_tie_law>(law::with_coupled_cohesion(law::study_prism_params(100)), 203,
                                                     37, 3);

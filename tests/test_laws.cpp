@@ -1023,7 +1023,8 @@ crush_law::params crush_params(real G_c, real residual, bool scales_shear = fals
 /// Closes the contact along e_z in three legs ending at the closed form's kinks (the cap reached at
 /// closure u_peak, the residual reached at u_end), so the trapezoidal bookkeeping is exact; returns
 /// the largest |sigma_n| seen.
-real crush_through_softening(contact_driver<crush_law>& c, real u_peak, real u_end, real u_total) {
+template <class Law>
+real crush_through_softening(contact_driver<Law>& c, real u_peak, real u_end, real u_total) {
   real largest = 0;
   const auto leg = [&](real to, int steps) {
     const real from = -c.s.u_n;
@@ -1037,42 +1038,44 @@ real crush_through_softening(contact_driver<crush_law>& c, real u_peak, real u_e
   leg(u_total, 100);
   return largest;
 }
-}  // namespace
 
-TEST_CASE("softening cap in pure compression: peak f_c and dissipation G_c plus residual work", "[laws][compression][crush]") {
-  for (const real residual : {0.0, 0.2}) {
-    INFO("residual " << residual);
-    const real G_c = 2000;  // J/m^2; the snap-back bound ((1 - r) f_c)^2 / (2 k_n) is 1225 at r = 0
-    const auto p = crush_params(G_c, residual);
-    const real k_n = p.k_n, f_c = p.compression.f_c, f_r = residual * f_c;
-    const real kappa_u = softening_cap::crushing_closure(p.compression);
-    REQUIRE(kappa_u == Approx(2 * G_c / ((1 - residual) * f_c)).epsilon(1e-15));
-    contact_driver<crush_law> c(p);
-    const real u_peak = f_c / k_n, u_end = kappa_u + f_r / k_n, u_total = u_end + 2e-4;
-    const real largest = crush_through_softening(c, u_peak, u_end, u_total);
-    CHECK(largest == Approx(f_c).epsilon(1e-12));  // the peak is the cap
-    CHECK(-c.s.sigma_n == Approx(f_r).margin(1e-9 * f_c));
-    const real plastic = u_total - f_r / k_n;  // total closure minus the elastic part
-    CHECK(c.s.u_crush == Approx(plastic).epsilon(1e-9));
-    // The triangle above the residual is G_c; the residual cap crushes over all the plastic closure.
-    CHECK(c.s.dissipated_compression == Approx(G_c + f_r * plastic).epsilon(1e-9));
-    CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
-    CHECK(c.s.dissipated_tension == 0);
-    CHECK(c.s.dissipated_shear == 0);
-    CHECK(crush_law::status(c.s) == contact_status::crushed);
-  }
+/// A contact of Law (parameters p, a softening_cap) closed in pure compression through the cap's
+/// softening line and beyond: the peak f_c, the residual, u_crush, and the dissipation G_c plus the
+/// residual's work, to rounding (the steps land on the kinks). Returns the driver.
+template <class Law>
+contact_driver<Law> check_pure_crushing(const typename Law::params& p) {
+  const real G_c = p.compression.G_c, residual = p.compression.residual;
+  const real k_n = p.k_n, f_c = p.compression.f_c, f_r = residual * f_c;
+  const real kappa_u = softening_cap::crushing_closure(p.compression);
+  REQUIRE(kappa_u == Approx(2 * G_c / ((1 - residual) * f_c)).epsilon(1e-15));
+  contact_driver<Law> c(p);
+  const real u_peak = f_c / k_n, u_end = kappa_u + f_r / k_n, u_total = u_end + 2e-4;
+  const real largest = crush_through_softening(c, u_peak, u_end, u_total);
+  CHECK(largest == Approx(f_c).epsilon(1e-12));  // the peak is the cap
+  CHECK(-c.s.sigma_n == Approx(f_r).margin(1e-9 * f_c));
+  const real plastic = u_total - f_r / k_n;  // total closure minus the elastic part
+  CHECK(c.s.u_crush == Approx(plastic).epsilon(1e-9));
+  // The triangle above the residual is G_c; the residual cap crushes over all the plastic closure.
+  CHECK(c.s.dissipated_compression == Approx(G_c + f_r * plastic).epsilon(1e-9));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  CHECK(c.s.dissipated_tension == 0);
+  CHECK(c.s.dissipated_shear == 0);
+  CHECK(Law::status(c.s) == contact_status::crushed);
+  return c;
 }
 
-TEST_CASE("softening cap unloaded and reloaded keeps the softened cap f(u_crush)", "[laws][compression][crush]") {
-  const auto p = crush_params(5000, 0.1);
+/// A contact of Law (parameters p: G_c 5000 J/m^2, residual 0.1) crushed to 0.3 kappa_u, unloaded,
+/// reloaded below and past its softened cap, then opened to the tensile peak from the crushed position.
+template <class Law>
+void check_crush_unload_reload(const typename Law::params& p) {
   const real k_n = p.k_n, f_c = p.compression.f_c, kappa_u = softening_cap::crushing_closure(p.compression);
-  contact_driver<crush_law> c(p);
+  contact_driver<Law> c(p);
   c.open_by(-f_c / k_n, 50);
   c.open_by(-0.3 * kappa_u, 300);
   const real kappa = c.s.u_crush, cap = -c.s.sigma_n;
   CHECK(kappa > 0);
   CHECK(cap == Approx(f_c * (0.1 + 0.9 * (1 - kappa / kappa_u))).epsilon(1e-12));
-  CHECK(crush_law::compressive_strength(p, c.s) == Approx(cap).epsilon(1e-12));
+  CHECK(Law::compressive_strength(p, c.s) == Approx(cap).epsilon(1e-12));
   // Elastic unloading to zero stress and reloading to just below the softened cap: u_crush stays.
   c.open_by(cap / k_n, 10);
   CHECK(std::abs(c.s.sigma_n) < 1e-9 * cap);
@@ -1083,18 +1086,46 @@ TEST_CASE("softening cap unloaded and reloaded keeps the softened cap f(u_crush)
   // Past it: crushing resumes from kappa on the same line, below the old cap (never back at f_c).
   c.open_by(-0.01 * cap / k_n, 10);
   CHECK(c.s.u_crush > kappa);
-  CHECK(-c.s.sigma_n == Approx(crush_law::compressive_strength(p, c.s)).epsilon(1e-12));
+  CHECK(-c.s.sigma_n == Approx(Law::compressive_strength(p, c.s)).epsilon(1e-12));
   CHECK(-c.s.sigma_n < cap);
   CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
   // Opened again: elastic up to the tensile peak f_T from the crushed position, as with plastic_cap.
   const real u_crush = c.s.u_crush;
   c.open_by((p.tension.f_T - c.s.sigma_n) / k_n, 400);
   CHECK(c.s.sigma_n == Approx(p.tension.f_T).epsilon(1e-9));
-  CHECK(crush_law::status(c.s) == contact_status::crushed);  // not softening yet
+  CHECK(Law::status(c.s) == contact_status::crushed);  // not softening yet
   c.open_by(1e-6, 10);
-  CHECK(has(crush_law::status(c.s), contact_status::softening));
+  CHECK(has(Law::status(c.s), contact_status::softening));
+  CHECK(has(Law::status(c.s), contact_status::crushed));
   CHECK(c.s.sigma_n < p.tension.f_T);
   CHECK(c.s.u_crush == u_crush);
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+/// A contact of Law (parameters p: residual 0.1) closed past its cap by half of kappa_u, so its
+/// cap's fraction f(u_crush)/f_c is on the softening line (checked against the closed form).
+template <class Law>
+contact_driver<Law> crushed_halfway(const typename Law::params& p) {
+  const real f_c = p.compression.f_c, kappa_u = softening_cap::crushing_closure(p.compression);
+  contact_driver<Law> c(p);
+  c.open_by(-f_c / p.k_n - 0.5 * kappa_u, 400);
+  REQUIRE(c.s.u_crush > 0.5 * kappa_u);
+  REQUIRE(c.s.u_crush < kappa_u);
+  CHECK(Law::compressive_strength(p, c.s) / f_c == Approx(0.1 + 0.9 * (1 - c.s.u_crush / kappa_u)).epsilon(1e-12));
+  return c;
+}
+}  // namespace
+
+TEST_CASE("softening cap in pure compression: peak f_c and dissipation G_c plus residual work", "[laws][compression][crush]") {
+  for (const real residual : {0.0, 0.2}) {
+    INFO("residual " << residual);
+    // G_c = 2000 J/m^2; the snap-back bound ((1 - r) f_c)^2 / (2 k_n) is 1225 at r = 0
+    static_cast<void>(check_pure_crushing<crush_law>(crush_params(2000, residual)));
+  }
+}
+
+TEST_CASE("softening cap unloaded and reloaded keeps the softened cap f(u_crush)", "[laws][compression][crush]") {
+  check_crush_unload_reload<crush_law>(crush_params(5000, 0.1));
 }
 
 TEST_CASE("softening cap at residual 1 is plastic_cap to the bit", "[laws][compression][crush]") {
@@ -1114,13 +1145,8 @@ TEST_CASE("softening cap at residual 1 is plastic_cap to the bit", "[laws][compr
 
 TEST_CASE("softening cap with scales_shear: the shear limit falls with the cap's fraction", "[laws][compression][crush]") {
   const auto p = crush_params(5000, 0.1, true);
-  const real k_n = p.k_n, f_c = p.compression.f_c, kappa_u = softening_cap::crushing_closure(p.compression);
-  contact_driver<crush_law> c(p);
-  c.open_by(-f_c / k_n - 0.5 * kappa_u, 400);
-  const real fraction = crush_law::compressive_strength(p, c.s) / f_c;
-  REQUIRE(c.s.u_crush > 0.5 * kappa_u);
-  REQUIRE(c.s.u_crush < kappa_u);
-  CHECK(fraction == Approx(0.1 + 0.9 * (1 - c.s.u_crush / kappa_u)).epsilon(1e-12));
+  contact_driver<crush_law> c = crushed_halfway<crush_law>(p);
+  const real fraction = crush_law::compressive_strength(p, c.s) / p.compression.f_c;
   const real sigma = c.s.sigma_n, intact = coulomb_slip_softening::slip_strength(p.shear, sigma, c.s.flags, 0);
   CHECK(crush_law::shear_strength(p, c.s) == Approx(fraction * intact).epsilon(1e-12));
   // Slide: the first slip at fraction x (c_0 - sigma tan phi_0), then the slip-softening return of the scaled limit.
@@ -1346,4 +1372,126 @@ TEST_CASE("mixed mode validation names the bad parameter", "[laws][validation][m
   p = good;
   p.compression.f_c = 0;
   REQUIRE_THROWS_WITH(mixed_law::validate(p), Catch::Contains("compressive strength f_c = 0 Pa"));
+}
+
+// ---- mixed_mode_cohesive<softening_cap>: the mixed law whose cap softens with crushing ----
+namespace {
+using mixed_crush_law = presets::mixed_crushing_beam_law;
+static_assert(ContactLaw<mixed_crush_law> && ElasticPackLaw<mixed_crush_law> && mixed_crush_law::softens_with_crushing);
+static_assert(sizeof(mixed_crush_law::state) == 96 && mixed_crush_law::state_fields.size() == 10);
+static_assert(mixed_crush_law::state_fields[8].name == std::string_view("u_crush"));
+
+/// mixed_params(G_II) with its 35 MPa cap softening over G_c (J/m^2) to residual x f_c:
+/// kappa_u = 2 G_c / ((1 - residual) f_c); k_n = 500 GPa/m.
+mixed_crush_law::params mixed_crush_params(real G_c, real residual, bool scales_shear = false, real G_II = 0) {
+  return presets::with_softening_cap(mixed_params(G_II), G_c, residual, scales_shear);
+}
+
+}  // namespace
+
+TEST_CASE("mixed mode with a softening cap in pure compression: peak f_c and dissipation G_c plus residual work",
+          "[laws][mixed][crush]") {
+  for (const real residual : {0.0, 0.2}) {
+    for (const real G_c : {2000.0, 1e4}) {  // J/m^2; the snap-back bound ((1 - r) f_c)^2 / (2 k_n) is 1225 at r = 0
+      INFO("residual " << residual << " G_c " << G_c);
+      const auto p = mixed_crush_params(G_c, residual);
+      const auto c = check_pure_crushing<mixed_crush_law>(p);
+      CHECK(c.s.u_p == Approx(-c.s.u_crush).epsilon(1e-9));  // the whole plastic closure, none in tension
+      CHECK(mixed_crush_law::damage(p, c.s) == 0);            // crushing leaves the tension-shear damage alone
+      CHECK(mixed_crush_law::compressive_strength(p, c.s) == Approx(residual * p.compression.f_c).margin(1e-9 * p.compression.f_c));
+    }
+  }
+}
+
+TEST_CASE("mixed mode with a softening cap unloaded and reloaded keeps f(u_crush) then opens to f_T",
+          "[laws][mixed][crush]") {
+  check_crush_unload_reload<mixed_crush_law>(mixed_crush_params(5000, 0.1));
+  // Past the tensile peak from the crushed position the one damage grows: sigma_n = f_T (1 - D).
+  const auto p = mixed_crush_params(5000, 0.1);
+  contact_driver<mixed_crush_law> c(p);
+  c.open_by(-p.compression.f_c / p.k_n - 1e-4, 200);
+  c.open_by((p.tension.f_T - c.s.sigma_n) / p.k_n, 400);  // unloaded along k_n to the tensile peak
+  c.open_by(1e-5, 50);  // 10 um of l_I = 48 um along the softening line
+  CHECK(has(c.s.flags, contact_status::softening));
+  CHECK(has(c.s.flags, contact_status::crushed));
+  CHECK(c.s.sigma_n == Approx(p.tension.f_T * (1 - mixed_crush_law::damage(p, c.s))).epsilon(1e-12));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+}
+
+TEST_CASE("mixed mode with a softening cap at residual 1 is the mixed law with plastic_cap to the bit",
+          "[laws][mixed][crush]") {
+  contact_driver<mixed_crush_law> a(mixed_crush_params(5000, 1));
+  contact_driver<mixed_law> b(mixed_params());
+  for (const real du : {-1e-4, 3e-5, -2e-4, 5e-5}) {
+    for (int k = 0; k < 100; ++k) a.step(du / 100, e_x * (1e-7)), b.step(du / 100, e_x * (1e-7));
+    CHECK(a.s.sigma_n == b.s.sigma_n);
+    CHECK(a.s.u_p == b.s.u_p);
+    CHECK(a.s.u_soft == b.s.u_soft);
+    CHECK(a.s.tau.x() == b.s.tau.x());
+    CHECK(a.s.dissipated_compression == b.s.dissipated_compression);
+    CHECK(a.s.dissipated_shear == b.s.dissipated_shear);
+  }
+  a.open_by(-1e-4, 10);
+  CHECK(a.s.sigma_n == -a.p.compression.f_c);
+  CHECK(a.s.u_crush > 0);
+}
+
+TEST_CASE("mixed mode tension and shear are unchanged by a softening cap that is never reached",
+          "[laws][mixed][crush]") {
+  // Pure tension, pure shear and the 45-degree path of the [mixed] tests: the same bits as without the cap.
+  for (const real theta : {0.0, std::numbers::pi / 4, std::numbers::pi / 2}) {
+    INFO("theta " << theta);
+    contact_driver<mixed_law> a(mixed_params(200));
+    contact_driver<mixed_crush_law> b(mixed_crush_params(1e4, 0.1, true, 200));
+    const auto [u_peak, u_end] = mixed_kinks(a.p, theta);
+    const vec3 dir = std::cos(theta) * e_z + std::sin(theta) * e_x;
+    for (int k = 0; k < 600; ++k) {
+      const vec3 d = dir * (1.2 * u_end / 600);
+      a.step(d.dot(e_z), d.dot(e_x) * e_x);
+      b.step(d.dot(e_z), d.dot(e_x) * e_x);
+      REQUIRE(a.s.sigma_n == b.s.sigma_n);
+      REQUIRE(a.s.tau.x() == b.s.tau.x());
+      REQUIRE(a.s.u_soft == b.s.u_soft);
+      REQUIRE(a.s.dissipated_shear == b.s.dissipated_shear);
+      REQUIRE(a.s.dissipated_tension == b.s.dissipated_tension);
+    }
+    CHECK(b.s.u_crush == 0);
+    CHECK(has(b.s.flags, contact_status::broken_tension));
+    CHECK(u_peak < u_end);
+  }
+}
+
+TEST_CASE("mixed mode with a softening cap and scales_shear: the Coulomb limit falls with the cap's fraction",
+          "[laws][mixed][crush]") {
+  const auto p = mixed_crush_params(5000, 0.1, true);
+  contact_driver<mixed_crush_law> c = crushed_halfway<mixed_crush_law>(p);
+  const real fraction = mixed_crush_law::compressive_strength(p, c.s) / p.compression.f_c;
+  const real sigma = c.s.sigma_n, intact = p.shear.c_0 - sigma * p.shear.phi_0.tan();
+  CHECK(mixed_crush_law::shear_strength(p, c.s) == Approx(fraction * intact).epsilon(1e-12));
+  // Slide: the peak at fraction x (c_0 - sigma tan phi_0), then the damage grows with the plastic slip.
+  real largest = 0;
+  for (int k = 0; k < 400; ++k) c.step(0, e_x * (2 * intact / p.k_s / 400)), largest = std::max(largest, c.s.tau.norm());
+  CHECK(largest <= fraction * intact * (1 + 1e-12));
+  CHECK(largest > (1 - 2e-3) * fraction * intact);  // within one step's increment of the limit
+  CHECK(mixed_crush_law::damage(p, c.s) > 0);
+  CHECK(c.s.tau.norm() == Approx(mixed_crush_law::shear_strength(p, c.s)).epsilon(1e-12));
+  CHECK(c.work == Approx(c.stored() + c.dissipated()).epsilon(1e-12));
+  // Without scales_shear the same crushed contact keeps its whole Coulomb limit.
+  auto q = p;
+  q.compression.scales_shear = false;
+  const real slip = mixed_crush_law::damage(q, c.s) * mixed_crush_law::mode_two_length(q);
+  CHECK(mixed_crush_law::shear_strength(q, c.s) ==
+        Approx(coulomb_slip_softening::lane_slip_strength(q.shear, c.s.sigma_n, false, slip)).epsilon(1e-15));
+}
+
+TEST_CASE("mixed mode with a softening cap: validation names the bad parameter", "[laws][validation][mixed][crush]") {
+  CHECK_NOTHROW(mixed_crush_law::validate(mixed_crush_params(5000, 0.2)));
+  // ((1 - 0.2) 35 MPa)^2 / (2 x 500 GPa/m) = 784 J/m^2
+  REQUIRE_THROWS_WITH(mixed_crush_law::validate(mixed_crush_params(700, 0.2)),
+                      Catch::Contains("G_c = 700 J/m^2 must exceed ((1 - residual) f_c)^2/(2 k_n) = 784"));
+  REQUIRE_THROWS_WITH(mixed_crush_law::validate(mixed_crush_params(5000, 1.5)),
+                      Catch::Contains("residual cap fraction = 1.5 (of f_c) must be in [0, 1]"));
+  auto p = mixed_crush_params(5000, 0.2);
+  p.shear.c_res = 1e4;
+  REQUIRE_THROWS_WITH(mixed_crush_law::validate(p), Catch::Contains("residual cohesion c_res = 10000 Pa must be 0"));
 }

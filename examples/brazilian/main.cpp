@@ -137,8 +137,7 @@ int main(int argc, char** argv) {
     return std::find(concrete_flags.begin(), concrete_flags.end(), flag) != concrete_flags.end();
   };
   try {
-    for (const scenes::law_parameter_row& r : scenes::law_parameter_rows)
-      if (r.id != scenes::law_g_ii) scenes::require_law_takes("brazilian", law, r.id, given(r.flag));
+    scenes::require_law_parameters("brazilian", law, g_c, given);
     scenes::require_g_ii_with_law("brazilian", law, g_ii);
   } catch (const std::exception& e) {
     cli::print_error("brazilian", e);
@@ -195,14 +194,14 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   const scenes::disc_result r = scenes::run_brazilian_disc(d, recipe);
   const real none = std::numeric_limits<real>::quiet_NaN(), f_t = r.f_t;
   const real g_ii = scenes::g_ii_in_effect(set);  // NaN for a law without G_II
-  const bool crush = scenes::law_takes(set.law, scenes::law_g_c);
+  const real g_c_used = scenes::g_c_in_effect(set);  // NaN for a cap that does not soften
+  const bool crush = !std::isnan(g_c_used);
   const std::filesystem::path out(o.out);
   io::write_csv(out / "curve.csv", {"u_m", "P_top_N", "P_bottom_N", "opening_m"}, {r.u, r.p_top, r.p_bottom, r.opening});
   io::summary_json j;
   j.set("example", "brazilian").set("material", set.material).set("law", set.law).set("g_ii_J_per_m2", g_ii)
-      .set("G_c_J_per_m2", crush ? (set.g_c > 0 ? set.g_c : scenes::default_g_c) : none)
-      .set("cap_residual", scenes::law_takes(set.law, scenes::law_cap_residual) ? set.cap_residual : none)
-      .set("crush_shear", scenes::law_takes(set.law, scenes::law_crush_shear) && set.crush_shear)
+      .set("G_c_J_per_m2", g_c_used).set("cap_residual", crush ? set.cap_residual : none)
+      .set("crush_shear", crush && set.crush_shear)
       .set("params", o.params.empty() ? "flags" : o.params).set("recipe_blocks", set.blocks())
       .set("fracture_energy_scale", set.fracture_energy_scale).set("cap_Pa", set.material == "beam" ? set.cap : none)
       .set("phi_res_deg", r.phi_res_deg).set("quick", o.quick).set("seed", o.seed).set("blocks", r.blocks).set("sides", o.sides)

@@ -51,9 +51,9 @@ inline void set_concrete_fields(io::summary_json& j, const concrete_set& c) {
       .set("law", c.law).set("cohesion_ratio", c.cohesion_ratio).set("phi_0_deg", c.phi_0_deg)
       .set("phi_res_deg", c.phi_res_deg).set("G_II_J_per_m2", g_ii_in_effect(c))  // null for a law without G_II
       .set("cap_Pa", c.material == "beam" ? c.cap : none);
-  if (law_takes(c.law, law_g_c)) j.set("G_c_J_per_m2", c.g_c > 0 ? c.g_c : default_g_c);
-  if (law_takes(c.law, law_cap_residual)) j.set("cap_residual", c.cap_residual);
-  if (law_takes(c.law, law_crush_shear)) j.set("crush_shear", c.crush_shear);
+  if (law_in_file(c.law, law_g_c)) j.set("G_c_J_per_m2", c.g_c > 0 ? c.g_c : default_g_c);
+  if (law_in_file(c.law, law_cap_residual)) j.set("cap_residual", c.cap_residual);
+  if (law_in_file(c.law, law_crush_shear)) j.set("crush_shear", c.crush_shear);
 }
 
 inline void write_target_outputs(const std::filesystem::path& out, const targets_options& o, const evaluation& fit,
@@ -84,7 +84,7 @@ inline void write_target_outputs(const std::filesystem::path& out, const targets
       std::vector<double> row = {static_cast<double>(k), e.set.scale(), e.set.fracture_energy_scale, e.set.cohesion_ratio,
                                  e.set.phi_0_deg, e.set.phi_res_deg,
                                  law_takes(e.set.law, law_g_ii) ? g_ii_in_effect(e.set) : 0.0, e.set.cap,
-                                 law_takes(e.set.law, law_g_c) ? (e.set.g_c > 0 ? e.set.g_c : default_g_c) : 0.0};
+                                 law_in_file(e.set.law, law_g_c) ? (e.set.g_c > 0 ? e.set.g_c : default_g_c) : 0.0};
       for (const target_value& v : e.values) row.push_back(v.value), row.push_back(v.residual());
       row.push_back(e.objective);
       row.push_back(e.cpu_s);
@@ -231,7 +231,10 @@ inline int run_targets_main(int argc, char** argv) {
     require(!concrete_law_named(c.law, "calibrate").beam_only || c.material == "beam", "calibrate: --law ", c.law,
             " applies to --material beam only");
     require_g_ii_with_law("calibrate", c.law, c.g_ii);
-    require_law_flags(cli, "calibrate", c.law);
+    for (const law_parameter_row& r : law_parameter_rows)  // what calibrated.json carries for the law
+      require(r.id == law_g_ii || !cli.given(r.flag) || law_in_file(c.law, r.id), "calibrate: ", r.flag,
+              " applies to --law ", laws_in_file_taking(r.id), " only (--law ", c.law, " has no ", r.symbol,
+              " in calibrated.json)");
     require(c.phi_res_deg <= c.phi_0_deg, "calibrate: --phi-res-deg ", c.phi_res_deg, " must not exceed --phi-deg ", c.phi_0_deg);
     with_concrete(c, [](const auto&) { return 0; });  // refuses a bad start before any run
   } catch (const std::exception& e) {

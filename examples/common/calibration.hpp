@@ -156,9 +156,9 @@ inline void read_concrete_fields(const io::json_value& e, const std::string& mat
   // another law refused, naming the key and the entry's law (null and false read as absent).
   for (const law_parameter_row& r : law_parameter_rows) {
     const io::json_value* v = e.find(r.key);
-    if (!law_takes(x.law, r.id)) {
+    if (!law_in_file(x.law, r.id)) {
       if (v != nullptr && !v->is_null() && !(v->type() == io::json_value::kind::boolean && !v->boolean()))
-        throw io_error(tessera::detail::concat(v->path(), ": applies to law ", laws_taking(r.id),
+        throw io_error(tessera::detail::concat(v->path(), ": applies to law ", laws_in_file_taking(r.id),
                                                " only (this entry's law is ", x.law, ")"));
       continue;
     }

@@ -37,7 +37,7 @@ struct concrete_set {
   /// mode-II fracture energy (J/m^2) of a law that takes it (concrete_laws.hpp); 0 = the law's default
   real g_ii = 0;
   real cap = 35e6;                    ///< contact compressive cap (Pa), beam only
-  real g_c = 0;                       ///< compressive fracture energy (J/m^2) with law crushing; 0 = default_g_c
+  real g_c = 0;                       ///< G_c (J/m^2) with law crushing (0 = default_g_c) or mixed_mode (0 = plastic cap)
   real cap_residual = 0.1;            ///< residual cap / cap with law crushing, in [0, 1]
   bool crush_shear = false;           ///< law crushing: the shear limit times the cap's remaining fraction
 
@@ -73,11 +73,11 @@ struct concrete_set {
     cohesion_ratio = e.cohesion_ratio;
     phi_0_deg = e.phi_0_deg;
     phi_res_deg = e.phi_res_deg;
-    g_ii = law_takes(e.law, law_g_ii) ? e.g_ii : 0;
+    g_ii = law_in_file(e.law, law_g_ii) ? e.g_ii : 0;
     cap = e.cap;
-    g_c = law_takes(e.law, law_g_c) ? e.g_c : 0;
-    cap_residual = law_takes(e.law, law_cap_residual) ? e.cap_residual : real(0.1);
-    crush_shear = law_takes(e.law, law_crush_shear) && e.crush_shear;
+    g_c = law_in_file(e.law, law_g_c) ? e.g_c : 0;
+    cap_residual = law_in_file(e.law, law_cap_residual) ? e.cap_residual : real(0.1);
+    crush_shear = law_in_file(e.law, law_crush_shear) && e.crush_shear;
   }
 };
 
@@ -132,11 +132,11 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
 }
 
 /// Refuses a law parameter's flag (law_parameter_rows: --g-c, --cap-residual, --crush-shear; --g-ii
-/// is require_g_ii_with_law's, with its value) given on `cli` with law `law` that does not take it,
-/// throwing invalid_input "`driver`: --g-c applies to --law crushing only (--law study has no G_c)".
-inline void require_law_flags(const cli::parser& cli, std::string_view driver, const std::string& law) {
-  for (const law_parameter_row& r : law_parameter_rows)
-    if (r.id != law_g_ii) require_law_takes(driver, law, r.id, cli.given(r.flag));
+/// is require_g_ii_with_law's, with its value) given on `cli` with law `law` that does not take it, or
+/// beside --g-c `g_c` (J/m^2) 0 where the law softens its cap only with G_c > 0 (require_law_parameters),
+/// throwing invalid_input "`driver`: --g-c applies to --law crushing or mixed_mode only (--law study has no G_c)".
+inline void require_law_flags(const cli::parser& cli, std::string_view driver, const std::string& law, double g_c) {
+  require_law_parameters(driver, law, g_c, [&](const char* flag) { return cli.given(flag); });
 }
 
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
@@ -161,6 +161,12 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   apply_concrete_shear(r.contact, c.cohesion_ratio, c.phi_0_deg, c.phi_res_deg, c.cap);
   if (c.law == "mixed_mode") {
     auto m = with_mixed_mode(r, c.g_ii);
+    if (c.g_c > 0) {  // the cap softens with crushing (law/mixed_mode.hpp with softening_cap)
+      auto k = m.with_contact<presets::mixed_crushing_beam_law>(
+          presets::with_softening_cap(m.contact, c.g_c, c.cap_residual, c.crush_shear));
+      presets::mixed_crushing_beam_law::validate(k.contact);
+      return std::forward<F>(f)(k);
+    }
     presets::mixed_mode_beam_law::validate(m.contact);
     return std::forward<F>(f)(m);
   }
@@ -177,6 +183,16 @@ decltype(auto) with_concrete(const concrete_set& c, F&& f) {
   require(c.law == "study", "concrete: law ", c.law, " is a row of concrete_laws.hpp without a recipe here (with_concrete)");
   presets::study_beam_law::validate(r.contact);
   return std::forward<F>(f)(r);
+}
+
+/// The G_c (J/m^2) over which the cap of set c's contacts softens with crushing: the flag's value or
+/// the law's default (concrete_laws.hpp: crushing 0 = default_g_c; mixed_mode softens only with
+/// g_c > 0); NaN for a cap that does not soften.
+[[nodiscard]] inline real g_c_in_effect(const concrete_set& c) {
+  const concrete_law* l = find_concrete_law(c.law);
+  if (l == nullptr || (l->parameters & law_g_c) == 0 || (l->crush_needs_g_c && !(c.g_c > 0)))
+    return std::numeric_limits<real>::quiet_NaN();
+  return c.g_c > 0 ? c.g_c : default_g_c;
 }
 
 /// The G_II (J/m^2) set c's contacts take: the flag's value or the law's default (concrete_laws.hpp:

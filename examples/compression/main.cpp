@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    scenes::require_law_flags(cli, "compression", in.law);
+    scenes::require_law_flags(cli, "compression", in.law, in.g_c);
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 2;

@@ -132,7 +132,8 @@ struct beam_options {
   /// "mixed_mode" (presets::mixed_mode_beam_law: one damage for tension and shear over G_f and g_ii)
   std::string law = "study";
   real g_ii = 0;          ///< G_II with law slip_softening or crushing (J/m^2; 0 = default_g_ii) or mixed_mode (0 = (c_0/f_T) G_f)
-  /// law "crushing" (crushing_beam_law: slip_softening whose cap softens with crushing): the
+  /// law "crushing" (crushing_beam_law: slip_softening whose cap softens with crushing), or
+  /// "mixed_mode" with g_c > 0 (mixed_crushing_beam_law; g_c 0: its plastic cap): the
   /// compressive fracture energy G_c (J/m^2; 0 = default_g_c), the residual cap over the cap, and
   /// whether the shear limit falls with the cap's remaining fraction
   real g_c = 0, cap_residual = 0.1;
@@ -314,6 +315,9 @@ inline void check_beam_law(const beam_options& o, const presets::study_beam_law:
                                                                      o.crush_shear));
   else if (slip)
     presets::slip_softening_beam_law::validate(presets::with_slip_softening(c, g_ii_or_default(o.g_ii)));
+  else if (mixed && o.g_c > 0)  // the mixed law whose cap softens with crushing
+    presets::mixed_crushing_beam_law::validate(
+        presets::with_softening_cap(presets::with_mixed_mode(c, o.g_ii), o.g_c, o.cap_residual, o.crush_shear));
   else if (mixed)
     presets::mixed_mode_beam_law::validate(presets::with_mixed_mode(c, o.g_ii));
   else

@@ -62,13 +62,13 @@ inline real load_beam_params(beam_options& o, const std::string& file, real rate
 }
 
 /// Refuses a law flag (beam_law_flags) given beside --params `params`: the file sets the concrete;
-/// and a law parameter's flag with a --law `law` that does not take it (require_law_flags). Throws
-/// invalid_input naming the flag and the file or law.
-inline void check_beam_law_flags(const cli::parser& cli, const std::string& params, const std::string& law) {
+/// and a law parameter's flag with a --law `law` that does not take it, or beside --g-c `g_c` (J/m^2) 0
+/// where the law needs it (require_law_flags). Throws invalid_input naming the flag and the file or law.
+inline void check_beam_law_flags(const cli::parser& cli, const std::string& params, const std::string& law, real g_c) {
   for (const char* flag : beam_law_flags)
     require(params.empty() || !cli.given(flag), "rc_beam: ", flag, " with --params ", params,
             ": the file sets the concrete (drop the flag)");
-  require_law_flags(cli, "rc_beam", law);
+  require_law_flags(cli, "rc_beam", law, g_c);
 }
 
 /// The refusals of check_beam_law on the study's contacts for o.blocks with o's law set and
@@ -84,12 +84,13 @@ inline void check_beam_law_set(const beam_options& o) {
 
 /// summary.json's law keys: law, g_ii_J_per_m2 and softening_slip_m (l_II = 2 G_II / c_0 with
 /// mixed_mode; null for the study's law), G_c_J_per_m2, cap_residual and crush_shear (null, null,
-/// false but with law crushing),
+/// false but with law crushing, or mixed_mode and --g-c > 0),
 /// phi_0_deg, phi_res_deg, cap_Pa, contact_c_0_Pa, contact_c_res_Pa of the scene's contacts (after
 /// calibration), plate_friction_deg.
 inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
   const beam_options& o = s.options;
-  const bool slip = o.law == "slip_softening" || o.law == "crushing", crush = o.law == "crushing", mixed = o.law == "mixed_mode";
+  const bool slip = o.law == "slip_softening" || o.law == "crushing", mixed = o.law == "mixed_mode";
+  const bool crush = o.law == "crushing" || (mixed && o.g_c > 0);  // a cap softening with crushing
   const real none = std::numeric_limits<real>::quiet_NaN();
   const real g_ii = slip ? g_ii_or_default(o.g_ii) : mixed ? presets::with_mixed_mode(s.contact, o.g_ii).shear.G_II : none;
   js.set("law", o.law)
@@ -116,6 +117,9 @@ inline void set_beam_law_figures(io::summary_json& js, const beam_scene& s) {
                                      o.g_c > 0 ? o.g_c : default_g_c, " J/m^2, residual cap ", o.cap_residual,
                                      o.crush_shear ? ", shear scaled" : "", ")");
   if (o.law == "mixed_mode") label += ", mixed-mode law";
+  if (o.law == "mixed_mode" && o.g_c > 0)
+    label += tessera::detail::concat(" (cap softening over G_c ", o.g_c, " J/m^2 to ", o.cap_residual,
+                                     o.crush_shear ? ", shear scaled" : "", ")");
   if (o.phi_deg != 35 || o.phi_res_deg != 30 || o.cap != 35e6)
     label += tessera::detail::concat(", phi_0 ", o.phi_deg, " deg, phi_res ", o.phi_res_deg, " deg, cap ", o.cap * 1e-6,
                                      " MPa");

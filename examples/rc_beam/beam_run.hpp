@@ -478,7 +478,8 @@ template <class Law, bool Relaxed = false, class OnEvent>
 /// decoupled cohesion), --compression elastic (linear_tie_law) or --cohesion coupled
 /// (coupled_beam_law; with the plastic cap only, make_beam refuses the other), each with the
 /// options' slip_breaks_tension; or --law slip_softening (slip_softening_beam_law over the
-/// options' G_II), --law mixed_mode (mixed_mode_beam_law, G_II 0 = (c_0/f_T) G_f).
+/// options' G_II), --law mixed_mode (mixed_mode_beam_law, G_II 0 = (c_0/f_T) G_f; with --g-c > 0
+/// mixed_crushing_beam_law, its cap softening with crushing).
 template <class OnEvent>
 [[nodiscard]] beam_result run_beam(const beam_scene& scene, const beam_loading& loading, OnEvent&& on_event) {
   const beam_options& o = scene.options;
@@ -496,6 +497,11 @@ template <class OnEvent>
   if (o.law == "slip_softening")  // built with the plastic cap and decoupled cohesion only (check_beam_law)
     return run_beam<presets::slip_softening_beam_law>(
         scene, presets::with_slip_softening(scene.contact, g_ii_or_default(o.g_ii)), loading, on_event);
+  if (o.law == "mixed_mode" && o.g_c > 0)  // its cap softening with crushing over G_c (check_beam_law)
+    return run_beam<presets::mixed_crushing_beam_law>(
+        scene, presets::with_softening_cap(presets::with_mixed_mode(scene.contact, o.g_ii), o.g_c, o.cap_residual,
+                                           o.crush_shear),
+        loading, on_event);
   if (o.law == "mixed_mode")  // built with the plastic cap and decoupled cohesion only (check_beam_law)
     return run_beam<presets::mixed_mode_beam_law>(scene, presets::with_mixed_mode(scene.contact, o.g_ii), loading, on_event);
   if (o.compression == "elastic")

@@ -469,7 +469,7 @@ int main(int argc, char** argv) {
   }
   try {
     mpi.require_splittable(!l.relaxation, "rc_beam --scheme relaxation", "kinetic relaxation is not distributed");
-    tessera::scenes::check_beam_law_flags(cli, in.params, in.beam.law);
+    tessera::scenes::check_beam_law_flags(cli, in.params, in.beam.law, in.beam.g_c);
     if (!in.params.empty()) in.model_young = tessera::scenes::load_beam_params(in.beam, in.params, l.rate);
     tessera::scenes::check_beam_law_set(in.beam);
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());

@@ -89,16 +89,11 @@
 #include "shear.hpp"
 #include "slip_softening.hpp"
 #include "tension.hpp"
+#include "detail/crush_lanes.hpp"
 #include "detail/state_lanes.hpp"
 #include "detail/transitions.hpp"
 
 namespace tessera::law {
-
-namespace detail {
-/// The member u_slip (u_crush) of a law whose shear limit (cap) does not soften with slip (crushing): nothing stored.
-struct no_slip {};
-struct no_crush {};  ///< see no_slip
-}  // namespace detail
 
 /// A contact law of three parts, tension softening, a compression limit and a shear limit (file comment); stresses in Pa, displacements in m, normal stress positive in tension
 template <TensionSoftening Tension, CompressionLimit Compression, ShearLimit Shear>
@@ -319,25 +314,7 @@ struct cohesive_frictional {
       broken = detail::flag_mask<M>(flags, bit(contact_status::broken_tension));
     }
     if constexpr (softens_with_crushing) {  // the cap softened by u_crush; a first crush sets `crushed`
-      // No lane below the residual cap (almost always): none can crush, nothing to evaluate.
-      if (lanes::any(sigma < -Compression::residual_strength(p.compression))) [[unlikely]] {
-        // Uncrushed lanes (u_crush = 0, flag unset) have the cap f_c exactly: no envelope evaluated.
-        const M crushed = detail::flag_mask<M>(flags, bit(contact_status::crushed));
-        T cap = lanes::splat<T>(Compression::strength(p.compression));
-        if (lanes::any(crushed)) cap = mask_select(crushed, Compression::lane_strength(p.compression, x.u_crush), cap);
-        const M crushing = sigma < -cap;
-        if constexpr (Transitions) {
-          if (crushing) flags = flags | bit(contact_status::crushed);
-        } else {
-          elastic = elastic & mask_not(crushing & mask_not(crushed));
-        }
-        if (lanes::any(crushing)) [[unlikely]] {
-          const auto r = Compression::lane_crush_return(p.compression, k_n, -sigma, x.u_crush);
-          sigma = mask_select(crushing, -r.cap, sigma);
-          x.u_p = mask_select(crushing, x.u_n + r.cap / k_n, x.u_p);
-          x.u_crush = mask_select(crushing, r.kappa, x.u_crush);
-        }
-      }
+      detail::crush_lanes<Compression, Transitions>(p.compression, k_n, flags, x, sigma, elastic);
     } else if constexpr (Compression::bounded) {
       const real f_c = Compression::strength(p.compression);
       if constexpr (Transitions) {

@@ -24,10 +24,15 @@
 // so lam E_tr = f_T (1 - D - (1 - lam) B), E_tr = sqrt(sigma_tr^2 + alpha^2 |tau_tr|^2), in closed form
 //     lam = f_T (1 - D - B) / (E_tr - f_T B);   lam <= 0: D = 1, broken (no tension, no cohesion).
 // With l_II = l_I (G_II = (c_0/f_T) G_I) dD is Camacho-Ortiz's effective opening with beta = 1.
-// Compression side (trial sigma_n <= 0): the normal stress is elastic up to the Compression cap; the
+// Compression side (trial sigma_n <= 0): the normal stress is elastic up to the Compression cap
+// (plastic_cap: perfectly plastic at f_c; softening_cap: the cap falls with the plastic closure
+// u_crush to its residual over G_c, compression.hpp, its closed-form return, flag `crushed`, as in
+// cohesive_frictional; the damage D is not touched by crushing); the
 // shear limit is coulomb_slip_softening's with c_res = 0 at the slip s = D l_II,
 //     |tau| <= c_0 (1 - D) - sigma_n tan phi(D),
-// whose closed-form return (slip_softening.hpp) advances D by the plastic slip / l_II.
+// whose closed-form return (slip_softening.hpp) advances D by the plastic slip / l_II. With
+// softening_cap's scales_shear this Coulomb limit (not the tension side's ellipse) is multiplied by
+// f(u_crush) / f_c, so a crushed contact also loses that share of its cohesion and friction.
 // Broken (D = 1, flag broken_tension): sigma_n = k_n min(0, u_n - u_p), no shear while open (u_n >
 // u_p), Coulomb friction phi_res when closed. A break on the tension side resets u_p to min(u_p, 0)
 // (faces carry compression again from the geometric overlap; an earlier plastic opening is
@@ -57,6 +62,7 @@
 #include "../core/types.hpp"
 #include "compression.hpp"
 #include "concepts.hpp"
+#include "detail/crush_lanes.hpp"
 #include "detail/state_lanes.hpp"
 #include "detail/validation.hpp"
 #include "lane_masks.hpp"
@@ -66,17 +72,17 @@
 namespace tessera::law {
 
 /// One damage for tension and shear, driven by the effective plastic opening (file comment);
-/// stresses in Pa, displacements in m, sigma_n positive in tension. Compression: elastic_compression
-/// or plastic_cap.
+/// stresses in Pa, displacements in m, sigma_n positive in tension. Compression: elastic_compression,
+/// plastic_cap or softening_cap (the cap softening with the plastic closure u_crush).
 template <CompressionLimit Compression>
 struct mixed_mode_cohesive {
-  static_assert(!SofteningCompressionLimit<Compression>, "mixed_mode_cohesive: a cap that does not soften");
   using compression_policy = Compression;  ///< the compression part
   /// The policies whose parameters and checks the law takes (its limits are its own, file comment)
   using tension_policy = linear_softening;
   using shear_policy = coulomb_slip_softening;  ///< see tension_policy
   static constexpr bool softens_with_slip = false;      ///< no u_slip stored: the damage is u_soft
-  static constexpr bool softens_with_crushing = false;  ///< no u_crush stored
+  /// True when the cap softens with the plastic closure (softening_cap): the state then stores u_crush.
+  static constexpr bool softens_with_crushing = SofteningCompressionLimit<Compression>;
 
   /// k_n, k_s and the parts' parameters, as cohesive_frictional<linear_softening, Compression, coulomb_slip_softening>
   struct params {
@@ -87,7 +93,8 @@ struct mixed_mode_cohesive {
     coulomb_slip_softening::params shear{};  ///< c_0 (Pa), phi_0, c_res (must be 0), phi_res, G_II (J/m^2)
   };
 
-  /// History of one sub-contact; value-initialised = virgin. cohesive_frictional's fields, u_soft = D l_I.
+  /// History of one sub-contact; value-initialised = virgin. cohesive_frictional's fields, u_soft = D l_I
+  /// (u_crush only with a softening cap).
   struct state {
     real sigma_n = 0;                 ///< normal stress (Pa, + tension)
     vec3 tau = vec3::Zero();          ///< shear stress vector (Pa, global frame, in the contact plane)
@@ -97,25 +104,39 @@ struct mixed_mode_cohesive {
     real dissipated_tension = 0;      ///< energy dissipated on the tensile side (J/m^2)
     real dissipated_shear = 0;        ///< energy dissipated in shear (J/m^2)
     real dissipated_compression = 0;  ///< energy dissipated on the compressive side (J/m^2)
-    contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped
+    contact_status flags = contact_status::intact;  ///< softening / broken_tension / slipped / crushed
+    /// plastic normal closure on the softening cap (m, >= 0); a real only when softens_with_crushing
+    [[no_unique_address]] std::conditional_t<softens_with_crushing, real, detail::no_crush> u_crush{};
   };
-  /// The state's fields (law::state_field), as cohesive_frictional's.
-  static constexpr std::array<state_field<state>, 9> state_fields{
-      {{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
-       {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
-       {"dissipated_tension", "J/m^2", &state::dissipated_tension},
-       {"dissipated_shear", "J/m^2", &state::dissipated_shear},
-       {"dissipated_compression", "J/m^2", &state::dissipated_compression},
-       {"flags", "contact_status bits", &state::flags}}};
+  /// The state's fields (law::state_field), as cohesive_frictional's ("u_crush", m, after the
+  /// dissipated energies when softens_with_crushing).
+  static constexpr auto state_fields = [] {
+    using f = state_field<state>;
+    std::array<f, 9 + softens_with_crushing> a{
+        {{"sigma_n", "Pa", &state::sigma_n}, {"tau", "Pa", &state::tau}, {"u_n", "m", &state::u_n},
+         {"u_p", "m", &state::u_p}, {"u_soft", "m", &state::u_soft},
+         {"dissipated_tension", "J/m^2", &state::dissipated_tension},
+         {"dissipated_shear", "J/m^2", &state::dissipated_shear},
+         {"dissipated_compression", "J/m^2", &state::dissipated_compression},
+         {"flags", "contact_status bits", &state::flags}}};
+    if constexpr (softens_with_crushing) {
+      a[8] = f{"u_crush", "m", &state::u_crush};
+      a[9] = f{"flags", "contact_status bits", &state::flags};
+    }
+    return a;
+  }();
   static_assert(sizeof(state) == (real_column_count(state_fields) + 1) * sizeof(real));
 
   /// Throws invalid_input naming the first bad parameter: k_n, k_s finite and > 0; f_T, G_I with
-  /// G_I > f_T^2/(2 k_n); the cap; c_0 > 0, phi_0, phi_res <= phi_0, G_II > c_0^2/(2 k_s); c_res = 0.
+  /// G_I > f_T^2/(2 k_n); the cap (softening_cap: with G_c > ((1 - residual) f_c)^2/(2 k_n)); c_0 > 0, phi_0, phi_res <= phi_0, G_II > c_0^2/(2 k_s); c_res = 0.
   static void validate(const params& p) {
     detail::require_positive(p.k_n, "normal stiffness k_n", "Pa/m");
     detail::require_positive(p.k_s, "shear stiffness k_s", "Pa/m");
     linear_softening::validate(p.tension, p.k_n);
-    Compression::validate(p.compression);
+    if constexpr (softens_with_crushing)
+      Compression::validate_with_stiffness(p.compression, p.k_n);
+    else
+      Compression::validate(p.compression);
     if (p.shear.c_res != 0)
       throw invalid_input(tessera::detail::concat("contact law: residual cohesion c_res = ", p.shear.c_res,
                                                   " Pa must be 0 for the mixed-mode law (one damage takes tension and "
@@ -143,15 +164,26 @@ struct mixed_mode_cohesive {
     return std::clamp(damage(p, s), real(0), real(1));
   }
   /// The shear limit (Pa) at the stored normal stress: c (1 - (sigma_n/f_t)^2)^(1/2) in tension,
-  /// c - sigma_n tan phi in compression (friction phi_res alone once broken).
+  /// c - sigma_n tan phi in compression (friction phi_res alone once broken; times f(u_crush)/f_c
+  /// with softening_cap's scales_shear).
   [[nodiscard]] static real shear_strength(const params& p, const state& s) noexcept {
     const real d = damage(p, s), f_t = p.tension.f_T * (1 - d);
     if (s.sigma_n > 0) return f_t > s.sigma_n ? p.shear.c_0 * (1 - d) * std::sqrt(1 - (s.sigma_n / f_t) * (s.sigma_n / f_t)) : 0;
-    return coulomb_slip_softening::lane_slip_strength(p.shear, s.sigma_n, false, d * mode_two_length(p));
+    return crush_fraction(p, s) * coulomb_slip_softening::lane_slip_strength(
+                                      p.shear, s.sigma_n, false, d * mode_two_length(p));
   }
-  /// Current compressive cap (Pa, a magnitude): f_c, +inf when unbounded.
-  [[nodiscard]] static real compressive_strength(const params& p, const state& /*s*/) noexcept {
-    return Compression::strength(p.compression);
+  /// Current compressive cap (Pa, a magnitude): f_c, or f(u_crush) with softening_cap; +inf unbounded.
+  [[nodiscard]] static real compressive_strength(const params& p, const state& s) noexcept {
+    if constexpr (softens_with_crushing) return Compression::lane_strength(p.compression, s.u_crush);
+    else return Compression::strength(p.compression);
+  }
+  /// The factor of the compression side's Coulomb limit: f(u_crush)/f_c with softening_cap's
+  /// scales_shear, else 1.
+  [[nodiscard]] static real crush_fraction(const params& p, const state& s) noexcept {
+    if constexpr (softens_with_crushing)
+      if (p.compression.scales_shear)
+        return Compression::lane_strength(p.compression, s.u_crush) * (1 / Compression::strength(p.compression));
+    return 1;
   }
   /// Energy dissipated per area (J/m^2) by a contact driven to separation along a fixed displacement
   /// direction whose elastic stress direction is (a, b) (normal, shear; scaled inside to a^2 +
@@ -198,18 +230,23 @@ struct mixed_mode_cohesive {
     /** in/out: state fields */ /**@{*/ T sigma_n, tau0, tau1, tau2, u_n, dissipated_tension, dissipated_shear,
         dissipated_compression, u_p, u_soft; /**@}*/
     T f_t;  ///< in/out: tensile_strength(p, state)
+    /// in/out: the state's u_crush (m) when softens_with_crushing (set after the aggregate's other members)
+    [[no_unique_address]] std::conditional_t<softens_with_crushing, T, detail::no_crush> u_crush{};
   };
 
   /// Advances s by one step: du_n opening increment (m), du_s slip increment of B w.r.t. A (m, in
   /// the plane of n), n the unit normal A -> B; every transition taken (step<real, true>).
   static void update(const params& p, state& s, real du_n, const vec3& du_s, const vec3& n) noexcept {
     auto x = detail::load_state_lanes<elastic_lanes<real>>(s, du_n, du_s, n, tensile_strength(p, s));
+    if constexpr (softens_with_crushing) x.u_crush = s.u_crush;
     auto flags = static_cast<lanes::mask_lane>(s.flags);
     static_cast<void>(step<real, true>(p, flags, x));
     detail::store_state_lanes(x, s);
+    if constexpr (softens_with_crushing) s.u_crush = x.u_crush;
     s.flags = static_cast<contact_status>(flags);
   }
-  /// update() of the lanes whose flags the step leaves unchanged and that stay above the cap;
+  /// update() of the lanes whose flags the step leaves unchanged and that stay above the cap
+  /// (softening_cap: that do not crush for the first time; a crushed lane crushes on in the pack);
   /// returns their mask (their outputs are update()'s to the bit; the others' are meaningless).
   template <class T, class F>
   [[nodiscard, gnu::always_inline]] static inline auto update_elastic(const params& p, F flags,
@@ -240,7 +277,9 @@ struct mixed_mode_cohesive {
     // Normal stress before the returns: the trial, min(0, trial) when broken, the cap in compression.
     T sigma = mask_select(broken & (trial > real(0)), T{}, trial);
     M keep = T{} == T{};  // lanes accepted (Transitions = false): all so far
-    if constexpr (Compression::bounded) {
+    if constexpr (softens_with_crushing) {  // the cap softened by u_crush; a first crush sets `crushed`
+      detail::crush_lanes<Compression, Transitions>(p.compression, k_n, flags, x, sigma, keep);
+    } else if constexpr (Compression::bounded) {
       const real f_c = Compression::strength(p.compression);
       const M capped = sigma < -f_c;
       if constexpr (Transitions) {
@@ -261,6 +300,12 @@ struct mixed_mode_cohesive {
     if (lanes::any(damaged_before))
       coulomb = mask_select(damaged_before, coulomb_slip_softening::lane_slip_strength(p.shear, sigma, broken, slip),
                             coulomb);
+    T crush_scale = lanes::splat<T>(1);  // f(u_crush)/f_c with softening_cap's scales_shear
+    if constexpr (softens_with_crushing)
+      if (p.compression.scales_shear) {
+        crush_scale = Compression::lane_strength(p.compression, x.u_crush) * (1 / Compression::strength(p.compression));
+        coulomb = crush_scale * coulomb;
+      }
     const T tension_sq = sigma * sigma + alpha * alpha * trial_sq;
     const M beyond_tension = tension_side & (tension_sq > x.f_t * x.f_t);
     const M open = broken & (x.u_n > x.u_p);
@@ -289,7 +334,7 @@ struct mixed_mode_cohesive {
         T limit = coulomb;
         const M softens = beyond_coulomb & mask_not(broken);
         if (lanes::any(softens)) {
-          const auto r = coulomb_slip_softening::lane_slip_return(p.shear, k_s, sigma, broken, slip, t_tr);
+          const auto r = coulomb_slip_softening::lane_slip_return(p.shear, k_s, sigma, broken, slip, t_tr, crush_scale);
           limit = mask_select(broken, coulomb, r.tau);
           const T s_new = r.slip * (1 / l_II);
           d_new = mask_select(softens, lanes::select(s_new < real(1), s_new, lanes::splat<T>(1)), d_new);

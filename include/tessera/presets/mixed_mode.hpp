@@ -7,6 +7,8 @@
 // | alias                | law                                  | use                                  |
 // |----------------------|--------------------------------------|--------------------------------------|
 // | mixed_mode_beam_law  | mixed_mode_cohesive<plastic_cap>     | rc_beam / brazilian --law mixed_mode |
+// | mixed_crushing_beam_law | mixed_mode_cohesive<softening_cap> | --law mixed_mode --g-c G (the cap   |
+// |                      |                                      | softens with crushing, issue #63)    |
 
 #include "../law/mixed_mode.hpp"
 #include "pulatsu2020.hpp"
@@ -15,6 +17,8 @@ namespace tessera::presets {
 
 using mixed_mode_beam_law = law::mixed_mode_cohesive<law::plastic_cap>;
 static_assert(law::ElasticPackLaw<mixed_mode_beam_law>);
+using mixed_crushing_beam_law = law::mixed_mode_cohesive<law::softening_cap>;
+static_assert(law::ElasticPackLaw<mixed_crushing_beam_law> && mixed_crushing_beam_law::softens_with_crushing);
 
 /// The default mode-II fracture energy of the mixed-mode beam law (J/m^2): (c_0 / f_T) G_I, which
 /// makes the shear softening length l_II = 2 G_II / c_0 equal to the tensile one l_I = 2 G_I / f_T,
@@ -35,6 +39,16 @@ static_assert(law::ElasticPackLaw<mixed_mode_beam_law>);
   p.compression = beam.compression;
   p.shear = {beam.shear.c_0, beam.shear.phi_0, 0, beam.shear.phi_res, G_II > 0 ? G_II : mixed_mode_default_g_ii(beam)};
   return p;
+}
+
+/// The mixed-mode contact `mixed` whose cap f_c softens with the plastic closure (softening_cap,
+/// compression.hpp): G_c the compressive fracture energy above the residual (J/m^2), residual the
+/// residual cap as a fraction of f_c in [0, 1], scales_shear: the compression side's Coulomb limit
+/// times the cap's remaining fraction. The law's validate refuses G_c <= ((1 - residual) f_c)^2/(2 k_n).
+[[nodiscard]] inline mixed_crushing_beam_law::params with_softening_cap(const mixed_mode_beam_law::params& mixed,
+                                                                       real G_c, real residual,
+                                                                       bool scales_shear = false) {
+  return {mixed.k_n, mixed.k_s, mixed.tension, {mixed.compression.f_c, G_c, residual, scales_shear}, mixed.shear};
 }
 
 }  // namespace tessera::presets

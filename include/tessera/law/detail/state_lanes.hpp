@@ -7,6 +7,10 @@
 
 namespace tessera::law::detail {
 
+/// The member u_slip (u_crush) of a law whose shear limit (cap) does not soften with slip (crushing): nothing stored.
+struct no_slip {};
+struct no_crush {};  ///< see no_slip
+
 /// The lanes of one sub-contact's step: the increments du_n (m), du_s (m), the normal n, the state
 /// s's stresses, openings and dissipated energies, and its current tensile strength f_t (Pa).
 template <class Lanes, class State, class Vec>
