@@ -245,6 +245,27 @@ inline void check_beam_checkpoint_flags(const cli::parser& cli, const beam_loadi
   if (!l.resume_file.empty()) require_beam_run_key(l);
 }
 
+/// The failure rule at one sample (load and defl: this sample's load, N, and mid-span deflection, m;
+/// max_load: the peak so far, N): the load below (1 - failure_drop) x the peak, past the peak, and
+/// with failure_confirm > 0 below it at every sample over that much further deflection. max_load
+/// cannot change over such a run of samples (a load above the peak ends it), so the run is found by
+/// scanning back over r's samples: exact, and the same after a --resume (the samples are in the
+/// checkpoint). Sets r.failure_deflection (where the drop began) and r.unconfirmed_drop_deflection.
+[[nodiscard]] inline bool update_failure(beam_result& r, const beam_loading& loading, bool first_found, real load,
+                                         real defl, real max_load) {
+  const real threshold = (1 - loading.failure_drop) * max_load;
+  const bool below = first_found && load < threshold && defl > r.peak_deflection;
+  real drop_from = defl;
+  if (below && loading.failure_confirm > 0)
+    for (std::size_t i = r.deflection.size() - 1;
+         i > 0 && r.smoothed_load[i - 1] < threshold && r.deflection[i - 1] > r.peak_deflection; --i)
+      drop_from = r.deflection[i - 1];
+  const bool failed = below && defl >= drop_from + loading.failure_confirm;
+  if (failed) r.failure_deflection = drop_from;
+  r.unconfirmed_drop_deflection = below && !failed ? drop_from : -1;
+  return failed;
+}
+
 /// summary.json's peak and failure keys: failure_reached; peak_load_N and peak_deflection_m (the
 /// highest load so far where failure was not reached); load_at_stop_N and end_deflection_m;
 /// peak_over_ec2_shear, peak_over_zsutty_shear and peak_over_shear_reference against the hand

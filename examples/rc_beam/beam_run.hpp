@@ -355,20 +355,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
         on_event(sv, std::string("yield"));
       }
     }
-    // Failure: the load below (1 - failure_drop) x the peak past the peak, and with failure_confirm
-    // > 0 below it at every sample over that much further deflection. max_load cannot change over
-    // such a run of samples (a load above the peak ends it), so the run is found by scanning back
-    // over the samples: exact, and the same after a --resume (the samples are in the checkpoint).
-    const real threshold = (1 - loading.failure_drop) * max_load;
-    const bool below = first_found && load < threshold && defl > r.peak_deflection;
-    real drop_from = defl;
-    if (below && loading.failure_confirm > 0)
-      for (std::size_t i = r.deflection.size() - 1; i > 0 && r.smoothed_load[i - 1] < threshold &&
-                                                    r.deflection[i - 1] > r.peak_deflection; --i)
-        drop_from = r.deflection[i - 1];
-    const bool failed = below && defl >= drop_from + loading.failure_confirm;
-    if (failed) r.failure_deflection = drop_from;
-    r.unconfirmed_drop_deflection = below && !failed ? drop_from : -1;
+    const bool failed = update_failure(r, loading, first_found, load, defl, max_load);
     const bool quick_done = loading.first_crack_only > 0 && first_found &&
                             defl >= loading.first_crack_only * r.developed_crack_deflection;
     r.failure_reached = failed;  // the last sample's: whether the run stopped at the load drop
@@ -474,12 +461,10 @@ template <class Law, bool Relaxed = false, class OnEvent>
   return r;
 }
 
-/// run_beam with the law of the scene's options: the study's (linear softening, plastic cap,
-/// decoupled cohesion), --compression elastic (linear_tie_law) or --cohesion coupled
-/// (coupled_beam_law; with the plastic cap only, make_beam refuses the other), each with the
-/// options' slip_breaks_tension; or --law slip_softening (slip_softening_beam_law over the
-/// options' G_II), --law mixed_mode (mixed_mode_beam_law, G_II 0 = (c_0/f_T) G_f; with --g-c > 0
-/// mixed_crushing_beam_law, its cap softening with crushing).
+/// run_beam with the law of the scene's options: the study's (linear softening, plastic cap, decoupled
+/// cohesion), --compression elastic (linear_tie_law) or --cohesion coupled (coupled_beam_law), each
+/// with the options' slip_breaks_tension; or --law slip_softening, crushing, mixed_mode (G_II 0 =
+/// (c_0/f_T) G_f; with --g-c > 0 mixed_crushing_beam_law): concrete_laws.hpp.
 template <class OnEvent>
 [[nodiscard]] beam_result run_beam(const beam_scene& scene, const beam_loading& loading, OnEvent&& on_event) {
   const beam_options& o = scene.options;
