@@ -148,7 +148,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
 
   // New pairs and their corners, sorted by label within a pair: the pass's pairs (increasing)
-  // and, merged in (a, b) order, the old pairs of two blocks not detected again, kept whole.
+  // and, merged in (a, b) order, the old pairs of two blocks not detected again or kept as one, kept whole.
   // new_label_, new_area_, new_point_ and new_gap_ hold the pass's corners only (pair k's from
   // new_found_first_[k]); a kept pair's sub-contacts are a run of the old columns (kept_runs_).
   const std::size_t n_found = result_.pairs.size();
@@ -165,7 +165,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   untouched_last_ = 0;
   std::size_t ko = 0, n_kept = 0;
   for (std::size_t k = 0; k < n_found || ko < n_old_pairs;) {
-    // Old pairs with a block detected again make way for the pass's.
+    // Old pairs with a block detected again (but those kept as one) make way for the pass's.
     while (ko < n_old_pairs && redo(ko)) ++ko;
     const bool take_old = ko < n_old_pairs && (k == n_found || pair_a_[ko] < result_.pairs[k].a ||
                                                (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
