@@ -2071,6 +2071,14 @@ void move_block(node_set& gp, const geometry::block_mesh& mesh, index_t b, const
 }
 void hold_all(node_set& gp) { gp.velocity.setZero(); }
 
+/// Dry joints (k_n = k_s = 1e9 Pa/m, 30 deg) on a scene whose blocks may start pressed together.
+joint_contacts pressed_contacts(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real tol,
+                                index_t interval) {
+  joint_contacts::params p(law::dry_joint(1e9, 1e9, law::friction_angle::from_degrees(30)), tol, interval);
+  p.allow_initial_overlap = true;
+  return joint_contacts(tess, mesh, p);
+}
+
 struct kept_corner {
   std::uint64_t label;
   real area, sigma_n;
@@ -2098,9 +2106,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks stayed inside their margins 
       convex_polyhedron::box({-1.5, -0.25, -overlap}, {-1, 0.25, 0.5})});
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   const auto run = [&](index_t interval) {
-    joint_contacts::params p(law::dry_joint(1e9, 1e9, law::friction_angle::from_degrees(30)), tol, interval);
-    p.allow_initial_overlap = true;
-    joint_contacts c(tess, mesh, p);
+    joint_contacts c = pressed_contacts(tess, mesh, tol, interval);
     node_set gp;
     gp.resize(mesh.gridpoint_count());
     c.update(gp, dt);
@@ -2228,6 +2234,61 @@ void place_block(node_set& gp, const geometry::block_mesh& mesh, index_t b, cons
   }
 }
 }  // namespace
+
+TEST_CASE("incremental rebuild: a pair whose blocks move together keeps its sub-contacts without a pass and a pair that slides is detected again",
+          "[detected][incremental]") {
+  // Two 0.5 m cubes pressed 0.2 mm together face to face (blocks 1 and 2), 0.1 m above a fixed
+  // base (block 0), tolerance 1 mm. The two move as one rigid body, 0.45 tolerance a step (past
+  // the 0.39 trigger, so both are detected again at every step), turning about their common face
+  // too: their pair drifted nothing relative to its detection, so it keeps its corners (labels,
+  // areas to the bit, normal stresses to round-off) and no narrow phase runs. Then block 2 also
+  // slides 0.25 tolerance along the face: drift 0.25 > 0.22 tolerance, the pair goes through the pass.
+  const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
+  const geometry::tessellation tess = geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-0.5, -0.25, 0.1}, {overlap, 0.25, 0.6}),
+      convex_polyhedron::box({0, -0.25, 0.1}, {0.5, 0.25, 0.6})});
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
+  node_set gp;
+  gp.resize(mesh.gridpoint_count());
+  c.update(gp, dt);
+  const auto before = corners_of(c, 1, 2);
+  REQUIRE(before.size() >= 4);
+  const index_t rebuilds = c.rebuild_count();
+  const std::int64_t narrow = c.narrow_phase_pairs();
+  const vec3 centre(0, 0, 0.35);
+  vec3 shift = vec3::Zero(), slide = vec3::Zero();
+  real angle = 0;
+  // The farthest vertex is 0.56 m from the centre: a turn of 0.2 tolerance / 0.56 m a step.
+  const auto move_pair = [&](bool slides) {
+    shift += vec3(0.45 * tol, 0.1 * tol, -0.05 * tol);
+    angle += 0.2 * tol / 0.56;
+    if (slides) slide += vec3(0, 0.25 * tol, 0);
+    const mat3 turn = Eigen::AngleAxis<real>(angle, vec3::UnitX()).toRotationMatrix();
+    place_block(gp, mesh, 1, turn, centre, shift, dt);
+    place_block(gp, mesh, 2, turn, centre, shift + turn * slide, dt);
+    c.update(gp, dt);
+  };
+  for (int k = 0; k < 5; ++k) move_pair(false);
+  const auto together = corners_of(c, 1, 2);
+  CHECK(c.rebuild_count() - rebuilds == 5);
+  CHECK(c.redetected_blocks() == 3 + 2 * 5);  // (the construction's three, then both moving blocks each time)
+  CHECK(c.narrow_phase_pairs() == narrow);  // the base is 0.1 m away: no candidate, and the pair was kept
+  CHECK(c.untouched_pairs_last_rebuild() == 1);
+  REQUIRE(together.size() == before.size());
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    CHECK(together[i].label == before[i].label);
+    CHECK(together[i].area == before[i].area);
+    CHECK(together[i].sigma_n == Approx(before[i].sigma_n).epsilon(1e-9));  // (round-off of the moved frames)
+    CHECK(together[i].sigma_n < 0);
+  }
+  // The slide: the pair's drift passes 0.22 tolerance at the first step, so it is detected again.
+  move_pair(true);
+  CHECK(c.rebuild_count() - rebuilds == 6);
+  CHECK(c.narrow_phase_pairs() == narrow + 1);
+  CHECK(c.untouched_pairs_last_rebuild() == 0);
+  CHECK(corners_of(c, 1, 2).size() >= 4);
+}
 
 TEST_CASE("incremental rebuild: a pair sliding at its friction limit keeps its shear state through its rebuilds as "
           "a full pass does", "[detected][incremental]") {

@@ -294,6 +294,7 @@ int run(const inputs& in) {
       .set("redetected_blocks", s.contacts().redetected_blocks())
       .set("narrow_phase_pairs", s.contacts().narrow_phase_pairs())
       .set("pairs_apart_by_kept_axis", s.contacts().pairs_apart_by_kept_axis())
+      .set("pairs_kept_as_one", s.contacts().pairs_kept_as_one())
       .set("runtime_s", runtime_s);
   tessera::scenes::set_split_figures(j);
   if (split.rebalances() >= 0) j.set("mpi_rebalances", split.rebalances());

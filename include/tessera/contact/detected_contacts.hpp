@@ -296,6 +296,7 @@ class detected_contacts {
   /// those their last plane's axis showed apart without the full search (detection_options::reuse_axes).
   [[nodiscard]] std::int64_t narrow_phase_pairs() const { return narrow_pairs_; }
   [[nodiscard]] std::int64_t pairs_apart_by_kept_axis() const { return static_cast<std::int64_t>(workspace_.axis_skips); }  ///< (see narrow_phase_pairs)
+  [[nodiscard]] std::int64_t pairs_kept_as_one() const { return poses_.kept_as_one; }  ///< Pairs of two blocks detected again that the rebuilds kept, their blocks having moved as one (detected/incremental.hpp), summed
   [[nodiscard]] real tolerance() const { return options_.tolerance; }  ///< The contact tolerance (m)
   /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
   [[nodiscard]] index_t bonded_at_start() const { return bonded_at_start_; }
@@ -478,6 +479,7 @@ class detected_contacts {
   struct kept_run { std::size_t from = 0, to = 0, count = 0; };
   std::vector<kept_run> kept_runs_;  ///< the kept pairs' sub-contacts, in runs (a rebuild's copies)
   detail::previous_columns<feature_kind> prev_;  ///< the columns a rebuild copies for its kept pairs
+  detail::pair_poses poses_;  ///< per pair, its blocks' relative pose at its detection (incremental.hpp)
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
   index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0, untouched_last_ = 0;

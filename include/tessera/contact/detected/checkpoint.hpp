@@ -62,6 +62,8 @@ inline void detected_contacts<Law>::checkpoint(Archive& ar) {
   sized("detected/pair/side_a", side_a_, n_pairs);
   sized("detected/pair/side_b", side_b_, n_pairs);
   for (int j = 0; j < 3; ++j) sized("detected/pair/normal/" + std::to_string(j), normal_[at(j)], n_pairs);
+  sized("detected/pair/pose_rotation", poses_.rot, n_pairs);  // (the blocks' relative pose at the pair's detection)
+  sized("detected/pair/pose_shift", poses_.shift, n_pairs);
   // per sub-contact
   sized("detected/subcontact/pair", pair_, n);
   sized("detected/subcontact/label", key_label_, n);

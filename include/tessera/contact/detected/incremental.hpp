@@ -12,11 +12,22 @@
 // tributary areas, weights, normals and states untouched (the rebuild exchanges no energy for
 // it) and goes on as if no rebuild had come.
 //
+// Pairs that moved as one: an old pair whose two blocks are both detected again is kept as it is
+// (the pass leaves it out: detection::detect's `skip`) when its blocks moved together, its drift
+// since its last detection (how far a point of B near A moved relative to A, from the two
+// blocks' rigid motions: pair_poses) at most redetect_fraction x the tolerance. Its sub-contacts
+// live in the blocks' frames (weights, normal features, areas), which such a motion leaves as
+// they were. A pair with one block detected again goes through the pass.
+//
 // Guarantee (no contact missed): a pair was last detected when the later of its two blocks was,
 // at t_p; since then that block moved m(t) <= trigger and the other m(t) + m(t_p) <= trigger +
 // redetect (it was not detected again at t_p, so m(t_p) <= redetect), so the two blocks came
 // closer by at most 2 trigger + redetect = the tolerance: a gap above the tolerance at t_p has
 // not closed. The same bound as a full rebuild at every tolerance / 2 of motion (then 2 x 1/2).
+// A pair kept as one at t_r had drifted at most redetect since its detection and both its blocks
+// start their motion at t_r, so until one of them is detected again (and the pair with it) it
+// drifts at most redetect + 2 trigger = the tolerance too. A pair leaves the set only through a
+// pass that found it apart, at which one of its blocks starts its motion again: the first case.
 //
 // Cost: the pass runs on the moved blocks' candidate pairs, and of those the pairs that the axis
 // of their last plane still shows apart skip the full common-plane search (detect.hpp,
@@ -28,12 +39,14 @@
 // pairs and only the sub-contacts of those detected again), the tasks and gather slots. No
 // allocation beyond a rebuild's growth.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "../../core/nodes.hpp"
 #include "../../core/types.hpp"
+#include "../detection/broad_phase.hpp"
 
 namespace tessera::contact::detail {
 
@@ -46,6 +59,61 @@ namespace tessera::contact::detail {
 inline constexpr real trigger_fraction = 0.39;
 inline constexpr real redetect_fraction = 0.22;
 static_assert(2 * trigger_fraction + redetect_fraction <= 1.0);
+
+/// The pairs a rebuild keeps although both their blocks are detected again (the file comment).
+/// Per pair, the relative pose of its blocks when it was last detected (B's reference frame in
+/// A's: G = R_a^T R_b, h = R_a^T (t_b - t_a), a block's reference point X being at R X + t); the
+/// pair's drift is how far a material point X of B near A has moved relative to A since then,
+/// |(G - G_p) X + (h - h_p)| (m), bounded over a sphere about either block's reference vertices
+/// (the lower bound; the field is affine in X).
+struct pair_poses {
+  std::vector<mat3> rot, prev_rot;     // per pair: G at its detection (and the last rebuild's)
+  std::vector<vec3> shift, prev_shift; // per pair: h at its detection (m)
+  std::vector<vec3> center;            // per block: the reference vertices' mean (m)
+  std::vector<real> radius;            // per block: its vertices' largest distance from it (m)
+  std::vector<mat3> block_rot;         // per block, this rebuild: R
+  std::vector<vec3> block_shift;       //   and t (m)
+  std::vector<std::uint8_t> keep;      // per old pair: kept though both blocks are detected again
+  std::vector<detection::block_pair> skip;  // those pairs, increasing (detection::detect's skip)
+  std::int64_t kept_as_one = 0;        // those pairs, summed over the rebuilds
+
+  /// B's pose in A's reference frame now (this rebuild's block poses).
+  void relative(index_t a, index_t b, mat3& g, vec3& h) const {
+    const mat3& ra = block_rot[static_cast<std::size_t>(a)];
+    g = ra.transpose() * block_rot[static_cast<std::size_t>(b)];
+    h = ra.transpose() * (block_shift[static_cast<std::size_t>(b)] - block_shift[static_cast<std::size_t>(a)]);
+  }
+  /// Old pair k's drift since its detection (m; before the rebuild swaps rot and shift with the
+  /// prev_ buffers): a point of B that touches A before the pair's next pass lies within `reach`
+  /// (m) of B's sphere, and of A's at the pair's detection or now.
+  [[nodiscard]] real drift(std::size_t k, index_t a, index_t b, real reach) const {
+    mat3 g;
+    vec3 h;
+    relative(a, b, g, h);
+    const mat3 dg = g - rot[k];
+    const vec3 dh = h - shift[k];
+    const real spread = dg.norm();  // (Frobenius: >= the largest stretch of dg)
+    const auto sa = static_cast<std::size_t>(a), sb = static_cast<std::size_t>(b);
+    const real over_b = (dg * center[sb] + dh).norm() + spread * (radius[sb] + reach);
+    // A's sphere in B's reference frame, at the detection and now.
+    const vec3 then = rot[k].transpose() * (center[sa] - shift[k]), now = g.transpose() * (center[sa] - h);
+    const real over_a = std::max((dg * then + dh).norm(), (dg * now + dh).norm()) + spread * (radius[sa] + reach);
+    return std::min(over_a, over_b);
+  }
+};
+
+/// Each shape's vertex mean and its vertices' largest distance from it (the spheres of pair_poses).
+template <class Shapes>
+void reference_spheres(const Shapes& shapes, std::vector<vec3>& center, std::vector<real>& radius) {
+  center.assign(shapes.size(), vec3::Zero());
+  radius.assign(shapes.size(), 0);
+  for (std::size_t b = 0; b < shapes.size(); ++b) {
+    const index_t n = shapes[b].vertex_count();
+    for (index_t v = 0; v < n; ++v) center[b] += shapes[b].vertex(v);
+    if (n > 0) center[b] /= static_cast<real>(n);
+    for (index_t v = 0; v < n; ++v) radius[b] = std::max(radius[b], (shapes[b].vertex(v) - center[b]).norm());
+  }
+}
 
 /// The pair and sub-contact columns of the last rebuild that a rebuild copies for the pairs it
 /// keeps (the class swaps its own columns in here, then fills them again).

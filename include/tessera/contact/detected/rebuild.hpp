@@ -11,7 +11,8 @@
 // blocks rebuild incrementally in between (detected/incremental.hpp): once a block has moved 0.39
 // x the tolerance since it was last detected, the pass covers the pairs of the blocks that moved
 // more than 0.22 x it; the other pairs stay as they are (the same guarantee; the check reads
-// every block vertex once per step), and a pair its last axis shows apart skips the full search.
+// every block vertex once per step), and so do the pairs whose two blocks moved as one, and a
+// pair its last axis shows apart skips the full search.
 //
 // Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a, block
 // b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an edge of B
@@ -80,20 +81,17 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     for (std::size_t b = 0; b < at(n_b); ++b) redetect_[b] = moved_[b] > redetect * redetect ? 1 : 0;
   redetected_ += std::count(redetect_.begin(), redetect_.end(), 1);
   const auto changed = [&](index_t a, index_t b) { return redetect_[at(a)] != 0 || redetect_[at(b)] != 0; };
-  // The springs' energy before and after, over the pairs detected again (the others keep theirs
-  // to the bit; the construction's pass sets the initial energy).
-  real stored_before = 0;
-  if (gp != nullptr)
-    for (std::size_t k = 0; k < pair_a_.size(); ++k)
-      if (changed(pair_a_[k], pair_b_[k]))
-        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i)
-          if (counted(i)) stored_before += energies_of(i).stored;
+  detail::pair_poses& pp = poses_;
+  pp.block_rot.resize(at(n_b));
+  pp.block_shift.resize(at(n_b));
   real deviation = 0;
   for (index_t b = 0; b < n_b; ++b) {
     const block_data& bd = blocks_[at(b)];
     const mat3 map = rotation(bd, gp);
     const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
     current_[at(b)].assign_transformed(shapes_[at(b)], map, translation);  // (in its own storage)
+    pp.block_rot[at(b)] = map;
+    pp.block_shift[at(b)] = translation;
     boxes_[at(b)] = current_[at(b)].bounds();
     // A deformable block is detected by its affine fit (the frame's map of its reference
     // shape): how far its surface gridpoints are from it.
@@ -119,17 +117,41 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     for (index_t k = blocks_[at(b)].watch_begin; k < blocks_[at(b)].watch_end; ++k)
       for (int c = 0; c < 3; ++c) rebuild_u_(k, c) = gp != nullptr ? gp->displacement(watch_gridpoints_[at(k)], c) : 0.0;
   }
+  // An old pair of two blocks detected again whose blocks moved together keeps its columns
+  // (pair_poses, incremental.hpp); the pass leaves it out.
+  const std::size_t n_old_pairs = pair_a_.size();
+  pp.keep.assign(n_old_pairs, 0);
+  pp.skip.clear();
+  if (incremental) {
+    if (pp.center.size() != at(n_b)) detail::reference_spheres(shapes_, pp.center, pp.radius);
+    for (std::size_t k = 0; k < n_old_pairs; ++k)
+      if (redetect_[at(pair_a_[k])] != 0 && redetect_[at(pair_b_[k])] != 0 &&
+          pp.drift(k, pair_a_[k], pair_b_[k], 2 * options_.tolerance) <= redetect) {  // (reach: the tolerance and the motion to come)
+        pp.keep[k] = 1;
+        pp.skip.push_back({pair_a_[k], pair_b_[k]});
+      }
+    pp.kept_as_one += static_cast<std::int64_t>(pp.skip.size());
+  }
+  const auto redo = [&](std::size_t ko) { return changed(pair_a_[ko], pair_b_[ko]) && pp.keep[ko] == 0; };
+  // The springs' energy before and after, over the pairs detected again (the others keep theirs
+  // to the bit; the construction's pass sets the initial energy).
+  real stored_before = 0;
+  if (gp != nullptr)
+    for (std::size_t k = 0; k < n_old_pairs; ++k)
+      if (redo(k))
+        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i)
+          if (counted(i)) stored_before += energies_of(i).stored;
   detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance, true}, result_, workspace_, share_,
-                    incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>());
+                    incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(), pp.skip);
   narrow_pairs_ += static_cast<std::int64_t>(result_.evaluated);
   if (share_.parts > 1) gather_(result_);  // the other parts, from the ranks that evaluated them
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
 
   // New pairs and their corners, sorted by label within a pair: the pass's pairs (increasing)
-  // and, merged in (a, b) order, the old pairs of two blocks not detected again, kept whole.
+  // and, merged in (a, b) order, the old pairs of two blocks not detected again or kept as one, kept whole.
   // new_label_, new_area_, new_point_ and new_gap_ hold the pass's corners only (pair k's from
   // new_found_first_[k]); a kept pair's sub-contacts are a run of the old columns (kept_runs_).
-  const std::size_t n_found = result_.pairs.size(), n_old_pairs = pair_a_.size();
+  const std::size_t n_found = result_.pairs.size();
   new_pair_a_.clear();
   new_pair_b_.clear();
   new_label_.clear();
@@ -143,8 +165,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   untouched_last_ = 0;
   std::size_t ko = 0, n_kept = 0;
   for (std::size_t k = 0; k < n_found || ko < n_old_pairs;) {
-    // Old pairs with a block detected again make way for the pass's.
-    while (ko < n_old_pairs && changed(pair_a_[ko], pair_b_[ko])) ++ko;
+    // Old pairs with a block detected again (but those kept as one) make way for the pass's.
+    while (ko < n_old_pairs && redo(ko)) ++ko;
     const bool take_old = ko < n_old_pairs && (k == n_found || pair_a_[ko] < result_.pairs[k].a ||
                                                (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
     if (take_old) {
@@ -288,7 +310,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   // Sub-contacts that end keep what they dissipated in the books; what they still stored leaves
   // the springs through the rebuild exchange. (They are among the old pairs detected again.)
   for (std::size_t ok = 0; ok < n_old_pairs; ++ok) {
-    if (!changed(pair_a_[ok], pair_b_[ok])) continue;
+    if (!redo(ok)) continue;
     for (auto o = at(pair_first_[ok]); o < at(pair_first_[ok + 1]); ++o) {
       if (kept_old_[o] != 0 || !counted(o)) continue;
       const contact_energies e = energies_of(o);
@@ -324,6 +346,10 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   std::swap(pair_stiffness_, prev_.stiffness);
   std::swap(pair_reach2_, prev_.reach2);
   for (int j = 0; j < 3; ++j) normal_[at(j)].swap(prev_.normal[at(j)]);
+  pp.rot.swap(pp.prev_rot);
+  pp.shift.swap(pp.prev_shift);
+  pp.rot.resize(n_pairs);
+  pp.shift.resize(n_pairs);
   pair_a_.swap(new_pair_a_);  // (the new_ scratch is cleared at the next rebuild)
   pair_b_.swap(new_pair_b_);
   pair_param_.resize(n_pairs);
@@ -347,10 +373,13 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       side_b_[k] = prev_.side_b[o];
       pair_stiffness_[k] = prev_.stiffness[o];  // (a kept pair: rigid blocks, bounded at the last rebuild)
       pair_reach2_[k] = prev_.reach2[o];
+      pp.rot[k] = pp.prev_rot[o];
+      pp.shift[k] = pp.prev_shift[o];
       for (int j = 0; j < 3; ++j) normal_[at(j)].row(static_cast<index_t>(k)) = prev_.normal[at(j)].row(static_cast<index_t>(o));
       continue;
     }
     pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
+    pp.relative(a, b, pp.rot[k], pp.shift[k]);
     const detection::contact_plane& plane = result_.planes[at(new_source_[k])];
     // The feature in each block's reference frame: n = R_a fa (face of A), -R_b fb (face of B),
     // or +-(R_a ea x R_b eb) (edges), so that n equals the plane's normal now.
@@ -456,7 +485,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   if (gp != nullptr) {
     real stored_after = 0;
     for (std::size_t k = 0; k < n_pairs; ++k)
-      if (changed(pair_a_[k], pair_b_[k]))
+      if (new_source_[k] >= 0)  // (the pass's pairs)
         for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i)
           if (counted(i)) stored_after += energies_of(i).stored;
     retired_.rebuild_exchange += stored_after - stored_before;

@@ -110,11 +110,14 @@ struct detection_workspace {
 /// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
 /// `boxes[i]` = blocks[i].bounds()). `only` (empty: every pair) restricts the pass to the candidate
 /// pairs with at least one block b marked only[b] != 0 (an incremental rebuild: the pairs of the
-/// blocks that moved); the face planes are then computed for those pairs' blocks only. Throws
-/// invalid_input for mismatched sizes or a bad option.
+/// blocks that moved); the face planes are then computed for those pairs' blocks only. `skip`
+/// (increasing; with `only`) names pairs the pass leaves out although a block of theirs is marked
+/// (the caller keeps what it had for them; their kept axes stay). Throws invalid_input for
+/// mismatched sizes or a bad option.
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                           detection_workspace& w, detection_share share = {}, std::span<const std::uint8_t> only = {});
+                           detection_workspace& w, detection_share share = {}, std::span<const std::uint8_t> only = {},
+                           std::span<const block_pair> skip = {});
 
 }  // namespace tessera::contact::detection
 

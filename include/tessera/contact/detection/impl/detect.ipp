@@ -3,17 +3,21 @@
 // TESSERA_SEPARATE_COMPILATION (core/separate_compilation.hpp).
 #pragma once
 
+#include <algorithm>
+
 #include "../detect.hpp"
 
 namespace tessera::contact::detection {
 
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
-                           detection_workspace& w, detection_share share, std::span<const std::uint8_t> only) {
+                           detection_workspace& w, detection_share share, std::span<const std::uint8_t> only,
+                           std::span<const block_pair> skip) {
   require(edges.size() == blocks.size() && boxes.size() == blocks.size() &&
               (only.empty() || only.size() == blocks.size()),
           "detect: ", blocks.size(), " blocks, ", edges.size(), " edge lists, ", boxes.size(), " boxes and ",
           only.size(), " marks: give one of each per block (marks: or none)");
+  require(skip.empty() || !only.empty(), "detect: ", skip.size(), " skipped pairs in a pass without marks");
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
           " m must be finite and > 0");
   require(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "detect: part ", share.part, " of ",
@@ -28,9 +32,10 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   const auto marked = [&](const block_pair& c) {
     return only.empty() || only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0;
   };
+  const auto skipped = [&](const block_pair& c) { return std::binary_search(skip.begin(), skip.end(), c); };
   w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
   if (!only.empty()) {
-    std::erase_if(w.candidates, [&](const block_pair& c) { return !marked(c); });
+    std::erase_if(w.candidates, [&](const block_pair& c) { return !marked(c) || (!skip.empty() && skipped(c)); });
     for (const block_pair& c : w.candidates)
       w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
   }
@@ -79,15 +84,15 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
                        : contact_patch{};
   }, 16);
   // The kept axes, merged in pair order: this pass's candidates with this pass's plane's axis
-  // (those of another part: the axis they had), and the kept pairs of two unmarked blocks, which
-  // this pass did not look at.
+  // (those of another part: the axis they had), and the kept pairs of two unmarked blocks or
+  // skipped, which this pass did not look at.
   if (options.reuse_axes) {
     w.next_pairs.clear();
     w.next_axes.clear();
     std::size_t k = 0;
     const auto keep_old_until = [&](const block_pair* before) {
       for (; k < w.axis_pairs.size() && (before == nullptr || w.axis_pairs[k] < *before); ++k)
-        if (!marked(w.axis_pairs[k])) {
+        if (!marked(w.axis_pairs[k]) || (!skip.empty() && skipped(w.axis_pairs[k]))) {
           w.next_pairs.push_back(w.axis_pairs[k]);
           w.next_axes.push_back(w.axes[k]);
         }
