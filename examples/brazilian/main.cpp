@@ -57,7 +57,7 @@ struct disc_flags {
   real g_ii = 0;  // mode-II fracture energy with --law slip_softening (J/m^2); 0: scenes::default_g_ii
   real recipe_blocks = 0, zone_edge = -1;  // the recipe's block count (0: prism 100, beam 250); beam zoning (m, <0: 0.03)
   real cap = 35e6;  // the beam's contact compressive cap (Pa)
-  real g_c = 0, cap_residual = 0.1;  // --law crushing: G_c (J/m^2; 0: scenes::default_g_c), residual cap / cap
+  real g_c = 0, cap_residual = 0.1;  // G_c (J/m^2; scenes::g_c_in_effect), residual cap / cap
   bool crush_shear = false;          // --law crushing: the shear limit times the cap's remaining fraction
 };
 

@@ -40,7 +40,7 @@ struct compression_options {
   std::string material = "beam", shape = "cylinder", ends = "frictionless";
   std::string law = "study";  ///< study, slip_softening or crushing (--material beam only)
   real g_ii = 0;              ///< mode-II fracture energy with --law slip_softening (J/m^2; 0 = default_g_ii)
-  real g_c = 0;               ///< compressive fracture energy with --law crushing (J/m^2; 0 = default_g_c)
+  real g_c = 0;               ///< G_c (J/m^2) with --law crushing (0 = default_g_c) or mixed_mode (0 = the plastic cap)
   real cap_residual = 0.1;    ///< residual cap / --cap with --law crushing
   bool crush_shear = false;   ///< --crush-shear: the shear limit falls with the crushed cap
   real width = 0.15, height = 0.3;  ///< cylinder diameter or prism side, height (m)
