@@ -155,10 +155,10 @@ inline void require_law_takes(std::string_view driver, const std::string& law, l
 /// --g-ii is require_g_ii_with_law's (with its value).
 template <class Given>
 void require_law_parameters(std::string_view driver, const std::string& law, double g_c, Given&& given) {
+  const concrete_law* l = find_concrete_law(law);
   for (const law_parameter_row& r : law_parameter_rows) {
     if (r.id == law_g_ii) continue;
     require_law_takes(driver, law, r.id, given(r.flag));
-    const concrete_law* l = find_concrete_law(law);
     if (r.id != law_g_c && given(r.flag) && l != nullptr && l->crush_needs_g_c && !(g_c > 0))
       throw invalid_input(tessera::detail::concat(driver, ": ", r.flag, " with --law ", law, " needs --g-c > 0 (got --g-c ",
                                                   g_c, ": ", l->g_c_zero, ")"));
@@ -177,25 +177,22 @@ inline void require_g_ii_with_law(std::string_view driver, const std::string& la
     s += tessera::detail::concat(&l == concrete_laws ? " " : "; ", l.name, ", ", l.description);
   return s;
 }
+/// " a (0 = x), b (0 = y)": the laws that take parameter p, each with what 0 means (its `zero` field).
+[[nodiscard]] inline std::string laws_with_zero(law_parameter p, const char* concrete_law::*zero) {
+  std::string s;
+  for (const concrete_law& l : concrete_laws)
+    if ((l.parameters & p) != 0) s += tessera::detail::concat(s.empty() ? " " : ", ", l.name, " (0 = ", l.*zero, ")");
+  return s;
+}
 /// --g-ii's help: the laws that take G_II and what 0 means with each.
 [[nodiscard]] inline std::string g_ii_flag_help() {
-  std::string s = "mode-II fracture energy G_II (J/m^2) with --law";
-  bool first = true;
-  for (const concrete_law& l : concrete_laws)
-    if ((l.parameters & law_g_ii) != 0)
-      s += tessera::detail::concat(first ? " " : ", ", l.name, " (0 = ", l.g_ii_default, ")"), first = false;
-  return s;
+  return "mode-II fracture energy G_II (J/m^2) with --law" + laws_with_zero(law_g_ii, &concrete_law::g_ii_default);
 }
 
 /// --g-c's, --cap-residual's and --crush-shear's help (the laws that take each).
 [[nodiscard]] inline std::string g_c_flag_help() {
-  std::string s = "compressive fracture energy G_c, the plastic work per contact area above the residual cap (J/m^2), "
-                  "with --law";
-  bool first = true;
-  for (const concrete_law& l : concrete_laws)
-    if ((l.parameters & law_g_c) != 0)
-      s += tessera::detail::concat(first ? " " : ", ", l.name, " (0 = ", l.g_c_zero, ")"), first = false;
-  return s;
+  return "compressive fracture energy G_c, the plastic work per contact area above the residual cap (J/m^2), with "
+         "--law" + laws_with_zero(law_g_c, &concrete_law::g_c_zero);
 }
 /// " (mixed_mode: beside --g-c > 0)": the laws whose crushing flags need G_c > 0.
 [[nodiscard]] inline std::string crush_flags_note() {
