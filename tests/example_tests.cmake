@@ -1350,11 +1350,12 @@ tessera_add_refusal_test(refuse_calibrate_targets_fit_gii calibrate
   "calibrate: --fit gii needs --law slip_softening" --threads 1 --targets tension --fit strength,gii)
 # calibrate --targets shear (rc_beam/beam_shear_figure.hpp): rc_beam's 60-block beam with bars that cannot
 # yield, 50 mm zoning, 10 mm/s, the mixed-mode law with G_II 70 J/m^2, seed 2 fitted (no iteration) and
-# seed 3 held out, to 1.2 mm at most (about 30 s of CPU; 474 s wall on a host loaded 4 times over). Seed 2's load falls 25 % below its peak at a
-# dip at 0.84 mm (docs/studies/one_concrete.md, "How long a drop holds"): failure reached, the figure is
-# that peak. Seed 3 fails at 3.37 mm, so by 1.2 mm it has NOT reached its event: residual exactly
-# unreached_residual (10), not met, never the load at the stop. rc_beam with the same flags on seed 2
-# (the guide's shear-figure command) gives the same peak to the bit.
+# seed 3 held out, to 1.2 mm at most (about 30 s of CPU; 474 s wall on a host loaded 4 times over).
+# Seed 2's load falls 25 % below its peak (25.24 kN) at a dip at 0.89 mm (docs/studies/one_concrete.md,
+# "How long a drop holds"): failure reached, the figure is that peak. Seed 3 fails at 3.37 mm, so by
+# 1.2 mm it has NOT reached its event: residual exactly unreached_residual (10), not met, never the load
+# at the stop. rc_beam with the same flags on seed 2 (the guide's shear-figure command) gives the same
+# peak to the bit (tests/check_shear_target.py).
 tessera_add_example_test(calibrate NAME example_calibrate_targets_shear_quick
   ARGS --targets shear --law mixed_mode --g-ii 70 --seed 2 --seeds 1 --holdout 1 --iterations 0
        --shear-max-deflection 0.0012 --threads 1
