@@ -405,7 +405,7 @@ int main(int argc, char** argv) {
       "beam's concrete (f_T = 2.5 MPa, linear softening) on a 150 x 150 x 600 mm prism with the beam's block size,\n"
       "for rc_beam --params. Writes calibrated.json. Exit 3 if a block count did not converge.\n"
       "--quick: prism 100 blocks (beam: 60 blocks, 50 mm zoning, as rc_beam --quick), 1 seed, 5 nm per step.\n"
-      "calibrate --targets LIST [...] fits one concrete to several targets (tension, energy, splitting, compression);\n"
+      "calibrate --targets LIST [...] fits one concrete to several targets (tension, energy, splitting, compression, shear);\n"
       "calibrate --targets tension --help lists its flags.");
   cli.add_standard(in.common);
   cli.option("--material", in.recipe.material, "prism: the study's prism concrete (for direct_tension, rc_tie); beam: the beam's concrete on a prism of the "

@@ -11,13 +11,16 @@
 //   compression  f_c of the compression specimen (compression/run.hpp, frictionless ends) against
 //                --f-c (35 MPa, the beam's concrete; 15 %), and its peak strain against [1.5e-3, 3.5e-3]
 //                (centre 2.5e-3, relative tolerance 0.4) as a second residual of the same weight
+//   shear        P at failure of rc_beam with bars that cannot yield (rc_beam/beam_shear_figure.hpp: the
+//                60-block beam, 50 mm zoning, 10 mm/s, to 12 mm at most; --shear-* flags) against the
+//                mean of EC2's and Zsutty's 2 V_c (51.69 kN for the default beam; 20 %), the set's
+//                concrete on the beam's own block count and zoning (material beam only: rc_beam runs
+//                the beam's concrete); about 100 s of CPU a seed, docs/studies/multi_target_calibration.md.
 //
-// (shear, the 60-block rc_beam with bars that cannot yield, is not a target: about 100 s of CPU a
-// run, docs/studies/multi_target_calibration.md.) Each residual is r = (mean over the seeds /
-// reference - 1) / tolerance; met when |r| <= 1. A target whose run did not reach its event on every
-// seed (no split by the disc's last displacement, no compression peak by the last strain, no
-// separation with the energy target) is NOT met and enters the objective as r = 10, never as the
-// value at the cap.
+// Each residual is r = (mean over the seeds / reference - 1) / tolerance; met when |r| <= 1. A target
+// whose run did not reach its event on every seed (no split by the disc's last displacement, no
+// compression peak by the last strain, no separation with the energy target, no failure of the beam
+// by its last deflection) is NOT met and enters the objective as r = 10, never as the value at the cap.
 //
 // The law (--law) is any row of common/concrete_laws.hpp with calibrate set: study, slip_softening,
 // crushing, mixed_mode; its row says which law parameters --fit may move (gii, gc), and the set's
@@ -48,6 +51,7 @@
 #include "common/concrete_set.hpp"
 #include "compression/specimen.hpp"
 #include "direct_tension/tension_test.hpp"
+#include "rc_beam/beam_shear_figure.hpp"
 
 namespace tessera::scenes {
 
@@ -65,8 +69,9 @@ struct target_spec {
   if (name == "energy") return 0.15;
   if (name == "splitting") return 0.2 / 1.2;  // [1.0, 1.4]
   if (name == "compression") return 0.15;
+  if (name == "shear") return 0.2;
   throw invalid_input(tessera::detail::concat("calibrate: --targets: '", name,
-                                              "' is not a target (tension, energy, splitting, compression)"));
+                                              "' is not a target (tension, energy, splitting, compression, shear)"));
 }
 
 /// The flags of calibrate --targets (SI).
@@ -81,6 +86,7 @@ struct targets_options {
   real tension_step = 2e-9, tension_rate = 0.005;  ///< the prism's step (m) and rate (m/s)
   disc_options disc;                            ///< the disc (--disc-* flags; seed set per run)
   compression_options compression;              ///< the specimen (--compression-* flags; seed set per run)
+  shear_figure_options shear;                    ///< the beam of the shear target (--shear-* flags)
   int threads = 1;
   bool quick = false;
 };
@@ -144,7 +150,7 @@ inline void require_law_fits(const std::string& law, const std::string& name) {
 
 /// One target's figure over a set of seeds.
 struct target_value {
-  std::string name;        ///< tension, energy, splitting, compression, compression_strain
+  std::string name;        ///< tension, energy, splitting, compression, compression_strain, shear
   real reference = 0;      ///< the value aimed at
   real tolerance = 0, weight = 1;
   real value = std::numeric_limits<real>::quiet_NaN();  ///< mean over the seeds (NaN: the event not reached on one)
@@ -226,6 +232,10 @@ struct evaluation {
           const disc_result r = run_brazilian_disc(d, recipe);
           v.reference = 1.2;
           if (r.split) sum += r.ratio(), ++v.reached;
+        } else if (t.name == "shear") {
+          const shear_figure f = run_shear_figure(c, o.shear, seed);
+          v.reference = f.reference_load;
+          if (f.failure_reached) sum += f.peak_load, ++v.reached;
         } else {  // compression
           compression_options co = o.compression;
           co.common.seed = seed;
@@ -269,10 +279,17 @@ struct evaluation {
   return c;
 }
 
-/// Whether the contact law accepts set c (with_concrete's checks; e.g. G_c above its bound for the cap).
-[[nodiscard]] inline bool law_accepts(const concrete_set& c) {
+/// Refuses set c where a scene of o's targets would (with_concrete's checks, e.g. G_c above its bound
+/// for the cap; with the shear target, the beam's: check_beam_law_set on its contacts). Throws invalid_input.
+inline void require_targets_accept(const targets_options& o, const concrete_set& c) {
+  with_concrete(c, [](const auto&) { return 0; });
+  if (has_target(o, "shear")) check_beam_law_set(shear_beam_options(c, o.shear, o.seed));
+}
+
+/// Whether every scene of o's targets accepts set c (require_targets_accept does not throw).
+[[nodiscard]] inline bool law_accepts(const targets_options& o, const concrete_set& c) {
   try {
-    with_concrete(c, [](const auto&) { return 0; });
+    require_targets_accept(o, c);
     return true;
   } catch (const invalid_input&) {
     return false;
@@ -291,7 +308,7 @@ template <class Log>
       const fit_parameter& p = fit_parameter_named(name);
       for (const int dir : {+1, -1}) {
         const concrete_set trial = moved(best.set, p, h, dir);
-        if (trial.*p.field == best.set.*p.field || !law_accepts(trial)) continue;  // at a bound, or refused
+        if (trial.*p.field == best.set.*p.field || !law_accepts(o, trial)) continue;  // at a bound, or refused
         const evaluation ev = evaluate_targets(o, trial, o.seed, o.seeds);
         log(ev, it, tessera::detail::concat(name, dir > 0 ? " +" : " -", h));
         if (ev.objective < best.objective) {

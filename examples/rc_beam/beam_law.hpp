@@ -36,17 +36,10 @@ namespace tessera::scenes {
 inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg", "--phi-res-deg", "--cap",
                                                  "--g-c", "--cap-residual", "--crush-shear"};
 
-/// rc_beam --params FILE (`file`): the entry of calibrated.json for o's recipe (the beam material,
-/// o.blocks, o's face zoning and this beam's half volume; refused with both values named otherwise,
-/// load_concrete_params) with its whole concrete (law, strength and fracture-energy scales, c_0 /
-/// f_T, phi_0, phi_res, G_II, cap) applied to o through concrete_set. rate: the plate's (m/s, for the
-/// note on the fitted rate). Returns the entry's initial modulus (Pa; 0 = not recorded).
-inline real load_beam_params(beam_options& o, const std::string& file, real rate) {
-  concrete_set c;
-  c.recipe_blocks = o.blocks;
-  c.zone_edge = o.face_zone_edge();
-  // the step is set later by the mass scaling (0: the note gives the fitted one)
-  const calibration_entry e = load_concrete_params(c, file, 0, rate, "rc_beam", o.half_volume());
+/// Set c's concrete on beam o: law, strength and fracture-energy scales, c_0 / f_T, phi_0, phi_res
+/// (deg), G_II (J/m^2), cap (Pa), G_c (J/m^2), residual cap, crush_shear; o's block count, zoning,
+/// geometry, bars and seed stay (rc_beam --params and calibrate's shear target: the same beam).
+inline void concrete_set_to(const concrete_set& c, beam_options& o) {
   o.law = c.law;
   o.strength_scale = c.scale();
   o.fracture_energy_scale = c.fracture_energy_scale;
@@ -58,6 +51,20 @@ inline real load_beam_params(beam_options& o, const std::string& file, real rate
   o.g_c = c.g_c;
   o.cap_residual = c.cap_residual;
   o.crush_shear = c.crush_shear;
+}
+
+/// rc_beam --params FILE (`file`): the entry of calibrated.json for o's recipe (the beam material,
+/// o.blocks, o's face zoning and this beam's half volume; refused with both values named otherwise,
+/// load_concrete_params) with its whole concrete (law, strength and fracture-energy scales, c_0 /
+/// f_T, phi_0, phi_res, G_II, cap) applied to o through concrete_set. rate: the plate's (m/s, for the
+/// note on the fitted rate). Returns the entry's initial modulus (Pa; 0 = not recorded).
+inline real load_beam_params(beam_options& o, const std::string& file, real rate) {
+  concrete_set c;
+  c.recipe_blocks = o.blocks;
+  c.zone_edge = o.face_zone_edge();
+  // the step is set later by the mass scaling (0: the note gives the fitted one)
+  const calibration_entry e = load_concrete_params(c, file, 0, rate, "rc_beam", o.half_volume());
+  concrete_set_to(c, o);
   return e.initial_modulus;
 }
 

@@ -50,6 +50,7 @@
 #include "common/relaxed_scheme.hpp"
 #include "rc_beam/beam_law.hpp"
 #include "rc_beam/beam_run.hpp"
+#include "rc_beam/beam_shear_figure.hpp"
 #include "rc_beam/beam_snapshots.hpp"
 #include "tessera/io/csv.hpp"
 #include "tessera/io/json.hpp"
@@ -377,7 +378,7 @@ int main(int argc, char** argv) {
   bool no_vtk = false;
   auto& b = in.beam;
   auto& l = in.loading;
-  l.added_mass_ratio = 20;  // quasi-static index 0.63 at 5 mm/s (beam.hpp)
+  l.added_mass_ratio = tessera::scenes::rc_beam_added_mass_ratio;
   cli.option("--blocks", b.blocks, "Voronoi blocks of the half beam: 250 or 500 (the study's), or 8..249 for a coarse run "
              "with the 250-block contacts; with --span full, of ONE half span (the full beam has about 2N, at the half "
              "model's block size and contacts)", "N").within(8, 500);
