@@ -9,6 +9,7 @@
 // fan triangles and one-third tributary areas, exactly as block_mesh.hpp specifies.
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <bit>
 #include <atomic>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -2501,6 +2502,67 @@ TEST_CASE("hinted plane: any face or edge pair's bound is below the common plane
   INFO(bounds << " face bounds, " << edge_bounds << " edge-pair bounds, " << attained << " planes' own axes");
   CHECK(edge_bounds > 100);  // the edge pairs whose arcs cross are checked, not only refused
   CHECK(attained > 200);
+}
+
+// The warm start of a rebuild (detect.hpp): common_plane_above from the gap of the pair's last axis
+// drops most candidate axes after a few vertices; its plane must be the full search's to the bit.
+TEST_CASE("warm start: common_plane_above gives the full search's plane to the bit for any floor on rotated Voronoi pairs",
+          "[detection]") {
+  const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.1)}, 40, 5);
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<real> u(-1, 1);
+  std::vector<convex_polyhedron> cells;
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
+    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
+    cells.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
+  }
+  const auto bits = [](real x) { return std::bit_cast<std::uint64_t>(x); };
+  const auto same = [&](const detection::contact_plane& p, const detection::contact_plane& q) {
+    return bits(p.normal.x()) == bits(q.normal.x()) && bits(p.normal.y()) == bits(q.normal.y()) &&
+           bits(p.normal.z()) == bits(q.normal.z()) && bits(p.offset) == bits(q.offset) && bits(p.gap) == bits(q.gap) &&
+           p.source == q.source && p.feature_a == q.feature_a && p.feature_b == q.feature_b;
+  };
+  constexpr real lowest = -std::numeric_limits<real>::infinity();
+  std::size_t pairs = 0, warm = 0, overlapping = 0, edge_planes = 0;
+  for (std::size_t a = 0; a < cells.size(); ++a)
+    for (std::size_t b = a + 1; b < cells.size(); ++b) {
+      const auto ea = detection::edges_of(cells[a]);
+      std::vector<geometry::plane> fa;
+      detection::append_face_planes(cells[a], fa);
+      // B as it was at the last rebuild, and now: turned by up to 0.05 rad about its centroid and
+      // moved up to 1 mm, so neighbours overlap, touch or open.
+      const auto eb0 = detection::edges_of(cells[b]);
+      std::vector<geometry::plane> fb0;
+      detection::append_face_planes(cells[b], fb0);
+      const auto before = detection::common_plane(cells[a], ea, fa, cells[b], eb0, fb0);
+      if (before.gap > 0.01) continue;  // not a neighbour
+      const vec3 c = cells[b].centroid();
+      const mat3 turn = Eigen::AngleAxisd(0.05 * u(rng), vec3(u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
+      const convex_polyhedron moved = cells[b].transformed(turn, c - turn * c + 1e-3 * vec3(u(rng), u(rng), u(rng)));
+      const auto eb = detection::edges_of(moved);
+      std::vector<geometry::plane> fb;
+      detection::append_face_planes(moved, fb);
+      const auto full = detection::detail::common_plane_every_axis(cells[a], ea, fa, moved, eb, fb, true);
+      const real floor = detection::hinted_plane(cells[a], ea, fa, moved, eb, fb, detection::axis_hint::of(before)).gap;
+      const real tie = detection::plane_tie_rel * std::max(cells[a].extent(), moved.extent());
+      INFO("cells " << a << ", " << b << ": gap " << full.gap << ", warm floor " << floor);
+      ++pairs;
+      warm += floor > lowest && floor > full.gap - 1e-3 ? 1 : 0;
+      overlapping += full.gap < 0 ? 1 : 0;
+      edge_planes += full.source == detection::plane_source::edge_edge ? 1 : 0;
+      // Cold (the default search), warm, and floors at, within a tie of, above and far below the
+      // gap (those force the fallback or drop nothing).
+      CHECK(same(detection::common_plane(cells[a], ea, fa, moved, eb, fb), full));
+      for (const real f : {floor, lowest, std::numeric_limits<real>::quiet_NaN(), full.gap, full.gap - 0.5 * tie,
+                           full.gap - 3 * tie, full.gap + 1e-3, full.gap - 1e-4, full.gap - 1.0})
+        CHECK(same(detection::common_plane_above(cells[a], ea, fa, moved, eb, fb, f), full));
+    }
+  INFO(pairs << " neighbour pairs, " << warm << " warm floors within 1 mm of the gap, " << overlapping
+             << " overlapping, " << edge_planes << " edge-pair planes");
+  CHECK(pairs > 150);
+  CHECK(warm > pairs / 2);  // the warm start is exercised on most pairs
+  CHECK(overlapping > 20);
+  CHECK(edge_planes > 5);
 }
 
 }  // namespace tessera::test_kept_axes

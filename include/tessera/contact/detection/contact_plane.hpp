@@ -122,6 +122,35 @@ inline void append_face_planes(const geometry::convex_polyhedron& p, std::vector
                                                         const geometry::convex_polyhedron& b, const polyhedron_edges& edges_b,
                                                         std::span<const geometry::plane> faces_b, bool prune_edges = true);
 
+/// common_plane's plane (pruned edge pairs), to the bit, for any `floor` (m); faster when floor is
+/// a little below the plane's gap, e.g. the gap of the pair's axis at an earlier pass
+/// (hinted_plane; detect.hpp's warm start). A candidate axis is tried in common_plane's order, and
+/// one whose gap a few vertices already show at most the level is dropped without its full
+/// vertex loops: the level is the best gap so far plus the tie (common_plane keeps the best over
+/// it), or `floor` before any axis is taken. Dropping candidates below `floor` is the full
+/// search's result as long as the first axis taken clears floor + the tie (every dropped one
+/// then loses to it, and the state after it is the full search's); otherwise (or when none is
+/// taken) the full search runs. -infinity (or NaN): the plain search with the early drops.
+/// Arguments and refusals as common_plane's; no allocation beyond its scratch vectors.
+[[nodiscard]] TESSERA_INLINE contact_plane common_plane_above(const geometry::convex_polyhedron& a,
+                                                              const polyhedron_edges& edges_a,
+                                                              std::span<const geometry::plane> faces_a,
+                                                              const geometry::convex_polyhedron& b,
+                                                              const polyhedron_edges& edges_b,
+                                                              std::span<const geometry::plane> faces_b, real floor);
+
+namespace detail {
+/// common_plane's search over every candidate axis, each with its full vertex loops (the
+/// reference that common_plane_above is tested against to the bit; arguments as common_plane's).
+[[nodiscard]] TESSERA_INLINE contact_plane common_plane_every_axis(const geometry::convex_polyhedron& a,
+                                                                   const polyhedron_edges& edges_a,
+                                                                   std::span<const geometry::plane> faces_a,
+                                                                   const geometry::convex_polyhedron& b,
+                                                                   const polyhedron_edges& edges_b,
+                                                                   std::span<const geometry::plane> faces_b,
+                                                                   bool prune_edges);
+}  // namespace detail
+
 /// A lower bound (m) of common_plane(a, ..., b, ...).gap from one of its candidate axes, the one
 /// `hint` names (a face of A, a face of B, or an edge of each: the axis of the pair's plane at an
 /// earlier pass, its features being the same in the blocks' current geometry): that axis's gap,

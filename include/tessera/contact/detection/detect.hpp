@@ -14,7 +14,8 @@
 // the next pass tries it first (hinted_plane): a pair it still shows apart by more than the
 // tolerance skips the full common-plane search. The result is the same to the bit (the axis is
 // one of the search's candidates, so the search's gap is at least the axis's); a checkpoint's
-// restart or a new workspace only runs more full searches.
+// restart or a new workspace only runs more full searches. A pair the axis does not show apart
+// starts its search from the axis's gap (common_plane_above: the same plane, fewer loops).
 //
 // Cost: see docs/performance.md ("Contact detection kernels"). Allocates: each touching pair's
 // patch (three small vectors), and the result and workspace arrays when they grow (they keep

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <algorithm>
+#include <limits>
 
 #include "../detect.hpp"
 
@@ -70,6 +71,8 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
     const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
     const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
     // A kept axis that still separates the pair by more than the tolerance: not touching.
+    // Otherwise its gap (2 ties under the axis's) is the floor of the search (warm start).
+    real floor = -std::numeric_limits<real>::infinity();
     if (options.reuse_axes && w.hints[i].names_axis()) {
       w.planes[i] = hinted_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, w.hints[i]);
       if (w.planes[i].gap > options.tolerance) {
@@ -77,8 +80,9 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
         w.skipped[i] = 1;
         return;
       }
+      floor = w.planes[i].gap;
     }
-    w.planes[i] = common_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b);
+    w.planes[i] = common_plane_above(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, floor);
     w.patches[i] = w.planes[i].gap <= options.tolerance
                        ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
                        : contact_patch{};
