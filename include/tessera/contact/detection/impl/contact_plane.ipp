@@ -38,6 +38,13 @@ namespace tessera::contact::detection {
 
 namespace detail {
 
+/// A point inside p: the mean of its vertices (m; the centroid would need a volume integral).
+[[nodiscard]] inline vec3 vertex_mean(const geometry::convex_polyhedron& p) {
+  vec3 c = vec3::Zero();
+  for (const vec3& x : p.vertices()) c += x;
+  return c / static_cast<real>(p.vertex_count());
+}
+
 /// common_plane's refusals of its arguments.
 inline void require_plane_arguments(const geometry::convex_polyhedron& a, std::span<const geometry::plane> faces_a,
                                     const geometry::convex_polyhedron& b, std::span<const geometry::plane> faces_b) {
@@ -58,11 +65,7 @@ void visit_edge_axes(const geometry::convex_polyhedron& a, const polyhedron_edge
                      Visit&& visit, std::span<const std::uint8_t> skip_a = {}, std::span<const std::uint8_t> skip_b = {}) {
   const auto normal_a = [&](index_t f) -> const vec3& { return faces_a[static_cast<std::size_t>(f)].normal; };
   const auto normal_b = [&](index_t f) -> const vec3& { return faces_b[static_cast<std::size_t>(f)].normal; };
-  // A point inside A (the vertex mean; the centroid would need a volume integral) to orient the
-  // edge-pair axes outward from A.
-  vec3 ca = vec3::Zero();
-  for (const vec3& x : a.vertices()) ca += x;
-  ca /= static_cast<real>(a.vertex_count());
+  const vec3 ca = vertex_mean(a);  // to orient the edge-pair axes outward from A
   // Per edge of B, the arc of its reversed face normals c, d and d x c as columns (computed once
   // per call), so the arc test of one edge of A against all of B's runs branch-free over them.
   thread_local std::vector<real> arcs;
@@ -153,12 +156,7 @@ inline bool skip_far_edges(const geometry::convex_polyhedron& a, const polyhedro
                            const polyhedron_edges& edges_b, std::span<const geometry::plane> faces_b, real level,
                            std::vector<std::uint8_t>& skip_a, std::vector<std::uint8_t>& skip_b) {
   if (!(level > -std::numeric_limits<real>::infinity())) return false;
-  const auto mean = [](const geometry::convex_polyhedron& p) {
-    vec3 c = vec3::Zero();
-    for (const vec3& x : p.vertices()) c += x;
-    return vec3(c / static_cast<real>(p.vertex_count()));
-  };
-  const vec3 ca = mean(a), cb = mean(b);
+  const vec3 ca = vertex_mean(a), cb = vertex_mean(b);
   // The bound per edge (for B, with its reversed normals and b_u - cA: the same expression with
   // its outward ones), and how far its face normals are from normal to it.
   real delta = 0;
