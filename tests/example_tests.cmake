@@ -819,6 +819,22 @@ tessera_add_refusal_test(refuse_rc_beam_moment_zone rc_beam
 tessera_add_refusal_test(refuse_rc_beam_coupled_elastic rc_beam
   "--cohesion coupled is built with --compression plastic only" --threads 1 --quick --cohesion coupled --compression elastic)
 tessera_add_refusal_test(refuse_rc_beam_steel_yield rc_beam "--steel-yield: value '0' must be > 0" --threads 1 --steel-yield 0)
+# --failure-crack diagonal (examples/rc_beam/beam_failure_rule.hpp): the 60-block shear beam's seed 2
+# with the mixed-mode law falls 25 % below a 25.24 kN peak at 0.89 mm, at its first flexural cracks,
+# where the default rule stops it; judged by its crack (no inclined one opened since the peak) it is a
+# dip, and the run goes on to the 1.2 mm stop, the load past the dip's peak (27.85 kN; 40 s of CPU).
+tessera_add_example_test(rc_beam NAME example_rc_beam_failure_crack_dip
+  ARGS --threads 1 --no-vtk --steel-yield 1e12 --zone-edge 0.05 --rate 0.01 --blocks 60 --law mixed_mode --g-ii 70
+       --seed 2 --failure-crack diagonal --max-deflection 0.0012
+  CHECKS "failure_crack STREQUAL diagonal" "failure_reached STREQUAL OFF" "failure_deflection_m IS NULL"
+         "dip_deflections_m MATCHES ^[^,]*0[.]000[89][0-9]*[^,]*$" "end_deflection_m GREATER 1.19e-3"
+         "peak_load_N GREATER 25.3e3" "peak_deflection_m GREATER 1.0e-3"
+  TIMEOUT 900)
+tessera_add_refusal_test(refuse_rc_beam_failure_crack rc_beam "--failure-crack: invalid value 'shear'" --threads 1
+  --failure-crack shear)
+tessera_add_refusal_test(refuse_rc_beam_failure_crack_confirm rc_beam
+  "rc_beam: --failure-crack diagonal runs in one process without --failure-confirm \\(got 0.0002 m, 1 ranks\\)"
+  --threads 1 --failure-crack diagonal --failure-confirm 2e-4)
 tessera_add_refusal_test(refuse_rc_beam_steel_yield_nan rc_beam "--steel-yield: invalid value 'nan'" --threads 1 --steel-yield nan)
 # rc_beam --law slip_softening (issue #63 items 3 and 6, examples/rc_beam/beam_law.hpp): the quick
 # beam with the slip-softening set of the compression meeting (phi_0 58 deg, phi_res 15 deg, G_II

@@ -98,6 +98,15 @@ class beam_opening_history {
     }
     recent_.clear();
   }
+  /// Puts the state at deflection (m, past the grid's last snapshot) and smoothed load (N) last on
+  /// the grid (beam_failure_rule.hpp's probe, after finish(), which may have put it there already).
+  template <class Contacts>
+  void append_end(const Contacts& c, const node_set& gp, real deflection, real load) {
+    if (!deflection_.empty() && deflection <= deflection_.back()) return;
+    opening_.push_back(openings(c, gp));
+    deflection_.push_back(deflection);
+    load_.push_back(load);
+  }
   [[nodiscard]] std::size_t size() const { return opening_.size(); }
   [[nodiscard]] real deflection(std::size_t j) const { return deflection_[j]; }
   [[nodiscard]] real load(std::size_t j) const { return load_[j]; }

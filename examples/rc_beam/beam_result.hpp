@@ -35,6 +35,10 @@ struct beam_loading {
   /// above it was a transient dip and the run goes on. 0 = the first sample below stops (the rule
   /// every recorded figure was taken with).
   real failure_confirm = 0;
+  /// --failure-crack diagonal: a drop of failure_drop is the failure only when a diagonal crack
+  /// opened since the peak, else a dip and the run goes on (beam_failure_rule.hpp); false: every
+  /// drop is (the rule every recorded figure was taken with).
+  bool failure_needs_diagonal = false;
   real first_crack_only = 0;   ///< > 0: stop at this multiple of the developed-crack deflection (quick runs)
   index_t sample = 50;           ///< steps between samples
   index_t crack_every = 10;      ///< samples between crack analyses during the run
@@ -117,6 +121,9 @@ struct beam_result {
   /// The run stopped (at --max-deflection) with the load below the drop since this deflection (m),
   /// not yet held over beam_loading::failure_confirm: not a failure; -1 otherwise.
   real unconfirmed_drop_deflection = -1;
+  /// With beam_loading::failure_needs_diagonal: where the load fell failure_drop below its peak
+  /// without a diagonal crack opening since the peak (m), the drops the run went on through.
+  std::vector<real> dip_deflections;
   std::vector<beam_crack> final_cracks;  ///< cracks at the end (beam_crack_profile)
   std::vector<real> flexural_crack_positions;  ///< in the modelled constant-moment zone, m
   int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (half: mirrored)
@@ -276,6 +283,7 @@ inline void set_failure_figures(io::summary_json& js, const beam_result& r, cons
   js.set("failure_reached", r.failure_reached)
       .set("failure_deflection_m", r.failure_reached ? r.failure_deflection : none)
       .set("unconfirmed_drop_deflection_m", r.unconfirmed_drop_deflection >= 0 ? r.unconfirmed_drop_deflection : none)
+      .set("dip_deflections_m", r.dip_deflections)
       .set("peak_load_N", r.peak_load)
       .set("peak_deflection_m", r.peak_deflection)
       .set("load_at_stop_N", r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back())
@@ -307,6 +315,12 @@ inline void set_failure_figures(io::summary_json& js, const beam_result& r, cons
                   "over --failure-confirm by the stop): highest load %.2f kN at %.2f mm, %.2f kN at the stop",
                   (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop,
                   r.unconfirmed_drop_deflection * 1e3, r.peak_load * 1e-3, r.peak_deflection * 1e3,
+                  (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3);
+  else if (!r.dip_deflections.empty())
+    std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load fell %.0f %% below its peak %zu time%s, first at "
+                  "%.2f mm, without a diagonal crack: a dip): highest load %.2f kN at %.2f mm, %.2f kN at the stop",
+                  (r.deflection.empty() ? 0.0 : r.deflection.back()) * 1e3, 100 * drop, r.dip_deflections.size(),
+                  r.dip_deflections.size() == 1 ? "" : "s", r.dip_deflections.front() * 1e3, r.peak_load * 1e-3, r.peak_deflection * 1e3,
                   (r.smoothed_load.empty() ? 0.0 : r.smoothed_load.back()) * 1e-3);
   else if (confirm > 0)
     std::snprintf(buf, sizeof buf, "no failure by %.2f mm (the load never stayed %.0f %% below its peak over %.2f mm): "

@@ -28,7 +28,7 @@
 #include "rc_beam/beam_cracks.hpp"
 #include "rc_beam/beam_plates.hpp"
 #include "rc_beam/beam_relaxed.hpp"
-#include "rc_beam/beam_post_peak.hpp"
+#include "rc_beam/beam_failure_rule.hpp"
 #include "rc_beam/beam_result.hpp"
 #include "rc_beam/beam_shear.hpp"
 #include "rc_beam/beam_span.hpp"
@@ -212,6 +212,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
     }
     if (spreader) spreader->checkpoint(ar);
     checkpoint_beam_samples(ar, r);
+    if (loading.failure_needs_diagonal) ar.sized_array("beam/run/dip_deflections", r.dip_deflections);
     history.checkpoint(ar);
     ar.scalar("beam/run/window_sum", window_sum);
     ar.scalar("beam/run/max_load", max_load);
@@ -355,7 +356,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
         on_event(sv, std::string("yield"));
       }
     }
-    const bool failed = update_failure(r, loading, first_found, load, defl, max_load);
+    const bool failed = beam_failure_at_sample(r, loading, first_found, load, defl, max_load, sv.contacts(), sv.gridpoints(), history, o, hand.mean_block_size);
     const bool quick_done = loading.first_crack_only > 0 && first_found &&
                             defl >= loading.first_crack_only * r.developed_crack_deflection;
     r.failure_reached = failed;  // the last sample's: whether the run stopped at the load drop

@@ -17,9 +17,9 @@
 //   <tag>_zones.vtu, <tag>_contacts.vtp, <tag>_bar.vtp for tag = first_crack, yield, end; beam.pvd
 //   summary.json  provisional_geometry, inputs, hand values (cracking, stiffness, yield, shear: EC2 and
 //                 Zsutty), first crack, stiffness, yield, peak, cracks, energy balance, failure_reached
-//                 (the load fell by --failure-drop, held over --failure-confirm; failure_deflection_m where
-//                 it fell; without it peak_over_* are null, peak_load_N is the
-//                 highest load before the stop, load_at_stop_N the last), failure_mode (the widest
+//                 (the load fell by --failure-drop, held over --failure-confirm or, with --failure-crack diagonal,
+//                 a diagonal crack opening, else a dip: dip_deflections_m; failure_deflection_m where it fell;
+//                 without it peak_over_* are null, peak_load_N is the highest load before the stop, load_at_stop_N the last), failure_mode (the widest
 //                 crack's classification at the end, reached or not: beam_cracks.hpp),
 //                 sizes, runtime_s; model_young_Pa and hand_initial_stiffness_model_modulus_* with --params
 //                 (the file's whole concrete: beam_law.hpp load_beam_params);
@@ -68,6 +68,7 @@ struct inputs {
   tessera::scenes::beam_options beam;
   tessera::scenes::beam_loading loading;
   std::string scheme = "explicit";                    ///< explicit | relaxation (kinetic dynamic relaxation)
+  std::string failure_crack = "any";                  ///< any | diagonal (beam_failure_rule.hpp)
   std::vector<std::string> explicit_given, relax_given;  ///< flags of either scheme on the command line
   bool write_vtk = true;
   std::string params;  ///< --params FILE (calibrate --material beam), empty = the study verbatim
@@ -276,6 +277,7 @@ void write_outputs(const fs::path& out, const inputs& in, const tessera::scenes:
       .set("study_runtime_s", o.blocks == 500 ? 990 * 60.0 : 420 * 60.0)
       .set("runtime_s", r.runtime_before_resume_s + timer.seconds());
   tessera::scenes::set_failure_figures(js, r, h);
+  js.set("failure_crack", in.failure_crack);
   tessera::scenes::set_shear_figures(js, r);
   if (o.full()) tessera::scenes::set_span_figures(js, r.spans);
   // The phase times are this process's (a resumed run's from its checkpoint on): per its own steps.
@@ -436,6 +438,9 @@ int main(int argc, char** argv) {
              "sample) over this much further mid-span deflection before the run stops; a load that climbs back above it "
              "was a transient dip and the run goes on, the peak rising if the load passes it (m; 0 = the first sample "
              "below stops; summary.json failure_deflection_m: where the drop began)", "U").within(0, 0.1);
+  cli.option("--failure-crack", in.failure_crack, "any: every drop of --failure-drop is the failure; diagonal: only a "
+             "drop while a diagonal crack opens in the shear span since the peak (faster than every flexural crack), "
+             "any other drop is a dip and the run goes on (summary.json dip_deflections_m)", "any|diagonal").one_of({"any", "diagonal"});
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
@@ -456,6 +461,7 @@ int main(int argc, char** argv) {
   cli.parse_or_exit(argc, argv);
   in.write_vtk = !no_vtk;
   l.relaxation = in.scheme == "relaxation";
+  l.failure_needs_diagonal = in.failure_crack == "diagonal";
   for (const char* f : {"--rate", "--ramp", "--added-mass", "--dt", "--sample"})
     if (cli.given(f)) in.explicit_given.emplace_back(f);
   for (const char* f : {"--relax-increment", "--relax-tolerance"})
@@ -474,6 +480,8 @@ int main(int argc, char** argv) {
     if (!in.params.empty()) in.model_young = tessera::scenes::load_beam_params(in.beam, in.params, l.rate);
     tessera::scenes::check_beam_law_set(in.beam);
     tessera::scenes::check_beam_checkpoint_flags(cli, in.loading, mpi.ranks());
+    tessera::require(!l.failure_needs_diagonal || (l.failure_confirm == 0 && mpi.ranks() <= 1), "rc_beam: --failure-crack "
+                     "diagonal runs in one process without --failure-confirm (got ", l.failure_confirm, " m, ", mpi.ranks(), " ranks)");
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_beam", e);
     return 2;

@@ -1,0 +1,98 @@
+#pragma once
+// The beam's failure rule at one sample (issue #63): the default, the load --failure-drop below
+// its peak (update_failure, beam_result.hpp, with --failure-confirm), or --failure-crack diagonal:
+// a drop is the failure only when the crack that opened since the peak is a diagonal one.
+//
+// Why. On the 60-block beam with bars that cannot yield, the load can fall 25 % at the first
+// flexural cracks under the loading plate and climb back to three times as much (a transient dip),
+// while the drop at the diagonal cracking, the shear figure's event, may hold for less deflection
+// than such a dip: no window of deflection tells them apart (docs/studies/one_concrete.md, "How long
+// a drop holds"). The crack that opens as the load falls does.
+//
+// The rule. A drop is judged once, at its first sample below (1 - failure_drop) x the peak: the
+// opening history (beam_opening_history) with the present state as its last snapshot, read by
+// beam_fastest_inclined_after_peak (beam_post_peak.hpp) on each shear span. The drop is the failure
+// when that finds a diagonal crack after the peak (diagonal_crack_after_peak: an inclined crack in
+// the shear span that gained at least crack_width since the peak, opening faster than every
+// vertical crack of the constant-moment zone, while the load fell at least 5 % of the peak). Else it
+// is a dip: its deflection goes to beam_result::dip_deflections and the run goes on; the later
+// samples of the same drop are not judged again (the load must climb back above the threshold, or
+// a new peak be set, before another drop can be judged). The judgement reads only the samples and
+// the history, both in the checkpoint, so a resumed run judges as one that never stopped.
+//
+// What it sees (60-block beam, bars that cannot yield, mixed-mode law, G_II 70 J/m^2; docs/studies/
+// one_concrete.md, "Judging a drop by its crack"): seed 1's drop at 3.67 mm with a crack at x = 198 mm,
+// 37 deg, opening 0.18 mm at 9.1 mm per mm (flexural 0.12): the failure, as by the 25 % rule; seed 2's
+// dip at 0.89 mm without an inclined crack: a dip. Seed 3's drop at 3.42 mm shows no crack yet (the
+// fastest inclined one has opened 5 micrometres when the load has fallen 25 %: the contacts soften
+// before the crack opens), so it is a dip too and the beam goes on to 84.8 kN by 12 mm.
+
+#include <cstddef>
+#include <cstdio>
+#include <string>
+
+#include "rc_beam/beam_post_peak.hpp"
+#include "rc_beam/beam_result.hpp"
+
+namespace tessera::scenes {
+
+/// The diagonal crack that opened since the peak, judged at a sample of deflection defl (m) and
+/// smoothed load (N), on a copy of the history with the present state last; both shear spans of
+/// the full beam (the one with the larger opening since the peak). cell: the mean block size (m).
+template <class Contacts>
+[[nodiscard]] beam_post_peak_crack beam_crack_of_drop(const Contacts& c, const node_set& gp,
+                                                      const beam_opening_history& history, const beam_options& o,
+                                                      real cell, real crack_width, const beam_result& r, real defl,
+                                                      real load) {
+  beam_opening_history probe = history;
+  probe.finish(c, gp, defl, load, r.peak_deflection);
+  probe.append_end(c, gp, defl, load);
+  beam_post_peak_crack best =
+      beam_fastest_inclined_after_peak(c, gp, probe, o, cell, crack_width, r.peak_load, r.peak_deflection);
+  if (o.full()) {
+    const beam_post_peak_crack right =
+        beam_fastest_inclined_after_peak(c, gp, probe, o, cell, crack_width, r.peak_load, r.peak_deflection, 1);
+    if (right.diagonal && (!best.diagonal || right.opening_increase > best.opening_increase)) best = right;
+  }
+  return best;
+}
+
+/// One line on the crack read at a drop (beam_crack_of_drop): the failure or a dip, and why.
+[[nodiscard]] inline std::string beam_drop_crack_text(const beam_post_peak_crack& k) {
+  if (!k.found) return "no inclined crack in the shear span opened since the peak: a dip, the run goes on";
+  char buf[320];
+  std::snprintf(buf, sizeof buf, "the fastest inclined crack since the peak, x = %.0f mm at %.0f deg, opened %.3f mm at "
+                "%.2f mm per mm of deflection (the flexural cracks' fastest %.2f) while the load fell %.2f kN: %s",
+                k.x * 1e3, k.angle_deg, k.opening_increase * 1e3, k.opening_rate, k.flexural_opening_rate,
+                k.load_drop * 1e-3, k.diagonal ? "diagonal, the failure" : "not diagonal, a dip: the run goes on");
+  return buf;
+}
+
+/// The failure rule at one sample (file comment): r holds this sample last (load N, defl m),
+/// max_load the peak so far (N), first_found whether the first flexural crack was found. Returns
+/// whether the run failed here; with loading.failure_needs_diagonal a drop judged a dip is added to
+/// r.dip_deflections.
+template <class Contacts>
+[[nodiscard]] bool beam_failure_at_sample(beam_result& r, const beam_loading& loading, bool first_found, real load,
+                                          real defl, real max_load, const Contacts& c, const node_set& gp,
+                                          const beam_opening_history& history, const beam_options& o, real cell) {
+  if (!loading.failure_needs_diagonal) return update_failure(r, loading, first_found, load, defl, max_load);
+  const real threshold = (1 - loading.failure_drop) * max_load;
+  if (!first_found || load >= threshold || defl <= r.peak_deflection) return false;
+  // Judged already at the drop's first sample (a dip, or the run would have stopped there).
+  const std::size_t n = r.deflection.size();
+  if (n >= 2 && r.smoothed_load[n - 2] < threshold && r.deflection[n - 2] > r.peak_deflection) return false;
+  const beam_post_peak_crack k = beam_crack_of_drop(c, gp, history, o, cell, loading.crack_width, r, defl, load);
+  if (loading.progress)  // the reading, beside the progress line: what the rule saw
+    std::fprintf(stderr, "\nrc_beam: the load fell %.0f %% below its peak (%.2f kN at %.3f mm) at %.3f mm: %s\n",
+                 100 * loading.failure_drop, r.peak_load * 1e-3, r.peak_deflection * 1e3, defl * 1e3,
+                 beam_drop_crack_text(k).c_str());
+  if (k.diagonal) {
+    r.failure_deflection = defl;
+    return true;
+  }
+  r.dip_deflections.push_back(defl);
+  return false;
+}
+
+}  // namespace tessera::scenes
