@@ -821,8 +821,9 @@ tessera_add_refusal_test(refuse_rc_beam_coupled_elastic rc_beam
 tessera_add_refusal_test(refuse_rc_beam_steel_yield rc_beam "--steel-yield: value '0' must be > 0" --threads 1 --steel-yield 0)
 # --failure-crack diagonal (examples/rc_beam/beam_failure_rule.hpp): the 60-block shear beam's seed 2
 # with the mixed-mode law falls 25 % below a 25.24 kN peak at 0.89 mm, at its first flexural cracks,
-# where the default rule stops it; judged by its crack (no inclined one opened since the peak) it is a
-# dip, and the run goes on to the 1.2 mm stop, the load past the dip's peak (27.85 kN; 40 s of CPU).
+# where the default rule stops it; judged by what broke (no inclined crack opened since the peak, and
+# the band that softened lies in the constant-moment zone) it is a dip, and the run goes on to the
+# 1.2 mm stop, the load past the dip's peak (27.85 kN; 40 s of CPU).
 tessera_add_example_test(rc_beam NAME example_rc_beam_failure_crack_dip
   ARGS --threads 1 --no-vtk --steel-yield 1e12 --zone-edge 0.05 --rate 0.01 --blocks 60 --law mixed_mode --g-ii 70
        --seed 2 --failure-crack diagonal --max-deflection 0.0012
@@ -830,6 +831,8 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_failure_crack_dip
          "dip_deflections_m MATCHES ^[^,]*0[.]000[89][0-9]*[^,]*$" "end_deflection_m GREATER 1.19e-3"
          "peak_load_N GREATER 25.3e3" "peak_deflection_m GREATER 1.0e-3"
   TIMEOUT 900)
+tessera_add_refusal_test(refuse_calibrate_shear_failure_crack calibrate "--shear-failure-crack: invalid value 'diag'"
+  --targets shear --shear-failure-crack diag)
 tessera_add_refusal_test(refuse_rc_beam_failure_crack rc_beam "--failure-crack: invalid value 'shear'" --threads 1
   --failure-crack shear)
 tessera_add_refusal_test(refuse_rc_beam_failure_crack_confirm rc_beam

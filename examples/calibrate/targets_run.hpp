@@ -130,6 +130,7 @@ inline void write_target_outputs(const std::filesystem::path& out, const targets
       .set("compression_blocks", o.compression.blocks).set("compression_step_m", o.compression.step_displacement)
       .set("shear_blocks", o.shear.blocks).set("shear_zone_edge_m", o.shear.zone_edge).set("shear_rate_m_per_s", o.shear.rate)
       .set("shear_max_deflection_m", o.shear.max_deflection)
+      .set("shear_failure_crack", std::string(o.shear.failure_needs_diagonal ? "diagonal" : "any"))
       .set("holdout_met_count", met).set("residual_count", static_cast<int>(held.values.size()))
       .set("runtime_s", runtime_s);
   summary.write(out / "summary.json");
@@ -193,8 +194,12 @@ inline int run_targets_main(int argc, char** argv) {
   cli.option("--shear-blocks", o.shear.blocks, "shear: blocks of the half beam (rc_beam --blocks)", "N").within(8, 500);
   cli.option("--shear-max-deflection", o.shear.max_deflection, "shear: the last mid-span deflection (m); a beam that "
              "has not failed by here has not reached its event", "U").within(1e-4, 0.05);
+  std::string shear_failure_crack = "any";
+  cli.option("--shear-failure-crack", shear_failure_crack, "shear: any (every 25 % drop is the failure) or diagonal "
+             "(only a drop as a shear crack or band breaks: rc_beam --failure-crack)", "any|diagonal").one_of({"any", "diagonal"});
   cli.option("--step-displacement", o.tension_step, "travel per step (m) of every scene", "DU").within(1e-10, 1e-7);
   cli.parse_or_exit(argc, argv);
+  o.shear.failure_needs_diagonal = shear_failure_crack == "diagonal";
   o.quick = common.quick;
   if (common.quick) {
     if (!cli.given("--seeds")) o.seeds = 1;

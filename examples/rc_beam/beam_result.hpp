@@ -124,6 +124,7 @@ struct beam_result {
   /// With beam_loading::failure_needs_diagonal: where the load fell failure_drop below its peak
   /// without a diagonal crack opening since the peak (m), the drops the run went on through.
   std::vector<real> dip_deflections;
+  std::vector<float> damage_at_peak;  ///< with failure_needs_diagonal: each sub-contact's tensile damage at the peak
   std::vector<beam_crack> final_cracks;  ///< cracks at the end (beam_crack_profile)
   std::vector<real> flexural_crack_positions;  ///< in the modelled constant-moment zone, m
   int flexural_cracks = 0;               ///< in the whole beam's constant-moment zone (half: mirrored)

@@ -212,7 +212,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
     }
     if (spreader) spreader->checkpoint(ar);
     checkpoint_beam_samples(ar, r);
-    if (loading.failure_needs_diagonal) ar.sized_array("beam/run/dip_deflections", r.dip_deflections);
+    checkpoint_failure_rule(ar, loading, r);
     history.checkpoint(ar);
     ar.scalar("beam/run/window_sum", window_sum);
     ar.scalar("beam/run/max_load", max_load);

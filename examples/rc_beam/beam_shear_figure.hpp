@@ -3,7 +3,7 @@
 // that cannot yield, run by the scene code rc_beam runs (make_beam, run_beam), so that
 //
 //   rc_beam --steel-yield 1e12 --zone-edge 0.05 --rate 0.01 --max-deflection 0.012 --threads 1 --no-vtk
-//           --blocks 60 [the concrete's law flags] --seed S
+//           --blocks 60 [the concrete's law flags] [--failure-crack diagonal] --seed S
 //
 // and calibrate --targets shear (calibrate/targets.hpp) give the same peak to the bit. The figure is
 // P at failure (the smoothed load 25 % below its peak, summary.json failure_reached; peak_load_N)
@@ -32,6 +32,9 @@ struct shear_figure_options {
   real rate = 0.01;             ///< loading plate velocity (m/s; rc_beam --rate)
   real max_deflection = 0.012;  ///< the last mid-span deflection (m): no failure by here = event not reached
   real steel_yield = 1e12;      ///< the bars' f_y (Pa): bars that cannot yield
+  /// rc_beam --failure-crack diagonal: a drop is the failure only when a shear crack or band broke
+  /// since the peak, else a dip and the run goes on (beam_failure_rule.hpp); false: every drop is.
+  bool failure_needs_diagonal = false;
   int threads = 1;
 };
 
@@ -64,6 +67,7 @@ struct shear_figure {
   l.rate = s.rate;
   l.max_deflection = s.max_deflection;
   l.threads = s.threads;
+  l.failure_needs_diagonal = s.failure_needs_diagonal;
   l.progress = false;
   return l;
 }
