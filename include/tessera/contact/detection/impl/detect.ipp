@@ -76,16 +76,18 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
     if (options.reuse_axes && w.hints[i].names_axis()) {
       w.planes[i] = hinted_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, w.hints[i]);
       if (w.planes[i].gap > options.tolerance) {
-        w.patches[i] = contact_patch{};
+        w.patches[i].clear();
         w.skipped[i] = 1;
         return;
       }
       floor = w.planes[i].gap;
     }
     w.planes[i] = common_plane_above(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, floor);
-    w.patches[i] = w.planes[i].gap <= options.tolerance
-                       ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
-                       : contact_patch{};
+    // (Each slot's patch is written in place, its vectors' capacity kept: none is allocated.)
+    if (w.planes[i].gap <= options.tolerance)
+      contact_patch_into(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b, w.patches[i]);
+    else
+      w.patches[i].clear();
   }, 16);
   // The kept axes, merged in pair order: this pass's candidates with this pass's plane's axis
   // (those of another part: the axis they had), and the kept pairs of two unmarked blocks or
