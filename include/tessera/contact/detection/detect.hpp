@@ -19,8 +19,9 @@
 //
 // Cost: see docs/performance.md ("Contact detection kernels"). Allocates only when an array
 // grows: the result's and the workspace's, each candidate slot's patch and each thread's patch
-// scratch (contact_patch_into); they keep their capacity between passes. A pass runs at rebuilds
-// only, never in the step loop.
+// scratch (contact_patch_into); they keep their capacity between passes. The narrow phase hands
+// the pairs to the threads in runs of 16 as they come free (parallel_for_dynamic). A pass runs
+// at rebuilds only, never in the step loop.
 
 #include <cmath>
 #include <cstdint>
