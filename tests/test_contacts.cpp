@@ -1481,6 +1481,64 @@ TEST_CASE("detection: the pruned edge-pair search keeps the separation test and 
   CHECK(separated < 1900);
 }
 
+TEST_CASE("detection: a contact patch written into a used slot with the thread's used scratch is the fresh one to the bit",
+          "[detection]") {
+  // contact_patch_into reuses its output's vectors and a per-thread scratch (touching points,
+  // hulls, facing faces): a value left over from the pair before must never reach a patch. The
+  // same 400 random pairs, in one order into one slot, then in reverse order each into a new
+  // patch: the same corners, gaps, areas and labels to the bit.
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<real> u(-1, 1);
+  const auto random_block = [&] {
+    convex_polyhedron p = convex_polyhedron::box(vec3(-0.5, -0.4, -0.3), vec3(0.5, 0.4, 0.3));
+    for (int k = 0; k < 1 + static_cast<int>(4 * (u(rng) + 1)); ++k) {  // 1-8 random corners cut off
+      const vec3 n = vec3(u(rng), u(rng), u(rng)).normalized();
+      p.clip(geometry::plane{n, 0.25 + 0.1 * u(rng)}, 100 + k);
+    }
+    const vec3 axis = vec3(u(rng), u(rng), u(rng)).normalized();
+    return p.transformed(rotation_about(axis, std::numbers::pi * u(rng)), vec3::Zero());
+  };
+  struct trial {
+    convex_polyhedron a, b;
+    detection::contact_plane plane;
+  };
+  std::vector<trial> trials;
+  while (trials.size() < 400) {
+    convex_polyhedron a = random_block(), b0 = random_block();
+    const vec3 direction = vec3(u(rng), u(rng), u(rng)).normalized();
+    convex_polyhedron b = b0.transformed(mat3::Identity(), direction * (0.5 + 0.6 * (u(rng) + 1) / 2));
+    const auto plane = detection::common_plane(a, b);
+    if (plane.gap < 0.02) trials.push_back({std::move(a), std::move(b), plane});
+  }
+  const auto same = [](const detection::contact_patch& x, const detection::contact_patch& y) {
+    return x.type == y.type && x.points.size() == y.points.size() && x.gap == y.gap && x.area == y.area &&
+           x.label == y.label && x.total_area == y.total_area &&
+           std::memcmp(x.points.data(), y.points.data(), x.points.size() * sizeof(vec3)) == 0;
+  };
+  std::vector<detection::contact_patch> first(trials.size());
+  detection::contact_patch slot;
+  int kinds[4] = {0, 0, 0, 0};
+  for (std::size_t t = 0; t < trials.size(); ++t) {
+    std::vector<geometry::plane> fa, fb;
+    detection::append_face_planes(trials[t].a, fa);
+    detection::append_face_planes(trials[t].b, fb);
+    detection::contact_patch_into(trials[t].a, trials[t].b, trials[t].plane, 0.05, fa, fb, slot);
+    first[t] = slot;
+    ++kinds[static_cast<int>(slot.type)];
+    CHECK(slot.gap.size() == slot.points.size());
+    CHECK(slot.area.size() == slot.points.size());
+    CHECK(slot.label.size() == slot.points.size());
+  }
+  int differ = 0;
+  for (std::size_t t = trials.size(); t-- > 0;)
+    differ += same(first[t], detection::contact_patch_of(trials[t].a, trials[t].b, trials[t].plane, 0.05)) ? 0 : 1;
+  CHECK(differ == 0);
+  INFO(kinds[1] << " points, " << kinds[2] << " segments, " << kinds[3] << " polygons, " << kinds[0] << " none");
+  CHECK(kinds[1] > 50);  // (149 points, 177 segments, 74 polygons with this seed)
+  CHECK(kinds[2] > 50);
+  CHECK(kinds[3] > 50);
+}
+
 TEST_CASE("detection broad phase: sweep and prune and the uniform grid give the all-pairs list", "[detection]") {
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<real> u(0, 1);

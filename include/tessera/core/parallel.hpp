@@ -59,6 +59,22 @@ void parallel_for(std::int64_t n, F&& f, std::int64_t grain = 256) {
   for (std::int64_t i = 0; i < n; ++i) f(i);
 }
 
+/// parallel_for for items of uneven cost (a detection pass's candidate pairs: some cost a kept
+/// axis's test, some a full search): the threads take runs of `chunk` items as they finish their
+/// last, rather than one fixed share each. f must only write to state owned by index i (so the
+/// results do not depend on which thread ran which item). Serial below 2 x chunk or one thread.
+template <class F>
+void parallel_for_dynamic(std::int64_t n, F&& f, std::int64_t chunk = 16) {
+#if defined(_OPENMP)
+  if (n >= 2 * chunk && omp_get_max_threads() > 1) {
+#pragma omp parallel for schedule(dynamic, chunk)
+    for (std::int64_t i = 0; i < n; ++i) f(i);
+    return;
+  }
+#endif
+  (void)chunk;
+  for (std::int64_t i = 0; i < n; ++i) f(i);
+}
 /// Two independent loops of a step in ONE parallel region (one fork/join instead of two): each
 /// thread gets its share of [0, n) as one contiguous range, f(begin, end) (thread t of T:
 /// [n t / T, n (t + 1) / T)), so f can prepare per-range data (say, the block rotations its items

@@ -33,7 +33,7 @@
 // of their last plane still shows apart skip the full common-plane search (detect.hpp,
 // reuse_axes: about two thirds of them in the rubble scene); the rest of a rebuild is
 // O(blocks + sub-contacts) with small constants: each block's current shape and box (into its own
-// storage), the broad phase (every box's cells scanned, only the cells a moved block reaches binned,
+// storage, the blocks in parallel: place_blocks), the broad phase (every box's cells scanned, only the cells a moved block reaches binned,
 // only the pairs with a moved block tested), the kept pairs' columns copied in runs (their keys,
 // areas and stiffness terms of the step bound with them; the merge of the states visits the old
 // pairs and only the sub-contacts of those detected again), the tasks and gather slots. No
@@ -45,6 +45,7 @@
 #include <vector>
 
 #include "../../core/nodes.hpp"
+#include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
 #include "../detection/broad_phase.hpp"
 
@@ -101,6 +102,29 @@ struct pair_poses {
     return std::min(over_a, over_b);
   }
 };
+
+/// Each block's pose this rebuild (pose_of(b, R, t) sets them) into pp.block_rot and block_shift,
+/// and its current shape R X + t (assign_transformed, into its own storage) with its box, in
+/// parallel (each block writes its own). A pose assign_transformed refuses is refused after the
+/// loop, in block order, as a serial loop would refuse it.
+template <class Shapes, class Boxes, class PoseOf>
+void place_blocks(pair_poses& pp, const Shapes& shapes, Shapes& current, Boxes& boxes, PoseOf&& pose_of) {
+  pp.block_rot.resize(shapes.size());
+  pp.block_shift.resize(shapes.size());
+  const auto refused = [&](std::size_t b) {
+    const mat3& r = pp.block_rot[b];
+    return !(r.allFinite() && r.determinant() > 0 && pp.block_shift[b].allFinite());
+  };
+  parallel_for(static_cast<std::int64_t>(shapes.size()), [&](std::int64_t k) {
+    const auto b = static_cast<std::size_t>(k);
+    pose_of(b, pp.block_rot[b], pp.block_shift[b]);
+    if (refused(b)) return;
+    current[b].assign_transformed(shapes[b], pp.block_rot[b], pp.block_shift[b]);
+    boxes[b] = current[b].bounds();
+  }, 64);
+  for (std::size_t b = 0; b < shapes.size(); ++b)
+    if (refused(b)) current[b].assign_transformed(shapes[b], pp.block_rot[b], pp.block_shift[b]);  // (throws)
+}
 
 /// Each shape's vertex mean and its vertices' largest distance from it (the spheres of pair_poses).
 template <class Shapes>

@@ -82,27 +82,20 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   redetected_ += std::count(redetect_.begin(), redetect_.end(), 1);
   const auto changed = [&](index_t a, index_t b) { return redetect_[at(a)] != 0 || redetect_[at(b)] != 0; };
   detail::pair_poses& pp = poses_;
-  pp.block_rot.resize(at(n_b));
-  pp.block_shift.resize(at(n_b));
-  real deviation = 0;
-  for (index_t b = 0; b < n_b; ++b) {
-    const block_data& bd = blocks_[at(b)];
-    const mat3 map = rotation(bd, gp);
-    const vec3 translation = position(bd.frame[0], gp) - map * shapes_[at(b)].vertex(0);
-    current_[at(b)].assign_transformed(shapes_[at(b)], map, translation);  // (in its own storage)
-    pp.block_rot[at(b)] = map;
-    pp.block_shift[at(b)] = translation;
-    boxes_[at(b)] = current_[at(b)].bounds();
-    // A deformable block is detected by its affine fit (the frame's map of its reference
-    // shape): how far its surface gridpoints are from it.
-    if (options_.deformable_blocks)
-      for (index_t w = bd.watch_begin; w < bd.watch_end; ++w) {
+  detail::place_blocks(pp, shapes_, current_, boxes_, [&](std::size_t b, mat3& map, vec3& translation) {
+    map = rotation(blocks_[b], gp);
+    translation = position(blocks_[b].frame[0], gp) - map * shapes_[b].vertex(0);
+  });
+  // A deformable block is detected by its affine fit (the frame's map of its reference shape):
+  // how far its surface gridpoints are from it.
+  if (options_.deformable_blocks) {
+    real deviation = 0;
+    for (index_t b = 0; b < n_b; ++b)
+      for (index_t w = blocks_[at(b)].watch_begin; w < blocks_[at(b)].watch_end; ++w) {
         const index_t g = watch_gridpoints_[at(w)];
-        const vec3 fit = map * reference_.row(g).transpose() + translation;
+        const vec3 fit = pp.block_rot[at(b)] * reference_.row(g).transpose() + pp.block_shift[at(b)];
         deviation = std::max(deviation, (position(g, gp) - fit).norm());
       }
-  }
-  if (options_.deformable_blocks) {
     require<geometry_error>(deviation <= max_deviation_fraction * options_.tolerance,
                             "detected_contacts: a deformable block's surface lies ", deviation,
                             " m from its affine fit, more than ", max_deviation_fraction,

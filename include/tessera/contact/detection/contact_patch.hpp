@@ -18,8 +18,9 @@
 // joins the patch too, so a corner's gap can exceed the plane's by up to one tolerance per block
 // (such a corner carries force only once it closes); no corner's gap is below the plane's.
 //
-// Cost: contact_patch_of O(V_A + V_B + F_A + F_B) per corner; it allocates its result and a few
-// small vectors (the touching points and their hulls). A pure function of its inputs:
+// Cost: contact_patch_of O(V_A + V_B + F_A + F_B) per pair and O(V_A + V_B + the faces facing
+// along n) per corner; contact_patch_into allocates nothing once its output's and its thread's
+// scratch (the touching points and their hulls) have grown. A pure function of its inputs:
 // deterministic, thread-safe.
 
 #include <algorithm>
@@ -52,6 +53,15 @@ struct contact_patch {
   /// keeps its label while the blocks move, so a detecting set keys its law state by it.
   std::vector<std::uint64_t> label;
   real total_area = 0;       ///< area of the polygon (m^2)
+  /// No contact (type none, no corners); the vectors keep their capacity.
+  void clear() {
+    type = patch_type::none;
+    points.clear();
+    gap.clear();
+    area.clear();
+    label.clear();
+    total_area = 0;
+  }
 };
 
 /// Labels of patch corners (contact_patch::label): the top two bits give the kind, the rest the
@@ -74,13 +84,24 @@ inline constexpr index_t max_vertices = (index_t{1} << id_bits) - 1;  ///< large
 }  // namespace corner_label
 
 /// The contact patch of A and B on `plane` (common_plane's result), with vertices within
-/// `tolerance` (m, > 0) of either block's supporting plane counted as touching. An empty patch
-/// (type none) when the touching sets do not overlap on the plane. `faces_a`, `faces_b`: the
-/// blocks' face planes (append_face_planes); a list of another size is refused.
-[[nodiscard]] TESSERA_INLINE contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
-                                                            const contact_plane& plane, real tolerance,
-                                                            std::span<const geometry::plane> faces_a,
-                                                            std::span<const geometry::plane> faces_b);
+/// `tolerance` (m, > 0) of either block's supporting plane counted as touching, written into `out`
+/// (its vectors keep their capacity: a detection pass reuses each slot's). An empty patch (type
+/// none) when the touching sets do not overlap on the plane. `faces_a`, `faces_b`: the blocks'
+/// face planes (append_face_planes); a list of another size is refused. Its scratch (the touching
+/// points, their hulls) is the calling thread's own, kept between calls.
+TESSERA_INLINE void contact_patch_into(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                       const contact_plane& plane, real tolerance, std::span<const geometry::plane> faces_a,
+                                       std::span<const geometry::plane> faces_b, contact_patch& out);
+
+/// The contact patch of A and B (contact_patch_into), returned.
+[[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                                    const contact_plane& plane, real tolerance,
+                                                    std::span<const geometry::plane> faces_a,
+                                                    std::span<const geometry::plane> faces_b) {
+  contact_patch out;
+  contact_patch_into(a, b, plane, tolerance, faces_a, faces_b, out);
+  return out;
+}
 
 /// Overload that computes the face planes (for one-off queries and tests).
 [[nodiscard]] inline contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,

@@ -17,9 +17,11 @@
 // restart or a new workspace only runs more full searches. A pair the axis does not show apart
 // starts its search from the axis's gap (common_plane_above: the same plane, fewer loops).
 //
-// Cost: see docs/performance.md ("Contact detection kernels"). Allocates: each touching pair's
-// patch (three small vectors), and the result and workspace arrays when they grow (they keep
-// their capacity between passes). A pass runs at rebuilds only, never in the step loop.
+// Cost: see docs/performance.md ("Contact detection kernels"). Allocates only when an array
+// grows: the result's and the workspace's, each candidate slot's patch and each thread's patch
+// scratch (contact_patch_into); they keep their capacity between passes. The narrow phase hands
+// the pairs to the threads in runs of 16 as they come free (parallel_for_dynamic). A pass runs
+// at rebuilds only, never in the step loop.
 
 #include <cmath>
 #include <cstdint>

@@ -9,15 +9,37 @@
 namespace tessera::contact::detection {
 namespace detail {
 
-/// Parameter t where the line x + t n leaves a convex polyhedron with outward face planes
-/// `faces`: the least bound of the faces facing along n; +inf if none does.
-[[nodiscard]] inline real exit_along(std::span<const geometry::plane> faces, const vec3& x, const vec3& n) {
+/// A face plane of a block that faces along the patch's normal: its plane and c = normal . n.
+struct facing_plane {
+  geometry::plane plane;
+  real c;
+};
+/// The faces of `faces` facing along n (c = normal . n > 1e-12), in order, into `out`.
+inline void facing_along(std::span<const geometry::plane> faces, const vec3& n, std::vector<facing_plane>& out) {
+  out.clear();
+  for (const geometry::plane& f : faces)
+    if (const real c = f.normal.dot(n); c > 1e-12) out.push_back({f, c});
+}
+/// Parameter t where the line x + t n leaves a convex polyhedron whose faces facing along n are
+/// `facing` (facing_along): the least bound of those faces; +inf if none faces along n.
+[[nodiscard]] inline real exit_along(std::span<const facing_plane> facing, const vec3& x) {
   real t = std::numeric_limits<real>::infinity();
-  for (const geometry::plane& f : faces) {
-    const real c = f.normal.dot(n);
-    if (c > 1e-12) t = std::min(t, (f.offset - f.normal.dot(x)) / c);
-  }
+  for (const facing_plane& f : facing) t = std::min(t, (f.plane.offset - f.plane.normal.dot(x)) / f.c);
   return t;
+}
+
+/// Buffers of contact_patch_into, kept per thread between pairs (no allocation once grown).
+struct patch_scratch {
+  std::vector<point2> pa, pb, hull_a, hull_b, patch;
+  std::vector<index_t> ids_a, ids_b;  // vertex id of each touching point
+  std::vector<real> dots;  // n . x of each vertex of a block
+  std::vector<facing_plane> facing_a, facing_b;
+  polygon_scratch polygons;
+};
+/// This thread's patch_scratch.
+[[nodiscard]] inline patch_scratch& thread_patch_scratch() {
+  thread_local patch_scratch s;
+  return s;
 }
 
 /// Index of the point nearest to q (the first of equals).
@@ -32,15 +54,21 @@ namespace detail {
   return ids[nearest_point(h, points)];
 }
 
-/// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
-/// (within 1e-6 of the hull's size); else the crossing of the nearest hull edges of A and B.
-[[nodiscard]] TESSERA_INLINE std::uint64_t label_corner(const point2& q, const std::vector<point2>& pa, const std::vector<index_t>& ids_a,
-                                                        const std::vector<point2>& hull_a, const std::vector<point2>& pb,
-                                                        const std::vector<index_t>& ids_b, const std::vector<point2>& hull_b) {
+/// The distance within which a patch corner lies on a touching vertex: 1e-6 of the hulls' size
+/// (the largest distance of a hull corner from the hull's first).
+[[nodiscard]] inline real on_vertex_distance(const std::vector<point2>& hull_a, const std::vector<point2>& hull_b) {
   real size = 0;
   for (const point2& h : hull_a) size = std::max(size, (h - hull_a.front()).norm());
   for (const point2& h : hull_b) size = std::max(size, (h - hull_b.front()).norm());
-  const real on = 1e-6 * std::max(size, std::numeric_limits<real>::min());
+  return 1e-6 * std::max(size, std::numeric_limits<real>::min());
+}
+
+/// corner_label of patch corner q: the nearest touching vertex of A, else of B, when q lies on it
+/// (within `on`, on_vertex_distance); else the crossing of the nearest hull edges of A and B.
+[[nodiscard]] TESSERA_INLINE std::uint64_t label_corner(const point2& q, real on, const std::vector<point2>& pa,
+                                                        const std::vector<index_t>& ids_a, const std::vector<point2>& hull_a,
+                                                        const std::vector<point2>& pb, const std::vector<index_t>& ids_b,
+                                                        const std::vector<point2>& hull_b) {
   if (const std::size_t i = nearest_point(q, pa); (pa[i] - q).norm() <= on) return corner_label::vertex_a(ids_a[i]);
   if (const std::size_t i = nearest_point(q, pb); (pb[i] - q).norm() <= on) return corner_label::vertex_b(ids_b[i]);
   // The hull edge (i, i + 1) nearest to q; a 1- or 2-point hull is its own edge.
@@ -70,51 +98,61 @@ namespace detail {
 
 namespace tessera::contact::detection {
 
-[[nodiscard]] TESSERA_INLINE contact_patch contact_patch_of(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
-                                                            const contact_plane& plane, real tolerance,
-                                                            std::span<const geometry::plane> faces_a,
-                                                            std::span<const geometry::plane> faces_b) {
+TESSERA_INLINE void contact_patch_into(const geometry::convex_polyhedron& a, const geometry::convex_polyhedron& b,
+                                       const contact_plane& plane, real tolerance, std::span<const geometry::plane> faces_a,
+                                       std::span<const geometry::plane> faces_b, contact_patch& out) {
   require(std::isfinite(tolerance) && tolerance > 0, "detection: contact tolerance = ", tolerance,
           " m must be finite and > 0");
   require(faces_a.size() == static_cast<std::size_t>(a.face_count()) && faces_b.size() == static_cast<std::size_t>(b.face_count()),
           "detection: contact_patch_of given ", faces_a.size(), " and ", faces_b.size(), " face planes for polyhedra of ",
           a.face_count(), " and ", b.face_count(), " faces");
+  require(a.vertex_count() <= corner_label::max_vertices && b.vertex_count() <= corner_label::max_vertices,
+          "detection: polyhedra of ", a.vertex_count(), " and ", b.vertex_count(), " vertices; at most ",
+          corner_label::max_vertices, " are supported");
+  out.clear();
+  detail::patch_scratch& s = detail::thread_patch_scratch();
   const vec3 n = plane.normal;
   // Frame of the plane.
   const vec3 t1 = (std::abs(n.x()) < 0.9 ? vec3::UnitX() : vec3::UnitY()).cross(n).normalized();
   const vec3 t2 = n.cross(t1);
   const auto to2 = [&](const vec3& x) { return detail::point2(t1.dot(x), t2.dot(x)); };
-  const real max_a = detail::support_max(a, n), min_b = detail::support_min(b, n);
-  require(a.vertex_count() <= corner_label::max_vertices && b.vertex_count() <= corner_label::max_vertices,
-          "detection: polyhedra of ", a.vertex_count(), " and ", b.vertex_count(), " vertices; at most ",
-          corner_label::max_vertices, " are supported");
-  std::vector<detail::point2> pa, pb;
-  std::vector<index_t> ids_a, ids_b;  // vertex id of each touching point
-  for (index_t v = 0; v < a.vertex_count(); ++v)
-    if (n.dot(a.vertex(v)) >= max_a - tolerance) {
-      pa.push_back(to2(a.vertex(v)));
-      ids_a.push_back(v);
-    }
-  for (index_t v = 0; v < b.vertex_count(); ++v)
-    if (n.dot(b.vertex(v)) <= min_b + tolerance) {
-      pb.push_back(to2(b.vertex(v)));
-      ids_b.push_back(v);
-    }
+  // The touching vertices of each block (n . x within the tolerance of its extreme: support_max,
+  // support_min), each n . x computed once.
+  const auto touching = [&](const geometry::convex_polyhedron& p, real sign, std::vector<detail::point2>& pts,
+                            std::vector<index_t>& ids) {
+    const std::vector<vec3>& x = p.vertices();
+    s.dots.resize(x.size());
+    const vec3 m = sign * n;  // (n, or -n as support_min reads it)
+    real extreme = -std::numeric_limits<real>::infinity();
+    for (std::size_t v = 0; v < x.size(); ++v) extreme = std::max(extreme, s.dots[v] = m.dot(x[v]));
+    pts.clear();
+    ids.clear();
+    for (std::size_t v = 0; v < x.size(); ++v)
+      if (s.dots[v] >= extreme - tolerance) {
+        pts.push_back(to2(x[v]));
+        ids.push_back(static_cast<index_t>(v));
+      }
+  };
+  touching(a, 1, s.pa, s.ids_a);
+  touching(b, -1, s.pb, s.ids_b);
   const real tol2 = 1e-9 * std::max(a.extent(), b.extent());
-  const std::vector<detail::point2> hull_a = detail::hull2(pa, tol2), hull_b = detail::hull2(pb, tol2);
-  const std::vector<detail::point2> patch = detail::intersect_hulls(hull_a, hull_b, tol2);
-
-  contact_patch out;
-  if (patch.empty()) return out;
+  detail::hull2_into(s.pa, tol2, s.polygons, s.hull_a);
+  detail::hull2_into(s.pb, tol2, s.polygons, s.hull_b);
+  detail::intersect_hulls_into(s.hull_a, s.hull_b, tol2, s.polygons, s.patch);
+  const std::vector<detail::point2>& patch = s.patch;
+  if (patch.empty()) return;
   out.type = patch.size() == 1 ? patch_type::point : patch.size() == 2 ? patch_type::segment : patch_type::polygon;
+  detail::facing_along(faces_a, n, s.facing_a);
+  detail::facing_along(faces_b, -n, s.facing_b);
+  const real on = detail::on_vertex_distance(s.hull_a, s.hull_b);
   for (const detail::point2& q : patch) {
     const vec3 x = plane.offset * n + q.x() * t1 + q.y() * t2;
     // The line x + t n leaves A at t_a and enters B at t_b (B's entry along n is its exit along -n).
-    const real t_a = detail::exit_along(faces_a, x, n);
-    const real t_b = -detail::exit_along(faces_b, x, -n);
+    const real t_a = detail::exit_along(s.facing_a, x);
+    const real t_b = -detail::exit_along(s.facing_b, x);
     out.points.push_back(x);
     out.gap.push_back(t_b - t_a);
-    out.label.push_back(detail::label_corner(q, pa, ids_a, hull_a, pb, ids_b, hull_b));
+    out.label.push_back(detail::label_corner(q, on, s.pa, s.ids_a, s.hull_a, s.pb, s.ids_b, s.hull_b));
   }
   out.area.assign(patch.size(), 0.0);
   if (out.type == patch_type::polygon) {
@@ -136,7 +174,6 @@ namespace tessera::contact::detection {
       out.total_area += tri;
     }
   }
-  return out;
 }
 
 }  // namespace tessera::contact::detection

@@ -54,7 +54,7 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   w.face_first.assign(1, 0);
   for (const geometry::convex_polyhedron& p : blocks) w.face_first.push_back(w.face_first.back() + p.face_count());
   w.faces.resize(static_cast<std::size_t>(w.face_first.back()));
-  parallel_for(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {
+  parallel_for_dynamic(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {  // (the marked blocks cluster)
     const auto b = static_cast<std::size_t>(k);
     if (w.needs_faces[b] == 0) return;
     for (index_t f = 0; f < blocks[b].face_count(); ++f)
@@ -66,7 +66,9 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   w.planes.resize(n);
   w.patches.resize(n);
   w.skipped.assign(options.reuse_axes ? n : 0, 0);
-  parallel_for(static_cast<std::int64_t>(last - first), [&](std::int64_t k) {
+  // (Pairs cost a kept axis's test or a full search and the costly ones cluster by block: the
+  // threads take runs of 16 pairs as they come free.)
+  parallel_for_dynamic(static_cast<std::int64_t>(last - first), [&](std::int64_t k) {
     const auto i = first + static_cast<std::size_t>(k);
     const auto a = static_cast<std::size_t>(w.candidates[i].a), b = static_cast<std::size_t>(w.candidates[i].b);
     const auto faces_a = w.faces_of(a), faces_b = w.faces_of(b);
@@ -76,16 +78,18 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
     if (options.reuse_axes && w.hints[i].names_axis()) {
       w.planes[i] = hinted_plane(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, w.hints[i]);
       if (w.planes[i].gap > options.tolerance) {
-        w.patches[i] = contact_patch{};
+        w.patches[i].clear();
         w.skipped[i] = 1;
         return;
       }
       floor = w.planes[i].gap;
     }
     w.planes[i] = common_plane_above(blocks[a], edges[a], faces_a, blocks[b], edges[b], faces_b, floor);
-    w.patches[i] = w.planes[i].gap <= options.tolerance
-                       ? contact_patch_of(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b)
-                       : contact_patch{};
+    // (Each slot's patch is written in place, its vectors' capacity kept: none is allocated.)
+    if (w.planes[i].gap <= options.tolerance)
+      contact_patch_into(blocks[a], blocks[b], w.planes[i], options.tolerance, faces_a, faces_b, w.patches[i]);
+    else
+      w.patches[i].clear();
   }, 16);
   // The kept axes, merged in pair order: this pass's candidates with this pass's plane's axis
   // (those of another part: the axis they had), and the kept pairs of two unmarked blocks or
