@@ -935,6 +935,54 @@ tessera_add_refusal_test(refuse_rc_beam_params_slip_zoning rc_beam
 tessera_add_refusal_test(refuse_rc_beam_params_flag rc_beam
   "rc_beam: --phi-deg with --params .*: the file sets the concrete"
   --threads 1 --quick --phi-deg 40 --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip_quick.json)
+# ---- direct_tension --material beam (issue #63 item 6; direct_tension/concrete.hpp): the beam's
+# concrete on calibrate's beam-recipe prism with any law, the run of calibrate --targets tension.
+# The quick beam recipe (60 blocks, 50 mm zoning: a 37-block 150 x 150 x 600 mm prism) with the mixed-
+# mode set the beam runs with (G_II 70 J/m^2). Measured (quick, seed 1): peak 2.342 MPa = 0.937 f_T
+# (f_T = 2.5 MPa), the same bits as calibrate --targets tension --quick --material beam --law mixed_mode
+# --g-ii 70 --iterations 0 (seed 1's tension value); 14 500 steps. The checks: the law and G_II reach the
+# contacts, the peak within 0.5 % of the measured one. The same run from tests/data/concrete_beam_mixed_quick.json
+# (--params: the file's whole concrete) writes the same curve.csv bits.
+tessera_add_example_test(direct_tension NAME example_direct_tension_beam_mixed_quick
+  ARGS --quick --threads 1 --material beam --recipe-blocks 60 --zone-edge 0.05 --law mixed_mode --g-ii 70
+  FILES curve.csv contacts_peak.vtp zones_peak.vtu
+  CHECKS "material STREQUAL beam" "law STREQUAL mixed_mode" "g_ii_J_per_m2 EQUAL 70" "recipe_blocks EQUAL 60"
+         "f_T_Pa EQUAL 2500000" "peak_stress_Pa GREATER 2.330e6" "peak_stress_Pa LESS 2.354e6"
+         "energy_balance_error_rel LESS 0.01"
+  TIMEOUT 300)
+tessera_add_example_test(direct_tension NAME example_direct_tension_beam_params_quick
+  ARGS --quick --threads 1 --material beam --recipe-blocks 60 --zone-edge 0.05
+       --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_quick.json
+  FILES curve.csv
+  CHECKS "law STREQUAL mixed_mode" "g_ii_J_per_m2 EQUAL 70"
+  TIMEOUT 300)
+tessera_add_same_curve_test(example_direct_tension_beam_params_same_bits example_direct_tension_beam_params_quick
+                            example_direct_tension_beam_mixed_quick)
+# Refused, naming the value: a beam-only law on the prism, a G_II below the law's bound (the contacts
+# are built before anything is written), a law parameter the law has no use for, a concrete flag beside
+# --params, a prism file for the beam's recipe, a prism-only flag with the beam, a prism --blocks off Table 1.
+tessera_add_refusal_test(refuse_direct_tension_law_prism direct_tension
+  "^direct_tension: --law mixed_mode applies to --material beam only" --threads 1 --law mixed_mode)
+tessera_add_refusal_test(refuse_direct_tension_cap_prism direct_tension
+  "^direct_tension: --cap 50000000 applies to --material beam only" --threads 1 --cap 50e6)
+tessera_add_refusal_test(refuse_direct_tension_mixed_g_ii_small direct_tension
+  "G_II = 10 J/m.2 gives s_u .* G_II must exceed" --threads 1 --material beam --law mixed_mode --g-ii 10)
+tessera_add_refusal_test(refuse_direct_tension_g_ii_study direct_tension
+  "^direct_tension: --g-ii 100 J/m.2 applies to --law slip_softening, crushing or mixed_mode only" --threads 1
+  --material beam --g-ii 100)
+tessera_add_refusal_test(refuse_direct_tension_beam_params_flag direct_tension
+  "^direct_tension: --law with --params .*: the file sets the concrete \\(drop the flag\\)" --threads 1
+  --material beam --law mixed_mode --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_quick.json)
+tessera_add_refusal_test(refuse_direct_tension_beam_prism_file direct_tension
+  "calibrated_quick.json was fitted on the prism recipe, this run needs the beam recipe" --threads 1 --quick
+  --material beam --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_quick.json)
+tessera_add_refusal_test(refuse_direct_tension_beam_zoning direct_tension
+  "concrete_beam_mixed_quick.json was fitted with a face zoning edge of 0.05 m, this run uses 0.03 m" --threads 1
+  --quick --material beam --recipe-blocks 60 --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_mixed_quick.json)
+tessera_add_refusal_test(refuse_direct_tension_beam_softening direct_tension
+  "^direct_tension: --softening applies to --material prism only" --threads 1 --material beam --softening linear)
+tessera_add_refusal_test(refuse_direct_tension_blocks_table direct_tension
+  "^direct_tension: --blocks 120 must be 100, 250, 500 or 750 with --material prism" --threads 1 --blocks 120)
 # ---- rc_beam --span full (issue #41 item 3): the whole beam, 120 blocks (--blocks 60 per half
 # span), both supports and loading plates, the plates on a spreader (equal loads), held in x at
 # mid-span (examples/rc_beam/beam_span.hpp); 28 s of CPU on one thread. Checks, in the elastic
@@ -1285,6 +1333,25 @@ function(tessera_add_targets_rerun_test name calibrate brazilian)
 endfunction()
 tessera_add_targets_rerun_test(example_calibrate_targets_rerun_matches example_calibrate_targets_quick
                                example_brazilian_params_from_targets strength_scale cohesion_ratio)
+# The same file loaded by direct_tension --material beam (direct_tension/concrete.hpp) on the held-out
+# seed: the tension prism of calibrate's tension target, so its peak must be the tension value calibrate
+# reported for that seed, to the bit (both run direct_tension/tension_test.hpp on make_beam_prism's scene
+# with the file's concrete at 5 nm a step; only the stop past the peak differs).
+tessera_add_example_test(direct_tension NAME example_direct_tension_params_from_targets
+  ARGS --quick --threads 1 --seed 2 --material beam --recipe-blocks 60 --zone-edge 0.05
+       --params ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/calibrated.json
+  CHECKS "material STREQUAL beam" "recipe_blocks EQUAL 60" "law STREQUAL study"
+  TIMEOUT 300)
+set_tests_properties(example_direct_tension_params_from_targets PROPERTIES DEPENDS example_calibrate_targets_quick)
+if(TEST example_direct_tension_params_from_targets)
+  add_test(NAME example_direct_tension_targets_rerun_matches
+           COMMAND ${CMAKE_COMMAND} -E env python3 -c
+                   "import json,sys; c=json.load(open(sys.argv[1]))['holdout_tension_value']; d=json.load(open(sys.argv[2]))['peak_stress_Pa']; print(c, d); sys.exit(0 if c == d else 1)"
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_calibrate_targets_quick/summary.json
+                   ${CMAKE_CURRENT_BINARY_DIR}/example_out/example_direct_tension_params_from_targets/summary.json)
+  set_tests_properties(example_direct_tension_targets_rerun_matches PROPERTIES
+                       DEPENDS example_direct_tension_params_from_targets LABELS example)
+endif()
 # calibrate --targets --law crushing --fit gc: the quick disc on seed 1, one compass iteration on G_c
 # from 20 kJ/m^2 (10 s): calibrated.json carries the law, G_c and the residual; brazilian loads it and
 # on the held-out seed 2 gives the splitting figure calibrate reported for that seed.

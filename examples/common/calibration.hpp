@@ -43,9 +43,9 @@
 // f_c; beam only, absent: 35 MPa), with crushing "G_c_J_per_m2" (the compressive fracture energy,
 // required), "cap_residual" (the residual cap over the cap, in [0, 1]; absent: 0.1) and
 // "crush_shear" (true: the shear limit falls with the cap; absent: false).
-// brazilian, compression and rc_beam --params apply the whole set (load_concrete); direct_tension
-// and rc_tie apply the two scales only (load_calibration) and so refuse an entry whose set is not
-// the study's, naming the field.
+// brazilian, compression, rc_beam and direct_tension --material beam --params apply the whole set
+// (load_concrete); rc_tie and direct_tension with the prism's concrete apply the two scales only
+// (load_calibration) and so refuse an entry whose set is not the study's, naming the field.
 
 #include <cmath>
 #include <cstdio>

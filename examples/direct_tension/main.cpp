@@ -15,6 +15,11 @@
 //             (--scheme relaxation) kinetic dynamic relaxation: the top moved in increments,
 //             each relaxed to static equilibrium (solver/relaxation.hpp)
 //
+// Concrete (--material; direct_tension/concrete.hpp): prism, the study's above (the default), or beam,
+// rc_beam's concrete on calibrate's 150 x 150 x 600 mm beam-recipe prism with any law of
+// common/concrete_laws.hpp (--law, --g-ii, ... as compression and brazilian take them) and --params
+// applying a beam entry whole; its run is calibrate --targets tension's, to the bit.
+//
 // Outputs in --out DIR: curve.csv (top displacement m, mean axial stress from the top and the
 // bottom reactions Pa, the largest nodal unbalanced force over f_T A), contacts_{peak,end}.vtp (sub-contacts with status, damage and every field
 // the law declares), zones_{peak,end}.vtu (zones with displacement and stress), direct_tension.pvd
@@ -36,6 +41,8 @@
 #include "common/cli.hpp"
 #include "common/relaxed_scheme.hpp"
 #include "common/scenes.hpp"
+#include "direct_tension/concrete.hpp"
+#include "direct_tension/fields.hpp"
 #include "direct_tension/tension_test.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/run_record.hpp"
@@ -54,7 +61,8 @@ namespace scenes = tessera::scenes;
 
 struct inputs {
   tessera::cli::standard_options common;
-  int blocks = 100;
+  int blocks = 100;     // prism: the Table 1 count; beam: the prism's Voronoi blocks, 0 = the recipe's
+  scenes::tension_concrete concrete;  // --material, the law flags, the beam's recipe and set
   std::string softening = "power";
   std::string cohesion = "decoupled";  // decoupled (DESIGN.md) | coupled (softens with f_t)
   bool slip_breaks_tension = false;    // shear failure also breaks the contact in tension (opt-in)
@@ -69,21 +77,19 @@ struct inputs {
   std::string scheme = "explicit";  // explicit | relaxation (kinetic dynamic relaxation)
   std::vector<std::string> explicit_flags_given;  // flags of the explicit ramp on the command line
   std::vector<std::string> relax_flags_given;     // flags of the relaxation on the command line
+  bool phi_given = false, phi_res_given = false;  // prism: --phi-deg, --phi-res-deg given
 };
 
-void write_zones_vtu(const fs::path& path, const scenes::prism_scene& scene, const scenes::tension_snapshot& s) {
-  std::vector<tessera::io::vtk::sym_tensor> stress;
-  const auto& zs = s.zone_stress;
-  stress.reserve(static_cast<std::size_t>(zs.rows()));
-  for (Eigen::Index z = 0; z < zs.rows(); ++z) stress.push_back(tessera::io::vtk::voigt_row_to_sym_tensor(zs, z));
-  tessera::io::vtk::zone_fields fields;
-  fields.displacement = &s.gridpoint_displacement;
-  fields.stress = stress;
-  tessera::io::vtk::write_zones_vtu(path, scene.mesh, fields);
-}
+[[nodiscard]] bool beam(const inputs& in) { return in.concrete.material == "beam"; }
 
-/// One tessellation: builds the scene, runs the chosen block and law variant.
-scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_fields, scenes::prism_scene& scene) {
+/// One tessellation: builds the scene, runs the chosen block and law variant; k: the contacts' figures.
+scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_fields, scenes::prism_scene& scene,
+                               scenes::tension_contacts& k) {
+  scenes::tension_loading loading = in.loading;
+  loading.keep_fields = keep_fields;
+  loading.threads = in.common.threads;
+  loading.label = tessera::detail::concat("direct_tension seed ", seed);
+  if (beam(in)) return scenes::run_beam_tension(in.concrete.set, in.blocks, seed, loading, scene, k);
   scenes::prism_options po;
   po.blocks = in.blocks;
   po.seed = seed;
@@ -94,10 +100,10 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
   po.fracture_energy_scale = in.calibrated.fracture_energy_scale;
   scene = scenes::make_prism(po);
   scene.contact.shear.slip_breaks_tension = in.slip_breaks_tension;
-  scenes::tension_loading loading = in.loading;
-  loading.keep_fields = keep_fields;
-  loading.threads = in.common.threads;
-  loading.label = tessera::detail::concat("direct_tension seed ", seed);
+  // --phi-deg, --phi-res-deg on the study's contacts, where given (the default run keeps them to the bit)
+  if (in.phi_given) scene.contact.shear.phi_0 = tessera::law::friction_angle::from_degrees(in.concrete.phi_deg);
+  if (in.phi_res_given) scene.contact.shear.phi_res = tessera::law::friction_angle::from_degrees(in.concrete.phi_res_deg);
+  k.k_n = scene.contact.k_n;
   // Block model: deformable semi-rigid blocks, or rigid 6-DOF blocks (--rigid) with the same law.
   if (in.cohesion == "coupled") {
     const auto contact = tessera::law::with_coupled_cohesion(scene.contact);
@@ -111,6 +117,9 @@ scenes::tension_result run_one(const inputs& in, std::uint64_t seed, bool keep_f
 /// inside the library, before anything is written; loads --params.
 void check_inputs(inputs& in) {
   tessera::require(in.seeds >= 1, "direct_tension: --seeds ", in.seeds, " must be >= 1");
+  tessera::require(beam(in) || in.blocks == 100 || in.blocks == 250 || in.blocks == 500 || in.blocks == 750,
+                   "direct_tension: --blocks ", in.blocks, " must be 100, 250, 500 or 750 with --material prism (Table 1 "
+                   "stiffnesses)");
   tessera::require(in.lloyd >= 0, "direct_tension: --lloyd ", in.lloyd, " must be >= 0");
   // geometry::regularize checks this too, but only once the first scene is built, after --out exists.
   tessera::require(std::isfinite(in.regularize) && in.regularize >= 0 &&
@@ -135,28 +144,15 @@ void check_inputs(inputs& in) {
                                        .increment = in.loading.relax_increment,
                                        .last = in.loading.max_displacement,
                                        .last_flag = "--max-displacement"});
-  if (!in.params.empty()) {
+  if (beam(in)) {  // the set from the flags or the file's entry, its contacts built once (bad values refused)
+    scenes::finish_concrete(in.concrete, in.cohesion_ratio, in.params, in.loading.step_displacement, in.loading.rate);
+  } else if (!in.params.empty()) {
     tessera::require(in.cohesion == "decoupled", "direct_tension: --params ", in.params,
                      ": calibrations are fitted with decoupled cohesion, this run uses --cohesion ", in.cohesion);
     const scenes::calibration_recipe run{in.softening, in.cohesion_ratio, in.loading.step_displacement, in.loading.rate,
                                          in.rigid};
     in.calibrated = scenes::load_calibration(in.params, in.blocks, run, "direct_tension");
   }
-}
-
-/// Contact and zone snapshots at the peak and at the end, and a ParaView time series of both.
-void write_fields(const fs::path& out, const scenes::prism_scene& scene, const scenes::tension_result& r) {
-  namespace io = tessera::io;
-  r.at_peak.contacts.write(out / "contacts_peak.vtp");
-  r.at_end.contacts.write(out / "contacts_end.vtp");
-  write_zones_vtu(out / "zones_peak.vtu", scene, r.at_peak);
-  write_zones_vtu(out / "zones_end.vtu", scene, r.at_end);
-  io::vtk::pvd_collection pvd;
-  pvd.add(r.at_peak.time, out / "zones_peak.vtu", 0);
-  pvd.add(r.at_peak.time, out / "contacts_peak.vtp", 1);
-  pvd.add(r.at_end.time, out / "zones_end.vtu", 0);
-  pvd.add(r.at_end.time, out / "contacts_end.vtp", 1);
-  pvd.write(out / "direct_tension.pvd");
 }
 
 /// curve.csv of the first seed, envelope.csv over the seeds (when more than one) and curve.png.
@@ -166,8 +162,9 @@ void write_curves(const fs::path& out, const inputs& in, const std::vector<scene
   io::write_csv(out / "curve.csv", {"displacement_m", "stress_Pa", "stress_top_Pa", "stress_bottom_Pa", "unbalanced_ratio"},
                 {r.displacement, r.stress, r.stress_top, r.stress_bottom, r.unbalanced_ratio});
   io::plot_spec plot;
-  plot.title = tessera::detail::concat("Direct tension, ", in.blocks, " blocks, ", in.softening, " softening, ",
-                                       in.loading.rate * 1e3, " mm/s");
+  plot.title = tessera::detail::concat("Direct tension, ", beam(in) ? r.blocks : in.blocks, " blocks, ",
+                                       beam(in) ? "the beam's concrete, " + in.concrete.set.law + " law"
+                                                : in.softening + " softening", ", ", in.loading.rate * 1e3, " mm/s");
   plot.xlabel = "top displacement (mm)";
   plot.ylabel = "mean axial stress (MPa)";
   plot.series.push_back({.csv = out / "curve.csv", .x_column = "displacement_m", .y_column = "stress_Pa",
@@ -202,7 +199,8 @@ struct fracture_figures {
   double expected_fracture = 0, fracture_error = 0, separation_energy = 0, broken_error = 0;
   std::string fracture_note;
 };
-fracture_figures fracture_of(const inputs& in, const scenes::prism_scene& scene, const scenes::tension_result& r) {
+fracture_figures fracture_of(const inputs& in, const scenes::prism_scene& scene, const scenes::tension_contacts& k,
+                             const scenes::tension_result& r) {
   const real g_f = scene.G_f;
   // Fracture energy: tensile dissipation against G_f x (area broken in tension). For power
   // softening a sub-contact pulled to separation dissipates separation_energy = G_f +
@@ -215,7 +213,8 @@ fracture_figures fracture_of(const inputs& in, const scenes::prism_scene& scene,
   const std::string fracture_note = fracture.defined() ? "dissipated tension against G_f x area broken in tension"
                                                        : "no crack fully opened (the run stopped before separation)";
   const double separation_energy =
-      in.softening == "power" ? tessera::law::power_softening::separation_energy(scene.contact.tension, scene.contact.k_n)
+      beam(in) ? k.separation_energy
+      : in.softening == "power" ? tessera::law::power_softening::separation_energy(scene.contact.tension, scene.contact.k_n)
                               : tessera::law::linear_softening::separation_energy(
                                     tessera::law::with_linear_softening(scene.contact).tension, scene.contact.k_n);
   // The same for the sub-contacts broken in tension alone (null without any).
@@ -226,7 +225,7 @@ fracture_figures fracture_of(const inputs& in, const scenes::prism_scene& scene,
 
 /// summary.json (one key per line: the list is the file's schema, so it stays in one piece).
 void write_summary(const fs::path& out, const inputs& in, const scenes::prism_scene& scene,
-                   const std::vector<scenes::tension_result>& runs, const fracture_figures& fr,
+                   const scenes::tension_contacts& k, const std::vector<scenes::tension_result>& runs, const fracture_figures& fr,
                    const tessera::cli::wall_timer& timer) {
   namespace io = tessera::io;
   const auto& r = runs.front();
@@ -241,16 +240,17 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
   }
   io::summary_json js;
   js.set("example", "direct_tension")
-      .set("blocks", in.blocks)
+      .set("blocks", beam(in) ? r.blocks : std::int64_t{in.blocks})
       .set("seed", in.common.seed)
       .set("seeds", in.seeds)
-      .set("softening", in.softening)
+      .set("softening", beam(in) ? "linear" : in.softening)
       .set("cohesion", in.cohesion)
       .set("slip_breaks_tension", in.slip_breaks_tension)
       .set("cohesion_ratio", in.cohesion_ratio)
       .set("params", in.params)
-      .set("strength_scale", in.calibrated.strength_scale)
-      .set("fracture_energy_scale", in.calibrated.fracture_energy_scale)
+      .set("strength_scale", beam(in) ? in.concrete.set.scale() : in.calibrated.strength_scale)
+      .set("fracture_energy_scale",
+           beam(in) ? in.concrete.set.fracture_energy_scale : in.calibrated.fracture_energy_scale)
       .set("rigid", in.rigid)
       .set("lloyd_iterations", in.lloyd)
       .set("regularize", in.regularize)
@@ -263,7 +263,7 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
       .set("cross_section_m2", area)
       .set("f_T_Pa", f_t)
       .set("G_f_N_per_m", g_f)
-      .set("k_n_Pa_per_m", scene.contact.k_n)
+      .set("k_n_Pa_per_m", k.k_n)
       .set("peak_stress_Pa", r.peak_stress)
       .set("peak_error_rel", (r.peak_stress - f_t) / f_t)
       .set("peak_displacement_m", r.peak_displacement)
@@ -313,6 +313,8 @@ void write_summary(const fs::path& out, const inputs& in, const scenes::prism_sc
       .set("tail_start_displacement_m", r.tail_displacement)
       .set("steps", r.steps)
       .set("runtime_s", timer.seconds());
+  scenes::set_concrete_figures(js, in.concrete, k,
+                               r.separated ? r.dissipated / (area * g_f) : std::numeric_limits<double>::quiet_NaN());
   tessera::scenes::set_scheme_figures(js, in.scheme, in.loading.relax_increment, in.loading.relax_tolerance, r);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   tessera::scenes::set_split_figures(js);
@@ -349,10 +351,13 @@ int run(inputs& in) {
   in.loading.on_start = [out] { io::ensure_directory(out); };  // the first run's checks have passed
   std::vector<scenes::tension_result> runs;
   scenes::prism_scene first_scene;
+  scenes::tension_contacts contacts;  // the first seed's
   for (int k = 0; k < in.seeds; ++k) {
     const std::uint64_t seed = in.common.seed + static_cast<std::uint64_t>(k);
     scenes::prism_scene scene;
-    runs.push_back(run_one(in, seed, k == 0, scene));
+    scenes::tension_contacts kc;
+    runs.push_back(run_one(in, seed, k == 0, scene, kc));
+    if (k == 0) contacts = kc;
     io::ensure_directory(out);  // after the checks and the run's own (quasi-static rate): bad input leaves no directory
     const auto& r = runs.back();
     if (k == 0) first_scene = std::move(scene);
@@ -367,10 +372,16 @@ int run(inputs& in) {
   const auto& r = runs.front();
   const auto& scene = first_scene;
   write_curves(out, in, runs);
-  write_fields(out, scene, r);
-  const fracture_figures fr = fracture_of(in, scene, r);
-  write_summary(out, in, scene, runs, fr, timer);
+  scenes::write_tension_fields(out, scene, r);
+  const fracture_figures fr = fracture_of(in, scene, contacts, r);
+  write_summary(out, in, scene, contacts, runs, fr, timer);
   print_report(out, scene, r, fr, timer);
+  std::printf("  %s concrete, %s law%s: peak / f_T %.4f, dissipated / (A G_f) %s\n", in.concrete.material.c_str(),
+              beam(in) ? in.concrete.set.law.c_str() : "study",
+              std::isnan(contacts.g_ii) ? "" : tessera::detail::concat(" (G_II ", contacts.g_ii, " J/m^2)").c_str(),
+              r.peak_stress / scene.f_T,
+              r.separated ? tessera::detail::concat(r.dissipated / (scene.cross_section() * scene.G_f)).c_str()
+                          : "none (not separated)");
   return 0;
 }
 
@@ -386,10 +397,15 @@ int main(int argc, char** argv) {
       "peak stress vs f_T = 2.15 MPa, fracture energy vs G_f x crack area, energy balance.\n"
       "--quick: 5 nm per step (peak +3 % against 2 nm), stopped at 70 % of the peak on the softening\n"
       "branch (no separation, so no fracture-energy figure); about 17 000 steps.\n"
+      "--material beam: rc_beam's concrete on calibrate's 150 x 150 x 600 mm beam-recipe prism (f_T = 2.5 MPa, the\n"
+      "recipe --recipe-blocks / --zone-edge) with any --law and its flags, as compression and brazilian take them;\n"
+      "the run of calibrate --targets tension, to the bit.\n"
       "Under mpirun -np N (builds with MPI): the same run split over N ranks, the same curve.csv to the bit;\n"
-      "rank 0 writes --out (not with --rigid).");
+      "rank 0 writes --out (not with --rigid or --material beam).");
   cli.add_standard(in.common);
-  cli.option("--blocks", in.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses)", "N").one_of_numbers({100, 250, 500, 750});
+  cli.option("--blocks", in.blocks, "number of blocks: 100, 250, 500 or 750 (Table 1 stiffnesses); --material beam: "
+             "the prism's Voronoi blocks with the recipe's contacts (default: the recipe's block size, 155 for 250)", "N")
+      .within(8, 5000);
   cli.option("--seeds", in.seeds, "number of random tessellations (seed, seed+1, ...); envelope of their curves", "K").within(1, 1000);
   cli.option("--softening", in.softening, "tensile softening: power (alpha = 3) or linear", "power|linear").one_of({"power", "linear"});
   cli.option("--cohesion", in.cohesion,
@@ -398,8 +414,10 @@ int main(int argc, char** argv) {
              "decoupled|coupled").one_of({"decoupled", "coupled"});
   cli.option("--cohesion-ratio", in.cohesion_ratio, "initial cohesion c_0 / f_T (c_res = 0.01 c_0)", "R").greater_than(0);
   cli.option("--params", in.params,
-             "calibrated.json from examples/calibrate: scale the contact strength (and G_f) by its entry for --blocks",
-             "FILE");
+             "calibrated.json from examples/calibrate: prism, scale the contact strength (and G_f) by its entry for "
+             "--blocks; beam, the whole concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, cap) of its entry for the "
+             "recipe, instead of the concrete flags", "FILE");
+  scenes::add_concrete_flags(cli, in.concrete);  // --material, --law, --g-ii, ..., --recipe-blocks, --zone-edge
   cli.flag("--slip-breaks-tension", in.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--scheme", in.scheme,
@@ -429,6 +447,14 @@ int main(int argc, char** argv) {
              "collapse Voronoi edges shorter than REL x mean cell size (0 = off; 0.2 = presets::study_regularization)",
              "REL").within(0, tessera::geometry::max_regularization);
   cli.parse_or_exit(argc, argv);
+  in.phi_given = cli.given("--phi-deg"), in.phi_res_given = cli.given("--phi-res-deg");
+  if (in.concrete.material == "beam" && !cli.given("--blocks")) in.blocks = 0;  // the recipe's block size
+  try {
+    scenes::require_concrete_flags(cli, in.concrete, in.params);
+  } catch (const std::exception& e) {
+    tessera::cli::print_error("direct_tension", e);
+    return 2;
+  }
   ld.platen_restraint = !free_platen;
   ld.relaxation = in.scheme == "relaxation";
   for (const char* f : {"--rate", "--step-displacement", "--dt", "--ramp-transits", "--tail-speedup", "--sample"})
@@ -445,6 +471,8 @@ int main(int argc, char** argv) {
   // file as it is written; "complete" after summary.json, "interrupted" on SIGINT/SIGTERM.
   try {
     if (in.rigid) mpi.require_splittable(false, "direct_tension --rigid");
+    if (in.concrete.material == "beam")
+      mpi.require_splittable(false, "direct_tension --material beam", "the beam's concrete is run as one process only");
     if (ld.relaxation)
       mpi.require_splittable(false, "direct_tension --scheme relaxation", "kinetic relaxation is not distributed");
     mpi.require_splittable(true, "direct_tension");

@@ -425,13 +425,14 @@ inline void beam_concrete_blocks(const aabb& box, int blocks, const beam_options
 /// on a side and 4 h long, pulled along its length like the study's prism. It holds as many
 /// Voronoi blocks as give the beam's mean cell volume (half-beam volume / options.blocks): 155 for
 /// the default 250-block beam, 310 for 500, so the blocks, their faces and the sub-contacts on
-/// them have the beam's sizes. The prism's own contacts field is not used: the law is `contact`.
+/// them have the beam's sizes (`blocks` > 0: that many instead, direct_tension --material beam
+/// --blocks). The prism's own contacts field is not used: the law is `contact`.
 struct beam_prism_scene {
   prism_scene prism;                        ///< geometry, zoning, block material, references f_T, G_f, E
   presets::study_beam_law::params contact;  ///< the beam's contacts, scaled
 };
 
-[[nodiscard]] inline beam_prism_scene make_beam_prism(const beam_options& o) {
+[[nodiscard]] inline beam_prism_scene make_beam_prism(const beam_options& o, int blocks = 0) {
   require(o.blocks >= 8 && o.blocks <= 500, "calibrate: beam blocks = ", o.blocks, " must lie in [8, 500]");
   require_calibration_scales(o, "calibrate");
   beam_prism_scene b;
@@ -445,7 +446,8 @@ struct beam_prism_scene {
   p.box.lo = vec3::Zero();
   p.box.hi = vec3(h, h, 4 * h);
   const real cell_volume = o.half_volume() / o.blocks;
-  const int prism_blocks = static_cast<int>(std::max<long>(8, std::lround(p.box.volume() / cell_volume)));
+  const int prism_blocks =
+      blocks > 0 ? blocks : static_cast<int>(std::max<long>(8, std::lround(p.box.volume() / cell_volume)));
   require_zone_budget(o, p.box.volume(), prism_blocks, "calibrate");
   beam_concrete_blocks(p.box, prism_blocks, o, p.tess, p.mesh, p.block_material);
   return b;
