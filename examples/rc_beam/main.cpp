@@ -439,8 +439,8 @@ int main(int argc, char** argv) {
              "was a transient dip and the run goes on, the peak rising if the load passes it (m; 0 = the first sample "
              "below stops; summary.json failure_deflection_m: where the drop began)", "U").within(0, 0.1);
   cli.option("--failure-crack", in.failure_crack, "any: every drop of --failure-drop is the failure; diagonal: only a "
-             "drop while a diagonal crack opens in the shear span since the peak (faster than every flexural crack), "
-             "any other drop is a dip and the run goes on (summary.json dip_deflections_m)", "any|diagonal").one_of({"any", "diagonal"});
+             "drop as a diagonal crack opens (faster than every flexural crack) or a band in a shear span softens since "
+             "the peak, any other drop is a dip and the run goes on (summary.json dip_deflections_m)", "any|diagonal").one_of({"any", "diagonal"});
   cli.option("--damping", l.damping_gamma, "local damping constant gamma", "G").within(0, 0.99);
   cli.option("--sample", l.sample, "steps between curve samples", "K").at_least(1);
   cli.option("--params", in.params,
