@@ -94,7 +94,8 @@ void beam_keep_damage_at_peak(const Contacts& c, std::vector<float>& damage_at_p
     damage_at_peak[static_cast<std::size_t>(i)] = static_cast<float>(law_t::tensile_damage(c.subcontact_params(i), c.state(i)));
 }
 
-/// One line on the crack read at a drop (beam_crack_of_drop): the failure or a dip, and why.
+/// One line on the crack read at a drop (beam_crack_of_drop): where it is, how fast it opened, and
+/// whether that reading alone is diagonal (the verdict also weighs the damage band).
 [[nodiscard]] inline std::string beam_drop_crack_text(const beam_post_peak_crack& k) {
   if (!k.found) return "no inclined crack in the shear span opened since the peak";
   char buf[320];
