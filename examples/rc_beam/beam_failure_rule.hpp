@@ -47,7 +47,8 @@ namespace tessera::scenes {
 
 /// The diagonal crack that opened since the peak, judged at a sample of deflection defl (m) and
 /// smoothed load (N), on a copy of the history with the present state last; both shear spans of
-/// the full beam (the one with the larger opening since the peak). cell: the mean block size (m).
+/// the full beam (beam_faster_span: a diagonal one, of two the larger opening since the peak).
+/// cell: the mean block size (m).
 template <class Contacts>
 [[nodiscard]] beam_post_peak_crack beam_crack_of_drop(const Contacts& c, const node_set& gp,
                                                       const beam_opening_history& history, const beam_options& o,
@@ -56,14 +57,12 @@ template <class Contacts>
   beam_opening_history probe = history;
   probe.finish(c, gp, defl, load, r.peak_deflection);
   probe.append_end(c, gp, defl, load);
-  beam_post_peak_crack best =
+  const beam_post_peak_crack left =
       beam_fastest_inclined_after_peak(c, gp, probe, o, cell, crack_width, r.peak_load, r.peak_deflection);
-  if (o.full()) {
-    const beam_post_peak_crack right =
-        beam_fastest_inclined_after_peak(c, gp, probe, o, cell, crack_width, r.peak_load, r.peak_deflection, 1);
-    if (right.diagonal && (!best.diagonal || right.opening_increase > best.opening_increase)) best = right;
-  }
-  return best;
+  if (!o.full()) return left;
+  const beam_post_peak_crack right =
+      beam_fastest_inclined_after_peak(c, gp, probe, o, cell, crack_width, r.peak_load, r.peak_deflection, 1);
+  return beam_faster_span(left, right, true);
 }
 
 /// The band of sub-contacts that lost the most tensile strength since the peak: the maxima along the

@@ -165,6 +165,17 @@ struct beam_post_peak_crack {
   bool diagonal = false;              ///< diagonal_crack_after_peak (file comment)
 };
 
+/// The full beam's two shear spans read as one: the right span's crack when it counts (diagonal_only:
+/// it is diagonal; else: it was found) and the left's does not or opened less since the peak, else
+/// the left's. The drop's verdict (beam_failure_rule.hpp) asks for a diagonal crack, the end of the
+/// run (beam_run.hpp) for the fastest one.
+[[nodiscard]] inline const beam_post_peak_crack& beam_faster_span(const beam_post_peak_crack& left,
+                                                                  const beam_post_peak_crack& right,
+                                                                  bool diagonal_only) {
+  const auto counts = [&](const beam_post_peak_crack& k) { return diagonal_only ? k.diagonal : k.found; };
+  return counts(right) && (!counts(left) || right.opening_increase > left.opening_increase) ? right : left;
+}
+
 /// Finds the crack of the file comment from the history and the end state; peak_load (N) and
 /// peak_deflection (m) of the run, crack_width (m) beam_loading's, shear_span the one to search
 /// (0 the left, 1 the full beam's right: beam_shear_span_of).

@@ -424,10 +424,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
     r.spans[k].after_peak = k == 0 ? r.after_peak
                                    : beam_fastest_inclined_after_peak(s.contacts(), gp, history, o, hand.mean_block_size,
                                                                       loading.crack_width, r.peak_load, r.peak_deflection, 1);
-    // The fastest of both spans: the larger opening after the peak (the rule within one span)
-    if (k == 1 && r.spans[1].after_peak.found &&
-        (!r.after_peak.found || r.spans[1].after_peak.opening_increase > r.after_peak.opening_increase))
-      r.after_peak = r.spans[1].after_peak;
+    if (k == 1) r.after_peak = beam_faster_span(r.after_peak, r.spans[1].after_peak, false);  // the larger opening
   }
   r.failure_mode = beam_failure_mode(r.widest, o, loading.crack_width, r.compression_dissipated, r.tension_dissipated);
   r.failing_span = beam_failing_span(o, r.widest, r.failure_mode);
