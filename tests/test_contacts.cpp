@@ -2017,7 +2017,7 @@ TEST_CASE("detected keys: the merge of sorted keys finds each persisting corner 
   const std::vector<std::uint64_t> label{5, 9, 12, on_b, 1, 7};
   // New keys in increasing order: (0,1,9) persists as old 1, (0,1,10) is new (the cursor stops at
   // (0,1,12)), (0,2,on_b) persists as old 3, (1,2,7) as old 5, (1,3,0) is new past the end (no
-  // old pair (1, 3): the pair cursor stops at the end).
+  // old pair (1, 3): find_old_pair gives pair_a.size()).
   struct key {
     index_t a, b;
     std::uint64_t label;
@@ -2033,7 +2033,8 @@ TEST_CASE("detected keys: the merge of sorted keys finds each persisting corner 
     INFO("key (" << k.a << ", " << k.b << ", " << k.label << ")");
     const bool new_pair = i == 0 || keys[i - 1].a != k.a || keys[i - 1].b != k.b;
     if (new_pair) {
-      CHECK(contact::detail::seek_old_pair(old_pair, k.a, k.b, pair_a, pair_b) == k.pair_found);
+      old_pair = contact::detail::find_old_pair(k.a, k.b, pair_a, pair_b);  // (none: pair_a.size())
+      CHECK((old_pair < pair_a.size()) == k.pair_found);
       old = k.pair_found ? static_cast<std::size_t>(pair_first[old_pair]) : 0;
       end = k.pair_found ? static_cast<std::size_t>(pair_first[old_pair + 1]) : 0;
     }
@@ -2276,6 +2277,44 @@ TEST_CASE("incremental rebuild: blocks moving at different speeds meet no neighb
   CHECK(std::get<3>(one) < 17 * std::get<2>(one) / 2);
   CHECK(std::get<4>(one) == std::get<4>(two));
   CHECK((std::get<5>(one).array() == std::get<5>(two).array()).all());
+}
+
+TEST_CASE("incremental rebuild: the blocks placed in parallel refuse the first bad pose in block order",
+          "[detected][incremental]") {
+  // 200 unit cubes placed by contact::detail::place_blocks (a rebuild's current shapes and boxes,
+  // the blocks shared between the threads): block 30 gets a mirror (determinant -1) and block 150
+  // a map scaled by -2 (determinant -8), poses assign_transformed refuses, one in each thread's
+  // share on 2 threads. On 1 and 2 threads the refusal names block 30's determinant (the first in
+  // block order, as a serial loop refused), and the blocks before it are placed.
+  const std::size_t n = 200;
+  const std::vector<convex_polyhedron> shapes(n, convex_polyhedron::box(vec3::Zero(), vec3::Ones()));
+  const auto place = [&](int threads) {
+    set_threads(threads);
+    std::vector<convex_polyhedron> current(n);
+    std::vector<aabb> boxes(n);
+    contact::detail::pair_poses pp;
+    std::string message = "<nothing thrown>";
+    try {
+      contact::detail::place_blocks(pp, shapes, current, boxes, [&](std::size_t b, mat3& map, vec3& shift) {
+        map = b == 30 ? mat3(vec3(-1, 1, 1).asDiagonal()) : b == 150 ? mat3(-2 * mat3::Identity()) : mat3::Identity();
+        shift = vec3(static_cast<real>(b), 0, 0);
+      });
+    } catch (const std::exception& e) {
+      message = e.what();
+    }
+    return std::pair{message, boxes};
+  };
+  const int before = max_threads();
+  for (const int threads : {1, 2}) {
+    INFO(threads << " threads");
+    const auto [message, boxes] = place(threads);
+    CHECK_THAT(message, Catch::Matchers::Contains("positive determinant (it is -1)"));
+    for (const std::size_t b : {std::size_t{0}, std::size_t{29}}) {
+      CHECK(boxes[b].lo.x() == static_cast<real>(b));
+      CHECK(boxes[b].hi.x() == static_cast<real>(b) + 1);
+    }
+  }
+  set_threads(before);
 }
 
 

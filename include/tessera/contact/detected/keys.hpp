@@ -7,12 +7,12 @@
 // (detection::corner_label). Deformable blocks add the gridpoint sub-contacts of a face-to-face
 // patch (detected/deformable_fit.hpp), labelled by the gridpoint and its side (node_label). Keys
 // are kept sorted by (a, b, label); at a rebuild the new keys, sorted the same way, are merged
-// with the old ones in one pass (seek_old_pair, then seek_old_label within the pair), so a corner
+// with the old ones pair by pair (find_old_pair, then seek_old_label within the pair), so a corner
 // that persists is found again and keeps its law state (detected/rebuild.hpp).
 //
-// Cost: a rebuild's merge visits each old pair once and the sub-contacts of the old pairs the
-// pass detects again (not those of the pairs it keeps), previous_node_side a binary search over
-// the old pairs; no allocation. Thread safety: they read their arguments only.
+// Cost: a rebuild's merge looks up each pass pair's old pair (a binary search over the old pairs,
+// as previous_node_side) and visits the sub-contacts of the old pairs the pass detects again (not
+// those of the pairs it keeps); no allocation. Thread safety: they read their arguments only.
 
 #include <concepts>
 #include <cstddef>
@@ -46,40 +46,36 @@ struct node_contact {
   return static_cast<index_t>(label & ((std::uint64_t{1} << 61) - 1));
 }
 
+/// The old pair (a, b) among pair_a, pair_b (sorted by (a, b)): its index, or pair_a.size() if
+/// there is none (a binary search: a rebuild's pass pairs look up their old pair each on its own,
+/// in parallel).
+[[nodiscard]] inline std::size_t find_old_pair(index_t a, index_t b, const std::vector<index_t>& pair_a,
+                                               const std::vector<index_t>& pair_b) noexcept {
+  std::size_t lo = 0, hi = pair_a.size();
+  while (lo < hi) {  // first old pair >= (a, b)
+    const std::size_t mid = (lo + hi) / 2;
+    if (pair_a[mid] < a || (pair_a[mid] == a && pair_b[mid] < b))
+      lo = mid + 1;
+    else
+      hi = mid;
+  }
+  return lo < pair_a.size() && pair_a[lo] == a && pair_b[lo] == b ? lo : pair_a.size();
+}
+
 /// The side whose gridpoints pair (a, b) used at the last rebuild: 0 A, 1 B, -1 corners or no
 /// such pair. Reads the old pairs (pair_a, pair_b, pair_first: sorted by (a, b)) and their
 /// sub-contacts' labels, before the rebuild replaces them.
 [[nodiscard]] inline int previous_node_side(const std::vector<index_t>& pair_a, const std::vector<index_t>& pair_b,
                                      const std::vector<index_t>& pair_first,
                                      const std::vector<std::uint64_t>& key_label, index_t a, index_t b) {
-  const auto n_old = static_cast<std::ptrdiff_t>(pair_a.size());
-  std::ptrdiff_t lo = 0, hi = n_old;
-  while (lo < hi) {  // first old pair >= (a, b)
-    const std::ptrdiff_t mid = (lo + hi) / 2;
-    const auto m = static_cast<std::size_t>(mid);
-    if (pair_a[m] < a || (pair_a[m] == a && pair_b[m] < b))
-      lo = mid + 1;
-    else
-      hi = mid;
-  }
-  const auto k = static_cast<std::size_t>(lo);
-  if (lo == n_old || pair_a[k] != a || pair_b[k] != b || pair_first[k + 1] == pair_first[k]) return -1;
+  const std::size_t k = find_old_pair(a, b, pair_a, pair_b);
+  if (k == pair_a.size() || pair_first[k + 1] == pair_first[k]) return -1;
   const std::uint64_t label = key_label[at(pair_first[k])];
   if (!is_node_label(label)) return -1;
   return node_label_side_b(label) ? 1 : 0;
 }
 
-/// The merge of sorted keys at a rebuild, by pair: advances `old_pair` over the old pairs before
-/// (a, b) and says whether the one it stops at is (a, b). Called with the new pairs in increasing
-/// order and `old_pair` starting at 0, it visits every old pair once.
-[[nodiscard]] inline bool seek_old_pair(std::size_t& old_pair, index_t a, index_t b, const std::vector<index_t>& pair_a,
-                                        const std::vector<index_t>& pair_b) noexcept {
-  const std::size_t n_old = pair_a.size();
-  while (old_pair < n_old && (pair_a[old_pair] < a || (pair_a[old_pair] == a && pair_b[old_pair] < b))) ++old_pair;
-  return old_pair < n_old && pair_a[old_pair] == a && pair_b[old_pair] == b;
-}
-
-/// Then within that old pair's sub-contacts [old, end): advances `old` over the labels below
+/// Within the old pair's sub-contacts [old, end) (find_old_pair's): advances `old` over the labels below
 /// `label` and says whether the one it stops at is `label` (the sub-contact persists). Called with
 /// the pair's new labels in increasing order, it visits each of the old pair's sub-contacts once.
 [[nodiscard]] inline bool seek_old_label(std::size_t& old, std::size_t end, std::uint64_t label,

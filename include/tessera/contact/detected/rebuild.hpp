@@ -55,6 +55,7 @@
 
 #include "../../core/errors.hpp"
 #include "../../core/nodes.hpp"
+#include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
 #include "../detection/detect.hpp"
 #include "../detected_contacts.hpp"
@@ -117,12 +118,13 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   pp.skip.clear();
   if (incremental) {
     if (pp.center.size() != at(n_b)) detail::reference_spheres(shapes_, pp.center, pp.radius);
+    parallel_for(static_cast<std::int64_t>(n_old_pairs), [&](std::int64_t i) {  // (each old pair its own mark)
+      const auto k = at(i);
+      pp.keep[k] = redetect_[at(pair_a_[k])] != 0 && redetect_[at(pair_b_[k])] != 0 &&
+                   pp.drift(k, pair_a_[k], pair_b_[k], 2 * options_.tolerance) <= redetect;  // (reach: the tolerance and the motion to come)
+    });
     for (std::size_t k = 0; k < n_old_pairs; ++k)
-      if (redetect_[at(pair_a_[k])] != 0 && redetect_[at(pair_b_[k])] != 0 &&
-          pp.drift(k, pair_a_[k], pair_b_[k], 2 * options_.tolerance) <= redetect) {  // (reach: the tolerance and the motion to come)
-        pp.keep[k] = 1;
-        pp.skip.push_back({pair_a_[k], pair_b_[k]});
-      }
+      if (pp.keep[k] != 0) pp.skip.push_back({pair_a_[k], pair_b_[k]});
     pp.kept_as_one += static_cast<std::int64_t>(pp.skip.size());
   }
   const auto redo = [&](std::size_t ko) { return changed(pair_a_[ko], pair_b_[ko]) && pp.keep[ko] == 0; };
@@ -234,25 +236,30 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
 
   // Merge the states: old and new keys are both sorted by (a, b, label). A kept pair's
   // sub-contacts keep theirs to the bit; a pass pair's corner looks for its label among the
-  // sub-contacts of the old pair of the same blocks (if any).
+  // sub-contacts of the old pair of the same blocks (if any). Each pair writes its own
+  // sub-contacts and marks the old ones it finds, each once (a pair's labels are distinct): the
+  // pairs in parallel (at construction in order, which counts the bonded corners).
   new_state_.resize(n);
   new_fresh_.assign(n, 0);
   kept_old_.assign(key_label_.size(), 0);
+  // The kept pairs' runs of a column (the runs in parallel: each writes its own).
   const auto copy_kept = [&](const auto& from, auto& to) {
-    for (const kept_run& r : kept_runs_)
-      std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(r.from), r.count, to.begin() + static_cast<std::ptrdiff_t>(r.to));
+    parallel_for_dynamic(static_cast<std::int64_t>(kept_runs_.size()), [&](std::int64_t r) {
+      const kept_run& run = kept_runs_[at(r)];
+      std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(run.from), run.count, to.begin() + static_cast<std::ptrdiff_t>(run.to));
+    }, 4);
   };
   copy_kept(state_, new_state_);
   copy_kept(fresh_, new_fresh_);
-  kept_last_ = static_cast<index_t>(n_kept);
-  std::size_t old_pair = 0;  // the old pairs before (a, b), in order
-  for (std::size_t k = 0; k < n_pairs; ++k) {
+  const auto merge_pair = [&](std::size_t k) {
+    index_t bonded_here = 0;
     const index_t a = new_pair_a_[k], b = new_pair_b_[k];
     const std::ptrdiff_t source = new_source_[k];
-    if (source < 0) continue;  // (kept: copied above)
+    if (source < 0) return bonded_here;  // (kept: copied above)
     const auto j = at(source);
     const params_type& p = law_params_[table_.entry_index(material_[at(a)], material_[at(b)])];
-    const bool had = detail::seek_old_pair(old_pair, a, b, pair_a_, pair_b_);
+    const std::size_t old_pair = detail::find_old_pair(a, b, pair_a_, pair_b_);
+    const bool had = old_pair < n_old_pairs;
     std::size_t old = had ? at(pair_first_[old_pair]) : 0;
     const std::size_t old_end = had ? at(pair_first_[old_pair + 1]) : 0;
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
@@ -272,7 +279,6 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
           st.dissipated_compression *= r;
         }
         kept_old_[old] = 1;
-        ++kept_last_;
       } else {
         // params::bond_faces: at construction, the coinciding faces of a bonded material pair.
         const bool bonded = gp == nullptr && options_.bond_faces &&
@@ -280,7 +286,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
                             table_.get(material_[at(a)], material_[at(b)]).bonded &&
                             std::abs(new_gap_[f]) <= bond_gap_fraction * options_.tolerance;
         state_type s = bonded ? state_type{} : Law::unbonded_state(p);
-        if (bonded) ++bonded_at_start_;
+        if (bonded) ++bonded_here;
         // At construction a corner takes its gap (a scene may start in contact, e.g. at its
         // static overlap: that energy is the run's initial energy). Later a corner that is
         // born overlapped (a new crossing of two edges inside a loaded patch) starts at zero
@@ -299,7 +305,13 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
         new_fresh_[i] = 1;
       }
     }
-  }
+    return bonded_here;
+  };
+  if (gp == nullptr)
+    for (std::size_t k = 0; k < n_pairs; ++k) bonded_at_start_ += merge_pair(k);
+  else
+    parallel_for_dynamic(static_cast<std::int64_t>(n_pairs), [&](std::int64_t k) { (void)merge_pair(at(k)); }, 64);
+  kept_last_ = static_cast<index_t>(n_kept + static_cast<std::size_t>(std::count(kept_old_.begin(), kept_old_.end(), 1)));
   // Sub-contacts that end keep what they dissipated in the books; what they still stored leaves
   // the springs through the rebuild exchange. (They are among the old pairs detected again.)
   for (std::size_t ok = 0; ok < n_old_pairs; ++ok) {
@@ -315,21 +327,10 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   }
   state_.swap(new_state_);
   fresh_.swap(new_fresh_);
-  // Keys and areas: the kept runs of the old ones, then the pass's corners.
+  // The pair and sub-contact columns: the old ones go to prev_, the kept pairs' are copied from
+  // there in runs, then each pass pair fills its own slot and sub-contacts (the pairs in parallel).
   std::swap(key_label_, prev_.label);
   std::swap(area_, prev_.area);
-  key_label_.resize(n);
-  area_.resize(n);
-  copy_kept(prev_.label, key_label_);
-  copy_kept(prev_.area, area_);
-  for (std::size_t k = 0; k < n_pairs; ++k)
-    if (new_source_[k] >= 0)
-      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        key_label_[i] = new_label_[found(k, i)];
-        area_[i] = new_area_[found(k, i)];
-      }
-
-  // Per pair: blocks, parameters, normal feature, normals (a kept pair: its own, copied).
   std::swap(pair_param_, prev_.param);
   std::swap(feature_, prev_.feature);
   std::swap(feature_a_, prev_.feature_a);
@@ -341,6 +342,9 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   for (int j = 0; j < 3; ++j) normal_[at(j)].swap(prev_.normal[at(j)]);
   pp.rot.swap(pp.prev_rot);
   pp.shift.swap(pp.prev_shift);
+  std::swap(corner_normal_, prev_.corner_normal);
+  for (int s = 0; s < 8; ++s) weight_[at(s)].swap(prev_.weight[at(s)]);
+  for (int c = 0; c < 3; ++c) force_[at(c)].swap(prev_.force[at(c)]);
   pp.rot.resize(n_pairs);
   pp.shift.resize(n_pairs);
   pair_a_.swap(new_pair_a_);  // (the new_ scratch is cleared at the next rebuild)
@@ -354,8 +358,31 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   pair_stiffness_.resize(n_pairs);
   pair_reach2_.resize(n_pairs);
   for (soa3& m : normal_) m.resize(static_cast<index_t>(n_pairs), 3);
-  for (std::size_t k = 0; k < n_pairs; ++k) {
+  key_label_.resize(n);
+  area_.resize(n);
+  pair_.resize(n);
+  corner_normal_.resize(n);
+  for (auto& w : weight_) w.resize(n);
+  for (auto& f : force_) f.resize(n);  // (a pass pair's: zero, below)
+  // The kept pairs' sub-contacts: keys, areas, weights, forces (the runs in parallel).
+  parallel_for_dynamic(static_cast<std::int64_t>(kept_runs_.size()), [&](std::int64_t r) {
+    const kept_run& run = kept_runs_[at(r)];
+    const auto copy = [&](const auto& from, auto& to) {
+      std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(run.from), run.count, to.begin() + static_cast<std::ptrdiff_t>(run.to));
+    };
+    copy(prev_.label, key_label_);
+    copy(prev_.area, area_);
+    copy(prev_.corner_normal, corner_normal_);
+    for (int s = 0; s < 8; ++s) copy(prev_.weight[at(s)], weight_[at(s)]);
+    for (int c = 0; c < 3; ++c) copy(prev_.force[at(c)], force_[at(c)]);
+  }, 4);
+  // Per pair: blocks, parameters, normal feature, normals (a kept pair: its own, copied); a pass
+  // pair's sub-contacts: keys, areas, normals, zero forces, weights.
+  parallel_for_dynamic(static_cast<std::int64_t>(n_pairs), [&](std::int64_t kk) {
+    const auto k = at(kk);
     const index_t a = pair_a_[k], b = pair_b_[k];
+    if (!options_.deformable_blocks)
+      std::fill(pair_.begin() + new_pair_first_[k], pair_.begin() + new_pair_first_[k + 1], static_cast<index_t>(k));
     if (new_source_[k] < 0) {
       const auto o = at(-1 - new_source_[k]);
       pair_param_[k] = prev_.param[o];
@@ -369,7 +396,11 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       pp.rot[k] = pp.prev_rot[o];
       pp.shift[k] = pp.prev_shift[o];
       for (int j = 0; j < 3; ++j) normal_[at(j)].row(static_cast<index_t>(k)) = prev_.normal[at(j)].row(static_cast<index_t>(o));
-      continue;
+      return;  // (its sub-contacts: copied above)
+    }
+    for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+      key_label_[i] = new_label_[found(k, i)];
+      area_[i] = new_area_[found(k, i)];
     }
     pair_param_[k] = static_cast<index_t>(table_.entry_index(material_[at(a)], material_[at(b)]));
     pp.relative(a, b, pp.rot[k], pp.shift[k]);
@@ -419,21 +450,6 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       const vec3 nj = j == 0 || normal_is_plane(k, j) ? n : j == 1 ? vec3(na * side_a_[k]) : vec3(-(nb * side_b_[k]));
       normal_[at(j)].row(static_cast<index_t>(k)) = nj.transpose();
     }
-  }
-
-  // Per sub-contact: pair, area, weights (a kept pair's: its own, copied, and its forces).
-  std::swap(corner_normal_, prev_.corner_normal);
-  for (int s = 0; s < 8; ++s) weight_[at(s)].swap(prev_.weight[at(s)]);
-  for (int c = 0; c < 3; ++c) force_[at(c)].swap(prev_.force[at(c)]);
-  pair_.resize(n);
-  corner_normal_.resize(n);
-  for (auto& w : weight_) w.resize(n);
-  for (auto& f : force_) f.resize(n);  // (a pass pair's: zero, below)
-  copy_kept(prev_.corner_normal, corner_normal_);
-  for (int s = 0; s < 8; ++s) copy_kept(prev_.weight[at(s)], weight_[at(s)]);
-  for (int c = 0; c < 3; ++c) copy_kept(prev_.force[at(c)], force_[at(c)]);
-  for (std::size_t k = 0; k < n_pairs; ++k) {
-    if (new_source_[k] < 0) continue;  // (kept: copied above)
     for (auto& f : force_) std::fill(f.begin() + new_pair_first_[k], f.begin() + new_pair_first_[k + 1], 0.0);
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
       // A gridpoint sub-contact (deformable blocks) is pushed like a vertex of its side.
@@ -444,7 +460,19 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       const bool of_a = node ? !node_b : kind == detection::corner_label::kind::vertex_a;
       corner_normal_[i] = of_b && side_a_[k].squaredNorm() > 0 ? 1 : of_a && side_b_[k].squaredNorm() > 0 ? 2 : 0;
     }
-  }
+    if (options_.deformable_blocks) return;  // (zoned weights: below, in order)
+    const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
+    const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
+    for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
+      const vec3 la = inv_a * (new_point_[found(k, i)] - xa), lb = inv_b * (new_point_[found(k, i)] - xb);
+      weight_[0][i] = 1 - la.sum();
+      weight_[4][i] = 1 - lb.sum();
+      for (int c = 0; c < 3; ++c) {
+        weight_[at(1 + c)][i] = la[c];
+        weight_[at(5 + c)][i] = lb[c];
+      }
+    }
+  }, 32);
   if (options_.deformable_blocks) {
     for (auto& v : node_) v.resize(n);
     for (std::size_t k = 0; k < n_pairs; ++k)
@@ -452,23 +480,6 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
         pair_[i] = static_cast<index_t>(k);
         place_zoned(i, pair_a_[k], pair_b_[k], gp);  // (every pair is the pass's: new_point_[i] is its)
       }
-  } else {
-    for (std::size_t k = 0; k < n_pairs; ++k) {
-      const index_t a = pair_a_[k], b = pair_b_[k];
-      std::fill(pair_.begin() + new_pair_first_[k], pair_.begin() + new_pair_first_[k + 1], static_cast<index_t>(k));
-      if (new_source_[k] < 0) continue;  // a kept pair's weights stay
-      const mat3 inv_a = frame_inverse(blocks_[at(a)], gp), inv_b = frame_inverse(blocks_[at(b)], gp);
-      const vec3 xa = position(blocks_[at(a)].frame[0], gp), xb = position(blocks_[at(b)].frame[0], gp);
-      for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
-        const vec3 la = inv_a * (new_point_[found(k, i)] - xa), lb = inv_b * (new_point_[found(k, i)] - xb);
-        weight_[0][i] = 1 - la.sum();
-        weight_[4][i] = 1 - lb.sum();
-        for (int c = 0; c < 3; ++c) {
-          weight_[at(1 + c)][i] = la[c];
-          weight_[at(5 + c)][i] = lb[c];
-        }
-      }
-    }
   }
   pair_first_.swap(new_pair_first_);
   index_subcontacts(true);

@@ -29,7 +29,8 @@
 // (detected/deformable_fit.hpp, build_surfaces).
 //
 // Cost: add_bounds O(blocks) (deformable: O(gridpoints)); bound_present_contacts O(sub-contacts),
-// after each rebuild and checkpoint load; no allocation.
+// after each rebuild and checkpoint load (the pairs' terms in parallel, the blocks' sums in pair
+// order); no allocation.
 //
 // Definitions of detected_contacts<Law>'s private members (declared in the class); it includes the
 // class and the class includes it, so either header can come first.
@@ -38,6 +39,7 @@
 #include <array>
 #include <cstddef>
 
+#include "../../core/parallel.hpp"
 #include "../detected_contacts.hpp"
 
 namespace tessera::contact {
@@ -70,27 +72,31 @@ inline void detected_contacts<Law>::bound_present_contacts(bool kept_pairs) {
   std::fill(present_reach2_.begin(), present_reach2_.end(), 0.0);
   pair_stiffness_.resize(pair_a_.size());
   pair_reach2_.resize(pair_a_.size());
+  // Each pair's terms (the pairs in parallel: each writes its own), then the blocks' sums in pair order.
+  parallel_for_dynamic(static_cast<std::int64_t>(pair_a_.size()), [&](std::int64_t kk) {
+    const auto k = at(kk);
+    if (kept_pairs && new_source_[k] < 0) return;
+    const std::array<index_t, 2> ab{pair_a_[k], pair_b_[k]};
+    const real per_area = 2 * entry_row_bound_[at(pair_param_[k])];
+    for (int side = 0; side < 2; ++side) {
+      const block_data& bd = blocks_[at(ab[at(side)])];
+      // The material point in the block's reference frame: X0 + D (w1, w2, w3), rigid motion
+      // keeps its distance from the centroid.
+      const mat3 d = frame_matrix(bd, nullptr);
+      const vec3 x0 = reference_.row(bd.frame[0]).transpose();
+      real k_sum = 0, reach2 = 0;
+      for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
+        k_sum += per_area * area_[i];
+        const int w = 4 * side;
+        const vec3 local(weight_[at(w + 1)][i], weight_[at(w + 2)][i], weight_[at(w + 3)][i]);
+        reach2 = std::max(reach2, (x0 + d * local - bd.centroid).squaredNorm());
+      }
+      pair_stiffness_[k] = k_sum;  // (the same sum on both sides)
+      pair_reach2_[k][at(side)] = reach2;
+    }
+  }, 64);
   for (std::size_t k = 0; k < pair_a_.size(); ++k) {
     const std::array<index_t, 2> ab{pair_a_[k], pair_b_[k]};
-    if (!kept_pairs || new_source_[k] >= 0) {
-      const real per_area = 2 * entry_row_bound_[at(pair_param_[k])];
-      for (int side = 0; side < 2; ++side) {
-        const block_data& bd = blocks_[at(ab[at(side)])];
-        // The material point in the block's reference frame: X0 + D (w1, w2, w3), rigid motion
-        // keeps its distance from the centroid.
-        const mat3 d = frame_matrix(bd, nullptr);
-        const vec3 x0 = reference_.row(bd.frame[0]).transpose();
-        real k_sum = 0, reach2 = 0;
-        for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i) {
-          k_sum += per_area * area_[i];
-          const int w = 4 * side;
-          const vec3 local(weight_[at(w + 1)][i], weight_[at(w + 2)][i], weight_[at(w + 3)][i]);
-          reach2 = std::max(reach2, (x0 + d * local - bd.centroid).squaredNorm());
-        }
-        pair_stiffness_[k] = k_sum;  // (the same sum on both sides)
-        pair_reach2_[k][at(side)] = reach2;
-      }
-    }
     for (int side = 0; side < 2; ++side) {
       present_bound_[at(ab[at(side)])] += pair_stiffness_[k];
       present_reach2_[at(ab[at(side)])] = std::max(present_reach2_[at(ab[at(side)])], pair_reach2_[k][at(side)]);

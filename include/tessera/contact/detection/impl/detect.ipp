@@ -33,10 +33,17 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   const auto marked = [&](const block_pair& c) {
     return only.empty() || only[static_cast<std::size_t>(c.a)] != 0 || only[static_cast<std::size_t>(c.b)] != 0;
   };
-  const auto skipped = [&](const block_pair& c) { return std::binary_search(skip.begin(), skip.end(), c); };
+  // Whether pair c is in `skip`, for pairs asked in increasing order (a cursor over skip, from 0).
+  const auto skipped = [&](std::size_t& s, const block_pair& c) {
+    while (s < skip.size() && skip[s] < c) ++s;
+    return s < skip.size() && skip[s] == c;
+  };
   w.needs_faces.assign(blocks.size(), only.empty() ? 1 : 0);
   if (!only.empty()) {
-    std::erase_if(w.candidates, [&](const block_pair& c) { return !marked(c) || (!skip.empty() && skipped(c)); });
+    std::size_t kept = 0, s = 0;
+    for (std::size_t i = 0; i < w.candidates.size(); ++i)
+      if (const block_pair c = w.candidates[i]; !skipped(s, c) && marked(c)) w.candidates[kept++] = c;
+    w.candidates.resize(kept);
     for (const block_pair& c : w.candidates)
       w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
   }
@@ -97,10 +104,10 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   if (options.reuse_axes) {
     w.next_pairs.clear();
     w.next_axes.clear();
-    std::size_t k = 0;
+    std::size_t k = 0, s = 0;
     const auto keep_old_until = [&](const block_pair* before) {
       for (; k < w.axis_pairs.size() && (before == nullptr || w.axis_pairs[k] < *before); ++k)
-        if (!marked(w.axis_pairs[k]) || (!skip.empty() && skipped(w.axis_pairs[k]))) {
+        if (skipped(s, w.axis_pairs[k]) || !marked(w.axis_pairs[k])) {
           w.next_pairs.push_back(w.axis_pairs[k]);
           w.next_axes.push_back(w.axes[k]);
         }
