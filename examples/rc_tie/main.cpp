@@ -36,7 +36,8 @@
 //                    sub-contacts (tensile damage 0..1, status flags, every declared law field),
 //                    the bar as a polyline (axial force per element, slip and bond force per
 //                    node, displacement), zones (displacement, stress); tie.pvd lists them
-//   summary.json     inputs (law, g_ii_J_per_m2), hand checks, first_crack_force_N and its error vs f_T (A_c + n A_s),
+//   summary.json     inputs (law, g_ii_J_per_m2), hand checks, first_crack_force_N and its error
+//                    vs f_T (A_c + n A_s),
 //                    first_drop_force_N (peak of the first load drop) and its error,
 //                    first_softening_force_N (first sub-contact past its peak),
 //                    concrete_stress_at_first_crack_Pa (and / f_T), softened_subcontacts_at_first_crack,
@@ -137,7 +138,8 @@ void write_curves(const fs::path& out, const inputs& in, const tessera::scenes::
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC tie, ", in.tie.blocks, " blocks, ", in.tie.elements, " elements, xi ",
                                        in.tie.xi, ", c_bond ", in.tie.c_bond, " N/m, ",
-                                       tessera::scenes::tie_law_text(scene, in.law, in.loading), in.tie.bare ? " (bare bar run)" : "");
+                                       tessera::scenes::tie_law_text(scene, in.law, in.loading),
+                                       in.tie.bare ? " (bare bar run)" : "");
   plot.xlabel = "elongation (mm)";
   plot.ylabel = "force (kN)";
   plot.series.push_back({.csv = out / "curve.csv", .x_column = "elongation_m", .y_column = "force_N",
@@ -384,7 +386,7 @@ int main(int argc, char** argv) {
              "calibrated.json from examples/calibrate: scale the concrete contacts' strength (and G_f) by its entry for --blocks "
              "(--law study)",
              "FILE");
-  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R").greater_than(0);
+  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0; --law mixed_mode: 0)", "R").greater_than(0);
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--scheme", in.scheme,
