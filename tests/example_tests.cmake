@@ -265,6 +265,27 @@ tessera_add_example_test(rc_tie NAME example_rc_tie_relaxation_bare_bar
          "initial_stiffness_error_rel LESS 1e-3"
          "bare_bar_curve_error_rel LESS 0.003"
   TIMEOUT 300)
+# The reduced tie with the beam's mixed-mode set (--law mixed_mode --g-ii 70, rc_tie/concrete.hpp):
+# one damage for tension and shear, linear softening, on the same Table 1 contacts (f_T 2.15 MPa,
+# G_f 60 J/m^2), so the hand checks are the study law's. Measured (quick, seed 1): first crack
+# 13.97 kN, +32.1 % of f_T (A_c + n A_s) = 10.58 kN (the study's law: 15.18 kN, +43.5 %); 6 load
+# drops, 5 fully opened through-cracks at 4 sites (study: 2); yield plateau 20.56 kN, +2.25 % of
+# f_y A (study +6.52 %), final branch +2.27 %; energy balance 1.9e-5. The bands: first crack +23 ...
+# +40 % (13.0-14.8 kN, the study's quick run is outside), yield and final branch within 4 %.
+tessera_add_example_test(rc_tie NAME example_rc_tie_mixed_quick
+  ARGS --quick --seed 1 --threads 1 --no-vtk --law mixed_mode --g-ii 70
+  FILES curve.csv
+  CHECKS "law STREQUAL mixed_mode"
+         "g_ii_J_per_m2 EQUAL 70"
+         "softening STREQUAL linear"
+         "first_crack_force_N GREATER 13000"
+         "first_crack_force_N LESS 14800"
+         "yield_force_error_rel LESS 0.04"
+         "final_force_error_rel LESS 0.04"
+         "cracks GREATER 2"
+         "bar_crossing_cracks GREATER 2"
+         "energy_balance_error_rel LESS 0.01"
+  TIMEOUT 300)
 # ---- rc_tie_sensitivity: the Sec. 3.2 studies, reduced set (xi 2 and 4; c_bond 1e9 and 1e4 N/m;
 # 100 blocks, dt 4e-6 s, 5 mm/s; 4 runs, about 45 s on one thread) ----
 # The study's trends with numbers. Measured (quick, seed 1): K0 66.5 kN/mm for xi = 2 and 82.4 for
@@ -362,6 +383,30 @@ tessera_add_refusal_test(refuse_rc_tie_blocks rc_tie "--blocks: value '1000000' 
 tessera_add_refusal_test(refuse_rc_tie_blocks_few rc_tie "--blocks: value '10' must be >= 20" --blocks 10)
 tessera_add_refusal_test(refuse_rc_tie_softening rc_tie "--softening: invalid value 'foo' \\(expected power or linear\\)"
   --softening foo)
+# --law (rc_tie/concrete.hpp): a law not in the list, --g-ii with the study's law or below the mixed
+# law's bound c_0^2 / (2 k_s) = 19.2 J/m^2 (refused before anything is written), and the study law's
+# flags that the mixed-mode tie does not take, each named with its value.
+tessera_add_refusal_test(refuse_rc_tie_law rc_tie "--law: invalid value 'crushing' \\(expected study or mixed_mode\\)"
+  --law crushing)
+tessera_add_refusal_test(refuse_rc_tie_g_ii_study rc_tie
+  "^rc_tie: --g-ii 70 J/m.2 applies to --law mixed_mode only \\(--law study has no G_II\\)" --threads 1 --g-ii 70)
+tessera_add_refusal_test(refuse_rc_tie_mixed_g_ii_small rc_tie "G_II = 10 J/m.2 gives s_u .* G_II must exceed"
+  --quick --threads 1 --law mixed_mode --g-ii 10)
+tessera_add_refusal_test(refuse_rc_tie_mixed_softening rc_tie
+  "^rc_tie: --softening power applies to --law study only \\(--law mixed_mode softens linearly over G_f\\)"
+  --threads 1 --law mixed_mode --softening power)
+tessera_add_refusal_test(refuse_rc_tie_mixed_cohesion rc_tie
+  "^rc_tie: --cohesion coupled applies to --law study only" --threads 1 --law mixed_mode --cohesion coupled)
+tessera_add_refusal_test(refuse_rc_tie_mixed_slip_breaks rc_tie
+  "^rc_tie: --slip-breaks-tension applies to --law study only" --threads 1 --law mixed_mode --slip-breaks-tension)
+tessera_add_refusal_test(refuse_rc_tie_mixed_params rc_tie
+  "^rc_tie: --params .*calibrated_quick.json applies to --law study only" --threads 1 --law mixed_mode
+  --params ${PROJECT_SOURCE_DIR}/tests/data/calibrated_quick.json)
+tessera_add_refusal_test(refuse_rc_tie_mixed_rigid rc_tie
+  "^rc_tie: --rigid applies to --law study only \\(--law mixed_mode is built on deformable blocks\\)"
+  --threads 1 --law mixed_mode --rigid)
+tessera_add_refusal_test(refuse_rc_tie_mixed_relaxation rc_tie
+  "^rc_tie: --scheme relaxation applies to --law study only" --threads 1 --law mixed_mode --scheme relaxation)
 tessera_add_refusal_test(refuse_tessellate_edge tessellate "--edge 1e-05 m .* zones, an estimated .* GiB \\(limit 8 GiB\\)"
   --edge 1e-5)
 tessera_add_refusal_test(refuse_rc_tie_sensitivity_studies rc_tie_sensitivity "unknown study 'foo'" --studies foo)

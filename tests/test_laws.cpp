@@ -1192,7 +1192,8 @@ mixed_law::params mixed_params(real G_II = 0) { return presets::with_mixed_mode(
 /// Drives the contact along du = (cos theta n + sin theta e_x) in three legs ending at the closed
 /// form's kinks (the peak at delta_peak, the break at delta_end) and 20 % beyond, so the trapezoidal
 /// bookkeeping is exact on each straight piece; returns the largest |sigma_n| and |tau| seen.
-std::pair<real, real> drive_at_angle(contact_driver<mixed_law>& c, real theta, real delta_peak, real delta_end) {
+template <class Law>
+std::pair<real, real> drive_at_angle(contact_driver<Law>& c, real theta, real delta_peak, real delta_end) {
   real largest_sigma = 0, largest_tau = 0, done = 0;
   const vec3 dir = std::cos(theta) * e_z + std::sin(theta) * e_x;
   const auto leg = [&](real to, int steps) {
@@ -1213,9 +1214,10 @@ std::pair<real, real> drive_at_angle(contact_driver<mixed_law>& c, real theta, r
 /// The displacements of a contact driven along theta: the peak, where (k_n cos, k_s sin) delta meets
 /// the ellipse, and the break, where the plastic displacement (all of it: the stress is zero) has
 /// |(u_n / l_I, u_s / l_II)| = 1.
-std::pair<real, real> mixed_kinks(const mixed_law::params& p, real theta) {
+template <class Law = mixed_law>
+std::pair<real, real> mixed_kinks(const typename Law::params& p, real theta) {
   const real alpha = p.tension.f_T / p.shear.c_0, a = p.k_n * std::cos(theta), b = p.k_s * std::sin(theta);
-  const real l_I = mixed_law::mode_one_length(p), l_II = mixed_law::mode_two_length(p);
+  const real l_I = Law::mode_one_length(p), l_II = Law::mode_two_length(p);
   const real x = std::cos(theta) / l_I, y = std::sin(theta) / l_II;
   return {p.tension.f_T / std::sqrt(a * a + alpha * alpha * b * b), 1 / std::sqrt(x * x + y * y)};
 }
@@ -1246,6 +1248,47 @@ TEST_CASE("mixed mode in pure tension: peak f_T and G_I dissipated, the study's 
     m.open_to(u, 5), study.open_to(u, 5);
     CHECK(m.s.sigma_n == Approx(study.s.sigma_n).margin(1e-9 * p.tension.f_T));
   }
+}
+
+TEST_CASE("mixed mode on the tie's contacts: Table 1 stiffnesses and f_T and G_f and no cap and G_II 120 by default",
+          "[laws][mixed]") {
+  using tie_mixed = presets::mixed_mode_tie_law;
+  const auto prism = presets::study_prism_params(100);
+  const auto p = presets::with_mixed_mode(prism);
+  CHECK(p.k_n == 1160e9);
+  CHECK(p.k_s == 482e9);
+  CHECK(p.tension.f_T == 2.15e6);
+  CHECK(p.tension.G_f == 60);
+  CHECK(p.shear.c_0 == 2 * 2.15e6);
+  CHECK(p.shear.c_res == 0);
+  CHECK(p.shear.G_II == Approx(120).epsilon(1e-15));  // (c_0 / f_T) G_f
+  CHECK(presets::with_mixed_mode(prism, 70).shear.G_II == 70);
+  // Pure tension: peak f_T, G_I dissipated on the linear envelope.
+  contact_driver<tie_mixed> t(p);
+  const auto [u_peak, u_end] = mixed_kinks<tie_mixed>(p, 0);
+  CHECK(u_end == Approx(2 * 60 / 2.15e6).epsilon(1e-14));
+  const auto [sigma_max, tau_max] = drive_at_angle(t, 0, u_peak, u_end);
+  CHECK(sigma_max == Approx(2.15e6).epsilon(1e-12));
+  CHECK(tau_max == 0);
+  CHECK(t.s.dissipated_tension == Approx(60).epsilon(1e-9));
+  CHECK(t.work == Approx(t.stored() + t.dissipated()).epsilon(1e-12));
+  // Pure shear at zero normal stress with the beam's set G_II 70: peak c_0, 70 J/m^2 dissipated.
+  const auto q = presets::with_mixed_mode(prism, 70);
+  contact_driver<tie_mixed> s(q);
+  const real theta = std::numbers::pi / 2;
+  const auto [s_peak, s_end] = mixed_kinks<tie_mixed>(q, theta);
+  const auto [s_sigma, s_tau] = drive_at_angle(s, theta, s_peak, s_end);
+  CHECK(s_tau == Approx(q.shear.c_0).epsilon(1e-12));
+  CHECK(std::abs(s_sigma) < 1e-6);
+  CHECK(s.dissipated() == Approx(70).epsilon(1e-6));
+  // No cap, as the study's tie law: closed by 1e-4 m the contact carries k_n u = 116 MPa, elastic.
+  contact_driver<tie_mixed> c(p);
+  c.open_to(-1e-4, 50);
+  CHECK(c.s.sigma_n == Approx(-1160e9 * 1e-4).epsilon(1e-12));
+  CHECK(c.dissipated() == Approx(0).margin(1e-9 * 60));  // the bookkeeping's rounding only, against G_f
+  // The law's bound: G_II must exceed c_0^2 / (2 k_s) = 19.2 J/m^2 for the 100-block contacts.
+  CHECK_THROWS_AS(tie_mixed::validate(presets::with_mixed_mode(prism, 10)), invalid_input);
+  CHECK_NOTHROW(tie_mixed::validate(presets::with_mixed_mode(prism, 20)));
 }
 
 TEST_CASE("mixed mode in pure shear at zero normal stress: peak c_0 and G_II dissipated, then no cohesion",

@@ -5,7 +5,8 @@
 //   specimen  68 x 68 x 600 mm prism (long axis z), --blocks random Voronoi blocks, deformable
 //             semi-rigid (10 x 28 GPa), Table 1 contacts (cohesion c_0 = --cohesion-ratio x f_T,
 //             2 by default; block counts outside Table 1: its stiffnesses scaled as blocks^(1/3)),
-//             power (default) or linear softening
+//             power (default) or linear softening; --law mixed_mode: the mixed-mode law on the same
+//             contacts, G_II --g-ii (rc_tie/concrete.hpp)
 //   bar       Ø8 mm on the axis, E_s = 192.3 GPa, f_y = 400 MPa, --elements truss elements,
 //             bond ratio --xi (per unit bar length by default, --bond-basis), bond cohesion
 //             --cbond (N/m)
@@ -35,7 +36,8 @@
 //                    sub-contacts (tensile damage 0..1, status flags, every declared law field),
 //                    the bar as a polyline (axial force per element, slip and bond force per
 //                    node, displacement), zones (displacement, stress); tie.pvd lists them
-//   summary.json     inputs, hand checks, first_crack_force_N and its error vs f_T (A_c + n A_s),
+//   summary.json     inputs (law, g_ii_J_per_m2), hand checks, first_crack_force_N and its error
+//                    vs f_T (A_c + n A_s),
 //                    first_drop_force_N (peak of the first load drop) and its error,
 //                    first_softening_force_N (first sub-contact past its peak),
 //                    concrete_stress_at_first_crack_Pa (and / f_T), softened_subcontacts_at_first_crack,
@@ -77,6 +79,7 @@
 #include "common/relaxed_scheme.hpp"
 #include "common/rc_tie_run.hpp"
 #include "common/snapshots.hpp"
+#include "rc_tie/concrete.hpp"
 #include "tessera/io/atomic_file.hpp"
 #include "tessera/io/run_record.hpp"
 #include "tessera/io/csv.hpp"
@@ -94,6 +97,7 @@ struct inputs {
   tessera::cli::standard_options common;
   tessera::scenes::tie_options tie;
   tessera::scenes::tie_loading loading;
+  tessera::scenes::tie_law law;  // --law, --g-ii (rc_tie/concrete.hpp)
   bool write_vtk = true;
   std::string params;  // calibrated.json (examples/calibrate); empty = the study verbatim
   std::string scheme = "explicit";                // explicit | relaxation (kinetic dynamic relaxation)
@@ -121,8 +125,8 @@ sampled_curve bare_bar_curve(const tessera::scenes::tie_hand_checks& hand, real 
 }
 
 /// curve.csv, bare_bar.csv and curve.png.
-void write_curves(const fs::path& out, const inputs& in, const tessera::scenes::tie_result& r,
-                  const sampled_curve& bare) {
+void write_curves(const fs::path& out, const inputs& in, const tessera::scenes::tie_scene& scene,
+                  const tessera::scenes::tie_result& r, const sampled_curve& bare) {
   namespace io = tessera::io;
   std::vector<real> softened(r.softened_subcontacts.begin(), r.softened_subcontacts.end());
   io::write_csv(out / "curve.csv",
@@ -133,8 +137,9 @@ void write_curves(const fs::path& out, const inputs& in, const tessera::scenes::
   io::write_csv(out / "bare_bar.csv", {"elongation_m", "force_N"}, {bare.u, bare.f});
   io::plot_spec plot;
   plot.title = tessera::detail::concat("RC tie, ", in.tie.blocks, " blocks, ", in.tie.elements, " elements, xi ",
-                                       in.tie.xi, ", c_bond ", in.tie.c_bond, " N/m, ", in.loading.softening,
-                                       " softening", in.tie.bare ? " (bare bar run)" : "");
+                                       in.tie.xi, ", c_bond ", in.tie.c_bond, " N/m, ",
+                                       tessera::scenes::tie_law_text(scene, in.law, in.loading),
+                                       in.tie.bare ? " (bare bar run)" : "");
   plot.xlabel = "elongation (mm)";
   plot.ylabel = "force (kN)";
   plot.series.push_back({.csv = out / "curve.csv", .x_column = "elongation_m", .y_column = "force_N",
@@ -263,6 +268,7 @@ void write_summary(const fs::path& out, const inputs& in, const tessera::scenes:
   tessera::scenes::set_scheme_figures(js, in.scheme, in.loading.relax_increment, in.loading.relax_tolerance, r);
   tessera::scenes::set_phase_figures(js, r.phases, r.zones, r.subcontacts, r.steps);
   tessera::scenes::set_split_figures(js);
+  tessera::scenes::set_tie_law_figures(js, scene, in.law, in.loading);  // law, G_II; softening, cohesion in place
   js.write(out / "summary.json");
 }
 
@@ -329,18 +335,19 @@ int run(inputs in) {
   const auto& hand = scene.hand;
 
   tessera::scenes::bar_snapshots snapshots(out, scene.prism.mesh, "tie.pvd", in.write_vtk && !in.tie.bare);
-  const tessera::scenes::tie_result r = in.loading.relaxation
-                                            ? tessera::scenes::run_tie<true>(scene, in.loading, snapshots)
-                                            : tessera::scenes::run_tie<false>(scene, in.loading, snapshots);
+  const tessera::scenes::tie_result r =
+      in.loading.relaxation ? tessera::scenes::run_tie_with_law<true>(scene, in.loading, in.law, snapshots)
+                            : tessera::scenes::run_tie_with_law<false>(scene, in.loading, in.law, snapshots);
   io::ensure_directory(out);  // after the run's own checks (quasi-static rate, stable step) passed
 
   const sampled_curve bare = bare_bar_curve(hand, r.end_elongation);
-  write_curves(out, in, r, bare);
+  write_curves(out, in, scene, r, bare);
   crack_sites_of_run c;
   c.cell_size = std::cbrt(scene.prism.box.volume() / in.tie.blocks);  // mean cell size (m)
   c.sites = tessera::analysis::crack_sites(r.cracks.positions, c.cell_size);
   write_summary(out, in, scene, r, bare, c, timer);
   print_report(out, scene, r, c, timer);
+  if (in.law.mixed()) std::printf("  law: %s\n", tessera::scenes::tie_law_text(scene, in.law, in.loading).c_str());
   return 0;
 }
 
@@ -369,15 +376,17 @@ int main(int argc, char** argv) {
   cli.option("--elements", elements, "truss elements along the bar", "N").within(2, 100000);
   cli.option("--xi", in.tie.xi, "bond stiffness ratio K_bond / K_axial", "XI").greater_than(0);
   cli.option("--cbond", in.tie.c_bond, "bond cohesion (N per m of bar)", "C").greater_than(0);
-  cli.option("--softening", softening, "contact tensile softening: power (alpha = 3) or linear", "power|linear").one_of({"power", "linear"});
+  cli.option("--softening", softening, "contact tensile softening with --law study: power (alpha = 3) or linear", "power|linear").one_of({"power", "linear"});
   cli.option("--cohesion", in.loading.cohesion,
-             "cohesion under tensile softening: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
+             "cohesion under tensile softening with --law study: decoupled (c_0 until broken, DESIGN.md) or coupled (softens with "
              "f_t/f_T; power softening, deformable blocks)",
              "decoupled|coupled").one_of({"decoupled", "coupled"});
+  tessera::scenes::add_tie_law_flags(cli, in.law);  // --law study|mixed_mode, --g-ii
   cli.option("--params", in.params,
-             "calibrated.json from examples/calibrate: scale the concrete contacts' strength (and G_f) by its entry for --blocks",
+             "calibrated.json from examples/calibrate: scale the concrete contacts' strength (and G_f) by its entry for --blocks "
+             "(--law study)",
              "FILE");
-  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0)", "R").greater_than(0);
+  cli.option("--cohesion-ratio", in.tie.cohesion_ratio, "initial cohesion c_0 / f_T of the concrete contacts (c_res = 0.01 c_0; --law mixed_mode: 0)", "R").greater_than(0);
   cli.flag("--slip-breaks-tension", in.loading.slip_breaks_tension,
            "a contact that fails in shear is broken in tension too (3DEC/YADE brittle joints; DESIGN.md keeps its tension)");
   cli.option("--scheme", in.scheme,
@@ -468,6 +477,7 @@ int main(int argc, char** argv) {
     if (in.loading.relaxation)
       mpi.require_splittable(false, "rc_tie --scheme relaxation", "kinetic relaxation is not distributed");
     mpi.require_splittable(!in.tie.rigid, "rc_tie --rigid");
+    tessera::scenes::require_tie_law_flags(cli, in.law, in.loading, in.tie, in.params, in.scheme);
   } catch (const std::exception& e) {
     if (mpi.rank() == 0) tessera::cli::print_error("rc_tie", e);
     return 2;
