@@ -1612,6 +1612,19 @@ TEST_CASE("detection broad phase: the grid with marked blocks gives the all-pair
       detection::uniform_grid(boxes, margin, g, full, gw);
       CHECK(full == all);
       CHECK(all.size() > 500);
+      // On 1 and 3 threads (a share of the cells and of the big boxes' tests each, the sorted
+      // lists merged), the same lists; the full pass's entries are enough for the shares.
+      CHECK(gw.order.size() >= 1024);
+      for (const int threads : {1, 3}) {
+        const int saved = max_threads();
+        set_threads(threads);
+        std::vector<detection::block_pair> marked_again, full_again;
+        detection::uniform_grid(boxes, margin, g, marked_again, gw, only);
+        detection::uniform_grid(boxes, margin, g, full_again, gw);
+        set_threads(saved);
+        CHECK(marked_again == reference);
+        CHECK(full_again == all);
+      }
       if (share > 0 && share < 1) CHECK(reference.size() < all.size());
       if (share == 0) CHECK(reference.empty());
       checked += reference.size();

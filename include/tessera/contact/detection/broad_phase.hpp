@@ -23,7 +23,9 @@
 // `steps` steps, whichever comes first.
 //
 // Deterministic: the pair list is sorted (a < b, by a then b) whatever the algorithm or thread
-// count. Allocates only when a workspace grows.
+// count (uniform_grid on several threads: each thread's share of the cells and of the big boxes'
+// tests gives its own sorted list, merged in share order; the pairs are distinct, so the sorted
+// list is the one thread's). Allocates only when a workspace grows.
 
 #include <algorithm>
 #include <array>
@@ -100,6 +102,9 @@ struct grid_workspace {
   /** block of each entry, and the entries' order by cell */ /**@{*/ std::vector<index_t> block_of_entry, order; /**@}*/
   std::vector<std::size_t> starts;  ///< first entry of each cell (CSR of the counting sort by cell)
   std::vector<std::uint8_t> reached;  ///< per cell, whether a marked box reaches it (a pass with marks)
+  /// On several threads, each share's pairs (sorted), then merged into the result in place of one sort.
+  std::vector<std::vector<block_pair>> share_pairs;
+  std::vector<block_pair> merged;  ///< the merge's other buffer (more than two shares)
 };
 
 /// An enlarged box whose largest side exceeds this many times the mean of all boxes' is a big

@@ -3,6 +3,7 @@
 // TESSERA_SEPARATE_COMPILATION (core/separate_compilation.hpp).
 #pragma once
 
+#include "../../../core/parallel.hpp"
 #include "../broad_phase.hpp"
 
 namespace tessera::contact::detection {
@@ -102,41 +103,69 @@ TESSERA_INLINE void uniform_grid(std::span<const aabb> boxes, real margin, const
   for (std::size_t e = 0; e < w.order.size(); ++e)
     w.order[w.starts[static_cast<std::size_t>(w.cell_of_entry[e])]++] = static_cast<index_t>(e);
   const real m2 = 2 * margin;
-  for (std::size_t s = 0; s < w.order.size();) {
-    std::size_t e = s;
-    const auto cell_here = w.cell_of_entry[static_cast<std::size_t>(w.order[s])];
-    while (e < w.order.size() && w.cell_of_entry[static_cast<std::size_t>(w.order[e])] == cell_here) ++e;
-    // Each unordered pair of the cell's entries once, and (marks) only those with a marked block:
-    // entry x marked, then y any other entry but a marked one before x.
-    for (std::size_t x = s; x < e; ++x) {
-      const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
-      if (!marked(a0)) continue;
-      for (std::size_t y = marks ? s : x + 1; y < e; ++y) {
-        const index_t b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
-        if (marks && (y == x || (y < x && marked(b0)))) continue;
-        const aabb& p = boxes[static_cast<std::size_t>(a0)];
-        const aabb& q = boxes[static_cast<std::size_t>(b0)];
-        if (!detail::boxes_overlap(p, q, m2)) continue;
-        // Report the pair only in the cell holding the lower corner of the enlarged boxes'
-        // intersection, so a pair sharing several cells is reported once.
-        const vec3 corner = (p.lo - vec3::Constant(margin)).cwiseMax(q.lo - vec3::Constant(margin));
-        if (cell_id(cell_coord(corner.x(), 0), cell_coord(corner.y(), 1), cell_coord(corner.z(), 2)) != cell_here) continue;
-        pairs.push_back({std::min(a0, b0), std::max(a0, b0)});
+  // The pairs of the cells whose entries start in [first, last) of the order (a cell's entries
+  // all go to the share holding its first one), and of the big boxes against boxes [x0, x1).
+  const auto share = [&](std::size_t first, std::size_t last, std::size_t x0, std::size_t x1, std::vector<block_pair>& out) {
+    out.clear();
+    const auto cell_at = [&](std::size_t i) { return w.cell_of_entry[static_cast<std::size_t>(w.order[i])]; };
+    std::size_t s = first;
+    while (s > 0 && s < w.order.size() && cell_at(s - 1) == cell_at(s)) ++s;
+    while (s < last) {
+      std::size_t e = s;
+      const auto cell_here = cell_at(s);
+      while (e < w.order.size() && cell_at(e) == cell_here) ++e;
+      // Each unordered pair of the cell's entries once, and (marks) only those with a marked
+      // block: entry x marked, then y any other entry but a marked one before x.
+      for (std::size_t x = s; x < e; ++x) {
+        const index_t a0 = w.block_of_entry[static_cast<std::size_t>(w.order[x])];
+        if (!marked(a0)) continue;
+        for (std::size_t y = marks ? s : x + 1; y < e; ++y) {
+          const index_t b0 = w.block_of_entry[static_cast<std::size_t>(w.order[y])];
+          if (marks && (y == x || (y < x && marked(b0)))) continue;
+          const aabb& p = boxes[static_cast<std::size_t>(a0)];
+          const aabb& q = boxes[static_cast<std::size_t>(b0)];
+          if (!detail::boxes_overlap(p, q, m2)) continue;
+          // Report the pair only in the cell holding the lower corner of the enlarged boxes'
+          // intersection, so a pair sharing several cells is reported once.
+          const vec3 corner = (p.lo - vec3::Constant(margin)).cwiseMax(q.lo - vec3::Constant(margin));
+          if (cell_id(cell_coord(corner.x(), 0), cell_coord(corner.y(), 1), cell_coord(corner.z(), 2)) != cell_here) continue;
+          out.push_back({std::min(a0, b0), std::max(a0, b0)});
+        }
+      }
+      s = e;
+    }
+    // The big boxes, against every box (two big ones once).
+    for (std::size_t b = 0; b < boxes.size(); ++b) {
+      if (!is_big(b)) continue;
+      const auto a0 = static_cast<index_t>(b);
+      for (std::size_t x = x0; x < x1; ++x) {
+        const auto b0 = static_cast<index_t>(x);
+        if (x == b || (x < b && is_big(x)) || (!marked(a0) && !marked(b0))) continue;
+        if (detail::boxes_overlap(boxes[b], boxes[x], m2)) out.push_back({std::min(a0, b0), std::max(a0, b0)});
       }
     }
-    s = e;
+    std::sort(out.begin(), out.end());
+  };
+  // Several threads: each its share of the entries and of the boxes, its pairs sorted, and the
+  // sorted lists merged in share order (the pairs are distinct: the one thread's list).
+  const std::size_t entries = w.order.size(), n = boxes.size();
+  const auto shares = static_cast<std::size_t>(entries >= 64 && max_threads() > 1 ? max_threads() : 1);
+  if (shares == 1) return share(0, entries, 0, n, pairs);
+  if (w.share_pairs.size() < shares) w.share_pairs.resize(shares);
+  parallel_for(static_cast<std::int64_t>(shares), [&](std::int64_t t) {
+    const auto i = static_cast<std::size_t>(t);
+    share(entries * i / shares, entries * (i + 1) / shares, n * i / shares, n * (i + 1) / shares, w.share_pairs[i]);
+  }, 1);
+  const auto& first = w.share_pairs[0];
+  const auto& second = w.share_pairs[1];
+  pairs.resize(first.size() + second.size());
+  std::merge(first.begin(), first.end(), second.begin(), second.end(), pairs.begin());
+  for (std::size_t i = 2; i < shares; ++i) {
+    const auto& more = w.share_pairs[i];
+    w.merged.resize(pairs.size() + more.size());
+    std::merge(pairs.begin(), pairs.end(), more.begin(), more.end(), w.merged.begin());
+    pairs.swap(w.merged);
   }
-  // The big boxes, against every box (two big ones once).
-  for (std::size_t b = 0; b < boxes.size(); ++b) {
-    if (!is_big(b)) continue;
-    const auto a0 = static_cast<index_t>(b);
-    for (std::size_t x = 0; x < boxes.size(); ++x) {
-      const auto b0 = static_cast<index_t>(x);
-      if (x == b || (x < b && is_big(x)) || (!marked(a0) && !marked(b0))) continue;
-      if (detail::boxes_overlap(boxes[b], boxes[x], m2)) pairs.push_back({std::min(a0, b0), std::max(a0, b0)});
-    }
-  }
-  std::sort(pairs.begin(), pairs.end());
 }
 
 }  // namespace tessera::contact::detection
