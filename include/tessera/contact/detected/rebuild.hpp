@@ -242,15 +242,14 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   new_state_.resize(n);
   new_fresh_.assign(n, 0);
   kept_old_.assign(key_label_.size(), 0);
-  // The kept pairs' runs of a column (the runs in parallel: each writes its own).
-  const auto copy_kept = [&](const auto& from, auto& to) {
-    parallel_for_dynamic(static_cast<std::int64_t>(kept_runs_.size()), [&](std::int64_t r) {
-      const kept_run& run = kept_runs_[at(r)];
-      std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(run.from), run.count, to.begin() + static_cast<std::ptrdiff_t>(run.to));
-    }, 4);
+  // A kept pair's run of a column, and the runs of the state columns (in parallel: each writes its own).
+  const auto copy_run = [](const kept_run& run, const auto& from, auto& to) {
+    std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(run.from), run.count, to.begin() + static_cast<std::ptrdiff_t>(run.to));
   };
-  copy_kept(state_, new_state_);
-  copy_kept(fresh_, new_fresh_);
+  parallel_for_dynamic(static_cast<std::int64_t>(kept_runs_.size()), [&](std::int64_t r) {
+    copy_run(kept_runs_[at(r)], state_, new_state_);
+    copy_run(kept_runs_[at(r)], fresh_, new_fresh_);
+  }, 4);
   const auto merge_pair = [&](std::size_t k) {
     index_t bonded_here = 0;
     const index_t a = new_pair_a_[k], b = new_pair_b_[k];
@@ -367,9 +366,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   // The kept pairs' sub-contacts: keys, areas, weights, forces (the runs in parallel).
   parallel_for_dynamic(static_cast<std::int64_t>(kept_runs_.size()), [&](std::int64_t r) {
     const kept_run& run = kept_runs_[at(r)];
-    const auto copy = [&](const auto& from, auto& to) {
-      std::copy_n(from.begin() + static_cast<std::ptrdiff_t>(run.from), run.count, to.begin() + static_cast<std::ptrdiff_t>(run.to));
-    };
+    const auto copy = [&](const auto& from, auto& to) { copy_run(run, from, to); };
     copy(prev_.label, key_label_);
     copy(prev_.area, area_);
     copy(prev_.corner_normal, corner_normal_);
