@@ -24,18 +24,20 @@ static_assert(law::ElasticPackLaw<mixed_crushing_beam_law> && mixed_crushing_bea
 using mixed_mode_tie_law = law::mixed_mode_cohesive<law::elastic_compression>;
 static_assert(law::ElasticPackLaw<mixed_mode_tie_law>);
 
-/// The default mode-II fracture energy of the mixed-mode beam law (J/m^2): (c_0 / f_T) G_I, which
-/// makes the shear softening length l_II = 2 G_II / c_0 equal to the tensile one l_I = 2 G_I / f_T,
-/// so the damage grows with the Euclidean norm of the plastic opening and slip (Camacho and
-/// Ortiz's effective opening with beta = 1). 120 J/m^2 for the study's beam (c_0 = 2 f_T, G_f = 60).
-[[nodiscard]] inline real mixed_mode_default_g_ii(const study_beam_law::params& beam) noexcept {
-  return beam.shear.c_0 / beam.tension.f_T * beam.tension.G_f;
-}
-
-/// The same default for the study's prism and tie contacts (Table 1): (c_0 / f_T) G_f, 120 J/m^2
-/// for c_0 = 2 f_T and G_f = 60 J/m^2.
-[[nodiscard]] inline real mixed_mode_default_g_ii(const study_tie_law::params& prism) noexcept {
-  return prism.shear.c_0 / prism.tension.f_T * prism.tension.G_f;
+/// The default mode-II fracture energy of the mixed-mode law on a contact `c` of the study's law
+/// (J/m^2): (c_0 / f_T) G_I, which makes the shear softening length l_II = 2 G_II / c_0 equal to
+/// the tensile one l_I = 2 G_I / f_T, so the damage grows with the Euclidean norm of the plastic
+/// opening and slip (Camacho and Ortiz's effective opening with beta = 1). 120 J/m^2 for the
+/// study's beam contacts (study_beam_law::params) and for its prism and tie contacts (Table 1,
+/// study_tie_law::params): c_0 = 2 f_T, G_f = 60 J/m^2.
+template <class StudyContact>
+  requires requires(const StudyContact& c) {
+    real(c.shear.c_0);
+    real(c.tension.f_T);
+    real(c.tension.G_f);
+  }
+[[nodiscard]] real mixed_mode_default_g_ii(const StudyContact& c) noexcept {
+  return c.shear.c_0 / c.tension.f_T * c.tension.G_f;
 }
 
 /// The beam's contact `beam` with the mixed-mode law: its stiffnesses, f_T, G_f (as G_I), cap,
