@@ -144,10 +144,7 @@ class detected_contacts {
       build_surfaces(tess, mesh, row_max);
     } else {
       watch_gridpoints_ = vertex_gridpoints_;
-      for (block_data& bd : blocks_) {
-        bd.watch_begin = bd.vertex_begin;
-        bd.watch_end = bd.vertex_end;
-      }
+      for (block_data& bd : blocks_) detail::watch_vertices(bd, watch_gridpoints_, reference_);  // detected/frames.hpp
     }
     current_ = shapes_;
     boxes_.resize(at(n_b));
@@ -417,6 +414,8 @@ class detected_contacts {
   std::vector<block_data> blocks_;
   std::vector<block_motion> motion_;  ///< per block, this step (prepare_step)
   std::vector<real> moved_;  ///< per block, its watched gridpoints' largest squared move since the rebuild (m^2)
+  std::vector<real> moved_bound_;  ///< rigid blocks, per block: a bound on that move (m), prepare_step's
+  index_t bound_passed_at_ = -1;   ///< rebuild count when a bound last passed its limit (exact moves till the next)
   std::vector<index_t> vertex_gridpoints_;           ///< per block, its vertex gridpoints (local vertex order)
   std::vector<index_t> watch_gridpoints_;  ///< read by the rebuild trigger (rigid: vertices; deformable: surface)
   // deformable blocks only

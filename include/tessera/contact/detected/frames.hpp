@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -46,6 +47,9 @@ struct detected_block {
   real surface = 0;                           ///< S, m^2
   vec3 centroid = vec3::Zero();               ///< reference centroid (m)
   index_t watch_begin = 0, watch_end = 0;  ///< its watched gridpoints (rigid: vertices; deformable: surface)
+  // rigid blocks only: the trigger's bound (moved_bound)
+  std::array<index_t, 4> frame_watch{};  ///< the frame gridpoints' rows in the watch list
+  real frame_reach = std::numeric_limits<real>::infinity();  ///< largest |l| of a vertex's local coordinates
   // deformable blocks only
   index_t zone_begin = 0, zone_end = 0;    ///< its surface zones, into the surface zones list
   index_t face_begin = 0;                  ///< its first tessellation face (local face f = face_begin + f)
@@ -84,17 +88,77 @@ struct block_motion {
   vec3 x0 = vec3::Zero(), v0 = vec3::Zero();
   mat3 d = mat3::Identity(), dv = mat3::Zero(), rotation = mat3::Identity(), normal_map = mat3::Identity();
 };
-/// Block b's motion this step from its frame gridpoints in gp; `deformable`: normal_map is F^-T.
+/// Block b's motion this step from its frame gridpoints in gp, written into every member of m
+/// (a block's record in place, no temporary); `deformable`: normal_map is F^-T.
+inline void motion_into(block_motion& m, const soa3& reference, const detected_block& b, const node_set& gp,
+                        bool deformable) {
+  // The columns read through raw pointers: the same sums and differences as gridpoint_position
+  // and frame_matrix (the same bits), without a call and a row gather per gridpoint.
+  const index_t* f = b.frame.data();
+  for (int c = 0; c < 3; ++c) {
+    const real* x = reference.col(c).data();
+    const real* u = gp.displacement.col(c).data();
+    const real* v = gp.velocity.col(c).data();
+    const real x0 = x[f[0]] + u[f[0]], v0 = v[f[0]];
+    m.x0[c] = x0;
+    m.v0[c] = v0;
+    for (int k = 1; k < 4; ++k) {
+      m.d(c, k - 1) = (x[f[k]] + u[f[k]]) - x0;
+      m.dv(c, k - 1) = v[f[k]] - v0;
+    }
+  }
+  m.rotation = m.d * b.reference_inverse;
+  if (deformable)
+    m.normal_map = mat3(m.rotation.inverse().transpose());
+  else
+    m.normal_map = m.rotation;
+}
+/// The same, returned.
 [[nodiscard]] inline block_motion motion_of(const soa3& reference, const detected_block& b, const node_set& gp,
                                             bool deformable) {
   block_motion m;
-  m.x0 = gridpoint_position(reference, b.frame[0], &gp);
-  m.d = frame_matrix(reference, b, &gp);
-  m.v0 = gp.velocity.row(b.frame[0]).transpose();
-  for (int k = 1; k < 4; ++k) m.dv.col(k - 1) = gp.velocity.row(b.frame[at(k)]).transpose() - m.v0;
-  m.rotation = m.d * b.reference_inverse;
-  m.normal_map = deformable ? mat3(m.rotation.inverse().transpose()) : m.rotation;
+  motion_into(m, reference, b, gp, deformable);
   return m;
+}
+
+/// Rigid blocks: block b watches its vertices (watch list = vertex list), and the trigger's bound
+/// (moved_bound) learns where its frame gridpoints sit in that list and the largest |l| of a
+/// vertex's local coordinates l = D^-1 (X - X0) (infinite, so never used, if a frame gridpoint is
+/// not a vertex or the frame is so skewed that |l| > 1e3).
+inline void watch_vertices(detected_block& bd, const std::vector<index_t>& watch, const soa3& reference) {
+  bd.watch_begin = bd.vertex_begin;
+  bd.watch_end = bd.vertex_end;
+  const vec3 x0 = reference.row(bd.frame[0]).transpose();
+  real reach = 0;
+  int found = 0;
+  for (index_t k = bd.watch_begin; k < bd.watch_end; ++k) {
+    const index_t g = watch[at(k)];
+    for (int j = 0; j < 4; ++j)
+      if (bd.frame[at(j)] == g) {
+        bd.frame_watch[at(j)] = k;
+        ++found;
+      }
+    reach = std::max(reach, (bd.reference_inverse * (reference.row(g).transpose() - x0)).norm());
+  }
+  bd.frame_reach = found == 4 && reach <= 1e3 ? reach : std::numeric_limits<real>::infinity();
+}
+
+/// Rigid blocks: a bound (m) on how far any vertex of block `bd` moved since it was last detected
+/// (rebuild_u, the watched gridpoints' displacements then). Every vertex moves as
+/// du = du0 + [du1 - du0, du2 - du0, du3 - du0] l with its local coordinates l (|l| <= frame_reach)
+/// and du0..du3 the frame vertices' moves, up to the round-off of the slaved displacements
+/// (~1e-16 of them), so |du| <= |du0| + |[...]|_F frame_reach. O(1): four gridpoints, not every vertex.
+[[nodiscard]] inline real moved_bound(const detected_block& bd, const node_set& gp, const soa3& rebuild_u) noexcept {
+  real du[4][3];
+  for (int j = 0; j < 4; ++j)
+    for (int c = 0; c < 3; ++c)
+      du[j][c] = gp.displacement.col(c).data()[bd.frame[at(j)]] - rebuild_u.col(c).data()[bd.frame_watch[at(j)]];
+  real a2 = 0, d2 = 0;
+  for (int c = 0; c < 3; ++c) {
+    a2 += du[0][c] * du[0][c];
+    for (int j = 1; j < 4; ++j) d2 += (du[j][c] - du[0][c]) * (du[j][c] - du[0][c]);
+  }
+  return bd.frame_reach <= 1e3 ? std::sqrt(a2) + std::sqrt(d2) * bd.frame_reach : std::numeric_limits<real>::infinity();
 }
 
 /// Vertex gridpoints (appended to vertex_gridpoints), shape, edges, frame and bounds of block b

@@ -85,24 +85,49 @@ template <law::ContactLaw Law>
 template <law::ContactLaw Law>
 inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, real /*dt*/) {
   ++steps_since_rebuild_;
-  // Per block, in one parallel loop: its affine motion this step (the pairs read it, rather
-  // than gathering the four frame gridpoints of both blocks at every corner) and how far its
-  // watched gridpoints moved since it was last detected (a rebuild leaves the motion as it is).
-  // A split run's vote (set_motion_vote) watches the own blocks; the ranks reduce the largest.
   const bool vote = static_cast<bool>(largest_motion_) && !own_block_.empty();
-  parallel_for(
-      static_cast<std::int64_t>(blocks_.size()),
-      [&](std::int64_t b) {
-        motion_[at(b)] = detail::motion_of(reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
-        moved_[at(b)] = !vote || own_block_[at(b)] != 0 ? moved2_of(at(b), gridpoints) : real(0);
-      },
-      64);
+  // Rigid blocks outside a split run: first a bound per block from its four frame vertices
+  // (detail::moved_bound); while every bound stays below 0.9 x the trigger (a margin far above
+  // the bound's round-off), no vertex can have reached the trigger and its exact move is not
+  // needed: no rebuild, no refusal, the same steps as the test over every vertex. Once a bound
+  // passes that, every block's exact move until the next rebuild (a scene in motion does not
+  // pay for both), as below; the exact moves also at a rebuild of the interval.
+  const real tol = options_.tolerance;
+  if (!options_.deformable_blocks && !largest_motion_ && !before_rebuild_ && bound_passed_at_ != rebuilds_) {
+    moved_bound_.resize(blocks_.size());
+    parallel_for(
+        static_cast<std::int64_t>(blocks_.size()),
+        [&](std::int64_t b) {
+          detail::motion_into(motion_[at(b)], reference_, blocks_[at(b)], gridpoints, false);
+          moved_bound_[at(b)] = detail::moved_bound(blocks_[at(b)], gridpoints, rebuild_u_);
+        },
+        64);
+    const real limit = 0.9 * detail::trigger_fraction * tol;
+    bool below = true;
+    for (const real m : moved_bound_) below = below && m <= limit;  // false for NaN too
+    if (below && steps_since_rebuild_ < options_.max_rebuild_interval) return;
+    if (!below) bound_passed_at_ = rebuilds_;
+    parallel_for(
+        static_cast<std::int64_t>(blocks_.size()), [&](std::int64_t b) { moved_[at(b)] = moved2_of(at(b), gridpoints); },
+        64);
+  } else {
+    // Per block, in one parallel loop: its affine motion this step (the pairs read it, rather
+    // than gathering the four frame gridpoints of both blocks at every corner) and how far its
+    // watched gridpoints moved since it was last detected (a rebuild leaves the motion as it is).
+    // A split run's vote (set_motion_vote) watches the own blocks; the ranks reduce the largest.
+    parallel_for(
+        static_cast<std::int64_t>(blocks_.size()),
+        [&](std::int64_t b) {
+          detail::motion_into(motion_[at(b)], reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
+          moved_[at(b)] = !vote || own_block_[at(b)] != 0 ? moved2_of(at(b), gridpoints) : real(0);
+        },
+        64);
+  }
   real moved2 = moved_.empty() ? real(0) : *std::max_element(moved_.begin(), moved_.end());
   if (largest_motion_) moved2 = largest_motion_(moved2);
   // Rigid blocks: the incremental trigger (detected/incremental.hpp). Deformable blocks: every
   // block at tolerance / 2; detection read each block's affine fit, within max_deviation_ of
   // its surface gridpoints, so the trigger keeps that much in reserve.
-  const real tol = options_.tolerance;
   const real trigger = options_.deformable_blocks ? 0.5 * tol - max_deviation_ : detail::trigger_fraction * tol;
   // Past the tolerance (deformable: twice the trigger), one step covered more than the tolerance
   // less the trigger: refuse (detected/refusals.hpp).
@@ -115,7 +140,7 @@ inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, rea
       // A split run's copies of other ranks' blocks are current now: their motions again.
       before_rebuild_();
       parallel_for(static_cast<std::int64_t>(blocks_.size()), [&](std::int64_t b) {
-        motion_[at(b)] = detail::motion_of(reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
+        detail::motion_into(motion_[at(b)], reference_, blocks_[at(b)], gridpoints, options_.deformable_blocks);
         moved_[at(b)] = moved2_of(at(b), gridpoints);
       }, 64);
     }
