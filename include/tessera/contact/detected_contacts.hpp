@@ -150,6 +150,7 @@ class detected_contacts {
     boxes_.resize(at(n_b));
     present_bound_.resize(at(n_b));
     present_reach2_.resize(at(n_b));
+    moved_bound_.resize(at(n_b));  // the trigger's bound per block (prepare_step)
     rebuild(nullptr);
   }
 
