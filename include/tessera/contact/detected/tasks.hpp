@@ -7,9 +7,13 @@
 // Definitions of detected_contacts<Law>'s private members (declared in the class); it includes the
 // class and the class includes it, so either header can come first.
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 
+#include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
 #include "../detected_contacts.hpp"
 
@@ -46,34 +50,71 @@ inline void detected_contacts<Law>::index_subcontacts(bool kept_pairs) {
   const auto slot_gridpoint = [&](std::size_t item, int s) {
     return rigid ? blocks_[at(s < 4 ? pair_a_[item] : pair_b_[item])].frame[at(s % 4)] : node_[at(s)][item];
   };
-  slot_offsets_.assign(at(gridpoint_count_) + 1, 0);
-  for (std::size_t item = 0; item < items; ++item)
-    for (int s = 0; s < 8; ++s)
-      if (const index_t g = slot_gridpoint(item, s); g != invalid_index) ++slot_offsets_[at(g) + 1];
-  for (std::size_t g = 0; g < at(gridpoint_count_); ++g) slot_offsets_[g + 1] += slot_offsets_[g];
+  // On the threads, the same slots for any thread count: each of `parts` chunks of the items
+  // counts its slots per gridpoint (fill_, chunk c's counts from c x gridpoints), each of `parts`
+  // ranges of gridpoints turns the counts into every chunk's first slot there (the exclusive
+  // prefix sums in the serial order: gridpoint, then chunk), and each chunk writes its items'
+  // slots from those (no allocation once fill_ has grown).
+  const std::size_t n_g = at(gridpoint_count_);
+  const std::size_t parts = at(std::clamp<std::int64_t>(static_cast<std::int64_t>(items) / 128, 1, std::min(max_threads(), 64)));
+  const auto part = [&](std::size_t total, std::size_t c) { return total * c / parts; };  // (chunk c: [part(c), part(c + 1)))
+  fill_.resize(parts * n_g);
+  slot_offsets_.resize(n_g + 1);
+  slot_offsets_[0] = 0;
+  std::array<index_t, 65> slots_before{}, listed_before{};  // (per range of gridpoints, then summed over the ranges before)
+  const auto each_part = [&](auto&& f) { parallel_for(static_cast<std::int64_t>(parts), [&](std::int64_t c) { f(at(c)); }, 1); };
+  each_part([&](std::size_t c) {
+    index_t* const count = fill_.data() + c * n_g;
+    std::fill_n(count, n_g, 0);
+    for (std::size_t item = part(items, c); item < part(items, c + 1); ++item)
+      for (int s = 0; s < 8; ++s)
+        if (const index_t g = slot_gridpoint(item, s); g != invalid_index) ++count[at(g)];
+  });
+  const auto listed = [&](std::size_t g, index_t slots) { return slots > 0 && (own_gridpoint_.empty() || own_gridpoint_[g] != 0); };
+  each_part([&](std::size_t c) {
+    for (std::size_t g = part(n_g, c); g < part(n_g, c + 1); ++g) {
+      index_t here = 0;
+      for (std::size_t d = 0; d < parts; ++d) here += fill_[d * n_g + g];
+      slots_before[c + 1] += here;
+      listed_before[c + 1] += listed(g, here) ? 1 : 0;
+    }
+  });
+  for (std::size_t c = 0; c < parts; ++c) {
+    slots_before[c + 1] += slots_before[c];
+    listed_before[c + 1] += listed_before[c];
+  }
+  contact_gridpoints_.resize(at(listed_before[parts]));
+  each_part([&](std::size_t c) {
+    index_t next = slots_before[c];
+    auto to = at(listed_before[c]);
+    for (std::size_t g = part(n_g, c); g < part(n_g, c + 1); ++g) {
+      const index_t first = next;
+      for (std::size_t d = 0; d < parts; ++d) next += std::exchange(fill_[d * n_g + g], next);
+      slot_offsets_[g + 1] = next;
+      if (listed(g, next - first)) contact_gridpoints_[to++] = static_cast<index_t>(g);
+    }
+  });
   slot_source_.resize(at(slot_offsets_.back()));
   slot_weight_.resize(rigid ? 0 : at(slot_offsets_.back()));
-  fill_.assign(slot_offsets_.begin(), slot_offsets_.end() - 1);
-  for (std::size_t item = 0; item < items; ++item)
-    for (int s = 0; s < 8; ++s) {
-      const index_t g = slot_gridpoint(item, s);
-      if (g == invalid_index) continue;
-      const auto e = at(fill_[at(g)]++);
-      if (rigid) {
-        slot_source_[e] = static_cast<index_t>(24 * item + 3 * at(s));
-      } else {
-        slot_source_[e] = static_cast<index_t>(item);
-        slot_weight_[e] = s < 4 ? weight_[at(s)][item] : -weight_[at(s)][item];
+  each_part([&](std::size_t c) {
+    index_t* const fill = fill_.data() + c * n_g;
+    for (std::size_t item = part(items, c); item < part(items, c + 1); ++item)
+      for (int s = 0; s < 8; ++s) {
+        const index_t g = slot_gridpoint(item, s);
+        if (g == invalid_index) continue;
+        const auto e = at(fill[at(g)]++);
+        if (rigid) {
+          slot_source_[e] = static_cast<index_t>(24 * item + 3 * at(s));
+        } else {
+          slot_source_[e] = static_cast<index_t>(item);
+          slot_weight_[e] = s < 4 ? weight_[at(s)][item] : -weight_[at(s)][item];
+        }
       }
-    }
+  });
   if (rigid) {
     pair_force_.assign(24 * n_pairs, 0.0);
     bound_present_contacts(kept_pairs);
   }
-  contact_gridpoints_.clear();
-  for (index_t g = 0; g < gridpoint_count_; ++g)
-    if (slot_offsets_[at(g) + 1] > slot_offsets_[at(g)] && (own_gridpoint_.empty() || own_gridpoint_[at(g)] != 0))
-      contact_gridpoints_.push_back(g);
 }
 
 }  // namespace tessera::contact
