@@ -1,6 +1,7 @@
 #pragma once
-// The tasks and gather slots of detected_contacts (contact/detected_contacts.hpp), built from the
-// pairs and sub-contacts after each rebuild (detected/rebuild.hpp) and after a checkpoint load:
+// Parts of a rebuild of detected_contacts (contact/detected_contacts.hpp, detected/rebuild.hpp)
+// that run on the threads: the pass's corners sorted by label per pair, and the tasks and gather
+// slots built from the pairs and sub-contacts (after each rebuild and after a checkpoint load):
 // runs of consecutive pairs for the threads, and per gridpoint the slots whose forces it gathers,
 // in a fixed order (the same bits for any thread count).
 //
@@ -18,6 +19,84 @@
 #include "../detected_contacts.hpp"
 
 namespace tessera::contact {
+/// The pass's corners, per pass pair sorted by label, a label met twice kept once (with the two
+/// areas): new_label_, new_area_, new_point_, new_gap_, pass pair k's from pass_first_[k]
+/// (deformable blocks: a face-to-face patch's at surface gridpoints). Rigid blocks: each pass pair
+/// sorts its corners (order_, in its range of the pass's corners) and counts its labels, then writes
+/// them from its place (the pairs in parallel, each its own slots; the same bits for any thread count).
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::list_pass_corners(const node_set* gp) {
+  const std::size_t n_found = result_.pairs.size();
+  order_.resize(at(result_.first_corner[n_found]));
+  pass_first_.assign(n_found + 1, 0);
+  const auto sort_corners = [&](std::size_t k) {
+    const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+    for (std::size_t j = first; j < last; ++j) order_[j] = j;
+    std::sort(order_.begin() + static_cast<std::ptrdiff_t>(first), order_.begin() + static_cast<std::ptrdiff_t>(last),
+              [&](std::size_t x, std::size_t y) {
+                return result_.label[x] < result_.label[y] || (result_.label[x] == result_.label[y] && x < y);
+              });
+    for (std::size_t j = first; j < last; ++j)  // (a label met twice: a corner within round-off of another)
+      pass_first_[k + 1] += j == first || result_.label[order_[j]] != result_.label[order_[j - 1]] ? 1 : 0;
+  };
+  const auto write_corners = [&](std::size_t k) {
+    const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+    const bool polygon = result_.type[k] == detection::patch_type::polygon;
+    const real nominal =
+        std::min(blocks_[at(result_.pairs[k].a)].nominal_area, blocks_[at(result_.pairs[k].b)].nominal_area);
+    std::size_t to = at(pass_first_[k]);
+    for (std::size_t o = first; o < last; ++o) {
+      const std::size_t j = order_[o];
+      // A sliver polygon's corner keeps a floor of 1e-6 of the nominal area, so that areas stay
+      // > 0 and the ratios of a rebuild (below) stay finite.
+      const real a = polygon ? std::max(result_.area[j], 1e-6 * nominal) : nominal;
+      // A label met twice keeps its first point and takes the other's area.
+      if (o > first && result_.label[j] == result_.label[order_[o - 1]]) {
+        if (polygon) new_area_[to - 1] += a;
+        continue;
+      }
+      new_label_[to] = result_.label[j];
+      new_area_[to] = a;
+      new_point_[to] = result_.point[j];
+      new_gap_[to++] = result_.gap[j];
+    }
+  };
+  const auto resize_corners = [&](std::size_t size) {
+    new_label_.resize(size);
+    new_area_.resize(size);
+    new_point_.resize(size);
+    new_gap_.resize(size);
+  };
+  if (!options_.deformable_blocks) {
+    parallel_for_dynamic(static_cast<std::int64_t>(n_found), [&](std::int64_t k) { sort_corners(at(k)); });
+    for (std::size_t k = 0; k < n_found; ++k) pass_first_[k + 1] += pass_first_[k];
+    resize_corners(at(pass_first_[n_found]));
+    parallel_for_dynamic(static_cast<std::int64_t>(n_found), [&](std::int64_t k) { write_corners(at(k)); });
+  } else {
+    resize_corners(0);
+    for (std::size_t k = 0; k < n_found; ++k) {
+      // Deformable blocks: a face-to-face patch's sub-contacts at surface gridpoints.
+      if (result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
+        pass_first_[k + 1] = pass_first_[k] + static_cast<index_t>(node_scratch_.size());
+        resize_corners(at(pass_first_[k + 1]));
+        for (std::size_t i = 0; i < node_scratch_.size(); ++i) {
+          const node_contact& c = node_scratch_[i];
+          const std::size_t to = at(pass_first_[k]) + i;
+          new_label_[to] = c.label;
+          new_area_[to] = c.area;
+          new_point_[to] = position(c.gridpoint, gp);
+          new_gap_[to] = c.gap;
+        }
+        continue;
+      }
+      sort_corners(k);
+      pass_first_[k + 1] += pass_first_[k];
+      resize_corners(at(pass_first_[k + 1]));
+      write_corners(k);
+    }
+  }
+}
+
 /// Tasks (runs of pairs with at least task_subcontacts sub-contacts) and gather slots, from the
 /// pairs' first sub-contacts and the sub-contacts' pairs and weights: after a rebuild or a load.
 /// `kept_pairs`: a rebuild's call (bound_present_contacts reuses its kept pairs' terms).
