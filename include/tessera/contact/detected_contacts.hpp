@@ -358,7 +358,6 @@ class detected_contacts {
   // detected/rebuild.hpp
   void rebuild(const node_set* gp, bool full = true);
   [[nodiscard]] real moved2_of(std::size_t b, const node_set& gp) const noexcept;
-  void list_pass_corners(const node_set* gp);  // detected/tasks.hpp
   void index_subcontacts(bool kept_pairs = false);  // detected/tasks.hpp
   [[nodiscard]] std::size_t storage_capacity() const noexcept;
   [[nodiscard]] real stored_energy() const;
@@ -468,7 +467,7 @@ class detected_contacts {
   /// summed over its sub-contacts in order (N; 24 per pair).
   std::vector<real> pair_force_;
   // rebuild scratch
-  std::vector<index_t> new_pair_a_, new_pair_b_, new_pair_first_, new_found_first_, pass_first_;
+  std::vector<index_t> new_pair_a_, new_pair_b_, new_pair_first_, new_found_first_;
   std::vector<std::uint64_t> new_label_;
   std::vector<std::size_t> order_;
   std::vector<real> new_area_, new_gap_;

@@ -144,12 +144,15 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
 
   // New pairs and their corners, sorted by label within a pair: the pass's pairs (increasing)
   // and, merged in (a, b) order, the old pairs of two blocks not detected again or kept as one, kept whole.
-  // new_label_, new_area_, new_point_ and new_gap_ hold the pass's corners only (pass pair k's from
-  // pass_first_[k]); a kept pair's sub-contacts are a run of the old columns (kept_runs_).
+  // new_label_, new_area_, new_point_ and new_gap_ hold the pass's corners only (pair k's from
+  // new_found_first_[k]); a kept pair's sub-contacts are a run of the old columns (kept_runs_).
   const std::size_t n_found = result_.pairs.size();
-  list_pass_corners(gp);  // (detected/tasks.hpp)
   new_pair_a_.clear();
   new_pair_b_.clear();
+  new_label_.clear();
+  new_area_.clear();
+  new_point_.clear();
+  new_gap_.clear();
   new_source_.clear();
   new_found_first_.clear();
   new_pair_first_.assign(1, 0);
@@ -163,7 +166,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
                                                (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
     if (take_old) {
       // Its sub-contacts, a run of the old columns that the merges below copy whole.
-      const auto o0 = at(pair_first_[ko]), o1 = at(pair_first_[ko + 1]), i0 = n_kept + at(pass_first_[k]);
+      const auto o0 = at(pair_first_[ko]), o1 = at(pair_first_[ko + 1]), i0 = n_kept + new_label_.size();
       if (!kept_runs_.empty() && kept_runs_.back().to + kept_runs_.back().count == i0 &&
           kept_runs_.back().from + kept_runs_.back().count == o0)
         kept_runs_.back().count += o1 - o0;
@@ -172,7 +175,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       n_kept += o1 - o0;
       new_pair_a_.push_back(pair_a_[ko]);
       new_pair_b_.push_back(pair_b_[ko]);
-      new_pair_first_.push_back(static_cast<index_t>(n_kept + at(pass_first_[k])));
+      new_pair_first_.push_back(static_cast<index_t>(n_kept + new_label_.size()));
       new_found_first_.push_back(0);  // (none: its columns are copied)
       new_source_.push_back(-1 - static_cast<std::ptrdiff_t>(ko));
       ++untouched_last_;
@@ -181,10 +184,49 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     }
     if (k == n_found) break;
     new_source_.push_back(static_cast<std::ptrdiff_t>(k));
-    new_found_first_.push_back(pass_first_[k]);
+    new_found_first_.push_back(static_cast<index_t>(new_label_.size()));
+    const auto first = at(result_.first_corner[k]), last = at(result_.first_corner[k + 1]);
+    // Deformable blocks: a face-to-face patch's sub-contacts at surface gridpoints.
+    if (options_.deformable_blocks && result_.type[k] == detection::patch_type::polygon && collect_nodes(k, gp)) {
+      for (const node_contact& c : node_scratch_) {
+        new_label_.push_back(c.label);
+        new_area_.push_back(c.area);
+        new_point_.push_back(position(c.gridpoint, gp));
+        new_gap_.push_back(c.gap);
+      }
+      new_pair_a_.push_back(result_.pairs[k].a);
+      new_pair_b_.push_back(result_.pairs[k].b);
+      new_pair_first_.push_back(static_cast<index_t>(n_kept + new_label_.size()));
+      ++k;
+      continue;
+    }
+    order_.clear();
+    for (std::size_t j = first; j < last; ++j) order_.push_back(j);
+    std::sort(order_.begin(), order_.end(), [&](std::size_t x, std::size_t y) {
+      return result_.label[x] < result_.label[y] || (result_.label[x] == result_.label[y] && x < y);
+    });
+    const bool polygon = result_.type[k] == detection::patch_type::polygon;
+    const real nominal =
+        std::min(blocks_[at(result_.pairs[k].a)].nominal_area, blocks_[at(result_.pairs[k].b)].nominal_area);
+    const auto pair_begin = new_label_.size();
+    for (std::size_t j : order_) {
+      // A sliver polygon's corner keeps a floor of 1e-6 of the nominal area, so that areas stay
+      // > 0 and the ratios of a rebuild (below) stay finite.
+      const real a = polygon ? std::max(result_.area[j], 1e-6 * nominal) : nominal;
+      // A label met twice (a corner within round-off of another) keeps its first point and
+      // takes the other's area.
+      if (new_label_.size() > pair_begin && new_label_.back() == result_.label[j]) {
+        if (polygon) new_area_.back() += a;
+        continue;
+      }
+      new_label_.push_back(result_.label[j]);
+      new_area_.push_back(a);
+      new_point_.push_back(result_.point[j]);
+      new_gap_.push_back(result_.gap[j]);
+    }
     new_pair_a_.push_back(result_.pairs[k].a);
     new_pair_b_.push_back(result_.pairs[k].b);
-    new_pair_first_.push_back(static_cast<index_t>(n_kept + at(pass_first_[k + 1])));
+    new_pair_first_.push_back(static_cast<index_t>(n_kept + new_label_.size()));
     ++k;
   }
   const std::size_t n_pairs = new_pair_a_.size();

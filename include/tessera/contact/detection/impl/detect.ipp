@@ -4,7 +4,6 @@
 #pragma once
 
 #include <algorithm>
-#include <array>
 #include <limits>
 
 #include "../detect.hpp"
@@ -48,38 +47,14 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
     for (const block_pair& c : w.candidates)
       w.needs_faces[static_cast<std::size_t>(c.a)] = w.needs_faces[static_cast<std::size_t>(c.b)] = 1;
   }
-  // The merges below in `parts` chunks of the candidates, one a thread (2+ threads, >= 256
-  // candidates and kept axes): chunk c holds candidates [part(c), part(c + 1)) and the kept axes from the first
-  // not before its first candidate (kept_from), so it merges as the one thread would from there;
-  // each chunk counts what it writes, then writes it from the counts of the chunks before it.
-  const std::size_t n_cand = w.candidates.size();
-  const std::size_t parts = std::clamp<std::size_t>((n_cand + w.axis_pairs.size()) / 256, 1,
-                                                     std::min<std::size_t>(std::max<std::size_t>(n_cand, 1), static_cast<std::size_t>(std::min(max_threads(), 64))));
-  const auto part = [&](std::size_t c) { return n_cand * c / parts; };
-  std::array<std::size_t, 65> kept_from{}, skip_from{}, before{};
-  for (std::size_t c = 1; c < parts; ++c) {
-    const block_pair& x = w.candidates[part(c)];
-    kept_from[c] = static_cast<std::size_t>(std::lower_bound(w.axis_pairs.begin(), w.axis_pairs.end(), x) - w.axis_pairs.begin());
-    skip_from[c] = static_cast<std::size_t>(std::lower_bound(skip.begin(), skip.end(), x) - skip.begin());
-  }
-  kept_from[parts] = w.axis_pairs.size();
-  const auto each_part = [&](auto&& f) {
-    parallel_for(static_cast<std::int64_t>(parts), [&](std::int64_t c) { f(static_cast<std::size_t>(c)); }, 1);
-  };
-  const auto sum_before = [&] {  // (before[c + 1]: chunk c's count -> the counts of chunks 0..c)
-    for (std::size_t c = 0; c < parts; ++c) before[c + 1] += before[c];
-    return before[parts];
-  };
-  // reuse_axes: each candidate's kept axis (both lists increasing: one merge a chunk).
+  // reuse_axes: each candidate's kept axis (both lists increasing: one merge).
   if (options.reuse_axes) {
-    w.hints.assign(n_cand, axis_hint{});
-    each_part([&](std::size_t c) {
-      std::size_t k = kept_from[c];
-      for (std::size_t i = part(c); i < part(c + 1); ++i) {
-        while (k < w.axis_pairs.size() && w.axis_pairs[k] < w.candidates[i]) ++k;
-        if (k < w.axis_pairs.size() && w.axis_pairs[k] == w.candidates[i]) w.hints[i] = w.axes[k];
-      }
-    });
+    w.hints.assign(w.candidates.size(), axis_hint{});
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < w.candidates.size(); ++i) {
+      while (k < w.axis_pairs.size() && w.axis_pairs[k] < w.candidates[i]) ++k;
+      if (k < w.axis_pairs.size() && w.axis_pairs[k] == w.candidates[i]) w.hints[i] = w.axes[k];
+    }
   }
   // The blocks' face planes, once per pass (the pairs read them, rather than each candidate
   // pair computing both blocks' normals again).
@@ -127,83 +102,43 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   // (those of another part: the axis they had), and the kept pairs of two unmarked blocks or
   // skipped, which this pass did not look at.
   if (options.reuse_axes) {
-    std::array<std::size_t, 64> skips{};
-    const auto merge_part = [&](std::size_t c, bool write) {
-      std::size_t k = kept_from[c], s = skip_from[c], to = write ? before[c] : 0;
-      const auto emit = [&](const block_pair& p, axis_hint h) {
-        if (write) {
-          w.next_pairs[to] = p;
-          w.next_axes[to] = h;
+    w.next_pairs.clear();
+    w.next_axes.clear();
+    std::size_t k = 0, s = 0;
+    const auto keep_old_until = [&](const block_pair* before) {
+      for (; k < w.axis_pairs.size() && (before == nullptr || w.axis_pairs[k] < *before); ++k)
+        if (skipped(s, w.axis_pairs[k]) || !marked(w.axis_pairs[k])) {
+          w.next_pairs.push_back(w.axis_pairs[k]);
+          w.next_axes.push_back(w.axes[k]);
         }
-        ++to;
-      };
-      const auto keep_old_until = [&](const block_pair* before_pair) {
-        for (; k < kept_from[c + 1] && (before_pair == nullptr || w.axis_pairs[k] < *before_pair); ++k)
-          if (skipped(s, w.axis_pairs[k]) || !marked(w.axis_pairs[k])) emit(w.axis_pairs[k], w.axes[k]);
-      };
-      for (std::size_t i = part(c); i < part(c + 1); ++i) {
-        keep_old_until(&w.candidates[i]);
-        const axis_hint h = i >= first && i < last ? axis_hint::of(w.planes[i]) : w.hints[i];
-        if (!write && i >= first && i < last) skips[c] += w.skipped[i];
-        if (h.names_axis()) emit(w.candidates[i], h);
-      }
-      keep_old_until(nullptr);
-      if (!write) before[c + 1] = to;
     };
-    before.fill(0);
-    each_part([&](std::size_t c) { merge_part(c, false); });
-    const std::size_t kept = sum_before();
-    w.next_pairs.resize(kept);
-    w.next_axes.resize(kept);
-    each_part([&](std::size_t c) { merge_part(c, true); });
-    for (std::size_t c = 0; c < parts; ++c) w.axis_skips += skips[c];
+    for (std::size_t i = 0; i < n; ++i) {
+      keep_old_until(&w.candidates[i]);
+      const axis_hint h = i >= first && i < last ? axis_hint::of(w.planes[i]) : w.hints[i];
+      if (i >= first && i < last) w.axis_skips += w.skipped[i];
+      if (!h.names_axis()) continue;
+      w.next_pairs.push_back(w.candidates[i]);
+      w.next_axes.push_back(h);
+    }
+    keep_old_until(nullptr);
     w.axis_pairs.swap(w.next_pairs);
     w.axes.swap(w.next_axes);
   }
   out.candidates = n;
   out.evaluated = last - first;
   out.clear_pairs();
-  // The touching pairs of this part and their corners, in candidate order: each chunk of
-  // [first, last) counts its pairs and corners, then writes them from the chunks' before it.
-  const auto range = [&](std::size_t c) { return first + (last - first) * c / parts; };
-  std::array<std::size_t, 65> corners_before{};
-  const auto gather_part = [&](std::size_t c, bool write) {
-    std::size_t to = write ? before[c] : 0, corner = write ? corners_before[c] : 0;
-    for (std::size_t i = range(c); i < range(c + 1); ++i) {
-      const contact_patch& p = w.patches[i];
-      if (p.type == patch_type::none) continue;
-      if (write) {
-        out.pairs[to] = w.candidates[i];
-        out.planes[to] = w.planes[i];
-        out.type[to] = p.type;
-        const auto from = static_cast<std::ptrdiff_t>(corner);
-        std::copy(p.points.begin(), p.points.end(), out.point.begin() + from);
-        std::copy(p.gap.begin(), p.gap.end(), out.gap.begin() + from);
-        std::copy(p.area.begin(), p.area.end(), out.area.begin() + from);
-        std::copy(p.label.begin(), p.label.end(), out.label.begin() + from);
-        out.first_corner[to + 1] = static_cast<index_t>(corner + p.points.size());
-      }
-      ++to;
-      corner += p.points.size();
-    }
-    if (!write) {
-      before[c + 1] = to;
-      corners_before[c + 1] = corner;
-    }
-  };
-  before.fill(0);
-  each_part([&](std::size_t c) { gather_part(c, false); });
-  for (std::size_t c = 0; c < parts; ++c) corners_before[c + 1] += corners_before[c];
-  const std::size_t touching = sum_before(), corners = corners_before[parts];
-  out.pairs.resize(touching);
-  out.planes.resize(touching);
-  out.type.resize(touching);
-  out.first_corner.resize(touching + 1);
-  out.point.resize(corners);
-  out.gap.resize(corners);
-  out.area.resize(corners);
-  out.label.resize(corners);
-  each_part([&](std::size_t c) { gather_part(c, true); });
+  for (std::size_t i = first; i < last; ++i) {
+    const contact_patch& p = w.patches[i];
+    if (p.type == patch_type::none) continue;
+    out.pairs.push_back(w.candidates[i]);
+    out.planes.push_back(w.planes[i]);
+    out.type.push_back(p.type);
+    out.point.insert(out.point.end(), p.points.begin(), p.points.end());
+    out.gap.insert(out.gap.end(), p.gap.begin(), p.gap.end());
+    out.area.insert(out.area.end(), p.area.begin(), p.area.end());
+    out.label.insert(out.label.end(), p.label.begin(), p.label.end());
+    out.first_corner.push_back(static_cast<index_t>(out.point.size()));
+  }
 }
 
 }  // namespace tessera::contact::detection
