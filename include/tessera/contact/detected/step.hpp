@@ -94,7 +94,6 @@ inline void detected_contacts<Law>::prepare_step(const node_set& gridpoints, rea
   // pay for both), as below; the exact moves also at a rebuild of the interval.
   const real tol = options_.tolerance;
   if (!options_.deformable_blocks && !largest_motion_ && !before_rebuild_ && bound_passed_at_ != rebuilds_) {
-    moved_bound_.resize(blocks_.size());
     parallel_for(
         static_cast<std::int64_t>(blocks_.size()),
         [&](std::int64_t b) {

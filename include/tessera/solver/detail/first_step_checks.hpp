@@ -14,8 +14,8 @@
 //   refuse_soft_contacts     detected contacts (those with a tolerance) that let a block sink
 //                            into what it rests on by more than the tolerance under its own
 //                            weight alone: W / (k_n A) > tolerance, A the area of its bearing
-//                            sub-contacts that touch (opening u_n within touching_fraction of the
-//                            tolerance). A lower bound of the sinking (a block also carries
+//                            sub-contacts that touch (opening u_n within the contact set's
+//                            bond_gap_fraction of the tolerance). A lower bound of the sinking (a block also carries
 //                            those above it), so only joints surely too soft are refused; left to
 //                            the steps, their overlap would outrun the rebuilds and be refused as
 //                            a motion too fast for the step. A sub-contact still open at the
@@ -33,6 +33,7 @@
 #include <concepts>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "../../core/errors.hpp"
@@ -43,9 +44,6 @@ namespace tessera::detail {
 
 /// |n . g_hat| above which a contact carries weight (about 6 degrees off a vertical plane).
 inline constexpr real bearing = 0.1;
-/// A sub-contact touches when its opening u_n is at most this fraction of the tolerance (as
-/// detected_contacts::bond_gap_fraction: two faces that coincide up to round-off).
-inline constexpr real touching_fraction = 1e-3;
 
 /// Translation components of block b (bit c = component c): those prescribed (rigid: on some
 /// gridpoint, which drives the whole block; deformable: on every gridpoint) and those free (on
@@ -137,8 +135,10 @@ template <class Solver>
 void refuse_soft_contacts(const Solver& s) {
   const vec3 g = s.gravity();
   const auto& contacts = s.contacts();
+  using contact_set = std::remove_cvref_t<decltype(contacts)>;
   if constexpr (requires(index_t i) {
                   real(contacts.tolerance());
+                  real(contact_set::bond_gap_fraction);
                   real(contacts.subcontact_params(i).k_n);
                   real(contacts.area(i));
                   real(contacts.state(i).u_n);
@@ -148,17 +148,19 @@ void refuse_soft_contacts(const Solver& s) {
     if (g == vec3::Zero() || contacts.size() == 0) return;
     const vec3 g_hat = g.normalized();
     const index_t n_b = s.block_count();
-    const real touching = touching_fraction * contacts.tolerance();
+    const real tolerance = contacts.tolerance();
+    // A sub-contact touches when its opening is within the gap at which construction bonds two
+    // faces (they coincide up to round-off); an open one bears nothing yet.
+    const real touching = contact_set::bond_gap_fraction * tolerance;
     std::vector<real> stiffness(static_cast<std::size_t>(n_b), 0), area(static_cast<std::size_t>(n_b), 0);
     for (index_t i = 0; i < contacts.size(); ++i) {
-      if (!(contacts.state(i).u_n <= touching)) continue;  // open: bears nothing yet
+      if (!(contacts.state(i).u_n <= touching)) continue;
       for (index_t b : {contacts.block_a(i), contacts.block_b(i)})
         if (towards_other_along(contacts, i, b, g_hat) > bearing) {
           stiffness[static_cast<std::size_t>(b)] += contacts.subcontact_params(i).k_n * contacts.area(i);
           area[static_cast<std::size_t>(b)] += contacts.area(i);
         }
     }
-    const real tolerance = contacts.tolerance();
     for (index_t b = 0; b < n_b; ++b) {
       const real k = stiffness[static_cast<std::size_t>(b)];
       if (!(k > 0)) continue;
