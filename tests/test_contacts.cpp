@@ -1798,6 +1798,63 @@ TEST_CASE("detection pass: every face of a Voronoi tessellation moved apart by 1
     CHECK_THROWS_WITH(detection::detect(blocks, edges, boxes, options, r, w, {0, 0}), Catch::Contains("part 0 of 0"));
     CHECK_THROWS_AS(detection::detect(blocks, edges, boxes, options, r, w, {-1, 2}), invalid_input);
   }
+  // Rigidly placed blocks (placed_faces, a detecting contact set's rigid blocks): the face planes
+  // carried from the reference faces by each block's pose give the pass of the planes computed
+  // from the moved vertices, to round-off: the same pairs and corner labels, gaps within 1e-12 of
+  // the block size, normals within 1e-10 and corners within 1e-10 of the block size (measured:
+  // 1.1e-12, 1.2e-11; a face a small fraction of the block wide turns its normal by round-off
+  // over its width, either way).
+  {
+    const mat3 rot = Eigen::AngleAxisd(0.7, vec3(1, 2, 3).normalized()).toRotationMatrix();
+    std::vector<convex_polyhedron> moved;
+    std::vector<aabb> moved_boxes;
+    std::vector<index_t> first{0};
+    std::vector<vec3> normal, centroid, shift;
+    std::vector<mat3> rots;
+    for (std::size_t b = 0; b < blocks.size(); ++b) {
+      shift.push_back(vec3(0.3, -0.2, 0.1));
+      rots.push_back(rot);
+      moved.push_back(blocks[b].transformed(rot, shift.back()));
+      moved_boxes.push_back(moved.back().bounds());
+      for (index_t f = 0; f < blocks[b].face_count(); ++f) {
+        normal.push_back(blocks[b].face_normal(f));
+        centroid.push_back(blocks[b].face_centroid(f));
+      }
+      first.push_back(static_cast<index_t>(normal.size()));
+    }
+    const detection::placed_faces placed{first, normal, centroid, rots, shift};
+    detection::detection_result from_vertices, carried;
+    detection::detection_workspace w1, w2;
+    detection::detect(moved, edges, moved_boxes, options, from_vertices, w1);
+    detection::detect(moved, edges, moved_boxes, options, carried, w2, {}, {}, {}, placed);
+    REQUIRE(carried.pairs == from_vertices.pairs);
+    CHECK(carried.pairs.size() == one.pairs.size());
+    CHECK(carried.label == from_vertices.label);
+    REQUIRE(carried.point.size() == from_vertices.point.size());
+    real normal_diff = 0, gap_diff = 0, point_diff = 0;
+    for (std::size_t k = 0; k < carried.pairs.size(); ++k) {
+      normal_diff = std::max(normal_diff, (carried.planes[k].normal - from_vertices.planes[k].normal).norm());
+      gap_diff = std::max(gap_diff, std::abs(carried.planes[k].gap - from_vertices.planes[k].gap));
+    }
+    for (std::size_t i = 0; i < carried.point.size(); ++i)
+      point_diff = std::max(point_diff, (carried.point[i] - from_vertices.point[i]).norm());
+    INFO("normals " << normal_diff << ", gaps " << gap_diff << " m, corners " << point_diff << " m");
+    CHECK(normal_diff < 1e-10);
+    CHECK(gap_diff < 1e-12 * size);
+    CHECK(point_diff < 1e-10 * size);
+    // Refusals: a CSR of another block count, a block whose placed faces are not its faces.
+    detection::detection_result r;
+    detection::placed_faces short_csr = placed;
+    short_csr.first = std::span<const index_t>(first).first(first.size() - 1);
+    CHECK_THROWS_WITH(detection::detect(moved, edges, moved_boxes, options, r, w2, {}, {}, {}, short_csr),
+                      Catch::Contains("placed faces for") && Catch::Contains("blocks"));
+    std::vector<index_t> shifted = first;
+    shifted[1] += 1;
+    detection::placed_faces wrong_block = placed;
+    wrong_block.first = shifted;
+    CHECK_THROWS_WITH(detection::detect(moved, edges, moved_boxes, options, r, w2, {}, {}, {}, wrong_block),
+                      Catch::Contains("block 0 has") && Catch::Contains("placed faces"));
+  }
   detection::detection_result r;
   detection::detection_workspace w;
   options.tolerance = 0;

@@ -50,6 +50,7 @@
 #include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
 #include "../detection/broad_phase.hpp"
+#include "../detection/detect.hpp"
 
 namespace tessera::contact::detail {
 
@@ -76,6 +77,8 @@ struct pair_poses {
   std::vector<real> radius;            // per block: its vertices' largest distance from it (m)
   std::vector<mat3> block_rot;         // per block, this rebuild: R
   std::vector<vec3> block_shift;       //   and t (m)
+  std::vector<index_t> face_first;     // rigid blocks: CSR over blocks into the reference faces'
+  std::vector<vec3> face_normal, face_centroid;  // unit normals and centroids (m; detection::placed_faces)
   std::vector<std::uint8_t> keep;      // per old pair: kept though both blocks are detected again
   std::vector<detection::block_pair> skip;  // those pairs, increasing (detection::detect's skip)
   std::int64_t kept_as_one = 0;        // those pairs, summed over the rebuilds
@@ -139,6 +142,26 @@ void reference_spheres(const Shapes& shapes, std::vector<vec3>& center, std::vec
     if (n > 0) center[b] /= static_cast<real>(n);
     for (index_t v = 0; v < n; ++v) radius[b] = std::max(radius[b], (shapes[b].vertex(v) - center[b]).norm());
   }
+}
+
+/// Rigid blocks at a rebuild: their face planes are the reference shapes' faces (unit normals
+/// and centroids, each shape's in its face order, computed at the first call) carried by this
+/// rebuild's poses (place_blocks'); detection::detect's placed_faces.
+template <class Shapes>
+[[nodiscard]] detection::placed_faces placed_faces_of(const Shapes& shapes, pair_poses& pp) {
+  if (pp.face_first.size() != shapes.size() + 1) {
+    pp.face_first.assign(1, 0);
+    pp.face_normal.clear();
+    pp.face_centroid.clear();
+    for (const auto& shape : shapes) {
+      for (index_t f = 0; f < shape.face_count(); ++f) {
+        pp.face_normal.push_back(shape.face_normal(f));
+        pp.face_centroid.push_back(shape.face_centroid(f));
+      }
+      pp.face_first.push_back(static_cast<index_t>(pp.face_normal.size()));
+    }
+  }
+  return {pp.face_first, pp.face_normal, pp.face_centroid, pp.block_rot, pp.block_shift};
 }
 
 /// The pair and sub-contact columns of the last rebuild that a rebuild copies for the pairs it

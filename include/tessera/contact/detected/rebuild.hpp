@@ -136,8 +136,10 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
       if (redo(k))
         for (auto i = at(pair_first_[k]); i < at(pair_first_[k + 1]); ++i)
           if (counted(i)) stored_before += energies_of(i).stored;
+  // (Rigid blocks' face planes: the reference faces carried by the poses, detection::placed_faces.)
   detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance, true}, result_, workspace_, share_,
-                    incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(), pp.skip);
+                    incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(), pp.skip,
+                    options_.deformable_blocks ? detection::placed_faces{} : detail::placed_faces_of(shapes_, pp));
   narrow_pairs_ += static_cast<std::int64_t>(result_.evaluated);
   if (share_.parts > 1) gather_(result_);  // the other parts, from the ranks that evaluated them
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);

@@ -110,17 +110,34 @@ struct detection_workspace {
   }
 };
 
+/// Blocks placed rigidly from reference shapes (a detecting contact set's rigid blocks at a
+/// rebuild): block b is its reference shape carried by x -> rotation[b] x + shift[b], and the
+/// plane of its face f is the reference face's (outward unit normal, centroid) carried the same
+/// way: a rotation per face, where computing the plane from the current vertices takes the
+/// face's area vector and centroid (about ten times the work; the same plane to round-off, not
+/// to the bit). Empty spans: the planes from the current vertices.
+struct placed_faces {
+  std::span<const index_t> first;  ///< CSR over blocks into normal and centroid (a block's faces in its order)
+  std::span<const vec3> normal;    ///< each reference face's outward unit normal
+  std::span<const vec3> centroid;  ///< each reference face's centroid (m)
+  std::span<const mat3> rotation;  ///< per block: its rotation from the reference shape
+  std::span<const vec3> shift;     ///< per block: its translation (m)
+  [[nodiscard]] bool empty() const noexcept { return first.empty(); }  ///< No placement given (planes from the vertices)
+};
+
 /// Detects the contacts of `blocks` (their current geometry; `edges[i]` = edges_of(blocks[i]),
 /// `boxes[i]` = blocks[i].bounds()). `only` (empty: every pair) restricts the pass to the candidate
 /// pairs with at least one block b marked only[b] != 0 (an incremental rebuild: the pairs of the
 /// blocks that moved); the face planes are then computed for those pairs' blocks only. `skip`
 /// (increasing; with `only`) names pairs the pass leaves out although a block of theirs is marked
-/// (the caller keeps what it had for them; their kept axes stay). Throws invalid_input for
-/// mismatched sizes or a bad option.
+/// (the caller keeps what it had for them; their kept axes stay). `placed` (non-empty): the
+/// blocks are placed rigidly, their face planes carried from the reference faces (placed_faces;
+/// the caller vouches that blocks[b] is that placement). Throws invalid_input for mismatched
+/// sizes or a bad option.
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
                            detection_workspace& w, detection_share share = {}, std::span<const std::uint8_t> only = {},
-                           std::span<const block_pair> skip = {});
+                           std::span<const block_pair> skip = {}, const placed_faces& placed = {});
 
 }  // namespace tessera::contact::detection
 

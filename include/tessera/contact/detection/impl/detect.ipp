@@ -13,12 +13,22 @@ namespace tessera::contact::detection {
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
                            detection_workspace& w, detection_share share, std::span<const std::uint8_t> only,
-                           std::span<const block_pair> skip) {
+                           std::span<const block_pair> skip, const placed_faces& placed) {
   require(edges.size() == blocks.size() && boxes.size() == blocks.size() &&
               (only.empty() || only.size() == blocks.size()),
           "detect: ", blocks.size(), " blocks, ", edges.size(), " edge lists, ", boxes.size(), " boxes and ",
           only.size(), " marks: give one of each per block (marks: or none)");
   require(skip.empty() || !only.empty(), "detect: ", skip.size(), " skipped pairs in a pass without marks");
+  require(placed.empty() || (placed.first.size() == blocks.size() + 1 && placed.rotation.size() == blocks.size() &&
+                             placed.shift.size() == blocks.size() &&
+                             placed.normal.size() == static_cast<std::size_t>(placed.first.back()) &&
+                             placed.centroid.size() == placed.normal.size()),
+          "detect: placed faces for ", placed.first.size(), " - 1 blocks with ", placed.normal.size(), " normals, ",
+          placed.centroid.size(), " centroids, ", placed.rotation.size(), " rotations and ", placed.shift.size(),
+          " shifts, for ", blocks.size(), " blocks: give one CSR entry per block, one normal and centroid per face");
+  for (std::size_t b = 0; !placed.empty() && b < blocks.size(); ++b)
+    require(placed.first[b + 1] - placed.first[b] == blocks[b].face_count(), "detect: block ", b, " has ",
+            blocks[b].face_count(), " faces and ", placed.first[b + 1] - placed.first[b], " placed faces");
   require(std::isfinite(options.tolerance) && options.tolerance > 0, "detect: contact tolerance = ", options.tolerance,
           " m must be finite and > 0");
   require(share.parts >= 1 && share.part >= 0 && share.part < share.parts, "detect: part ", share.part, " of ",
@@ -64,8 +74,18 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   parallel_for_dynamic(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {  // (the marked blocks cluster)
     const auto b = static_cast<std::size_t>(k);
     if (w.needs_faces[b] == 0) return;
-    for (index_t f = 0; f < blocks[b].face_count(); ++f)
-      w.faces[static_cast<std::size_t>(w.face_first[b] + f)] = blocks[b].face_plane(f);
+    const auto out_first = static_cast<std::size_t>(w.face_first[b]);
+    if (placed.empty()) {
+      for (index_t f = 0; f < blocks[b].face_count(); ++f) w.faces[out_first + static_cast<std::size_t>(f)] = blocks[b].face_plane(f);
+      return;
+    }
+    const mat3& r = placed.rotation[b];
+    const vec3& t = placed.shift[b];
+    const auto first = static_cast<std::size_t>(placed.first[b]), last = static_cast<std::size_t>(placed.first[b + 1]);
+    for (std::size_t f = first; f < last; ++f) {
+      const vec3 n = (r * placed.normal[f]).normalized();
+      w.faces[out_first + (f - first)] = geometry::plane::through(n, r * placed.centroid[f] + t);
+    }
   }, 64);
   const std::size_t n = w.candidates.size();
   const auto cut = [&](int p) { return n * static_cast<std::size_t>(p) / static_cast<std::size_t>(share.parts); };
