@@ -476,8 +476,8 @@ class detected_contacts {
   std::vector<std::uint8_t> new_fresh_, kept_old_, redetect_;
   std::vector<std::ptrdiff_t> new_source_;  ///< per new pair: its pass pair j >= 0, or -1 - the kept old pair
   /// A run of the kept pairs' sub-contacts: old sub-contacts [from, from + count) are new [to, to + count).
-  struct kept_run { std::size_t from = 0, to = 0, count = 0; };
-  std::vector<kept_run> kept_runs_;  ///< the kept pairs' sub-contacts, in runs (a rebuild's copies)
+  struct kept_run { std::size_t from = 0, to = 0, count = 0, pair_from = 0, pair_to = 0, pairs = 0; };
+  std::vector<kept_run> kept_runs_;  ///< the kept pairs and their sub-contacts, in runs (a rebuild's copies)
   detail::previous_columns<feature_kind> prev_;  ///< the columns a rebuild copies for its kept pairs
   detail::pair_poses poses_;  ///< per pair, its blocks' relative pose at its detection (incremental.hpp)
   contact_energies retired_;                       ///< energies of the sub-contacts that ended

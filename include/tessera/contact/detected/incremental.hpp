@@ -164,6 +164,16 @@ template <class Shapes>
   return {pp.face_first, pp.face_normal, pp.face_centroid, pp.block_rot, pp.block_shift};
 }
 
+/// Whether a kept pair (old pair `pair_from` with sub-contacts from `from`, new pair `pair_to`
+/// with sub-contacts from `to`) continues the last run of kept pairs in both lists.
+template <class Run>
+[[nodiscard]] bool continues_run(const std::vector<Run>& runs, std::size_t from, std::size_t to, std::size_t pair_from,
+                                 std::size_t pair_to) {
+  if (runs.empty()) return false;
+  const Run& r = runs.back();
+  return r.from + r.count == from && r.to + r.count == to && r.pair_from + r.pairs == pair_from && r.pair_to + r.pairs == pair_to;
+}
+
 /// The pair and sub-contact columns of the last rebuild that a rebuild copies for the pairs it
 /// keeps (the class swaps its own columns in here, then fills them again).
 template <class Feature>

@@ -2,17 +2,12 @@
 // The rebuild pass of detected_contacts (contact/detected_contacts.hpp): one detection pass on the
 // blocks' current geometry and the merge of its corners with the sub-contacts so far.
 //
-// Rebuilds. At construction, after max_rebuild_interval steps and, for deformable blocks,
-// whenever a block vertex has moved more than tolerance / 2 since the last rebuild, prepare_step
-// runs a detection pass on the blocks' current geometry: grid broad phase with boxes enlarged by
-// the tolerance, common plane and contact patch of every candidate pair (common_plane.hpp).
-// Guarantee: between rebuilds no vertex moves more than tolerance / 2, so two blocks whose gap
-// was above the tolerance at the last rebuild cannot have closed it: no contact is missed. Rigid
-// blocks rebuild incrementally in between (detected/incremental.hpp): once a block has moved 0.39
-// x the tolerance since it was last detected, the pass covers the pairs of the blocks that moved
-// more than 0.22 x it; the other pairs stay as they are (the same guarantee; the check reads
-// every block vertex once per step), and so do the pairs whose two blocks moved as one, and a
-// pair its last axis shows apart skips the full search.
+// Rebuilds. At construction, after max_rebuild_interval steps and, for deformable blocks, once a
+// block vertex has moved tolerance / 2 since the last rebuild, prepare_step runs a full pass
+// (grid broad phase with boxes enlarged by the tolerance, common plane and patch of every
+// candidate pair): no vertex moves more than tolerance / 2 in between, so no contact is missed.
+// Rigid blocks rebuild incrementally in between: detected/incremental.hpp says which blocks and
+// pairs a rebuild covers, which it keeps, and why that misses nothing.
 //
 // Sub-contacts. Each corner of a touching pair's patch is one sub-contact, keyed by (block a, block
 // b, corner label): a vertex of A, a vertex of B, or the crossing of an edge of A with an edge of B
@@ -167,13 +162,14 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     const bool take_old = ko < n_old_pairs && (k == n_found || pair_a_[ko] < result_.pairs[k].a ||
                                                (pair_a_[ko] == result_.pairs[k].a && pair_b_[ko] < result_.pairs[k].b));
     if (take_old) {
-      // Its sub-contacts, a run of the old columns that the merges below copy whole.
+      // It and its sub-contacts: runs of the old pair and sub-contact columns, copied whole below.
       const auto o0 = at(pair_first_[ko]), o1 = at(pair_first_[ko + 1]), i0 = n_kept + new_label_.size();
-      if (!kept_runs_.empty() && kept_runs_.back().to + kept_runs_.back().count == i0 &&
-          kept_runs_.back().from + kept_runs_.back().count == o0)
+      if (detail::continues_run(kept_runs_, o0, i0, ko, new_pair_a_.size())) {
         kept_runs_.back().count += o1 - o0;
-      else
-        kept_runs_.push_back({o0, i0, o1 - o0});
+        ++kept_runs_.back().pairs;
+      } else {
+        kept_runs_.push_back({o0, i0, o1 - o0, ko, new_pair_a_.size(), 1});
+      }
       n_kept += o1 - o0;
       new_pair_a_.push_back(pair_a_[ko]);
       new_pair_b_.push_back(pair_b_[ko]);
@@ -365,7 +361,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   corner_normal_.resize(n);
   for (auto& w : weight_) w.resize(n);
   for (auto& f : force_) f.resize(n);  // (a pass pair's: zero, below)
-  // The kept pairs' sub-contacts: keys, areas, weights, forces (the runs in parallel).
+  // The kept pairs' columns (blocks: swapped in above; parameters, features, poses, normals) and
+  // their sub-contacts' (keys, areas, weights, forces, pairs): the runs in parallel.
   parallel_for_dynamic(static_cast<std::int64_t>(kept_runs_.size()), [&](std::int64_t r) {
     const kept_run& run = kept_runs_[at(r)];
     const auto copy = [&](const auto& from, auto& to) { copy_run(run, from, to); };
@@ -374,29 +371,33 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     copy(prev_.corner_normal, corner_normal_);
     for (int s = 0; s < 8; ++s) copy(prev_.weight[at(s)], weight_[at(s)]);
     for (int c = 0; c < 3; ++c) copy(prev_.force[at(c)], force_[at(c)]);
+    const kept_run pairs{run.pair_from, run.pair_to, run.pairs};
+    const auto copy_pairs = [&](const auto& from, auto& to) { copy_run(pairs, from, to); };
+    copy_pairs(prev_.param, pair_param_);
+    copy_pairs(prev_.feature, feature_);
+    copy_pairs(prev_.feature_a, feature_a_);
+    copy_pairs(prev_.feature_b, feature_b_);
+    copy_pairs(prev_.side_a, side_a_);
+    copy_pairs(prev_.side_b, side_b_);
+    copy_pairs(prev_.stiffness, pair_stiffness_);  // (rigid blocks: bounded at the last rebuild)
+    copy_pairs(prev_.reach2, pair_reach2_);
+    copy_pairs(pp.prev_rot, pp.rot);
+    copy_pairs(pp.prev_shift, pp.shift);
+    const auto rows = static_cast<index_t>(run.pairs);
+    for (int j = 0; j < 3; ++j)
+      normal_[at(j)].middleRows(static_cast<index_t>(run.pair_to), rows) =
+          prev_.normal[at(j)].middleRows(static_cast<index_t>(run.pair_from), rows);
+    for (std::size_t k = run.pair_to; k < run.pair_to + run.pairs && !options_.deformable_blocks; ++k)
+      std::fill(pair_.begin() + new_pair_first_[k], pair_.begin() + new_pair_first_[k + 1], static_cast<index_t>(k));
   }, 4);
-  // Per pair: blocks, parameters, normal feature, normals (a kept pair: its own, copied); a pass
-  // pair's sub-contacts: keys, areas, normals, zero forces, weights.
+  // Per pass pair: parameters, normal feature, normals; its sub-contacts: keys, areas, normals,
+  // zero forces, weights.
   parallel_for_dynamic(static_cast<std::int64_t>(n_pairs), [&](std::int64_t kk) {
     const auto k = at(kk);
+    if (new_source_[k] < 0) return;  // (kept: copied above)
     const index_t a = pair_a_[k], b = pair_b_[k];
     if (!options_.deformable_blocks)
       std::fill(pair_.begin() + new_pair_first_[k], pair_.begin() + new_pair_first_[k + 1], static_cast<index_t>(k));
-    if (new_source_[k] < 0) {
-      const auto o = at(-1 - new_source_[k]);
-      pair_param_[k] = prev_.param[o];
-      feature_[k] = prev_.feature[o];
-      feature_a_[k] = prev_.feature_a[o];
-      feature_b_[k] = prev_.feature_b[o];
-      side_a_[k] = prev_.side_a[o];
-      side_b_[k] = prev_.side_b[o];
-      pair_stiffness_[k] = prev_.stiffness[o];  // (a kept pair: rigid blocks, bounded at the last rebuild)
-      pair_reach2_[k] = prev_.reach2[o];
-      pp.rot[k] = pp.prev_rot[o];
-      pp.shift[k] = pp.prev_shift[o];
-      for (int j = 0; j < 3; ++j) normal_[at(j)].row(static_cast<index_t>(k)) = prev_.normal[at(j)].row(static_cast<index_t>(o));
-      return;  // (its sub-contacts: copied above)
-    }
     for (auto i = at(new_pair_first_[k]); i < at(new_pair_first_[k + 1]); ++i) {
       key_label_[i] = new_label_[found(k, i)];
       area_[i] = new_area_[found(k, i)];
