@@ -2458,6 +2458,52 @@ TEST_CASE("incremental rebuild: a pair whose blocks move together keeps its sub-
   CHECK(corners_of(c, 1, 2).size() >= 4);
 }
 
+TEST_CASE("incremental rebuild: a pair with one block detected again is kept when it drifted less than the margin "
+          "left by the other block's own motion", "[detected][incremental]") {
+  // The two pressed cubes of the test above turn as one about a vertical axis through block 1's
+  // centre by 0.57e-3 rad: block 2's farthest vertex (0.79 m from the axis) moves 0.45 tolerance,
+  // past the 0.39 trigger, and block 1's (0.354 m) 0.20, below the 0.22 margin, so only block 2 is
+  // detected again. The pair drifted nothing (round-off), at most 0.22 - 0.20 tolerance: kept,
+  // no narrow phase. The same turn with block 2 also sliding 0.05 tolerance along the face
+  // drifts 0.05 > 0.02: the pair goes through the pass (0.22 alone would have kept it).
+  const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
+  const geometry::tessellation tess = geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-0.5, -0.25, 0.1}, {overlap, 0.25, 0.6}),
+      convex_polyhedron::box({0, -0.25, 0.1}, {0.5, 0.25, 0.6})});
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  for (const bool slides : {false, true}) {
+    joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
+    node_set gp;
+    gp.resize(mesh.gridpoint_count());
+    c.update(gp, dt);
+    const auto before = corners_of(c, 1, 2);
+    REQUIRE(before.size() >= 4);
+    const index_t rebuilds = c.rebuild_count();
+    const std::int64_t narrow = c.narrow_phase_pairs(), redetected = c.redetected_blocks(), kept = c.pairs_kept_as_one();
+    const vec3 axis_point(-0.25, 0, 0.35);
+    const real angle = 0.45 * tol / std::hypot(0.75, 0.25);
+    const mat3 turn = Eigen::AngleAxis<real>(angle, vec3::UnitZ()).toRotationMatrix();
+    place_block(gp, mesh, 1, turn, axis_point, vec3::Zero(), dt);
+    place_block(gp, mesh, 2, turn, axis_point, turn * vec3(0, slides ? 0.05 * tol : 0.0, 0), dt);
+    c.update(gp, dt);
+    INFO((slides ? "sliding 0.05 tolerance" : "turning as one"));
+    CHECK(c.rebuild_count() - rebuilds == 1);
+    CHECK(c.redetected_blocks() - redetected == 1);  // block 2 only
+    CHECK(c.pairs_kept_as_one() - kept == (slides ? 0 : 1));
+    CHECK(c.narrow_phase_pairs() - narrow == (slides ? 1 : 0));
+    CHECK(c.untouched_pairs_last_rebuild() == (slides ? 0 : 1));
+    const auto after = corners_of(c, 1, 2);
+    REQUIRE(after.size() >= 4);
+    if (!slides) {
+      REQUIRE(after.size() == before.size());
+      for (std::size_t i = 0; i < before.size(); ++i) {
+        CHECK(after[i].label == before[i].label);
+        CHECK(after[i].area == before[i].area);
+      }
+    }
+  }
+}
+
 TEST_CASE("incremental rebuild: a pair sliding at its friction limit keeps its shear state through its rebuilds as "
           "a full pass does", "[detected][incremental]") {
   // A 4 x 2 x 0.5 m base (block 0, fixed); block 1, a 0.5 m cube pressed 0.2 mm into it, slid

@@ -294,7 +294,7 @@ class detected_contacts {
   /// those their last plane's axis showed apart without the full search (detection_options::reuse_axes).
   [[nodiscard]] std::int64_t narrow_phase_pairs() const { return narrow_pairs_; }
   [[nodiscard]] std::int64_t pairs_apart_by_kept_axis() const { return static_cast<std::int64_t>(workspace_.axis_skips); }  ///< (see narrow_phase_pairs)
-  [[nodiscard]] std::int64_t pairs_kept_as_one() const { return poses_.kept_as_one; }  ///< Pairs of two blocks detected again that the rebuilds kept, their blocks having moved as one (detected/incremental.hpp), summed
+  [[nodiscard]] std::int64_t pairs_kept_as_one() const { return poses_.kept_as_one; }  ///< Pairs with a block detected again that the rebuilds kept, their blocks having moved as one (detected/incremental.hpp), summed
   [[nodiscard]] real tolerance() const { return options_.tolerance; }  ///< The contact tolerance (m)
   /// Sub-contacts that started bonded at construction (params::bond_faces; 0 without).
   [[nodiscard]] index_t bonded_at_start() const { return bonded_at_start_; }

@@ -12,21 +12,23 @@
 // tributary areas, weights, normals and states untouched (the rebuild exchanges no energy for
 // it) and goes on as if no rebuild had come.
 //
-// Pairs that moved as one: an old pair whose two blocks are both detected again is kept as it is
-// (the pass leaves it out: detection::detect's `skip`) when its blocks moved together, its drift
-// since its last detection (how far a point of B near A moved relative to A, from the two
-// blocks' rigid motions: pair_poses) at most redetect_fraction x the tolerance. Its sub-contacts
-// live in the blocks' frames (weights, normal features, areas), which such a motion leaves as
-// they were. A pair with one block detected again goes through the pass.
+// Pairs that moved as one: an old pair with a block detected again is kept as it is (the pass
+// leaves it out: detection::detect's `skip`) when its blocks moved together, its drift since its
+// last detection (how far a point of B near A moved relative to A, from the two blocks' rigid
+// motions: pair_poses) at most redetect_fraction x the tolerance, less the motion m_o of its
+// other block when only one is detected again. Its sub-contacts live in the blocks' frames
+// (weights, normal features, areas), which such a motion leaves as they were.
 //
 // Guarantee (no contact missed): a pair was last detected when the later of its two blocks was,
 // at t_p; since then that block moved m(t) <= trigger and the other m(t) + m(t_p) <= trigger +
 // redetect (it was not detected again at t_p, so m(t_p) <= redetect), so the two blocks came
 // closer by at most 2 trigger + redetect = the tolerance: a gap above the tolerance at t_p has
 // not closed. The same bound as a full rebuild at every tolerance / 2 of motion (then 2 x 1/2).
-// A pair kept as one at t_r had drifted at most redetect since its detection and both its blocks
-// start their motion at t_r, so until one of them is detected again (and the pair with it) it
-// drifts at most redetect + 2 trigger = the tolerance too. A pair leaves the set only through a
+// A pair kept as one at t_r had drifted at most redetect - m_o(t_r) since its detection (m_o = 0
+// when both blocks start their motion at t_r); until one of them is detected again (and the pair
+// with it) the block that started moves at most trigger from its place at t_r and the other at
+// most m_o(t) + m_o(t_r) <= trigger + m_o(t_r), so the pair drifts at most redetect + 2 trigger =
+// the tolerance too. A pair leaves the set only through a
 // pass that found it apart, at which one of its blocks starts its motion again: the first case.
 //
 // Cost: the pass runs on the moved blocks' candidate pairs, and of those the pairs that the axis

@@ -106,8 +106,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     for (index_t k = blocks_[at(b)].watch_begin; k < blocks_[at(b)].watch_end; ++k)
       for (int c = 0; c < 3; ++c) rebuild_u_(k, c) = gp != nullptr ? gp->displacement(watch_gridpoints_[at(k)], c) : 0.0;
   }
-  // An old pair of two blocks detected again whose blocks moved together keeps its columns
-  // (pair_poses, incremental.hpp); the pass leaves it out.
+  // An old pair whose blocks moved together keeps its columns; the pass leaves it out (incremental.hpp).
   const std::size_t n_old_pairs = pair_a_.size();
   pp.keep.assign(n_old_pairs, 0);
   pp.skip.clear();
@@ -115,8 +114,9 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
     if (pp.center.size() != at(n_b)) detail::reference_spheres(shapes_, pp.center, pp.radius);
     parallel_for(static_cast<std::int64_t>(n_old_pairs), [&](std::int64_t i) {  // (each old pair its own mark)
       const auto k = at(i);
-      pp.keep[k] = redetect_[at(pair_a_[k])] != 0 && redetect_[at(pair_b_[k])] != 0 &&
-                   pp.drift(k, pair_a_[k], pair_b_[k], 2 * options_.tolerance) <= redetect;  // (reach: the tolerance and the motion to come)
+      const bool ra = redetect_[at(pair_a_[k])] != 0, rb = redetect_[at(pair_b_[k])] != 0;  // (m_o: one block detected again)
+      const real allowed = ra && rb ? redetect : redetect - std::sqrt(moved_[at(ra ? pair_b_[k] : pair_a_[k])]);
+      pp.keep[k] = (ra || rb) && pp.drift(k, pair_a_[k], pair_b_[k], 2 * options_.tolerance) <= allowed;  // (reach: the tolerance and the motion to come)
     });
     for (std::size_t k = 0; k < n_old_pairs; ++k)
       if (pp.keep[k] != 0) pp.skip.push_back({pair_a_[k], pair_b_[k]});
