@@ -2401,6 +2401,13 @@ void place_block(node_set& gp, const geometry::block_mesh& mesh, index_t b, cons
     gp.displacement.row(g) = u.transpose();
   }
 }
+/// Two 0.5 m cubes pressed `overlap` (m) together face to face (blocks 1 and 2), 0.1 m above a
+/// fixed base (block 0).
+geometry::tessellation pressed_cube_pair(real overlap) {
+  return geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-0.5, -0.25, 0.1}, {overlap, 0.25, 0.6}),
+      convex_polyhedron::box({0, -0.25, 0.1}, {0.5, 0.25, 0.6})});
+}
 }  // namespace
 
 TEST_CASE("incremental rebuild: a pair whose blocks move together keeps its sub-contacts without a pass and a pair that slides is detected again",
@@ -2412,9 +2419,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks move together keeps its sub-
   // areas to the bit, normal stresses to round-off) and no narrow phase runs. Then block 2 also
   // slides 0.25 tolerance along the face: drift 0.25 > 0.22 tolerance, the pair goes through the pass.
   const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
-  const geometry::tessellation tess = geometry::separate_blocks(std::vector<convex_polyhedron>{
-      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-0.5, -0.25, 0.1}, {overlap, 0.25, 0.6}),
-      convex_polyhedron::box({0, -0.25, 0.1}, {0.5, 0.25, 0.6})});
+  const geometry::tessellation tess = pressed_cube_pair(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
   node_set gp;
@@ -2467,9 +2472,7 @@ TEST_CASE("incremental rebuild: a pair with one block detected again is kept whe
   // no narrow phase. The same turn with block 2 also sliding 0.05 tolerance along the face
   // drifts 0.05 > 0.02: the pair goes through the pass (0.22 alone would have kept it).
   const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
-  const geometry::tessellation tess = geometry::separate_blocks(std::vector<convex_polyhedron>{
-      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({-0.5, -0.25, 0.1}, {overlap, 0.25, 0.6}),
-      convex_polyhedron::box({0, -0.25, 0.1}, {0.5, 0.25, 0.6})});
+  const geometry::tessellation tess = pressed_cube_pair(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   for (const bool slides : {false, true}) {
     joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
