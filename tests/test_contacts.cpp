@@ -2209,6 +2209,14 @@ joint_contacts pressed_contacts(const geometry::tessellation& tess, const geomet
   return joint_contacts(tess, mesh, p);
 }
 
+/// A 4 x 2 x 0.5 m base (block 0, top z = 0); block 1, a 0.5 m cube overhanging the base's edge
+/// x = 2 by half; block 2, a 0.5 m cube on the base far from it; both pressed `overlap` m in.
+geometry::tessellation pressed_cubes(real overlap) {
+  return geometry::separate_blocks(std::vector<convex_polyhedron>{
+      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({1.75, -0.25, -overlap}, {2.25, 0.25, 0.5}),
+      convex_polyhedron::box({-1.5, -0.25, -overlap}, {-1, 0.25, 0.5})});
+}
+
 struct kept_corner {
   std::uint64_t label;
   real area, sigma_n;
@@ -2231,9 +2239,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks stayed inside their margins 
   // margin: the patch grows, so a pass would change its tributary areas); then block 2 jumps
   // 0.45 mm a step (past the 0.39 mm trigger) five times: five rebuilds, each of block 2's pairs.
   const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
-  const geometry::tessellation tess = geometry::separate_blocks(std::vector<convex_polyhedron>{
-      convex_polyhedron::box({-2, -1, -0.5}, {2, 1, 0}), convex_polyhedron::box({1.75, -0.25, -overlap}, {2.25, 0.25, 0.5}),
-      convex_polyhedron::box({-1.5, -0.25, -overlap}, {-1, 0.25, 0.5})});
+  const geometry::tessellation tess = pressed_cubes(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   const auto run = [&](index_t interval) {
     joint_contacts c = pressed_contacts(tess, mesh, tol, interval);
@@ -2585,6 +2591,63 @@ TEST_CASE("incremental rebuild: a pair sliding at its friction limit keeps its s
       CHECK(full.states[i].dissipated_shear == incremental.states[i].dissipated_shear);
     }
     CHECK((full.cube_force.array() == incremental.cube_force.array()).all());
+  }
+}
+
+TEST_CASE("detected gather: rigid blocks' slots per block give add_force's forces and a rank's own blocks theirs to the bit",
+          "[detected][gather]") {
+  // Rigid blocks gather per block (contact/detected/tasks.hpp): the base (block 0), block 1
+  // overhanging its edge by half and block 2 on it, both 0.5 m cubes pressed 0.2 mm in, k_n =
+  // 1e9 Pa/m. Block 2 slides 0.45 mm a step for 6 steps (past the trigger: rebuilds). After each
+  // update (its gather per block), add_force on every gridpoint (its per-gridpoint lookup) gives
+  // the same force rows to the bit, and only frame gridpoints get any. The base carries the two
+  // cubes' k_n x overlap x area = 1e9 x 2e-4 x (0.125 + 0.25) = 7.5e4 N down. A set restricted
+  // to one block (set_own_blocks, a split run's rank) gives that block's gridpoints the whole
+  // set's forces to the bit and no other gridpoint any.
+  const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
+  const geometry::tessellation tess = pressed_cubes(overlap);
+  const geometry::block_mesh mesh = geometry::zone_blocks(tess);
+  const index_t n_g = mesh.gridpoint_count();
+  const auto block_of = [&](index_t g) { return mesh.gridpoint_block[static_cast<std::size_t>(g)]; };
+  const auto run = [&](index_t own) {
+    joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
+    if (own >= 0) c.set_own_blocks(std::vector<index_t>{own});
+    node_set gp;
+    gp.resize(n_g);
+    std::vector<soa3> rows;
+    for (int k = 0; k < 7; ++k) {
+      if (k > 0) move_block(gp, mesh, 2, vec3(0.45 * tol, 0, 0), dt);
+      gp.force.setZero();
+      c.update(gp, dt);
+      hold_all(gp);
+      rows.push_back(gp.force);
+      if (own >= 0) continue;
+      gp.force.setZero();
+      for (index_t g = 0; g < n_g; ++g) c.add_force(g, gp);
+      CHECK((gp.force.array() == rows.back().array()).all());
+    }
+    return std::pair{rows, c.rebuild_count()};
+  };
+  const auto [whole, rebuilds] = run(-1);
+  CHECK(rebuilds >= 6);
+  const soa3& last = whole.back();
+  index_t loaded = 0;
+  real base_z = 0;
+  for (index_t g = 0; g < n_g; ++g) {
+    loaded += last.row(g).squaredNorm() > 0 ? 1 : 0;
+    if (block_of(g) == 0) base_z += last(g, 2);
+  }
+  CHECK(loaded == 12);  // the three blocks' four frame gridpoints
+  CHECK(base_z == Approx(-1e9 * overlap * (0.125 + 0.25)).epsilon(1e-9));
+  for (const index_t own : {0, 1, 2}) {
+    const auto [mine, rebuilds_own] = run(own);
+    CHECK(rebuilds_own == rebuilds);
+    bool same = true;
+    for (std::size_t k = 0; k < mine.size(); ++k)
+      for (index_t g = 0; g < n_g; ++g)
+        for (int c = 0; c < 3; ++c)
+          same = same && mine[k](g, c) == (block_of(g) == own ? whole[k](g, c) : 0.0);
+    CHECK(same);
   }
 }
 

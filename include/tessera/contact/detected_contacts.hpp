@@ -22,15 +22,16 @@
 //   checkpoint.hpp      "Checkpoints": a restart rebuilds at the same steps with the same bits
 //   params.hpp          what the constructor takes
 //   subset.hpp          a rank's part in a run split over MPI ranks (set_own_blocks), the energies
+//   tasks.hpp           the tasks, the gather slots (rigid blocks: per block) and the gather
 //
 // Storage and threading: structure of arrays per sub-contact (key, weights, area, state, force),
-// per pair (blocks, normal feature, normals now and last step, parameters; rigid blocks: the
-// eight frame-gridpoint sums), per gridpoint the gather slots. Only a rebuild allocates (arrays
-// grow and keep their capacity; counted in growth_count()); a step between rebuilds allocates
-// nothing. Tasks are runs of pairs; a pair sums its sub-contacts in order and the gather sums each
-// gridpoint's slots in increasing pair order (deformable blocks: sub-contact order), so results
-// are bit-identical for any thread count. Cost of a step and of a rebuild: docs/performance.md
-// "Contact detection kernels".
+// per pair (blocks, normal feature, normals now and last step, parameters; rigid blocks: the eight
+// frame-gridpoint sums), the gather slots per block (rigid) or per gridpoint (deformable). Only a
+// rebuild allocates (arrays grow and keep their capacity; counted in growth_count()); a step
+// between rebuilds allocates nothing. Tasks are runs of pairs; a pair sums its sub-contacts in
+// order and the gather sums each gridpoint's slots in increasing pair order (deformable blocks:
+// sub-contact order), so results are bit-identical for any thread count. Cost of a step and of a
+// rebuild: docs/performance.md "Contact detection kernels".
 
 #include <algorithm>
 #include <array>
@@ -145,6 +146,7 @@ class detected_contacts {
     } else {
       watch_gridpoints_ = vertex_gridpoints_;
       for (block_data& bd : blocks_) detail::watch_vertices(bd, watch_gridpoints_, reference_);  // detected/frames.hpp
+      index_frames();  // detected/tasks.hpp
     }
     current_ = shapes_;
     boxes_.resize(at(n_b));
@@ -181,32 +183,10 @@ class detected_contacts {
     }
   }
   /// Adds the contact force on gridpoint g (N) to gridpoints.force, summed over its slots in
-  /// increasing order: rigid blocks, the pairs' frame-gridpoint sums (pair_force_, in pair
-  /// order); deformable blocks, the weighted sub-contact forces (in sub-contact order).
-  void add_force(index_t g, node_set& gridpoints) const noexcept {
-    const index_t begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
-    if (begin == end) return;
-    real fx = 0, fy = 0, fz = 0;
-    if (!options_.deformable_blocks) {
-      for (index_t e = begin; e < end; ++e) {
-        const real* f = pair_force_.data() + slot_source_[at(e)];
-        fx += f[0];
-        fy += f[1];
-        fz += f[2];
-      }
-    } else {
-      for (index_t e = begin; e < end; ++e) {
-        const auto i = at(slot_source_[at(e)]);
-        const real w = slot_weight_[at(e)];
-        fx += w * force_[0][i];
-        fy += w * force_[1][i];
-        fz += w * force_[2][i];
-      }
-    }
-    gridpoints.force(g, 0) += fx;
-    gridpoints.force(g, 1) += fy;
-    gridpoints.force(g, 2) += fz;
-  }
+  /// increasing order: rigid blocks, the sums of its block's pairs for it (pair_force_, in pair
+  /// order; with set_own_blocks, own blocks' gridpoints only); deformable blocks, the weighted
+  /// sub-contact forces (in sub-contact order). Defined in detected/tasks.hpp.
+  void add_force(index_t g, node_set& gridpoints) const noexcept;
   /// prepare_step, every task, the gather (the unfused path, which blocks::rigid takes).
   void update(node_set& gridpoints, real dt) {
     prepare_step(gridpoints, dt);
@@ -216,8 +196,7 @@ class detected_contacts {
     // step). Same bits either way: a task writes only its own sub-contacts.
     parallel_for(
         task_count(), [&](std::int64_t t) { run_task(static_cast<index_t>(t), gridpoints, dt); }, serial_tasks);
-    parallel_for(static_cast<std::int64_t>(contact_gridpoints_.size()),
-                 [&](std::int64_t j) { add_force(contact_gridpoints_[at(j)], gridpoints); });
+    gather_forces(gridpoints);  // detected/tasks.hpp
   }
   /// Adds the contacts' stiffness bounds (N/m) to gridpoints.stiffness, as params::step_bound
   /// says (detected/step_bound.hpp, "Stable step"): rigid blocks, per block on its farthest vertex, from the
@@ -358,7 +337,10 @@ class detected_contacts {
   // detected/rebuild.hpp
   void rebuild(const node_set* gp, bool full = true);
   [[nodiscard]] real moved2_of(std::size_t b, const node_set& gp) const noexcept;
-  void index_subcontacts(bool kept_pairs = false);  // detected/tasks.hpp
+  // detected/tasks.hpp
+  void index_subcontacts(bool kept_pairs = false);
+  void index_frames();
+  void gather_forces(node_set& gridpoints) const;
   [[nodiscard]] std::size_t storage_capacity() const noexcept;
   [[nodiscard]] real stored_energy() const;
   // detected/step.hpp
@@ -446,7 +428,7 @@ class detected_contacts {
   // per pair
   std::vector<index_t> pair_a_, pair_b_, pair_param_, pair_first_{0};
   std::vector<index_t> pair_tasks_, task_end_;  ///< task t: pairs [pair_tasks_[t], task_end_[t])
-  std::vector<std::uint8_t> own_block_, own_gridpoint_;  ///< set_own_blocks (empty: all)
+  std::vector<std::uint8_t> own_block_;  ///< set_own_blocks (empty: all)
   std::vector<feature_kind> feature_;
   std::vector<vec3> feature_a_, feature_b_;
   std::array<soa3, 3> normal_;                     ///< per pair: the plane's, A's parallel face's, B's (now)
@@ -460,8 +442,10 @@ class detected_contacts {
   std::vector<std::uint8_t> fresh_;                ///< created at the last rebuild, not yet updated
   std::array<std::vector<real>, 8> weight_;        ///< affine weights, A's frame 0-3, B's 4-7
   std::array<std::vector<real>, 3> force_;         ///< force on A's side (N)
-  // gather; slot_source_: rigid blocks, an offset into pair_force_; deformable, a sub-contact
-  std::vector<index_t> slot_offsets_{0}, slot_source_, contact_gridpoints_, fill_;
+  // gather (detected/tasks.hpp): slots per block (rigid; slot_source_ an offset into pair_force_)
+  // or per gridpoint (deformable; a sub-contact); the blocks / gridpoints with slots gathered here
+  std::vector<index_t> slot_offsets_{0}, slot_source_, contact_blocks_, contact_gridpoints_, fill_;
+  std::vector<index_t> frame_of_;  ///< rigid blocks, per gridpoint: 4 b + s, frame gridpoint s of block b (else -1)
   std::vector<real> slot_weight_;  ///< deformable blocks: the weight of the slot's sub-contact
   /// Rigid blocks, per pair: the forces on A's four frame gridpoints (w f) then B's (-w f),
   /// summed over its sub-contacts in order (N; 24 per pair).

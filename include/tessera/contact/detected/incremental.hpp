@@ -39,8 +39,9 @@
 // only the pairs with a moved block tested), the kept pairs' columns copied in runs (their keys,
 // areas and stiffness terms of the step bound with them; the merge of the states looks up each
 // pass pair's old pair and visits only the sub-contacts of those detected again), the tasks and
-// gather slots. The merge, the copies and the pairs' columns run on the threads (each pair or run
-// writes its own slots); the broad phase, the new pair list, the tasks and gather slots and the
+// gather slots (per block: a counting sort of the pairs' two sides, detected/tasks.hpp). The
+// merge, the copies and the pairs' columns run on the threads (each pair or run writes its own
+// slots); the broad phase, the new pair list, the tasks and gather slots and the
 // energy sums on one. No allocation beyond a rebuild's growth.
 
 #include <algorithm>

@@ -4,20 +4,20 @@
 // energies, which book that part only.
 //
 // Every rank holds the whole scene's pairs and keys in the same order: each rebuild's detection
-// pass is one process's, either run whole on every rank or, with set_detection_split, its
-// candidate pairs cut into one contiguous part per rank, each rank evaluating its part (the
-// common planes and patches, nearly all of a pass) and a gather (distributed::gather_detection)
-// concatenating the parts in rank order, which is the whole pass's result to the bit. The broad
-// phase, the merge of the states and the frames stay whole on every rank (a few per cent of a
-// pass). set_own_blocks then restricts the step: the tasks hold the pairs
-// that touch an own block (a pair across the cut is evaluated on both of its ranks, from the same
-// inputs), and the gather visits the own blocks' gridpoints, whose slots all come from those
-// pairs, in the order of one process. The other pairs' states go stale and nothing reads them for
-// a force; the books (energies(), and the retired energies and rebuild exchange of the rebuilds
-// after the call) count a sub-contact on the rank of its pair's first block only, so the ranks'
-// books add up to one process's to round-off. When a block changes rank, the pairs a rank starts
-// to evaluate take their step state (normals now, law states, fresh flags, forces) from a rank
-// that evaluated them: write_pair_state and read_pair_state.
+// pass is one process's, either run whole on every rank or, with set_detection_split, its candidate
+// pairs cut into one contiguous part per rank, each rank evaluating its part (the common planes and
+// patches, nearly all of a pass) and a gather (distributed::gather_detection) concatenating the
+// parts in rank order, which is the whole pass's result to the bit. The broad phase, the merge of
+// the states and the frames stay whole on every rank (a few per cent of a pass). set_own_blocks
+// then restricts the step: the tasks hold the pairs that touch an own block (a pair across the cut
+// is evaluated on both of its ranks, from the same inputs), and the gather visits the own blocks'
+// frame gridpoints (the other blocks get no slots), whose slots all come from those pairs, in the
+// order of one process. The other pairs' states go stale and nothing reads them for a force; the
+// books (energies(), and the retired energies and rebuild exchange of the rebuilds after the call)
+// count a sub-contact on the rank of its pair's first block only, so the ranks' books add up to one
+// process's to round-off. When a block changes rank, the pairs a rank starts to evaluate take their
+// step state (normals now, law states, fresh flags, forces) from a rank that evaluated them:
+// write_pair_state and read_pair_state.
 //
 // Definitions of detected_contacts<Law>'s members declared in the class; it includes the class and
 // the class includes it, so either header can come first.
@@ -75,18 +75,14 @@ inline void detected_contacts<Law>::set_own_blocks(std::span<const index_t> own)
   require(!options_.deformable_blocks,
           "detected_contacts::set_own_blocks: deformable blocks on detected contacts are not split over ranks");
   own_block_.clear();
-  own_gridpoint_.clear();
   if (!own.empty()) {
     own_block_.assign(blocks_.size(), 0);
-    own_gridpoint_.assign(at(gridpoint_count_), 0);
     index_t last = -1;
     for (const index_t b : own) {
       require(b > last && b < static_cast<index_t>(blocks_.size()), "detected_contacts::set_own_blocks: block ", b,
               " is out of range [0, ", blocks_.size(), ") or not after ", last, " (the list must increase)");
       last = b;
       own_block_[at(b)] = 1;
-      const block_data& bd = blocks_[at(b)];
-      for (index_t k = bd.vertex_begin; k < bd.vertex_end; ++k) own_gridpoint_[at(vertex_gridpoints_[at(k)])] = 1;
     }
   }
   index_subcontacts();
