@@ -33,11 +33,12 @@
 //
 // Cost: the pass runs on the moved blocks' candidate pairs, and of those the pairs that the axis
 // of their last plane still shows apart skip the full common-plane search (detect.hpp,
-// reuse_axes: about two thirds of them in the rubble scene); the rest of a rebuild is
+// reuse_axes: about three quarters of them in the rubble scene), and the face planes they read are
+// the reference faces carried by the poses (placed_faces_of); the rest of a rebuild is
 // O(blocks + sub-contacts) with small constants: each block's current shape and box (into its own
 // storage, the blocks in parallel: place_blocks), the broad phase (every box's cells scanned, only the cells a moved block reaches binned,
-// only the pairs with a moved block tested), the kept pairs' columns copied in runs (their keys,
-// areas and stiffness terms of the step bound with them; the merge of the states looks up each
+// only the pairs with a moved block tested), the kept pairs' columns and their sub-contacts' copied
+// in runs (keys, areas, features, poses, normals, the step bound's terms; the merge of the states looks up each
 // pass pair's old pair and visits only the sub-contacts of those detected again), the tasks and
 // gather slots (per block: a counting sort of the pairs' two sides, detected/tasks.hpp). The
 // merge, the copies and the pairs' columns run on the threads (each pair or run writes its own
