@@ -2209,6 +2209,21 @@ joint_contacts pressed_contacts(const geometry::tessellation& tess, const geomet
   return joint_contacts(tess, mesh, p);
 }
 
+/// The start of the pressed-block tests: pressed_contacts (tolerance `tol` m, rebuild interval
+/// `interval` updates) on (tess, mesh) and a node_set for its gridpoints, at rest, after the
+/// set's first update of `dt` s.
+struct pressed_start {
+  joint_contacts c;
+  node_set gp;
+};
+pressed_start pressed_at_rest(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real tol,
+                              index_t interval, real dt) {
+  pressed_start s{pressed_contacts(tess, mesh, tol, interval), node_set{}};
+  s.gp.resize(mesh.gridpoint_count());
+  s.c.update(s.gp, dt);
+  return s;
+}
+
 /// A 4 x 2 x 0.5 m base (block 0, top z = 0); block 1, a 0.5 m cube overhanging the base's edge
 /// x = 2 by half; block 2, a 0.5 m cube on the base far from it; both pressed `overlap` m in.
 geometry::tessellation pressed_cubes(real overlap) {
@@ -2242,10 +2257,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks stayed inside their margins 
   const geometry::tessellation tess = pressed_cubes(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   const auto run = [&](index_t interval) {
-    joint_contacts c = pressed_contacts(tess, mesh, tol, interval);
-    node_set gp;
-    gp.resize(mesh.gridpoint_count());
-    c.update(gp, dt);
+    auto [c, gp] = pressed_at_rest(tess, mesh, tol, interval, dt);
     const auto before = corners_of(c, 0, 1);
     const index_t rebuilds = c.rebuild_count();
     const real exchange = c.retired_energies().rebuild_exchange;
@@ -2427,10 +2439,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks move together keeps its sub-
   const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
   const geometry::tessellation tess = pressed_cube_pair(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
-  joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
-  node_set gp;
-  gp.resize(mesh.gridpoint_count());
-  c.update(gp, dt);
+  auto [c, gp] = pressed_at_rest(tess, mesh, tol, 1000, dt);
   const auto before = corners_of(c, 1, 2);
   REQUIRE(before.size() >= 4);
   const index_t rebuilds = c.rebuild_count();
@@ -2481,10 +2490,7 @@ TEST_CASE("incremental rebuild: a pair with one block detected again is kept whe
   const geometry::tessellation tess = pressed_cube_pair(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   for (const bool slides : {false, true}) {
-    joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
-    node_set gp;
-    gp.resize(mesh.gridpoint_count());
-    c.update(gp, dt);
+    auto [c, gp] = pressed_at_rest(tess, mesh, tol, 1000, dt);
     const auto before = corners_of(c, 1, 2);
     REQUIRE(before.size() >= 4);
     const index_t rebuilds = c.rebuild_count();
