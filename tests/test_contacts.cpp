@@ -2663,6 +2663,18 @@ namespace tessera::test_kept_axes {
 namespace {
 using geometry::convex_polyhedron;
 namespace detection = contact::detection;
+
+/// The cells of `tess`, each shrunk by the fraction `shrink` about its centroid c
+/// (x -> (1 - shrink) x + shrink c; 1 - shrink is exact for the 0.01 and 0.03 below), gaps opened
+/// between neighbours.
+std::vector<convex_polyhedron> shrunk_cells(const geometry::tessellation& tess, real shrink) {
+  std::vector<convex_polyhedron> cells;
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
+    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
+    cells.push_back(cell.transformed((1 - shrink) * mat3::Identity(), shrink * cell.centroid()));
+  }
+  return cells;
+}
 }  // namespace
 
 TEST_CASE("detection pass with kept axes: the full search's result to the bit over moving passes, most apart pairs shown apart by their last axis",
@@ -2670,11 +2682,7 @@ TEST_CASE("detection pass with kept axes: the full search's result to the bit ov
   // 300 Voronoi cells shrunk 1 % about their centroids, then each turned and moved a little more
   // at every pass (up to 3 % of the mean size: pairs come into and out of the tolerance).
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.15, 0.15, 0.3)}, 300, 11);
-  std::vector<convex_polyhedron> start;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
-    start.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
-  }
+  const std::vector<convex_polyhedron> start = shrunk_cells(tess, 0.01);
   const real size = std::cbrt(0.15 * 0.15 * 0.3 / 300);
   std::vector<detection::polyhedron_edges> edges;
   for (const convex_polyhedron& p : start) edges.push_back(detection::edges_of(p));
@@ -2740,15 +2748,13 @@ TEST_CASE("detection pass with kept axes: the full search's result to the bit ov
 TEST_CASE("hinted plane: any face or edge pair's bound is below the common plane's gap, and a hint that is not a candidate gives none",
           "[detection]") {
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.1)}, 40, 3);
-  std::vector<convex_polyhedron> cells;
+  const std::vector<convex_polyhedron> cells = shrunk_cells(tess, 0.03);
   std::vector<detection::polyhedron_edges> edges;
   std::vector<std::vector<geometry::plane>> faces;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
-    cells.push_back(cell.transformed(0.97 * mat3::Identity(), 0.03 * cell.centroid()));
-    edges.push_back(detection::edges_of(cells.back()));
+  for (const convex_polyhedron& cell : cells) {
+    edges.push_back(detection::edges_of(cell));
     faces.emplace_back();
-    detection::append_face_planes(cells.back(), faces.back());
+    detection::append_face_planes(cell, faces.back());
   }
   std::size_t bounds = 0, edge_bounds = 0, attained = 0;
   for (std::size_t a = 0; a < cells.size(); ++a)
@@ -2796,11 +2802,7 @@ TEST_CASE("warm start: common_plane_above gives the full search's plane to the b
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.1)}, 40, 5);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<real> u(-1, 1);
-  std::vector<convex_polyhedron> cells;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
-    cells.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
-  }
+  const std::vector<convex_polyhedron> cells = shrunk_cells(tess, 0.01);
   const auto bits = [](real x) { return std::bit_cast<std::uint64_t>(x); };
   const auto same = [&](const detection::contact_plane& p, const detection::contact_plane& q) {
     return bits(p.normal.x()) == bits(q.normal.x()) && bits(p.normal.y()) == bits(q.normal.y()) &&
