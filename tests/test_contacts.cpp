@@ -2209,6 +2209,21 @@ joint_contacts pressed_contacts(const geometry::tessellation& tess, const geomet
   return joint_contacts(tess, mesh, p);
 }
 
+/// The start of the pressed-block tests: pressed_contacts (tolerance `tol` m, rebuild interval
+/// `interval` updates) on (tess, mesh) and a node_set for its gridpoints, at rest, after the
+/// set's first update of `dt` s.
+struct pressed_start {
+  joint_contacts c;
+  node_set gp;
+};
+pressed_start pressed_at_rest(const geometry::tessellation& tess, const geometry::block_mesh& mesh, real tol,
+                              index_t interval, real dt) {
+  pressed_start s{pressed_contacts(tess, mesh, tol, interval), node_set{}};
+  s.gp.resize(mesh.gridpoint_count());
+  s.c.update(s.gp, dt);
+  return s;
+}
+
 /// A 4 x 2 x 0.5 m base (block 0, top z = 0); block 1, a 0.5 m cube overhanging the base's edge
 /// x = 2 by half; block 2, a 0.5 m cube on the base far from it; both pressed `overlap` m in.
 geometry::tessellation pressed_cubes(real overlap) {
@@ -2242,10 +2257,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks stayed inside their margins 
   const geometry::tessellation tess = pressed_cubes(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   const auto run = [&](index_t interval) {
-    joint_contacts c = pressed_contacts(tess, mesh, tol, interval);
-    node_set gp;
-    gp.resize(mesh.gridpoint_count());
-    c.update(gp, dt);
+    auto [c, gp] = pressed_at_rest(tess, mesh, tol, interval, dt);
     const auto before = corners_of(c, 0, 1);
     const index_t rebuilds = c.rebuild_count();
     const real exchange = c.retired_energies().rebuild_exchange;
@@ -2427,10 +2439,7 @@ TEST_CASE("incremental rebuild: a pair whose blocks move together keeps its sub-
   const real tol = 1e-3, overlap = 2e-4, dt = 1e-4;
   const geometry::tessellation tess = pressed_cube_pair(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
-  joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
-  node_set gp;
-  gp.resize(mesh.gridpoint_count());
-  c.update(gp, dt);
+  auto [c, gp] = pressed_at_rest(tess, mesh, tol, 1000, dt);
   const auto before = corners_of(c, 1, 2);
   REQUIRE(before.size() >= 4);
   const index_t rebuilds = c.rebuild_count();
@@ -2481,10 +2490,7 @@ TEST_CASE("incremental rebuild: a pair with one block detected again is kept whe
   const geometry::tessellation tess = pressed_cube_pair(overlap);
   const geometry::block_mesh mesh = geometry::zone_blocks(tess);
   for (const bool slides : {false, true}) {
-    joint_contacts c = pressed_contacts(tess, mesh, tol, 1000);
-    node_set gp;
-    gp.resize(mesh.gridpoint_count());
-    c.update(gp, dt);
+    auto [c, gp] = pressed_at_rest(tess, mesh, tol, 1000, dt);
     const auto before = corners_of(c, 1, 2);
     REQUIRE(before.size() >= 4);
     const index_t rebuilds = c.rebuild_count();
@@ -2657,6 +2663,18 @@ namespace tessera::test_kept_axes {
 namespace {
 using geometry::convex_polyhedron;
 namespace detection = contact::detection;
+
+/// The cells of `tess`, each shrunk by the fraction `shrink` about its centroid c
+/// (x -> (1 - shrink) x + shrink c; 1 - shrink is exact for the 0.01 and 0.03 below), gaps opened
+/// between neighbours.
+std::vector<convex_polyhedron> shrunk_cells(const geometry::tessellation& tess, real shrink) {
+  std::vector<convex_polyhedron> cells;
+  for (index_t c = 0; c < tess.cell_count(); ++c) {
+    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
+    cells.push_back(cell.transformed((1 - shrink) * mat3::Identity(), shrink * cell.centroid()));
+  }
+  return cells;
+}
 }  // namespace
 
 TEST_CASE("detection pass with kept axes: the full search's result to the bit over moving passes, most apart pairs shown apart by their last axis",
@@ -2664,11 +2682,7 @@ TEST_CASE("detection pass with kept axes: the full search's result to the bit ov
   // 300 Voronoi cells shrunk 1 % about their centroids, then each turned and moved a little more
   // at every pass (up to 3 % of the mean size: pairs come into and out of the tolerance).
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.15, 0.15, 0.3)}, 300, 11);
-  std::vector<convex_polyhedron> start;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
-    start.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
-  }
+  const std::vector<convex_polyhedron> start = shrunk_cells(tess, 0.01);
   const real size = std::cbrt(0.15 * 0.15 * 0.3 / 300);
   std::vector<detection::polyhedron_edges> edges;
   for (const convex_polyhedron& p : start) edges.push_back(detection::edges_of(p));
@@ -2734,15 +2748,13 @@ TEST_CASE("detection pass with kept axes: the full search's result to the bit ov
 TEST_CASE("hinted plane: any face or edge pair's bound is below the common plane's gap, and a hint that is not a candidate gives none",
           "[detection]") {
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.1)}, 40, 3);
-  std::vector<convex_polyhedron> cells;
+  const std::vector<convex_polyhedron> cells = shrunk_cells(tess, 0.03);
   std::vector<detection::polyhedron_edges> edges;
   std::vector<std::vector<geometry::plane>> faces;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
-    cells.push_back(cell.transformed(0.97 * mat3::Identity(), 0.03 * cell.centroid()));
-    edges.push_back(detection::edges_of(cells.back()));
+  for (const convex_polyhedron& cell : cells) {
+    edges.push_back(detection::edges_of(cell));
     faces.emplace_back();
-    detection::append_face_planes(cells.back(), faces.back());
+    detection::append_face_planes(cell, faces.back());
   }
   std::size_t bounds = 0, edge_bounds = 0, attained = 0;
   for (std::size_t a = 0; a < cells.size(); ++a)
@@ -2790,11 +2802,7 @@ TEST_CASE("warm start: common_plane_above gives the full search's plane to the b
   const auto tess = geometry::random_voronoi({vec3::Zero(), vec3(0.1, 0.1, 0.1)}, 40, 5);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<real> u(-1, 1);
-  std::vector<convex_polyhedron> cells;
-  for (index_t c = 0; c < tess.cell_count(); ++c) {
-    const convex_polyhedron cell = geometry::cell_polyhedron(tess, c);
-    cells.push_back(cell.transformed(0.99 * mat3::Identity(), 0.01 * cell.centroid()));
-  }
+  const std::vector<convex_polyhedron> cells = shrunk_cells(tess, 0.01);
   const auto bits = [](real x) { return std::bit_cast<std::uint64_t>(x); };
   const auto same = [&](const detection::contact_plane& p, const detection::contact_plane& q) {
     return bits(p.normal.x()) == bits(q.normal.x()) && bits(p.normal.y()) == bits(q.normal.y()) &&

@@ -77,6 +77,7 @@
 #include "detail/face_layout.hpp"
 #include "detail/face_pairs.hpp"
 #include "detail/packed_states.hpp"
+#include "detail/slot_gather.hpp"
 #include "detail/subcontact_energies.hpp"
 #include "kinematics.hpp"
 #include "stiffness_bound.hpp"
@@ -274,21 +275,8 @@ class face_contacts {
   /// Adds the contact forces of the last update_face calls on gridpoint g to gridpoints.force
   /// (a contiguous sum over g's slots in fixed order; nothing for a gridpoint without sub-contacts).
   void add_force(index_t g, node_set& gridpoints) const noexcept {
-    const index_t begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
-    if (begin == end) return;
-    const real* f[3] = {force_[0].data(), force_[1].data(), force_[2].data()};
-    real fx = 0, fy = 0, fz = 0;
-    for (index_t e = begin; e < end; ++e) {
-      // +-f exactly: the sum is that of the forces on g in increasing sub-contact order.
-      const auto i = at(slot_subcontact_[at(e)]);
-      const real sign = slot_sign_[at(e)];
-      fx += sign * f[0][i];
-      fy += sign * f[1][i];
-      fz += sign * f[2][i];
-    }
-    gridpoints.force(g, 0) += fx;
-    gridpoints.force(g, 1) += fy;
-    gridpoints.force(g, 2) += fz;
+    // Weights +-1, so +-f exactly: the sum is that of the forces on g in increasing sub-contact order.
+    detail::add_weighted_slot_forces(g, slot_offsets_, slot_subcontact_, slot_sign_, force_, gridpoints);
   }
 
   /// Adds to gridpoints.stiffness (N/m) the Gershgorin row bound of every sub-contact spring:

@@ -24,6 +24,7 @@
 #include "../../core/nodes.hpp"
 #include "../../core/parallel.hpp"
 #include "../../core/types.hpp"
+#include "../detail/slot_gather.hpp"
 #include "../detected_contacts.hpp"
 
 namespace tessera::contact {
@@ -111,29 +112,22 @@ inline void detected_contacts<Law>::index_frames() {
 
 template <law::ContactLaw Law>
 inline void detected_contacts<Law>::add_force(index_t g, node_set& gridpoints) const noexcept {
+  if (options_.deformable_blocks) {
+    // Slots per gridpoint, in sub-contact order, weight +-w (index_subcontacts).
+    detail::add_weighted_slot_forces(g, slot_offsets_, slot_source_, slot_weight_, force_, gridpoints);
+    return;
+  }
+  const index_t f = frame_of_[at(g)];
+  if (f < 0) return;
+  const index_t begin = slot_offsets_[at(f / 4)], end = slot_offsets_[at(f / 4) + 1];
+  if (begin == end) return;
+  const std::size_t s3 = 3 * at(f % 4);
   real fx = 0, fy = 0, fz = 0;
-  if (!options_.deformable_blocks) {
-    const index_t f = frame_of_[at(g)];
-    if (f < 0) return;
-    const index_t begin = slot_offsets_[at(f / 4)], end = slot_offsets_[at(f / 4) + 1];
-    if (begin == end) return;
-    const std::size_t s3 = 3 * at(f % 4);
-    for (index_t e = begin; e < end; ++e) {
-      const real* p = pair_force_.data() + slot_source_[at(e)] + s3;
-      fx += p[0];
-      fy += p[1];
-      fz += p[2];
-    }
-  } else {
-    const index_t begin = slot_offsets_[at(g)], end = slot_offsets_[at(g) + 1];
-    if (begin == end) return;
-    for (index_t e = begin; e < end; ++e) {
-      const auto i = at(slot_source_[at(e)]);
-      const real w = slot_weight_[at(e)];
-      fx += w * force_[0][i];
-      fy += w * force_[1][i];
-      fz += w * force_[2][i];
-    }
+  for (index_t e = begin; e < end; ++e) {
+    const real* p = pair_force_.data() + slot_source_[at(e)] + s3;
+    fx += p[0];
+    fy += p[1];
+    fz += p[2];
   }
   gridpoints.force(g, 0) += fx;
   gridpoints.force(g, 1) += fy;
