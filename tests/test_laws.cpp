@@ -3,7 +3,9 @@
 // is not rounding-level, the reason for it.
 #include <catch2/catch.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -1537,4 +1539,90 @@ TEST_CASE("mixed mode with a softening cap: validation names the bad parameter",
   auto p = mixed_crush_params(5000, 0.2);
   p.shear.c_res = 1e4;
   REQUIRE_THROWS_WITH(mixed_crush_law::validate(p), Catch::Contains("residual cohesion c_res = 10000 Pa must be 0"));
+}
+
+// ---- open_step: an open gap without stress that stays open, update()'s result to the bit ----
+namespace {
+
+/// The bits of a real (so +0 and -0 differ, as do two NaNs of different payloads).
+std::uint64_t bits_of(real x) { return std::bit_cast<std::uint64_t>(x); }
+
+/// Every field of two states equal to the bit.
+template <class Law>
+bool same_bits(const typename Law::state& a, const typename Law::state& b) {
+  bool same = bits_of(a.sigma_n) == bits_of(b.sigma_n) && a.flags == b.flags;
+  for (int c = 0; c < 3; ++c) same = same && bits_of(a.tau[c]) == bits_of(b.tau[c]);
+  for (const auto field : {&Law::state::u_n, &Law::state::u_p, &Law::state::u_soft, &Law::state::dissipated_tension,
+                           &Law::state::dissipated_shear, &Law::state::dissipated_compression})
+    same = same && bits_of(a.*field) == bits_of(b.*field);
+  if constexpr (Law::softens_with_slip) same = same && bits_of(a.u_slip) == bits_of(b.u_slip);
+  if constexpr (Law::softens_with_crushing) same = same && bits_of(a.u_crush) == bits_of(b.u_crush);
+  return same;
+}
+
+/// 4 000 random states, most broken and open without stress (some with a -0 stress, some
+/// softened, slipped or crushed before), the rest stressed or intact, each given a random
+/// step: where open_step takes it, its state is update()'s to the bit; where it declines, the
+/// state is untouched. Both must happen often (the predicate is not vacuous).
+template <class Law>
+void check_open_step(const typename Law::params& p, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<real> unit(-1, 1), gap(0, 1e-4);
+  const real u_scale = 1e-5;
+  int taken = 0, declined = 0;
+  for (int k = 0; k < 4000; ++k) {
+    typename Law::state s{};
+    const int kind = k % 8;
+    s.flags = kind == 7 ? contact_status::intact : contact_status::broken_tension;
+    if (kind == 1) s.flags = s.flags | contact_status::slipped;
+    if (kind == 2) s.flags = s.flags | contact_status::softening;
+    s.u_p = u_scale * unit(rng);
+    s.u_n = s.u_p + gap(rng);
+    s.u_soft = kind == 2 ? std::abs(u_scale * unit(rng)) : 0;
+    s.dissipated_tension = std::abs(unit(rng));
+    s.dissipated_shear = kind == 3 ? 0.0 : std::abs(unit(rng));
+    s.dissipated_compression = std::abs(unit(rng));
+    if constexpr (Law::softens_with_slip) s.u_slip = kind == 1 ? std::abs(u_scale * unit(rng)) : 0;
+    if constexpr (Law::softens_with_crushing) {
+      s.u_crush = kind == 4 ? std::abs(u_scale * unit(rng)) : 0;
+      if (kind == 4) s.flags = s.flags | contact_status::crushed;
+    }
+    if (kind == 5) s.tau[1] = -0.0;  // a signed zero left by a rotation: still no stress
+    if (kind == 6) s.sigma_n = -1e3;  // a stressed contact: declined
+    if (kind == 0 && k % 3 == 0) s.tau[0] = 50;  // shear carried: declined
+    const real du_n = (k % 5 == 0 ? -2e-4 : 1e-5) * std::abs(unit(rng));  // every fifth closes the gap
+    vec3 n(unit(rng), unit(rng), unit(rng));
+    n.normalize();
+    vec3 du_s = 1e-5 * vec3(unit(rng), unit(rng), unit(rng));
+    du_s -= du_s.dot(n) * n;
+    typename Law::state by_update = s, by_open = s;
+    Law::update(p, by_update, du_n, du_s, n);
+    if (Law::open_step(by_open, du_n)) {
+      ++taken;
+      INFO("state " << k << " kind " << kind);
+      REQUIRE(same_bits<Law>(by_open, by_update));
+    } else {
+      ++declined;
+      REQUIRE(same_bits<Law>(by_open, s));
+    }
+  }
+  CHECK(taken > 1500);
+  CHECK(declined > 1000);
+}
+
+}  // namespace
+
+TEST_CASE("open_step: a broken contact apart without stress advances as update() does to the bit", "[laws][open]") {
+  SECTION("dry joint (no tension, the rubble's law)") {
+    check_open_step<dry_joint_law>(dry_joint(1e10, 1e10, friction_angle::from_degrees(35)), 1);
+  }
+  SECTION("study_tie_law") { check_open_step<study_tie_law>(study_prism_params(100), 2); }
+  SECTION("study_beam_law (compressive cap)") { check_open_step<study_beam_law>(beam_params(), 3); }
+  SECTION("coupled_tie_law") { check_open_step<coupled_tie_law>(with_coupled_cohesion(study_prism_params(100)), 4); }
+  SECTION("slip_softening_beam_law") {
+    check_open_step<slip_softening_beam_law>(with_slip_softening(beam_params(), 6000), 5);
+  }
+  SECTION("crushing_beam_law") {
+    check_open_step<crushing_beam_law>(with_softening_cap(with_slip_softening(beam_params(), 6000), 1e4, 0.2, true), 6);
+  }
 }

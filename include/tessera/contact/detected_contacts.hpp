@@ -353,6 +353,8 @@ class detected_contacts {
                    const std::array<triple, 3>& tilts) noexcept;
   [[gnu::always_inline]] triple advance(std::size_t i, const params_type& p, const triple& dv, const triple& gap,
                                         const triple& n, const triple& tilt, real dt) noexcept;
+  [[gnu::always_inline]] triple advance_split(std::size_t i, const params_type& p, const kinematics::normal_split& s,
+                                              const triple& n) noexcept;
 
   // A gridpoint's position and a block's frame now, from reference_ (detected/frames.hpp).
   [[nodiscard]] vec3 position(index_t g, const node_set* gp) const {
@@ -381,6 +383,7 @@ class detected_contacts {
   /// update() runs its tasks serially below 2 x this many (parallel_for's grain).
   static constexpr std::int64_t serial_tasks = 2;
   static constexpr index_t normal_batch = 16;  ///< pairs whose normals run_task computes ahead
+  static constexpr std::size_t subcontact_batch = 16;  ///< sub-contacts update_pair takes loop by loop
   /// Deformable blocks: the largest distance of a surface gridpoint from its block's affine fit
   /// that a rebuild accepts, as a fraction of the tolerance (the trigger keeps it in reserve).
   static constexpr real max_deviation_fraction = 0.25;
