@@ -246,7 +246,7 @@ struct cohesive_frictional {
   /// tau = 0) and stay apart over the step (u_n + du_n > u_p): the opening u_n advances by du_n
   /// (m), sigma_n and tau stay 0 (+0), nothing is dissipated, no flag changes; returns true. Any
   /// other contact: returns false, s untouched (call update()). The result is update()'s to the
-  /// bit (test_laws "[open]"): there the trial k_n (u_n - u_p) > 0 of a broken contact gives
+  /// bit for a finite step (test_laws "[open]"): there the trial k_n (u_n - u_p) > 0 of a broken contact gives
   /// sigma_n = +0, the open crack drops its (zero) shear to +0, and every energy term it books is
   /// a signed zero, which leaves the sums as they are. A detecting contact set calls it first:
   /// most of a loose heap's sub-contacts are such gaps within the tolerance (the rubble scene:
