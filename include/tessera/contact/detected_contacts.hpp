@@ -351,8 +351,8 @@ class detected_contacts {
                          const std::array<triple, 3>& tilts) noexcept;
   void update_pair(index_t pk, real dt, const std::array<triple, 3>& normals,
                    const std::array<triple, 3>& tilts) noexcept;
-  [[gnu::always_inline]] triple advance(std::size_t i, const params_type& p, const triple& dv, const triple& gap,
-                                        const triple& n, const triple& tilt, real dt) noexcept;
+  [[gnu::always_inline]] kinematics::normal_split increment(std::size_t i, const triple& dv, const triple& gap,
+                                                            const triple& n, const triple& tilt, real dt) const noexcept;
   [[gnu::always_inline]] triple advance_split(std::size_t i, const params_type& p, const kinematics::normal_split& s,
                                               const triple& n) noexcept;
 

@@ -194,8 +194,8 @@ inline void detected_contacts<Law>::update_pair_zoned(index_t pk, real dt, const
         dv[c] += w * gp.velocity(g, c);
       }
     }
-    advance(i, p, {dv[0], dv[1], dv[2]}, {gap[0], gap[1], gap[2]}, normals[corner_normal_[i]],
-            tilts[corner_normal_[i]], dt);
+    const triple& n = normals[corner_normal_[i]];
+    advance_split(i, p, increment(i, {dv[0], dv[1], dv[2]}, {gap[0], gap[1], gap[2]}, n, tilts[corner_normal_[i]], dt), n);
   }
 }
 
@@ -228,10 +228,7 @@ inline void detected_contacts<Law>::update_pair(index_t pk, real dt, const std::
       const auto i = i0 + j;
       const vec3 la(weight_[1][i], weight_[2][i], weight_[3][i]), lb(weight_[5][i], weight_[6][i], weight_[7][i]);
       const vec3 g = dx0 + mb.d * lb - ma.d * la, w = dv0 + mb.dv * lb - ma.dv * la;
-      du[j] = fresh_[i] == 0 ? kinematics::split(kinematics::relative_increment({w.x(), w.y(), w.z()}, {g.x(), g.y(), g.z()},
-                                                                                tilts[corner_normal_[i]], dt),
-                                                 normals[corner_normal_[i]])
-                             : kinematics::normal_split{0, {0, 0, 0}};
+      du[j] = increment(i, {w.x(), w.y(), w.z()}, {g.x(), g.y(), g.z()}, normals[corner_normal_[i]], tilts[corner_normal_[i]], dt);
     }
     for (std::size_t j = 0; j < n_i; ++j) f[j] = advance_split(i0 + j, p, du[j], normals[corner_normal_[i0 + j]]);
     for (std::size_t j = 0; j < n_i; ++j) {
@@ -249,25 +246,24 @@ inline void detected_contacts<Law>::update_pair(index_t pk, real dt, const std::
   std::copy(std::begin(sum), std::end(sum), pair_force_.begin() + static_cast<std::ptrdiff_t>(24 * k));
 }
 
-/// The law step and force of sub-contact i from its relative velocity dv (m/s) and gap (m),
-/// the normal n and the tilt of its plane. A sub-contact created at this step's rebuild
-/// already holds its gap at t: its increment is zero. The law advances a copy of the state
+/// Sub-contact i's relative displacement increment this step (m), split on the normal n, from
+/// its relative velocity dv (m/s), its gap (m) and the tilt of its plane: zero for a sub-contact
+/// created at this step's rebuild, which already holds its gap at t.
+template <law::ContactLaw Law>
+[[gnu::always_inline]] inline kinematics::normal_split detected_contacts<Law>::increment(
+    std::size_t i, const triple& dv, const triple& gap, const triple& n, const triple& tilt, real dt) const noexcept {
+  if (fresh_[i] != 0) [[unlikely]]
+    return {0, {0, 0, 0}};
+  return kinematics::split(kinematics::relative_increment(dv, gap, tilt, dt), n);
+}
+
+/// The law step and force of sub-contact i from its split increment s (increment's), on the
+/// normal n. The law advances a copy of the state
 /// kept in registers, so the traction is not read back from state_[i] right after the law
 /// stored it (perf annotate showed that load stalled on store forwarding: a 32-byte store read
 /// by a 16-byte load at offset 8; the step time did not move measurably, the law's division
 /// took the stall's place).
 /// Returns the force on A's side (N), also stored in force_.
-template <law::ContactLaw Law>
-[[gnu::always_inline]] inline typename detected_contacts<Law>::triple detected_contacts<Law>::advance(
-    std::size_t i, const params_type& p, const triple& dv, const triple& gap, const triple& n, const triple& tilt,
-    real dt) noexcept {
-  kinematics::normal_split s{0, {0, 0, 0}};
-  if (fresh_[i] == 0) [[likely]]
-    s = kinematics::split(kinematics::relative_increment(dv, gap, tilt, dt), n);
-  return advance_split(i, p, s, n);
-}
-
-/// advance's law step and force from the split increment s (zero for a fresh sub-contact).
 template <law::ContactLaw Law>
 [[gnu::always_inline]] inline typename detected_contacts<Law>::triple detected_contacts<Law>::advance_split(
     std::size_t i, const params_type& p, const kinematics::normal_split& s, const triple& n) noexcept {
