@@ -808,6 +808,17 @@ tessera_add_example_test(brazilian NAME example_brazilian_mixed_mode_quick
          "split STREQUAL ON"
          "f_sp_over_f_T GREATER 1.94" "f_sp_over_f_T LESS 2.03"
          "energy_balance_error_rel LESS 1e-3")
+# The split of halves that turn apart about a chain beside a strip (disc.hpp: once the load has fallen to
+# 0.9 of its largest, no intact chain across the middle third): mixed mode G_II 70, 38 blocks, seed 3
+# (measured: split at 297.4 um with the load at 48.6 kN, down from 54.4 kN; the middle two thirds alone
+# find it at 410.4 um; f_sp / f_T 1.539 either way, 12 s of CPU). Checks the earlier split and the figure
+# within 2 %.
+tessera_add_example_test(brazilian NAME example_brazilian_hinge_split
+  ARGS --quick --threads 1 --material beam --law mixed_mode --g-ii 70 --blocks 38 --seed 3 --max-displacement 1e-3
+  CHECKS "split STREQUAL ON"
+         "split_displacement_m LESS 3.5e-4" "split_displacement_m GREATER 2.5e-4"
+         "f_sp_over_f_T GREATER 1.508" "f_sp_over_f_T LESS 1.570"
+         "energy_balance_error_rel LESS 1e-3")
 tessera_add_refusal_test(refuse_brazilian_mixed_prism brazilian
   "brazilian: --law mixed_mode applies to --material beam only" --threads 1 --law mixed_mode)
 tessera_add_refusal_test(refuse_brazilian_mixed_g_ii_small brazilian
@@ -1252,15 +1263,16 @@ tessera_add_refusal_test(refuse_compression_g_c_small compression
 # --targets take the crushing law with --g-c, --cap-residual and --crush-shear as compression does.
 # The quick disc with the compression set (phi_0 58, phi_res 15, G_II 300, cap 100 MPa, G_c 10 kJ/m^2),
 # seed 1 to 1 mm (6 s): before its peak no contact reaches the softening cap, so P_max and f_sp / f_T
-# are the slip-softening law's to the bit (3.831, measured); after it the crushing cap takes the wedges'
-# load away: the disc splits at 453 um under 28.35 kN, where --law slip_softening still carries 82.56 kN
-# at 477 um (measured, docs/studies/one_concrete.md).
+# are the slip-softening law's to the bit (3.831, measured); after it the load falls fast: the split is
+# found at 366.6 um under 62.01 kN, 0.46 of P_max (the middle third without a chain once the load has
+# fallen to 0.9 of its largest; the middle two thirds alone found it at 453 um under 28.35 kN, where
+# --law slip_softening still carried 82.56 kN at 477 um: docs/studies/one_concrete.md).
 tessera_add_example_test(brazilian NAME example_brazilian_crushing_quick
   ARGS --quick --threads 1 --material beam --law crushing --phi-deg 58 --phi-res-deg 15 --g-ii 300 --cap 100e6
        --g-c 1e4 --max-displacement 1e-3
   CHECKS "law STREQUAL crushing" "G_c_J_per_m2 EQUAL 10000" "cap_residual GREATER 0.099" "cap_residual LESS 0.101"
          "g_ii_J_per_m2 EQUAL 300" "split STREQUAL ON" "f_sp_over_f_T GREATER 3.826" "f_sp_over_f_T LESS 3.836"
-         "split_load_N LESS 40e3" "energy_balance_error_rel LESS 1e-3"
+         "split_load_N LESS 65e3" "split_displacement_m LESS 3.8e-4" "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 300)
 tessera_add_refusal_test(refuse_brazilian_g_c_study brazilian
   "brazilian: --g-c applies to --law crushing or mixed_mode only \\(--law slip_softening" --threads 1 --material beam

@@ -84,17 +84,21 @@ disc_result run_brazilian_disc(const disc_options& o, const concrete_recipe<join
   bool done = false;
   const auto every = static_cast<index_t>(std::max<real>(1, std::round(2e-7 / o.step_displacement)));  // a sample per 0.2 um
   // Split: across the middle two thirds of the diameter (|y| < D/3; the strips' wedges aside) no chain of
-  // intact contacts (tensile damage < 0.5, not slipped) joins a block on the flat x = -a to one on x = +a.
+  // intact contacts (tensile damage < 0.5, not slipped) joins a block on the flat x = -a to one on x = +a;
+  // or, once the load has fallen to hinge_drop of its largest, no such chain across the middle third
+  // (|y| < D/6): halves that turn apart about a compressed chain beside a strip have split (a 300-block
+  // disc opened 1 mm that way, its load down a third, with a chain left in the middle two thirds).
+  constexpr real hinge_drop = 0.9;
   const auto left = s.blocks_on_plane(0, -a, 1e-9 * D), right = s.blocks_on_plane(0, a, 1e-9 * D);
   std::vector<std::size_t> root(static_cast<std::size_t>(s.block_count()));
-  const auto split = [&](const model& m) {
+  const auto split = [&](const model& m, real band) {  // (no chain within |y| < band)
     std::iota(root.begin(), root.end(), std::size_t{0});
     const auto find = [&](index_t block) {  // union-find root, halving the path
       for (auto b = static_cast<std::size_t>(block);; b = root[b] = root[root[b]]) if (root[b] == b) return b;
     };
     const auto& c = m.contacts();
     for (index_t i = 0; i < c.size(); ++i)
-      if (std::abs(c.position(i, m.gridpoints()).y()) < D / 3 &&
+      if (std::abs(c.position(i, m.gridpoints()).y()) < band &&
           joint_law::tensile_damage(c.subcontact_params(i), c.state(i)) < 0.5 &&
           !law::has(joint_law::status(c.state(i)), law::contact_status::slipped))
         root[find(c.block_a(i))] = find(c.block_b(i));
@@ -124,7 +128,8 @@ disc_result run_brazilian_disc(const disc_options& o, const concrete_recipe<join
     const real p = -recorders::reaction_sum(m.gridpoints(), top).y(), pb = recorders::reaction_sum(m.gridpoints(), bottom).y();
     r.u.push_back(o.rate * m.time()), r.p_top.push_back(p), r.p_bottom.push_back(pb), r.opening.push_back(opening(m));
     if (p > r.p_max && r.u_split == 0) r.p_max = p, r.u_peak = r.u.back(), r.p_bottom_at_peak = pb;
-    if (r.u_split == 0 && split(m)) r.u_split = r.u.back(), r.p_split = p, r.w_split = r.opening.back();
+    if (r.u_split == 0 && (split(m, D / 3) || (p <= hinge_drop * r.p_max && split(m, D / 6))))
+      r.u_split = r.u.back(), r.p_split = p, r.w_split = r.opening.back();
     done = r.u.back() >= o.max_displacement || (r.u_split > 0 && r.u.back() > 1.2 * r.u_split);
   };
   s.run_until([&](const model&) { return done; }, static_cast<std::int64_t>(2 * o.max_displacement / o.step_displacement),
