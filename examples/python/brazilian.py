@@ -27,6 +27,7 @@ from tessera import geometry, law, recorders, stop
 CONCRETE_YOUNG, CONCRETE_POISSON, CONCRETE_DENSITY = 28e9, 0.2, 2400.0  # examples/common/scenes.hpp
 SEMI_RIGID_FACTOR = 10  # E_block = 10 E
 PRISM_CELL_VOLUME = 0.068 * 0.068 * 0.6 / 100  # the 100-block prism's mean block volume (m^3)
+HINGE_DROP = 0.9  # disc.hpp's hinge_drop: halves that turn apart about a chain beside a strip have split
 
 
 def cpp_round(x):
@@ -82,7 +83,8 @@ class disc_run:
         self.bottom, self.top = s.gridpoints_on_plane(1, -a, tol), s.gridpoints_on_plane(1, a, tol)
         s.fix(self.bottom)
         s.prescribe_velocity(self.top, [0, -rate, 0])
-        # the split: no chain of intact contacts joins a block on the flat x = -a to one on x = +a
+        # the split: no chain of intact contacts joins a block on the flat x = -a to one on x = +a across
+        # the middle two thirds, or (once the load has fallen to HINGE_DROP of its largest) the middle third
         self.left, self.right = s.blocks_on_plane(0, -a, tol), s.blocks_on_plane(0, a, tol)
         # the opening: gridpoints on the flats x = +-a over the middle third of the height
         x = s.gridpoints().reference
@@ -95,12 +97,12 @@ class disc_run:
         self.p_max = self.u_peak = self.p_bottom_at_peak = self.u_split = self.p_split = self.w_split = 0.0
         self.done = False
 
-    def split(self, s):
+    def split(self, s, band):
         """Whether no chain of intact sub-contacts (tensile damage < 0.5, not slipped) within
-        |y| < D/3 joins a block on the flat x = -a to one on x = +a."""
+        |y| < band (m) joins a block on the flat x = -a to one on x = +a."""
         cs = s.contact_state()
         slipped = int(law.contact_status.slipped)
-        intact = ((np.abs(cs.position[:, 1]) < self.diameter / 3) & (cs.tensile_damage < 0.5)
+        intact = ((np.abs(cs.position[:, 1]) < band) & (cs.tensile_damage < 0.5)
                   & ((cs.status & slipped) == 0))
         root = list(range(s.block_count()))
 
@@ -135,7 +137,8 @@ class disc_run:
         self.curve.append((u, p, pb, w))
         if p > self.p_max and self.u_split == 0:
             self.p_max, self.u_peak, self.p_bottom_at_peak = p, u, pb
-        if self.u_split == 0 and self.split(s):
+        d = self.diameter
+        if self.u_split == 0 and (self.split(s, d / 3) or (p <= HINGE_DROP * self.p_max and self.split(s, d / 6))):
             self.u_split, self.p_split, self.w_split = u, p, w
         self.done = u >= self.u_max or (self.u_split > 0 and u > 1.2 * self.u_split)
 
