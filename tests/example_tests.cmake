@@ -740,7 +740,7 @@ tessera_add_example_test(brazilian
   ARGS --quick --threads 1
   CHECKS "f_sp_over_f_T GREATER 1.8"
          "f_sp_over_f_T LESS 3.0"
-         "split STREQUAL ON"
+         "split STREQUAL ON" "split_by_hinge STREQUAL OFF"
          "bottom_over_top_at_peak_rel LESS 0.05"
          "bottom_over_top_at_peak_rel GREATER -0.05"
          "energy_balance_error_rel LESS 1e-3")
@@ -815,7 +815,7 @@ tessera_add_example_test(brazilian NAME example_brazilian_mixed_mode_quick
 # within 2 %.
 tessera_add_example_test(brazilian NAME example_brazilian_hinge_split
   ARGS --quick --threads 1 --material beam --law mixed_mode --g-ii 70 --blocks 38 --seed 3 --max-displacement 1e-3
-  CHECKS "split STREQUAL ON"
+  CHECKS "split STREQUAL ON" "split_by_hinge STREQUAL ON"
          "split_displacement_m LESS 3.5e-4" "split_displacement_m GREATER 2.5e-4"
          "f_sp_over_f_T GREATER 1.508" "f_sp_over_f_T LESS 1.570"
          "energy_balance_error_rel LESS 1e-3")

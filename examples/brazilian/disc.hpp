@@ -41,6 +41,7 @@ struct disc_result {
   std::vector<double> u, p_top, p_bottom, opening;  ///< the curve: strip travel (m), loads (N), opening (m)
   int blocks = 0;
   bool split = false;                                ///< the diametral split was found
+  bool split_by_hinge = false;                       ///< found in the middle third after the load fell (not across the middle two thirds)
   real p_max = 0, u_peak = 0, p_bottom_at_peak = 0;  ///< largest load before the split (N), at (m), bottom's (N)
   real u_split = 0, p_split = 0, w_split = 0;        ///< at the split: travel (m), load (N), opening (m)
   real opening_end = 0;                              ///< m
@@ -128,8 +129,11 @@ disc_result run_brazilian_disc(const disc_options& o, const concrete_recipe<join
     const real p = -recorders::reaction_sum(m.gridpoints(), top).y(), pb = recorders::reaction_sum(m.gridpoints(), bottom).y();
     r.u.push_back(o.rate * m.time()), r.p_top.push_back(p), r.p_bottom.push_back(pb), r.opening.push_back(opening(m));
     if (p > r.p_max && r.u_split == 0) r.p_max = p, r.u_peak = r.u.back(), r.p_bottom_at_peak = pb;
-    if (r.u_split == 0 && (split(m, D / 3) || (p <= hinge_drop * r.p_max && split(m, D / 6))))
-      r.u_split = r.u.back(), r.p_split = p, r.w_split = r.opening.back();
+    if (r.u_split == 0) {
+      const bool across = split(m, D / 3);
+      if (across || (p <= hinge_drop * r.p_max && split(m, D / 6)))
+        r.u_split = r.u.back(), r.p_split = p, r.w_split = r.opening.back(), r.split_by_hinge = !across;
+    }
     done = r.u.back() >= o.max_displacement || (r.u_split > 0 && r.u.back() > 1.2 * r.u_split);
   };
   s.run_until([&](const model&) { return done; }, static_cast<std::int64_t>(2 * o.max_displacement / o.step_displacement),

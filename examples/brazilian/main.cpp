@@ -209,7 +209,7 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
       .set("strength_scale", set.scale()).set("cohesion_ratio", set.cohesion_ratio).set("phi_0_deg", set.phi_0_deg).set("rate_m_per_s", o.rate)
       .set("dt_s", r.dt).set("steps", r.steps).set("damping_in_force", r.damping)
       .set("peak_load_N", r.split ? r.p_max : none).set("largest_load_N", r.p_max).set("peak_displacement_m", r.u_peak)
-      .set("split", r.split).set("split_displacement_m", r.split ? r.u_split : none).set("split_load_N", r.split ? r.p_split : none)
+      .set("split", r.split).set("split_by_hinge", r.split_by_hinge).set("split_displacement_m", r.split ? r.u_split : none).set("split_load_N", r.split ? r.p_split : none)
       .set("opening_at_split_m", r.split ? r.w_split : none).set("opening_at_end_m", r.opening_end)
       .set("crack_opening_load_N", r.p_crack).set("crack_opening_m", r.w_crack).set("f_sp_crack_opening_Pa", r.f_crack)
       .set("f_sp_crack_opening_over_f_T", r.f_crack / f_t)
@@ -221,9 +221,10 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   record.complete();
   const char *m = set.material.c_str(), *l = set.law.c_str();
   if (r.split)
-    std::printf("brazilian: %s concrete (%s law), %d blocks, seed %d, P_max %.2f kN at %.1f um (split at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
+    std::printf("brazilian: %s concrete (%s law), %d blocks, seed %d, P_max %.2f kN at %.1f um (split%s at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
                 "%.3f f_T (EC2 1.11; at the crack's opening %.3f f_T), bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n",
-                m, l, r.blocks, static_cast<int>(o.seed), r.p_max * 1e-3, r.u_peak * 1e6, r.u_split * 1e6, r.p_split * 1e-3, r.w_split * 1e6,
+                m, l, r.blocks, static_cast<int>(o.seed), r.p_max * 1e-3, r.u_peak * 1e6,
+                r.split_by_hinge ? " in the middle third, the load past its peak," : "", r.u_split * 1e6, r.p_split * 1e-3, r.w_split * 1e6,
                 r.f_sp * 1e-6, r.ratio(), r.f_crack / f_t, 100 * r.mismatch, 100 * (r.cracked > 0 ? r.near / r.cracked : 0.0),
                 r.energy_error, r.runtime_s);
   else

@@ -95,6 +95,7 @@ class disc_run:
         self.every = int(max(1, cpp_round(2e-7 / du)))  # a sample per 0.2 um
         self.curve = []  # rows: u, P_top, P_bottom, opening
         self.p_max = self.u_peak = self.p_bottom_at_peak = self.u_split = self.p_split = self.w_split = 0.0
+        self.split_by_hinge = False  # found in the middle third after the load fell
         self.done = False
 
     def split(self, s, band):
@@ -137,9 +138,11 @@ class disc_run:
         self.curve.append((u, p, pb, w))
         if p > self.p_max and self.u_split == 0:
             self.p_max, self.u_peak, self.p_bottom_at_peak = p, u, pb
-        d = self.diameter
-        if self.u_split == 0 and (self.split(s, d / 3) or (p <= HINGE_DROP * self.p_max and self.split(s, d / 6))):
-            self.u_split, self.p_split, self.w_split = u, p, w
+        if self.u_split == 0:
+            d = self.diameter
+            across = self.split(s, d / 3)
+            if across or (p <= HINGE_DROP * self.p_max and self.split(s, d / 6)):
+                self.u_split, self.p_split, self.w_split, self.split_by_hinge = u, p, w, not across
         self.done = u >= self.u_max or (self.u_split > 0 and u > 1.2 * self.u_split)
 
     def run(self):
@@ -157,7 +160,7 @@ class disc_run:
         did_split = self.u_split > 0
         f_sp = 2 * self.p_max / (math.pi * self.diameter * self.thickness) if did_split else None
         return {"example": "brazilian.py", "material": "prism", "blocks": self.blocks, "du_m": self.du,
-                "dt_s": self.s.dt(), "steps": self.s.step_count(), "split": did_split,
+                "dt_s": self.s.dt(), "steps": self.s.step_count(), "split": did_split, "split_by_hinge": self.split_by_hinge,
                 "peak_load_N": self.p_max if did_split else None, "largest_load_N": self.p_max,
                 "peak_displacement_m": self.u_peak, "split_displacement_m": self.u_split if did_split else None,
                 "split_load_N": self.p_split if did_split else None, "f_sp_Pa": f_sp, "f_T_Pa": self.f_t,

@@ -53,7 +53,7 @@ def test_python_disc_gives_the_cpp_drivers_curve_bits(python_disc, tmp_path):
     assert cpp_csv.count("\n") > 100  # a row every 0.2 um to 1.2 x the split displacement
     assert (python_disc[0] / "curve.csv").read_text() == cpp_csv
     py = json.loads((python_disc[0] / "summary.json").read_text())
-    for key in ("blocks", "steps", "split", "peak_load_N", "split_displacement_m", "f_sp_Pa", "f_T_Pa",
+    for key in ("blocks", "steps", "split", "split_by_hinge", "peak_load_N", "split_displacement_m", "f_sp_Pa", "f_T_Pa",
                 "bottom_over_top_at_peak_rel", "energy_balance_error_rel", "dt_s"):
         assert py[key] == c[key], key
 
