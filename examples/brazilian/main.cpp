@@ -91,7 +91,7 @@ int main(int argc, char** argv) {
                 "  [--max-displacement 1e-6..0.01 m] [--cohesion-ratio c_0/f_T 0.1..20] [--phi-deg phi_0 0..80]\n"
                 "  [--phi-res-deg phi_res 0..80, the recipe's 30] [--law L, a law below]\n"
                 "  [--g-ii 0..1e6 J/m^2] [--g-c 0..1e8 J/m^2] [--cap-residual 0..1] [--crush-shear]\n"
-                "  [--recipe-blocks 0..750] [--zone-edge 0..1 m] [--cap 1e6..1e10 Pa, beam: 35e6] [--params FILE]:\n"
+                "  [--recipe-blocks 0 or 8..750] [--zone-edge 0..1 m] [--cap 1e6..1e10 Pa, beam: 35e6] [--params FILE]:\n"
                 "  f_sp = 2 P_max / (pi D t) against the concrete's f_T, null for a disc not split by --max-displacement.\n"
                 "  --material: the concrete of examples/calibrate --material, its law, parameters, block size and zoning:\n"
                 "  prism (default; the study's prism, f_T 2.15 MPa, strength scale 0.907, 38 blocks in the default disc)\n"
@@ -158,7 +158,8 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "brazilian: --sides = %g must be a multiple of 4 (flats at top and bottom)\n", sides), 2;
   if (quick) du = std::max<real>(du, 5e-9);
   if (n_blocks == 1) return std::fprintf(stderr, "brazilian: --blocks = 1 must be 0 (the material's block size) or >= 2\n"), 2;
-  if (recipe_blocks == 1) return std::fprintf(stderr, "brazilian: --recipe-blocks = 1 must be 0 (the material's) or >= 2\n"), 2;
+  if (recipe_blocks > 0 && recipe_blocks < 8)  // calibrate's and the drivers' smallest specimen
+    return std::fprintf(stderr, "brazilian: --recipe-blocks = %g must be 0 (the material's) or >= 8\n", recipe_blocks), 2;
   if (threads > 0) set_threads(static_cast<int>(threads));
   scenes::concrete_set set;
   set.material = material, set.recipe_blocks = static_cast<int>(recipe_blocks), set.zone_edge = zone_edge;
@@ -220,12 +221,14 @@ int run_disc(const disc_flags& o, const scenes::concrete_set& set, const scenes:
   j.write(out / "summary.json");
   record.complete();
   const char *m = set.material.c_str(), *l = set.law.c_str();
+  char at_opening[48] = "no crack opening measured";  // f_sp_crack_opening_Pa null
+  if (std::isfinite(r.f_crack)) std::snprintf(at_opening, sizeof at_opening, "at the crack's opening %.3f f_T", r.f_crack / f_t);
   if (r.split)
     std::printf("brazilian: %s concrete (%s law), %d blocks, seed %d, P_max %.2f kN at %.1f um (split%s at %.1f um, %.2f kN, opening %.2f um), f_sp %.3f MPa = "
-                "%.3f f_T (EC2 1.11; at the crack's opening %.3f f_T), bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n",
+                "%.3f f_T (EC2 1.11; %s), bottom/top %+.2f %%, crack near the diameter %.0f %%, energy error %.1e, %.1f s\n",
                 m, l, r.blocks, static_cast<int>(o.seed), r.p_max * 1e-3, r.u_peak * 1e6,
                 r.split_by_hinge ? " in the middle third, the load past its peak," : "", r.u_split * 1e6, r.p_split * 1e-3, r.w_split * 1e6,
-                r.f_sp * 1e-6, r.ratio(), r.f_crack / f_t, 100 * r.mismatch, 100 * (r.cracked > 0 ? r.near / r.cracked : 0.0),
+                r.f_sp * 1e-6, r.ratio(), at_opening, 100 * r.mismatch, 100 * (r.cracked > 0 ? r.near / r.cracked : 0.0),
                 r.energy_error, r.runtime_s);
   else
     std::printf("brazilian: %s concrete (%s law), %d blocks, seed %d did NOT split by --max-displacement %.1f um: no f_sp (the largest load, %.2f kN, is "

@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
   std::string params;
   scenes::concrete_set set;
   cli.option("--recipe-blocks", set.recipe_blocks, "the recipe's block count (calibrate --blocks): its contacts and block "
-             "size; 0 = prism 100, beam 250", "N").within(0, 750);
+             "size; 0 = prism 100, beam 250; else at least 8", "N").within(0, 750);
   cli.option("--zone-edge", set.zone_edge, "beam: the recipe's face zoning edge (m; calibrate --zone-edge); default 0.03",
              "M").within(0, 1);
   cli.option("--params", params, "calibrate's calibrated.json: the concrete (law, scales, c_0/f_T, phi_0, phi_res, G_II, "
@@ -127,8 +127,8 @@ int main(int argc, char** argv) {
     cli::print_error("compression", e);
     return 2;
   }
-  if (set.recipe_blocks == 1) {
-    std::fprintf(stderr, "compression: --recipe-blocks 1 must be 0 (the material's) or >= 2\n");
+  if (set.recipe_blocks > 0 && set.recipe_blocks < 8) {  // calibrate's and the drivers' smallest specimen
+    std::fprintf(stderr, "compression: --recipe-blocks %d must be 0 (the material's) or >= 8\n", set.recipe_blocks);
     return 2;
   }
   set.material = in.material;

@@ -50,7 +50,7 @@ inline void add_concrete_flags(cli::parser& cli, tension_concrete& c) {
       .one_of({"prism", "beam"});
   add_law_flags(cli, c, "--material beam only");
   cli.option("--recipe-blocks", c.recipe_blocks, "beam: the recipe's block count (calibrate --blocks): its contacts and "
-             "block size; 0 = 250", "N").within(0, 500);
+             "block size; 0 = 250; else at least 8", "N").within(0, 500);
   cli.option("--zone-edge", c.zone_edge, "beam: the recipe's face zoning edge (m; calibrate --zone-edge); default 0.03",
              "M").within(0, 1);
 }
@@ -72,7 +72,8 @@ inline void require_concrete_flags(const cli::parser& cli, const tension_concret
     for (const char* f : {"--softening", "--cohesion", "--slip-breaks-tension", "--rigid", "--lloyd", "--regularize"})
       require(!cli.given(f), d, ": ", f, " applies to --material prism only (the beam's concrete is its law's: linear "
               "softening, decoupled cohesion, deformable blocks on a plain Voronoi tessellation)");
-    require(c.recipe_blocks != 1, d, ": --recipe-blocks 1 must be 0 (the beam's 250) or >= 2");
+    require(c.recipe_blocks == 0 || c.recipe_blocks >= 8, d, ": --recipe-blocks ", c.recipe_blocks,
+            " must be 0 (the beam's 250) or >= 8 (rc_beam's smallest beam)");
   }
   require_g_ii_with_law(d, c.law, c.g_ii);
   require_law_flags(cli, d, c.law, c.g_c);
