@@ -1316,6 +1316,8 @@ tessera_add_refusal_test(refuse_brazilian_recipe_blocks_small brazilian
   "brazilian: --recipe-blocks = 5 must be 0 \\(the material's\\) or >= 8" --threads 1 --recipe-blocks 5)
 tessera_add_refusal_test(refuse_compression_recipe_blocks_small compression
   "compression: --recipe-blocks 7 must be 0 \\(the material's\\) or >= 8" --threads 1 --material beam --recipe-blocks 7)
+tessera_add_refusal_test(refuse_compression_one_block compression
+  "compression: --blocks 1 must be 0 \\(the material's block size\\) or >= 2" --threads 1 --blocks 1)
 tessera_add_refusal_test(refuse_direct_tension_recipe_blocks_small direct_tension
   "direct_tension: --recipe-blocks 2 must be 0 \\(the beam's 250\\) or >= 8" --threads 1 --material beam --recipe-blocks 2)
 tessera_add_refusal_test(refuse_brazilian_params_g_c_slip brazilian

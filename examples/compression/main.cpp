@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
   cli.option("--diameter", in.width, "cylinder diameter or prism side (m)", "M").within(0.02, 2);
   cli.option("--height", in.height, "specimen height (m)", "M").within(0.02, 4);
   cli.option("--blocks", in.blocks, "Voronoi blocks; 0 = the material's block size (the default cylinder: 61 of the "
-             "beam's, 190 of the prism's)", "N")
+             "beam's, 190 of the prism's); else at least 2", "N")
       .within(0, 5000);
   cli.option("--ends", in.ends, "fixed, frictionless or friction (rigid steel platens)", "E")
       .one_of({"fixed", "frictionless", "friction"});
@@ -125,6 +125,10 @@ int main(int argc, char** argv) {
     scenes::require_law_flags(cli, "compression", in.law, in.g_c);
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
+    return 2;
+  }
+  if (in.blocks == 1) {  // one block has no contact: nothing to crack, crush or slide
+    std::fprintf(stderr, "compression: --blocks 1 must be 0 (the material's block size) or >= 2 (one block has no contact)\n");
     return 2;
   }
   if (set.recipe_blocks > 0 && set.recipe_blocks < 8) {  // calibrate's and the drivers' smallest specimen
