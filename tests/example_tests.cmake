@@ -1313,13 +1313,13 @@ tessera_add_refusal_test(refuse_compression_params_cap_residual compression
   "entries\\[0\\].cap_residual = 1.5 must lie in \\[0, 1\\]" --threads 1 --zone-edge 0.05 --recipe-blocks 60
   --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_crushing_bad_residual.json)
 tessera_add_refusal_test(refuse_brazilian_recipe_blocks_small brazilian
-  "brazilian: --recipe-blocks = 5 must be 0 \\(the material's\\) or >= 8" --threads 1 --recipe-blocks 5)
+  "brazilian: --recipe-blocks 5 must be 0 \\(the material's\\) or >= 8 \\(calibrate's and rc_beam's smallest" --threads 1 --recipe-blocks 5)
 tessera_add_refusal_test(refuse_compression_recipe_blocks_small compression
-  "compression: --recipe-blocks 7 must be 0 \\(the material's\\) or >= 8" --threads 1 --material beam --recipe-blocks 7)
+  "compression: --recipe-blocks 7 must be 0 \\(the material's\\) or >= 8 \\(calibrate's and rc_beam's smallest" --threads 1 --material beam --recipe-blocks 7)
 tessera_add_refusal_test(refuse_compression_one_block compression
   "compression: --blocks 1 must be 0 \\(the material's block size\\) or >= 2" --threads 1 --blocks 1)
 tessera_add_refusal_test(refuse_direct_tension_recipe_blocks_small direct_tension
-  "direct_tension: --recipe-blocks 2 must be 0 \\(the beam's 250\\) or >= 8" --threads 1 --material beam --recipe-blocks 2)
+  "direct_tension: --recipe-blocks 2 must be 0 \\(the material's\\) or >= 8 \\(calibrate's and rc_beam's smallest" --threads 1 --material beam --recipe-blocks 2)
 tessera_add_refusal_test(refuse_brazilian_params_g_c_slip brazilian
   "entries\\[0\\].G_c_J_per_m2: applies to law crushing only \\(this entry's law is slip_softening\\)"
   --threads 1 --material beam --params ${PROJECT_SOURCE_DIR}/tests/data/concrete_beam_slip_with_gc.json)

@@ -139,6 +139,7 @@ int main(int argc, char** argv) {
   try {
     scenes::require_law_parameters("brazilian", law, g_c, given);
     scenes::require_g_ii_with_law("brazilian", law, g_ii);
+    scenes::require_recipe_blocks("brazilian", static_cast<int>(recipe_blocks));
   } catch (const std::exception& e) {
     cli::print_error("brazilian", e);
     return 2;
@@ -158,8 +159,6 @@ int main(int argc, char** argv) {
     return std::fprintf(stderr, "brazilian: --sides = %g must be a multiple of 4 (flats at top and bottom)\n", sides), 2;
   if (quick) du = std::max<real>(du, 5e-9);
   if (n_blocks == 1) return std::fprintf(stderr, "brazilian: --blocks = 1 must be 0 (the material's block size) or >= 2\n"), 2;
-  if (recipe_blocks > 0 && recipe_blocks < 8)  // calibrate's and the drivers' smallest specimen
-    return std::fprintf(stderr, "brazilian: --recipe-blocks = %g must be 0 (the material's) or >= 8\n", recipe_blocks), 2;
   if (threads > 0) set_threads(static_cast<int>(threads));
   scenes::concrete_set set;
   set.material = material, set.recipe_blocks = static_cast<int>(recipe_blocks), set.zone_edge = zone_edge;

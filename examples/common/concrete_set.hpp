@@ -139,6 +139,16 @@ inline void require_law_flags(const cli::parser& cli, std::string_view driver, c
   require_law_parameters(driver, law, g_c, [&](const char* flag) { return cli.given(flag); });
 }
 
+/// The smallest recipe block count (calibrate's and rc_beam's smallest specimen).
+inline constexpr int min_recipe_blocks = 8;
+
+/// Refuses --recipe-blocks `n` between 1 and min_recipe_blocks - 1 (0 is the material's own),
+/// throwing invalid_input "`driver`: --recipe-blocks 5 must be 0 (the material's) or >= 8".
+inline void require_recipe_blocks(std::string_view driver, int n) {
+  require(n == 0 || n >= min_recipe_blocks, driver, ": --recipe-blocks ", n, " must be 0 (the material's) or >= ",
+          min_recipe_blocks, " (calibrate's and rc_beam's smallest specimen)");
+}
+
 /// Calls f(recipe) with the concrete_recipe of c's material and law, every value of c applied
 /// (law::study_tie_law for prism; presets::study_beam_law, slip_softening_beam_law,
 /// crushing_beam_law or mixed_mode_beam_law for beam: concrete_laws.hpp), and returns its result.

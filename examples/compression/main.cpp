@@ -123,16 +123,13 @@ int main(int argc, char** argv) {
   }
   try {
     scenes::require_law_flags(cli, "compression", in.law, in.g_c);
+    scenes::require_recipe_blocks("compression", set.recipe_blocks);
   } catch (const std::exception& e) {
     cli::print_error("compression", e);
     return 2;
   }
   if (in.blocks == 1) {  // one block has no contact: nothing to crack, crush or slide
     std::fprintf(stderr, "compression: --blocks 1 must be 0 (the material's block size) or >= 2 (one block has no contact)\n");
-    return 2;
-  }
-  if (set.recipe_blocks > 0 && set.recipe_blocks < 8) {  // calibrate's and the drivers' smallest specimen
-    std::fprintf(stderr, "compression: --recipe-blocks %d must be 0 (the material's) or >= 8\n", set.recipe_blocks);
     return 2;
   }
   set.material = in.material;

@@ -72,8 +72,7 @@ inline void require_concrete_flags(const cli::parser& cli, const tension_concret
     for (const char* f : {"--softening", "--cohesion", "--slip-breaks-tension", "--rigid", "--lloyd", "--regularize"})
       require(!cli.given(f), d, ": ", f, " applies to --material prism only (the beam's concrete is its law's: linear "
               "softening, decoupled cohesion, deformable blocks on a plain Voronoi tessellation)");
-    require(c.recipe_blocks == 0 || c.recipe_blocks >= 8, d, ": --recipe-blocks ", c.recipe_blocks,
-            " must be 0 (the beam's 250) or >= 8 (rc_beam's smallest beam)");
+    require_recipe_blocks(d, c.recipe_blocks);
   }
   require_g_ii_with_law(d, c.law, c.g_ii);
   require_law_flags(cli, d, c.law, c.g_c);
