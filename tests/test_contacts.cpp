@@ -2350,7 +2350,7 @@ TEST_CASE("incremental rebuild: blocks moving at different speeds meet no neighb
     }
     std::vector<real> states;
     for (index_t i = 0; i < c.size(); ++i) states.push_back(c.state(i).sigma_n), states.push_back(c.state(i).u_n);
-    return std::tuple{missed, touching, c.rebuild_count(), c.redetected_blocks(), states, gp.force};
+    return std::tuple{missed, touching, c.rebuild_count(), c.redetected_blocks(), states, gp.force, c.placed_blocks()};
   };
   const int before = max_threads();
   const auto one = run(1, true);
@@ -2363,6 +2363,12 @@ TEST_CASE("incremental rebuild: blocks moving at different speeds meet no neighb
   CHECK(std::get<2>(one) > 20);
   // Incremental: fewer blocks detected again than 17 per rebuild (a full pass each).
   CHECK(std::get<3>(one) < 17 * std::get<2>(one) / 2);
+  // Placed: every block detected again, and of the others only those the pass read (the blocks
+  // of a candidate pair), so fewer than every block at every rebuild; the same on 2 threads.
+  INFO(std::get<6>(one) << " blocks placed");
+  CHECK(std::get<6>(one) >= std::get<3>(one));
+  CHECK(std::get<6>(one) < 17 * std::get<2>(one) * 3 / 4);
+  CHECK(std::get<6>(one) == std::get<6>(two));
   CHECK(std::get<4>(one) == std::get<4>(two));
   CHECK((std::get<5>(one).array() == std::get<5>(two).array()).all());
 }
@@ -2401,6 +2407,26 @@ TEST_CASE("incremental rebuild: the blocks placed in parallel refuse the first b
       CHECK(boxes[b].lo.x() == static_cast<real>(b));
       CHECK(boxes[b].hi.x() == static_cast<real>(b) + 1);
     }
+  }
+  // Marked blocks only (an incremental rebuild's): the others get bound_of's box and keep their
+  // shapes as they were.
+  set_threads(2);
+  std::vector<convex_polyhedron> current(n, convex_polyhedron::box(vec3::Zero(), vec3::Ones()));
+  std::vector<aabb> boxes(n);
+  std::vector<std::uint8_t> only(n, 0);
+  for (std::size_t b = 0; b < n; b += 3) only[b] = 1;
+  contact::detail::pair_poses pp;
+  aabb sentinel;
+  sentinel.expand(vec3::Constant(-7));
+  contact::detail::place_blocks(
+      pp, shapes, current, boxes,
+      [&](std::size_t b, mat3& map, vec3& shift) { map = mat3::Identity(), shift = vec3(static_cast<real>(b), 0, 0); },
+      only, [&](std::size_t) { return sentinel; });
+  for (const std::size_t b : {std::size_t{0}, std::size_t{1}, std::size_t{3}, std::size_t{199}}) {
+    INFO("block " << b);
+    CHECK(boxes[b].lo.x() == (only[b] != 0 ? static_cast<real>(b) : -7.0));
+    CHECK(current[b].vertex(0).x() == shapes[b].vertex(0).x() + (only[b] != 0 ? static_cast<real>(b) : 0.0));
+    CHECK(pp.block_shift[b].x() == static_cast<real>(b));  // (every block's pose)
   }
   set_threads(before);
 }

@@ -7,7 +7,8 @@
 //   summary.json   the scene, steps, dt, rebuilds, storage growths, sub-contacts (final, peak),
 //                  gravity work, rebuild exchange (J), energy balance error, the heap's final
 //                  height and spread, runtime_s and the part of it spent in rebuilds (rebuild_s),
-//                  the blocks the rebuilds detected again (redetected_blocks, summed over them),
+//                  the blocks the rebuilds detected again (redetected_blocks, summed over them) and
+//                  placed (placed_blocks: those and the others the pass read),
 //                  the phase split and ns_per_subcontact_step (common/phase_report.hpp; over the
 //                  mean sub-contact count, with and without the rebuilds; split: rank 0's), and
 //                  mpi_ranks (split: the mpi_* figures of common/mpi_run.hpp and mpi_rebalances)
@@ -296,6 +297,7 @@ int run(const inputs& in) {
       .set("threads", max_threads())
       .set("rebuild_s", s.contacts().rebuild_seconds())
       .set("redetected_blocks", s.contacts().redetected_blocks())
+      .set("placed_blocks", s.contacts().placed_blocks())
       .set("narrow_phase_pairs", s.contacts().narrow_phase_pairs())
       .set("pairs_apart_by_kept_axis", s.contacts().pairs_apart_by_kept_axis())
       .set("pairs_kept_as_one", s.contacts().pairs_kept_as_one())

@@ -150,6 +150,7 @@ class detected_contacts {
     }
     current_ = shapes_;
     boxes_.resize(at(n_b));
+    detected_box_.resize(at(n_b));
     present_bound_.resize(at(n_b));
     present_reach2_.resize(at(n_b));
     moved_bound_.resize(at(n_b));  // the trigger's bound per block (prepare_step)
@@ -268,6 +269,9 @@ class detected_contacts {
   /// Blocks detected again, summed over the rebuilds (a full pass counts every block; the
   /// construction's included), and the pairs the last rebuild left untouched (detected/incremental.hpp).
   [[nodiscard]] std::int64_t redetected_blocks() const { return redetected_; }
+  /// Blocks placed (current shape and box) by the rebuilds, summed: those detected again and, at an
+  /// incremental rebuild, the others whose pairs the pass read (detected/incremental.hpp, "Placement").
+  [[nodiscard]] std::int64_t placed_blocks() const { return placed_; }
   [[nodiscard]] index_t untouched_pairs_last_rebuild() const { return untouched_last_; }  ///< Pairs the last rebuild left untouched
   /// Candidate pairs the rebuilds' narrow phase evaluated, summed (this rank's part), and of them
   /// those their last plane's axis showed apart without the full search (detection_options::reuse_axes).
@@ -334,6 +338,7 @@ class detected_contacts {
               std::array<real, 4>& w) const;
   void place_zoned(std::size_t i, index_t a, index_t b, const node_set* gp);
   bool collect_nodes(std::size_t k, const node_set* gp);
+  void check_affine_fit(const node_set* gp);  ///< max_deviation_ at a rebuild (detected/deformable_fit.hpp)
   // detected/rebuild.hpp
   void rebuild(const node_set* gp, bool full = true);
   [[nodiscard]] real moved2_of(std::size_t b, const node_set& gp) const noexcept;
@@ -363,6 +368,13 @@ class detected_contacts {
   [[nodiscard]] mat3 frame_matrix(const block_data& b, const node_set* gp) const { return detail::frame_matrix(reference_, b, gp); }
   [[nodiscard]] mat3 rotation(const block_data& b, const node_set* gp) const { return detail::frame_rotation(reference_, b, gp); }
   [[nodiscard]] mat3 frame_inverse(const block_data& b, const node_set* gp) const { return detail::frame_inverse(reference_, b, gp); }
+  /// Block b's vertices' box at its last detection (m), from reference_ and rebuild_u_.
+  [[nodiscard]] aabb box_at_detection(std::size_t b) const {
+    aabb box;
+    for (index_t k = blocks_[b].watch_begin; k < blocks_[b].watch_end; ++k)
+      box.expand(reference_.row(watch_gridpoints_[at(k)]).transpose() + rebuild_u_.row(k).transpose());
+    return box;
+  }
 
   /// Energies of sub-contact i (J). Defined in detected/subset.hpp.
   [[nodiscard]] contact_energies energies_of(std::size_t i) const;
@@ -415,6 +427,9 @@ class detected_contacts {
   std::vector<geometry::convex_polyhedron> shapes_, current_;  ///< reference and current geometry
   std::vector<detection::polyhedron_edges> edges_;
   std::vector<aabb> boxes_;
+  /// Rigid blocks, per block: the box of its vertices when it was last detected (reference_ +
+  /// rebuild_u_, so a restart has it too); with the block's motion since, a box that holds it now.
+  std::vector<aabb> detected_box_;
   // rigid blocks: the stable step from the sub-contacts present (bound_present_contacts)
   std::vector<real> present_bound_;   ///< per block, N/m on its farthest vertex
   std::vector<real> present_reach2_;  ///< per block, largest |material point - centroid|^2 (m^2)
@@ -470,7 +485,7 @@ class detected_contacts {
   contact_energies retired_;                       ///< energies of the sub-contacts that ended
   // statistics
   index_t rebuilds_ = 0, growths_ = 0, peak_subcontacts_ = 0, kept_last_ = 0, bonded_at_start_ = 0, untouched_last_ = 0;
-  std::int64_t redetected_ = 0, narrow_pairs_ = 0;
+  std::int64_t redetected_ = 0, narrow_pairs_ = 0, placed_ = 0;
   double rebuild_seconds_ = 0;
 };
 

@@ -95,6 +95,9 @@ inline void detected_contacts<Law>::checkpoint(Archive& ar) {
   ar.scalar("detected/kept_last_rebuild", kept_last_);
   // Tasks and gather slots follow from the pairs and weights.
   if (ar.loading()) index_subcontacts();
+  // The boxes at detection follow from rebuild_u_.
+  if (ar.loading() && !options_.deformable_blocks)
+    for (std::size_t b = 0; b < blocks_.size(); ++b) detected_box_[b] = box_at_detection(b);
 }
 
 }  // namespace tessera::contact

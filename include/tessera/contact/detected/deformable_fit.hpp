@@ -178,6 +178,26 @@ inline void detected_contacts<Law>::place_zoned(std::size_t i, index_t a, index_
   }
 }
 
+/// Deformable blocks at a rebuild: a block is detected by its affine fit (the frame's map of its
+/// reference shape, poses_' rotation and shift this rebuild); how far its surface gridpoints are
+/// from it, into max_deviation_. Throws geometry_error past max_deviation_fraction x the tolerance.
+template <law::ContactLaw Law>
+inline void detected_contacts<Law>::check_affine_fit(const node_set* gp) {
+  real deviation = 0;
+  for (std::size_t b = 0; b < blocks_.size(); ++b)
+    for (index_t w = blocks_[b].watch_begin; w < blocks_[b].watch_end; ++w) {
+      const index_t g = watch_gridpoints_[at(w)];
+      const vec3 fit = poses_.block_rot[b] * reference_.row(g).transpose() + poses_.block_shift[b];
+      deviation = std::max(deviation, (position(g, gp) - fit).norm());
+    }
+  require<geometry_error>(deviation <= max_deviation_fraction * options_.tolerance,
+                          "detected_contacts: a deformable block's surface lies ", deviation,
+                          " m from its affine fit, more than ", max_deviation_fraction,
+                          " x the contact tolerance (", options_.tolerance,
+                          " m); detection reads the fit, so raise the tolerance (or stiffen the blocks)");
+  max_deviation_ = deviation;
+}
+
 /// Deformable blocks, polygon patch of pair k: the surface gridpoints on A's faces that face the
 /// plane (within parallel_cos) and lie inside the patch, and those on B's; keeps in
 /// node_scratch_, sorted by label, the side whose tributary areas (block_mesh::face_node_area)

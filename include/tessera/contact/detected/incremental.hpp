@@ -31,6 +31,14 @@
 // the tolerance too. A pair leaves the set only through a
 // pass that found it apart, at which one of its blocks starts its motion again: the first case.
 //
+// Placement: a rebuild places (its current shape R X + t, and the box of that) the blocks it
+// detects again, and another block only when the pass reads it, as the other block of a
+// candidate pair (about half the blocks of the rubble scene). The broad phase takes for such a
+// block its vertices' box at its last detection grown by its motion since, m_b (grown_box): a box
+// that holds the block. So every pair the broad phase would find with the block's own box it
+// finds with this one, and the pairs it finds besides are more than 2 x the tolerance apart
+// (its margin), which the pass finds apart: the same contacts and sub-contacts to the bit.
+//
 // Cost: the pass runs on the moved blocks' candidate pairs, and of those the pairs that the axis
 // of their last plane still shows apart skip the full common-plane search (detect.hpp,
 // reuse_axes: about three quarters of them in the rubble scene), and the face planes they read are
@@ -47,7 +55,10 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
+#include <span>
 #include <vector>
 
 #include "../../core/nodes.hpp"
@@ -114,10 +125,14 @@ struct pair_poses {
 
 /// Each block's pose this rebuild (pose_of(b, R, t) sets them) into pp.block_rot and block_shift,
 /// and its current shape R X + t (assign_transformed, into its own storage) with its box, in
-/// parallel (each block writes its own). A pose assign_transformed refuses is refused after the
-/// loop, in block order, as a serial loop would refuse it.
-template <class Shapes, class Boxes, class PoseOf>
-void place_blocks(pair_poses& pp, const Shapes& shapes, Shapes& current, Boxes& boxes, PoseOf&& pose_of) {
+/// parallel (each block writes its own). `only` (empty: every block) places the marked blocks
+/// only and gives each other block b the box bound_of(b), a box that holds it: its shape is
+/// placed when the pass reads it (place_block, from detection::detect's prepare). A pose
+/// assign_transformed refuses is refused after the loop, in block order, as a serial loop would
+/// refuse it.
+template <class Shapes, class Boxes, class PoseOf, class BoundOf>
+void place_blocks(pair_poses& pp, const Shapes& shapes, Shapes& current, Boxes& boxes, PoseOf&& pose_of,
+                  std::span<const std::uint8_t> only, BoundOf&& bound_of) {
   pp.block_rot.resize(shapes.size());
   pp.block_shift.resize(shapes.size());
   const auto refused = [&](std::size_t b) {
@@ -128,11 +143,32 @@ void place_blocks(pair_poses& pp, const Shapes& shapes, Shapes& current, Boxes& 
     const auto b = static_cast<std::size_t>(k);
     pose_of(b, pp.block_rot[b], pp.block_shift[b]);
     if (refused(b)) return;
+    if (!only.empty() && only[b] == 0) {
+      boxes[b] = bound_of(b);
+      return;
+    }
     current[b].assign_transformed(shapes[b], pp.block_rot[b], pp.block_shift[b]);
     boxes[b] = current[b].bounds();
   }, 64);
   for (std::size_t b = 0; b < shapes.size(); ++b)
     if (refused(b)) current[b].assign_transformed(shapes[b], pp.block_rot[b], pp.block_shift[b]);  // (throws)
+}
+
+/// place_blocks of every block.
+template <class Shapes, class Boxes, class PoseOf>
+void place_blocks(pair_poses& pp, const Shapes& shapes, Shapes& current, Boxes& boxes, PoseOf&& pose_of) {
+  place_blocks(pp, shapes, current, boxes, pose_of, {}, [](std::size_t) { return aabb{}; });
+}
+
+/// A box that holds a rigid block whose vertices had the box `box` (m) and have moved at most
+/// sqrt(moved2) (m) since: the box grown by that, and a slack (a millionth of the tolerance, and
+/// the round-off between a vertex gridpoint and the placement R X + t).
+[[nodiscard]] inline aabb grown_box(aabb box, real moved2, real tolerance) {
+  const real scale = std::max(box.lo.cwiseAbs().maxCoeff(), box.hi.cwiseAbs().maxCoeff());
+  const real grow = std::sqrt(moved2) + 1e-6 * tolerance + 64 * std::numeric_limits<real>::epsilon() * scale;
+  box.lo.array() -= grow;
+  box.hi.array() += grow;
+  return box;
 }
 
 /// Each shape's vertex mean and its vertices' largest distance from it (the spheres of pair_poses).

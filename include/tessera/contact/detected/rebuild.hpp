@@ -47,6 +47,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <span>
 
 #include "../../core/errors.hpp"
 #include "../../core/nodes.hpp"
@@ -78,33 +80,27 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   redetected_ += std::count(redetect_.begin(), redetect_.end(), 1);
   const auto changed = [&](index_t a, index_t b) { return redetect_[at(a)] != 0 || redetect_[at(b)] != 0; };
   detail::pair_poses& pp = poses_;
-  detail::place_blocks(pp, shapes_, current_, boxes_, [&](std::size_t b, mat3& map, vec3& translation) {
+  // An incremental rebuild places the blocks detected again, and the others only if the pass
+  // reads them (place_block); their boxes are bounds (detail::grown_box), so the pass finds the
+  // same contacts to the bit (detected/incremental.hpp, "Placement").
+  const auto pose_of = [&](std::size_t b, mat3& map, vec3& translation) {
     map = rotation(blocks_[b], gp);
     translation = position(blocks_[b].frame[0], gp) - map * shapes_[b].vertex(0);
-  });
-  // A deformable block is detected by its affine fit (the frame's map of its reference shape):
-  // how far its surface gridpoints are from it.
-  if (options_.deformable_blocks) {
-    real deviation = 0;
-    for (index_t b = 0; b < n_b; ++b)
-      for (index_t w = blocks_[at(b)].watch_begin; w < blocks_[at(b)].watch_end; ++w) {
-        const index_t g = watch_gridpoints_[at(w)];
-        const vec3 fit = pp.block_rot[at(b)] * reference_.row(g).transpose() + pp.block_shift[at(b)];
-        deviation = std::max(deviation, (position(g, gp) - fit).norm());
-      }
-    require<geometry_error>(deviation <= max_deviation_fraction * options_.tolerance,
-                            "detected_contacts: a deformable block's surface lies ", deviation,
-                            " m from its affine fit, more than ", max_deviation_fraction,
-                            " x the contact tolerance (", options_.tolerance,
-                            " m); detection reads the fit, so raise the tolerance (or stiffen the blocks)");
-    max_deviation_ = deviation;
-  }
+  };
+  detail::place_blocks(pp, shapes_, current_, boxes_, pose_of,
+                       incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(),
+                       [&](std::size_t b) { return detail::grown_box(detected_box_[b], moved_[b], options_.tolerance); });
+  const auto place_block = [&](std::size_t b) {
+    if (incremental && redetect_[b] == 0) current_[b].assign_transformed(shapes_[b], pp.block_rot[b], pp.block_shift[b]);
+  };
+  if (options_.deformable_blocks) check_affine_fit(gp);  // detected/deformable_fit.hpp
   // The blocks detected again start their motion from here.
   rebuild_u_.conservativeResize(static_cast<index_t>(watch_gridpoints_.size()), 3);
   for (index_t b = 0; b < n_b; ++b) {
     if (redetect_[at(b)] == 0) continue;
     for (index_t k = blocks_[at(b)].watch_begin; k < blocks_[at(b)].watch_end; ++k)
       for (int c = 0; c < 3; ++c) rebuild_u_(k, c) = gp != nullptr ? gp->displacement(watch_gridpoints_[at(k)], c) : 0.0;
+    if (!options_.deformable_blocks) detected_box_[at(b)] = box_at_detection(at(b));
   }
   // An old pair whose blocks moved together keeps its columns; the pass leaves it out (incremental.hpp).
   const std::size_t n_old_pairs = pair_a_.size();
@@ -134,8 +130,11 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   // (Rigid blocks' face planes: the reference faces carried by the poses, detection::placed_faces.)
   detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance, true}, result_, workspace_, share_,
                     incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(), pp.skip,
-                    options_.deformable_blocks ? detection::placed_faces{} : detail::placed_faces_of(shapes_, pp));
+                    options_.deformable_blocks ? detection::placed_faces{} : detail::placed_faces_of(shapes_, pp),
+                    incremental ? std::function<void(std::size_t)>(place_block) : std::function<void(std::size_t)>());
   narrow_pairs_ += static_cast<std::int64_t>(result_.evaluated);
+  for (std::size_t b = 0; b < at(n_b); ++b)  // (placed: detected again, or read by the pass)
+    placed_ += redetect_[b] != 0 || (incremental && workspace_.needs_faces[b] != 0) ? 1 : 0;
   if (share_.parts > 1) gather_(result_);  // the other parts, from the ranks that evaluated them
   if (gp == nullptr && !options_.allow_initial_overlap) detail::refuse_initial_overlaps(workspace_, options_.tolerance);
 

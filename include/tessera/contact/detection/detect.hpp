@@ -25,6 +25,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -132,12 +133,15 @@ struct placed_faces {
 /// (increasing; with `only`) names pairs the pass leaves out although a block of theirs is marked
 /// (the caller keeps what it had for them; their kept axes stay). `placed` (non-empty): the
 /// blocks are placed rigidly, their face planes carried from the reference faces (placed_faces;
-/// the caller vouches that blocks[b] is that placement). Throws invalid_input for mismatched
-/// sizes or a bad option.
+/// the caller vouches that blocks[b] is that placement). `prepare` (empty: none) is called once
+/// for each block the pass reads, before the pass reads it, on the pass's threads (a call may
+/// write block b's own storage only): an incremental rebuild places there the blocks it did not
+/// place, whose boxes were only bounds. Throws invalid_input for mismatched sizes or a bad option.
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
                            detection_workspace& w, detection_share share = {}, std::span<const std::uint8_t> only = {},
-                           std::span<const block_pair> skip = {}, const placed_faces& placed = {});
+                           std::span<const block_pair> skip = {}, const placed_faces& placed = {},
+                           const std::function<void(std::size_t)>& prepare = {});
 
 }  // namespace tessera::contact::detection
 

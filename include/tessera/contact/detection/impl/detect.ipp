@@ -13,7 +13,8 @@ namespace tessera::contact::detection {
 TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, std::span<const polyhedron_edges> edges,
                            std::span<const aabb> boxes, const detection_options& options, detection_result& out,
                            detection_workspace& w, detection_share share, std::span<const std::uint8_t> only,
-                           std::span<const block_pair> skip, const placed_faces& placed) {
+                           std::span<const block_pair> skip, const placed_faces& placed,
+                           const std::function<void(std::size_t)>& prepare) {
   require(edges.size() == blocks.size() && boxes.size() == blocks.size() &&
               (only.empty() || only.size() == blocks.size()),
           "detect: ", blocks.size(), " blocks, ", edges.size(), " edge lists, ", boxes.size(), " boxes and ",
@@ -74,6 +75,7 @@ TESSERA_INLINE void detect(std::span<const geometry::convex_polyhedron> blocks, 
   parallel_for_dynamic(static_cast<std::int64_t>(blocks.size()), [&](std::int64_t k) {  // (the marked blocks cluster)
     const auto b = static_cast<std::size_t>(k);
     if (w.needs_faces[b] == 0) return;
+    if (prepare) prepare(b);
     const auto out_first = static_cast<std::size_t>(w.face_first[b]);
     if (placed.empty()) {
       for (index_t f = 0; f < blocks[b].face_count(); ++f) w.faces[out_first + static_cast<std::size_t>(f)] = blocks[b].face_plane(f);
