@@ -269,8 +269,7 @@ class detected_contacts {
   /// Blocks detected again, summed over the rebuilds (a full pass counts every block; the
   /// construction's included), and the pairs the last rebuild left untouched (detected/incremental.hpp).
   [[nodiscard]] std::int64_t redetected_blocks() const { return redetected_; }
-  /// Blocks placed (current shape and box) by the rebuilds, summed: those detected again and, at an
-  /// incremental rebuild, the others whose pairs the pass read (detected/incremental.hpp, "Placement").
+  /// Blocks placed (current shape, box) by the rebuilds, summed: those detected again and the others the pass read.
   [[nodiscard]] std::int64_t placed_blocks() const { return placed_; }
   [[nodiscard]] index_t untouched_pairs_last_rebuild() const { return untouched_last_; }  ///< Pairs the last rebuild left untouched
   /// Candidate pairs the rebuilds' narrow phase evaluated, summed (this rank's part), and of them
