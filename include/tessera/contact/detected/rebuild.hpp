@@ -131,7 +131,7 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   detection::detect(current_, edges_, boxes_, {options_.tolerance, options_.tolerance, true}, result_, workspace_, share_,
                     incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(), pp.skip,
                     options_.deformable_blocks ? detection::placed_faces{} : detail::placed_faces_of(shapes_, pp),
-                    incremental ? std::function<void(std::size_t)>(place_block) : std::function<void(std::size_t)>());
+                    incremental ? std::function<void(std::size_t)>(std::ref(place_block)) : std::function<void(std::size_t)>());  // (by reference: no allocation)
   narrow_pairs_ += static_cast<std::int64_t>(result_.evaluated);
   for (std::size_t b = 0; b < at(n_b); ++b)  // (placed: detected again, or read by the pass)
     placed_ += redetect_[b] != 0 || (incremental && workspace_.needs_faces[b] != 0) ? 1 : 0;
