@@ -1470,6 +1470,13 @@ set_tests_properties(example_brazilian_params_from_mixed_mode_targets PROPERTIES
                      DEPENDS example_calibrate_targets_mixed_mode_quick)
 tessera_add_targets_rerun_test(example_calibrate_targets_mixed_mode_rerun_matches example_calibrate_targets_mixed_mode_quick
                                example_brazilian_params_from_mixed_mode_targets strength_scale cohesion_ratio law)
+# A move the law refuses is not run and is said: from G_II 65 J/m^2, the strength's step up (x 1.5) would
+# need G_II above c_0^2/(2 k_s) = 135 J/m^2 for the quick beam's contacts, so calibrate prints the
+# refusal and tries the step down (2 evaluations; summary.json refused_moves).
+tessera_add_example_test(calibrate NAME example_calibrate_targets_refused_move
+  ARGS --targets splitting --law mixed_mode --g-ii 65 --fit strength --step 0.5 --quick --seed 1 --threads 1
+  CHECKS "refused_moves EQUAL 1" "evaluations EQUAL 2" "strength_scale LESS 1.01"
+  TIMEOUT 300)
 # rc_beam --params with a mixed-mode entry (tests/data/concrete_beam_mixed_quick.json: G_II 70 J/m^2,
 # the study's other values, the quick beam's recipe) runs the beam its flags give, to the bit, and
 # records the file's G_II. Refused, naming the value: an entry of law mixed_mode without G_II, with G_c

@@ -30,7 +30,8 @@
 // (strength scale, c_0/f_T, phi_0, phi_res, G_f scale, G_II, cap, G_c). From the start set, each
 // iteration tries every parameter in turn one step up, then one step down, and keeps the first
 // move that lowers J; an iteration without a move halves the step (a move the law refuses, such as
-// a G_c below its snap-back bound for the cap, is skipped). Scales, c_0/f_T, G_II, G_c and the
+// a G_c below its snap-back bound for the cap or a strength whose G_II falls under c_0^2/(2 k_s), is
+// skipped and printed with the law's reason). Scales, c_0/f_T, G_II, G_c and the
 // cap move by a factor (1 + h), the angles by 25 h degrees, h = --step (0.2) at first; each stays
 // in its bounds (fit_bounds). Derivative-free, so a noisy objective (Voronoi seeds, a peak found on
 // a sampled curve) cannot mislead it with a bad gradient; every evaluation is one run of each
@@ -286,19 +287,21 @@ inline void require_targets_accept(const targets_options& o, const concrete_set&
   if (has_target(o, "shear")) check_beam_law_set(shear_beam_options(c, o.shear, o.seed));
 }
 
-/// Whether every scene of o's targets accepts set c (require_targets_accept does not throw).
-[[nodiscard]] inline bool law_accepts(const targets_options& o, const concrete_set& c) {
+/// Why a scene of o's targets refuses set c (require_targets_accept's message), or "" if every one
+/// accepts it.
+[[nodiscard]] inline std::string law_refusal(const targets_options& o, const concrete_set& c) {
   try {
     require_targets_accept(o, c);
-    return true;
-  } catch (const invalid_input&) {
-    return false;
+    return {};
+  } catch (const invalid_input& e) {
+    return e.what();
   }
 }
 
-/// The compass search of the file comment; `log` prints and records every evaluation.
-template <class Log>
-[[nodiscard]] evaluation fit_targets(const targets_options& o, Log&& log) {
+/// The compass search of the file comment; `log` prints and records every evaluation, `skipped`
+/// every move the law refuses (iteration, move, the refusal's message).
+template <class Log, class Skipped>
+[[nodiscard]] evaluation fit_targets(const targets_options& o, Log&& log, Skipped&& skipped) {
   evaluation best = evaluate_targets(o, o.start, o.seed, o.seeds);
   log(best, 0, "start");
   real h = o.step;
@@ -308,9 +311,14 @@ template <class Log>
       const fit_parameter& p = fit_parameter_named(name);
       for (const int dir : {+1, -1}) {
         const concrete_set trial = moved(best.set, p, h, dir);
-        if (trial.*p.field == best.set.*p.field || !law_accepts(o, trial)) continue;  // at a bound, or refused
+        if (trial.*p.field == best.set.*p.field) continue;  // at a bound
+        const std::string move = tessera::detail::concat(name, dir > 0 ? " +" : " -", h);
+        if (const std::string why = law_refusal(o, trial); !why.empty()) {
+          skipped(it, move, why);
+          continue;
+        }
         const evaluation ev = evaluate_targets(o, trial, o.seed, o.seeds);
-        log(ev, it, tessera::detail::concat(name, dir > 0 ? " +" : " -", h));
+        log(ev, it, move);
         if (ev.objective < best.objective) {
           best = ev, improved = true;
           break;

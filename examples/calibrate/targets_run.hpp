@@ -10,7 +10,8 @@
 //   targets.csv      every evaluation of the search: the set, each target's value and residual, J, time
 //   summary.json     flat: the fitted set, per target its reference and fit_/holdout_ value, residual, met, reached;
 //                    the wall-clock seconds of one evaluation of each target (one seed; on a loaded
-//                    host several times its CPU time), evaluations, runtime
+//                    host several times its CPU time), evaluations, refused_moves (moves the law
+//                    refused, printed with its reason and not run), runtime
 
 #include <cstdio>
 #include <exception>
@@ -58,7 +59,8 @@ inline void set_concrete_fields(io::summary_json& j, const concrete_set& c) {
 }
 
 inline void write_target_outputs(const std::filesystem::path& out, const targets_options& o, const evaluation& fit,
-                                 const evaluation& held, const std::vector<evaluation>& trail, double runtime_s) {
+                                 const evaluation& held, const std::vector<evaluation>& trail, int refused_moves,
+                                 double runtime_s) {
   const concrete_set& c = fit.set;
   {
     std::ofstream csv(out / "residuals.csv");  // a text column (the target), so not io::csv_writer
@@ -111,7 +113,7 @@ inline void write_target_outputs(const std::filesystem::path& out, const targets
   summary.set("program", "calibrate").set("mode", "targets").set("material", c.material).set("targets", targets)
       .set("quick", o.quick).set("seed", static_cast<std::int64_t>(o.seed)).set("seeds", o.seeds)
       .set("holdout", o.holdout).set("iterations", o.iterations).set("evaluations", static_cast<int>(trail.size()))
-      .set("objective", fit.objective).set("holdout_objective", held.objective);
+      .set("refused_moves", refused_moves).set("objective", fit.objective).set("holdout_objective", held.objective);
   set_concrete_fields(summary, c);
   for (std::size_t i = 0; i < held.values.size(); ++i) {
     const target_value &f = fit.values[i], &h = held.values[i];
@@ -274,10 +276,16 @@ inline int run_targets_main(int argc, char** argv) {
       std::printf(" ] %.1f s\n", e.cpu_s);
       std::fflush(stdout);
     };
+    int refused = 0;
+    const auto skipped = [&](int it, const std::string& move, const std::string& why) {
+      ++refused;
+      std::printf("calibrate: iteration %d (%s): not run, the law refuses it: %s\n", it, move.c_str(), why.c_str());
+      std::fflush(stdout);
+    };
     io::ensure_directory(out);
-    const evaluation best = fit_targets(o, log);
+    const evaluation best = fit_targets(o, log, skipped);
     const evaluation held = evaluate_targets(o, best.set, o.seed + static_cast<std::uint64_t>(o.seeds), o.holdout);
-    write_target_outputs(out, o, best, held, trail, timer.seconds());
+    write_target_outputs(out, o, best, held, trail, refused, timer.seconds());
     std::printf("calibrate: held-out seeds:");
     for (const target_value& v : held.values)
       std::printf(" %s %.4g (residual %+.2f, %s)", v.name.c_str(), v.value, v.residual(),
