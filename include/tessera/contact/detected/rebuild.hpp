@@ -90,8 +90,8 @@ inline void detected_contacts<Law>::rebuild(const node_set* gp, bool full) {
   detail::place_blocks(pp, shapes_, current_, boxes_, pose_of,
                        incremental ? std::span<const std::uint8_t>(redetect_) : std::span<const std::uint8_t>(),
                        [&](std::size_t b) { return detail::grown_box(detected_box_[b], moved_[b], options_.tolerance); });
-  const auto place_block = [&](std::size_t b) {
-    if (incremental && redetect_[b] == 0) current_[b].assign_transformed(shapes_[b], pp.block_rot[b], pp.block_shift[b]);
+  const auto place_block = [&](std::size_t b) {  // (passed to the pass on incremental rebuilds only)
+    if (redetect_[b] == 0) current_[b].assign_transformed(shapes_[b], pp.block_rot[b], pp.block_shift[b]);
   };
   if (options_.deformable_blocks) check_affine_fit(gp);  // detected/deformable_fit.hpp
   // The blocks detected again start their motion from here.
