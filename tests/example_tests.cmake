@@ -933,6 +933,24 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_quick
          "peak_load_N GREATER 23.12e3" "peak_load_N LESS 23.68e3"
          "energy_balance_error_rel LESS 1e-3"
   TIMEOUT 600)
+# --cohesion-ratio 1 (c_0 = f_T, beam_law.hpp add_beam_law_flags): the default G_II follows c_0
+# ((c_0 / f_T) G_f = 60 J/m^2, l_II = 2 G_II / c_0 = 48 um again), the contacts get c_0 = 2.5 MPa, and
+# this short run's peak (measured 22.51 kN at 6cbf797 + the flag, against 23.45 kN with c_0 = 2 f_T)
+# within 1 %.
+tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_cohesion_quick
+  ARGS --quick --threads 1 --no-vtk --law mixed_mode --cohesion-ratio 1
+  CHECKS "law STREQUAL mixed_mode"
+         "g_ii_J_per_m2 EQUAL 60"
+         "contact_c_0_Pa GREATER 2.499e6" "contact_c_0_Pa LESS 2.501e6"
+         "softening_slip_m GREATER 4.79e-5" "softening_slip_m LESS 4.81e-5"
+         "peak_load_N GREATER 22.28e3" "peak_load_N LESS 22.74e3"
+         "energy_balance_error_rel LESS 1e-3"
+  TIMEOUT 600)
+tessera_add_refusal_test(refuse_rc_beam_cohesion_ratio rc_beam
+  "--cohesion-ratio: value '0.05' must be >= 0.1" --threads 1 --cohesion-ratio 0.05)
+tessera_add_refusal_test(refuse_rc_beam_cohesion_params rc_beam
+  "rc_beam: --cohesion-ratio with --params calibrated.json: the file sets the concrete \\(drop the flag\\)"
+  --threads 1 --cohesion-ratio 1 --params calibrated.json)
 tessera_add_refusal_test(refuse_rc_beam_g_ii_study rc_beam
   "rc_beam: --g-ii 100 J/m.2 applies to --law slip_softening, crushing or mixed_mode only" --threads 1 --g-ii 100)
 tessera_add_refusal_test(refuse_rc_beam_g_ii_small rc_beam

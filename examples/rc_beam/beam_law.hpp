@@ -1,7 +1,7 @@
 #pragma once
-// rc_beam's contact law (issue #63): --law (a law of common/concrete_laws.hpp), --g-ii, --phi-deg, --phi-res-deg
-// and --cap on the beam's concrete (beam_options; registered by concrete_set.hpp add_law_flags, as
-// compression's); what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
+// rc_beam's contact law (issue #63): --law (a law of common/concrete_laws.hpp), --g-ii, --phi-deg, --phi-res-deg,
+// --cap and --cohesion-ratio on the beam's concrete (beam_options; registered by add_beam_law_flags
+// here through concrete_set.hpp add_law_flags, as compression's); what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
 // and the summary keys that record the law a run used.
 //
 //   study           presets::study_beam_law: linear tension softening, the plastic cap, Coulomb
@@ -34,7 +34,17 @@ namespace tessera::scenes {
 
 /// The flags --params replaces: the file sets the concrete.
 inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg", "--phi-res-deg", "--cap",
-                                                 "--g-c", "--cap-residual", "--crush-shear"};
+                                                 "--g-c", "--cap-residual", "--crush-shear", "--cohesion-ratio"};
+
+/// Registers rc_beam's concrete flags on `cli` for beam `b`: add_law_flags' (--law, --g-ii, --g-c,
+/// --cap-residual, --crush-shear, --phi-deg, --phi-res-deg, --cap) and --cohesion-ratio (c_0 / f_T,
+/// 0.1-20, as compression and brazilian take it).
+inline void add_beam_law_flags(cli::parser& cli, beam_options& b) {
+  add_law_flags(cli, b, "the hand values keep the concrete's 35 MPa");
+  cli.option("--cohesion-ratio", b.cohesion_ratio,
+             "contact cohesion c_0 / f_T (the study's 2; c_res = 0.01 c_0, 0 with --law mixed_mode)", "R")
+      .within(0.1, 20);
+}
 
 /// Set c's concrete on beam o: law, strength and fracture-energy scales, c_0 / f_T, phi_0, phi_res
 /// (deg), G_II (J/m^2), cap (Pa), G_c (J/m^2), residual cap, crush_shear; o's block count, zoning,

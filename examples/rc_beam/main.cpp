@@ -388,7 +388,7 @@ int main(int argc, char** argv) {
              "the whole beam, both shear spans, supports and loading plates (on a spreader: equal plate loads), no "
              "symmetry condition", "half|full")
       .one_of({"half", "full"});
-  tessera::scenes::add_law_flags(cli, b, "the hand values keep the concrete's 35 MPa");
+  tessera::scenes::add_beam_law_flags(cli, b);
   cli.option("--compression", b.compression, "contact law in compression: plastic (cap at f_c = 35 MPa) or elastic",
              "plastic|elastic").one_of({"plastic", "elastic"});
   cli.option("--cohesion", b.cohesion,
