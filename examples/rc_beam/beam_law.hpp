@@ -1,8 +1,9 @@
 #pragma once
-// rc_beam's contact law (issue #63): --law (a law of common/concrete_laws.hpp), --g-ii, --phi-deg, --phi-res-deg,
-// --cap and --cohesion-ratio on the beam's concrete (beam_options; registered by add_beam_law_flags
-// here through concrete_set.hpp add_law_flags, as compression's); what rc_beam refuses with them (beam.hpp check_beam_law, check_beam_law_flags here);
-// and the summary keys that record the law a run used.
+// rc_beam's contact law (issue #63): --law (a law of common/concrete_laws.hpp), --g-ii, --phi-deg,
+// --phi-res-deg, --cap and --cohesion-ratio on the beam's concrete (beam_options; registered by
+// add_beam_law_flags here through concrete_set.hpp add_law_flags, as compression's); what rc_beam
+// refuses with them (beam.hpp check_beam_law, check_beam_law_flags here); and the summary keys
+// that record the law a run used.
 //
 //   study           presets::study_beam_law: linear tension softening, the plastic cap, Coulomb
 //                   shear that drops to (c_res, phi_res) at the first slip (the study's)
