@@ -935,7 +935,7 @@ tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_quick
   TIMEOUT 600)
 # --cohesion-ratio 1 (c_0 = f_T, beam_law.hpp add_beam_law_flags): the default G_II follows c_0
 # ((c_0 / f_T) G_f = 60 J/m^2, l_II = 2 G_II / c_0 = 48 um again), the contacts get c_0 = 2.5 MPa, and
-# this short run's peak (measured 22.51 kN at 6cbf797 + the flag, against 23.45 kN with c_0 = 2 f_T)
+# this short run's peak (measured 22.51 kN at ac54d3b, against 23.45 kN with c_0 = 2 f_T)
 # within 1 %.
 tessera_add_example_test(rc_beam NAME example_rc_beam_mixed_mode_cohesion_quick
   ARGS --quick --threads 1 --no-vtk --law mixed_mode --cohesion-ratio 1
