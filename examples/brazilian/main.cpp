@@ -76,7 +76,8 @@ int main(int argc, char** argv) {
       {"--blocks", &n_blocks, 0, 2000, true}, {"--sides", &sides, 8, 360, true}, {"--diameter", &diameter, 0.02, 2, false},
       {"--thickness", &thickness, 0.005, 2, false}, {"--strength-scale", &scale, 0.1, 10, false},
       {"--rate", &rate, 1e-5, 0.1, false}, {"--step-displacement", &du, 1e-10, 1e-7, false},
-      {"--max-displacement", &u_max, 1e-6, 0.01, false}, {"--cohesion-ratio", &cohesion_ratio, 0.1, 20, false},
+      {"--max-displacement", &u_max, 1e-6, 0.01, false},
+      {"--cohesion-ratio", &cohesion_ratio, scenes::min_cohesion_ratio, scenes::max_cohesion_ratio, false},
       {"--phi-deg", &phi_deg, 0, 80, false}, {"--phi-res-deg", &phi_res_deg, 0, 80, false}, {"--g-ii", &g_ii, 0, 1e6, false},
       {"--recipe-blocks", &recipe_blocks, 0, 750, true}, {"--zone-edge", &zone_edge, 0, 1, false}, {"--cap", &cap, 1e6, 1e10, false},
       {"--g-c", &g_c, 0, 1e8, false}, {"--cap-residual", &cap_residual, 0, 1, false}};

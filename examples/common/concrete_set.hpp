@@ -131,6 +131,18 @@ void add_law_flags(cli::parser& cli, Options& o, const char* cap_note) {
              "PA").within(1e6, 1e10);
 }
 
+/// The range of --cohesion-ratio (c_0 / f_T) on the drivers of one concrete (compression, brazilian,
+/// rc_beam): a tenth of the study's 2 to ten times it.
+inline constexpr real min_cohesion_ratio = 0.1, max_cohesion_ratio = 20;
+
+/// Registers --cohesion-ratio (c_0 / f_T, min_cohesion_ratio..max_cohesion_ratio) into `ratio` on `cli`:
+/// compression's and rc_beam's (brazilian's range table reads the same bounds).
+inline void add_cohesion_ratio_flag(cli::parser& cli, real& ratio) {
+  cli.option("--cohesion-ratio", ratio,
+             "contact cohesion c_0 / f_T (the study's 2; c_res = 0.01 c_0, 0 with --law mixed_mode)", "R")
+      .within(min_cohesion_ratio, max_cohesion_ratio);
+}
+
 /// Refuses a law parameter's flag (law_parameter_rows: --g-c, --cap-residual, --crush-shear; --g-ii
 /// is require_g_ii_with_law's, with its value) given on `cli` with law `law` that does not take it, or
 /// beside --g-c `g_c` (J/m^2) 0 where the law softens its cap only with G_c > 0 (require_law_parameters),

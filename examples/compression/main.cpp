@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
   cli.option("--confinement", in.confinement, "lateral pressure on the mantle (Pa, compression positive)", "P")
       .within(0, 100e6);
   cli.option("--f-t", in.f_t, "contact tensile strength f_T (Pa); 0 = the material's (beam 2.5, prism 0.907 x 2.15 MPa)", "PA").within(0, 1e9);
-  cli.option("--cohesion-ratio", in.cohesion_ratio, "c_0 / f_T (the study: 2)", "R").within(0.1, 20);
+  scenes::add_cohesion_ratio_flag(cli, in.cohesion_ratio);
   scenes::add_law_flags(cli, in, "--material beam only");  // --law, --g-ii, --phi-deg, --phi-res-deg, --cap
   cli.option("--rate", in.rate, "top end speed (m/s)", "V").within(1e-5, 0.1);
   cli.option("--step-displacement", in.step_displacement, "top end travel per step (m)", "DU").within(1e-10, 1e-7);

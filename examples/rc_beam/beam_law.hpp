@@ -38,13 +38,11 @@ inline constexpr const char* beam_law_flags[] = {"--law", "--g-ii", "--phi-deg",
                                                  "--g-c", "--cap-residual", "--crush-shear", "--cohesion-ratio"};
 
 /// Registers rc_beam's concrete flags on `cli` for beam `b`: add_law_flags' (--law, --g-ii, --g-c,
-/// --cap-residual, --crush-shear, --phi-deg, --phi-res-deg, --cap) and --cohesion-ratio (c_0 / f_T,
-/// 0.1-20, as compression and brazilian take it).
+/// --cap-residual, --crush-shear, --phi-deg, --phi-res-deg, --cap) and add_cohesion_ratio_flag's
+/// --cohesion-ratio (c_0 / f_T, as compression and brazilian take it).
 inline void add_beam_law_flags(cli::parser& cli, beam_options& b) {
   add_law_flags(cli, b, "the hand values keep the concrete's 35 MPa");
-  cli.option("--cohesion-ratio", b.cohesion_ratio,
-             "contact cohesion c_0 / f_T (the study's 2; c_res = 0.01 c_0, 0 with --law mixed_mode)", "R")
-      .within(0.1, 20);
+  add_cohesion_ratio_flag(cli, b.cohesion_ratio);
 }
 
 /// Set c's concrete on beam o: law, strength and fracture-energy scales, c_0 / f_T, phi_0, phi_res
