@@ -277,6 +277,7 @@ tessera_add_example_test(rc_tie NAME example_rc_tie_mixed_quick
   FILES curve.csv
   CHECKS "law STREQUAL mixed_mode"
          "g_ii_J_per_m2 EQUAL 70"
+         "phi_res_deg EQUAL 30"
          "softening STREQUAL linear"
          "first_crack_force_N GREATER 13000"
          "first_crack_force_N LESS 14800"
@@ -390,6 +391,12 @@ tessera_add_refusal_test(refuse_rc_tie_law rc_tie "--law: invalid value 'crushin
   --law crushing)
 tessera_add_refusal_test(refuse_rc_tie_g_ii_study rc_tie
   "^rc_tie: --g-ii 70 J/m.2 applies to --law mixed_mode only \\(--law study has no G_II\\)" --threads 1 --g-ii 70)
+# --phi-res-deg (the spent contact's friction) likewise: the mixed-mode law's only, at most phi_0 = 35.
+tessera_add_refusal_test(refuse_rc_tie_phi_res_study rc_tie
+  "^rc_tie: --phi-res-deg 15 applies to --law mixed_mode only \\(--law study keeps the study's 30 deg\\)" --threads 1
+  --phi-res-deg 15)
+tessera_add_refusal_test(refuse_rc_tie_phi_res_range rc_tie "--phi-res-deg: value '40' must be <= 35"
+  --threads 1 --law mixed_mode --phi-res-deg 40)
 tessera_add_refusal_test(refuse_rc_tie_mixed_g_ii_small rc_tie "G_II = 10 J/m.2 gives s_u .* G_II must exceed"
   --quick --threads 1 --law mixed_mode --g-ii 10)
 tessera_add_refusal_test(refuse_rc_tie_mixed_softening rc_tie

@@ -9,10 +9,13 @@
 //   --law mixed_mode  the mixed-mode law (presets::mixed_mode_tie_law, law/mixed_mode.hpp): one damage
 //                     for tension and shear, linear softening over G_f as G_I, cohesion and friction
 //                     softening with the same damage, G_II = --g-ii (J/m^2; 0 = (c_0/f_T) G_f, 120);
-//                     the beam's mixed-mode set is --g-ii 70. Deformable blocks, explicit pull: the
-//                     study law's flags above are refused with it, naming the value.
+//                     the beam's mixed-mode set is --g-ii 70; --phi-res-deg sets the spent contact's
+//                     friction phi_res (deg; the study's 30, the beam's less-friction set 15).
+//                     Deformable blocks, explicit pull: the study law's flags above are refused with
+//                     it, naming the value.
 // The hand checks (N_cr = f_T (A_c + n A_s), f_y A_s) are the same for both laws: the same f_T.
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
@@ -28,10 +31,11 @@ namespace tessera::scenes {
 struct tie_law {
   std::string name = "study";  ///< "study" (law::study_tie_law and its variants) or "mixed_mode"
   double g_ii = 0;             ///< mixed_mode: mode-II fracture energy (J/m^2); 0 = (c_0/f_T) G_f
+  double phi_res_deg = 30;     ///< mixed_mode: the spent contact's friction phi_res (deg; the study's 30)
   [[nodiscard]] bool mixed() const { return name == "mixed_mode"; }
 };
 
-/// Registers --law and --g-ii.
+/// Registers --law, --g-ii and --phi-res-deg.
 inline void add_tie_law_flags(cli::parser& cli, tie_law& law) {
   cli.option("--law", law.name,
              "contact law of the tie's concrete (its Table 1 contacts, f_T 2.15 MPa, G_f 60 J/m^2 either way): study, "
@@ -43,6 +47,10 @@ inline void add_tie_law_flags(cli::parser& cli, tie_law& law) {
              "mode-II fracture energy G_II (J/m^2) with --law mixed_mode (0 = (c_0/f_T) G_f, 120; the beam's "
              "mixed-mode set: 70)",
              "J").within(0, 1e6);
+  cli.option("--phi-res-deg", law.phi_res_deg,
+             "friction angle phi_res of a spent contact (deg) with --law mixed_mode (the study's 30; at most phi_0 = "
+             "35; the beam's less-friction set: 15)",
+             "DEG").within(0, 35);
 }
 
 /// Refuses the flags that do not apply with the law: with mixed_mode the study law's variants
@@ -55,6 +63,8 @@ inline void require_tie_law_flags(const cli::parser& cli, const tie_law& law, co
   if (!law.mixed()) {
     require(!cli.given("--g-ii"), d, ": --g-ii ", law.g_ii, " J/m^2 applies to --law mixed_mode only (--law ", law.name,
             " has no G_II)");
+    require(!cli.given("--phi-res-deg"), d, ": --phi-res-deg ", law.phi_res_deg,
+            " applies to --law mixed_mode only (--law ", law.name, " keeps the study's 30 deg)");
     return;
   }
   const char* only = " applies to --law study only (--law mixed_mode ";
@@ -68,10 +78,11 @@ inline void require_tie_law_flags(const cli::parser& cli, const tie_law& law, co
   require(scheme != "relaxation", d, ": --scheme ", scheme, only, "is built for the explicit pull)");
 }
 
-/// The mixed-mode contacts of `scene` (its Table 1 contacts with law.g_ii), validated: throws
-/// invalid_input naming a G_II below the law's bound c_0^2 / (2 k_s).
+/// The mixed-mode contacts of `scene` (its Table 1 contacts with law.g_ii and law.phi_res_deg),
+/// validated: throws invalid_input naming a G_II below the law's bound c_0^2 / (2 k_s).
 [[nodiscard]] inline presets::mixed_mode_tie_law::params mixed_tie_contacts(const tie_scene& scene, const tie_law& law) {
-  const auto p = presets::with_mixed_mode(scene.prism.contact, law.g_ii);
+  auto p = presets::with_mixed_mode(scene.prism.contact, law.g_ii);
+  p.shear.phi_res = tessera::law::friction_angle::from_degrees(law.phi_res_deg);  // the study's 30: the same bits
   presets::mixed_mode_tie_law::validate(p);
   return p;
 }
@@ -98,16 +109,23 @@ template <bool Relaxed, class OnEvent>
 
 /// "power softening", "linear softening" or "mixed-mode law, G_II 70 J/m^2" (plot title, report).
 [[nodiscard]] inline std::string tie_law_text(const tie_scene& scene, const tie_law& law, const tie_loading& loading) {
-  if (law.mixed()) return tessera::detail::concat("mixed-mode law, G_II ", g_ii_in_effect(scene, law), " J/m^2");
+  if (law.mixed())
+    return law.phi_res_deg == 30
+               ? tessera::detail::concat("mixed-mode law, G_II ", g_ii_in_effect(scene, law), " J/m^2")
+               : tessera::detail::concat("mixed-mode law, G_II ", g_ii_in_effect(scene, law), " J/m^2, phi_res ",
+                                         law.phi_res_deg, " deg");
   return loading.softening + " softening";
 }
 
-/// summary.json's law: "law", "g_ii_J_per_m2" (null with the study's), and "softening" and "cohesion"
+/// summary.json's law: "law", "g_ii_J_per_m2" (null with the study's), "phi_res_deg" (the contacts'
+/// residual friction, deg), and "softening" and "cohesion"
 /// as the mixed law has them (linear; coupled: c / c_0 = f_t / f_T = 1 - D).
 inline void set_tie_law_figures(io::summary_json& js, const tie_scene& scene, const tie_law& law,
                                 const tie_loading& loading) {
   js.set("law", law.name)
       .set("g_ii_J_per_m2", g_ii_in_effect(scene, law))
+      .set("phi_res_deg", law.mixed() ? law.phi_res_deg  // as given; the study's law: its contacts' (30)
+                                      : std::round(scene.prism.contact.shear.phi_res.degrees() * 1e9) / 1e9)
       .set("softening", law.mixed() ? std::string("linear") : loading.softening)
       .set("cohesion", law.mixed() ? std::string("coupled") : loading.cohesion);
 }

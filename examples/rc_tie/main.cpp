@@ -36,7 +36,7 @@
 //                    sub-contacts (tensile damage 0..1, status flags, every declared law field),
 //                    the bar as a polyline (axial force per element, slip and bond force per
 //                    node, displacement), zones (displacement, stress); tie.pvd lists them
-//   summary.json     inputs (law, g_ii_J_per_m2), hand checks, first_crack_force_N and its error
+//   summary.json     inputs (law, g_ii_J_per_m2, phi_res_deg), hand checks, first_crack_force_N and its error
 //                    vs f_T (A_c + n A_s),
 //                    first_drop_force_N (peak of the first load drop) and its error,
 //                    first_softening_force_N (first sub-contact past its peak),
