@@ -15,7 +15,6 @@
 //                     it, naming the value.
 // The hand checks (N_cr = f_T (A_c + n A_s), f_y A_s) are the same for both laws: the same f_T.
 
-#include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
@@ -27,11 +26,16 @@
 
 namespace tessera::scenes {
 
-/// The tie's contact law: its name and G_II.
+/// The study's residual friction angle phi_res (deg): the tie's contacts' own, --phi-res-deg's default.
+inline constexpr double study_phi_res_deg = 30;
+
+/// The tie's contact law: its name, G_II and phi_res.
 struct tie_law {
   std::string name = "study";  ///< "study" (law::study_tie_law and its variants) or "mixed_mode"
   double g_ii = 0;             ///< mixed_mode: mode-II fracture energy (J/m^2); 0 = (c_0/f_T) G_f
-  double phi_res_deg = 30;     ///< mixed_mode: the spent contact's friction phi_res (deg; the study's 30)
+  /// mixed_mode: the spent contact's friction phi_res (deg); the study's law refuses --phi-res-deg
+  /// and keeps study_phi_res_deg, its contacts' value (presets::study_prism_params)
+  double phi_res_deg = study_phi_res_deg;
   [[nodiscard]] bool mixed() const { return name == "mixed_mode"; }
 };
 
@@ -82,7 +86,7 @@ inline void require_tie_law_flags(const cli::parser& cli, const tie_law& law, co
 /// validated: throws invalid_input naming a G_II below the law's bound c_0^2 / (2 k_s).
 [[nodiscard]] inline presets::mixed_mode_tie_law::params mixed_tie_contacts(const tie_scene& scene, const tie_law& law) {
   auto p = presets::with_mixed_mode(scene.prism.contact, law.g_ii);
-  p.shear.phi_res = tessera::law::friction_angle::from_degrees(law.phi_res_deg);  // the study's 30: the same bits
+  p.shear.phi_res = tessera::law::friction_angle::from_degrees(law.phi_res_deg);  // study_phi_res_deg: the preset's own bits
   presets::mixed_mode_tie_law::validate(p);
   return p;
 }
@@ -109,12 +113,10 @@ template <bool Relaxed, class OnEvent>
 
 /// "power softening", "linear softening" or "mixed-mode law, G_II 70 J/m^2" (plot title, report).
 [[nodiscard]] inline std::string tie_law_text(const tie_scene& scene, const tie_law& law, const tie_loading& loading) {
-  if (law.mixed())
-    return law.phi_res_deg == 30
-               ? tessera::detail::concat("mixed-mode law, G_II ", g_ii_in_effect(scene, law), " J/m^2")
-               : tessera::detail::concat("mixed-mode law, G_II ", g_ii_in_effect(scene, law), " J/m^2, phi_res ",
-                                         law.phi_res_deg, " deg");
-  return loading.softening + " softening";
+  if (!law.mixed()) return loading.softening + " softening";
+  std::string text = tessera::detail::concat("mixed-mode law, G_II ", g_ii_in_effect(scene, law), " J/m^2");
+  if (law.phi_res_deg != study_phi_res_deg) text += tessera::detail::concat(", phi_res ", law.phi_res_deg, " deg");
+  return text;
 }
 
 /// summary.json's law: "law", "g_ii_J_per_m2" (null with the study's), "phi_res_deg" (the contacts'
@@ -124,8 +126,7 @@ inline void set_tie_law_figures(io::summary_json& js, const tie_scene& scene, co
                                 const tie_loading& loading) {
   js.set("law", law.name)
       .set("g_ii_J_per_m2", g_ii_in_effect(scene, law))
-      .set("phi_res_deg", law.mixed() ? law.phi_res_deg  // as given; the study's law: its contacts' (30)
-                                      : std::round(scene.prism.contact.shear.phi_res.degrees() * 1e9) / 1e9)
+      .set("phi_res_deg", law.phi_res_deg)
       .set("softening", law.mixed() ? std::string("linear") : loading.softening)
       .set("cohesion", law.mixed() ? std::string("coupled") : loading.cohesion);
 }
