@@ -14,16 +14,19 @@
 //   Once many faces have softened (past yield) these clusters merge into one, so:
 // At the end (beam_crack_profile): the opening profile along the span; a crack is a local maximum
 // of the opening in the lower third of the depth that reaches beam_loading::crack_width (0.1 mm,
-// a crack one sees), maxima closer than 0.75 block sizes being one crack. A flexural crack is a
-// vertical one in the constant-moment zone; the count and mean spacing are over that zone
-// mirrored about the symmetry face (the whole beam's zone, as the study counts; the full beam's
-// zone as it is).
+// a crack one sees), maxima closer than 0.75 block sizes being one crack, each followed layer by
+// layer up the depth (beam_opening_maxima), its angle that of its path. A flexural crack is one
+// in the constant-moment zone vertical about its x (beam_crack::locally_vertical); the count and
+// mean spacing are over that zone mirrored about the symmetry face (the whole beam's zone, as the
+// study counts; the full beam's zone as it is).
 // Failure mode (beam_failure_mode), from the widest crack: none when no crack reaches crack_width;
-// inclined (35 degrees or more) and in the shear span -> diagonal_tension; else crushing when the
+// its path inclined (35 degrees or more) and in the shear span -> diagonal_tension; else crushing when the
 // compressive cap has dissipated more than tensile cracking; else flexure.
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <string>
@@ -36,11 +39,29 @@ namespace tessera::scenes {
 struct beam_crack {
   real x = 0;             ///< position along the span: mean x of its lowest third (m)
   real y_min = 0, y_max = 0;
-  real angle_deg = 0;     ///< from the vertical
+  real angle_deg = 0;     ///< from the vertical, of its path (beam_opening_maxima) where it has one
+  /// From the vertical, of the sub-contacts within 1.5 block sizes of x over the whole depth
+  /// (beam_opening_maxima; the flexural crack count's reading, as angle_deg for beam_cracks).
+  real local_angle_deg = 0;
   real width = 0;         ///< largest separation of its sub-contacts (m)
   real area = 0;          ///< cracked face area (m^2)
+  /// Its path through the depth (beam_opening_maxima): x (m) in each layer ridge_layer (m) high
+  /// from y = 0, NaN in the layers it does not reach; empty for the cracks of beam_cracks.
+  std::vector<real> ridge_x;
+  real ridge_layer = 0;
   [[nodiscard]] bool vertical() const { return angle_deg < 35; }
+  /// Vertical about its foot's x (local_angle_deg): a crack of the constant-moment zone the study
+  /// would count, whatever its path does in the crushed zone under the loading plate.
+  [[nodiscard]] bool locally_vertical() const { return local_angle_deg < 35; }
 };
+
+/// Whether a sub-contact at p with value w (beam_opening_maxima's opening; < 0 left out) belongs to
+/// crack cr: within 0.75 block sizes `cell` (m) of its path in its layer and at least 30 % of its width.
+[[nodiscard]] inline bool beam_crack_member(const beam_crack& cr, real cell, const vec3& p, real w) {
+  if (w < 0 || w < 0.3 * cr.width || cr.ridge_x.empty()) return false;
+  const auto l = std::min(cr.ridge_x.size() - 1, static_cast<std::size_t>(std::max(real(0), p.y()) / cr.ridge_layer));
+  return std::abs(p.x() - cr.ridge_x[l]) <= 0.75 * cell;  // false in a layer it does not reach (NaN)
+}
 
 /// Opening of sub-contact i: the separation of its two gridpoints, opening and slip (m).
 template <class Contacts>
@@ -135,7 +156,7 @@ class beam_cracks {
         }
       }
       if (cr.y_max - cr.y_min < 0.25 * height_ || fit.sw <= 0) continue;
-      cr.angle_deg = fit.angle_deg();
+      cr.angle_deg = cr.local_angle_deg = fit.angle_deg();
       double lw = 0, lx = 0;
       const real low = cr.y_min + (cr.y_max - cr.y_min) / 3;
       for (std::size_t k : list)
@@ -164,9 +185,17 @@ class beam_cracks {
 /// Cracks as the maxima of an opening field along the span: in bins of 5 mm along x, the largest
 /// value opening(i) (m) of the sub-contacts at or below y_top; a crack is a bin whose value is at
 /// least `width` (> 0) and the largest within +-0.75 mean block sizes `cell` (neighbouring maxima
-/// closer than that are one crack). Its angle from the vertical: the opening-weighted least-squares
-/// line x(y) through the sub-contacts within 1.5 block sizes of it whose value is at least 30 % of
-/// its own, over the whole depth. opening(i) < 0 leaves sub-contact i out.
+/// closer than that are one crack). opening(i) < 0 leaves sub-contact i out.
+/// Its path (beam_crack::ridge_x): the depth cut in layers half a block size high; from the layer
+/// where the crack's bin opens most, layer by layer up and down, the bin of the largest value within
+/// 1.5 block sizes of the last one (an inclination up to 72 degrees from the vertical; three block
+/// sizes over a layer with nothing), as long as that value is at least 30 % of the crack's own. Its angle from the
+/// vertical: the opening-weighted least-squares line x(y) through that path (a diagonal crack that
+/// leaves the soffit beside a flexural one is followed up to the loading plate, not read from the
+/// sub-contacts above its foot); its members (beam_crack_member): the sub-contacts within 0.75
+/// block sizes of the path whose value is at least 30 % of its own, their area its area. Its local
+/// angle (beam_crack::local_angle_deg): the same line through the sub-contacts within 1.5 block
+/// sizes of its x whose value is at least 30 % of its own, over the whole depth.
 template <class Contacts, class Opening>
 [[nodiscard]] std::vector<beam_crack> beam_opening_maxima(const Contacts& c, const node_set& gp, real height, real cell,
                                                           real width, real y_top, Opening&& opening_of) {
@@ -174,16 +203,23 @@ template <class Contacts, class Opening>
   real x_max = 0;
   for (index_t i = 0; i < c.size(); ++i) x_max = std::max(x_max, c.position(i, gp).x());
   const auto bins = static_cast<std::size_t>(x_max / bin) + 1;
-  std::vector<real> opening(bins, 0);
+  const real layer = cell / 2;
+  const auto layers = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(height / layer)));
+  const auto layer_of = [&](real y) {
+    return std::min(layers - 1, static_cast<std::size_t>(std::max(real(0), y) / layer));
+  };
+  const auto bin_of = [&](real x) { return std::min(bins - 1, static_cast<std::size_t>(std::max(real(0), x) / bin)); };
+  std::vector<real> opening(bins, 0), field(layers * bins, -1);  // field: the largest value per layer and bin
   for (index_t i = 0; i < c.size(); ++i) {
     const vec3 p = c.position(i, gp);
-    if (p.y() > y_top) continue;
     const real w = opening_of(i);
     if (w < 0) continue;
-    const auto k = std::min(bins - 1, static_cast<std::size_t>(std::max(real(0), p.x()) / bin));
-    opening[k] = std::max(opening[k], w);
+    real& f = field[layer_of(p.y()) * bins + bin_of(p.x())];
+    f = std::max(f, w);
+    if (p.y() <= y_top) opening[bin_of(p.x())] = std::max(opening[bin_of(p.x())], w);
   }
   const auto reach = static_cast<std::size_t>(std::ceil(0.75 * cell / bin));
+  const auto step = static_cast<std::size_t>(std::ceil(1.5 * cell / bin));
   std::vector<beam_crack> out;
   for (std::size_t k = 0; k < bins; ++k) {
     if (opening[k] < width) continue;
@@ -194,20 +230,48 @@ template <class Contacts, class Opening>
     beam_crack cr;
     cr.x = (static_cast<real>(k) + 0.5) * bin;
     cr.width = opening[k];
+    cr.ridge_layer = layer;
+    cr.ridge_x.assign(layers, std::numeric_limits<real>::quiet_NaN());
+    std::size_t l0 = 0;  // the layer where bin k opens most, at or below y_top
+    for (std::size_t l = 0; l < layers && static_cast<real>(l) * layer <= y_top; ++l)
+      if (field[l * bins + k] > field[l0 * bins + k]) l0 = l;
+    cr.ridge_x[l0] = cr.x;
     crack_line_fit fit;
-    cr.y_min = height;
+    fit.add(field[l0 * bins + k], vec3(cr.x, (static_cast<real>(l0) + 0.5) * layer, 0));
+    std::size_t lo = l0, hi = l0;
+    for (const int dir : {1, -1}) {
+      std::size_t at = k, misses = 0;
+      const auto top = static_cast<std::ptrdiff_t>(layers);
+      for (auto l = static_cast<std::ptrdiff_t>(l0) + dir; l >= 0 && l < top && misses < 2; l += dir) {
+        const std::size_t span = (misses + 1) * step, row = static_cast<std::size_t>(l) * bins;
+        std::size_t best = bins;
+        for (std::size_t j = at > span ? at - span : 0; j <= std::min(bins - 1, at + span); ++j)
+          if (field[row + j] >= 0.3 * cr.width && (best == bins || field[row + j] > field[row + best])) best = j;
+        if (best == bins) {
+          ++misses;
+          continue;
+        }
+        misses = 0;
+        at = best;
+        const real xr = (static_cast<real>(best) + 0.5) * bin;
+        cr.ridge_x[static_cast<std::size_t>(l)] = xr;
+        fit.add(field[row + best], vec3(xr, (static_cast<real>(l) + 0.5) * layer, 0));
+        (dir > 0 ? hi : lo) = static_cast<std::size_t>(l);
+      }
+    }
+    cr.y_min = static_cast<real>(lo) * layer;
+    cr.y_max = std::min(height, static_cast<real>(hi + 1) * layer);
+    cr.angle_deg = hi > lo ? fit.angle_deg() : 0;  // one layer: no line to fit, read as vertical
+    crack_line_fit local;
     for (index_t i = 0; i < c.size(); ++i) {
       const vec3 p = c.position(i, gp);
-      if (std::abs(p.x() - cr.x) > 1.5 * cell) continue;
       const real w = opening_of(i);
-      if (w < 0 || w < 0.3 * cr.width) continue;
-      fit.add(w, p);
-      cr.y_min = std::min(cr.y_min, p.y());
-      cr.y_max = std::max(cr.y_max, p.y());
-      cr.area += c.area(i);
+      if (std::abs(p.x() - cr.x) <= 1.5 * cell && w >= 0 && w >= 0.3 * cr.width) local.add(w, p);
     }
-    if (fit.sw > 0) cr.angle_deg = fit.angle_deg();
-    out.push_back(cr);
+    if (local.sw > 0) cr.local_angle_deg = local.angle_deg();
+    for (index_t i = 0; i < c.size(); ++i)
+      if (beam_crack_member(cr, cell, c.position(i, gp), opening_of(i))) cr.area += c.area(i);
+    out.push_back(std::move(cr));
   }
   return out;
 }

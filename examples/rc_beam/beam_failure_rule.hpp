@@ -67,7 +67,7 @@ template <class Contacts>
 
 /// The band of sub-contacts that lost the most tensile strength since the peak: the maxima along the
 /// span of each sub-contact's tensile damage gain since the peak (damage_at_peak; at least 0.05),
-/// of at least half a damage, the one of the largest area (beam_opening_maxima's line fit).
+/// of at least half a damage, the one of the largest area (its members' area, beam_opening_maxima).
 template <class Contacts>
 [[nodiscard]] beam_crack beam_damage_band_of_drop(const Contacts& c, const node_set& gp, const beam_options& o, real cell,
                                                   const std::vector<float>& damage_at_peak) {

@@ -8,19 +8,20 @@
 //      separation of its two gridpoints (m), "end" the last snapshot and "peak" the first snapshot
 //      at or past the peak's deflection, on the sub-contacts past their tensile peak at the end;
 //   2. the cracks of that increment field: its maxima along the span over the whole depth
-//      (beam_opening_maxima: 5 mm bins, maxima closer than 0.75 block sizes one crack, the angle of
-//      the increment-weighted line through the sub-contacts within 1.5 block sizes that gained at
-//      least 30 % of its increment), of at least 1 % of crack_width;
+//      (beam_opening_maxima: 5 mm bins, maxima closer than 0.75 block sizes one crack, each followed
+//      layer by layer through the depth, its angle the increment-weighted line through that path),
+//      of at least 1 % of crack_width;
 //   3. the fastest inclined one: among the inclined (35 degrees or more from the vertical) in the
 //      shear span (support axis to the loading plate's far edge; in the full beam the span asked
 //      for, beam_shear_span_of), the largest increment, i.e. the
 //      largest mean opening rate after the peak. Its opening W(j) at snapshot j is the largest
-//      opening of its sub-contacts (those of the line fit);
+//      opening of its members (the sub-contacts along its path that gained at least 30 % of its
+//      increment, beam_crack_member);
 //   4. its window: from the last snapshot at which it has gained at most 10 % of its increment to
 //      the first at which it has gained 90 %; its opening rate dW / d(deflection) over the window
 //      (m per m), and the load it takes off: the smoothed load at the window's start less that at
-//      its end (N). The same rate of the fastest vertical crack of the constant-moment zone over
-//      the same window, for comparison.
+//      its end (N). The same rate of the fastest flexural crack (locally vertical, in the
+//      constant-moment zone) over the same window, for comparison.
 // diagonal_crack_after_peak: the fastest inclined crack gains at least crack_width (a crack one
 // sees) after the peak, opens faster over its window than every vertical crack of the
 // constant-moment zone, and the load falls by at least 5 % of the peak over that window.
@@ -195,13 +196,11 @@ template <class Contacts>
     return std::max(real(0), h.opening(je, i) - h.opening(jp, i));
   };
   const std::vector<beam_crack> cracks = beam_opening_maxima(c, gp, o.height, cell, 0.01 * crack_width, o.height, increment);
-  // The members of a crack, as beam_opening_maxima's line fit picks them, and their opening W(j).
+  // The members of a crack (beam_crack_member: along its path) and their opening W(j).
   const auto members = [&](const beam_crack& cr) {
     std::vector<index_t> m;
-    for (index_t i = 0; i < c.size(); ++i) {
-      const real w = increment(i);
-      if (std::abs(c.position(i, gp).x() - cr.x) <= 1.5 * cell && w >= 0 && w >= 0.3 * cr.width) m.push_back(i);
-    }
+    for (index_t i = 0; i < c.size(); ++i)
+      if (beam_crack_member(cr, cell, c.position(i, gp), increment(i))) m.push_back(i);
     return m;
   };
   const auto opening_at = [&](const std::vector<index_t>& m, std::size_t j) {
@@ -235,7 +234,7 @@ template <class Contacts>
   out.opening_rate = span > 0 ? (opening_at(m, jb) - opening_at(m, ja)) / span : 0;
   out.load_drop = h.load(ja) - h.load(jb);
   for (const beam_crack& cr : cracks)
-    if (cr.vertical() && beam_in_moment_zone(o, cr.x) && span > 0) {
+    if (cr.locally_vertical() && beam_in_moment_zone(o, cr.x) && span > 0) {
       const std::vector<index_t> v = members(cr);
       out.flexural_opening_rate = std::max(out.flexural_opening_rate, (opening_at(v, jb) - opening_at(v, ja)) / span);
     }

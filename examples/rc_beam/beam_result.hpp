@@ -293,8 +293,9 @@ inline void set_failure_figures(io::summary_json& js, const beam_result& r, cons
       .set("peak_over_zsutty_shear", peak / h.zsutty_shear_load)
       .set("peak_over_shear_reference", peak / h.shear_reference_load())
       .set("failure_mode", r.failure_mode)
-      .set("failure_mode_rule", std::string("the widest crack's classification at the end of the run (beam_cracks.hpp), "
-                                            "whether or not failure_reached (the load fell by --failure-drop)"))
+      .set("failure_mode_rule", std::string("the widest crack's classification at the end of the run, its angle "
+                                            "along its path (beam_cracks.hpp), whether or not failure_reached (the "
+                                            "load fell by --failure-drop)"))
       .set("widest_crack_x_m", r.widest.x)
       .set("widest_crack_angle_deg", r.widest.angle_deg)
       .set("widest_crack_width_m", r.widest.width);

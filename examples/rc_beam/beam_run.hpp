@@ -404,7 +404,7 @@ template <class Law, bool Relaxed = false, class OnEvent>
     if (c.width > r.widest.width) r.widest = c;
     beam_crack& half_widest = r.spans[c.x < L ? 0 : 1].widest;
     if (o.full() && c.width > half_widest.width) half_widest = c;
-    if (!c.vertical() || !beam_in_moment_zone(o, c.x)) continue;
+    if (!c.locally_vertical() || !beam_in_moment_zone(o, c.x)) continue;
     r.flexural_crack_positions.push_back(c.x);
     mirrored.push_back(c.x);
     if (!o.full() && L - c.x > 0.5 * hand.mean_block_size) mirrored.push_back(2 * L - c.x);  // its twin across the symmetry face
