@@ -20,8 +20,8 @@
 // mean spacing are over that zone mirrored about the symmetry face (the whole beam's zone, as the
 // study counts; the full beam's zone as it is).
 // Failure mode (beam_failure_mode), from the widest crack: none when no crack reaches crack_width;
-// its path inclined (35 degrees or more) and in the shear span -> diagonal_tension; else crushing when the
-// compressive cap has dissipated more than tensile cracking; else flexure.
+// its path inclined (35 degrees or more) and in the shear span -> diagonal_tension; else crushing
+// when the compressive cap has dissipated more than tensile cracking; else flexure.
 
 #include <algorithm>
 #include <cmath>
@@ -189,10 +189,10 @@ class beam_cracks {
 /// Its path (beam_crack::ridge_x): the depth cut in layers half a block size high; from the layer
 /// where the crack's bin opens most, layer by layer up and down, the bin of the largest value within
 /// 1.5 block sizes of the last one (an inclination up to 72 degrees from the vertical; three block
-/// sizes over a layer with nothing), as long as that value is at least 30 % of the crack's own. Its angle from the
-/// vertical: the opening-weighted least-squares line x(y) through that path (a diagonal crack that
-/// leaves the soffit beside a flexural one is followed up to the loading plate, not read from the
-/// sub-contacts above its foot); its members (beam_crack_member): the sub-contacts within 0.75
+/// sizes over a layer with nothing), as long as that value is at least 30 % of the crack's own.
+/// Its angle from the vertical: the opening-weighted least-squares line x(y) through that path (a
+/// diagonal crack that leaves the soffit steeply is followed up to the loading plate, not read from
+/// the sub-contacts above its foot); its members (beam_crack_member): the sub-contacts within 0.75
 /// block sizes of the path whose value is at least 30 % of its own, their area its area. Its local
 /// angle (beam_crack::local_angle_deg): the same line through the sub-contacts within 1.5 block
 /// sizes of its x whose value is at least 30 % of its own, over the whole depth.

@@ -14,7 +14,7 @@
 //   - the opening: the opening history (beam_opening_history) with the present state as its last
 //     snapshot, read by beam_fastest_inclined_after_peak (beam_post_peak.hpp) on each shear span:
 //     diagonal when an inclined crack in the shear span gained at least crack_width since the peak,
-//     opening faster than every vertical crack of the constant-moment zone, while the load fell at
+//     opening faster than every flexural crack of the constant-moment zone, while the load fell at
 //     least 5 % of the peak (diagonal_crack_after_peak);
 //   - the damage: each sub-contact's tensile damage gain since the peak (the damage kept at every
 //     new peak), its maxima along the span (beam_opening_maxima, at least half a damage), and the

@@ -23,8 +23,8 @@
 //      its end (N). The same rate of the fastest flexural crack (locally vertical, in the
 //      constant-moment zone) over the same window, for comparison.
 // diagonal_crack_after_peak: the fastest inclined crack gains at least crack_width (a crack one
-// sees) after the peak, opens faster over its window than every vertical crack of the
-// constant-moment zone, and the load falls by at least 5 % of the peak over that window.
+// sees) after the peak, opens faster over its window than every flexural crack (locally vertical,
+// in the constant-moment zone), and the load falls by at least 5 % of the peak over that window.
 
 #include <algorithm>
 #include <cstddef>
