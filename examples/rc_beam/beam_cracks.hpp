@@ -55,11 +55,17 @@ struct beam_crack {
   [[nodiscard]] bool locally_vertical() const { return local_angle_deg < 35; }
 };
 
+/// The layer (of `layers`, each `layer` m high from y = 0) that height y (m) falls in; below 0 the
+/// first, above the top the last.
+[[nodiscard]] inline std::size_t beam_layer_of(real y, real layer, std::size_t layers) {
+  return std::min(layers - 1, static_cast<std::size_t>(std::max(real(0), y) / layer));
+}
+
 /// Whether a sub-contact at p with value w (beam_opening_maxima's opening; < 0 left out) belongs to
 /// crack cr: within 0.75 block sizes `cell` (m) of its path in its layer and at least 30 % of its width.
 [[nodiscard]] inline bool beam_crack_member(const beam_crack& cr, real cell, const vec3& p, real w) {
   if (w < 0 || w < 0.3 * cr.width || cr.ridge_x.empty()) return false;
-  const auto l = std::min(cr.ridge_x.size() - 1, static_cast<std::size_t>(std::max(real(0), p.y()) / cr.ridge_layer));
+  const std::size_t l = beam_layer_of(p.y(), cr.ridge_layer, cr.ridge_x.size());
   return std::abs(p.x() - cr.ridge_x[l]) <= 0.75 * cell;  // false in a layer it does not reach (NaN)
 }
 
@@ -205,16 +211,13 @@ template <class Contacts, class Opening>
   const auto bins = static_cast<std::size_t>(x_max / bin) + 1;
   const real layer = cell / 2;
   const auto layers = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(height / layer)));
-  const auto layer_of = [&](real y) {
-    return std::min(layers - 1, static_cast<std::size_t>(std::max(real(0), y) / layer));
-  };
   const auto bin_of = [&](real x) { return std::min(bins - 1, static_cast<std::size_t>(std::max(real(0), x) / bin)); };
   std::vector<real> opening(bins, 0), field(layers * bins, -1);  // field: the largest value per layer and bin
   for (index_t i = 0; i < c.size(); ++i) {
     const vec3 p = c.position(i, gp);
     const real w = opening_of(i);
     if (w < 0) continue;
-    real& f = field[layer_of(p.y()) * bins + bin_of(p.x())];
+    real& f = field[beam_layer_of(p.y(), layer, layers) * bins + bin_of(p.x())];
     f = std::max(f, w);
     if (p.y() <= y_top) opening[bin_of(p.x())] = std::max(opening[bin_of(p.x())], w);
   }
@@ -262,15 +265,14 @@ template <class Contacts, class Opening>
     cr.y_min = static_cast<real>(lo) * layer;
     cr.y_max = std::min(height, static_cast<real>(hi + 1) * layer);
     cr.angle_deg = hi > lo ? fit.angle_deg() : 0;  // one layer: no line to fit, read as vertical
-    crack_line_fit local;
+    crack_line_fit local;  // and the members' area, in the same pass
     for (index_t i = 0; i < c.size(); ++i) {
       const vec3 p = c.position(i, gp);
       const real w = opening_of(i);
       if (std::abs(p.x() - cr.x) <= 1.5 * cell && w >= 0 && w >= 0.3 * cr.width) local.add(w, p);
+      if (beam_crack_member(cr, cell, p, w)) cr.area += c.area(i);
     }
     if (local.sw > 0) cr.local_angle_deg = local.angle_deg();
-    for (index_t i = 0; i < c.size(); ++i)
-      if (beam_crack_member(cr, cell, c.position(i, gp), opening_of(i))) cr.area += c.area(i);
     out.push_back(std::move(cr));
   }
   return out;
